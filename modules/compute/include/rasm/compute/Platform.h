@@ -1,0 +1,22 @@
+#pragma once
+// RASM_HD marks functions that run on both backends: __host__ __device__ under nvcc, nothing on
+// the CPU. Kernel bodies are written once with it (DESIGN.md "Compute: one kernel, two backends").
+
+#if defined(__CUDACC__)
+#define RASM_HD __host__ __device__
+#define RASM_HD_INLINE __host__ __device__ __forceinline__
+#define RASM_DEVICE_CODE 1
+#else
+#define RASM_HD
+#define RASM_HD_INLINE inline
+#endif
+
+#include <cstdint>
+
+namespace rasm::compute {
+
+/// Quiet NaN usable in device code; invalid vertices and normals hold it in x.
+RASM_HD_INLINE float invalidFloat() { return __builtin_nanf(""); }
+RASM_HD_INLINE bool isFiniteF(float v) { return v == v && v - v == 0.0f; }
+
+}  // namespace rasm::compute

@@ -1,0 +1,35 @@
+#pragma once
+// Per-measurement quantities of section II-B, shared by fusion and tracking on both backends.
+
+#include <cmath>
+
+#include "rasm/compute/Types.h"
+
+namespace rasm {
+
+/// Paper default sigma of the confidence weight (II-B).
+constexpr float kConfidenceSigma = 0.6f;
+
+/// gamma: radial distance of pixel (u,v) from the image centre (cx, cy), normalised so that the
+/// image corner at the largest distance is 1 (as in ElasticFusion / Keller et al. 2013).
+RASM_HD_INLINE float normalizedRadialDistance(float u, float v, const PinholeF& K) {
+  const float dx = u - K.cx, dy = v - K.cy;
+  const float mx = K.cx > K.width - 1 - K.cx ? K.cx : K.width - 1 - K.cx;
+  const float my = K.cy > K.height - 1 - K.cy ? K.cy : K.height - 1 - K.cy;
+  return sqrtf((dx * dx + dy * dy) / (mx * mx + my * my));
+}
+
+/// w = exp(-gamma^2 / (2 sigma^2)) (II-B, after Nguyen et al. [29]).
+RASM_HD_INLINE float confidenceWeight(float gamma, float sigma = kConfidenceSigma) {
+  return expf(-gamma * gamma / (2.0f * sigma * sigma));
+}
+
+/// r = V(u)_z / (sqrt(2) f N(u)_z) (II-B): the back-projected circle circumscribing the pixel.
+/// |n_z| is clamped below by `min_abs_nz` so grazing surfels do not get unbounded radii.
+RASM_HD_INLINE float surfelRadius(float depth_m, float normal_z, float focal_px, float min_abs_nz = 0.2f) {
+  float nz = fabsf(normal_z);
+  if (nz < min_abs_nz) nz = min_abs_nz;
+  return depth_m / (1.41421356f * focal_px * nz);
+}
+
+}  // namespace rasm

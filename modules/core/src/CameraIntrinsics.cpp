@@ -1,0 +1,56 @@
+#include "rasm/core/CameraIntrinsics.h"
+
+#include <mrpt/img/TCamera.h>
+
+#include <sstream>
+
+#include "rasm/core/Error.h"
+
+namespace rasm {
+
+CameraIntrinsics CameraIntrinsics::level(int lvl) const {
+  CameraIntrinsics k = *this;
+  for (int i = 0; i < lvl; ++i) {
+    k.fx *= 0.5;
+    k.fy *= 0.5;
+    k.cx = (k.cx + 0.5) * 0.5 - 0.5;
+    k.cy = (k.cy + 0.5) * 0.5 - 0.5;
+    k.width = (k.width + 1) / 2;
+    k.height = (k.height + 1) / 2;
+  }
+  return k;
+}
+
+CameraIntrinsics CameraIntrinsics::fromTCamera(const mrpt::img::TCamera& c) {
+  return CameraIntrinsics(c.fx(), c.fy(), c.cx(), c.cy(), int(c.ncols), int(c.nrows));
+}
+
+void CameraIntrinsics::toTCamera(mrpt::img::TCamera& c) const {
+  c.ncols = uint32_t(width);
+  c.nrows = uint32_t(height);
+  c.setIntrinsicParamsFromValues(fx, fy, cx, cy);
+  c.dist.fill(0.0);
+}
+
+CameraIntrinsics CameraIntrinsics::preset(const std::string& name) {
+  if (name == "kinect_v1") return {525.0, 525.0, 319.5, 239.5, 640, 480};
+  if (name == "kinect_v2_depth") return {365.5, 365.5, 255.5, 211.5, 512, 424};
+  if (name == "xtion") return {570.3, 570.3, 319.5, 239.5, 640, 480};
+  if (name == "tum_fr1") return {517.3, 516.5, 318.6, 255.3, 640, 480};
+  if (name == "tum_fr2") return {520.9, 521.0, 325.1, 249.7, 640, 480};
+  if (name == "tum_fr3") return {535.4, 539.2, 320.1, 247.6, 640, 480};
+  if (name == "tum_default") return {525.0, 525.0, 319.5, 239.5, 640, 480};
+  if (name == "icl_nuim") return {481.20, -480.0, 319.5, 239.5, 640, 480};
+  if (name == "7scenes") return {585.0, 585.0, 320.0, 240.0, 640, 480};
+  throwInputError("camera preset '" + name + "'",
+                  "unknown; expected one of kinect_v1, kinect_v2_depth, xtion, tum_fr1, tum_fr2, "
+                  "tum_fr3, tum_default, icl_nuim, 7scenes");
+}
+
+std::string CameraIntrinsics::toString() const {
+  std::ostringstream s;
+  s << width << "x" << height << " fx=" << fx << " fy=" << fy << " cx=" << cx << " cy=" << cy;
+  return s.str();
+}
+
+}  // namespace rasm
