@@ -2,6 +2,7 @@
 // Plain value types shared by kernels on both backends.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross()
 #include <cstdint>
 
 #include "rasm/compute/Platform.h"

@@ -1,0 +1,190 @@
+// Vertex/normal maps (II-A) and the depth pyramid on analytic scenes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "rasm/compute/Device.h"
+#include "rasm/core/FrameProcessing.h"
+#include "rasm/core/SurfelMath.h"
+#include "rasm/core/kernels/FrameKernels.h"
+
+using namespace rasm;
+
+namespace {
+const CameraIntrinsics kK(525.0, 525.0, 319.5, 239.5, 640, 480);
+
+/// Depth image of the plane n . p = d (camera frame) by exact ray intersection.
+Image<float> planeDepth(const Eigen::Vector3d& n, double d, const CameraIntrinsics& K) {
+  Image<float> depth(K.width, K.height, 0.0f);
+  for (int y = 0; y < K.height; ++y)
+    for (int x = 0; x < K.width; ++x) {
+      const Eigen::Vector3d ray((x - K.cx) / K.fx, (y - K.cy) / K.fy, 1.0);
+      const double t = d / n.dot(ray);  // point = t * ray, z = t
+      depth(x, y) = t > 0 ? float(t) : 0.0f;
+    }
+  return depth;
+}
+}  // namespace
+
+TEST(VertexMap, BackProjectionMatchesPinhole) {
+  Image<float> depth(kK.width, kK.height, 2.0f);
+  depth(10, 20) = 0.0f;    // invalid
+  depth(11, 20) = 50.0f;   // beyond max range
+  Image<Vec3f> v;
+  computeVertexMap(depth, kK, v);
+  const Vec3f p = v(100, 200);
+  EXPECT_NEAR(p.z(), 2.0f, 1e-6);
+  EXPECT_NEAR(p.x(), (100 - 319.5) / 525.0 * 2.0, 1e-6);
+  EXPECT_NEAR(p.y(), (200 - 239.5) / 525.0 * 2.0, 1e-6);
+  // Re-projection returns the pixel exactly.
+  const Vec2f uv = kK.plain().project(p);
+  EXPECT_NEAR(uv.x(), 100.0f, 1e-3);
+  EXPECT_NEAR(uv.y(), 200.0f, 1e-3);
+  EXPECT_FALSE(kernels::validVec(v(10, 20)));
+  EXPECT_FALSE(kernels::validVec(v(11, 20)));
+}
+
+TEST(NormalMap, TiltedPlaneNormalIsExactAndFacesCamera) {
+  // Plane tilted 30 deg about x, 1.5 m away along the optical axis.
+  const double a = 30.0 * M_PI / 180.0;
+  const Eigen::Vector3d n(0.0, std::sin(a), -std::cos(a));  // facing the camera (n . z < 0)
+  const double d = n.dot(Eigen::Vector3d(0, 0, 1.5));
+  const Image<float> depth = planeDepth(n, d, kK);
+  Image<Vec3f> v, nm;
+  computeVertexMap(depth, kK, v);
+  computeNormalMap(v, nm);
+  int valid = 0;
+  double max_err_deg = 0;
+  for (int y = 0; y < kK.height; ++y)
+    for (int x = 0; x < kK.width; ++x) {
+      const bool border = x == 0 || y == 0 || x == kK.width - 1 || y == kK.height - 1;
+      if (border) {
+        EXPECT_FALSE(kernels::validVec(nm(x, y))) << x << "," << y;
+        continue;
+      }
+      ASSERT_TRUE(kernels::validVec(nm(x, y)));
+      ++valid;
+      const double c = std::min(1.0, double(nm(x, y).cast<double>().dot(n)));
+      max_err_deg = std::max(max_err_deg, std::acos(c) * 180 / M_PI);
+      // Points lie on the plane: float back-projection error only.
+      EXPECT_NEAR(v(x, y).cast<double>().dot(n), d, 1e-5);
+    }
+  EXPECT_EQ(valid, (kK.width - 2) * (kK.height - 2));
+  // A plane is exactly planar, so the cross product of central differences is exact up to float
+  // rounding: ~1e-3 deg.
+  EXPECT_LT(max_err_deg, 0.05);
+}
+
+TEST(NormalMap, SphereNormalsAreRadial) {
+  const Eigen::Vector3d c(0.1, -0.05, 2.0);
+  const double R = 0.5;
+  Image<float> depth(kK.width, kK.height, 0.0f);
+  for (int y = 0; y < kK.height; ++y)
+    for (int x = 0; x < kK.width; ++x) {
+      const Eigen::Vector3d r = Eigen::Vector3d((x - kK.cx) / kK.fx, (y - kK.cy) / kK.fy, 1.0).normalized();
+      const double b = r.dot(c), disc = b * b - (c.squaredNorm() - R * R);
+      if (disc < 0) continue;
+      const double t = b - std::sqrt(disc);
+      depth(x, y) = float(t * r.z());
+    }
+  Image<Vec3f> v, nm;
+  computeVertexMap(depth, kK, v);
+  computeNormalMap(v, nm);
+  int checked = 0;
+  for (int y = 1; y < kK.height - 1; ++y)
+    for (int x = 1; x < kK.width - 1; ++x) {
+      if (!kernels::validVec(nm(x, y))) continue;
+      const Eigen::Vector3d p = v(x, y).cast<double>();
+      const Eigen::Vector3d expect = (p - c).normalized();
+      const double ang = std::acos(std::min(1.0, nm(x, y).cast<double>().dot(expect))) * 180 / M_PI;
+      // Only well-conditioned pixels: where the surface faces the camera within 60 deg the
+      // central difference spans ~2 mm on a 0.5 m sphere, so the chord error is < 0.5 deg.
+      if (-expect.dot(p.normalized()) > 0.5) {
+        EXPECT_LT(ang, 0.5) << x << "," << y;
+        ++checked;
+      }
+    }
+  // The sphere covers pi (f R / z)^2 ~ 54k pixels; the facing part is most of it.
+  EXPECT_GT(checked, 30000);
+}
+
+TEST(NormalMap, DepthDiscontinuityIsInvalid) {
+  Image<float> depth(64, 48, 1.0f);
+  for (int y = 0; y < 48; ++y)
+    for (int x = 32; x < 64; ++x) depth(x, y) = 2.0f;
+  const CameraIntrinsics K(50, 50, 31.5, 23.5, 64, 48);
+  Image<Vec3f> v, nm;
+  computeVertexMap(depth, K, v);
+  computeNormalMap(v, nm);
+  EXPECT_FALSE(kernels::validVec(nm(31, 20)));
+  EXPECT_FALSE(kernels::validVec(nm(32, 20)));
+  EXPECT_TRUE(kernels::validVec(nm(20, 20)));
+  EXPECT_TRUE(kernels::validVec(nm(40, 20)));
+}
+
+TEST(Pyramid, InvalidAwareAveraging) {
+  Image<float> d(4, 2, 0.0f);
+  // Block 0: two valid (1.0, 1.02) and two invalid -> mean of the valid ones.
+  d(0, 0) = 1.0f;
+  d(1, 1) = 1.02f;
+  // Block 1: foreground 1.0 and background 3.0: background is excluded, not averaged in.
+  d(2, 0) = 1.0f;
+  d(3, 0) = 3.0f;
+  d(2, 1) = 3.0f;
+  Image<float> h;
+  downsampleDepth(d, h);
+  ASSERT_EQ(h.width(), 2);
+  ASSERT_EQ(h.height(), 1);
+  EXPECT_NEAR(h(0, 0), 1.01f, 1e-6);
+  EXPECT_NEAR(h(1, 0), 1.0f, 1e-6);
+  Image<float> none(2, 2, 0.0f), hn;
+  downsampleDepth(none, hn);
+  EXPECT_EQ(hn(0, 0), 0.0f);
+}
+
+TEST(Pyramid, LevelIntrinsicsKeepGeometry) {
+  // A fronto-parallel plane at 2 m stays at 2 m at every level, and each level's vertex map
+  // re-projects with that level's intrinsics.
+  Image<float> depth(kK.width, kK.height, 2.0f);
+  std::vector<FrameLevel> pyr;
+  buildFramePyramid(depth, kK, 3, pyr);
+  ASSERT_EQ(pyr.size(), 3u);
+  EXPECT_EQ(pyr[2].depth_m.width(), 160);
+  EXPECT_EQ(pyr[2].depth_m.height(), 120);
+  EXPECT_NEAR(pyr[2].K.fx, 525.0 / 4, 1e-9);
+  // Pixel (x,y) at level 2 covers level-0 pixels 4x..4x+3: its centre is 4x + 1.5.
+  const Vec3f p2 = pyr[2].vertex(10, 20);
+  const Vec3f p0 = Eigen::Vector3f((4 * 10 + 1.5f - 319.5f) / 525.0f * 2.0f, (4 * 20 + 1.5f - 239.5f) / 525.0f * 2.0f, 2.0f);
+  EXPECT_LT((p2 - p0).norm(), 1e-5);
+}
+
+TEST(SurfelMath, ConfidenceAndRadius) {
+  const PinholeF K = kK.plain();
+  EXPECT_NEAR(normalizedRadialDistance(319.5f, 239.5f, K), 0.0f, 1e-6);
+  EXPECT_NEAR(normalizedRadialDistance(0.0f, 0.0f, K), 1.0f, 1e-6);
+  EXPECT_NEAR(confidenceWeight(0.0f), 1.0f, 1e-7);
+  // gamma = sigma -> exp(-1/2).
+  EXPECT_NEAR(confidenceWeight(0.6f), std::exp(-0.5f), 1e-6);
+  // r = z / (sqrt(2) f n_z): at 2 m, f = 525, facing the camera: 2.694 mm.
+  EXPECT_NEAR(surfelRadius(2.0f, -1.0f, 525.0f), 2.0 / (std::sqrt(2.0) * 525.0), 1e-7);
+  EXPECT_NEAR(surfelRadius(2.0f, 0.5f, 525.0f), 2.0 / (std::sqrt(2.0) * 525.0 * 0.5), 1e-7);
+  EXPECT_NEAR(surfelRadius(2.0f, 0.01f, 525.0f, 0.2f), 2.0 / (std::sqrt(2.0) * 525.0 * 0.2), 1e-7);
+}
+
+TEST(Cuda, VertexNormalMatchCpu) {
+  const auto avail = compute::cudaAvailability();
+  if (!avail.available) GTEST_SKIP() << avail.reason;
+  const double a = 20.0 * M_PI / 180.0;
+  const Eigen::Vector3d n(std::sin(a), 0.0, -std::cos(a));
+  const Image<float> depth = planeDepth(n, n.dot(Eigen::Vector3d(0, 0, 1.2)), kK);
+  Image<Vec3f> vc, nc, vg, ng;
+  computeVertexMap(depth, kK, vc, {}, compute::Backend::Cpu);
+  computeNormalMap(vc, nc, 0.05f, compute::Backend::Cpu);
+  computeVertexMap(depth, kK, vg, {}, compute::Backend::Cuda);
+  computeNormalMap(vg, ng, 0.05f, compute::Backend::Cuda);
+  for (int y = 1; y < kK.height - 1; y += 7)
+    for (int x = 1; x < kK.width - 1; x += 5) {
+      EXPECT_LT((vc(x, y) - vg(x, y)).norm(), 1e-6);
+      EXPECT_LT((nc(x, y) - ng(x, y)).norm(), 1e-5);
+    }
+}
