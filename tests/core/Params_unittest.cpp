@@ -43,6 +43,15 @@ TEST(Params, LoadsKnownKeysAndRejectsUnknown) {
     EXPECT_NE(msg.find("sigmaa"), std::string::npos) << msg;
     EXPECT_NE(msg.find("[demo]"), std::string::npos) << msg;
   }
+  mrpt::config::CConfigFileMemory garbage(std::string("[demo]\nlevels = 3x\n"));
+  try {
+    loadParamsStrict(garbage, "demo", p, "test.ini");
+    FAIL() << "'3x' accepted as an int";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("levels"), std::string::npos) << e.what();
+  }
+  mrpt::config::CConfigFileMemory fine(std::string("[demo]\nsigma = 0.60\nlevels = 4\n"));
+  EXPECT_NO_THROW(loadParamsStrict(fine, "demo", p, "test.ini"));
   mrpt::config::CConfigFileMemory range(std::string("[demo]\nsigma = -1\n"));
   EXPECT_THROW(loadParamsStrict(range, "demo", p, "test.ini"), InputError);
 }
