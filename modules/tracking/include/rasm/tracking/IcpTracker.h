@@ -1,0 +1,85 @@
+#pragma once
+// Camera tracking of section II-C: coarse-to-fine point-to-plane ICP with projective data
+// association (KinectFusion [30], as in ElasticFusion) of the current frame against the model
+// rendered from the previous pose (stable surfels only).
+//
+// How the Mapper uses it (one call per frame):
+//
+//   tracker.reset(T_world_cam0);                      // first frame: map initialised there
+//   for each later frame:
+//     buildFramePyramid(frame.depth_m, K, params.numLevels(), pyr);  // core, camera frame
+//     ModelMaps m{render.vertex_world, render.normal_world, K_render, tracker.lastGoodPose()};
+//     TrackingResult r = tracker.track(pyr, m);       // motion-model guess, updates the state
+//     if (r.ok) fuse(frame, r.T_world_cam);           // and render the next model from it
+//     else      skip fusion; keep rendering from tracker.lastGoodPose()
+//
+// Model maps: vertex and normal maps in the WORLD frame at full resolution, invalid pixels with
+// x = NaN (as core's kernels), rendered with intrinsics `K` from the pose `T_world_model`. The
+// tracker projects the frame's vertices into that camera to associate them.
+//
+// Lost track and recovery: a frame that fails a quality rule (TrackingResult::status) leaves the
+// state untouched except that the velocity is reset to zero, so the next guess is the last good
+// pose. As long as the Mapper keeps rendering the model from lastGoodPose(), tracking recovers by
+// itself once the camera returns near that view. Frames after a loss are checked with the same
+// rules; nothing else is needed from the caller.
+
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "rasm/compute/ImageView.h"
+#include "rasm/compute/Types.h"
+#include "rasm/core/CameraIntrinsics.h"
+#include "rasm/core/FrameProcessing.h"
+#include "rasm/core/Image.h"
+#include "rasm/tracking/TrackingParams.h"
+#include "rasm/tracking/TrackingResult.h"
+
+namespace rasm::tracking {
+
+/// The model the frame is aligned to: the map rendered from T_world_model.
+struct ModelMaps {
+  ImageView<const Vec3f> vertex_world;  ///< full resolution, world frame, invalid = NaN x
+  ImageView<const Vec3f> normal_world;  ///< unit normals, world frame, invalid = NaN x
+  CameraIntrinsics K;                   ///< intrinsics of the render (size = map size)
+  Eigen::Isometry3d T_world_model = Eigen::Isometry3d::Identity();
+};
+
+class IcpTracker {
+ public:
+  /// Throws InputError when params are out of range (TTrackingParams::validate).
+  explicit IcpTracker(const TTrackingParams& params = TTrackingParams());
+
+  const TTrackingParams& params() const { return m_params; }
+
+  /// Starts (or restarts) tracking at a known pose with zero velocity.
+  void reset(const Eigen::Isometry3d& T_world_cam);
+  bool initialized() const { return m_initialized; }
+
+  /// Motion-model prediction for the next frame (constant velocity or previous pose).
+  Eigen::Isometry3d predictPose() const;
+  /// Last pose of a frame tracked with ok = true (or of reset()).
+  const Eigen::Isometry3d& lastGoodPose() const { return m_T_last; }
+
+  /// Tracks one frame from the motion-model guess. `frame` is core's pyramid (level 0 full
+  /// resolution, camera frame) with at least params().numLevels() levels. On ok the pose becomes
+  /// the last good pose and the velocity is updated; otherwise only the velocity is reset.
+  /// Returns NotInitialized (ok = false) before reset(). Throws InputError on malformed input.
+  TrackingResult track(const std::vector<FrameLevel>& frame, const ModelMaps& model);
+
+  /// Aligns `frame` to `model` starting from an explicit guess; does not touch the motion state.
+  /// The quality rules (including the jump vs. the guess) are applied as in track().
+  TrackingResult align(const std::vector<FrameLevel>& frame, const ModelMaps& model,
+                       const Eigen::Isometry3d& T_world_cam_guess);
+
+ private:
+  void buildModelPyramid(const ModelMaps& model);
+
+  TTrackingParams m_params;
+  bool m_initialized = false;
+  Eigen::Isometry3d m_T_last = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d m_T_prev = Eigen::Isometry3d::Identity();  ///< good pose before m_T_last
+  /// Scratch: model maps at levels >= 1 (level 0 is the caller's view).
+  std::vector<Image<Vec3f>> m_model_vertex, m_model_normal;
+};
+
+}  // namespace rasm::tracking

@@ -1,0 +1,72 @@
+#pragma once
+// Options of the camera tracker of section II-C, INI section [tracking].
+// Per-level vectors are written level 0 (full resolution) first: `iterations = 10 5 4` runs 4
+// iterations at quarter, 5 at half and 10 at full resolution (coarse to fine, as KinectFusion).
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+#include <vector>
+
+namespace rasm::tracking {
+
+/// How the initial guess of IcpTracker::track() is predicted from the last good poses.
+enum class MotionModel {
+  ConstantVelocity,  ///< T_pred = T_{t-1} * (T_{t-2}^-1 * T_{t-1})
+  PreviousPose       ///< T_pred = T_{t-1}
+};
+
+struct TTrackingParams : public mrpt::config::CLoadableOptions {
+  // ---- coarse-to-fine ICP (II-C) ----
+  /// ICP iterations per pyramid level, level 0 first; its size is the number of levels (1..4).
+  std::vector<int> iterations{10, 5, 4};
+  /// Max distance (m) between a transformed frame vertex and its projectively associated model
+  /// vertex, per level (level 0 first). Looser at coarse levels, where the guess is worst.
+  std::vector<double> max_dist_m{0.05, 0.075, 0.1};
+  /// Max angle (deg) between the transformed frame normal and the model normal.
+  double max_normal_angle_deg = 30.0;
+  /// Process every n-th pixel in x and y at level 0 only (1 = all). The level-0 vertex map of a
+  /// 640x480 frame has ~300k pixels; a stride of 2 keeps ~75k, plenty to constrain 6 DoF.
+  int level0_pixel_stride = 2;
+  /// Huber threshold (m) on the point-to-plane residual for IRLS weights; 0 = plain least squares.
+  double huber_delta_m = 0.0;
+  /// A level stops early once the increment is below both limits.
+  double convergence_translation_m = 1e-5;
+  double convergence_rotation_deg = 1e-3;
+
+  // ---- initial guess ----
+  MotionModel motion_model = MotionModel::ConstantVelocity;
+
+  // ---- tracking-quality rules (a frame failing any of them is lost: ok = false) ----
+  /// Minimum inliers at level 0 (after the stride) and minimum inliers / valid frame pixels.
+  int min_inliers = 1000;
+  double min_inlier_fraction = 0.15;
+  /// Maximum RMS point-to-plane residual (m) of the level-0 inliers.
+  double max_rms_m = 0.025;
+  /// Maximum deviation of the result from the initial guess (motion-model prediction): a bigger
+  /// correction means ICP slid into a wrong minimum.
+  double max_jump_translation_m = 0.3;
+  double max_jump_rotation_deg = 20.0;
+  /// Degeneracy: smallest eigenvalue of the normalised, scale-balanced J^T J (see
+  /// TrackingResult::min_eigenvalue). Directions below it are not updated (kept from the guess).
+  double min_eigenvalue = 1e-3;
+  /// Whether a degenerate frame counts as lost (ok = false). By default it is fused: the
+  /// constrained directions come from ICP, the others from the motion model.
+  bool degenerate_is_lost = false;
+
+  // ---- backend ----
+  /// Run the ICP reduction on the GPU (CUDA launcher of the same kernel). Needs a CUDA build
+  /// and device; track() throws InputError otherwise.
+  bool use_cuda = false;
+
+  int numLevels() const { return static_cast<int>(iterations.size()); }
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+  /// Throws InputError naming `section` and the offending key when a value is out of range.
+  void validate(const std::string& section = "tracking") const;
+};
+
+const char* toString(MotionModel m);
+
+}  // namespace rasm::tracking

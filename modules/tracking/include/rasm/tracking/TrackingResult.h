@@ -1,0 +1,66 @@
+#pragma once
+// Outcome of tracking one frame (II-C) with the quality signals the Mapper needs to decide
+// whether to fuse it.
+
+#include <Eigen/Geometry>
+#include <vector>
+
+namespace rasm::tracking {
+
+enum class TrackingStatus {
+  Ok,             ///< converged, enough inliers, small residual, plausible motion
+  Degenerate,     ///< geometry leaves some directions unconstrained (e.g. a single wall); those
+                  ///< directions keep the initial guess. ok unless degenerate_is_lost.
+  TooFewInliers,  ///< too little overlap with the model (empty / unrelated model, fast motion)
+  HighResidual,   ///< inliers found but the RMS point-to-plane residual is too high
+  ExcessiveMotion,///< the result is too far from the initial guess (wrong local minimum)
+  Diverged,       ///< the linear system could not be solved or produced non-finite poses
+  NotInitialized  ///< track() before reset(): no pose to predict from
+};
+
+const char* toString(TrackingStatus s);
+
+/// Statistics of one pyramid level, taken at the last linearisation point of that level.
+struct TrackingLevelStats {
+  int level = 0;
+  int iterations = 0;       ///< iterations run (<= the configured number)
+  int inliers = 0;
+  int valid_pixels = 0;     ///< frame pixels with a valid vertex and normal (after the stride)
+  double rms_m = 0.0;       ///< RMS point-to-plane residual of the inliers
+  double last_step_translation_m = 0.0;
+  double last_step_rotation_rad = 0.0;
+};
+
+struct TrackingResult {
+  /// Estimated camera pose (optical frame). When !ok it is the best estimate anyway, for
+  /// diagnostics; the caller should not use it to fuse.
+  Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
+  /// The initial guess ICP started from (motion-model prediction or the caller's guess).
+  Eigen::Isometry3d T_world_cam_guess = Eigen::Isometry3d::Identity();
+  bool ok = false;
+  TrackingStatus status = TrackingStatus::NotInitialized;
+
+  // Quality of the final (level 0) alignment.
+  int inliers = 0;
+  double inlier_fraction = 0.0;  ///< inliers / valid frame pixels at level 0
+  double rms_m = 0.0;            ///< RMS point-to-plane residual of the inliers (m)
+  /// Smallest eigenvalue of J^T J / inliers at level 0, with the rotation columns scaled by the
+  /// mean inlier depth so translation and rotation are in the same units (dimensionless: a wall
+  /// seen head-on constrains its normal direction with ~1, the directions in the plane with ~0).
+  double min_eigenvalue = 0.0;
+  /// Eigenvalues (ascending) and the matching unit eigenvectors [translation; rotation] of the
+  /// same matrix, expressed in the world axes; eigenvalues < min_eigenvalue are unconstrained.
+  Eigen::Matrix<double, 6, 1> eigenvalues = Eigen::Matrix<double, 6, 1>::Zero();
+  Eigen::Matrix<double, 6, 6> eigenvectors = Eigen::Matrix<double, 6, 6>::Identity();
+  int unconstrained_directions = 0;
+  /// Last increment at level 0.
+  double final_step_translation_m = 0.0;
+  double final_step_rotation_rad = 0.0;
+  /// Correction ICP applied to the guess: translation (m) and rotation (rad) of guess^-1 * T.
+  double correction_translation_m = 0.0;
+  double correction_rotation_rad = 0.0;
+  int iterations = 0;  ///< all levels together
+  std::vector<TrackingLevelStats> levels;  ///< in the order run (coarsest first)
+};
+
+}  // namespace rasm::tracking

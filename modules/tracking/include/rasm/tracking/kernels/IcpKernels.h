@@ -1,0 +1,188 @@
+#pragma once
+// Kernels of the point-to-plane ICP of section II-C (projective data association, KinectFusion
+// [30]), written once for the CPU (compute::reduce1D over rows) and CUDA (cuda/IcpReduce.cu).
+// Plain header: only compute/ and Eigen, so .cu files include it.
+//
+// Linearisation. The pose is updated left-multiplicatively about a pivot c (the camera centre of
+// the current estimate, in world coordinates):
+//     T_world_cam <- P * exp(xi) * P^-1 * T_world_cam,   P = translation(c),  xi = [rho; omega]
+// i.e. the increment is a twist in a frame with the world's axes centred on the camera. Centring
+// keeps rotation and translation decoupled (J^T J well conditioned) wherever the world origin is.
+// For a frame vertex v (camera frame) moved to world p = T_world_cam v, and its projectively
+// associated model vertex q with normal n (world frame), the point-to-plane residual and its
+// Jacobian w.r.t. xi at xi = 0 are
+//     r = n . (p - q),      J = [ n^T , ((p - c) x n)^T ].
+// Each thread accumulates J^T J (21 unique entries), J^T r, r^2 and counts; the host solves
+// (J^T J) xi = -J^T r.
+
+#include <cmath>
+
+#include "rasm/compute/ImageView.h"
+#include "rasm/compute/Types.h"
+
+namespace rasm::tracking::kernels {
+
+/// Sums of the normal equations. Upper triangle of J^T J stored row-major:
+/// (0,0) (0,1) .. (0,5) (1,1) .. (1,5) .. (5,5).
+struct IcpAccumulator {
+  static constexpr int kSize = 31;
+  double JtJ[21] = {};
+  double Jtr[6] = {};
+  double r2 = 0;        ///< sum of squared (unweighted) residuals of inliers
+  double inliers = 0;   ///< count of inliers
+  double valid = 0;     ///< count of frame pixels with valid vertex and normal
+  double depth = 0;     ///< sum of the frame depth of the inliers (scale of rotation columns)
+
+  RASM_HD_INLINE double* data() { return JtJ; }
+  RASM_HD_INLINE const double* data() const { return JtJ; }
+  RASM_HD_INLINE IcpAccumulator& operator+=(const IcpAccumulator& o) {
+    double* a = data();
+    const double* b = o.data();
+    for (int i = 0; i < kSize; ++i) a[i] += b[i];
+    return *this;
+  }
+};
+static_assert(sizeof(IcpAccumulator) == IcpAccumulator::kSize * sizeof(double),
+              "IcpAccumulator must be a flat array of doubles");
+
+/// Outcome of one pixel.
+enum IcpPixel : int { kIcpInvalid = 0, kIcpRejected = 1, kIcpInlier = 2 };
+
+/// Association, residual and Jacobian of the point-to-plane ICP (II-C) for one level.
+struct IcpReduceKernel {
+  ImageView<const Vec3f> frame_vertex;  ///< camera frame, this level
+  ImageView<const Vec3f> frame_normal;  ///< camera frame, this level
+  ImageView<const Vec3f> model_vertex;  ///< world frame, this level
+  ImageView<const Vec3f> model_normal;  ///< world frame, this level
+  PinholeF K_model;                     ///< intrinsics of the model maps at this level
+  RigidF T_world_cam;                   ///< current estimate
+  RigidF T_model_cam;                   ///< T_world_model^-1 * T_world_cam (for association)
+  Vec3f pivot_world = Vec3f::Zero();    ///< c: centre of the rotation increment
+  float max_dist_m = 0.1f;              ///< |p - q| limit
+  float min_normal_cos = 0.866f;        ///< cos of the max angle between normals
+  float huber_delta_m = 0.0f;           ///< 0 = no robust weight
+  int stride = 1;                       ///< process every stride-th pixel in x and y
+
+  RASM_HD_INLINE int rows() const { return (frame_vertex.height + stride - 1) / stride; }
+  RASM_HD_INLINE int cols() const { return (frame_vertex.width + stride - 1) / stride; }
+
+  /// Projective association and point-to-plane term of pixel (x, y) of the frame (II-C).
+  /// On kIcpInlier fills J (6), the residual r (m) and the IRLS weight w.
+  RASM_HD_INLINE int pixel(int x, int y, float J[6], float& r, float& w, float& depth) const {
+    const Vec3f v = frame_vertex(x, y);
+    const Vec3f nc = frame_normal(x, y);
+    if (!(v.x() == v.x()) || !(nc.x() == nc.x())) return kIcpInvalid;
+    // Projective association: project the moved vertex into the model camera.
+    const Vec3f pm = T_model_cam.apply(v);
+    if (!(pm.z() > 0.0f)) return kIcpRejected;
+    const float u = K_model.fx * pm.x() / pm.z() + K_model.cx;
+    const float vv = K_model.fy * pm.y() / pm.z() + K_model.cy;
+    if (!(u > -0.5f && vv > -0.5f && u < float(model_vertex.width) - 0.5f &&
+          vv < float(model_vertex.height) - 0.5f))
+      return kIcpRejected;
+    const int ui = int(u + 0.5f), vi = int(vv + 0.5f);
+    const Vec3f q = model_vertex(ui, vi);
+    const Vec3f n = model_normal(ui, vi);
+    if (!(q.x() == q.x()) || !(n.x() == n.x())) return kIcpRejected;
+    // Compatibility: distance and normal angle (KinectFusion's rejection tests).
+    const Vec3f p = T_world_cam.apply(v);
+    const Vec3f d = p - q;
+    if (d.squaredNorm() > max_dist_m * max_dist_m) return kIcpRejected;
+    if (T_world_cam.rotate(nc).dot(n) < min_normal_cos) return kIcpRejected;
+    r = n.dot(d);
+    const Vec3f pc = p - pivot_world;
+    const Vec3f c = pc.cross(n);
+    J[0] = n.x();
+    J[1] = n.y();
+    J[2] = n.z();
+    J[3] = c.x();
+    J[4] = c.y();
+    J[5] = c.z();
+    const float ar = fabsf(r);
+    w = (huber_delta_m > 0.0f && ar > huber_delta_m) ? huber_delta_m / ar : 1.0f;
+    depth = v.z();
+    return kIcpInlier;
+  }
+
+  /// Adds one (weighted) term to a flat accumulator of IcpAccumulator layout.
+  template <typename T>
+  RASM_HD_INLINE static void accumulate(T* a, const float J[6], float r, float w, float depth) {
+    int k = 0;
+    for (int i = 0; i < 6; ++i) {
+      const float wJi = w * J[i];
+      for (int j = i; j < 6; ++j) a[k++] += T(wJi * J[j]);
+    }
+    for (int i = 0; i < 6; ++i) a[21 + i] += T(w * J[i] * r);
+    a[27] += T(r * r);
+    a[28] += T(1);
+    a[30] += T(depth);
+  }
+
+  /// CPU path: one row of processed pixels (row index i, image row i * stride). Terms are
+  /// summed in float within the row (<= 640 terms) and in double across rows.
+  void operator()(int i, IcpAccumulator& acc) const {
+    const int y = i * stride;
+    float row[IcpAccumulator::kSize] = {};
+    float J[6], r = 0.f, w = 0.f, depth = 0.f;
+    int valid = 0;
+    for (int x = 0; x < frame_vertex.width; x += stride) {
+      const int s = pixel(x, y, J, r, w, depth);
+      if (s == kIcpInvalid) continue;
+      ++valid;
+      if (s == kIcpInlier) accumulate(row, J, r, w, depth);
+    }
+    row[29] = float(valid);
+    double* a = acc.data();
+    for (int k = 0; k < IcpAccumulator::kSize; ++k) a[k] += double(row[k]);
+  }
+};
+
+/// Model pyramid (II-C): half-resolution world-frame vertex/normal maps. Of each 2x2 block, the
+/// valid samples within `max_diff_m` (depth along the model camera) of the nearest one are
+/// averaged, the normals renormalised: the same rule core's DepthDownsampleKernel applies to the
+/// frame's depth, so model and frame pyramids sample the same surfaces at the same pixel centres.
+struct ModelDownsampleKernel {
+  ImageView<const Vec3f> in_vertex, in_normal;  ///< world frame, level l
+  ImageView<Vec3f> out_vertex, out_normal;      ///< world frame, level l + 1
+  RigidF T_model_world;                         ///< to measure depth along the model camera
+  float max_diff_m = 0.03f;
+
+  RASM_HD_INLINE void operator()(int x, int y) const {
+    Vec3f vs[4], ns[4];
+    float zs[4];
+    int n = 0;
+    float nearest = 1e30f;
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx) {
+        const int sx = 2 * x + dx, sy = 2 * y + dy;
+        if (sx >= in_vertex.width || sy >= in_vertex.height) continue;
+        const Vec3f v = in_vertex(sx, sy), nn = in_normal(sx, sy);
+        if (!(v.x() == v.x()) || !(nn.x() == nn.x())) continue;
+        const float z = T_model_world.apply(v).z();
+        vs[n] = v;
+        ns[n] = nn;
+        zs[n] = z;
+        if (z < nearest) nearest = z;
+        ++n;
+      }
+    if (n == 0) {
+      const float nan = compute::invalidFloat();
+      out_vertex(x, y) = Vec3f(nan, nan, nan);
+      out_normal(x, y) = Vec3f(nan, nan, nan);
+      return;
+    }
+    Vec3f vsum = Vec3f::Zero(), nsum = Vec3f::Zero();
+    int cnt = 0;
+    for (int i = 0; i < n; ++i)
+      if (zs[i] - nearest <= max_diff_m) {
+        vsum += vs[i];
+        nsum += ns[i];
+        ++cnt;
+      }
+    const float len = nsum.norm();
+    out_vertex(x, y) = vsum / float(cnt);
+    out_normal(x, y) = len > 1e-6f ? Vec3f(nsum / len) : ns[0];
+  }
+};
+
+}  // namespace rasm::tracking::kernels
