@@ -24,6 +24,7 @@
 // rules; nothing else is needed from the caller.
 
 #include <Eigen/Geometry>
+#include <memory>
 #include <vector>
 
 #include "rasm/compute/ImageView.h"
@@ -35,6 +36,10 @@
 #include "rasm/tracking/TrackingResult.h"
 
 namespace rasm::tracking {
+
+namespace cuda {
+class IcpCudaReducer;
+}
 
 /// The model the frame is aligned to: the map rendered from T_world_model.
 struct ModelMaps {
@@ -48,6 +53,9 @@ class IcpTracker {
  public:
   /// Throws InputError when params are out of range (TTrackingParams::validate).
   explicit IcpTracker(const TTrackingParams& params = TTrackingParams());
+  ~IcpTracker();
+  IcpTracker(IcpTracker&&) noexcept;
+  IcpTracker& operator=(IcpTracker&&) noexcept;
 
   const TTrackingParams& params() const { return m_params; }
 
@@ -80,6 +88,7 @@ class IcpTracker {
   Eigen::Isometry3d m_T_prev = Eigen::Isometry3d::Identity();  ///< good pose before m_T_last
   /// Scratch: model maps at levels >= 1 (level 0 is the caller's view).
   std::vector<Image<Vec3f>> m_model_vertex, m_model_normal;
+  std::unique_ptr<cuda::IcpCudaReducer> m_cuda;  ///< created on first use when use_cuda
 };
 
 }  // namespace rasm::tracking

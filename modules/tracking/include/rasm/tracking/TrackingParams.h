@@ -1,12 +1,13 @@
 #pragma once
 // Options of the camera tracker of section II-C, INI section [tracking].
-// Per-level vectors are written level 0 (full resolution) first: `iterations = 10 5 4` runs 4
-// iterations at quarter, 5 at half and 10 at full resolution (coarse to fine, as KinectFusion).
+// Per-level values have one key per level, level 0 = full resolution: `iterations_level2 = 4`,
+// `iterations_level1 = 5`, `iterations_level0 = 10` run 4 iterations at quarter, 5 at half and 10
+// at full resolution, in that order (coarse to fine, as KinectFusion).
 
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <array>
 #include <string>
-#include <vector>
 
 namespace rasm::tracking {
 
@@ -18,11 +19,15 @@ enum class MotionModel {
 
 struct TTrackingParams : public mrpt::config::CLoadableOptions {
   // ---- coarse-to-fine ICP (II-C) ----
-  /// ICP iterations per pyramid level, level 0 first; its size is the number of levels (1..4).
-  std::vector<int> iterations{10, 5, 4};
+  static constexpr int kMaxLevels = 3;
+  /// Pyramid levels used (1..3): ICP runs from level num_levels-1 down to level 0.
+  int num_levels = 3;
+  /// ICP iterations per level (index = level; keys iterations_level<i>).
+  std::array<int, kMaxLevels> iterations{10, 5, 4};
   /// Max distance (m) between a transformed frame vertex and its projectively associated model
-  /// vertex, per level (level 0 first). Looser at coarse levels, where the guess is worst.
-  std::vector<double> max_dist_m{0.05, 0.075, 0.1};
+  /// vertex, per level (keys max_dist_m_level<i>). Looser at coarse levels, where the guess is
+  /// worst.
+  std::array<double, kMaxLevels> max_dist_m{0.05, 0.075, 0.1};
   /// Max angle (deg) between the transformed frame normal and the model normal.
   double max_normal_angle_deg = 30.0;
   /// Process every n-th pixel in x and y at level 0 only (1 = all). The level-0 vertex map of a
@@ -59,7 +64,7 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   /// and device; track() throws InputError otherwise.
   bool use_cuda = false;
 
-  int numLevels() const { return static_cast<int>(iterations.size()); }
+  int numLevels() const { return num_levels; }
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;

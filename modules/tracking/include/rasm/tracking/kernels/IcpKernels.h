@@ -63,8 +63,13 @@ struct IcpReduceKernel {
   float huber_delta_m = 0.0f;           ///< 0 = no robust weight
   int stride = 1;                       ///< process every stride-th pixel in x and y
 
+  /// Work items of the CPU reduction: row segments of kSegment processed pixels (rows alone are
+  /// too few work items for compute::reduce1D to split them over threads at coarse levels).
+  static constexpr int kSegment = 64;
   RASM_HD_INLINE int rows() const { return (frame_vertex.height + stride - 1) / stride; }
   RASM_HD_INLINE int cols() const { return (frame_vertex.width + stride - 1) / stride; }
+  RASM_HD_INLINE int segmentsPerRow() const { return (cols() + kSegment - 1) / kSegment; }
+  RASM_HD_INLINE int items() const { return rows() * segmentsPerRow(); }
 
   /// Projective association and point-to-plane term of pixel (x, y) of the frame (II-C).
   /// On kIcpInlier fills J (6), the residual r (m) and the IRLS weight w.
@@ -118,22 +123,25 @@ struct IcpReduceKernel {
     a[30] += T(depth);
   }
 
-  /// CPU path: one row of processed pixels (row index i, image row i * stride). Terms are
-  /// summed in float within the row (<= 640 terms) and in double across rows.
+  /// CPU path: work item i = one row segment. Terms are summed in float within the segment
+  /// (<= kSegment terms) and in double across segments.
   void operator()(int i, IcpAccumulator& acc) const {
-    const int y = i * stride;
-    float row[IcpAccumulator::kSize] = {};
+    const int spr = segmentsPerRow();
+    const int y = (i / spr) * stride;
+    const int xs0 = (i % spr) * kSegment;
+    const int xs1 = xs0 + kSegment < cols() ? xs0 + kSegment : cols();
+    float seg[IcpAccumulator::kSize] = {};
     float J[6], r = 0.f, w = 0.f, depth = 0.f;
     int valid = 0;
-    for (int x = 0; x < frame_vertex.width; x += stride) {
-      const int s = pixel(x, y, J, r, w, depth);
+    for (int xs = xs0; xs < xs1; ++xs) {
+      const int s = pixel(xs * stride, y, J, r, w, depth);
       if (s == kIcpInvalid) continue;
       ++valid;
-      if (s == kIcpInlier) accumulate(row, J, r, w, depth);
+      if (s == kIcpInlier) accumulate(seg, J, r, w, depth);
     }
-    row[29] = float(valid);
+    seg[29] = float(valid);
     double* a = acc.data();
-    for (int k = 0; k < IcpAccumulator::kSize; ++k) a[k] += double(row[k]);
+    for (int k = 0; k < IcpAccumulator::kSize; ++k) a[k] += double(seg[k]);
   }
 };
 
@@ -180,8 +188,14 @@ struct ModelDownsampleKernel {
         ++cnt;
       }
     const float len = nsum.norm();
-    out_vertex(x, y) = vsum / float(cnt);
-    out_normal(x, y) = len > 1e-6f ? Vec3f(nsum / len) : ns[0];
+    if (len > 1e-6f) {
+      out_vertex(x, y) = vsum / float(cnt);
+      out_normal(x, y) = nsum / len;
+    } else {  // opposing normals (a thin sheet seen edge-on): no reliable sample
+      const float nan = compute::invalidFloat();
+      out_vertex(x, y) = Vec3f(nan, nan, nan);
+      out_normal(x, y) = Vec3f(nan, nan, nan);
+    }
   }
 };
 

@@ -1,0 +1,296 @@
+#include "rasm/tracking/IcpTracker.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <string>
+
+#include "rasm/compute/Device.h"
+#include "rasm/compute/Parallel.h"
+#include "rasm/core/Error.h"
+#include "rasm/core/SE3.h"
+#include "rasm/tracking/IcpCuda.h"
+#include "rasm/tracking/kernels/IcpKernels.h"
+
+namespace rasm::tracking {
+
+const char* toString(TrackingStatus s) {
+  switch (s) {
+    case TrackingStatus::Ok:
+      return "ok";
+    case TrackingStatus::Degenerate:
+      return "degenerate";
+    case TrackingStatus::TooFewInliers:
+      return "too_few_inliers";
+    case TrackingStatus::HighResidual:
+      return "high_residual";
+    case TrackingStatus::ExcessiveMotion:
+      return "excessive_motion";
+    case TrackingStatus::Diverged:
+      return "diverged";
+    case TrackingStatus::NotInitialized:
+      return "not_initialized";
+  }
+  return "?";
+}
+
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+/// Below this many inliers a level's system is not solved (6 unknowns; margin for noise).
+constexpr double kMinSolveInliers = 20;
+
+RigidF toRigidF(const Eigen::Isometry3d& T) { return RigidF::fromMatrix(T.matrix().cast<float>()); }
+
+/// The normal equations of one linearisation, normalised and analysed.
+struct IcpSystem {
+  Eigen::Matrix<double, 6, 6> H;  ///< J^T J
+  Vector6d g;                     ///< J^T r
+  double inliers = 0, valid = 0, rms_m = 0, mean_depth_m = 1;
+  /// Eigen-decomposition of D^-1 H D^-1 / inliers, D = diag(1,1,1,d,d,d), d = mean depth: the
+  /// rotation columns become (p - c) x n / d, of the same order as the unit normals, so the
+  /// eigenvalues compare translation and rotation constraints on one dimensionless scale.
+  Vector6d eigenvalues = Vector6d::Zero();
+  Eigen::Matrix<double, 6, 6> eigenvectors = Eigen::Matrix<double, 6, 6>::Identity();
+
+  explicit IcpSystem(const kernels::IcpAccumulator& a) {
+    int k = 0;
+    for (int i = 0; i < 6; ++i)
+      for (int j = i; j < 6; ++j) H(i, j) = H(j, i) = a.JtJ[k++];
+    for (int i = 0; i < 6; ++i) g(i) = a.Jtr[i];
+    inliers = a.inliers;
+    valid = a.valid;
+    if (inliers > 0) {
+      rms_m = std::sqrt(a.r2 / inliers);
+      mean_depth_m = std::max(1e-3, a.depth / inliers);
+      const Vector6d dinv = scaleInv();
+      const Eigen::Matrix<double, 6, 6> Hs = dinv.asDiagonal() * H * dinv.asDiagonal() / inliers;
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> es(Hs);
+      eigenvalues = es.eigenvalues();
+      eigenvectors = es.eigenvectors();
+    }
+  }
+  Vector6d scaleInv() const {
+    Vector6d d;
+    d << 1, 1, 1, 1 / mean_depth_m, 1 / mean_depth_m, 1 / mean_depth_m;
+    return d;
+  }
+
+  /// Gauss-Newton step H xi = -g. Well-conditioned systems are solved with LDLT; otherwise the
+  /// step is restricted to the eigen-directions above `min_eig` (the others stay at the current
+  /// estimate, i.e. at the motion-model guess). Returns the number of unconstrained directions.
+  int solve(double min_eig, Vector6d& xi) const {
+    int unconstrained = 0;
+    for (int i = 0; i < 6; ++i)
+      if (eigenvalues(i) < min_eig) ++unconstrained;
+    if (unconstrained == 0) {
+      xi = H.ldlt().solve(-g);
+      return 0;
+    }
+    // In scaled coordinates xs = D xi: Hs xs = -gs with Hs = D^-1 H D^-1 / N, gs = D^-1 g / N.
+    const Vector6d dinv = scaleInv();
+    const Vector6d gs = dinv.cwiseProduct(g) / inliers;
+    Vector6d xs = Vector6d::Zero();
+    for (int i = 0; i < 6; ++i)
+      if (eigenvalues(i) >= min_eig)
+        xs -= eigenvectors.col(i) * (eigenvectors.col(i).dot(gs) / eigenvalues(i));
+    xi = dinv.cwiseProduct(xs);
+    return unconstrained;
+  }
+};
+
+void checkMap(const ImageView<const Vec3f>& v, const ImageView<const Vec3f>& n, const std::string& what) {
+  if (v.width != n.width || v.height != n.height)
+    throwInputError("tracking: " + what, "vertex map " + std::to_string(v.width) + "x" + std::to_string(v.height) +
+                                             " and normal map " + std::to_string(n.width) + "x" +
+                                             std::to_string(n.height) + " differ in size");
+}
+
+}  // namespace
+
+IcpTracker::IcpTracker(const TTrackingParams& params) : m_params(params) { m_params.validate(); }
+IcpTracker::~IcpTracker() = default;
+IcpTracker::IcpTracker(IcpTracker&&) noexcept = default;
+IcpTracker& IcpTracker::operator=(IcpTracker&&) noexcept = default;
+
+void IcpTracker::reset(const Eigen::Isometry3d& T_world_cam) {
+  m_T_last = m_T_prev = T_world_cam;
+  m_initialized = true;
+}
+
+Eigen::Isometry3d IcpTracker::predictPose() const {
+  if (m_params.motion_model == MotionModel::PreviousPose) return m_T_last;
+  // Constant velocity: apply the last inter-frame motion (in the camera frame) once more.
+  return orthonormalize(m_T_last * (m_T_prev.inverse() * m_T_last));
+}
+
+TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const ModelMaps& model) {
+  if (!m_initialized) {
+    TrackingResult r;
+    r.status = TrackingStatus::NotInitialized;
+    return r;
+  }
+  TrackingResult r = align(frame, model, predictPose());
+  if (r.ok) {
+    m_T_prev = m_T_last;
+    m_T_last = r.T_world_cam;
+  } else {
+    m_T_prev = m_T_last;  // zero velocity: the next guess is the last good pose
+  }
+  return r;
+}
+
+void IcpTracker::buildModelPyramid(const ModelMaps& model) {
+  const int L = m_params.num_levels;
+  m_model_vertex.resize(std::max(0, L - 1));
+  m_model_normal.resize(std::max(0, L - 1));
+  const RigidF T_model_world = toRigidF(model.T_world_model.inverse());
+  ImageView<const Vec3f> v = model.vertex_world, n = model.normal_world;
+  for (int l = 1; l < L; ++l) {
+    Image<Vec3f>& ov = m_model_vertex[l - 1];
+    Image<Vec3f>& on = m_model_normal[l - 1];
+    ov.resize((v.width + 1) / 2, (v.height + 1) / 2);
+    on.resize(ov.width(), ov.height());
+    kernels::ModelDownsampleKernel k{v, n, ov.view(), on.view(), T_model_world, 0.03f};
+    compute::forEach2D(ov.width(), ov.height(), k);
+    v = ov.view();
+    n = on.view();
+  }
+}
+
+TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const ModelMaps& model,
+                                 const Eigen::Isometry3d& T_world_cam_guess) {
+  const TTrackingParams& P = m_params;
+  const int L = P.num_levels;
+  if (static_cast<int>(frame.size()) < L)
+    throwInputError("tracking: frame pyramid", "has " + std::to_string(frame.size()) + " levels, [tracking] num_levels = " +
+                                                   std::to_string(L));
+  for (int l = 0; l < L; ++l) {
+    const FrameLevel& F = frame[l];
+    checkMap(F.vertex.view(), F.normal.view(), "frame level " + std::to_string(l));
+    if (F.vertex.empty())
+      throwInputError("tracking: frame level " + std::to_string(l), "empty vertex map (build it with buildFramePyramid)");
+  }
+  checkMap(model.vertex_world, model.normal_world, "model maps");
+  const bool model_empty = model.vertex_world.empty();
+  if (!model_empty && (model.K.width != model.vertex_world.width || model.K.height != model.vertex_world.height))
+    throwInputError("tracking: model maps", "size " + std::to_string(model.vertex_world.width) + "x" +
+                                                std::to_string(model.vertex_world.height) +
+                                                " differs from the model intrinsics " + model.K.toString());
+  if (P.use_cuda) {
+    const auto avail = compute::cudaAvailability();
+    if (!avail.available) throwInputError("[tracking] use_cuda", "CUDA is not usable: " + avail.reason);
+    if (!m_cuda) m_cuda = std::make_unique<cuda::IcpCudaReducer>();
+  }
+
+  TrackingResult res;
+  res.T_world_cam_guess = T_world_cam_guess;
+  Eigen::Isometry3d T = T_world_cam_guess;
+  if (!model_empty) buildModelPyramid(model);
+  const Eigen::Isometry3d T_model_world = model.T_world_model.inverse();
+  const float min_cos = float(std::cos(P.max_normal_angle_deg * kDegToRad));
+  const double conv_rot_rad = P.convergence_rotation_deg * kDegToRad;
+
+  bool diverged = false;
+  IcpSystem last(kernels::IcpAccumulator{});
+  int last_unconstrained = 0;
+  for (int l = L - 1; l >= 0 && !diverged; --l) {
+    TrackingLevelStats st;
+    st.level = l;
+    kernels::IcpReduceKernel k;
+    k.frame_vertex = frame[l].vertex.view();
+    k.frame_normal = frame[l].normal.view();
+    if (!model_empty) {
+      k.model_vertex = l == 0 ? model.vertex_world : ImageView<const Vec3f>(m_model_vertex[l - 1].view());
+      k.model_normal = l == 0 ? model.normal_world : ImageView<const Vec3f>(m_model_normal[l - 1].view());
+    }
+    k.K_model = model.K.level(l).plain();
+    k.max_dist_m = float(P.max_dist_m[l]);
+    k.min_normal_cos = min_cos;
+    k.huber_delta_m = float(P.huber_delta_m);
+    k.stride = l == 0 ? P.level0_pixel_stride : 1;
+    if (P.use_cuda && !model_empty) m_cuda->upload(l, k);
+
+    for (int it = 0; it < P.iterations[l]; ++it) {
+      k.T_world_cam = toRigidF(T);
+      k.T_model_cam = toRigidF(T_model_world * T);
+      k.pivot_world = T.translation().cast<float>();
+      kernels::IcpAccumulator acc;
+      if (model_empty) {
+        // Nothing to associate with: only count the valid frame pixels.
+        for (int y = 0; y < k.frame_vertex.height; y += k.stride)
+          for (int x = 0; x < k.frame_vertex.width; x += k.stride)
+            if (k.frame_vertex(x, y).x() == k.frame_vertex(x, y).x() &&
+                k.frame_normal(x, y).x() == k.frame_normal(x, y).x())
+              acc.valid += 1;
+      } else if (P.use_cuda) {
+        acc = m_cuda->reduce(l, k);
+      } else {
+        acc = compute::reduce1D<kernels::IcpAccumulator>(k.items(), k);
+      }
+      const IcpSystem sys(acc);
+      ++st.iterations;
+      ++res.iterations;
+      st.inliers = int(sys.inliers);
+      st.valid_pixels = int(sys.valid);
+      st.rms_m = sys.rms_m;
+      if (l == 0) last = sys;
+      if (sys.inliers < kMinSolveInliers) break;  // nothing to solve at this level
+
+      Vector6d xi;
+      const int unconstrained = sys.solve(P.min_eigenvalue, xi);
+      if (l == 0) last_unconstrained = unconstrained;
+      if (!xi.allFinite()) {
+        diverged = true;
+        break;
+      }
+      // T <- P exp(xi) P^-1 T (left-multiplicative about the pivot c, see IcpKernels.h).
+      Eigen::Isometry3d Pc = Eigen::Isometry3d::Identity();
+      Pc.translation() = T.translation();
+      T = Pc * se3Exp(xi) * Pc.inverse() * T;
+      st.last_step_translation_m = xi.head<3>().norm();
+      st.last_step_rotation_rad = xi.tail<3>().norm();
+      if (!T.matrix().allFinite()) {
+        diverged = true;
+        break;
+      }
+      if (st.last_step_translation_m < P.convergence_translation_m && st.last_step_rotation_rad < conv_rot_rad)
+        break;
+    }
+    if (l == 0) {
+      res.final_step_translation_m = st.last_step_translation_m;
+      res.final_step_rotation_rad = st.last_step_rotation_rad;
+    }
+    res.levels.push_back(st);
+  }
+
+  res.T_world_cam = orthonormalize(T);
+  res.inliers = int(last.inliers);
+  res.inlier_fraction = last.valid > 0 ? last.inliers / last.valid : 0.0;
+  res.rms_m = last.rms_m;
+  res.eigenvalues = last.eigenvalues;
+  res.eigenvectors = last.eigenvectors;
+  res.min_eigenvalue = last.eigenvalues(0);
+  res.unconstrained_directions = last.inliers >= kMinSolveInliers ? last_unconstrained : 6;
+  res.correction_translation_m = translationDistance(T_world_cam_guess, res.T_world_cam);
+  res.correction_rotation_rad = rotationAngle(T_world_cam_guess, res.T_world_cam);
+
+  // Quality rules (most severe first).
+  if (diverged || !res.T_world_cam.matrix().allFinite())
+    res.status = TrackingStatus::Diverged;
+  else if (res.inliers < P.min_inliers || res.inlier_fraction < P.min_inlier_fraction)
+    res.status = TrackingStatus::TooFewInliers;
+  else if (res.rms_m > P.max_rms_m)
+    res.status = TrackingStatus::HighResidual;
+  else if (res.correction_translation_m > P.max_jump_translation_m ||
+           res.correction_rotation_rad > P.max_jump_rotation_deg * kDegToRad)
+    res.status = TrackingStatus::ExcessiveMotion;
+  else if (res.unconstrained_directions > 0)
+    res.status = TrackingStatus::Degenerate;
+  else
+    res.status = TrackingStatus::Ok;
+  res.ok = res.status == TrackingStatus::Ok || (res.status == TrackingStatus::Degenerate && !P.degenerate_is_lost);
+  return res;
+}
+
+}  // namespace rasm::tracking
