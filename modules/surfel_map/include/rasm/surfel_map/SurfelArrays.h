@@ -18,6 +18,7 @@
 //
 // Times are seconds relative to the map's time origin (the first inserted frame), stored as float.
 
+#include <cstddef>
 #include <cstdint>
 
 #include "rasm/compute/Types.h"
@@ -39,6 +40,13 @@ RASM_HD_INLINE Bgr8 unpackColour(std::uint32_t v) {
   c.r = std::uint8_t((v >> 16) & 0xff);
   return c;
 }
+
+/// [0,1] <-> u8 quantisation of class probabilities and view-information bins (1/255 steps).
+RASM_HD_INLINE std::uint8_t quantizeUnit(float v) {
+  v = v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v);
+  return std::uint8_t(v * 255.0f + 0.5f);
+}
+RASM_HD_INLINE float dequantizeUnit(std::uint8_t q) { return float(q) * (1.0f / 255.0f); }
 
 /// Raw pointers to the arrays of a map (host or device memory); `size` surfels, strides for the
 /// per-surfel vectors. Cheap to copy into kernel functors.
@@ -63,6 +71,10 @@ struct SurfelArrays {
   RASM_HD_INLINE Vec3f normal(int i) const { return normal_radius[i].head<3>(); }
   RASM_HD_INLINE float confidence(int i) const { return pos_conf[i].w(); }
   RASM_HD_INLINE float radius(int i) const { return normal_radius[i].w(); }
+  RASM_HD_INLINE Bgr8 colour(int i) const { return unpackColour(colour_flags[i]); }
+  /// Row of n_classes quantised probabilities / n_view_bins quantised IC values of surfel i.
+  RASM_HD_INLINE std::uint8_t* classRow(int i) const { return class_p + std::size_t(i) * n_classes; }
+  RASM_HD_INLINE std::uint8_t* viewRow(int i) const { return view_ic + std::size_t(i) * n_view_bins; }
 };
 
 }  // namespace rasm::maps

@@ -1,0 +1,100 @@
+#pragma once
+// Surfel map fusion of one RGB-D frame at a known pose (II-B, II-D, with the segment weights of
+// III and the view-information bins / basis of V-B):
+//   1. render the 4x point index map of the map at T_world_cam (SurfelRenderer, II-D);
+//   2. per pixel (parallel, race-free: each surfel is a candidate of one pixel only), pick the most
+//      similar candidate in the pixel's 4x4 sub-pixel block (depth along the ray and normal angle
+//      gate it; cost = normalised ray distance + normal angle + radius ratio), and update it by
+//      confidence-weighted averaging (Keller et al. 2013), accumulate w, update t_last, the
+//      stability flag, the segment weight (L^p), the basis b <- -n x (n x b) and the view bins;
+//   3. pixels without a match become new surfels (II-B), appended in row-major pixel order through
+//      a per-row count + prefix sum (deterministic);
+//   4. cleanup: remove unstable surfels older than the time window, carve free space.
+// Works on the MRPT-free SurfelStore; CSurfelMap::store() gives it.
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "rasm/compute/ImageView.h"
+#include "rasm/compute/Parallel.h"
+#include "rasm/core/CameraIntrinsics.h"
+#include "rasm/core/Image.h"
+#include "rasm/core/RgbdFrame.h"
+#include "rasm/fusion/TFusionParams.h"
+#include "rasm/surfel_map/SurfelRenderer.h"
+#include "rasm/surfel_map/SurfelStore.h"
+
+namespace rasm::fusion {
+
+/// One frame as fusion needs it. All images have the intrinsics' size; views stay owned by the
+/// caller. vertex_cam / normal_cam are V_t, N_t of II-A in the CAMERA frame (computeVertexMap /
+/// computeNormalMap of core; invalid = x NaN). colour may be empty (surfels get grey).
+struct FusionInput {
+  ImageView<const float> depth_m;
+  ImageView<const Bgr8> colour;
+  ImageView<const Vec3f> vertex_cam;
+  ImageView<const Vec3f> normal_cam;
+  CameraIntrinsics K;
+  Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();  ///< optical frame
+  double timestamp_s = 0.0;
+  /// Propagated segment labels L^p (III), 0 = none; empty = segments are not updated.
+  ImageView<const std::uint32_t> labels;
+};
+
+/// FusionInput over an RgbdFrame and its camera-frame vertex/normal maps (views, no copies).
+FusionInput makeFusionInput(const RgbdFrame& frame, const Image<Vec3f>& vertex_cam, const Image<Vec3f>& normal_cam,
+                            const Eigen::Isometry3d& T_world_cam, const Image<std::uint32_t>* labels = nullptr);
+
+struct FusionStats {
+  int valid_pixels = 0;      ///< pixels with valid vertex + normal within the depth range
+  int associated = 0;        ///< pixels matched to an existing surfel (confidence accumulated)
+  int fused = 0;             ///< of those, geometry averaged (radius rule passed)
+  int added = 0;             ///< new surfels (II-B)
+  int became_stable = 0;
+  int relabelled = 0;        ///< surfels whose segment changed (III)
+  int removed_unstable = 0;  ///< old unstable surfels removed
+  int removed_carved = 0;    ///< free-space violators removed
+  int demoted_carved = 0;    ///< stable free-space violators that lost confidence
+  int map_size = 0;          ///< after the frame
+  maps::RenderStats render;  ///< of the 4x index map render
+};
+
+class SurfelFusion {
+ public:
+  explicit SurfelFusion(const TFusionParams& params = {}, compute::Backend backend = compute::Backend::Cpu);
+
+  const TFusionParams& params() const { return m_params; }
+  void setParams(const TFusionParams& p) { m_params = p; }
+  compute::Backend backend() const { return m_backend; }
+  void setBackend(compute::Backend b);
+
+  /// Integrate (steps 1-3) then cleanup (step 4). Throws InputError when image sizes do not
+  /// match the intrinsics.
+  FusionStats fuse(maps::SurfelStore& map, const FusionInput& in);
+
+  /// Steps 1-3 only.
+  FusionStats integrate(maps::SurfelStore& map, const FusionInput& in);
+  /// Step 4 only, at the pose/time of `in` (carving uses its depth); adds to `stats`.
+  void cleanup(maps::SurfelStore& map, const FusionInput& in, FusionStats& stats);
+
+  /// Surfel that pixel (x, y) of the last frame updated or created, -1 none. Kept valid across
+  /// the cleanup's compaction (removed -> -1, moved -> new index); invalid after any later change
+  /// of the map by someone else.
+  const Image<std::int32_t>& pixelSurfels() const { return m_pixel_surfel; }
+  /// The 4x point index map rendered for the last frame (before its updates and cleanup).
+  const maps::IndexMap4x& lastIndexMap() const { return m_index4x; }
+
+ private:
+  TFusionParams m_params;
+  compute::Backend m_backend;
+  maps::SurfelRenderer m_renderer;
+  maps::IndexMap4x m_index4x;
+  Image<std::int32_t> m_pixel_surfel;  ///< per pixel: matched surfel / -2 new / -1 none
+  Image<std::uint8_t> m_flags;
+  std::vector<int> m_row_offset;
+  std::vector<int> m_scratch;
+};
+
+}  // namespace rasm::fusion

@@ -1,0 +1,63 @@
+#pragma once
+// Parameters of surfel map fusion (II-B initialization, II-D fusion and cleanup, III segment
+// weights, V-B view bins), INI section [fusion]. Defaults are the paper's values where it gives
+// them (sigma = 0.6) and ElasticFusion's (Whelan et al. 2016) otherwise.
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+
+namespace rasm::fusion {
+
+struct TFusionParams : public mrpt::config::CLoadableOptions {
+  // ---- measurements (II-B) ----
+  float confidence_sigma = 0.6f;        ///< sigma of w = exp(-gamma^2 / (2 sigma^2)) (II-B)
+  float min_depth_m = 0.1f;             ///< pixels outside [min, max] depth are not fused
+  float max_depth_m = 5.0f;
+  /// Measurements seen at more than this angle between the viewing ray and the normal are not
+  /// fused (grazing pixels have unreliable depth and huge radii).
+  float max_incidence_deg = 80.0f;
+
+  // ---- association through the 4x index map (II-D) ----
+  /// |z_surfel - z_measured| (camera frame) allowed for a candidate: max(abs, rel * z).
+  float assoc_max_depth_diff_m = 0.03f;
+  float assoc_max_depth_diff_rel = 0.01f;
+  float assoc_max_normal_angle_deg = 20.0f;  ///< angle between surfel and measured normal
+  /// Keller et al. 2013 / ElasticFusion: position, normal, colour and radius are averaged only
+  /// when the new radius is < ratio * the surfel radius (a finer or equal measurement); otherwise
+  /// only confidence and time are updated.
+  float radius_update_ratio = 1.5f;
+
+  // ---- confidence and stability (II-D) ----
+  float stable_confidence = 10.0f;  ///< confidence at which a surfel becomes stable (ElasticFusion)
+  float max_confidence = 0.0f;      ///< cap of the accumulated confidence; 0 = none
+
+  // ---- cleanup (II-D) ----
+  /// Unstable surfels older than this (since instantiation) are removed; ElasticFusion uses 200
+  /// frames (6.7 s at 30 Hz).
+  double unstable_max_age_s = 5.0;
+  bool carve_free_space = true;
+  /// A surfel in view is in free space when it is in front of the measured depth of the pixel it
+  /// projects to (and of its 3x3 neighbours) by more than max(abs, rel * depth).
+  float carve_margin_m = 0.05f;
+  float carve_margin_rel = 0.02f;
+  /// Free-space evidence against a STABLE surfel multiplies its confidence by this factor and
+  /// clears the stable flag once it falls below stable_confidence; the next violation removes it.
+  /// Unstable violators are removed at once. (The paper removes all violators; one bad pose would
+  /// then erase stable structure, so stable surfels need repeated evidence: 2-3 frames.)
+  float carve_stable_decay = 0.5f;
+
+  // ---- segments (III) ----
+  /// With a propagated label image L^p: same label -> w_l += w, else w_l -= w and relabel at 0.
+  bool update_segments = true;
+
+  // ---- view information bins (V-B) ----
+  bool update_view_bins = true;
+  float ic_lambda1 = 0.5f;  ///< IC(s) = exp(-lambda1 (max(||p - t||, d_min) - d_min)), 1/m
+  float ic_d_min_m = 1.0f;
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& section) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& section) const override;
+};
+
+}  // namespace rasm::fusion

@@ -1,0 +1,75 @@
+#pragma once
+// Map export: PLY point clouds and MRPT .3Dscene files of the surfel map (DESIGN.md "Outputs of a
+// run"). They live in surfel_map rather than io because io precedes surfel_map in the module
+// order (DESIGN.md "Layout"): io cannot see the map, the map can see everything io sees.
+//
+// PLY layout (binary_little_endian 1.0, one element `vertex` per surfel):
+//   float x y z            position (world, m)
+//   float nx ny nz         unit normal (world)
+//   uchar red green blue   colour
+//   float radius           m
+//   float confidence       w
+//   uint  segment          l (0 = none)
+//   int   class            argmax class id of p_c, -1 when n_classes = 0 or no class rose above
+//                          the 0.5 prior (see argmaxClass)
+//   uchar stable           0/1
+// MeshLab / CloudCompare / Open3D read it (radius, confidence, ... as scalar fields).
+
+#include <string>
+#include <vector>
+
+#include "rasm/surfel_map/SurfelStore.h"
+
+namespace mrpt::opengl {
+class CSetOfObjects;
+}
+
+namespace rasm::maps {
+
+/// How surfels are coloured in visualizations.
+enum class SurfelColouring : int {
+  Rgb = 0,         ///< measured colour
+  Segment = 1,     ///< a distinct pseudo-colour per segment label (grey = none)
+  Class = 2,       ///< a distinct pseudo-colour per argmax class (grey = none)
+  Confidence = 3,  ///< blue (low) .. red (>= stable threshold reached: flag set)
+  Stability = 4,   ///< green stable, red unstable
+};
+
+struct SurfelVisualOptions {
+  SurfelColouring colouring = SurfelColouring::Rgb;
+  float point_size = 2.0f;
+  bool stable_only = false;
+  float min_confidence = 0.0f;
+};
+
+/// Argmax of the class probabilities of surfel i; -1 when there are no classes or the largest
+/// probability is not above the 0.5 prior (i.e. no detector ever raised it).
+int argmaxClass(const SurfelArrays& a, int i);
+
+/// Pseudo-colour for a label (segment or class id); grey for <= 0 (segment) / < 0 (class).
+Bgr8 labelColour(long long label);
+
+/// Writes the PLY described above. Throws InputError naming the path when it cannot be written.
+void writeSurfelPly(const SurfelStore& map, const std::string& path, bool stable_only = false);
+
+/// What a PLY written by writeSurfelPly holds, per surfel (for tests and tools).
+struct PlySurfels {
+  std::vector<Vec3f> position, normal;
+  std::vector<Bgr8> colour;
+  std::vector<float> radius, confidence;
+  std::vector<std::uint32_t> segment;
+  std::vector<int> class_id;
+  std::vector<std::uint8_t> stable;
+  std::size_t size() const { return position.size(); }
+};
+/// Reads a PLY with exactly the layout above; throws InputError naming the path otherwise.
+PlySurfels readSurfelPly(const std::string& path);
+
+/// Appends a coloured point cloud (mrpt::opengl::CPointCloudColoured, one point per surfel) to `o`.
+void surfelsToOpenGL(const SurfelStore& map, const SurfelVisualOptions& opt, mrpt::opengl::CSetOfObjects& o);
+
+/// Saves a .3Dscene (mrpt::opengl::COpenGLScene::saveToFile) with the coloured cloud and a grid;
+/// SceneViewer3D opens it. Throws InputError naming the path on failure.
+void writeSurfelScene(const SurfelStore& map, const std::string& path, const SurfelVisualOptions& opt = {});
+
+}  // namespace rasm::maps

@@ -1,0 +1,146 @@
+#pragma once
+// Owning structure-of-arrays storage of the surfel map M (II-A) plus its coarse spatial index.
+// This is the MRPT-free core that the renderer (II-A), fusion (II-B, II-D), segmentation (III),
+// classification (IV) and exploration (V-B) work on; rasm::maps::CSurfelMap wraps one and adds
+// the mrpt::maps::CMetricMap interface (serialization, INI creation, visualization).
+//
+// Layout and byte budget: see SurfelArrays.h (64 bytes + n_classes + n_view_bins per surfel) plus
+// 12 bytes per surfel for the spatial index (VoxelBlockIndex.h).
+//
+// Index stability: surfel indices are positions in the arrays. append()/allocate() never change
+// existing indices. remove() compacts by moving surfels from the tail into the holes, so after it
+// every index >= the smallest removed index may name another surfel (the optional `moved` output
+// lists each (old index, new index)). Anything that keeps surfel indices across a removal (index
+// maps rendered earlier, per-pixel association results) must be remapped or recomputed.
+//
+// Times: surfels store float seconds relative to the map's time origin (the first timestamp the
+// map saw), so sub-millisecond resolution holds for runs of hours; the API takes absolute seconds.
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "rasm/surfel_map/SurfelArrays.h"
+#include "rasm/surfel_map/VoxelBlockIndex.h"
+
+namespace rasm::maps {
+
+/// Creation-time layout of a surfel store.
+struct SurfelStoreOptions {
+  int n_classes = 0;             ///< n_c of II-A (class probabilities per surfel, u8 each)
+  int view_bins_azimuth = 8;     ///< V-B view bins: azimuth sectors around the surfel normal
+  int view_bins_elevation = 2;   ///< V-B view bins: elevation rings between the plane and normal
+  float block_size_m = 0.5f;     ///< edge of the spatial index blocks
+
+  int nViewBins() const { return view_bins_azimuth * view_bins_elevation; }
+  bool operator==(const SurfelStoreOptions& o) const {
+    return n_classes == o.n_classes && view_bins_azimuth == o.view_bins_azimuth &&
+           view_bins_elevation == o.view_bins_elevation && block_size_m == o.block_size_m;
+  }
+};
+
+/// One surfel by value (host convenience for appends, tests and I/O; kernels use SurfelArrays).
+/// Probabilities and IC values are floats in [0,1] here and quantised to u8 in the store.
+struct Surfel {
+  Vec3f position = Vec3f::Zero();           ///< p, world (m)
+  Vec3f normal = Vec3f::UnitZ();            ///< n, world, unit
+  Vec3f basis = Vec3f::UnitX();             ///< b, world, unit, perpendicular to n (V-B)
+  float radius = 0.0f;                      ///< r (m)
+  float confidence = 0.0f;                  ///< w
+  Bgr8 colour;                              ///< c
+  bool stable = false;                      ///< s
+  double t_init_s = 0.0;                    ///< t, absolute seconds
+  double t_last_s = 0.0;                    ///< last fusion, absolute seconds
+  std::uint32_t segment = 0;                ///< l (0 = none)
+  float segment_weight = 0.0f;              ///< w_l
+  std::vector<float> class_p;               ///< p_c, n_classes values (empty = all 0.5)
+  std::vector<float> view_ic;               ///< b_v, n_view_bins values (empty = all 0)
+};
+
+class SurfelStore {
+ public:
+  explicit SurfelStore(const SurfelStoreOptions& opt = {});
+
+  /// Drops all surfels and the time origin; `opt` replaces the layout (n_classes, bins, block).
+  void reset(const SurfelStoreOptions& opt);
+  void clear() { reset(opt_); }
+  const SurfelStoreOptions& options() const { return opt_; }
+
+  int size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  void reserve(int n);
+
+  /// Mutable spans over the arrays (valid until the next size change).
+  SurfelArrays arrays();
+  /// Read-only by contract: the pointers are non-const because SurfelArrays is one plain type
+  /// shared by all kernels; code holding a const store must not write through them.
+  SurfelArrays arrays() const;
+
+  /// Appends one surfel and indexes it; returns its index. Sets the time origin if unset.
+  int append(const Surfel& s);
+  /// Grows the arrays by `count` default surfels (zero geometry, class_p = 0.5, view_ic = 0,
+  /// segment 0) and returns the first new index. The new surfels are NOT in the spatial index until
+  /// indexAppended() is called once the caller has written their positions (fusion kernels do).
+  int allocate(int count);
+  /// Adds every surfel allocated since the last call to the spatial index.
+  void indexAppended();
+  /// Re-bins the given surfels after their positions changed (only those that crossed a block
+  /// border cost anything); returns how many changed block.
+  int reindex(const std::vector<int>& surfels);
+  /// Re-bins every surfel (after bulk edits through arrays()).
+  void rebuildIndex();
+
+  /// Removes the given surfels (any order, duplicates allowed) and compacts by moving tail
+  /// surfels into the holes. `moved`, when given, receives (old index, new index) of every surfel
+  /// that changed index. See the header comment for the invalidation rule. O(k) for k removals.
+  void remove(std::vector<int> surfels, std::vector<std::pair<int, int>>* moved = nullptr);
+
+  /// Value accessors (slow path: tests, I/O, tools).
+  Surfel get(int i) const;
+  void set(int i, const Surfel& s);  ///< re-bins i if its position changed
+
+  const VoxelBlockIndex& spatialIndex() const { return index_; }
+
+  /// Time origin (absolute seconds) of the stored float times; NaN until set.
+  double timeOrigin() const { return t0_s_; }
+  bool hasTimeOrigin() const { return t0_s_ == t0_s_; }
+  void setTimeOrigin(double t0_s) { t0_s_ = t0_s; }
+  /// Absolute seconds <-> stored float (0 before the origin is set).
+  float toMapTime(double t_s) const { return hasTimeOrigin() ? float(t_s - t0_s_) : 0.0f; }
+  double fromMapTime(float t) const { return (hasTimeOrigin() ? t0_s_ : 0.0) + double(t); }
+
+  /// Bytes per surfel of the arrays (SurfelArrays.h budget) and of the spatial index.
+  static std::size_t bytesPerSurfel(int n_classes, int n_view_bins);
+  static constexpr std::size_t kIndexBytesPerSurfel = 12;
+  /// Bytes held by arrays and index (capacity based).
+  std::size_t memoryBytes() const;
+
+  /// Spatial index consistent with the positions (tests).
+  bool checkConsistency(std::string* why = nullptr) const;
+
+ private:
+  void resizeArrays(int n);
+  void moveSurfel(int from, int to);
+
+  SurfelStoreOptions opt_;
+  int size_ = 0;
+  int indexed_ = 0;  ///< surfels [0, indexed_) are in index_
+  double t0_s_ = std::numeric_limits<double>::quiet_NaN();
+
+  std::vector<Vec4f> pos_conf_;
+  std::vector<Vec4f> normal_radius_;
+  std::vector<std::uint32_t> colour_flags_;
+  std::vector<float> t_init_;
+  std::vector<float> t_last_;
+  std::vector<Vec3f> basis_;
+  std::vector<std::uint32_t> segment_;
+  std::vector<float> segment_w_;
+  std::vector<std::uint8_t> class_p_;
+  std::vector<std::uint8_t> view_ic_;
+
+  VoxelBlockIndex index_;
+};
+
+}  // namespace rasm::maps
