@@ -1,0 +1,88 @@
+#pragma once
+// The mapping front end of one frame (section II): preprocess (II-A), track against the map
+// rendered at the last good pose, stable surfels only (II-C), fuse and clean up (II-B, II-D).
+// Later stages (segmentation, classification) hook in between tracking and fusion.
+//
+//   Mapper mapper(params);
+//   for (frame : source) { FrameResult r = mapper.processFrame(frame); ... }
+//   mapper.map().saveToPly("map.ply");
+//
+// Lost track: a frame whose TrackingResult is not ok is not fused; the model stays rendered from
+// the last good pose, so tracking resumes when the camera comes back near it (IcpTracker.h).
+
+#include <Eigen/Geometry>
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rasm/core/FrameProcessing.h"
+#include "rasm/core/RgbdFrame.h"
+#include "rasm/fusion/SurfelFusion.h"
+#include "rasm/pipeline/RunParams.h"
+#include "rasm/surfel_map/CSurfelMap.h"
+#include "rasm/surfel_map/SurfelRenderer.h"
+#include "rasm/tracking/IcpTracker.h"
+
+namespace rasm::pipeline {
+
+/// Stages timed per frame (milliseconds), in pipeline order.
+enum class Stage : int { Preprocess = 0, RenderModel, Track, Fuse, Total, Count };
+const char* toString(Stage s);
+
+struct MapperParams {
+  TMapperParams mapper;
+  tracking::TTrackingParams tracking;
+  fusion::TFusionParams fusion;
+  maps::CSurfelMap::TCreationOptions map;
+  /// Start at the source's ground-truth pose when the first frame has one (keeps the map in the
+  /// ground-truth/world frame; ATE aligns anyway). Otherwise the identity.
+  bool init_from_groundtruth = true;
+};
+
+struct FrameResult {
+  std::size_t index = 0;
+  double timestamp_s = 0.0;
+  Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
+  bool tracked = false;  ///< false while lost (the pose is then the tracker's best guess)
+  bool fused = false;
+  bool first = false;
+  tracking::TrackingResult tracking;
+  fusion::FusionStats fusion;
+  int model_valid_pixels = 0;  ///< valid pixels of the rendered model ICP aligned to
+  bool model_all_surfels = false;  ///< the stable-only model was too sparse: all surfels used
+  std::array<double, int(Stage::Count)> ms{};
+};
+
+class Mapper {
+ public:
+  explicit Mapper(const MapperParams& params);
+  FrameResult processFrame(const RgbdFrame& frame);
+
+  maps::CSurfelMap& map() { return *m_map; }
+  const maps::CSurfelMap& map() const { return *m_map; }
+  const tracking::IcpTracker& tracker() const { return m_tracker; }
+  const MapperParams& params() const { return m_params; }
+  std::size_t framesProcessed() const { return m_frames; }
+  std::size_t framesLost() const { return m_lost; }
+  /// Last good camera pose.
+  const Eigen::Isometry3d& pose() const { return m_tracker.lastGoodPose(); }
+  /// Renders the map's colour / segment view at a pose (previews, annotated rawlogs).
+  void renderView(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K, maps::RenderedMaps& out);
+
+ private:
+  void preprocess(const RgbdFrame& frame);
+
+  MapperParams m_params;
+  std::unique_ptr<maps::CSurfelMap> m_map;
+  tracking::IcpTracker m_tracker;
+  fusion::SurfelFusion m_fusion;
+  maps::SurfelRenderer m_renderer;
+  maps::RenderedMaps m_model;
+  Image<float> m_depth_filtered;
+  std::vector<FrameLevel> m_pyramid;
+  std::size_t m_frames = 0, m_lost = 0;
+  double m_t0 = 0.0;  ///< timestamp of the first frame: surfel times are relative to it
+};
+
+}  // namespace rasm::pipeline

@@ -1,0 +1,79 @@
+#pragma once
+// One `rasm run`: configuration -> frame source -> Mapper -> output folder (DESIGN.md "Outputs of
+// a run"). app/cmd_run.cpp is a thin layer over it, and the end-to-end tests drive it directly.
+//
+// Output files are written under temporary names and renamed when complete. When a frame fails
+// (corrupt rawlog, bad depth), the outputs of the frames before it are still written, report.json
+// says "status": "failed" with the error, and the error is rethrown.
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rasm/io/FrameSource.h"
+#include "rasm/io/Trajectory.h"
+#include "rasm/pipeline/Mapper.h"
+#include "rasm/pipeline/RunConfig.h"
+
+namespace rasm::pipeline {
+
+/// [camera]: intrinsics of the sensor when the source does not carry them (TUM-format folders,
+/// the simulator). preset: a rasm::CameraIntrinsics::preset name; fx > 0 overrides all values.
+struct TCameraParams : mrpt::config::CLoadableOptions {
+  std::string preset;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  int width = 0, height = 0;
+  std::optional<CameraIntrinsics> intrinsics() const;  ///< nullopt when nothing is set
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+struct RunSummary {
+  std::string out_dir;
+  std::size_t frames = 0, lost = 0;
+  double seconds = 0.0, fps = 0.0;
+  std::size_t surfels = 0;
+  std::optional<double> ate_rmse_m;
+  nlohmann::json report;  ///< what report.json holds
+};
+
+class MappingRun {
+ public:
+  /// Loads every section strictly (InputError names the file, section and key).
+  explicit MappingRun(const RunConfig& config);
+  ~MappingRun();
+
+  /// Sections this build understands.
+  static std::vector<std::string> knownSections();
+
+  /// Runs to the end of the source (or [source] max_frames) and writes the output folder.
+  /// `on_frame` (optional) sees every result, e.g. for tests.
+  RunSummary run(const std::function<void(const FrameResult&)>& on_frame = {});
+
+  const MapperParams& mapperParams() const { return m_mapper_params; }
+  const TSourceParams& sourceParams() const { return m_source; }
+  const TOutputParams& outputParams() const { return m_output; }
+  /// Available after run().
+  const Mapper* mapper() const { return m_mapper.get(); }
+
+  /// Opens the configured frame source.
+  std::unique_ptr<io::FrameSource> openSource() const;
+
+ private:
+  RunConfig m_config;
+  TSourceParams m_source;
+  TCameraParams m_camera;
+  TOutputParams m_output;
+  MapperParams m_mapper_params;
+  std::string m_sim_ini;  ///< [sim] section text, handed to the simulator source
+  std::unique_ptr<Mapper> m_mapper;
+};
+
+/// Writes `text` to `path` through "<path>.part" + rename.
+void writeFileAtomically(const std::string& path, const std::string& text);
+
+}  // namespace rasm::pipeline

@@ -1,0 +1,58 @@
+#pragma once
+// Params of the run itself: where frames come from ([source]), what the Mapper does around the
+// stages ([mapper]) and what is written ([output]). Stage params live in their modules
+// ([tracking] in tracking, [fusion] in fusion, [sim] in sim, ...).
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+
+namespace rasm::pipeline {
+
+/// [source]: the frame stream of a run.
+struct TSourceParams : mrpt::config::CLoadableOptions {
+  /// sim | rawlog | tum | 7scenes | auto (auto: rawlog file, TUM or 7-Scenes folder by inspection)
+  std::string type = "sim";
+  std::string path;          ///< rawlog file or dataset folder (not for sim)
+  std::string camera_preset; ///< overrides the intrinsics of TUM-format folders (e.g. icl_nuim)
+  int max_frames = 0;        ///< 0 = all
+  int start_frame = 0;       ///< frames before this are skipped
+  int frame_step = 1;        ///< use every n-th frame
+  std::string groundtruth;   ///< optional TUM trajectory for evaluation (else the source's own)
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+/// [mapper]: per-frame preprocessing around tracking and fusion (II-A).
+struct TMapperParams : mrpt::config::CLoadableOptions {
+  int pyramid_levels = 3;       ///< II-C: quarter, half, full resolution
+  double min_depth_m = 0.3;     ///< measurements nearer than this are ignored
+  double max_depth_m = 4.0;     ///< ... and further (Kinect-class noise grows with z^2)
+  bool bilateral_filter = true; ///< filter depth before computing normals (KinectFusion)
+  double bilateral_sigma_space_px = 4.5;
+  double bilateral_sigma_depth_m = 0.03;
+  double normal_max_jump_rel = 0.05; ///< neighbour depth jump that invalidates a normal
+  /// Lost-track handling: frames are not fused while lost; after this many consecutive lost
+  /// frames the tracker is re-initialised from the motion model (0 = never).
+  int max_lost_frames = 0;
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+/// [output]: the run's output folder and which files go in it.
+struct TOutputParams : mrpt::config::CLoadableOptions {
+  std::string dir = "rasm_out";
+  bool write_ply = true;
+  bool write_3dscene = true;
+  bool save_map = true;          ///< map.surfelmap: the CSurfelMap serialized for reloading
+  bool write_rawlog = false;     ///< annotated.rawlog: input observations with estimated pose
+  bool preview_png = true;       ///< preview.png: colour render of the map from the last pose
+  bool overwrite = true;         ///< false: refuse to write into a non-empty folder
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+}  // namespace rasm::pipeline

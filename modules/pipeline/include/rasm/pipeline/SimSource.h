@@ -1,0 +1,18 @@
+#pragma once
+// The simulator as a frame source of `rasm run` ([source] type = sim, configured by [sim]).
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "rasm/core/CameraIntrinsics.h"
+#include "rasm/io/FrameSource.h"
+
+namespace rasm::pipeline {
+
+/// `sim_ini` holds the [sim] section; `source` names the config for messages. Throws InputError
+/// when the build has no simulator or the section is invalid.
+std::unique_ptr<io::FrameSource> openSimSource(const std::string& sim_ini, const std::string& source,
+                                               const std::optional<CameraIntrinsics>& camera);
+
+}  // namespace rasm::pipeline

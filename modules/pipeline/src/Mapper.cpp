@@ -1,0 +1,146 @@
+#include "rasm/pipeline/Mapper.h"
+
+#include <chrono>
+
+#include "rasm/core/Error.h"
+#include "rasm/core/kernels/FrameKernels.h"
+
+namespace rasm::pipeline {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+int countValid(const Image<Vec3f>& v) {
+  int n = 0;
+  for (int y = 0; y < v.height(); ++y) {
+    const Vec3f* r = v.row(y);
+    for (int x = 0; x < v.width(); ++x) n += kernels::validVec(r[x]) ? 1 : 0;
+  }
+  return n;
+}
+}  // namespace
+
+const char* toString(Stage s) {
+  switch (s) {
+    case Stage::Preprocess: return "preprocess";
+    case Stage::RenderModel: return "render_model";
+    case Stage::Track: return "track";
+    case Stage::Fuse: return "fuse";
+    case Stage::Total: return "total";
+    default: return "?";
+  }
+}
+
+Mapper::Mapper(const MapperParams& params)
+    : m_params(params),
+      m_map(std::make_unique<maps::CSurfelMap>(params.map)),
+      m_tracker(params.tracking),
+      m_fusion(params.fusion) {
+  if (m_params.tracking.numLevels() > m_params.mapper.pyramid_levels)
+    throwInputError("[mapper] pyramid_levels",
+                    "must be >= the number of [tracking] levels (" + std::to_string(m_params.tracking.numLevels()) + ")");
+}
+
+void Mapper::preprocess(const RgbdFrame& frame) {
+  const TMapperParams& p = m_params.mapper;
+  const Image<float>* depth = &frame.depth_m;
+  if (p.bilateral_filter) {
+    bilateralFilterDepth(frame.depth_m, m_depth_filtered, 2, float(p.bilateral_sigma_space_px),
+                         float(p.bilateral_sigma_depth_m));
+    depth = &m_depth_filtered;
+  }
+  VertexMapOptions vo;
+  vo.min_depth_m = float(p.min_depth_m);
+  vo.max_depth_m = float(p.max_depth_m);
+  m_pyramid.resize(p.pyramid_levels);
+  for (int l = 0; l < p.pyramid_levels; ++l) {
+    FrameLevel& L = m_pyramid[l];
+    L.K = frame.intrinsics.level(l);
+    if (l == 0)
+      L.depth_m = *depth;
+    else
+      downsampleDepth(m_pyramid[l - 1].depth_m, L.depth_m);
+    computeVertexMap(L.depth_m, L.K, L.vertex, vo);
+    computeNormalMap(L.vertex, L.normal, float(p.normal_max_jump_rel));
+  }
+}
+
+FrameResult Mapper::processFrame(const RgbdFrame& frame) {
+  const auto t_start = Clock::now();
+  FrameResult r;
+  r.index = frame.index;
+  r.timestamp_s = frame.timestamp_s;
+  if (m_frames == 0) m_t0 = frame.timestamp_s;
+  const double t_rel = frame.timestamp_s - m_t0;
+
+  auto t = Clock::now();
+  preprocess(frame);
+  r.ms[int(Stage::Preprocess)] = msSince(t);
+
+  if (!m_tracker.initialized()) {
+    const Eigen::Isometry3d T0 = (m_params.init_from_groundtruth && frame.gt_T_world_cam) ? *frame.gt_T_world_cam
+                                                                                          : Eigen::Isometry3d::Identity();
+    m_tracker.reset(T0);
+    r.first = true;
+    r.tracked = true;
+    r.T_world_cam = T0;
+    r.tracking.ok = true;
+    r.tracking.status = tracking::TrackingStatus::Ok;
+    r.tracking.T_world_cam = T0;
+  } else {
+    // II-C: model = the map rendered at the previous (last good) pose, stable surfels only. Until
+    // enough surfels are stable (the first frames of a run, or a newly seen area), the stable
+    // model is too sparse to constrain ICP; then all surfels are used.
+    t = Clock::now();
+    maps::RenderOptions ro;
+    ro.min_depth_m = float(m_params.mapper.min_depth_m);
+    ro.max_depth_m = float(m_params.mapper.max_depth_m) * 1.5f;
+    ro.stable_only = true;
+    ro.outputs = maps::kRenderVertex | maps::kRenderNormal;
+    const Eigen::Isometry3d T_model = m_tracker.lastGoodPose();
+    m_renderer.render(m_map->store(), T_model, frame.intrinsics, ro, m_model);
+    r.model_valid_pixels = countValid(m_model.normal_world);
+    const int frame_valid = countValid(m_pyramid[0].normal);
+    if (r.model_valid_pixels < 0.3 * frame_valid) {
+      ro.stable_only = false;
+      m_renderer.render(m_map->store(), T_model, frame.intrinsics, ro, m_model);
+      r.model_valid_pixels = countValid(m_model.normal_world);
+      r.model_all_surfels = true;
+    }
+    r.ms[int(Stage::RenderModel)] = msSince(t);
+
+    t = Clock::now();
+    tracking::ModelMaps model;
+    model.vertex_world = m_model.vertex_world.cview();
+    model.normal_world = m_model.normal_world.cview();
+    model.K = frame.intrinsics;
+    model.T_world_model = T_model;
+    r.tracking = m_tracker.track(m_pyramid, model);
+    r.ms[int(Stage::Track)] = msSince(t);
+    r.tracked = r.tracking.ok;
+    r.T_world_cam = r.tracking.T_world_cam;
+  }
+
+  if (r.tracked) {
+    t = Clock::now();
+    fusion::FusionInput in = fusion::makeFusionInput(frame, m_pyramid[0].vertex, m_pyramid[0].normal, r.T_world_cam);
+    in.timestamp_s = t_rel;
+    r.fusion = m_fusion.fuse(m_map->store(), in);
+    r.fused = true;
+    r.ms[int(Stage::Fuse)] = msSince(t);
+  } else {
+    ++m_lost;
+  }
+  ++m_frames;
+  r.ms[int(Stage::Total)] = msSince(t_start);
+  return r;
+}
+
+void Mapper::renderView(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K, maps::RenderedMaps& out) {
+  maps::RenderOptions ro;
+  ro.max_depth_m = 20.0f;
+  m_renderer.render(m_map->store(), T_world_cam, K, ro, out);
+}
+
+}  // namespace rasm::pipeline

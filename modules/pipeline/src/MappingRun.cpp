@@ -1,0 +1,242 @@
+#include "rasm/pipeline/MappingRun.h"
+
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "rasm/core/Error.h"
+#include "rasm/core/Params.h"
+#include "rasm/io/TrajectoryEvaluator.h"
+#include "rasm/io/EvaluationJson.h"
+#include "rasm/pipeline/Progress.h"
+#include "rasm/pipeline/SimSource.h"
+
+namespace fs = std::filesystem;
+
+namespace rasm::pipeline {
+
+// ---------------------------------------------------------------------------------------------
+std::optional<CameraIntrinsics> TCameraParams::intrinsics() const {
+  if (fx > 0) {
+    CameraIntrinsics k(fx, fy > 0 ? fy : fx, cx, cy, width, height);
+    if (!preset.empty()) {
+      const CameraIntrinsics p = CameraIntrinsics::preset(preset);
+      if (width <= 0) k.width = p.width;
+      if (height <= 0) k.height = p.height;
+    }
+    if (k.width <= 0 || k.height <= 0) throwInputError("[camera]", "fx given without width/height or preset");
+    return k;
+  }
+  if (!preset.empty()) return CameraIntrinsics::preset(preset);
+  return std::nullopt;
+}
+
+void TCameraParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+  MRPT_LOAD_CONFIG_VAR(preset, string, c, s);
+  MRPT_LOAD_CONFIG_VAR(fx, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(fy, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(cx, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(cy, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(width, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(height, int, c, s);
+  if (!preset.empty()) (void)CameraIntrinsics::preset(preset);  // validates the name
+}
+
+void TCameraParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+  MRPT_SAVE_CONFIG_VAR(preset, c, s);
+  MRPT_SAVE_CONFIG_VAR(fx, c, s);
+  MRPT_SAVE_CONFIG_VAR(fy, c, s);
+  MRPT_SAVE_CONFIG_VAR(cx, c, s);
+  MRPT_SAVE_CONFIG_VAR(cy, c, s);
+  MRPT_SAVE_CONFIG_VAR(width, c, s);
+  MRPT_SAVE_CONFIG_VAR(height, c, s);
+}
+
+// ---------------------------------------------------------------------------------------------
+void writeFileAtomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".part";
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    if (!f) throwInputError("output file '" + path + "'", "cannot be created");
+    f << text;
+    if (!f) throwInputError("output file '" + path + "'", "write failed");
+  }
+  fs::rename(tmp, path);
+}
+
+std::vector<std::string> MappingRun::knownSections() {
+  return {"source", "camera", "mapper", "tracking", "fusion", "map", "output", "sim"};
+}
+
+MappingRun::MappingRun(const RunConfig& config) : m_config(config) {
+  m_config.checkSections(knownSections());
+  const auto& ini = m_config.ini();
+  const std::string& src = m_config.source();
+  loadParamsStrict(ini, "source", m_source, src);
+  loadParamsStrict(ini, "camera", m_camera, src);
+  loadParamsStrict(ini, "output", m_output, src);
+  loadParamsStrict(ini, "mapper", m_mapper_params.mapper, src);
+  loadParamsStrict(ini, "tracking", m_mapper_params.tracking, src);
+  loadParamsStrict(ini, "fusion", m_mapper_params.fusion, src);
+  loadParamsStrict(ini, "map", m_mapper_params.map, src);
+  m_mapper_params.tracking.validate("tracking");
+  (void)m_camera.intrinsics();  // validates
+  // [sim] belongs to the simulator; it is parsed strictly when the sim source is opened.
+  std::vector<std::string> keys;
+  ini.getAllKeys("sim", keys);
+  m_sim_ini = "[sim]\n";
+  for (const auto& k : keys) m_sim_ini += k + " = " + ini.read_string("sim", k, "") + "\n";
+}
+
+MappingRun::~MappingRun() = default;
+
+std::unique_ptr<io::FrameSource> MappingRun::openSource() const {
+  if (m_source.type == "sim") return openSimSource(m_sim_ini, m_config.source(), m_camera.intrinsics());
+  io::FrameSourceOptions opt;
+  opt.intrinsics_override = m_camera.intrinsics();
+  if (!fs::exists(m_source.path))
+    throwInputError("[source] path '" + m_source.path + "'", "does not exist (expected a rawlog file or a dataset folder)");
+  const bool is_dir = fs::is_directory(m_source.path);
+  if (m_source.type == "rawlog" && is_dir)
+    throwInputError("[source] path '" + m_source.path + "'", "is a folder, expected a .rawlog file for type = rawlog");
+  if ((m_source.type == "tum" || m_source.type == "7scenes") && !is_dir)
+    throwInputError("[source] path '" + m_source.path + "'", "is a file, expected a dataset folder for type = " + m_source.type);
+  return io::openFrameSource(m_source.path, opt);
+}
+
+namespace {
+nlohmann::json poseJson(const Eigen::Isometry3d& T) {
+  const Eigen::Quaterniond q(T.linear());
+  return {{"t", {T.translation().x(), T.translation().y(), T.translation().z()}},
+          {"q_xyzw", {q.x(), q.y(), q.z(), q.w()}}};
+}
+}  // namespace
+
+RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_frame) {
+  const auto t_start = std::chrono::steady_clock::now();
+  RunSummary sum;
+  sum.out_dir = m_output.dir;
+  std::error_code ec;
+  fs::create_directories(m_output.dir, ec);
+  if (ec) throwInputError("[output] dir '" + m_output.dir + "'", "cannot be created: " + ec.message());
+  if (!m_output.overwrite && !fs::is_empty(m_output.dir))
+    throwInputError("[output] dir '" + m_output.dir + "'", "is not empty and [output] overwrite = false");
+  writeFileAtomically(m_output.dir + "/config.ini", m_config.text());
+
+  auto source = openSource();
+  m_mapper = std::make_unique<Mapper>(m_mapper_params);
+  std::fprintf(stderr, "rasm run: %s -> %s\n", source->describe().c_str(), m_output.dir.c_str());
+
+  long long total = source->sizeHint();
+  if (total > 0) {
+    total = std::max<long long>(0, total - m_source.start_frame);
+    total = (total + m_source.frame_step - 1) / m_source.frame_step;
+    if (m_source.max_frames > 0) total = std::min<long long>(total, m_source.max_frames);
+  } else if (m_source.max_frames > 0) {
+    total = m_source.max_frames;
+  }
+  Progress progress("frames", total);
+
+  io::Trajectory estimate, groundtruth;
+  std::array<double, int(Stage::Count)> ms_sum{};
+  std::array<double, int(Stage::Count)> ms_max{};
+  std::string error;
+  long long read = 0;
+  std::size_t processed = 0;
+  CameraIntrinsics last_K;
+  bool have_K = false;
+  try {
+    while (m_source.max_frames == 0 || processed < std::size_t(m_source.max_frames)) {
+      std::optional<RgbdFrame> f = source->next();
+      if (!f) break;
+      const long long idx = read++;
+      if (idx < m_source.start_frame || (idx - m_source.start_frame) % m_source.frame_step != 0) continue;
+      const FrameResult r = m_mapper->processFrame(*f);
+      ++processed;
+      last_K = f->intrinsics;
+      have_K = true;
+      if (r.tracked) estimate.push_back({r.timestamp_s, r.T_world_cam});
+      if (f->gt_T_world_cam) groundtruth.push_back({f->timestamp_s, *f->gt_T_world_cam});
+      for (int s = 0; s < int(Stage::Count); ++s) {
+        ms_sum[s] += r.ms[s];
+        ms_max[s] = std::max(ms_max[s], r.ms[s]);
+      }
+      if (on_frame) on_frame(r);
+      char extra[160];
+      std::snprintf(extra, sizeof extra, "surfels %d lost %zu %s", m_mapper->map().size(), m_mapper->framesLost(),
+                    r.tracked ? "" : tracking::toString(r.tracking.status));
+      progress.update(static_cast<long long>(processed), extra);
+    }
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  progress.finish(static_cast<long long>(processed), "done");
+
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  sum.frames = processed;
+  sum.lost = m_mapper->framesLost();
+  sum.surfels = std::size_t(m_mapper->map().size());
+
+  // ---- outputs ----
+  const std::string dir = m_output.dir;
+  io::writeTumTrajectory(dir + "/trajectory.txt", estimate, "rasm estimate (T_world_cam, optical frame)");
+  if (!groundtruth.empty()) io::writeTumTrajectory(dir + "/groundtruth.txt", groundtruth, "ground truth of the source");
+  if (m_output.write_ply) m_mapper->map().saveToPly(dir + "/map.ply");
+  if (m_output.write_3dscene) m_mapper->map().saveTo3DScene(dir + "/map.3Dscene");
+  if (m_output.save_map) {
+    const std::string p = dir + "/map.surfelmap";
+    {
+      mrpt::io::CFileGZOutputStream f(p + ".part");
+      auto a = mrpt::serialization::archiveFrom(f);
+      a << m_mapper->map();
+    }
+    fs::rename(p + ".part", p);
+  }
+  if (m_output.preview_png && have_K && processed > 0) {
+    maps::RenderedMaps view;
+    m_mapper->renderView(m_mapper->pose(), last_K, view);
+    cv::Mat img(view.colour.height(), view.colour.width(), CV_8UC3, view.colour.data(), view.colour.pitchBytes());
+    cv::imwrite(dir + "/preview.png", img);
+  }
+
+  nlohmann::json rep;
+  rep["status"] = error.empty() ? "ok" : "failed";
+  if (!error.empty()) rep["error"] = error;
+  rep["config_source"] = m_config.source();
+  rep["source"] = source->describe();
+  rep["frames"] = processed;
+  rep["frames_lost"] = sum.lost;
+  rep["seconds"] = seconds;
+  rep["fps"] = processed > 0 ? processed / seconds : 0.0;
+  rep["surfels"] = sum.surfels;
+  nlohmann::json st;
+  for (int s = 0; s < int(Stage::Count); ++s)
+    st[toString(Stage(s))] = {{"mean_ms", processed ? ms_sum[s] / processed : 0.0}, {"max_ms", ms_max[s]}};
+  rep["stages"] = st;
+  if (processed > 0) rep["final_pose"] = poseJson(m_mapper->pose());
+  if (groundtruth.size() >= 3 && estimate.size() >= 3) {
+    try {
+      const io::AteOptions ao;
+      const io::AteResult ate = io::TrajectoryEvaluator::computeAte(groundtruth, estimate, ao);
+      rep["ate"] = io::toJson(ate, ao);
+      sum.ate_rmse_m = ate.translation_m.rmse;
+    } catch (const std::exception& e) {
+      rep["ate_error"] = e.what();
+    }
+  }
+  sum.seconds = seconds;
+  sum.fps = processed > 0 ? processed / seconds : 0.0;
+  sum.report = rep;
+  writeFileAtomically(dir + "/report.json", rep.dump(2) + "\n");
+  if (!error.empty()) throw InputError(error + " (outputs of the " + std::to_string(processed) +
+                                       " frames before it were written to " + dir + ")");
+  return sum;
+}
+
+}  // namespace rasm::pipeline
