@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -111,6 +112,15 @@ std::unique_ptr<io::FrameSource> MappingRun::openSource() const {
 }
 
 namespace {
+/// Peak resident set size of this process (VmHWM), MB; 0 when unknown.
+double peakRssMb() {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  while (std::getline(f, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
+  return 0.0;
+}
+
 nlohmann::json poseJson(const Eigen::Isometry3d& T) {
   const Eigen::Quaterniond q(T.linear());
   return {{"t", {T.translation().x(), T.translation().y(), T.translation().z()}},
@@ -215,6 +225,8 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   rep["seconds"] = seconds;
   rep["fps"] = processed > 0 ? processed / seconds : 0.0;
   rep["surfels"] = sum.surfels;
+  rep["map_memory_bytes"] = m_mapper->map().store().memoryBytes();
+  rep["peak_rss_mb"] = peakRssMb();
   nlohmann::json st;
   for (int s = 0; s < int(Stage::Count); ++s)
     st[toString(Stage(s))] = {{"mean_ms", processed ? ms_sum[s] / processed : 0.0}, {"max_ms", ms_max[s]}};

@@ -1,0 +1,54 @@
+// rasm bench <file.ini | rawlog | dataset folder> [--frames N] [--set s.k=v ...]
+// Runs the mapping front end without map outputs and prints one JSON object on stdout:
+// frames per second, per-stage mean/max ms, surfels, map bytes, peak RSS. Benchmarks are never
+// part of the unit tests; scripts/bench.sh collects them.
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "Command.h"
+#include "rasm/core/Error.h"
+#include "rasm/pipeline/MappingRun.h"
+
+namespace {
+
+int benchMain(const std::vector<std::string>& args) {
+  using namespace rasm::pipeline;
+  std::string input;
+  std::vector<std::string> overrides;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&](const char* what) -> std::string {
+      if (i + 1 >= args.size()) rasm::throwInputError(a, std::string("expects ") + what);
+      return args[++i];
+    };
+    if (a == "--frames") overrides.push_back("source.max_frames=" + value("a number"));
+    else if (a == "--set") overrides.push_back(value("section.key=value"));
+    else if (!a.empty() && a[0] == '-') rasm::throwInputError("option '" + a + "'", "unknown");
+    else input = a;
+  }
+  RunConfig cfg = RunConfig::embeddedDefault();
+  if (!input.empty()) {
+    if (input.size() > 4 && input.substr(input.size() - 4) == ".ini") {
+      cfg = RunConfig::fromFile(input);
+    } else {
+      cfg.set("source", "type", "auto");
+      cfg.set("source", "path", input);
+    }
+  }
+  const std::string out = (std::filesystem::temp_directory_path() / "rasm_bench").string();
+  cfg.set("output", "dir", out);
+  for (const char* k : {"write_ply", "write_3dscene", "save_map", "preview_png"}) cfg.set("output", k, "false");
+  for (const auto& o : overrides) cfg.applyOverride(o);
+  MappingRun run(cfg);
+  const RunSummary s = run.run();
+  nlohmann::json j = s.report;
+  j["bench"] = "mapping";
+  j["input"] = input.empty() ? "embedded default" : input;
+  std::cout << j.dump() << std::endl;
+  return 0;
+}
+
+const rasm::app::Registrar reg("bench", "frame rate and per-stage ms as JSON: rasm bench <ini|rawlog|folder>", benchMain);
+
+}  // namespace
