@@ -1,0 +1,92 @@
+// End-to-end runs of the mapping front end on rawlogs and real sequences, through the same
+// MappingRun `rasm run` uses.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "rasm/core/Error.h"
+#include "rasm/io/Trajectory.h"
+#include "rasm/pipeline/MappingRun.h"
+#include "rasm/surfel_map/MapExport.h"
+
+namespace fs = std::filesystem;
+using namespace rasm;
+using namespace rasm::pipeline;
+
+namespace {
+std::string tempDir(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("rasm_test_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(p);
+  return p.string();
+}
+nlohmann::json readJson(const std::string& path) {
+  std::ifstream f(path);
+  return nlohmann::json::parse(f);
+}
+}  // namespace
+
+TEST(MappingRun, RealKinectFrameBuildsAMapAndWritesOutputs) {
+  const std::string out = tempDir("kinect");
+  RunConfig cfg = RunConfig::fromString("[source]\ntype = rawlog\npath = " RASM_MRPT_TEST_RAWLOG "\n", "test");
+  cfg.set("output", "dir", out);
+  MappingRun run(cfg);
+  const RunSummary s = run.run();
+  EXPECT_EQ(s.frames, 1u);
+  // One 640x480 frame with depth 1.6-2.6 m: most pixels are valid and become surfels.
+  EXPECT_GT(s.surfels, 100000u);
+  EXPECT_LE(s.surfels, 640u * 480u);
+  for (const char* f : {"trajectory.txt", "map.ply", "map.3Dscene", "map.surfelmap", "report.json", "config.ini",
+                        "preview.png"})
+    EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
+  const maps::PlySurfels ply = maps::readSurfelPly(out + "/map.ply");
+  EXPECT_EQ(ply.size(), s.surfels);
+  // Surfels lie within the frame's measured depth range (the first camera is the identity).
+  for (std::size_t i = 0; i < ply.size(); i += 997) {
+    EXPECT_GT(ply.position[i].z(), 1.5f);
+    EXPECT_LT(ply.position[i].z(), 2.7f);
+  }
+  const auto rep = readJson(out + "/report.json");
+  EXPECT_EQ(rep["status"], "ok");
+  EXPECT_EQ(rep["frames"], 1);
+  fs::remove_all(out);
+}
+
+TEST(MappingRun, MissingRawlogIsNamedAndNothingLooksComplete) {
+  const std::string out = tempDir("missing");
+  RunConfig cfg = RunConfig::fromString("[source]\ntype = rawlog\npath = /nonexistent/seq.rawlog\n", "test");
+  cfg.set("output", "dir", out);
+  MappingRun run(cfg);
+  try {
+    run.run();
+    FAIL() << "missing rawlog accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/seq.rawlog"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(out + "/map.ply"));
+  EXPECT_FALSE(fs::exists(out + "/report.json"));
+  fs::remove_all(out);
+}
+
+/// TUM fr1/xyz, first 37 frames: the camera moves ~10 cm in front of a desk. The issue's
+/// target is ATE RMSE <= 0.6 cm; the test bound is 1.0 cm, i.e. the target plus the
+/// ~4 mm error of the benchmark's own motion-capture ground truth alignment on so short a
+/// sequence, so that a regression of tracking (cm-level drift) fails while the bound does not
+/// depend on the last tenth of a millimetre.
+TEST(MappingRun, TumFr1XyzAteWithinBound) {
+  const std::string data = std::string(RASM_SHARED_DATA) + "/tum/fr1_xyz_first37";
+  if (!fs::exists(data)) GTEST_SKIP() << "shared data absent: " << data;
+  const std::string out = tempDir("fr1");
+  RunConfig cfg = RunConfig::fromString(
+      "[source]\ntype = tum\npath = " + data + "\n[camera]\npreset = tum_fr1\n[output]\nwrite_3dscene = false\n", "test");
+  cfg.set("output", "dir", out);
+  MappingRun run(cfg);
+  const RunSummary s = run.run();
+  EXPECT_EQ(s.frames, 37u);
+  EXPECT_EQ(s.lost, 0u);
+  ASSERT_TRUE(s.ate_rmse_m.has_value());
+  EXPECT_LT(*s.ate_rmse_m, 0.010);
+  fs::remove_all(out);
+}
