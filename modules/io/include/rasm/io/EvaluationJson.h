@@ -1,0 +1,14 @@
+#pragma once
+// JSON form of the evaluation results (rasm eval, report.json).
+
+#include <nlohmann/json.hpp>
+
+#include "rasm/io/TrajectoryEvaluator.h"
+
+namespace rasm::io {
+
+nlohmann::json toJson(const ErrorStats& s);
+nlohmann::json toJson(const AteResult& r, const AteOptions& opt);
+nlohmann::json toJson(const RpeResult& r, const RpeOptions& opt);
+
+}  // namespace rasm::io

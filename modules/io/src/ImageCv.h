@@ -1,0 +1,37 @@
+#pragma once
+// Internal: rasm::Image <-> cv::Mat without copies where possible, and image file reading with
+// InputErrors that name the file.
+
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "rasm/compute/Types.h"
+#include "rasm/core/Image.h"
+
+namespace rasm::io::detail {
+
+/// cv::Mat headers over an Image's pitched buffer (no copy).
+cv::Mat cvView(Image<Bgr8>& img);
+cv::Mat cvView(const Image<Bgr8>& img);  ///< do not write through it
+cv::Mat cvView(Image<float>& img);
+cv::Mat cvView(Image<std::uint16_t>& img);
+
+/// Copies an 8-bit image (BGR, BGRA or grey, which is replicated) into `out`.
+void colourFromMat(const cv::Mat& m, Image<Bgr8>& out, const std::string& what);
+
+/// depth_m = raw * metres_per_unit for raw not in `invalid_values` (0 always invalid).
+void depthFromU16(const cv::Mat& raw, double metres_per_unit, Image<float>& out,
+                  std::uint16_t also_invalid = 0);
+
+/// cv::imread that throws InputError "<what> <path>: missing / unreadable / not 16-bit...".
+cv::Mat readColourImage(const std::string& path, const std::string& what);
+cv::Mat readDepthU16(const std::string& path, const std::string& what);
+
+/// Flips rows in place (negative-fy cameras).
+template <typename T>
+void flipRows(Image<T>& img) {
+  for (int y = 0, y2 = img.height() - 1; y < y2; ++y, --y2)
+    for (int x = 0; x < img.width(); ++x) std::swap(img(x, y), img(x, y2));
+}
+
+}  // namespace rasm::io::detail

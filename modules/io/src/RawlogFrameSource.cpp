@@ -1,0 +1,184 @@
+#include "rasm/io/RawlogFrameSource.h"
+
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/io/lazy_load_path.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationComment.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/datetime.h>
+
+#include <deque>
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+#include "MrptErrors.h"
+#include "rasm/core/Error.h"
+#include "rasm/io/RgbdObservation.h"
+
+namespace fs = std::filesystem;
+
+namespace rasm::io {
+
+const char* const kRawlogGroundTruthMarker = "rasm: sensorPose holds the ground-truth T_world_sensor";
+const char* const kRawlogNoGroundTruthMarker = "rasm: sensorPose holds no ground truth";
+
+struct RawlogFrameSource::Impl {
+  std::string path;
+  RawlogSourceOptions opt;
+  mrpt::io::CFileGZInputStream file;
+  std::unique_ptr<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZInputStream>> ar;
+  std::string images_dir;
+  std::deque<mrpt::obs::CObservation::Ptr> pending;
+  std::size_t entries = 0, frames = 0;
+  bool eof = false;
+  enum class Marker { None, GroundTruth, NoGroundTruth } gt_marker = Marker::None;
+  std::optional<Eigen::Vector3d> odometry;      // consumed by the next frame
+  mrpt::poses::CPose2D odometry_from_actions;   // composition of CActionRobotMovement2D increments
+  std::set<std::string> range_scan_labels;
+
+  std::string frameContext() const {
+    return "rawlog " + path + ", frame " + std::to_string(frames) + " (rawlog entry " +
+           std::to_string(entries) + ")";
+  }
+  std::optional<RgbdFrame> handle(const mrpt::obs::CObservation::Ptr& o);
+};
+
+// CRawlog::detectImagesDirectory() of MRPT 2.5.8 drops the '/' between folder and file name
+// ("/a/b/x.rawlog" -> "/a/bImages"), so its intended rule is implemented here: the first of
+// "<dir>/<stem>_Images", "_images", "_IMAGES" that exists, else "<dir>/Images".
+std::string imagesDirectoryOf(const std::string& rawlog_path) {
+  const fs::path p(rawlog_path);
+  for (const char* suffix : {"_Images", "_images", "_IMAGES"}) {
+    const fs::path d = p.parent_path() / (p.stem().string() + suffix);
+    if (fs::is_directory(d)) return d.string();
+  }
+  return (p.parent_path() / "Images").string();
+}
+
+RawlogFrameSource::RawlogFrameSource(const std::string& path, const RawlogSourceOptions& opt)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->path = path;
+  impl_->opt = opt;
+  if (!std::filesystem::is_regular_file(path)) throwInputError("rawlog " + path, "file not found");
+  std::string err;
+  if (!impl_->file.open(path, err)) throwInputError("rawlog " + path, "cannot open: " + err);
+  impl_->ar = std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZInputStream>>(impl_->file);
+  impl_->images_dir = imagesDirectoryOf(path);
+}
+
+RawlogFrameSource::~RawlogFrameSource() = default;
+
+std::string RawlogFrameSource::describe() const { return "rawlog " + impl_->path; }
+std::size_t RawlogFrameSource::entriesRead() const { return impl_->entries; }
+
+static bool isIdentity(const mrpt::poses::CPose3D& p) {
+  return p.translation().norm() < 1e-9 &&
+         (p.getRotationMatrix().asEigen() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-9;
+}
+
+std::optional<RgbdFrame> RawlogFrameSource::Impl::handle(const mrpt::obs::CObservation::Ptr& o) {
+  using namespace mrpt::obs;
+  if (const auto c = std::dynamic_pointer_cast<CObservationComment>(o)) {
+    if (c->text.find(kRawlogGroundTruthMarker) != std::string::npos) gt_marker = Marker::GroundTruth;
+    if (c->text.find(kRawlogNoGroundTruthMarker) != std::string::npos) gt_marker = Marker::NoGroundTruth;
+    return std::nullopt;
+  }
+  if (const auto od = std::dynamic_pointer_cast<CObservationOdometry>(o)) {
+    odometry = Eigen::Vector3d(od->odometry.x(), od->odometry.y(), od->odometry.phi());
+    return std::nullopt;
+  }
+  const auto scan = std::dynamic_pointer_cast<CObservation3DRangeScan>(o);
+  if (!scan) return std::nullopt;
+  range_scan_labels.insert(scan->sensorLabel);
+  if (!opt.sensor_label.empty() && scan->sensorLabel != opt.sensor_label) return std::nullopt;
+
+  const std::string ctx = frameContext();
+  // External images are relative to the rawlog's "<stem>_Images" folder; the base path is global
+  // state in MRPT, so it is set right before each load.
+  mrpt::io::setLazyLoadPathBase(images_dir);
+  try {
+    scan->load();
+  } catch (const std::exception& e) {
+    throwInputError(ctx, "cannot load externally stored data (images folder " + images_dir +
+                             "): " + detail::shortMrptMessage(e.what()));
+  }
+  bool gt = false;
+  switch (opt.ground_truth) {
+    case RawlogSourceOptions::GroundTruthPolicy::Always: gt = true; break;
+    case RawlogSourceOptions::GroundTruthPolicy::Never: gt = false; break;
+    case RawlogSourceOptions::GroundTruthPolicy::Auto:
+      gt = gt_marker == Marker::None ? !isIdentity(scan->sensorPose) : gt_marker == Marker::GroundTruth;
+      break;
+  }
+  ObservationToFrameOptions conv;
+  conv.sensor_pose_is_ground_truth = gt;
+  RgbdFrame f = frameFromObservation(*scan, ctx, conv);
+  scan->unload();
+  f.index = frames;
+  f.timestamp_s = scan->timestamp == INVALID_TIMESTAMP ? double(frames) / 30.0
+                                                       : mrpt::Clock::toDouble(scan->timestamp);
+  f.odometry_xyyaw = odometry;
+  odometry.reset();
+  f.validate(ctx);
+  ++frames;
+  return f;
+}
+
+std::optional<RgbdFrame> RawlogFrameSource::next() {
+  using namespace mrpt::obs;
+  Impl& m = *impl_;
+  for (;;) {
+    while (!m.pending.empty()) {
+      const auto o = m.pending.front();
+      m.pending.pop_front();
+      if (auto f = m.handle(o)) return f;
+    }
+    if (m.eof) return std::nullopt;
+
+    // The two rawlog formats of CRawlog::getActionObservationPairOrObservation(), one object at
+    // a time, telling a clean end of file from a truncated / corrupt object (see header).
+    mrpt::serialization::CSerializable::Ptr obj;
+    try {
+      *m.ar >> obj;
+    } catch (const mrpt::serialization::CExceptionEOF&) {
+      m.eof = true;
+      if (m.frames == 0) {
+        std::ostringstream s;
+        s << "no CObservation3DRangeScan";
+        if (!m.opt.sensor_label.empty()) s << " with sensor label '" << m.opt.sensor_label << "'";
+        s << " in " << m.entries << " rawlog entries";
+        if (!m.range_scan_labels.empty()) {
+          s << " (3D range scan labels present:";
+          for (const auto& l : m.range_scan_labels) s << " '" << l << "'";
+          s << ")";
+        }
+        throwInputError("rawlog " + m.path, s.str());
+      }
+      return std::nullopt;
+    } catch (const std::exception& e) {
+      throwInputError(m.frameContext(), "corrupt or truncated rawlog: " + detail::shortMrptMessage(e.what()));
+    }
+    ++m.entries;
+    if (const auto o = std::dynamic_pointer_cast<CObservation>(obj)) {
+      m.pending.push_back(o);
+    } else if (const auto sf = std::dynamic_pointer_cast<CSensoryFrame>(obj)) {
+      for (const auto& o : *sf) m.pending.push_back(o);
+    } else if (const auto acts = std::dynamic_pointer_cast<CActionCollection>(obj)) {
+      if (const auto mv = acts->getActionByClass<CActionRobotMovement2D>()) {
+        if (mv->estimationMethod == CActionRobotMovement2D::emOdometry) {
+          m.odometry_from_actions = m.odometry_from_actions + mv->rawOdometryIncrementReading;
+          const auto& p = m.odometry_from_actions;
+          m.odometry = Eigen::Vector3d(p.x(), p.y(), p.phi());
+        }
+      }
+    }
+    // Other objects (CRawlog comments, maps, ...) are not frames: skipped.
+  }
+}
+
+}  // namespace rasm::io

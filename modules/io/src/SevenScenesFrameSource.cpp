@@ -1,0 +1,171 @@
+#include "rasm/io/SevenScenesFrameSource.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <regex>
+
+#include "ImageCv.h"
+#include "TextFiles.h"
+#include "rasm/core/Error.h"
+#include "rasm/core/SE3.h"
+
+namespace fs = std::filesystem;
+
+namespace rasm::io {
+
+namespace {
+
+const std::regex& depthFileRegex() {
+  static const std::regex re("frame-([0-9]+)\\.depth\\.png");
+  return re;
+}
+
+std::string frameStem(const std::string& digits) { return "frame-" + digits; }
+
+/// camera-intrinsics.txt: a 3x3 K (row-major, whitespace separated).
+CameraIntrinsics readIntrinsicsFile(const std::string& path) {
+  std::vector<double> v;
+  for (const auto& l : detail::readFieldLines(path, "7-Scenes intrinsics"))
+    for (const auto& f : l.fields) v.push_back(detail::parseDouble(f, path, l.number, "K entry"));
+  if (v.size() != 9) throwInputError(path, "expected a 3x3 camera matrix (9 numbers), got " + std::to_string(v.size()));
+  CameraIntrinsics K;
+  K.fx = v[0];
+  K.cx = v[2];
+  K.fy = v[4];
+  K.cy = v[5];
+  if (!(K.fx > 0 && K.fy > 0)) throwInputError(path, "focal lengths must be > 0: " + K.toString());
+  return K;
+}
+
+/// frame-NNNNNN.pose.txt: 4x4 T_world_cam. Non-finite entries (tracking failures in some
+/// sequences) mean "no ground truth" for that frame.
+std::optional<Eigen::Isometry3d> readPoseFile(const std::string& path) {
+  if (!fs::is_regular_file(path)) return std::nullopt;
+  std::vector<double> v;
+  for (const auto& l : detail::readFieldLines(path, "7-Scenes pose"))
+    for (const auto& f : l.fields) {
+      char* e = nullptr;
+      const double x = std::strtod(f.c_str(), &e);
+      if (e == f.c_str() || *e != '\0')
+        throwInputError(detail::where(path, l.number), "'" + f + "' is not a number");
+      v.push_back(x);
+    }
+  if (v.size() != 16) throwInputError(path, "expected a 4x4 matrix (16 numbers), got " + std::to_string(v.size()));
+  if (!std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); })) return std::nullopt;
+  Eigen::Matrix4d M;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) M(r, c) = v[r * 4 + c];
+  const Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
+  if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-3 || R.determinant() < 0 ||
+      (M.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-6)
+    throwInputError(path, "not a rigid transform (rotation not orthonormal or last row not 0 0 0 1)");
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.matrix() = M;
+  return orthonormalize(T);
+}
+
+}  // namespace
+
+struct SevenScenesFrameSource::Impl {
+  std::string folder;
+  SevenScenesSourceOptions opt;
+  CameraIntrinsics K;
+  struct Entry {
+    long index;
+    std::string stem;  // "frame-000123"
+  };
+  std::vector<Entry> frames;
+  std::string colour_ext;  // ".color.png" or ".color.jpg"
+  std::size_t next = 0;
+};
+
+bool SevenScenesFrameSource::looksLikeSevenScenesFolder(const std::string& folder) {
+  if (!fs::is_directory(folder)) return false;
+  if (fs::is_regular_file(fs::path(folder) / "frame-000000.depth.png")) return true;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(folder, ec))
+    if (std::regex_match(e.path().filename().string(), depthFileRegex())) return true;
+  return false;
+}
+
+SevenScenesFrameSource::SevenScenesFrameSource(const std::string& folder, const SevenScenesSourceOptions& opt)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.folder = folder;
+  m.opt = opt;
+  const std::string what = "7-Scenes folder " + folder;
+  if (!fs::is_directory(folder)) throwInputError(what, "not found (or not a folder)");
+  if (!(opt.frame_rate_hz > 0)) throwInputError(what, "frame_rate_hz must be > 0");
+
+  bool has_seq_subfolders = false;
+  for (const auto& e : fs::directory_iterator(folder)) {
+    const std::string name = e.path().filename().string();
+    std::smatch sm;
+    if (std::regex_match(name, sm, depthFileRegex()))
+      m.frames.push_back({std::stol(sm[1].str()), frameStem(sm[1].str())});
+    if (e.is_directory() && name.rfind("seq-", 0) == 0) has_seq_subfolders = true;
+  }
+  if (m.frames.empty())
+    throwInputError(what, std::string("missing frame-000000.depth.png (a 7-Scenes sequence folder holds "
+                                      "frame-NNNNNN.color.png|jpg, .depth.png and .pose.txt)") +
+                              (has_seq_subfolders ? "; this looks like a scene folder: pass one of its seq-NN folders" : ""));
+  std::sort(m.frames.begin(), m.frames.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
+
+  const fs::path first = fs::path(folder) / m.frames[0].stem;
+  for (const char* ext : {".color.png", ".color.jpg"})
+    if (fs::is_regular_file(first.string() + ext)) m.colour_ext = ext;
+  if (m.colour_ext.empty())
+    throwInputError(what, "missing " + m.frames[0].stem + ".color.png (or .color.jpg)");
+
+  const fs::path kfile = fs::path(folder) / "camera-intrinsics.txt";
+  if (opt.intrinsics_override)
+    m.K = *opt.intrinsics_override;
+  else if (fs::is_regular_file(kfile))
+    m.K = readIntrinsicsFile(kfile.string());
+  else
+    m.K = CameraIntrinsics::preset("7scenes");
+  const cv::Mat d0 = detail::readDepthU16(first.string() + ".depth.png", "7-Scenes depth image");
+  m.K.width = d0.cols;
+  m.K.height = d0.rows;
+  if (!m.K.valid()) throwInputError(what, "invalid intrinsics " + m.K.toString());
+}
+
+SevenScenesFrameSource::~SevenScenesFrameSource() = default;
+
+std::string SevenScenesFrameSource::describe() const { return "7-Scenes folder " + impl_->folder; }
+long long SevenScenesFrameSource::sizeHint() const { return (long long)impl_->frames.size(); }
+const CameraIntrinsics& SevenScenesFrameSource::intrinsics() const { return impl_->K; }
+
+std::optional<RgbdFrame> SevenScenesFrameSource::next() {
+  Impl& m = *impl_;
+  if (m.next >= m.frames.size()) return std::nullopt;
+  const std::size_t i = m.next++;
+  const auto& e = m.frames[i];
+  const std::string base = (fs::path(m.folder) / e.stem).string();
+  const std::string ctx = describe() + ", frame " + std::to_string(i) + " (" + e.stem + ")";
+
+  RgbdFrame f;
+  f.index = i;
+  f.timestamp_s = double(e.index) / m.opt.frame_rate_hz;
+  f.intrinsics = m.K;
+  // Millimetres; 0 and 65535 mark missing measurements.
+  detail::depthFromU16(detail::readDepthU16(base + ".depth.png", "7-Scenes depth image"), 1e-3, f.depth_m, 65535);
+  const cv::Mat bgr = detail::readColourImage(base + m.colour_ext, "7-Scenes colour image");
+  if (m.opt.colour_registration) {
+    Image<Bgr8> raw;
+    detail::colourFromMat(bgr, raw, ctx);
+    CameraIntrinsics Kc = m.opt.colour_registration->K_colour;
+    Kc.width = raw.width();
+    Kc.height = raw.height();
+    registerColourToDepth(f.depth_m, f.intrinsics, raw, Kc, m.opt.colour_registration->T_colour_depth, f.colour);
+  } else {
+    detail::colourFromMat(bgr, f.colour, ctx);
+  }
+  f.gt_T_world_cam = readPoseFile(base + ".pose.txt");
+  f.validate(ctx);
+  return f;
+}
+
+}  // namespace rasm::io

@@ -1,0 +1,258 @@
+// RawlogFrameSource: both rawlog formats, MRPT's real Kinect frame, colour registration
+// convention, label filter, corrupt / missing files.
+#include <gtest/gtest.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <vector>
+
+#include "IoTestUtils.h"
+#include "rasm/core/Error.h"
+#include "rasm/core/SE3.h"
+#include "rasm/io/RawlogFrameSource.h"
+#include "rasm/io/RgbdObservation.h"
+
+namespace fs = std::filesystem;
+using namespace rasm;
+using namespace rasm::io;
+using rasm::io::test::ScratchDir;
+using rasm::io::test::syntheticFrame;
+
+namespace {
+
+std::string errorOf(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::vector<RgbdFrame> readAll(const std::string& path, const RawlogSourceOptions& opt = {}) {
+  RawlogFrameSource src(path, opt);
+  std::vector<RgbdFrame> out;
+  while (auto f = src.next()) out.push_back(std::move(*f));
+  return out;
+}
+
+mrpt::obs::CObservation3DRangeScan::Ptr scanOf(const RgbdFrame& f, const std::string& label) {
+  auto obs = mrpt::obs::CObservation3DRangeScan::Create();
+  FrameToObservationOptions o;
+  o.sensor_label = label;
+  observationFromFrame(f, *obs, o);
+  return obs;
+}
+
+}  // namespace
+
+TEST(RawlogFrameSource, ActionsAndSensoryFramesFormatWithOdometryIncrements) {
+  ScratchDir dir("sf");
+  const std::string path = dir / "sf.rawlog";
+  const mrpt::poses::CPose2D inc(0.1, 0.02, 0.05);
+  {
+    mrpt::io::CFileGZOutputStream f(path);
+    auto ar = mrpt::serialization::archiveFrom(f);
+    for (int i = 0; i < 3; ++i) {
+      mrpt::obs::CActionCollection acts;
+      mrpt::obs::CActionRobotMovement2D mv;
+      mv.computeFromOdometry(inc, mrpt::obs::CActionRobotMovement2D::TMotionModelOptions());
+      acts.insert(mv);
+      mrpt::obs::CSensoryFrame sf;
+      sf.insert(scanOf(syntheticFrame(i), "KINECT"));
+      ar << acts << sf;
+    }
+  }
+  const auto frames = readAll(path);
+  ASSERT_EQ(frames.size(), 3u);
+  mrpt::poses::CPose2D expected;
+  for (int i = 0; i < 3; ++i) {
+    SCOPED_TRACE(i);
+    expected = expected + inc;
+    ASSERT_TRUE(frames[i].odometry_xyyaw.has_value());
+    EXPECT_NEAR(frames[i].odometry_xyyaw->x(), expected.x(), 1e-9);
+    EXPECT_NEAR(frames[i].odometry_xyyaw->y(), expected.y(), 1e-9);
+    EXPECT_NEAR(frames[i].odometry_xyyaw->z(), expected.phi(), 1e-9);
+    const RgbdFrame ref = syntheticFrame(i);
+    EXPECT_NEAR(frames[i].depth_m(5, 7), ref.depth_m(5, 7), 0.0005f);
+    EXPECT_EQ(frames[i].colour(5, 7).g, ref.colour(5, 7).g);
+    // Written without rasm's marker: a non-identity sensorPose is read as ground truth.
+    ASSERT_TRUE(frames[i].gt_T_world_cam.has_value());
+    EXPECT_LT(translationDistance(*frames[i].gt_T_world_cam, *ref.gt_T_world_cam), 1e-6);
+  }
+}
+
+TEST(RawlogFrameSource, SensorLabelFilter) {
+  ScratchDir dir("label");
+  const std::string path = dir / "two.rawlog";
+  {
+    mrpt::io::CFileGZOutputStream f(path);
+    auto ar = mrpt::serialization::archiveFrom(f);
+    for (int i = 0; i < 4; ++i) ar << *scanOf(syntheticFrame(i), i % 2 ? "RIGHT" : "LEFT");
+  }
+  RawlogSourceOptions opt;
+  opt.sensor_label = "RIGHT";
+  const auto right = readAll(path, opt);
+  ASSERT_EQ(right.size(), 2u);
+  EXPECT_EQ(right[0].intrinsics.fx, syntheticFrame(1).intrinsics.fx);
+  EXPECT_EQ(right[1].intrinsics.fx, syntheticFrame(3).intrinsics.fx);
+  EXPECT_EQ(readAll(path).size(), 4u);
+
+  opt.sensor_label = "NOPE";
+  const std::string msg = errorOf([&] { readAll(path, opt); });
+  EXPECT_NE(msg.find("'NOPE'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("'LEFT'"), std::string::npos) << msg;  // tells which labels exist
+}
+
+// Colour camera 10 cm to the right of the depth camera (MRPT: -y), other intrinsics and size:
+// registered colour at depth pixel (x, y) must be the colour pixel the 3-D point projects to.
+TEST(RawlogFrameSource, RegistersColourWithRelativePoseIntensityWRTDepth) {
+  const int W = 40, H = 30, Wc = 50, Hc = 40;
+  const double z = 2.0;
+  mrpt::obs::CObservation3DRangeScan obs;
+  obs.hasRangeImage = true;
+  obs.rangeUnits = 0.001f;
+  obs.rangeImage_setSize(H, W);
+  obs.rangeImage.fill(uint16_t(z / 0.001));
+  CameraIntrinsics Kd(40, 40, 19.5, 14.5, W, H), Kc(50, 50, 24.5, 19.5, Wc, Hc);
+  Kd.toTCamera(obs.cameraParams);
+  Kc.toTCamera(obs.cameraParamsIntensity);
+  cv::Mat col(Hc, Wc, CV_8UC3);
+  for (int v = 0; v < Hc; ++v)
+    for (int u = 0; u < Wc; ++u) col.at<cv::Vec3b>(v, u) = cv::Vec3b(uchar(u), uchar(v), 200);
+  obs.hasIntensityImage = true;
+  obs.intensityImage = mrpt::img::CImage(col, mrpt::img::DEEP_COPY);
+  obs.relativePoseIntensityWRTDepth = mrpt::poses::CPose3D(0, -0.1, 0, -M_PI / 2, 0, -M_PI / 2);
+  ASSERT_FALSE(obs.doDepthAndIntensityCamerasCoincide());
+
+  const RgbdFrame f = frameFromObservation(obs, "test");
+  int checked = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const double X = (x - Kd.cx) / Kd.fx * z - 0.1, Y = (y - Kd.cy) / Kd.fy * z;  // colour frame
+      const long u = std::lround(Kc.fx * X / z + Kc.cx), v = std::lround(Kc.fy * Y / z + Kc.cy);
+      if (u < 0 || v < 0 || u >= Wc || v >= Hc) continue;
+      ASSERT_EQ(f.colour(x, y).b, u) << x << "," << y;
+      ASSERT_EQ(f.colour(x, y).g, v) << x << "," << y;
+      ASSERT_EQ(f.colour(x, y).r, 200);
+      ++checked;
+    }
+  EXPECT_GT(checked, W * H / 2);
+}
+
+TEST(RawlogFrameSource, RangeAlongTheRayIsConvertedToDepth) {
+  const int W = 20, H = 10;
+  mrpt::obs::CObservation3DRangeScan obs;
+  obs.hasRangeImage = true;
+  obs.range_is_depth = false;
+  obs.rangeImage_setSize(H, W);
+  const CameraIntrinsics K(10, 12, 9.5, 4.5, W, H);
+  K.toTCamera(obs.cameraParams);
+  // A fronto-parallel plane at z = 1.5 m seen as ranges |p|.
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const double xn = (x - K.cx) / K.fx, yn = (y - K.cy) / K.fy;
+      obs.rangeImage(y, x) = uint16_t(std::lround(1500.0 * std::sqrt(1 + xn * xn + yn * yn)));
+    }
+  const RgbdFrame f = frameFromObservation(obs, "test");
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) ASSERT_NEAR(f.depth_m(x, y), 1.5f, 0.001f);
+}
+
+TEST(RawlogFrameSource, RealKinectFrameFromMrpt) {
+  const std::string path = RASM_MRPT_TEST_RAWLOG;
+  if (!fs::exists(path)) GTEST_SKIP() << path << " not installed (package mrpt-common)";
+  const auto frames = readAll(path);
+  ASSERT_EQ(frames.size(), 1u);
+  const RgbdFrame& f = frames[0];
+  EXPECT_EQ(f.width(), 640);
+  EXPECT_EQ(f.height(), 480);
+  EXPECT_NEAR(f.intrinsics.fx, 572.88, 0.01);
+  EXPECT_NEAR(f.intrinsics.fy, 542.74, 0.01);
+  float dmin = 1e9f, dmax = 0;
+  int valid = 0;
+  for (int y = 0; y < f.height(); ++y)
+    for (int x = 0; x < f.width(); ++x)
+      if (f.depth_m(x, y) > 0) {
+        dmin = std::min(dmin, f.depth_m(x, y));
+        dmax = std::max(dmax, f.depth_m(x, y));
+        ++valid;
+      }
+  EXPECT_GT(valid, 640 * 480 / 2);
+  EXPECT_GE(dmin, 1.6f);
+  EXPECT_LE(dmax, 2.6f);
+  // Cameras do not coincide in this rawlog: colour went through registration. Valid-depth pixels
+  // must have been filled (the colour camera sees the same scene), i.e. not black.
+  long lit = 0;
+  for (int y = 0; y < f.height(); ++y)
+    for (int x = 0; x < f.width(); ++x) {
+      const Bgr8 c = f.colour(x, y);
+      if (f.depth_m(x, y) > 0 && (c.b | c.g | c.r) != 0) ++lit;
+    }
+  EXPECT_GT(lit, 0.9 * valid);
+  EXPECT_FALSE(f.gt_T_world_cam.has_value());  // sensorPose is the identity in this file
+  EXPECT_GT(f.timestamp_s, 1.4e9);
+  if (const char* dump = std::getenv("RASM_IO_DUMP_DIR")) {
+    cv::Mat m(f.height(), f.width(), CV_8UC3, const_cast<Bgr8*>(f.colour.data()), f.colour.pitchBytes());
+    cv::imwrite(std::string(dump) + "/mrpt_frame_registered_colour.png", m);
+  }
+}
+
+TEST(RawlogFrameSource, MissingFileNamesIt) {
+  const std::string msg = errorOf([] { RawlogFrameSource src("/tmp/rasm_no_such_file.rawlog"); });
+  EXPECT_NE(msg.find("/tmp/rasm_no_such_file.rawlog"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("not found"), std::string::npos) << msg;
+}
+
+TEST(RawlogFrameSource, TruncatedRawlogNamesFileAndFrame) {
+  ScratchDir dir("trunc");
+  const std::string full = dir / "full.rawlog", cut = dir / "cut.rawlog";
+  {
+    // Uncompressed, so that cutting bytes cuts the serialized objects (not just the gzip stream).
+    mrpt::io::CFileGZOutputStream f(full, mrpt::io::OpenMode::TRUNCATE, 0);
+    auto ar = mrpt::serialization::archiveFrom(f);
+    for (int i = 0; i < 3; ++i) ar << *scanOf(syntheticFrame(i, 64, 48), "RGBD");
+  }
+  ASSERT_EQ(readAll(full).size(), 3u);
+  std::ifstream in(full, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // Cut in the middle of the third object.
+  std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() * 5 / 6));
+  RawlogFrameSource src(cut);
+  EXPECT_TRUE(src.next().has_value());
+  EXPECT_TRUE(src.next().has_value());
+  const std::string msg = errorOf([&] { src.next(); });
+  EXPECT_NE(msg.find(cut), std::string::npos) << msg;
+  EXPECT_NE(msg.find("frame 2"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("truncated"), std::string::npos) << msg;
+}
+
+TEST(RawlogFrameSource, CompressedTruncatedRawlogIsAnInputError) {
+  const std::string path = RASM_MRPT_TEST_RAWLOG;
+  if (!fs::exists(path)) GTEST_SKIP() << path << " not installed (package mrpt-common)";
+  ScratchDir dir("gz");
+  const std::string cut = dir / "cut.rawlog";
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() / 2));
+  const std::string msg = errorOf([&] { readAll(cut); });
+  EXPECT_NE(msg.find(cut), std::string::npos) << msg;
+  EXPECT_NE(msg.find("frame 0"), std::string::npos) << msg;
+}
+
+TEST(RawlogFrameSource, GarbageFileIsAnInputError) {
+  ScratchDir dir("garbage");
+  const std::string path = dir / "garbage.rawlog";
+  std::ofstream(path) << "this is not a rawlog, just some text that goes on for a while............";
+  const std::string msg = errorOf([&] { readAll(path); });
+  EXPECT_NE(msg.find(path), std::string::npos) << msg;
+}
