@@ -128,8 +128,9 @@ RpeResult TrajectoryEvaluator::computeRpe(const Trajectory& ground_truth_in, con
   const std::vector<double> ts_gt = stampsOf(gt), ts_est = stampsOf(est);
   // Ground-truth lookups as evaluate_rpe.py: the nearest stamp, within twice the median period.
   const double gt_max_dt = 2.0 * medianPeriod(ts_gt);
-  // Interval end: the estimate pose nearest to t_i + delta, within one median estimate period.
-  const double est_tol = medianPeriod(ts_est);
+  // Interval end: the estimate pose nearest to t_i + delta, within half a median estimate period
+  // (so that intervals near the end or across gaps are not silently shortened).
+  const double est_tol = 0.5 * medianPeriod(ts_est) + 1e-6;
   const long frames = std::lround(opt.delta);
 
   std::vector<double> et, er;
@@ -141,7 +142,7 @@ RpeResult TrajectoryEvaluator::computeRpe(const Trajectory& ground_truth_in, con
     } else {
       const double target = ts_est[i] + opt.delta;
       j = closestIndex(ts_est, target);
-      if (j <= i || std::abs(ts_est[j] - target) > est_tol + 1e-9) continue;
+      if (j <= i || std::abs(ts_est[j] - target) > est_tol) continue;
     }
     const std::size_t g0 = closestIndex(ts_gt, ts_est[i] + opt.offset_s);
     const std::size_t g1 = closestIndex(ts_gt, ts_est[j] + opt.offset_s);

@@ -5,7 +5,8 @@
 //    truth's in closed form (Horn / Umeyama: SE(3), or Sim(3) with `scale`), then statistics of the
 //    per-pose translation residuals.
 //  - RPE (relative pose error, evaluate_rpe.py with --fixed_delta): for every estimate pose i the
-//    pose j about `delta` later (seconds, or frames), E_ij = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j) with Q
+//    pose j nearest to `delta` later (seconds: within half the median estimate period, so
+//    intervals are not shortened at the end or across gaps; or exactly `delta` frames), E_ij = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j) with Q
 //    ground truth and P estimate (the paper's eq. 1), its translation norm (m) and rotation angle
 //    (deg); ground-truth poses are the nearest stamps within twice the median ground-truth period.
 //    evaluate_rpe.py composes the two relative motions in the opposite order, which changes the
