@@ -128,6 +128,7 @@ class CSurfelMap : public mrpt::maps::CMetricMap {
   TCreationOptions m_creation;
   SurfelStore m_store;
   std::unique_ptr<SurfelFrameInserter> m_inserter;  ///< created on first insertion
+  std::string m_inserter_ini;                       ///< the fusion INI text it was built from
 
  public:
   MAP_DEFINITION_START(CSurfelMap)

@@ -121,17 +121,20 @@ class SurfelRenderer {
   compute::Backend backend_;
   std::vector<int> visible_;
   Image<std::uint64_t> packed_;
+  mutable std::vector<std::vector<int>> per_block_;  ///< collectVisible scratch (not thread safe)
 };
 
 namespace cuda {
 /// CUDA launchers of the splat / point kernels (cuda/SurfelRender.cu). They take the visible list
-/// computed on the host, copy the needed arrays to the device, and return the packed depth/index
-/// buffer. Throw std::runtime_error when built without CUDA or without a device.
+/// computed on the host, copy the arrays the kernels read to the device, and return the whole
+/// packed depth/index buffer (`packed` keeps its size: W x H, or 4W x 4H for the 4x map).
+/// opt.splat = false renders points. Throw std::runtime_error when built without CUDA or without a
+/// device. Reference launchers: the map is not resident on the device, so transfers dominate.
 void splatPacked(const SurfelArrays& arrays, const std::vector<int>& visible, const RigidF& T_cam_world,
                  const PinholeF& K, const RenderOptions& opt, Image<std::uint64_t>& packed);
 void pointsPacked4x(const SurfelArrays& arrays, const std::vector<int>& visible,
                     const RigidF& T_cam_world, const PinholeF& K, const RenderOptions& opt,
-                    Image<std::uint64_t>& packed4x);
+                    Image<std::uint64_t>& packed4x, std::vector<std::int64_t>& touched);
 }  // namespace cuda
 
 }  // namespace rasm::maps

@@ -102,6 +102,9 @@ class SurfelStore {
   void set(int i, const Surfel& s);  ///< re-bins i if its position changed
 
   const VoxelBlockIndex& spatialIndex() const { return index_; }
+  /// Upper bound of the radius of every indexed surfel (grows with indexAppended / reindex / set;
+  /// exact after rebuildIndex). The renderer grows its frustum culling by it.
+  float radiusBound() const { return radius_bound_; }
 
   /// Time origin (absolute seconds) of the stored float times; NaN until set.
   double timeOrigin() const { return t0_s_; }
@@ -128,6 +131,7 @@ class SurfelStore {
   int size_ = 0;
   int indexed_ = 0;  ///< surfels [0, indexed_) are in index_
   double t0_s_ = std::numeric_limits<double>::quiet_NaN();
+  float radius_bound_ = 0.0f;
 
   std::vector<Vec4f> pos_conf_;
   std::vector<Vec4f> normal_radius_;

@@ -1,0 +1,239 @@
+#pragma once
+// Surfel splatting and point projection kernels of II-A / II-D, written once for the CPU (OpenMP)
+// and CUDA launchers. Plain header: compute/ and Eigen only.
+//
+// Depth test: every candidate writes (float depth bits << 32 | surfel index) with a 64-bit atomic
+// min. Positive IEEE floats order like their bit patterns, so the minimum is the nearest surfel,
+// ties broken by the lower index: the result is the same for any thread interleaving.
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include "rasm/compute/ImageView.h"
+#include "rasm/compute/Types.h"
+#include "rasm/surfel_map/SurfelArrays.h"
+
+namespace rasm::maps::kernels {
+
+constexpr std::uint64_t kEmptyPacked = ~std::uint64_t(0);
+
+RASM_HD_INLINE std::uint32_t floatBits(float f) {
+#ifdef __CUDA_ARCH__
+  return __float_as_uint(f);
+#else
+  std::uint32_t u;
+  std::memcpy(&u, &f, sizeof(u));
+  return u;
+#endif
+}
+RASM_HD_INLINE float bitsFloat(std::uint32_t u) {
+#ifdef __CUDA_ARCH__
+  return __uint_as_float(u);
+#else
+  float f;
+  std::memcpy(&f, &u, sizeof(f));
+  return f;
+#endif
+}
+
+/// depth > 0 required.
+RASM_HD_INLINE std::uint64_t packDepthIndex(float depth, int index) {
+  return (std::uint64_t(floatBits(depth)) << 32) | std::uint64_t(std::uint32_t(index));
+}
+RASM_HD_INLINE int unpackIndex(std::uint64_t v) { return v == kEmptyPacked ? -1 : int(std::uint32_t(v)); }
+RASM_HD_INLINE float unpackDepth(std::uint64_t v) { return v == kEmptyPacked ? 0.0f : bitsFloat(std::uint32_t(v >> 32)); }
+
+RASM_HD_INLINE void atomicMinU64(std::uint64_t* addr, std::uint64_t v) {
+#ifdef __CUDA_ARCH__
+  atomicMin(reinterpret_cast<unsigned long long*>(addr), static_cast<unsigned long long>(v));
+#else
+  std::uint64_t cur = __atomic_load_n(addr, __ATOMIC_RELAXED);
+  while (v < cur && !__atomic_compare_exchange_n(addr, &cur, v, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+  }
+#endif
+}
+
+/// Pixel of a projection with pixel centres at integer coordinates: round to nearest.
+RASM_HD_INLINE int pixelOf(float u) { return int(floorf(u + 0.5f)); }
+/// Sub-pixel of the 4x map (IndexMap4x): floor(4 (u + 0.5)), so sub-pixel / 4 == pixelOf(u).
+RASM_HD_INLINE int subPixelOf4x(float u) { return int(floorf(4.0f * (u + 0.5f))); }
+
+/// The per-surfel filters of a render (RenderOptions) after block culling: alive, stable only,
+/// confidence, time window (map time), depth range, back faces, and the centre's projection within
+/// [lo, hi] (pixels; the image grown by the splat radius).
+struct VisibilityTest {
+  SurfelArrays s;
+  RigidF T_cam_world;
+  PinholeF K;
+  Vec3f camera_centre_world = Vec3f::Zero();
+  float min_depth_m = 0.1f, max_depth_m = 10.0f;
+  float min_confidence = 0.0f;
+  float min_t_last = -3.0e38f;
+  bool stable_only = false;
+  bool cull_back_faces = false;
+  float u_lo = 0, u_hi = 0, v_lo = 0, v_hi = 0;
+
+  RASM_HD_INLINE bool operator()(int i) const {
+    const std::uint32_t cf = s.colour_flags[i];
+    if (cf & kSurfelFree) return false;
+    if (stable_only && !(cf & kSurfelStable)) return false;
+    if (s.pos_conf[i].w() < min_confidence || s.t_last[i] < min_t_last) return false;
+    const Vec3f p = s.position(i);
+    if (cull_back_faces && s.normal(i).dot(camera_centre_world - p) <= 0.0f) return false;
+    const Vec3f pc = T_cam_world.apply(p);
+    if (!(pc.z() >= min_depth_m && pc.z() <= max_depth_m)) return false;
+    const float u = K.fx * pc.x() / pc.z() + K.cx, v = K.fy * pc.y() / pc.z() + K.cy;
+    return u >= u_lo && u <= u_hi && v >= v_lo && v <= v_hi;
+  }
+};
+
+/// Draws surfel visible[k] as a disc of its radius in its plane (II-A splatting). For each pixel of
+/// the disc's projected bounding box whose ray hits the disc, the ray/disc intersection depth
+/// competes in `packed`. Cost per surfel: O(footprint), clamped at max_radius_px.
+struct SplatKernel {
+  SurfelArrays s;
+  const int* visible = nullptr;
+  RigidF T_cam_world;
+  PinholeF K;
+  float min_depth_m = 0.1f;
+  float max_depth_m = 10.0f;
+  float max_radius_px = 12.0f;
+  ImageView<std::uint64_t> packed;
+
+  RASM_HD_INLINE void operator()(int k) const {
+    const int i = visible[k];
+    const Vec3f pc = T_cam_world.apply(s.position(i));
+    const float z = pc.z();
+    if (!(z >= min_depth_m && z <= max_depth_m)) return;
+    const Vec3f nc = T_cam_world.rotate(s.normal(i));
+    const float r = s.radius(i);
+    const float u = K.fx * pc.x() / z + K.cx, v = K.fy * pc.y() / z + K.cy;
+    // Bounding box of the projection of the cube [pc - r, pc + r] (contains the disc): x/z is
+    // extreme at the corners; fall back to the clamp when the cube reaches behind the near plane.
+    const float z0 = z - r, z1 = z + r;
+    float u_lo = u - max_radius_px, u_hi = u + max_radius_px;
+    float v_lo = v - max_radius_px, v_hi = v + max_radius_px;
+    if (z0 > 1e-3f) {
+      const float iz0 = 1.0f / z0, iz1 = 1.0f / z1;
+      const float x0 = pc.x() - r, x1 = pc.x() + r, y0 = pc.y() - r, y1 = pc.y() + r;
+      const float ax = fminf(fminf(x0 * iz0, x0 * iz1), fminf(x1 * iz0, x1 * iz1));
+      const float bx = fmaxf(fmaxf(x0 * iz0, x0 * iz1), fmaxf(x1 * iz0, x1 * iz1));
+      const float ay = fminf(fminf(y0 * iz0, y0 * iz1), fminf(y1 * iz0, y1 * iz1));
+      const float by = fmaxf(fmaxf(y0 * iz0, y0 * iz1), fmaxf(y1 * iz0, y1 * iz1));
+      const float ua = K.fx * ax + K.cx, ub = K.fx * bx + K.cx;  // fx may be negative
+      const float va = K.fy * ay + K.cy, vb = K.fy * by + K.cy;
+      u_lo = fmaxf(u_lo, fminf(ua, ub));
+      u_hi = fminf(u_hi, fmaxf(ua, ub));
+      v_lo = fmaxf(v_lo, fminf(va, vb));
+      v_hi = fminf(v_hi, fmaxf(va, vb));
+    }
+    int x0 = int(ceilf(u_lo)), x1 = int(floorf(u_hi)), y0 = int(ceilf(v_lo)), y1 = int(floorf(v_hi));
+    // The centre's own pixel is always a candidate (see below).
+    const int uc = pixelOf(u), vc = pixelOf(v);
+    x0 = x0 < uc ? x0 : uc;
+    x1 = x1 > uc ? x1 : uc;
+    y0 = y0 < vc ? y0 : vc;
+    y1 = y1 > vc ? y1 : vc;
+    if (x0 < 0) x0 = 0;
+    if (y0 < 0) y0 = 0;
+    if (x1 > packed.width - 1) x1 = packed.width - 1;
+    if (y1 > packed.height - 1) y1 = packed.height - 1;
+    const float n_dot_p = nc.dot(pc), r2 = r * r;
+    for (int y = y0; y <= y1; ++y) {
+      const float ry = (float(y) - K.cy) / K.fy;
+      std::uint64_t* row = packed.row(y);
+      for (int x = x0; x <= x1; ++x) {
+        const float rx = (float(x) - K.cx) / K.fx;
+        // Ray d = (rx, ry, 1) meets the surfel plane n.(q - p) = 0 at q = t d, t = n.p / n.d.
+        const float denom = nc.x() * rx + nc.y() * ry + nc.z();
+        float t = fabsf(denom) >= 1e-6f ? n_dot_p / denom : -1.0f;
+        if (x == uc && y == vc) {
+          // The centre's own pixel is covered even when the disc is smaller than the pixel (a
+          // surfel seen from farther away than it was measured): plane depth, else centre depth.
+          if (!(t > 0.0f) || fabsf(t - z) > r) t = z;
+        } else {
+          if (!(t > 0.0f)) continue;
+          const float dx = t * rx - pc.x(), dy = t * ry - pc.y(), dz = t - z;
+          if (dx * dx + dy * dy + dz * dz > r2) continue;
+        }
+        atomicMinU64(&row[x], packDepthIndex(t, i));
+      }
+    }
+  }
+};
+
+/// Projects surfel visible[k] as a point into the 1x (scale = 1) or 4x (scale = 4) index map.
+/// With `touched`, records the linear sub-pixel id written (or -1) for a sparse clear.
+struct PointKernel {
+  SurfelArrays s;
+  const int* visible = nullptr;
+  RigidF T_cam_world;
+  PinholeF K;
+  float min_depth_m = 0.1f;
+  float max_depth_m = 10.0f;
+  int scale = 1;
+  ImageView<std::uint64_t> packed;
+  std::int64_t* touched = nullptr;
+
+  RASM_HD_INLINE void operator()(int k) const {
+    const int i = visible[k];
+    const Vec3f pc = T_cam_world.apply(s.position(i));
+    const float z = pc.z();
+    std::int64_t id = -1;
+    if (z >= min_depth_m && z <= max_depth_m) {
+      const float u = K.fx * pc.x() / z + K.cx, v = K.fy * pc.y() / z + K.cy;
+      const int sx = scale == 1 ? pixelOf(u) : int(floorf(float(scale) * (u + 0.5f)));
+      const int sy = scale == 1 ? pixelOf(v) : int(floorf(float(scale) * (v + 0.5f)));
+      if (packed.inside(sx, sy)) {
+        atomicMinU64(&packed(sx, sy), packDepthIndex(z, i));
+        id = std::int64_t(sy) * packed.width + sx;
+      }
+    }
+    if (touched) touched[k] = id;
+  }
+};
+
+/// Per pixel: decodes the depth test winner and writes the requested model maps (empty views are
+/// skipped). Splat mode: vertex = the ray point at the winning depth; point mode: surfel centre.
+struct ResolveKernel {
+  SurfelArrays s;
+  ImageView<const std::uint64_t> packed;
+  RigidF T_world_cam;
+  PinholeF K;
+  bool splat = true;
+  ImageView<std::int32_t> index;
+  ImageView<float> depth_m;
+  ImageView<Vec3f> vertex_world;
+  ImageView<Vec3f> normal_world;
+  ImageView<Bgr8> colour;
+  ImageView<float> confidence;
+  ImageView<std::uint32_t> segment;
+
+  RASM_HD_INLINE void operator()(int x, int y) const {
+    const std::uint64_t v = packed(x, y);
+    const int i = unpackIndex(v);
+    index(x, y) = i;
+    const float nan = compute::invalidFloat();
+    if (i < 0) {
+      if (!depth_m.empty()) depth_m(x, y) = 0.0f;
+      if (!vertex_world.empty()) vertex_world(x, y) = Vec3f(nan, nan, nan);
+      if (!normal_world.empty()) normal_world(x, y) = Vec3f(nan, nan, nan);
+      if (!colour.empty()) colour(x, y) = Bgr8{};
+      if (!confidence.empty()) confidence(x, y) = 0.0f;
+      if (!segment.empty()) segment(x, y) = 0u;
+      return;
+    }
+    const float t = unpackDepth(v);
+    if (!depth_m.empty()) depth_m(x, y) = t;
+    if (!vertex_world.empty())
+      vertex_world(x, y) =
+          splat ? T_world_cam.apply(Vec3f((float(x) - K.cx) / K.fx * t, (float(y) - K.cy) / K.fy * t, t)) : s.position(i);
+    if (!normal_world.empty()) normal_world(x, y) = s.normal(i);
+    if (!colour.empty()) colour(x, y) = unpackColour(s.colour_flags[i]);
+    if (!confidence.empty()) confidence(x, y) = s.confidence(i);
+    if (!segment.empty()) segment(x, y) = s.segment[i];
+  }
+};
+
+}  // namespace rasm::maps::kernels

@@ -1,0 +1,53 @@
+#pragma once
+// View-information bins and the in-plane basis of section V-B, shared by fusion (update) and
+// exploration (predicted IC maps). Plain header: compute/ and Eigen only.
+
+#include <cmath>
+
+#include "rasm/compute/Types.h"
+
+namespace rasm::maps::kernels {
+
+/// IC(s) = exp(-lambda1 (max(||p - t||, d_min) - d_min)) (V-B): 1 up to d_min, then decaying.
+RASM_HD_INLINE float informationContent(float distance_m, float lambda1, float d_min_m) {
+  const float d = distance_m > d_min_m ? distance_m : d_min_m;
+  return expf(-lambda1 * (d - d_min_m));
+}
+
+/// A unit vector perpendicular to the unit vector n (initial basis b of a new surfel, II-B / V-B).
+RASM_HD_INLINE Vec3f anyPerpendicular(const Vec3f& n) {
+  // Cross with the axis least aligned with n: well conditioned for every n.
+  const float ax = fabsf(n.x()), ay = fabsf(n.y()), az = fabsf(n.z());
+  const Vec3f a = (ax <= ay && ax <= az) ? Vec3f(1, 0, 0) : (ay <= az ? Vec3f(0, 1, 0) : Vec3f(0, 0, 1));
+  return n.cross(a).normalized();
+}
+
+/// b <- -n x (n x b), normalised (V-B): the projection of b onto the plane of the (updated) normal,
+/// so b stays in the surfel plane and turns with it. Falls back to anyPerpendicular(n) when b is
+/// (nearly) parallel to n.
+RASM_HD_INLINE Vec3f updateBasis(const Vec3f& n, const Vec3f& b) {
+  const Vec3f nb = -n.cross(n.cross(b));
+  const float len = nb.norm();
+  return len > 1e-4f ? Vec3f(nb / len) : anyPerpendicular(n);
+}
+
+/// Bin of the camera direction `dir_to_camera` (unit, from the surfel towards the camera centre)
+/// in the surfel frame (b, n x b, n) (V-B): azimuth atan2(d.(n x b), d.b) in [-pi, pi) over
+/// n_azimuth equal sectors, elevation asin(d.n) in [0, pi/2] over n_elevation equal rings
+/// (back-facing directions clamp to elevation 0). Bin = elevation_ring * n_azimuth + sector.
+RASM_HD_INLINE int viewBinIndex(const Vec3f& n, const Vec3f& b, const Vec3f& dir_to_camera, int n_azimuth,
+                                int n_elevation) {
+  const float kPi = 3.14159265358979f;
+  const Vec3f c = n.cross(b);
+  float s = dir_to_camera.dot(n);
+  s = s < 0.0f ? 0.0f : (s > 1.0f ? 1.0f : s);
+  int el = int(asinf(s) * (2.0f / kPi) * float(n_elevation));
+  if (el >= n_elevation) el = n_elevation - 1;
+  const float az = atan2f(dir_to_camera.dot(c), dir_to_camera.dot(b));  // (-pi, pi]
+  int sector = int((az + kPi) * (0.5f / kPi) * float(n_azimuth));
+  if (sector >= n_azimuth) sector = n_azimuth - 1;
+  if (sector < 0) sector = 0;
+  return el * n_azimuth + sector;
+}
+
+}  // namespace rasm::maps::kernels

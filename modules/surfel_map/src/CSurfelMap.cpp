@@ -1,0 +1,362 @@
+#include "rasm/surfel_map/CSurfelMap.h"
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/initializer.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/opengl/CSetOfObjects.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/rtti/CObject.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "ObservationToFrame.h"
+#include "rasm/core/Error.h"
+#include "rasm/core/Params.h"
+#include "rasm/core/SE3.h"
+#include "rasm/surfel_map/SurfelFrameInserter.h"
+#include "rasm/surfel_map/SurfelRenderer.h"
+
+using rasm::maps::CSurfelMap;
+
+//  ---- map definition (INI creation through TSetOfMetricMapInitializers) ----
+MAP_DEFINITION_REGISTER("rasm::maps::CSurfelMap,surfelMap", rasm::maps::CSurfelMap)
+
+IMPLEMENTS_SERIALIZABLE(CSurfelMap, CMetricMap, rasm::maps)
+
+MRPT_INITIALIZER(rasm_surfel_map_register_classes) {
+  mrpt::rtti::registerClass(CLASS_ID(rasm::maps::CSurfelMap));
+}
+
+namespace rasm::maps {
+
+namespace {
+
+const char* colouringName(SurfelColouring c) {
+  switch (c) {
+    case SurfelColouring::Segment: return "segment";
+    case SurfelColouring::Class: return "class";
+    case SurfelColouring::Confidence: return "confidence";
+    case SurfelColouring::Stability: return "stability";
+    case SurfelColouring::Rgb:
+    default: return "rgb";
+  }
+}
+
+}  // namespace
+
+// ---- options ----
+
+SurfelStoreOptions CSurfelMap::TCreationOptions::toStoreOptions() const {
+  SurfelStoreOptions o;
+  o.n_classes = n_classes;
+  o.view_bins_azimuth = view_bins_azimuth;
+  o.view_bins_elevation = view_bins_elevation;
+  o.block_size_m = float(block_size_m);
+  return o;
+}
+
+void CSurfelMap::TCreationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+  MRPT_LOAD_CONFIG_VAR(n_classes, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(view_bins_azimuth, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(view_bins_elevation, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(block_size_m, double, c, s);
+  requireInRange(n_classes, 0, 4096, s, "n_classes");
+  requireInRange(view_bins_azimuth, 0, 256, s, "view_bins_azimuth");
+  requireInRange(view_bins_elevation, 0, 64, s, "view_bins_elevation");
+  requireInRange(block_size_m, 0.01, 100.0, s, "block_size_m");
+}
+
+void CSurfelMap::TCreationOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+  c.write(s, "n_classes", n_classes);
+  c.write(s, "view_bins_azimuth", view_bins_azimuth);
+  c.write(s, "view_bins_elevation", view_bins_elevation);
+  c.write(s, "block_size_m", block_size_m);
+}
+
+std::string CSurfelMap::TInsertionOptions::fusionIniText() const {
+  std::ostringstream s;
+  s << "[fusion]\n";
+  for (const auto& kv : fusion_keys) s << kv.first << " = " << kv.second << "\n";
+  return s.str();
+}
+
+void CSurfelMap::TInsertionOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+  std::vector<std::string> keys;
+  c.getAllKeys(s, keys);
+  std::sort(keys.begin(), keys.end());
+  fusion_keys.clear();
+  for (const auto& k : keys) fusion_keys.emplace_back(k, c.read_string(s, k, ""));
+  source = "[" + s + "]";
+}
+
+void CSurfelMap::TInsertionOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+  for (const auto& kv : fusion_keys) c.write(s, kv.first, kv.second);
+}
+
+void CSurfelMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+  MRPT_LOAD_CONFIG_VAR(sigma_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(decimation, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_depth_m, double, c, s);
+  requireInRange(sigma_m, 1e-4, 10.0, s, "sigma_m");
+  requireInRange(decimation, 1, 64, s, "decimation");
+  requireInRange(max_depth_m, 0.1, 100.0, s, "max_depth_m");
+}
+
+void CSurfelMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+  c.write(s, "sigma_m", sigma_m);
+  c.write(s, "decimation", decimation);
+  c.write(s, "max_depth_m", max_depth_m);
+}
+
+void CSurfelMap::TRenderingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+  const std::string col = c.read_string(s, "colouring", colouringName(visual.colouring));
+  bool found = false;
+  for (int i = 0; i <= int(SurfelColouring::Stability); ++i)
+    if (col == colouringName(SurfelColouring(i))) {
+      visual.colouring = SurfelColouring(i);
+      found = true;
+    }
+  if (!found)
+    throwInputError("[" + s + "] colouring", "'" + col + "', expected rgb, segment, class, confidence or stability");
+  visual.point_size = c.read_float(s, "point_size", visual.point_size);
+  visual.stable_only = c.read_bool(s, "stable_only", visual.stable_only);
+  visual.min_confidence = c.read_float(s, "min_confidence", visual.min_confidence);
+  requireInRange(visual.point_size, 0.1, 100.0, s, "point_size");
+}
+
+void CSurfelMap::TRenderingOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+  c.write(s, "colouring", std::string(colouringName(visual.colouring)));
+  c.write(s, "point_size", visual.point_size);
+  c.write(s, "stable_only", visual.stable_only);
+  c.write(s, "min_confidence", visual.min_confidence);
+}
+
+// ---- map definition ----
+
+CSurfelMap::TMapDefinition::TMapDefinition() = default;
+
+void CSurfelMap::TMapDefinition::loadFromConfigFile_map_specific(const mrpt::config::CConfigFileBase& source,
+                                                                 const std::string& prefix) {
+  // Strict: unknown keys in the creation / likelihood / rendering sections are errors. The
+  // insertion section holds [fusion] keys, checked when the inserter parses them.
+  const std::string what = "map definition " + prefix;
+  loadParamsStrict(source, prefix + "_creationOpts", creationOpts, what);
+  insertionOpts.loadFromConfigFile(source, prefix + "_insertOpts");
+  loadParamsStrict(source, prefix + "_likelihoodOpts", likelihoodOpts, what);
+  loadParamsStrict(source, prefix + "_renderOpts", renderOpts, what);
+}
+
+void CSurfelMap::TMapDefinition::dumpToTextStream_map_specific(std::ostream& out) const {
+  creationOpts.dumpToTextStream(out);
+  insertionOpts.dumpToTextStream(out);
+  likelihoodOpts.dumpToTextStream(out);
+  renderOpts.dumpToTextStream(out);
+}
+
+mrpt::maps::CMetricMap* CSurfelMap::internal_CreateFromMapDefinition(const mrpt::maps::TMetricMapInitializer& _def) {
+  const auto& def = dynamic_cast<const CSurfelMap::TMapDefinition&>(_def);
+  auto* m = new CSurfelMap(def.creationOpts);
+  m->insertionOptions = def.insertionOpts;
+  m->likelihoodOptions = def.likelihoodOpts;
+  m->renderingOptions = def.renderOpts;
+  return m;
+}
+
+// ---- construction ----
+
+CSurfelMap::CSurfelMap() : CSurfelMap(TCreationOptions()) {}
+
+CSurfelMap::CSurfelMap(const TCreationOptions& creation)
+    : m_creation(creation), m_store(creation.toStoreOptions()) {}
+
+CSurfelMap::CSurfelMap(const CSurfelMap& o)
+    : mrpt::maps::CMetricMap(o),
+      insertionOptions(o.insertionOptions),
+      likelihoodOptions(o.likelihoodOptions),
+      renderingOptions(o.renderingOptions),
+      m_creation(o.m_creation),
+      m_store(o.m_store) {}
+
+CSurfelMap& CSurfelMap::operator=(const CSurfelMap& o) {
+  if (this == &o) return *this;
+  mrpt::maps::CMetricMap::operator=(o);
+  insertionOptions = o.insertionOptions;
+  likelihoodOptions = o.likelihoodOptions;
+  renderingOptions = o.renderingOptions;
+  m_creation = o.m_creation;
+  m_store = o.m_store;
+  m_inserter.reset();
+  return *this;
+}
+
+CSurfelMap::~CSurfelMap() = default;
+
+void CSurfelMap::resetLayout(const TCreationOptions& creation) {
+  m_creation = creation;
+  m_store.reset(creation.toStoreOptions());
+  m_inserter.reset();
+}
+
+void CSurfelMap::internal_clear() {
+  m_store.clear();
+  m_inserter.reset();  // fusion state (renderer buffers) refers to the old map
+}
+
+// ---- serialization ----
+// Version 0: creation options, insertion keys, likelihood and rendering options, generic map
+// params, time origin, then every SoA array (little-endian floats / raw bytes).
+
+uint8_t CSurfelMap::serializeGetVersion() const { return 0; }
+
+void CSurfelMap::serializeTo(mrpt::serialization::CArchive& out) const {
+  out << int32_t(m_creation.n_classes) << int32_t(m_creation.view_bins_azimuth)
+      << int32_t(m_creation.view_bins_elevation) << m_creation.block_size_m;
+  out << uint32_t(insertionOptions.fusion_keys.size());
+  for (const auto& kv : insertionOptions.fusion_keys) out << kv.first << kv.second;
+  out << likelihoodOptions.sigma_m << int32_t(likelihoodOptions.decimation) << likelihoodOptions.max_depth_m;
+  out << int32_t(renderingOptions.visual.colouring) << renderingOptions.visual.point_size
+      << renderingOptions.visual.stable_only << renderingOptions.visual.min_confidence;
+  out << genericMapParams;
+  out << m_store.timeOrigin();
+
+  const SurfelArrays a = m_store.arrays();
+  const std::size_t n = std::size_t(a.size);
+  out << uint64_t(n);
+  out.WriteBufferFixEndianness(reinterpret_cast<const float*>(a.pos_conf), 4 * n);
+  out.WriteBufferFixEndianness(reinterpret_cast<const float*>(a.normal_radius), 4 * n);
+  out.WriteBufferFixEndianness(a.colour_flags, n);
+  out.WriteBufferFixEndianness(a.t_init, n);
+  out.WriteBufferFixEndianness(a.t_last, n);
+  out.WriteBufferFixEndianness(reinterpret_cast<const float*>(a.basis), 3 * n);
+  out.WriteBufferFixEndianness(a.segment, n);
+  out.WriteBufferFixEndianness(a.segment_w, n);
+  if (a.n_classes > 0) out.WriteBuffer(a.class_p, n * std::size_t(a.n_classes));
+  if (a.n_view_bins > 0) out.WriteBuffer(a.view_ic, n * std::size_t(a.n_view_bins));
+}
+
+void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
+  switch (version) {
+    case 0: {
+      int32_t nc, az, el;
+      TCreationOptions co;
+      in >> nc >> az >> el >> co.block_size_m;
+      co.n_classes = nc;
+      co.view_bins_azimuth = az;
+      co.view_bins_elevation = el;
+      uint32_t nkeys;
+      in >> nkeys;
+      insertionOptions.fusion_keys.assign(nkeys, {});
+      for (auto& kv : insertionOptions.fusion_keys) in >> kv.first >> kv.second;
+      int32_t dec, colouring;
+      in >> likelihoodOptions.sigma_m >> dec >> likelihoodOptions.max_depth_m;
+      likelihoodOptions.decimation = dec;
+      in >> colouring >> renderingOptions.visual.point_size >> renderingOptions.visual.stable_only >>
+          renderingOptions.visual.min_confidence;
+      renderingOptions.visual.colouring = SurfelColouring(colouring);
+      in >> genericMapParams;
+      double t0;
+      in >> t0;
+
+      resetLayout(co);
+      m_store.setTimeOrigin(t0);
+      uint64_t n;
+      in >> n;
+      m_store.allocate(int(n));
+      const SurfelArrays a = m_store.arrays();
+      in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.pos_conf), 4 * n);
+      in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.normal_radius), 4 * n);
+      in.ReadBufferFixEndianness(a.colour_flags, n);
+      in.ReadBufferFixEndianness(a.t_init, n);
+      in.ReadBufferFixEndianness(a.t_last, n);
+      in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.basis), 3 * n);
+      in.ReadBufferFixEndianness(a.segment, n);
+      in.ReadBufferFixEndianness(a.segment_w, n);
+      if (a.n_classes > 0) in.ReadBuffer(a.class_p, n * std::size_t(a.n_classes));
+      if (a.n_view_bins > 0) in.ReadBuffer(a.view_ic, n * std::size_t(a.n_view_bins));
+      m_store.rebuildIndex();
+    } break;
+    default:
+      MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+  }
+}
+
+// ---- CMetricMap ----
+
+bool CSurfelMap::internal_insertObservation(const mrpt::obs::CObservation& obs,
+                                            const std::optional<const mrpt::poses::CPose3D>& robotPose) {
+  const auto* scan = dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs);
+  if (!scan) return false;
+  const std::string source = "CSurfelMap::insertObservation(" + scan->sensorLabel + ")";
+  const RgbdFrame frame = detail::frameFromRangeScan(*scan, source);
+  const mrpt::poses::CPose3D T_world_robot = robotPose ? *robotPose : mrpt::poses::CPose3D();
+  const Eigen::Isometry3d T_world_cam = opticalFromMrptSensorPose(T_world_robot + scan->sensorPose);
+  const std::string ini = insertionOptions.fusionIniText();
+  if (!m_inserter || ini != m_inserter_ini) {
+    m_inserter = makeSurfelFrameInserter(ini, insertionOptions.source);
+    m_inserter_ini = ini;
+  }
+  m_inserter->insertFrame(m_store, frame, T_world_cam);
+  return true;
+}
+
+bool CSurfelMap::internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const {
+  return dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs) != nullptr && !isEmpty();
+}
+
+double CSurfelMap::internal_computeObservationLikelihood(const mrpt::obs::CObservation& obs,
+                                                         const mrpt::poses::CPose3D& takenFrom) const {
+  const auto* scan = dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs);
+  if (!scan || isEmpty()) return 0.0;
+  const RgbdFrame frame = detail::frameFromRangeScan(*scan, "CSurfelMap::computeObservationLikelihood");
+  const Eigen::Isometry3d T_world_cam = opticalFromMrptSensorPose(takenFrom + scan->sensorPose);
+  // Gaussian on the depth residual of the splat-rendered map, on a decimated pixel grid; pixels
+  // the map does not explain (no surfel, or residual beyond 3 sigma) count as 3-sigma outliers so
+  // the value stays bounded and comparable between poses.
+  SurfelRenderer renderer;
+  RenderOptions ro;
+  ro.max_depth_m = float(likelihoodOptions.max_depth_m);
+  ro.outputs = kRenderDepth;
+  RenderedMaps rm;
+  renderer.render(m_store, T_world_cam, frame.intrinsics, ro, rm);
+  const double inv_s = 1.0 / likelihoodOptions.sigma_m, outlier = -0.5 * 9.0;
+  double ll = 0.0;
+  const int step = std::max(1, likelihoodOptions.decimation);
+  for (int y = 0; y < frame.height(); y += step)
+    for (int x = 0; x < frame.width(); x += step) {
+      const float z = frame.depth_m(x, y);
+      if (!(z > 0.0f) || z > likelihoodOptions.max_depth_m) continue;
+      const float zr = rm.depth_m(x, y);
+      if (!(zr > 0.0f)) {
+        ll += outlier;
+        continue;
+      }
+      const double r = (double(z) - zr) * inv_s;
+      ll += std::max(-0.5 * r * r, outlier);
+    }
+  return ll;
+}
+
+void CSurfelMap::saveMetricMapRepresentationToFile(const std::string& filNamePrefix) const {
+  writeSurfelPly(m_store, filNamePrefix + ".ply");
+}
+
+void CSurfelMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& o) const {
+  if (genericMapParams.enableSaveAs3DObject) surfelsToOpenGL(m_store, renderingOptions.visual, o);
+}
+
+std::string CSurfelMap::asString() const {
+  std::ostringstream s;
+  int stable = 0;
+  const SurfelArrays a = m_store.arrays();
+  for (int i = 0; i < a.size; ++i) stable += a.stable(i) ? 1 : 0;
+  s << "rasm::maps::CSurfelMap: " << a.size << " surfels (" << stable << " stable), n_classes="
+    << a.n_classes << ", view bins " << m_creation.view_bins_azimuth << "x" << m_creation.view_bins_elevation
+    << ", " << m_store.spatialIndex().numBlocks() << " blocks of " << m_creation.block_size_m << " m, "
+    << m_store.memoryBytes() / (1024.0 * 1024.0) << " MiB";
+  return s.str();
+}
+
+}  // namespace rasm::maps

@@ -1,0 +1,246 @@
+#include "rasm/surfel_map/SurfelStore.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace rasm::maps {
+
+namespace {
+void checkOptions(const SurfelStoreOptions& o) {
+  if (o.n_classes < 0 || o.n_classes > 4096 || o.view_bins_azimuth < 0 || o.view_bins_elevation < 0 ||
+      o.nViewBins() > 4096 || !(o.block_size_m > 0.0f)) {
+    std::ostringstream s;
+    s << "SurfelStoreOptions: invalid layout n_classes=" << o.n_classes << " view_bins_azimuth="
+      << o.view_bins_azimuth << " view_bins_elevation=" << o.view_bins_elevation
+      << " block_size_m=" << o.block_size_m;
+    throw std::invalid_argument(s.str());
+  }
+}
+constexpr std::uint8_t kPriorClassQ = 128;  // quantizeUnit(0.5f)
+}  // namespace
+
+SurfelStore::SurfelStore(const SurfelStoreOptions& opt) : opt_(opt), index_(opt.block_size_m) { checkOptions(opt); }
+
+void SurfelStore::reset(const SurfelStoreOptions& opt) {
+  checkOptions(opt);
+  opt_ = opt;
+  size_ = 0;
+  indexed_ = 0;
+  t0_s_ = std::numeric_limits<double>::quiet_NaN();
+  radius_bound_ = 0.0f;
+  resizeArrays(0);
+  index_ = VoxelBlockIndex(opt.block_size_m);
+}
+
+void SurfelStore::reserve(int n) {
+  pos_conf_.reserve(n);
+  normal_radius_.reserve(n);
+  colour_flags_.reserve(n);
+  t_init_.reserve(n);
+  t_last_.reserve(n);
+  basis_.reserve(n);
+  segment_.reserve(n);
+  segment_w_.reserve(n);
+  class_p_.reserve(std::size_t(n) * opt_.n_classes);
+  view_ic_.reserve(std::size_t(n) * opt_.nViewBins());
+}
+
+void SurfelStore::resizeArrays(int n) {
+  pos_conf_.resize(n, Vec4f::Zero());
+  normal_radius_.resize(n, Vec4f(0, 0, 1, 0));
+  colour_flags_.resize(n, 0u);
+  t_init_.resize(n, 0.0f);
+  t_last_.resize(n, 0.0f);
+  basis_.resize(n, Vec3f::UnitX());
+  segment_.resize(n, 0u);
+  segment_w_.resize(n, 0.0f);
+  class_p_.resize(std::size_t(n) * opt_.n_classes, kPriorClassQ);
+  view_ic_.resize(std::size_t(n) * opt_.nViewBins(), 0);
+}
+
+SurfelArrays SurfelStore::arrays() {
+  SurfelArrays a;
+  a.pos_conf = pos_conf_.data();
+  a.normal_radius = normal_radius_.data();
+  a.colour_flags = colour_flags_.data();
+  a.t_init = t_init_.data();
+  a.t_last = t_last_.data();
+  a.basis = basis_.data();
+  a.segment = segment_.data();
+  a.segment_w = segment_w_.data();
+  a.class_p = class_p_.data();
+  a.view_ic = view_ic_.data();
+  a.size = size_;
+  a.n_classes = opt_.n_classes;
+  a.n_view_bins = opt_.nViewBins();
+  return a;
+}
+
+SurfelArrays SurfelStore::arrays() const { return const_cast<SurfelStore*>(this)->arrays(); }
+
+int SurfelStore::allocate(int count) {
+  if (count < 0) throw std::invalid_argument("SurfelStore::allocate: negative count");
+  const int first = size_;
+  if (std::int64_t(size_) + count > std::int64_t(std::numeric_limits<int>::max() / 2))
+    throw std::length_error("SurfelStore::allocate: too many surfels");
+  size_ += count;
+  resizeArrays(size_);
+  return first;
+}
+
+void SurfelStore::indexAppended() {
+  if (indexed_ >= size_) return;
+  index_.insertRange(indexed_, size_ - indexed_, pos_conf_.data());
+  for (int i = indexed_; i < size_; ++i) radius_bound_ = std::max(radius_bound_, normal_radius_[i].w());
+  indexed_ = size_;
+}
+
+int SurfelStore::reindex(const std::vector<int>& surfels) {
+  int moved = 0;
+  for (int i : surfels) {
+    if (i < 0 || i >= indexed_) continue;
+    radius_bound_ = std::max(radius_bound_, normal_radius_[i].w());
+    moved += index_.move(i, pos_conf_[i].head<3>()) ? 1 : 0;
+  }
+  return moved;
+}
+
+void SurfelStore::rebuildIndex() {
+  index_.clear();
+  indexed_ = 0;
+  radius_bound_ = 0.0f;
+  indexAppended();
+}
+
+int SurfelStore::append(const Surfel& s) {
+  if (!hasTimeOrigin()) setTimeOrigin(s.t_init_s);
+  const int i = allocate(1);
+  set(i, s);
+  indexAppended();
+  return i;
+}
+
+void SurfelStore::set(int i, const Surfel& s) {
+  if (i < 0 || i >= size_) throw std::out_of_range("SurfelStore::set: index " + std::to_string(i));
+  if (!s.class_p.empty() && int(s.class_p.size()) != opt_.n_classes)
+    throw std::invalid_argument("SurfelStore::set: class_p has " + std::to_string(s.class_p.size()) +
+                                " values, the map has n_classes = " + std::to_string(opt_.n_classes));
+  if (!s.view_ic.empty() && int(s.view_ic.size()) != opt_.nViewBins())
+    throw std::invalid_argument("SurfelStore::set: view_ic has " + std::to_string(s.view_ic.size()) +
+                                " values, the map has " + std::to_string(opt_.nViewBins()) + " view bins");
+  pos_conf_[i] = Vec4f(s.position.x(), s.position.y(), s.position.z(), s.confidence);
+  normal_radius_[i] = Vec4f(s.normal.x(), s.normal.y(), s.normal.z(), s.radius);
+  colour_flags_[i] = packColour(s.colour, s.stable ? kSurfelStable : 0u);
+  t_init_[i] = toMapTime(s.t_init_s);
+  t_last_[i] = toMapTime(s.t_last_s);
+  basis_[i] = s.basis;
+  segment_[i] = s.segment;
+  segment_w_[i] = s.segment_weight;
+  std::uint8_t* cp = class_p_.data() + std::size_t(i) * opt_.n_classes;
+  for (int c = 0; c < opt_.n_classes; ++c) cp[c] = s.class_p.empty() ? kPriorClassQ : quantizeUnit(s.class_p[c]);
+  std::uint8_t* vb = view_ic_.data() + std::size_t(i) * opt_.nViewBins();
+  for (int v = 0; v < opt_.nViewBins(); ++v) vb[v] = s.view_ic.empty() ? 0 : quantizeUnit(s.view_ic[v]);
+  if (i < indexed_) {
+    radius_bound_ = std::max(radius_bound_, s.radius);
+    index_.move(i, s.position);
+  }
+}
+
+Surfel SurfelStore::get(int i) const {
+  if (i < 0 || i >= size_) throw std::out_of_range("SurfelStore::get: index " + std::to_string(i));
+  Surfel s;
+  s.position = pos_conf_[i].head<3>();
+  s.confidence = pos_conf_[i].w();
+  s.normal = normal_radius_[i].head<3>();
+  s.radius = normal_radius_[i].w();
+  s.colour = unpackColour(colour_flags_[i]);
+  s.stable = (colour_flags_[i] & kSurfelStable) != 0;
+  s.t_init_s = fromMapTime(t_init_[i]);
+  s.t_last_s = fromMapTime(t_last_[i]);
+  s.basis = basis_[i];
+  s.segment = segment_[i];
+  s.segment_weight = segment_w_[i];
+  s.class_p.resize(opt_.n_classes);
+  for (int c = 0; c < opt_.n_classes; ++c) s.class_p[c] = dequantizeUnit(class_p_[std::size_t(i) * opt_.n_classes + c]);
+  s.view_ic.resize(opt_.nViewBins());
+  for (int v = 0; v < opt_.nViewBins(); ++v) s.view_ic[v] = dequantizeUnit(view_ic_[std::size_t(i) * opt_.nViewBins() + v]);
+  return s;
+}
+
+void SurfelStore::moveSurfel(int from, int to) {
+  pos_conf_[to] = pos_conf_[from];
+  normal_radius_[to] = normal_radius_[from];
+  colour_flags_[to] = colour_flags_[from];
+  t_init_[to] = t_init_[from];
+  t_last_[to] = t_last_[from];
+  basis_[to] = basis_[from];
+  segment_[to] = segment_[from];
+  segment_w_[to] = segment_w_[from];
+  const std::size_t nc = opt_.n_classes, nv = opt_.nViewBins();
+  std::copy_n(class_p_.begin() + from * nc, nc, class_p_.begin() + to * nc);
+  std::copy_n(view_ic_.begin() + from * nv, nv, view_ic_.begin() + to * nv);
+  if (from < indexed_) index_.renumber(from, to);
+}
+
+void SurfelStore::remove(std::vector<int> surfels, std::vector<std::pair<int, int>>* moved) {
+  if (moved) moved->clear();
+  if (surfels.empty()) return;
+  std::sort(surfels.begin(), surfels.end());
+  surfels.erase(std::unique(surfels.begin(), surfels.end()), surfels.end());
+  if (surfels.front() < 0 || surfels.back() >= size_)
+    throw std::out_of_range("SurfelStore::remove: index out of range");
+  // Mark, and drop from the spatial index, every removed surfel.
+  for (int i : surfels) {
+    colour_flags_[i] |= kSurfelFree;
+    if (i < indexed_) index_.erase(i);
+  }
+  // Fill the holes (ascending) with the alive surfels at the tail (descending).
+  const int new_size = size_ - int(surfels.size());
+  int tail = size_ - 1;
+  for (int hole : surfels) {
+    if (hole >= new_size) break;  // the remaining holes are in the dropped tail
+    while (colour_flags_[tail] & kSurfelFree) --tail;
+    moveSurfel(tail, hole);
+    if (moved) moved->emplace_back(tail, hole);
+    --tail;
+  }
+  // Indexed surfels only move down, so [0, min(old indexed_, new size)) stays indexed except for
+  // holes filled from the unindexed tail (allocated, not yet indexAppended()): index those.
+  const int keep_indexed = std::min(indexed_, new_size);
+  for (const int hole : surfels) {
+    if (hole >= keep_indexed) break;
+    if (index_.blockOf(hole) < 0) index_.insert(hole, pos_conf_[hole].head<3>());
+  }
+  indexed_ = keep_indexed;
+  size_ = new_size;
+  resizeArrays(size_);
+}
+
+std::size_t SurfelStore::bytesPerSurfel(int n_classes, int n_view_bins) {
+  return 2 * sizeof(Vec4f) + sizeof(std::uint32_t) + 2 * sizeof(float) + sizeof(Vec3f) + sizeof(std::uint32_t) +
+         sizeof(float) + std::size_t(n_classes) + std::size_t(n_view_bins);
+}
+
+std::size_t SurfelStore::memoryBytes() const {
+  return pos_conf_.capacity() * sizeof(Vec4f) + normal_radius_.capacity() * sizeof(Vec4f) +
+         colour_flags_.capacity() * 4 + t_init_.capacity() * 4 + t_last_.capacity() * 4 +
+         basis_.capacity() * sizeof(Vec3f) + segment_.capacity() * 4 + segment_w_.capacity() * 4 +
+         class_p_.capacity() + view_ic_.capacity() + index_.memoryBytes();
+}
+
+bool SurfelStore::checkConsistency(std::string* why) const {
+  if (indexed_ != size_) {
+    if (why) *why = "surfels appended but not indexed (call indexAppended())";
+    return false;
+  }
+  for (int i = 0; i < size_; ++i)
+    if (colour_flags_[i] & kSurfelFree) {
+      if (why) *why = "free flag set on live surfel " + std::to_string(i);
+      return false;
+    }
+  return index_.checkConsistency(pos_conf_.data(), size_, why);
+}
+
+}  // namespace rasm::maps

@@ -1,0 +1,222 @@
+#include "rasm/surfel_map/VoxelBlockIndex.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace rasm::maps {
+
+namespace {
+constexpr int kBits = 21;
+constexpr std::int64_t kBias = std::int64_t(1) << (kBits - 1);
+constexpr std::uint64_t kMask = (std::uint64_t(1) << kBits) - 1;
+
+std::uint64_t packKey(const Eigen::Vector3i& c) {
+  return (std::uint64_t(c.x() + kBias) & kMask) | ((std::uint64_t(c.y() + kBias) & kMask) << kBits) |
+         ((std::uint64_t(c.z() + kBias) & kMask) << (2 * kBits));
+}
+}  // namespace
+
+CameraFrustum CameraFrustum::fromCamera(const RigidF& T_world_cam, const PinholeF& K, float min_depth_m,
+                                        float max_depth_m) {
+  // Side planes through the optical centre: x >= xl z, x <= xr z, y >= yt z, y <= yb z (camera
+  // frame) with the image borders at the outer pixel edges. fx or fy may be negative (ICL-NUIM).
+  float xl = (-0.5f - K.cx) / K.fx, xr = (float(K.width) - 0.5f - K.cx) / K.fx;
+  float yt = (-0.5f - K.cy) / K.fy, yb = (float(K.height) - 0.5f - K.cy) / K.fy;
+  if (xl > xr) std::swap(xl, xr);
+  if (yt > yb) std::swap(yt, yb);
+  const Vec3f n_cam[6] = {Vec3f(1, 0, -xl).normalized(), Vec3f(-1, 0, xr).normalized(),
+                          Vec3f(0, 1, -yt).normalized(), Vec3f(0, -1, yb).normalized(),
+                          Vec3f(0, 0, 1),                Vec3f(0, 0, -1)};
+  const float d_cam[6] = {0, 0, 0, 0, -min_depth_m, max_depth_m};
+  CameraFrustum f;
+  const Vec3f t = T_world_cam.translation();
+  for (int i = 0; i < 6; ++i) {
+    // n_w . p_w + d_w = n_c . (R^T (p_w - t)) + d_c  =>  n_w = R n_c, d_w = d_c - n_w . t
+    const Vec3f nw = T_world_cam.rotate(n_cam[i]);
+    f.planes[i] = Vec4f(nw.x(), nw.y(), nw.z(), d_cam[i] - nw.dot(t));
+  }
+  return f;
+}
+
+VoxelBlockIndex::VoxelBlockIndex(float block_size_m) : block_size_m_(block_size_m) {
+  if (!(block_size_m > 0.0f)) throw std::invalid_argument("VoxelBlockIndex: block size must be > 0");
+  inv_block_size_ = 1.0f / block_size_m;
+}
+
+std::uint64_t VoxelBlockIndex::keyOf(const Vec3f& p) const {
+  const Eigen::Vector3i c(int(std::floor(p.x() * inv_block_size_)), int(std::floor(p.y() * inv_block_size_)),
+                          int(std::floor(p.z() * inv_block_size_)));
+  return packKey(c);
+}
+
+int VoxelBlockIndex::blockFor(std::uint64_t key, const Eigen::Vector3i& coords) {
+  auto it = key_to_block_.find(key);
+  if (it != key_to_block_.end()) return it->second;
+  int id;
+  if (!free_blocks_.empty()) {
+    id = free_blocks_.back();
+    free_blocks_.pop_back();
+  } else {
+    id = int(blocks_.size());
+    blocks_.emplace_back();
+  }
+  Block& b = blocks_[id];
+  b.coords = coords;
+  b.key = key;
+  b.members.clear();
+  key_to_block_.emplace(key, id);
+  return id;
+}
+
+void VoxelBlockIndex::ensureSurfel(int surfel) {
+  if (surfel >= int(surfel_block_.size())) {
+    surfel_block_.resize(surfel + 1, -1);
+    surfel_slot_.resize(surfel + 1, -1);
+  }
+}
+
+void VoxelBlockIndex::insert(int surfel, const Vec3f& p) {
+  ensureSurfel(surfel);
+  if (surfel_block_[surfel] >= 0) throw std::logic_error("VoxelBlockIndex::insert: surfel already indexed");
+  const Eigen::Vector3i c(int(std::floor(p.x() * inv_block_size_)), int(std::floor(p.y() * inv_block_size_)),
+                          int(std::floor(p.z() * inv_block_size_)));
+  const int b = blockFor(packKey(c), c);
+  surfel_block_[surfel] = b;
+  surfel_slot_[surfel] = int(blocks_[b].members.size());
+  blocks_[b].members.push_back(surfel);
+}
+
+void VoxelBlockIndex::insertRange(int first, int count, const Vec4f* pos_conf) {
+  if (count <= 0) return;
+  ensureSurfel(first + count - 1);
+  std::uint64_t last_key = ~std::uint64_t(0);
+  int last_block = -1;
+  for (int i = first; i < first + count; ++i) {
+    if (surfel_block_[i] >= 0) throw std::logic_error("VoxelBlockIndex::insertRange: surfel already indexed");
+    const Vec4f& p = pos_conf[i];
+    const Eigen::Vector3i c(int(std::floor(p.x() * inv_block_size_)), int(std::floor(p.y() * inv_block_size_)),
+                            int(std::floor(p.z() * inv_block_size_)));
+    const std::uint64_t key = packKey(c);
+    if (key != last_key) {
+      last_block = blockFor(key, c);
+      last_key = key;
+    }
+    surfel_block_[i] = last_block;
+    surfel_slot_[i] = int(blocks_[last_block].members.size());
+    blocks_[last_block].members.push_back(i);
+  }
+}
+
+void VoxelBlockIndex::eraseFromBlock(int surfel) {
+  const int b = surfel_block_[surfel];
+  const int slot = surfel_slot_[surfel];
+  std::vector<int>& m = blocks_[b].members;
+  const int last = m.back();
+  m[slot] = last;
+  surfel_slot_[last] = slot;
+  m.pop_back();
+  surfel_block_[surfel] = -1;
+  surfel_slot_[surfel] = -1;
+  if (m.empty()) {
+    key_to_block_.erase(blocks_[b].key);
+    free_blocks_.push_back(b);
+  }
+}
+
+void VoxelBlockIndex::erase(int surfel) {
+  if (surfel < 0 || surfel >= int(surfel_block_.size()) || surfel_block_[surfel] < 0)
+    throw std::logic_error("VoxelBlockIndex::erase: surfel not indexed");
+  eraseFromBlock(surfel);
+}
+
+bool VoxelBlockIndex::move(int surfel, const Vec3f& p) {
+  const int b = blockOf(surfel);
+  if (b < 0) throw std::logic_error("VoxelBlockIndex::move: surfel not indexed");
+  const Eigen::Vector3i c(int(std::floor(p.x() * inv_block_size_)), int(std::floor(p.y() * inv_block_size_)),
+                          int(std::floor(p.z() * inv_block_size_)));
+  if (c == blocks_[b].coords) return false;
+  eraseFromBlock(surfel);
+  const int nb = blockFor(packKey(c), c);
+  surfel_block_[surfel] = nb;
+  surfel_slot_[surfel] = int(blocks_[nb].members.size());
+  blocks_[nb].members.push_back(surfel);
+  return true;
+}
+
+void VoxelBlockIndex::renumber(int from, int to) {
+  const int b = blockOf(from);
+  if (b < 0) throw std::logic_error("VoxelBlockIndex::renumber: surfel not indexed");
+  ensureSurfel(to);
+  if (surfel_block_[to] >= 0) throw std::logic_error("VoxelBlockIndex::renumber: target index in use");
+  const int slot = surfel_slot_[from];
+  blocks_[b].members[slot] = to;
+  surfel_block_[to] = b;
+  surfel_slot_[to] = slot;
+  surfel_block_[from] = -1;
+  surfel_slot_[from] = -1;
+  // Keep the per-surfel tables as short as the highest indexed surfel.
+  while (!surfel_block_.empty() && surfel_block_.back() < 0) {
+    surfel_block_.pop_back();
+    surfel_slot_.pop_back();
+  }
+}
+
+void VoxelBlockIndex::clear() {
+  key_to_block_.clear();
+  blocks_.clear();
+  free_blocks_.clear();
+  surfel_block_.clear();
+  surfel_slot_.clear();
+}
+
+void VoxelBlockIndex::blocksInFrustum(const CameraFrustum& frustum, float margin_m, std::vector<int>& block_ids) const {
+  const float half = 0.5f * block_size_m_;
+  const float radius = half * 1.7320508f + margin_m;  // circumscribed sphere of the cube + margin
+  for (int b = 0; b < int(blocks_.size()); ++b) {
+    if (blocks_[b].members.empty()) continue;
+    const Vec3f centre = blocks_[b].coords.cast<float>() * block_size_m_ + Vec3f::Constant(half);
+    if (frustum.intersectsSphere(centre, radius)) block_ids.push_back(b);
+  }
+}
+
+bool VoxelBlockIndex::checkConsistency(const Vec4f* pos_conf, int n, std::string* why) const {
+  auto fail = [&](const std::string& s) {
+    if (why) *why = s;
+    return false;
+  };
+  std::size_t members = 0;
+  for (int b = 0; b < int(blocks_.size()); ++b) {
+    members += blocks_[b].members.size();
+    if (!blocks_[b].members.empty()) {
+      auto it = key_to_block_.find(blocks_[b].key);
+      if (it == key_to_block_.end() || it->second != b) return fail("block key table out of sync");
+    }
+  }
+  if (members != std::size_t(n)) {
+    std::ostringstream s;
+    s << "index holds " << members << " surfels, map has " << n;
+    return fail(s.str());
+  }
+  for (int i = 0; i < n; ++i) {
+    const int b = blockOf(i);
+    if (b < 0) return fail("surfel " + std::to_string(i) + " not indexed");
+    const int slot = surfel_slot_[i];
+    if (slot < 0 || slot >= int(blocks_[b].members.size()) || blocks_[b].members[slot] != i)
+      return fail("surfel " + std::to_string(i) + " slot mismatch");
+    if (keyOf(pos_conf[i].head<3>()) != blocks_[b].key)
+      return fail("surfel " + std::to_string(i) + " is not in the block containing it");
+  }
+  return true;
+}
+
+std::size_t VoxelBlockIndex::memoryBytes() const {
+  std::size_t bytes = (surfel_block_.capacity() + surfel_slot_.capacity()) * sizeof(int) +
+                      blocks_.capacity() * sizeof(Block) + free_blocks_.capacity() * sizeof(int) +
+                      key_to_block_.size() * (sizeof(std::uint64_t) + sizeof(int) + 2 * sizeof(void*)) +
+                      key_to_block_.bucket_count() * sizeof(void*);
+  for (const Block& b : blocks_) bytes += b.members.capacity() * sizeof(int);
+  return bytes;
+}
+
+}  // namespace rasm::maps

@@ -1,0 +1,202 @@
+// SurfelStore: SoA storage, removal with compaction, and the incremental spatial index.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+
+#include "rasm/surfel_map/SurfelStore.h"
+
+using namespace rasm;
+using namespace rasm::maps;
+
+namespace {
+
+Surfel randomSurfel(std::mt19937& rng, const SurfelStoreOptions& opt) {
+  std::uniform_real_distribution<float> pos(-3.0f, 3.0f), unit(0.0f, 1.0f);
+  Surfel s;
+  s.position = Vec3f(pos(rng), pos(rng), pos(rng));
+  s.normal = Vec3f(unit(rng) - 0.5f, unit(rng) - 0.5f, 1.0f).normalized();
+  s.basis = Vec3f(1, 0, 0);
+  s.radius = 0.001f + 0.01f * unit(rng);
+  s.confidence = 20.0f * unit(rng);
+  s.colour = Bgr8{std::uint8_t(rng() & 255), std::uint8_t(rng() & 255), std::uint8_t(rng() & 255)};
+  s.stable = s.confidence > 10.0f;
+  s.t_init_s = 100.0 + unit(rng);
+  s.t_last_s = 101.0 + unit(rng);
+  s.segment = rng() % 50;
+  s.segment_weight = unit(rng);
+  for (int c = 0; c < opt.n_classes; ++c) s.class_p.push_back(unit(rng));
+  for (int v = 0; v < opt.nViewBins(); ++v) s.view_ic.push_back(unit(rng));
+  return s;
+}
+
+void expectSame(const Surfel& a, const Surfel& b) {
+  EXPECT_EQ(a.position, b.position);
+  EXPECT_EQ(a.normal, b.normal);
+  EXPECT_EQ(a.basis, b.basis);
+  EXPECT_EQ(a.radius, b.radius);
+  EXPECT_EQ(a.confidence, b.confidence);
+  EXPECT_EQ(a.colour.b, b.colour.b);
+  EXPECT_EQ(a.colour.g, b.colour.g);
+  EXPECT_EQ(a.colour.r, b.colour.r);
+  EXPECT_EQ(a.stable, b.stable);
+  EXPECT_EQ(a.segment, b.segment);
+  EXPECT_EQ(a.segment_weight, b.segment_weight);
+  EXPECT_NEAR(a.t_init_s, b.t_init_s, 1e-5);
+  EXPECT_NEAR(a.t_last_s, b.t_last_s, 1e-5);
+  ASSERT_EQ(a.class_p.size(), b.class_p.size());
+  for (std::size_t c = 0; c < a.class_p.size(); ++c) EXPECT_NEAR(a.class_p[c], b.class_p[c], 0.5 / 255.0 + 1e-6);
+  ASSERT_EQ(a.view_ic.size(), b.view_ic.size());
+  for (std::size_t v = 0; v < a.view_ic.size(); ++v) EXPECT_NEAR(a.view_ic[v], b.view_ic[v], 0.5 / 255.0 + 1e-6);
+}
+
+}  // namespace
+
+TEST(SurfelStore, BytesPerSurfelMatchesTheBudget) {
+  // SurfelArrays.h: 56-byte geometric core + segment + segment weight = 64, then classes and bins.
+  EXPECT_EQ(SurfelStore::bytesPerSurfel(0, 0), 64u);
+  EXPECT_EQ(SurfelStore::bytesPerSurfel(80, 16), 64u + 80u + 16u);
+}
+
+TEST(SurfelStore, AppendGetRoundTripsEveryAttribute) {
+  SurfelStoreOptions opt;
+  opt.n_classes = 5;
+  opt.view_bins_azimuth = 4;
+  opt.view_bins_elevation = 2;
+  SurfelStore store(opt);
+  std::mt19937 rng(1);
+  std::vector<Surfel> ref;
+  for (int i = 0; i < 100; ++i) {
+    ref.push_back(randomSurfel(rng, opt));
+    EXPECT_EQ(store.append(ref.back()), i);
+  }
+  ASSERT_EQ(store.size(), 100);
+  for (int i = 0; i < 100; ++i) expectSame(store.get(i), ref[i]);
+  std::string why;
+  EXPECT_TRUE(store.checkConsistency(&why)) << why;
+}
+
+TEST(SurfelStore, DefaultsOfAllocatedSurfels) {
+  SurfelStoreOptions opt;
+  opt.n_classes = 3;
+  SurfelStore store(opt);
+  const int first = store.allocate(4);
+  EXPECT_EQ(first, 0);
+  const SurfelArrays a = store.arrays();
+  for (int i = 0; i < 4; ++i) {
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(a.classRow(i)[c], quantizeUnit(0.5f));  // II-B prior
+    for (int v = 0; v < a.n_view_bins; ++v) EXPECT_EQ(a.viewRow(i)[v], 0);
+    EXPECT_EQ(a.segment[i], 0u);
+  }
+  EXPECT_FALSE(store.checkConsistency());  // not indexed yet
+  store.indexAppended();
+  EXPECT_TRUE(store.checkConsistency());
+}
+
+TEST(SurfelStore, RemoveCompactsAndReportsMovedIndices) {
+  SurfelStoreOptions opt;
+  opt.n_classes = 2;
+  SurfelStore store(opt);
+  std::mt19937 rng(7);
+  std::vector<Surfel> ref;
+  for (int i = 0; i < 2000; ++i) {
+    ref.push_back(randomSurfel(rng, opt));
+    ref.back().segment = std::uint32_t(i);  // identity tag
+    store.append(ref.back());
+  }
+  for (int round = 0; round < 5; ++round) {
+    std::vector<int> rem;
+    std::uniform_int_distribution<int> pick(0, store.size() - 1);
+    for (int k = 0; k < 150; ++k) rem.push_back(pick(rng));
+    rem.push_back(store.size() - 1);  // the tail itself
+    rem.push_back(rem.front());       // duplicate
+    const std::set<int> rem_set(rem.begin(), rem.end());
+    std::vector<std::uint32_t> tags_before(store.size());
+    for (int i = 0; i < store.size(); ++i) tags_before[i] = store.arrays().segment[i];
+    const int n_before = store.size();
+
+    std::vector<std::pair<int, int>> moved;
+    store.remove(rem, &moved);
+    ASSERT_EQ(store.size(), n_before - int(rem_set.size()));
+    std::string why;
+    ASSERT_TRUE(store.checkConsistency(&why)) << why;
+
+    // Surviving tags are exactly the ones not removed; moved pairs say where they went.
+    std::multiset<std::uint32_t> expect, got;
+    for (int i = 0; i < n_before; ++i)
+      if (!rem_set.count(i)) expect.insert(tags_before[i]);
+    for (int i = 0; i < store.size(); ++i) got.insert(store.arrays().segment[i]);
+    EXPECT_EQ(expect, got);
+    for (const auto& [from, to] : moved) {
+      EXPECT_GT(from, to);
+      EXPECT_FALSE(rem_set.count(from));
+      EXPECT_TRUE(rem_set.count(to));
+      EXPECT_EQ(store.arrays().segment[to], tags_before[from]);
+      expectSame(store.get(to), ref[tags_before[from]]);
+    }
+    // Indices below the smallest removed index are untouched.
+    for (int i = 0; i < *rem_set.begin(); ++i) EXPECT_EQ(store.arrays().segment[i], tags_before[i]);
+  }
+}
+
+TEST(SurfelStore, RemoveWithUnindexedTail) {
+  SurfelStore store;
+  std::mt19937 rng(3);
+  for (int i = 0; i < 50; ++i) store.append(randomSurfel(rng, store.options()));
+  const int first = store.allocate(10);  // not indexed yet
+  const SurfelArrays a = store.arrays();
+  for (int i = first; i < first + 10; ++i) a.pos_conf[i] = Vec4f(0.1f * i, 0.2f, 0.3f, 1.0f);
+  store.remove({0, 5, 49, 55});
+  store.indexAppended();
+  std::string why;
+  EXPECT_TRUE(store.checkConsistency(&why)) << why;
+  EXPECT_EQ(store.size(), 56);
+}
+
+TEST(SurfelStore, ReindexFollowsSurfelsAcrossBlockBorders) {
+  SurfelStoreOptions opt;
+  opt.block_size_m = 0.25f;
+  SurfelStore store(opt);
+  std::mt19937 rng(5);
+  for (int i = 0; i < 500; ++i) store.append(randomSurfel(rng, opt));
+  const int blocks_before = store.spatialIndex().numBlocks();
+  // Nudge every surfel by a few cm (as fusion does): some cross block borders.
+  std::vector<int> all(store.size());
+  const SurfelArrays a = store.arrays();
+  for (int i = 0; i < store.size(); ++i) {
+    all[i] = i;
+    a.pos_conf[i].head<3>() += Vec3f(0.03f, -0.02f, 0.04f);
+  }
+  EXPECT_FALSE(store.checkConsistency());
+  const int moved = store.reindex(all);
+  EXPECT_GT(moved, 0);
+  EXPECT_LT(moved, store.size());
+  std::string why;
+  EXPECT_TRUE(store.checkConsistency(&why)) << why;
+  EXPECT_GT(blocks_before, 0);
+}
+
+TEST(VoxelBlockIndex, FrustumKeepsOnlyBlocksInView) {
+  VoxelBlockIndex index(0.5f);
+  // One surfel in each block of a 20 x 20 x 4 m volume around the camera.
+  int id = 0;
+  for (float x = -9.75f; x < 10.0f; x += 0.5f)
+    for (float y = -1.75f; y < 2.0f; y += 0.5f)
+      for (float z = -9.75f; z < 10.0f; z += 0.5f) index.insert(id++, Vec3f(x, y, z));
+  ASSERT_EQ(index.numBlocks(), id);
+  const PinholeF K{525.f, 525.f, 319.5f, 239.5f, 640, 480};
+  const CameraFrustum f = CameraFrustum::fromCamera(RigidF(), K, 0.1f, 4.0f);
+  std::vector<int> blocks;
+  index.blocksInFrustum(f, 0.0f, blocks);
+  // The frustum (4 m deep, ~63 x 49 deg) covers ~ 1/3 * 4 * (4.9 * 3.6) = 23 m^3; blocks are
+  // 0.125 m^3, so ~190 blocks plus a border of partially covered ones: far fewer than 12800.
+  EXPECT_GT(int(blocks.size()), 150);
+  EXPECT_LT(int(blocks.size()), 900);
+  for (int b : blocks) {
+    const Vec3f c = index.blockMin(b) + Vec3f::Constant(0.25f);
+    EXPECT_GT(c.z(), -0.5f);  // nothing behind the camera
+    EXPECT_LT(c.z(), 4.5f);
+  }
+}
