@@ -78,7 +78,10 @@ struct IcpSystem {
 
   /// Gauss-Newton step H xi = -g. Well-conditioned systems are solved with LDLT; otherwise the
   /// step is restricted to the eigen-directions above `min_eig` (the others stay at the current
-  /// estimate, i.e. at the motion-model guess). Returns the number of unconstrained directions.
+  /// estimate, i.e. at the motion-model guess). Measured on the room scene of the tests, this
+  /// truncation also widens the basin of convergence (fewer slides along weakly constrained
+  /// directions while the overlap is still partial). Returns the number of unconstrained
+  /// directions.
   int solve(double min_eig, Vector6d& xi) const {
     int unconstrained = 0;
     for (int i = 0; i < 6; ++i)
@@ -192,8 +195,9 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
   const double conv_rot_rad = P.convergence_rotation_deg * kDegToRad;
 
   bool diverged = false;
-  IcpSystem last(kernels::IcpAccumulator{});
-  int last_unconstrained = 0;
+  IcpSystem last(kernels::IcpAccumulator{});  // level 0's last system
+  IcpSystem weakest = last;                   // the level's last system with the smallest eigenvalue
+  bool have_weakest = false;
   for (int l = L - 1; l >= 0 && !diverged; --l) {
     TrackingLevelStats st;
     st.level = l;
@@ -209,6 +213,7 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
     k.min_normal_cos = min_cos;
     k.huber_delta_m = float(P.huber_delta_m);
     k.stride = l == 0 ? P.level0_pixel_stride : 1;
+    IcpSystem level_last(kernels::IcpAccumulator{});
     if (P.use_cuda && !model_empty) m_cuda->upload(l, k);
 
     for (int it = 0; it < P.iterations[l]; ++it) {
@@ -234,12 +239,13 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
       st.inliers = int(sys.inliers);
       st.valid_pixels = int(sys.valid);
       st.rms_m = sys.rms_m;
+      st.min_eigenvalue = sys.eigenvalues(0);
       if (l == 0) last = sys;
+      level_last = sys;
       if (sys.inliers < kMinSolveInliers) break;  // nothing to solve at this level
 
       Vector6d xi;
-      const int unconstrained = sys.solve(P.min_eigenvalue, xi);
-      if (l == 0) last_unconstrained = unconstrained;
+      sys.solve(P.min_eigenvalue, xi);
       if (!xi.allFinite()) {
         diverged = true;
         break;
@@ -262,16 +268,23 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
       res.final_step_rotation_rad = st.last_step_rotation_rad;
     }
     res.levels.push_back(st);
+    if (level_last.inliers >= kMinSolveInliers &&
+        (!have_weakest || level_last.eigenvalues(0) < weakest.eigenvalues(0))) {
+      weakest = level_last;
+      have_weakest = true;
+    }
   }
 
   res.T_world_cam = orthonormalize(T);
   res.inliers = int(last.inliers);
   res.inlier_fraction = last.valid > 0 ? last.inliers / last.valid : 0.0;
   res.rms_m = last.rms_m;
-  res.eigenvalues = last.eigenvalues;
-  res.eigenvectors = last.eigenvectors;
-  res.min_eigenvalue = last.eigenvalues(0);
-  res.unconstrained_directions = last.inliers >= kMinSolveInliers ? last_unconstrained : 6;
+  res.eigenvalues = weakest.eigenvalues;
+  res.eigenvectors = weakest.eigenvectors;
+  res.min_eigenvalue = weakest.eigenvalues(0);
+  res.unconstrained_directions = have_weakest ? 0 : 6;
+  for (int i = 0; i < 6 && have_weakest; ++i)
+    if (weakest.eigenvalues(i) < P.min_eigenvalue) ++res.unconstrained_directions;
   res.correction_translation_m = translationDistance(T_world_cam_guess, res.T_world_cam);
   res.correction_rotation_rad = rotationAngle(T_world_cam_guess, res.T_world_cam);
 
@@ -289,7 +302,8 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
     res.status = TrackingStatus::Degenerate;
   else
     res.status = TrackingStatus::Ok;
-  res.ok = res.status == TrackingStatus::Ok || (res.status == TrackingStatus::Degenerate && !P.degenerate_is_lost);
+  res.ok = res.status == TrackingStatus::Ok ||
+           (res.status == TrackingStatus::Degenerate && res.inlier_fraction >= P.degenerate_min_inlier_fraction);
   return res;
 }
 

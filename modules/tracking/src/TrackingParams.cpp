@@ -48,7 +48,7 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR_CS(max_jump_translation_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(max_jump_rotation_deg, double);
   MRPT_LOAD_CONFIG_VAR_CS(min_eigenvalue, double);
-  MRPT_LOAD_CONFIG_VAR_CS(degenerate_is_lost, bool);
+  MRPT_LOAD_CONFIG_VAR_CS(degenerate_min_inlier_fraction, double);
   MRPT_LOAD_CONFIG_VAR_CS(use_cuda, bool);
   validate(s);
 }
@@ -74,7 +74,7 @@ void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
   MRPT_SAVE_CONFIG_VAR_COMMENT(max_jump_translation_m, "lost if result further from guess (m)");
   MRPT_SAVE_CONFIG_VAR_COMMENT(max_jump_rotation_deg, "lost if result rotated from guess (deg)");
   MRPT_SAVE_CONFIG_VAR_COMMENT(min_eigenvalue, "degenerate below (normalised J^T J eigenvalue)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(degenerate_is_lost, "treat degenerate frames as lost");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(degenerate_min_inlier_fraction, "accept degenerate frames above (>1: never)");
   MRPT_SAVE_CONFIG_VAR_COMMENT(use_cuda, "ICP reduction on the GPU");
 }
 
@@ -95,6 +95,7 @@ void TTrackingParams::validate(const std::string& s) const {
   requireInRange(max_jump_translation_m, 0.0, 1e3, s, "max_jump_translation_m");
   requireInRange(max_jump_rotation_deg, 0.0, 180.0, s, "max_jump_rotation_deg");
   requireInRange(min_eigenvalue, 0.0, 1.0, s, "min_eigenvalue");
+  requireInRange(degenerate_min_inlier_fraction, 0.0, 2.0, s, "degenerate_min_inlier_fraction");
 }
 
 }  // namespace rasm::tracking

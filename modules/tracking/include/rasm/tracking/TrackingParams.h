@@ -27,7 +27,7 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   /// Max distance (m) between a transformed frame vertex and its projectively associated model
   /// vertex, per level (keys max_dist_m_level<i>). Looser at coarse levels, where the guess is
   /// worst.
-  std::array<double, kMaxLevels> max_dist_m{0.05, 0.075, 0.1};
+  std::array<double, kMaxLevels> max_dist_m{0.05, 0.15, 0.3};
   /// Max angle (deg) between the transformed frame normal and the model normal.
   double max_normal_angle_deg = 30.0;
   /// Process every n-th pixel in x and y at level 0 only (1 = all). The level-0 vertex map of a
@@ -50,14 +50,17 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   double max_rms_m = 0.025;
   /// Maximum deviation of the result from the initial guess (motion-model prediction): a bigger
   /// correction means ICP slid into a wrong minimum.
-  double max_jump_translation_m = 0.3;
-  double max_jump_rotation_deg = 20.0;
+  double max_jump_translation_m = 0.15;
+  double max_jump_rotation_deg = 10.0;
   /// Degeneracy: smallest eigenvalue of the normalised, scale-balanced J^T J (see
   /// TrackingResult::min_eigenvalue). Directions below it are not updated (kept from the guess).
   double min_eigenvalue = 1e-3;
-  /// Whether a degenerate frame counts as lost (ok = false). By default it is fused: the
-  /// constrained directions come from ICP, the others from the motion model.
-  bool degenerate_is_lost = false;
+  /// A degenerate frame (e.g. a single wall) is accepted (ok, fused with the unconstrained
+  /// directions taken from the guess) only if at least this fraction of its valid pixels are
+  /// inliers: with directions the geometry cannot check, near-total agreement with the model is
+  /// the remaining evidence. ICP that slid into a wrong minimum along a partially constrained
+  /// direction also looks degenerate but agrees with far fewer pixels. > 1 = never accept.
+  double degenerate_min_inlier_fraction = 0.75;
 
   // ---- backend ----
   /// Run the ICP reduction on the GPU (CUDA launcher of the same kernel). Needs a CUDA build

@@ -10,7 +10,8 @@ namespace rasm::tracking {
 enum class TrackingStatus {
   Ok,             ///< converged, enough inliers, small residual, plausible motion
   Degenerate,     ///< geometry leaves some directions unconstrained (e.g. a single wall); those
-                  ///< directions keep the initial guess. ok unless degenerate_is_lost.
+                  ///< directions keep the initial guess. ok if inlier_fraction >=
+                  ///< degenerate_min_inlier_fraction.
   TooFewInliers,  ///< too little overlap with the model (empty / unrelated model, fast motion)
   HighResidual,   ///< inliers found but the RMS point-to-plane residual is too high
   ExcessiveMotion,///< the result is too far from the initial guess (wrong local minimum)
@@ -27,6 +28,7 @@ struct TrackingLevelStats {
   int inliers = 0;
   int valid_pixels = 0;     ///< frame pixels with a valid vertex and normal (after the stride)
   double rms_m = 0.0;       ///< RMS point-to-plane residual of the inliers
+  double min_eigenvalue = 0.0;  ///< of the level's last system (see TrackingResult)
   double last_step_translation_m = 0.0;
   double last_step_rotation_rad = 0.0;
 };
@@ -44,12 +46,15 @@ struct TrackingResult {
   int inliers = 0;
   double inlier_fraction = 0.0;  ///< inliers / valid frame pixels at level 0
   double rms_m = 0.0;            ///< RMS point-to-plane residual of the inliers (m)
-  /// Smallest eigenvalue of J^T J / inliers at level 0, with the rotation columns scaled by the
-  /// mean inlier depth so translation and rotation are in the same units (dimensionless: a wall
-  /// seen head-on constrains its normal direction with ~1, the directions in the plane with ~0).
+  /// Degeneracy: smallest eigenvalue of J^T J / inliers with the rotation columns scaled by the
+  /// mean inlier depth, so translation and rotation share one dimensionless scale (a wall seen
+  /// head-on constrains its normal direction with ~1, the directions in the plane with ~0).
+  /// Taken over the last system of every level, minimum wins: sensor noise on normals creates
+  /// spurious constraints at fine levels, the smoother coarse levels show the true geometry.
   double min_eigenvalue = 0.0;
-  /// Eigenvalues (ascending) and the matching unit eigenvectors [translation; rotation] of the
-  /// same matrix, expressed in the world axes; eigenvalues < min_eigenvalue are unconstrained.
+  /// Eigenvalues (ascending) and unit eigenvectors of that matrix (the level with the minimum),
+  /// in coordinates [translation (m); rotation (rad) * mean depth] along the world axes;
+  /// directions with eigenvalue < params min_eigenvalue are unconstrained.
   Eigen::Matrix<double, 6, 1> eigenvalues = Eigen::Matrix<double, 6, 1>::Zero();
   Eigen::Matrix<double, 6, 6> eigenvectors = Eigen::Matrix<double, 6, 6>::Identity();
   int unconstrained_directions = 0;
