@@ -19,7 +19,9 @@ const char* kUsage =
     "usage: rasm convert tum <folder> <out.rawlog> [--intrinsics fx,fy,cx,cy] [--preset name]\n"
     "                        [--depth-factor F] [--max-frames N] [--external-images]\n"
     "       rasm convert 7scenes <folder> <out.rawlog> [--intrinsics fx,fy,cx,cy] [--max-frames N]\n"
-    "                        [--external-images]\n"
+    "                        [--external-images] [--no-register]\n"
+    "7-Scenes colour is resampled into the depth camera with an approximate Kinect calibration;\n"
+    "--no-register uses it as is (treated as registered).\n"
     "Writes <out.rawlog> (CObservation3DRangeScan per frame) and <out stem>_groundtruth.txt (TUM).\n"
     "Presets: kinect_v1 xtion tum_fr1 tum_fr2 tum_fr3 tum_default icl_nuim 7scenes\n";
 
@@ -83,6 +85,7 @@ int convert(const std::vector<std::string>& args) {
   std::optional<rasm::CameraIntrinsics> K;
   rasm::io::ConvertOptions copt;
   double depth_factor = 0.0;
+  bool register_colour = true;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&]() -> const std::string& {
@@ -97,6 +100,8 @@ int convert(const std::vector<std::string>& args) {
       copt.max_frames = (long long)parseNumber(a, value());
     } else if (a == "--depth-factor") {
       depth_factor = parseNumber(a, value());
+    } else if (a == "--no-register") {
+      register_colour = false;
     } else if (a == "--external-images") {
       copt.writer.external_images = true;
     } else if (a.rfind("--", 0) == 0) {
@@ -110,6 +115,7 @@ int convert(const std::vector<std::string>& args) {
 
   std::unique_ptr<rasm::io::FrameSource> src;
   if (format == "tum") {
+    if (!register_colour) rasm::throwInputError("rasm convert tum", "--no-register applies to 7scenes only");
     rasm::io::TumSourceOptions t;
     t.intrinsics_override = K;
     if (depth_factor > 0) t.depth_factor = depth_factor;
@@ -121,6 +127,7 @@ int convert(const std::vector<std::string>& args) {
     if (depth_factor > 0) rasm::throwInputError("rasm convert 7scenes", "--depth-factor applies to tum only");
     rasm::io::SevenScenesSourceOptions o;
     o.intrinsics_override = K;
+    o.register_colour = register_colour;
     auto s = std::make_unique<rasm::io::SevenScenesFrameSource>(pos[1], o);
     std::cout << "7-Scenes sequence " << pos[1] << ": " << s->sizeHint() << " frames, intrinsics "
               << s->intrinsics().toString() << "\n";

@@ -42,8 +42,11 @@ TEST(SevenScenesFrameSource, ReadsDepthColourPoseIntrinsicsAndTimestamps) {
   ScratchDir dir("7s");
   for (int k : {0, 1, 2, 5}) writeFrame(dir.str(), k, k != 2);
   std::ofstream(dir / "camera-intrinsics.txt") << "5.9e+02 0 3.1e+00\n0 5.8e+02 2.5e+00\n0 0 1\n";
-  auto src = openFrameSource(dir.str());
+  SevenScenesSourceOptions opt;
+  opt.register_colour = false;  // the tiny images have no colour calibration
+  auto src = std::make_unique<SevenScenesFrameSource>(dir.str(), opt);
   EXPECT_EQ(src->sizeHint(), 4);
+  EXPECT_TRUE(SevenScenesFrameSource::looksLikeSevenScenesFolder(dir.str()));
   const int ks[4] = {0, 1, 2, 5};
   for (int n = 0; n < 4; ++n) {
     SCOPED_TRACE(n);
@@ -66,6 +69,22 @@ TEST(SevenScenesFrameSource, ReadsDepthColourPoseIntrinsicsAndTimestamps) {
     }
   }
   EXPECT_FALSE(src->next().has_value());
+}
+
+TEST(SevenScenesFrameSource, RegistrationWithTheDepthCalibrationKeepsColour) {
+  ScratchDir dir("7sreg");
+  writeFrame(dir.str(), 4);
+  SevenScenesSourceOptions opt;
+  opt.intrinsics_override = CameraIntrinsics(8, 8, 3.5, 2.5, 8, 6);
+  opt.colour_registration = SevenScenesSourceOptions::ColourRegistration{*opt.intrinsics_override,
+                                                                         Eigen::Isometry3d::Identity()};
+  SevenScenesFrameSource src(dir.str(), opt);
+  auto f = src.next();
+  ASSERT_TRUE(f.has_value());
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 8; ++x) {
+      ASSERT_EQ(f->colour(x, y).g, 8) << x << "," << y;  // including the two pixels without depth
+    }
 }
 
 TEST(SevenScenesFrameSource, ErrorsNameTheFolder) {
@@ -111,6 +130,12 @@ TEST(SevenScenesFrameSource, RealRedkitchenExcerpt) {
     EXPECT_GT(valid, 640 * 480 / 2);
     EXPECT_GT(dmin, 0.3f);  // Kinect v1 range
     EXPECT_LT(dmax, 8.0f);
+    // Colour resampled into the depth camera with the approximate calibration: holes filled, and
+    // only the border the wider colour view cannot cover is black.
+    int black = 0;
+    for (int y = 0; y < 480; ++y)
+      for (int x = 0; x < 640; ++x) black += (f->colour(x, y).b | f->colour(x, y).g | f->colour(x, y).r) == 0;
+    EXPECT_LT(black, 640 * 480 / 50);
     ASSERT_TRUE(f->gt_T_world_cam.has_value());
     if (i == 0) first = *f->gt_T_world_cam;
     // Hand-held at 30 Hz: consecutive poses a few mm / a fraction of a degree apart.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "ColourRegistration.h"
 #include "ImageCv.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/SE3.h"
@@ -83,7 +84,8 @@ RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs, co
       // relativePoseIntensityWRTDepth = T_depthSensor_colourOptical (depthSensor: MRPT +X forward).
       const Eigen::Isometry3d T_depthOpt_colourOpt =
           T_mrptSensor_optical().inverse() * fromCPose3D(obs.relativePoseIntensityWRTDepth);
-      registerColourToDepth(f.depth_m, f.intrinsics, colour, Kc, T_depthOpt_colourOpt.inverse(), f.colour);
+      detail::registerColourToDepthFilled(f.depth_m, f.intrinsics, colour, Kc, T_depthOpt_colourOpt.inverse(),
+                                          f.colour);
     }
   }
 

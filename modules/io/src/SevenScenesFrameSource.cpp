@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <regex>
 
+#include "ColourRegistration.h"
 #include "ImageCv.h"
 #include "TextFiles.h"
 #include "rasm/core/Error.h"
@@ -67,6 +68,21 @@ std::optional<Eigen::Isometry3d> readPoseFile(const std::string& path) {
 }
 
 }  // namespace
+
+SevenScenesSourceOptions::ColourRegistration SevenScenesSourceOptions::approximateKinectV1Calibration() {
+  ColourRegistration r;
+  r.K_colour = CameraIntrinsics(525.0, 525.0, 320.0, 240.0, 640, 480);
+  // Depth (IR) camera -> colour camera, metres; LIRIS Kinect calibration
+  // (projet.liris.cnrs.fr/voir/activities-dataset/kinect-calibration.html).
+  Eigen::Matrix4d M;
+  M << 9.9996518012567637e-01, 2.6765126468950343e-03, -7.9041012313000904e-03, -2.5558943178152542e-02,
+      -2.7409311281316700e-03, 9.9996302803027592e-01, -8.1504520778013286e-03, 1.0109636268061706e-04,
+      7.8819942130445332e-03, 8.1718328771890631e-03, 9.9993554558014031e-01, 2.0318321729487039e-03,
+      0, 0, 0, 1;
+  r.T_colour_depth.matrix() = M;
+  r.T_colour_depth = orthonormalize(r.T_colour_depth);
+  return r;
+}
 
 struct SevenScenesFrameSource::Impl {
   std::string folder;
@@ -153,13 +169,15 @@ std::optional<RgbdFrame> SevenScenesFrameSource::next() {
   // Millimetres; 0 and 65535 mark missing measurements.
   detail::depthFromU16(detail::readDepthU16(base + ".depth.png", "7-Scenes depth image"), 1e-3, f.depth_m, 65535);
   const cv::Mat bgr = detail::readColourImage(base + m.colour_ext, "7-Scenes colour image");
-  if (m.opt.colour_registration) {
+  if (m.opt.register_colour) {
     Image<Bgr8> raw;
     detail::colourFromMat(bgr, raw, ctx);
-    CameraIntrinsics Kc = m.opt.colour_registration->K_colour;
+    const auto cal = m.opt.colour_registration ? *m.opt.colour_registration
+                                               : SevenScenesSourceOptions::approximateKinectV1Calibration();
+    CameraIntrinsics Kc = cal.K_colour;
     Kc.width = raw.width();
     Kc.height = raw.height();
-    registerColourToDepth(f.depth_m, f.intrinsics, raw, Kc, m.opt.colour_registration->T_colour_depth, f.colour);
+    detail::registerColourToDepthFilled(f.depth_m, f.intrinsics, raw, Kc, cal.T_colour_depth, f.colour);
   } else {
     detail::colourFromMat(bgr, f.colour, ctx);
   }

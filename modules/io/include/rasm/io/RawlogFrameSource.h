@@ -10,7 +10,9 @@
 //    resolution / intrinsics), colour is resampled into the depth camera with
 //    registerColourToDepth using cameraParamsIntensity and relativePoseIntensityWRTDepth
 //    (= T_depthSensor_colourOptical: depthSensor is MRPT's +X-forward frame, the colour camera
-//    its optical frame). Lens distortion (TCamera::dist) is ignored: rasm uses a pinhole model.
+//    its optical frame). Pixels without depth take the colour along their ray at the frame's
+//    median depth (no black holes for detectors). Lens distortion (TCamera::dist) is ignored:
+//    rasm uses a pinhole model.
 //  - intrinsics: cameraParams (the depth camera).
 //  - ground truth: rasm stores T_world_sensor in `sensorPose` (see RawlogWriter). gt_T_world_cam
 //    = opticalFromMrptSensorPose(sensorPose) where rasm's marker comments say so (RawlogWriter
