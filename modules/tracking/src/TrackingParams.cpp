@@ -10,6 +10,13 @@
 namespace rasm::tracking {
 
 namespace {
+/// Writes key = value // comment. No name padding: padded names would become part of the key
+/// that rasm::knownKeys reads back.
+template <typename T>
+void put(mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& key, const T& value,
+         const std::string& comment) {
+  c.write(s, key, value, -1, -1, comment);
+}
 std::string levelKey(const char* base, int level) { return std::string(base) + "_level" + std::to_string(level); }
 }  // namespace
 
@@ -54,28 +61,25 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
 }
 
 void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
-  MRPT_SAVE_CONFIG_VAR_COMMENT(num_levels, "pyramid levels (1..3), coarse to fine");
+  put(c, s, "num_levels", num_levels, "pyramid levels (1..3), coarse to fine");
   for (int l = 0; l < kMaxLevels; ++l)
-    c.write(s, levelKey("iterations", l), iterations[l], mrpt::config::MRPT_SAVE_NAME_PADDING(),
-            mrpt::config::MRPT_SAVE_VALUE_PADDING(), "ICP iterations at this level (0 = full res)");
+    put(c, s, levelKey("iterations", l), iterations[l], "ICP iterations at this level (0 = full res)");
   for (int l = 0; l < kMaxLevels; ++l)
-    c.write(s, levelKey("max_dist_m", l), max_dist_m[l], mrpt::config::MRPT_SAVE_NAME_PADDING(),
-            mrpt::config::MRPT_SAVE_VALUE_PADDING(), "association distance limit (m)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(max_normal_angle_deg, "association normal-angle limit (deg)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(level0_pixel_stride, "use every n-th pixel in x and y at level 0");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(huber_delta_m, "Huber threshold (m), 0 = least squares");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(convergence_translation_m, "early stop: increment below (m)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(convergence_rotation_deg, "early stop: and below (deg)");
-  c.write(s, "motion_model", std::string(toString(motion_model)), mrpt::config::MRPT_SAVE_NAME_PADDING(),
-          mrpt::config::MRPT_SAVE_VALUE_PADDING(), "constant_velocity | previous_pose");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(min_inliers, "lost if fewer level-0 inliers");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(min_inlier_fraction, "lost if inliers / valid pixels below");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(max_rms_m, "lost if RMS point-to-plane residual above (m)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(max_jump_translation_m, "lost if result further from guess (m)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(max_jump_rotation_deg, "lost if result rotated from guess (deg)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(min_eigenvalue, "degenerate below (normalised J^T J eigenvalue)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(degenerate_min_inlier_fraction, "accept degenerate frames above (>1: never)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(use_cuda, "ICP reduction on the GPU");
+    put(c, s, levelKey("max_dist_m", l), max_dist_m[l], "association distance limit (m)");
+  put(c, s, "max_normal_angle_deg", max_normal_angle_deg, "association normal-angle limit (deg)");
+  put(c, s, "level0_pixel_stride", level0_pixel_stride, "use every n-th pixel in x and y at level 0");
+  put(c, s, "huber_delta_m", huber_delta_m, "Huber threshold (m), 0 = least squares");
+  put(c, s, "convergence_translation_m", convergence_translation_m, "early stop: increment below (m)");
+  put(c, s, "convergence_rotation_deg", convergence_rotation_deg, "early stop: and below (deg)");
+  put(c, s, "motion_model", std::string(toString(motion_model)), "constant_velocity | previous_pose");
+  put(c, s, "min_inliers", min_inliers, "lost if fewer level-0 inliers");
+  put(c, s, "min_inlier_fraction", min_inlier_fraction, "lost if inliers / valid pixels below");
+  put(c, s, "max_rms_m", max_rms_m, "lost if RMS point-to-plane residual above (m)");
+  put(c, s, "max_jump_translation_m", max_jump_translation_m, "lost if result further from guess (m)");
+  put(c, s, "max_jump_rotation_deg", max_jump_rotation_deg, "lost if result rotated from guess (deg)");
+  put(c, s, "min_eigenvalue", min_eigenvalue, "degenerate below (normalised J^T J eigenvalue)");
+  put(c, s, "degenerate_min_inlier_fraction", degenerate_min_inlier_fraction, "accept degenerate frames above (>1: never)");
+  put(c, s, "use_cuda", use_cuda, "ICP reduction on the GPU");
 }
 
 void TTrackingParams::validate(const std::string& s) const {

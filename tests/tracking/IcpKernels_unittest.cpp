@@ -1,0 +1,172 @@
+// ICP kernels of II-C on tiny synthetic maps: residuals and Jacobians against hand-computed values
+// and finite differences, the model downsampling rule, and the CUDA launcher against the CPU.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "rasm/compute/Device.h"
+#include "rasm/compute/Parallel.h"
+#include "rasm/core/CameraIntrinsics.h"
+#include "rasm/core/FrameProcessing.h"
+#include "rasm/core/Image.h"
+#include "rasm/core/SE3.h"
+#include "rasm/tracking/IcpCuda.h"
+#include "rasm/tracking/kernels/IcpKernels.h"
+#include "tracking/SyntheticScene.h"
+
+using namespace rasm;
+using namespace rasm::tracking;
+using kernels::IcpAccumulator;
+using kernels::IcpReduceKernel;
+
+namespace {
+
+const CameraIntrinsics K(80.0, 80.0, 39.5, 29.5, 80, 60);
+
+RigidF rigid(const Eigen::Isometry3d& T) { return RigidF::fromMatrix(T.matrix().cast<float>()); }
+
+/// Kernel aligning `frame` (camera frame at T_world_cam) with `model` (world, rendered at T_world_model).
+IcpReduceKernel makeKernel(const FrameLevel& frame, const Image<Vec3f>& mv, const Image<Vec3f>& mn,
+                           const Eigen::Isometry3d& T_world_cam, const Eigen::Isometry3d& T_world_model) {
+  IcpReduceKernel k;
+  k.frame_vertex = frame.vertex.view();
+  k.frame_normal = frame.normal.view();
+  k.model_vertex = mv.view();
+  k.model_normal = mn.view();
+  k.K_model = K.plain();
+  k.T_world_cam = rigid(T_world_cam);
+  k.T_model_cam = rigid(T_world_model.inverse() * T_world_cam);
+  k.pivot_world = T_world_cam.translation().cast<float>();
+  k.max_dist_m = 0.1f;
+  k.min_normal_cos = 0.8f;
+  return k;
+}
+
+FrameLevel frameOf(const Image<float>& depth) {
+  std::vector<FrameLevel> pyr;
+  buildFramePyramid(depth, K, 1, pyr);
+  return pyr[0];
+}
+
+}  // namespace
+
+TEST(IcpKernels, PlaneOffsetAlongNormal) {
+  // Frame: wall at z = 2 m in front of the camera. Model: the same wall 1 cm further away.
+  // Every valid interior pixel is an inlier with r = n . (p - q) = (-z) . (-0.01 z) = 0.01 and
+  // J = [n, (p - c) x n]; the translation part of J^T J is N n n^T.
+  const Image<float> d_frame(K.width, K.height, 2.0f), d_model(K.width, K.height, 2.01f);
+  const FrameLevel F = frameOf(d_frame), M = frameOf(d_model);
+  const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+  const IcpReduceKernel k = makeKernel(F, M.vertex, M.normal, I, I);
+  const IcpAccumulator a = compute::reduce1D<IcpAccumulator>(k.items(), k);
+  const double n_valid = double((K.width - 2) * (K.height - 2));  // border normals are invalid
+  EXPECT_EQ(a.valid, n_valid);
+  EXPECT_EQ(a.inliers, n_valid);
+  EXPECT_NEAR(a.r2 / a.inliers, 1e-4, 1e-7);
+  EXPECT_NEAR(a.JtJ[11], n_valid, 1e-3);  // (2,2): n_z^2
+  EXPECT_NEAR(a.JtJ[0], 0.0, 1e-6);       // (0,0): n_x^2
+  EXPECT_NEAR(a.Jtr[2], -0.01 * n_valid, 1e-3 * n_valid * 1e-2);
+  EXPECT_NEAR(a.depth / a.inliers, 2.0, 1e-5);
+  // Rotation about the optical axis does not move a fronto-parallel wall: (5,5) = 0.
+  EXPECT_NEAR(a.JtJ[20], 0.0, 1e-6);
+
+  // Beyond the distance limit nothing is an inlier.
+  IcpReduceKernel far = k;
+  far.max_dist_m = 0.005f;
+  const IcpAccumulator b = compute::reduce1D<IcpAccumulator>(far.items(), far);
+  EXPECT_EQ(b.inliers, 0);
+  EXPECT_EQ(b.valid, n_valid);
+}
+
+TEST(IcpKernels, JacobianMatchesFiniteDifferences) {
+  // One pixel of a sphere-and-planes scene: the residual n . (T(xi) v - q) with the association
+  // held fixed, differentiated numerically w.r.t. xi (left increment about the pivot).
+  test::Scene scene = test::Scene::room();
+  const Eigen::Isometry3d T_model = test::lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5});
+  const Eigen::Isometry3d T_cam = T_model * test::motion({0.01, -0.005, 0.01}, {0.2, 1, 0.1}, 0.7);
+  const FrameLevel F = frameOf(scene.render(K, T_cam)), M = frameOf(scene.render(K, T_model));
+  const test::WorldMaps W(M, T_model);
+  const IcpReduceKernel k = makeKernel(F, W.vertex, W.normal, T_cam, T_model);
+  int checked = 0;
+  for (int y = 5; y < K.height - 5; y += 7)
+    for (int x = 5; x < K.width - 5; x += 9) {
+      float J[6], r, w, depth;
+      if (k.pixel(x, y, J, r, w, depth) != kernels::kIcpInlier) continue;
+      // The associated model point q and normal n (recomputed as the kernel does).
+      const Vec3f pm = k.T_model_cam.apply(F.vertex(x, y));
+      const int u = int(K.fx * pm.x() / pm.z() + K.cx + 0.5), v = int(K.fy * pm.y() / pm.z() + K.cy + 0.5);
+      const Eigen::Vector3d q = W.vertex(u, v).cast<double>(), n = W.normal(u, v).cast<double>();
+      const Eigen::Vector3d pc = F.vertex(x, y).cast<double>(), c = T_cam.translation();
+      auto residual = [&](const Vector6d& xi) {
+        Eigen::Isometry3d P = Eigen::Isometry3d::Identity();
+        P.translation() = c;
+        return n.dot(P * se3Exp(xi) * P.inverse() * T_cam * pc - q);
+      };
+      EXPECT_NEAR(r, residual(Vector6d::Zero()), 1e-5);
+      for (int i = 0; i < 6; ++i) {
+        Vector6d e = Vector6d::Zero();
+        e(i) = 1e-6;
+        const double num = (residual(e) - residual(-e)) / 2e-6;
+        EXPECT_NEAR(J[i], num, 2e-3 * (1.0 + std::abs(num))) << "pixel " << x << "," << y << " dof " << i;
+      }
+      ++checked;
+    }
+  EXPECT_GT(checked, 20);
+}
+
+TEST(IcpKernels, ModelDownsampleKeepsForeground) {
+  // A 2x2 block with two foreground samples (z = 1) and two background ones (z = 3): the coarse
+  // pixel averages the foreground only, normals renormalised; an all-invalid block stays invalid.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  Image<Vec3f> v(4, 2, Vec3f(nan, nan, nan)), n(4, 2, Vec3f(nan, nan, nan));
+  v(0, 0) = Vec3f(0.0f, 0.0f, 1.0f);
+  v(1, 0) = Vec3f(0.02f, 0.0f, 1.01f);
+  v(0, 1) = Vec3f(0.0f, 0.1f, 3.0f);
+  v(1, 1) = Vec3f(0.1f, 0.1f, 3.0f);
+  n(0, 0) = Vec3f(0, 0, -1);
+  n(1, 0) = Vec3f(0.6f, 0, -0.8f);
+  n(0, 1) = n(1, 1) = Vec3f(1, 0, 0);
+  Image<Vec3f> ov(2, 1), on(2, 1);
+  kernels::ModelDownsampleKernel k{v.view(), n.view(), ov.view(), on.view(), RigidF(), 0.03f};
+  compute::forEach2D(2, 1, k);
+  EXPECT_NEAR(ov(0, 0).z(), 1.005f, 1e-6);
+  EXPECT_NEAR(ov(0, 0).x(), 0.01f, 1e-6);
+  EXPECT_NEAR(on(0, 0).norm(), 1.0f, 1e-6);
+  EXPECT_NEAR(on(0, 0).x(), 0.3f / std::sqrt(0.09f + 0.81f), 1e-5);
+  EXPECT_TRUE(std::isnan(ov(1, 0).x()));
+  EXPECT_TRUE(std::isnan(on(1, 0).x()));
+}
+
+TEST(IcpKernels, CudaMatchesCpu) {
+  const auto avail = compute::cudaAvailability();
+  if (!avail.available) GTEST_SKIP() << avail.reason;
+  ASSERT_TRUE(tracking::cuda::built());
+  test::Scene scene = test::Scene::room();
+  const CameraIntrinsics K640 = CameraIntrinsics::preset("kinect_v1");
+  const Eigen::Isometry3d T_model = test::lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5});
+  const Eigen::Isometry3d T_cam = T_model * test::motion({0.02, -0.01, 0.02}, {0.2, 1, 0.1}, 1.5);
+  std::vector<FrameLevel> pf, pm;
+  buildFramePyramid(scene.render(K640, T_cam), K640, 1, pf);
+  buildFramePyramid(scene.render(K640, T_model), K640, 1, pm);
+  const test::WorldMaps W(pm[0], T_model);
+  for (int stride : {1, 2}) {
+    IcpReduceKernel k;
+    k.frame_vertex = pf[0].vertex.view();
+    k.frame_normal = pf[0].normal.view();
+    k.model_vertex = W.vertex.view();
+    k.model_normal = W.normal.view();
+    k.K_model = K640.plain();
+    k.T_world_cam = rigid(T_cam);
+    k.T_model_cam = rigid(T_model.inverse() * T_cam);
+    k.pivot_world = T_cam.translation().cast<float>();
+    k.huber_delta_m = 0.01f;
+    k.stride = stride;
+    const IcpAccumulator cpu = compute::reduce1D<IcpAccumulator>(k.items(), k);
+    const IcpAccumulator gpu = tracking::cuda::reduceIcp(k);
+    EXPECT_EQ(cpu.valid, gpu.valid);
+    EXPECT_NEAR(cpu.inliers, gpu.inliers, 1e-4 * cpu.inliers + 2);  // fast-math rounding at limits
+    for (int i = 0; i < IcpAccumulator::kSize; ++i)
+      EXPECT_NEAR(cpu.data()[i], gpu.data()[i], 1e-3 * (1.0 + std::abs(cpu.data()[i]))) << "entry " << i;
+  }
+}
