@@ -76,7 +76,8 @@ class SurfelFusion {
 
   /// Steps 1-3 only.
   FusionStats integrate(maps::SurfelStore& map, const FusionInput& in);
-  /// Step 4 only, at the pose/time of `in` (carving uses its depth); adds to `stats`.
+  /// Step 4 only, at the pose/time of `in` (carving uses its depth); adds to `stats`. Carving
+  /// needs the view of the integrate() call just before it; without one only pruning runs.
   void cleanup(maps::SurfelStore& map, const FusionInput& in, FusionStats& stats);
 
   /// Surfel that pixel (x, y) of the last frame updated or created, -1 none. Kept valid across
@@ -93,6 +94,7 @@ class SurfelFusion {
   maps::IndexMap4x m_index4x;
   Image<std::int32_t> m_pixel_surfel;  ///< per pixel: matched surfel / -2 new / -1 none
   Image<std::uint8_t> m_flags;
+  bool m_index_fresh = false;  ///< m_index4x.visible matches the map (integrate, no removal since)
   std::vector<int> m_row_offset;
   std::vector<int> m_scratch;
 };

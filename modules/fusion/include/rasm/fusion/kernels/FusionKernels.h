@@ -1,0 +1,320 @@
+#pragma once
+// Per-pixel and per-surfel kernels of surfel fusion (II-B, II-D, III segment weights, V-B view
+// bins), written once for the CPU (OpenMP) and CUDA launchers. Plain header: compute/, Eigen and
+// the plain kernel headers of core and surfel_map.
+
+#include <cmath>
+#include <cstdint>
+
+#include "rasm/compute/ImageView.h"
+#include "rasm/compute/Types.h"
+#include "rasm/core/SurfelMath.h"
+#include "rasm/surfel_map/SurfelArrays.h"
+#include "rasm/surfel_map/kernels/RenderKernels.h"
+#include "rasm/surfel_map/kernels/ViewBins.h"
+
+namespace rasm::fusion::kernels {
+
+/// Per-pixel outcome bits of the association / update pass.
+enum PixelFlag : std::uint8_t {
+  kPixValid = 1,          ///< usable measurement (vertex, normal, depth range, incidence)
+  kPixAssociated = 2,     ///< matched an existing surfel
+  kPixFused = 4,          ///< geometry averaged (radius rule passed)
+  kPixNew = 8,            ///< no match: becomes a new surfel
+  kPixBecameStable = 16,  ///< the matched surfel crossed the stability threshold
+  kPixRelabelled = 32,    ///< the matched surfel changed segment (III)
+};
+
+/// Plain copy of TFusionParams with derived values, for kernels.
+struct FusionKernelParams {
+  float sigma = 0.6f;
+  float min_depth_m = 0.1f, max_depth_m = 5.0f;
+  float min_cos_incidence = 0.17f;
+  float assoc_dz_abs_m = 0.03f, assoc_dz_rel = 0.01f;
+  float min_cos_normal = 0.94f;
+  float radius_update_ratio = 1.5f;
+  float stable_confidence = 10.0f;
+  float max_confidence = 0.0f;  ///< 0 = no cap
+  bool update_segments = true;
+  bool update_view_bins = true;
+  float ic_lambda1 = 0.5f, ic_d_min_m = 1.0f;
+  int n_azimuth = 0, n_elevation = 0;
+};
+
+/// The measurement of pixel (x, y) (II-B): camera-frame vertex and normal, confidence weight
+/// w = exp(-gamma^2 / (2 sigma^2)) and radius r = z / (sqrt(2) f n_z). False when unusable.
+struct FrameView {
+  ImageView<const Bgr8> colour;  ///< may be empty
+  ImageView<const Vec3f> vertex_cam;
+  ImageView<const Vec3f> normal_cam;
+  ImageView<const std::uint32_t> labels;  ///< may be empty
+  PinholeF K;
+  float focal_px = 525.0f;
+
+  RASM_HD_INLINE bool measure(int x, int y, const FusionKernelParams& p, Vec3f& v, Vec3f& n, float& w, float& r) const {
+    v = vertex_cam(x, y);
+    n = normal_cam(x, y);
+    if (!(v.x() == v.x()) || !(n.x() == n.x())) return false;
+    const float z = v.z();
+    if (!(z >= p.min_depth_m && z <= p.max_depth_m)) return false;
+    const float cos_inc = -n.dot(v) / v.norm();
+    if (cos_inc < p.min_cos_incidence) return false;
+    w = confidenceWeight(normalizedRadialDistance(float(x), float(y), K), p.sigma);
+    r = surfelRadius(z, n.z(), focal_px);
+    return true;
+  }
+  RASM_HD_INLINE Bgr8 colourAt(int x, int y) const {
+    return colour.empty() ? Bgr8{128, 128, 128} : colour(x, y);
+  }
+};
+
+RASM_HD_INLINE std::uint8_t blendU8(std::uint8_t a, std::uint8_t b, float wa, float wb) {
+  const float v = float(a) * wa + float(b) * wb + 0.5f;
+  return std::uint8_t(v > 255.0f ? 255.0f : v);
+}
+
+/// Bin update of V-B: b_v(i) <- max(b_v(i), IC(s)) for the bin of the camera direction.
+RASM_HD_INLINE void updateViewBin(const maps::SurfelArrays& s, int i, const Vec3f& p, const Vec3f& n, const Vec3f& b,
+                                  const Vec3f& camera_centre, const FusionKernelParams& prm) {
+  if (!prm.update_view_bins || s.n_view_bins <= 0) return;
+  const Vec3f d = camera_centre - p;
+  const float dist = d.norm();
+  if (!(dist > 0.0f)) return;
+  const float ic = maps::kernels::informationContent(dist, prm.ic_lambda1, prm.ic_d_min_m);
+  const int bin = maps::kernels::viewBinIndex(n, b, d / dist, prm.n_azimuth, prm.n_elevation);
+  std::uint8_t* row = s.viewRow(i);
+  const std::uint8_t q = maps::quantizeUnit(ic);
+  if (q > row[bin]) row[bin] = q;
+}
+
+/// Association and update, one frame pixel per call (II-D). The candidates of pixel (x, y) are the
+/// surfels of its 4x4 sub-pixel block of the 4x index map; each surfel is in one block only, so
+/// the update of the chosen surfel is exclusive to this pixel (race-free, deterministic).
+///
+/// Gates: |z_s - z| <= max(abs, rel z) along the ray, angle(n_s, n) <= max angle.
+/// Similarity cost (lowest wins, lower index on ties): d_perp / r + (1 - cos) / (1 - cos_max)
+/// + |ln(r_s / r)|, i.e. distance of the surfel to the pixel ray in units of the measurement radius,
+/// normal disagreement relative to the gate, and radius ratio.
+/// Update (Keller et al. 2013, ElasticFusion): when r <= ratio * r_s, position, normal and colour
+/// become the confidence-weighted means (w_s p_s + w p) / (w_s + w), and the radius too when the
+/// new one is smaller (radii only shrink: a coarser view must not blur a finer surfel); then
+/// w_s += w (optionally capped), t_last = now, stable once w_s >= threshold. The basis follows the
+/// normal, b <- -n x (n x b) (V-B); the segment weight follows L^p (III); the view bin of the
+/// camera direction takes max(b_v, IC) (V-B).
+struct AssociateUpdateKernel {
+  FrameView frame;
+  FusionKernelParams prm;
+  ImageView<const std::uint64_t> index4x;
+  maps::SurfelArrays s;
+  RigidF T_world_cam, T_cam_world;
+  float now = 0.0f;  ///< map time
+  ImageView<std::int32_t> pixel_surfel;  ///< out: matched surfel, -2 new, -1 none
+  ImageView<std::uint8_t> flags;         ///< out: PixelFlag bits
+
+  RASM_HD_INLINE void operator()(int x, int y) const {
+    Vec3f v, n;
+    float w, r;
+    if (!frame.measure(x, y, prm, v, n, w, r)) {
+      pixel_surfel(x, y) = -1;
+      flags(x, y) = 0;
+      return;
+    }
+    const float z = v.z();
+    const float dz_max = fmaxf(prm.assoc_dz_abs_m, prm.assoc_dz_rel * z);
+    const float inv_v = 1.0f / v.norm();
+    int best = -1;
+    float best_cost = 3.0e38f;
+    for (int sy = 4 * y; sy < 4 * y + 4; ++sy)
+      for (int sx = 4 * x; sx < 4 * x + 4; ++sx) {
+        const int i = maps::kernels::unpackIndex(index4x(sx, sy));
+        if (i < 0) continue;
+        const Vec3f pc = T_cam_world.apply(s.position(i));
+        if (fabsf(pc.z() - z) > dz_max) continue;
+        const float cos_n = T_cam_world.rotate(s.normal(i)).dot(n);
+        if (cos_n < prm.min_cos_normal) continue;
+        const float d_perp = pc.cross(v).norm() * inv_v;
+        const float rs = s.radius(i);
+        const float cost = d_perp / r + (1.0f - cos_n) / fmaxf(1.0f - prm.min_cos_normal, 1e-6f) +
+                           fabsf(logf(fmaxf(rs, 1e-9f) / r));
+        if (cost < best_cost || (cost == best_cost && i < best)) {
+          best_cost = cost;
+          best = i;
+        }
+      }
+    std::uint8_t f = kPixValid;
+    if (best < 0) {
+      pixel_surfel(x, y) = -2;
+      flags(x, y) = f | kPixNew;
+      return;
+    }
+    f |= kPixAssociated;
+    const int i = best;
+    const Vec3f vw = T_world_cam.apply(v), nw = T_world_cam.rotate(n);
+    Vec4f pcf = s.pos_conf[i];
+    Vec4f nr = s.normal_radius[i];
+    std::uint32_t cf = s.colour_flags[i];
+    const float c = pcf.w();
+    Vec3f p = pcf.head<3>(), ns = nr.head<3>();
+    float rs = nr.w();
+    Vec3f b = s.basis[i];
+    if (r <= prm.radius_update_ratio * rs) {
+      const float a0 = c / (c + w), a1 = w / (c + w);
+      p = a0 * p + a1 * vw;
+      const Vec3f nn = a0 * ns + a1 * nw;
+      const float len = nn.norm();
+      if (len > 1e-6f) ns = nn / len;
+      if (!frame.colour.empty()) {
+        const Bgr8 co = maps::unpackColour(cf), cn = frame.colour(x, y);
+        cf = maps::packColour(Bgr8{blendU8(co.b, cn.b, a0, a1), blendU8(co.g, cn.g, a0, a1), blendU8(co.r, cn.r, a0, a1)},
+                              cf & 0xff000000u);
+      }
+      if (r < rs) rs = a0 * rs + a1 * r;
+      b = maps::kernels::updateBasis(ns, b);
+      f |= kPixFused;
+    }
+    float c_new = c + w;
+    if (prm.max_confidence > 0.0f && c_new > prm.max_confidence) c_new = prm.max_confidence;
+    if (!(cf & maps::kSurfelStable) && c_new >= prm.stable_confidence) {
+      cf |= maps::kSurfelStable;
+      f |= kPixBecameStable;
+    }
+    s.pos_conf[i] = Vec4f(p.x(), p.y(), p.z(), c_new);
+    s.normal_radius[i] = Vec4f(ns.x(), ns.y(), ns.z(), rs);
+    s.colour_flags[i] = cf;
+    s.basis[i] = b;
+    s.t_last[i] = now;
+    // Segment weight (III): same label accumulates w, another label erodes it; at 0 relabel.
+    if (prm.update_segments && !frame.labels.empty()) {
+      const std::uint32_t l = frame.labels(x, y);
+      if (l != 0u) {
+        if (s.segment[i] == l) {
+          s.segment_w[i] += w;
+        } else if (s.segment[i] == 0u || s.segment_w[i] - w <= 0.0f) {
+          s.segment[i] = l;
+          s.segment_w[i] = w;
+          f |= kPixRelabelled;
+        } else {
+          s.segment_w[i] -= w;
+        }
+      }
+    }
+    updateViewBin(s, i, p, ns, b, T_world_cam.translation(), prm);
+    pixel_surfel(x, y) = i;
+    flags(x, y) = f;
+  }
+};
+
+/// Counts the new-surfel pixels of row y.
+struct RowCountKernel {
+  ImageView<const std::uint8_t> flags;
+  int* row_count = nullptr;
+
+  RASM_HD_INLINE void operator()(int y) const {
+    int c = 0;
+    const std::uint8_t* r = flags.row(y);
+    for (int x = 0; x < flags.width; ++x) c += (r[x] & kPixNew) ? 1 : 0;
+    row_count[y] = c;
+  }
+};
+
+/// Writes the new surfels of row y (II-B) at indices row_first[y], row_first[y] + 1, ... in pixel
+/// order: position V, normal N (world), colour, r = z / (sqrt2 f n_z), w = exp(-gamma^2/2sigma^2),
+/// t_init = t_last = now, segment and segment weight from L^p (else 0 / 0), class probabilities
+/// left at the 0.5 prior by the allocator, basis any unit vector perpendicular to n, and the view
+/// bin of this view initialised with IC (V-B).
+struct NewSurfelKernel {
+  FrameView frame;
+  FusionKernelParams prm;
+  maps::SurfelArrays s;
+  RigidF T_world_cam;
+  float now = 0.0f;
+  ImageView<const std::uint8_t> flags;
+  const int* row_first = nullptr;
+  ImageView<std::int32_t> pixel_surfel;
+
+  RASM_HD_INLINE void operator()(int y) const {
+    int i = row_first[y];
+    const std::uint8_t* fr = flags.row(y);
+    for (int x = 0; x < flags.width; ++x) {
+      if (!(fr[x] & kPixNew)) continue;
+      Vec3f v, n;
+      float w = 0.0f, r = 0.0f;
+      if (!frame.measure(x, y, prm, v, n, w, r)) continue;  // cannot happen: kPixNew implies valid
+      const Vec3f p = T_world_cam.apply(v), nw = T_world_cam.rotate(n);
+      const Vec3f b = maps::kernels::anyPerpendicular(nw);
+      s.pos_conf[i] = Vec4f(p.x(), p.y(), p.z(), w);
+      s.normal_radius[i] = Vec4f(nw.x(), nw.y(), nw.z(), r);
+      s.colour_flags[i] = maps::packColour(frame.colourAt(x, y), w >= prm.stable_confidence ? maps::kSurfelStable : 0u);
+      s.t_init[i] = now;
+      s.t_last[i] = now;
+      s.basis[i] = b;
+      const std::uint32_t l = frame.labels.empty() ? 0u : frame.labels(x, y);
+      s.segment[i] = l;
+      s.segment_w[i] = l != 0u ? w : 0.0f;
+      updateViewBin(s, i, p, nw, b, T_world_cam.translation(), prm);
+      pixel_surfel(x, y) = i;
+      ++i;
+    }
+  }
+};
+
+/// Free-space carving (II-D "akin to space carving"), one surfel of the rendered view per call:
+/// a surfel whose centre projects onto pixel u with valid measured depth in the whole 3x3
+/// neighbourhood, and lies in front of the nearest of those depths by more than
+/// max(abs, rel * depth), contradicts the measurement. Unstable violators are marked for removal;
+/// stable ones lose confidence (w *= decay) and the stable flag once w < the threshold.
+/// action[k]: 0 keep, 1 remove, 2 stable but decayed, 3 decayed and demoted to unstable.
+struct CarveKernel {
+  maps::SurfelArrays s;
+  const int* visible = nullptr;
+  RigidF T_cam_world;
+  PinholeF K;
+  ImageView<const float> depth_m;
+  float min_depth_m = 0.1f, max_depth_m = 5.0f;
+  float margin_abs_m = 0.05f, margin_rel = 0.02f;
+  float stable_confidence = 10.0f;
+  float stable_decay = 0.5f;
+  std::uint8_t* action = nullptr;
+
+  RASM_HD_INLINE void operator()(int k) const {
+    action[k] = 0;
+    const int i = visible[k];
+    const Vec3f pc = T_cam_world.apply(s.position(i));
+    const float z = pc.z();
+    if (!(z > 0.0f)) return;
+    const int u = maps::kernels::pixelOf(K.fx * pc.x() / z + K.cx);
+    const int v = maps::kernels::pixelOf(K.fy * pc.y() / z + K.cy);
+    if (u < 1 || v < 1 || u >= depth_m.width - 1 || v >= depth_m.height - 1) return;
+    float d_min = 3.0e38f;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const float d = depth_m(u + dx, v + dy);
+        if (!(d >= min_depth_m && d <= max_depth_m)) return;  // not observed: no evidence
+        d_min = d < d_min ? d : d_min;
+      }
+    const float margin = fmaxf(margin_abs_m, margin_rel * d_min);
+    if (d_min - z <= margin) return;
+    const std::uint32_t cf = s.colour_flags[i];
+    if (!(cf & maps::kSurfelStable)) {
+      action[k] = 1;
+      return;
+    }
+    const float c = s.pos_conf[i].w() * stable_decay;
+    s.pos_conf[i].w() = c;
+    if (c < stable_confidence) {
+      s.colour_flags[i] = cf & ~std::uint32_t(maps::kSurfelStable);
+      action[k] = 3;
+    } else {
+      action[k] = 2;
+    }
+  }
+};
+
+}  // namespace rasm::fusion::kernels
+
+namespace rasm::fusion::cuda {
+/// CUDA launcher of AssociateUpdateKernel (cuda/FusionKernels.cu): `k` holds HOST views and
+/// arrays; they are copied to the device, the kernel runs over the frame, and the surfel arrays,
+/// pixel_surfel and flags are copied back. Throws std::runtime_error without CUDA or a device.
+void associateUpdate(const kernels::AssociateUpdateKernel& k);
+}  // namespace rasm::fusion::cuda
