@@ -18,11 +18,13 @@ namespace {
 const char* kUsage =
     "usage: rasm convert tum <folder> <out.rawlog> [--intrinsics fx,fy,cx,cy] [--preset name]\n"
     "                        [--depth-factor F] [--max-frames N] [--external-images]\n"
-    "       rasm convert 7scenes <folder> <out.rawlog> [--intrinsics fx,fy,cx,cy] [--max-frames N]\n"
+    "       rasm convert 7scenes <folder> <out.rawlog> [--intrinsics fx,fy,cx,cy] [--max-frames "
+    "N]\n"
     "                        [--external-images] [--no-register]\n"
     "7-Scenes colour is resampled into the depth camera with an approximate Kinect calibration;\n"
     "--no-register uses it as is (treated as registered).\n"
-    "Writes <out.rawlog> (CObservation3DRangeScan per frame) and <out stem>_groundtruth.txt (TUM).\n"
+    "Writes <out.rawlog> (CObservation3DRangeScan per frame) and <out stem>_groundtruth.txt "
+    "(TUM).\n"
     "Presets: kinect_v1 xtion tum_fr1 tum_fr2 tum_fr3 tum_default icl_nuim 7scenes\n";
 
 double parseNumber(const std::string& opt, const std::string& text) {
@@ -32,7 +34,7 @@ double parseNumber(const std::string& opt, const std::string& text) {
     if (n == text.size()) return v;
   } catch (const std::exception&) {
   }
-  rasm::throwInputError("rasm convert " + opt, "'" + text + "' is not a number");
+  rasm::throwInputError(opt, "'" + text + "' is not a number");
 }
 
 rasm::CameraIntrinsics parseIntrinsics(const std::string& text) {
@@ -40,7 +42,8 @@ rasm::CameraIntrinsics parseIntrinsics(const std::string& text) {
   std::stringstream ss(text);
   std::string item;
   while (std::getline(ss, item, ',')) v.push_back(parseNumber("--intrinsics", item));
-  if (v.size() != 4) rasm::throwInputError("rasm convert --intrinsics", "expected fx,fy,cx,cy, got '" + text + "'");
+  if (v.size() != 4)
+    rasm::throwInputError("--intrinsics", "expected fx,fy,cx,cy, got '" + text + "'");
   return rasm::CameraIntrinsics(v[0], v[1], v[2], v[3], 640, 480);  // size comes from the images
 }
 
@@ -51,14 +54,16 @@ class Progress {
     const auto now = clock::now();
     const double el = std::chrono::duration<double>(now - start_).count();
     const bool last = total >= 0 && (long long)done >= total;
-    if (!last && std::chrono::duration<double>(now - last_print_).count() < (tty_ ? 0.2 : 2.0)) return;
+    if (!last && std::chrono::duration<double>(now - last_print_).count() < (tty_ ? 0.2 : 2.0))
+      return;
     last_print_ = now;
     const double rate = el > 0 ? done / el : 0.0;
     char buf[160];
     if (total > 0) {
       const double eta = rate > 0 ? (total - (long long)done) / rate : 0.0;
-      std::snprintf(buf, sizeof(buf), "convert: %zu/%lld frames (%3.0f%%)  %.1f frames/s  ETA %.0f s", done,
-                    total, 100.0 * done / total, rate, eta);
+      std::snprintf(buf, sizeof(buf),
+                    "convert: %zu/%lld frames (%3.0f%%)  %.1f frames/s  ETA %.0f s", done, total,
+                    100.0 * done / total, rate, eta);
     } else {
       std::snprintf(buf, sizeof(buf), "convert: %zu frames  %.1f frames/s", done, rate);
     }
@@ -89,7 +94,7 @@ int convert(const std::vector<std::string>& args) {
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) rasm::throwInputError("rasm convert " + a, "needs a value\n" + std::string(kUsage));
+      if (i + 1 >= args.size()) rasm::throwInputError(a, "needs a value\n" + std::string(kUsage));
       return args[++i];
     };
     if (a == "--intrinsics") {
@@ -105,26 +110,28 @@ int convert(const std::vector<std::string>& args) {
     } else if (a == "--external-images") {
       copt.writer.external_images = true;
     } else if (a.rfind("--", 0) == 0) {
-      rasm::throwInputError("rasm convert", "unknown option '" + a + "'\n" + std::string(kUsage));
+      throw rasm::InputError("unknown option '" + a + "'\n" + std::string(kUsage));
     } else {
       pos.push_back(a);
     }
   }
-  if (pos.size() != 3) rasm::throwInputError("rasm convert", "expected <format> <folder> <out.rawlog>\n" + std::string(kUsage));
+  if (pos.size() != 3)
+    throw rasm::InputError("expected <format> <folder> <out.rawlog>\n" + std::string(kUsage));
   const std::string& format = pos[0];
 
   std::unique_ptr<rasm::io::FrameSource> src;
   if (format == "tum") {
-    if (!register_colour) rasm::throwInputError("rasm convert tum", "--no-register applies to 7scenes only");
+    if (!register_colour) throw rasm::InputError("--no-register applies to 7scenes only");
     rasm::io::TumSourceOptions t;
     t.intrinsics_override = K;
     if (depth_factor > 0) t.depth_factor = depth_factor;
     auto s = std::make_unique<rasm::io::TumFrameSource>(pos[1], t);
-    std::cout << "TUM sequence " << pos[1] << ": " << s->sizeHint() << " associated frames, intrinsics "
-              << s->intrinsics().toString() << "\n";
+    std::cout << "TUM sequence " << pos[1] << ": " << s->sizeHint()
+              << " associated frames, intrinsics " << s->intrinsics().toString()
+              << (s->flipsRows() ? " (negative fy given: rows flipped)" : "") << "\n";
     src = std::move(s);
   } else if (format == "7scenes") {
-    if (depth_factor > 0) rasm::throwInputError("rasm convert 7scenes", "--depth-factor applies to tum only");
+    if (depth_factor > 0) throw rasm::InputError("--depth-factor applies to tum only");
     rasm::io::SevenScenesSourceOptions o;
     o.intrinsics_override = K;
     o.register_colour = register_colour;
@@ -133,18 +140,20 @@ int convert(const std::vector<std::string>& args) {
               << s->intrinsics().toString() << "\n";
     src = std::move(s);
   } else {
-    rasm::throwInputError("rasm convert", "unknown format '" + format + "' (expected tum or 7scenes)\n" + kUsage);
+    throw rasm::InputError("unknown format '" + format + "' (expected tum or 7scenes)\n" + kUsage);
   }
 
   Progress progress;
   const auto res = rasm::io::convertToRawlog(*src, pos[2], copt, std::ref(progress));
   progress.finish();
-  std::cout << "wrote " << res.rawlog_path << ": " << res.frames << " frames, " << res.frames_with_groundtruth
-            << " with ground truth\n";
-  if (!res.groundtruth_path.empty()) std::cout << "wrote " << res.groundtruth_path << " (TUM format)\n";
+  std::cout << "wrote " << res.rawlog_path << ": " << res.frames << " frames, "
+            << res.frames_with_groundtruth << " with ground truth\n";
+  if (!res.groundtruth_path.empty())
+    std::cout << "wrote " << res.groundtruth_path << " (TUM format)\n";
   return 0;
 }
 
-const rasm::app::Registrar reg{"convert", "dataset folder (tum | 7scenes) -> rawlog + ground truth", &convert};
+const rasm::app::Registrar reg{"convert", "dataset folder (tum | 7scenes) -> rawlog + ground truth",
+                               &convert};
 
 }  // namespace

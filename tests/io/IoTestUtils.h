@@ -18,7 +18,8 @@ class ScratchDir {
   explicit ScratchDir(const std::string& name) {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     path_ = std::filesystem::temp_directory_path() /
-            ("rasm_io_" + std::to_string(::getpid()) + "_" + (info ? std::string(info->name()) : "x") + "_" + name);
+            ("rasm_io_" + std::to_string(::getpid()) + "_" +
+             (info ? std::string(info->name()) : "x") + "_" + name);
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }
@@ -36,7 +37,8 @@ class ScratchDir {
 /// Pose with a rotation about a non-trivial axis (exercises every element of the conversions).
 inline Eigen::Isometry3d testPose(int i) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(0.3 + 0.1 * i, Eigen::Vector3d(0.2, -0.5, 1.0).normalized()).toRotationMatrix();
+  T.linear() = Eigen::AngleAxisd(0.3 + 0.1 * i, Eigen::Vector3d(0.2, -0.5, 1.0).normalized())
+                   .toRotationMatrix();
   T.translation() = Eigen::Vector3d(1.25 + 0.01 * i, -0.5 + 0.02 * i, 0.75 - 0.003 * i);
   return T;
 }
@@ -52,8 +54,10 @@ inline RgbdFrame syntheticFrame(int i, int w = 32, int h = 24) {
   f.colour.resize(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      f.depth_m(x, y) = ((x + y) % 11 == 0) ? 0.0f : 0.5f + 0.0137f * x + 0.0211f * y + 0.01f * i + 0.00031f;
-      f.colour(x, y) = Bgr8{std::uint8_t(x * 7 + i), std::uint8_t(y * 11), std::uint8_t(255 - x - y)};
+      f.depth_m(x, y) =
+          ((x + y) % 11 == 0) ? 0.0f : 0.5f + 0.0137f * x + 0.0211f * y + 0.01f * i + 0.00031f;
+      f.colour(x, y) =
+          Bgr8{std::uint8_t(x * 7 + i), std::uint8_t(y * 11), std::uint8_t(255 - x - y)};
     }
   f.gt_T_world_cam = testPose(i);
   f.odometry_xyyaw = Eigen::Vector3d(0.1 * i, -0.05 * i, 0.02 * i);

@@ -1,5 +1,7 @@
 // RawlogFrameSource: both rawlog formats, MRPT's real Kinect frame, colour registration
 // convention, label filter, corrupt / missing files.
+#include "rasm/io/RawlogFrameSource.h"
+
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -18,7 +20,6 @@
 #include "IoTestUtils.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/SE3.h"
-#include "rasm/io/RawlogFrameSource.h"
 #include "rasm/io/RgbdObservation.h"
 
 namespace fs = std::filesystem;
@@ -202,7 +203,8 @@ TEST(RawlogFrameSource, RealKinectFrameFromMrpt) {
   EXPECT_FALSE(f.gt_T_world_cam.has_value());  // sensorPose is the identity in this file
   EXPECT_GT(f.timestamp_s, 1.4e9);
   if (const char* dump = std::getenv("RASM_IO_DUMP_DIR")) {
-    cv::Mat m(f.height(), f.width(), CV_8UC3, const_cast<Bgr8*>(f.colour.data()), f.colour.pitchBytes());
+    cv::Mat m(f.height(), f.width(), CV_8UC3, const_cast<Bgr8*>(f.colour.data()),
+              f.colour.pitchBytes());
     cv::imwrite(std::string(dump) + "/mrpt_frame_registered_colour.png", m);
   }
 }
@@ -252,7 +254,8 @@ TEST(RawlogFrameSource, CompressedTruncatedRawlogIsAnInputError) {
 TEST(RawlogFrameSource, GarbageFileIsAnInputError) {
   ScratchDir dir("garbage");
   const std::string path = dir / "garbage.rawlog";
-  std::ofstream(path) << "this is not a rawlog, just some text that goes on for a while............";
+  std::ofstream(path)
+      << "this is not a rawlog, just some text that goes on for a while............";
   const std::string msg = errorOf([&] { readAll(path); });
   EXPECT_NE(msg.find(path), std::string::npos) << msg;
 }

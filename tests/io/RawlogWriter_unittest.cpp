@@ -1,4 +1,6 @@
 // RawlogWriter -> RawlogFrameSource round trips on synthetic frames.
+#include "rasm/io/RawlogWriter.h"
+
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
@@ -15,7 +17,6 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/SE3.h"
 #include "rasm/io/RawlogFrameSource.h"
-#include "rasm/io/RawlogWriter.h"
 
 namespace fs = std::filesystem;
 using namespace rasm;
@@ -179,7 +180,8 @@ TEST(RawlogWriter, MissingOutputFolderIsAnInputError) {
     RawlogWriter w("/nonexistent_rasm_folder/x.rawlog");
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("/nonexistent_rasm_folder"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("/nonexistent_rasm_folder"), std::string::npos)
+        << e.what();
   }
 }
 
@@ -200,7 +202,8 @@ TEST(RawlogWriter, OtherObjectsAreWrittenAndSkippedByTheReader) {
 }
 
 TEST(RawlogWriter, RawlogEditAcceptsTheOutput) {
-  if (std::system("command -v rawlog-edit > /dev/null 2>&1") != 0) GTEST_SKIP() << "rawlog-edit not installed (mrpt-apps)";
+  if (std::system("command -v rawlog-edit > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "rawlog-edit not installed (mrpt-apps)";
   ScratchDir dir("edit");
   const std::string path = dir / "edit.rawlog";
   {

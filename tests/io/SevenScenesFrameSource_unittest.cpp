@@ -1,4 +1,6 @@
 // SevenScenesFrameSource on a tiny folder written by the test and on the redkitchen excerpt.
+#include "rasm/io/SevenScenesFrameSource.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,7 +11,6 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/SE3.h"
 #include "rasm/io/FrameSource.h"
-#include "rasm/io/SevenScenesFrameSource.h"
 
 namespace fs = std::filesystem;
 using namespace rasm;
@@ -32,7 +33,8 @@ void writeFrame(const std::string& folder, int k, bool with_pose = true) {
     std::ofstream p(std::string(stem) + ".pose.txt");
     p.precision(17);
     const Eigen::Matrix4d M = testPose(k).matrix();
-    for (int r = 0; r < 4; ++r) p << M(r, 0) << " " << M(r, 1) << " " << M(r, 2) << " " << M(r, 3) << "\n";
+    for (int r = 0; r < 4; ++r)
+      p << M(r, 0) << " " << M(r, 1) << " " << M(r, 2) << " " << M(r, 3) << "\n";
   }
 }
 
@@ -76,8 +78,8 @@ TEST(SevenScenesFrameSource, RegistrationWithTheDepthCalibrationKeepsColour) {
   writeFrame(dir.str(), 4);
   SevenScenesSourceOptions opt;
   opt.intrinsics_override = CameraIntrinsics(8, 8, 3.5, 2.5, 8, 6);
-  opt.colour_registration = SevenScenesSourceOptions::ColourRegistration{*opt.intrinsics_override,
-                                                                         Eigen::Isometry3d::Identity()};
+  opt.colour_registration = SevenScenesSourceOptions::ColourRegistration{
+      *opt.intrinsics_override, Eigen::Isometry3d::Identity()};
   SevenScenesFrameSource src(dir.str(), opt);
   auto f = src.next();
   ASSERT_TRUE(f.has_value());
@@ -126,7 +128,8 @@ TEST(SevenScenesFrameSource, RealRedkitchenExcerpt) {
     float dmin = 1e9f, dmax = 0;
     for (int y = 0; y < 480; ++y)
       for (int x = 0; x < 640; ++x)
-        if (const float d = f->depth_m(x, y); d > 0) ++valid, dmin = std::min(dmin, d), dmax = std::max(dmax, d);
+        if (const float d = f->depth_m(x, y); d > 0)
+          ++valid, dmin = std::min(dmin, d), dmax = std::max(dmax, d);
     EXPECT_GT(valid, 640 * 480 / 2);
     EXPECT_GT(dmin, 0.3f);  // Kinect v1 range
     EXPECT_LT(dmax, 8.0f);
@@ -134,7 +137,8 @@ TEST(SevenScenesFrameSource, RealRedkitchenExcerpt) {
     // only the border the wider colour view cannot cover is black.
     int black = 0;
     for (int y = 0; y < 480; ++y)
-      for (int x = 0; x < 640; ++x) black += (f->colour(x, y).b | f->colour(x, y).g | f->colour(x, y).r) == 0;
+      for (int x = 0; x < 640; ++x)
+        black += (f->colour(x, y).b | f->colour(x, y).g | f->colour(x, y).r) == 0;
     EXPECT_LT(black, 640 * 480 / 50);
     ASSERT_TRUE(f->gt_T_world_cam.has_value());
     if (i == 0) first = *f->gt_T_world_cam;

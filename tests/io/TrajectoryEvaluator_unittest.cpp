@@ -1,4 +1,6 @@
 // Timestamp association, TUM trajectory files, ATE and RPE against known answers.
+#include "rasm/io/TrajectoryEvaluator.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,7 +14,6 @@
 #include "rasm/io/EvaluationJson.h"
 #include "rasm/io/TimestampAssociation.h"
 #include "rasm/io/Trajectory.h"
-#include "rasm/io/TrajectoryEvaluator.h"
 
 using namespace rasm;
 using namespace rasm::io;
@@ -27,11 +28,11 @@ Trajectory wavyTrajectory(double t0, double rate_hz, double duration_s) {
     const double t = t0 + i / rate_hz, s = t - t0;
     StampedPose p;
     p.timestamp_s = t;
-    p.T_world_cam.linear() =
-        (Eigen::AngleAxisd(0.3 * std::sin(0.7 * s), Eigen::Vector3d::UnitX()) *
-         Eigen::AngleAxisd(0.5 * s, Eigen::Vector3d::UnitY()))
-            .toRotationMatrix();
-    p.T_world_cam.translation() = Eigen::Vector3d(std::sin(0.4 * s), 0.5 * std::cos(0.3 * s), 0.2 * s);
+    p.T_world_cam.linear() = (Eigen::AngleAxisd(0.3 * std::sin(0.7 * s), Eigen::Vector3d::UnitX()) *
+                              Eigen::AngleAxisd(0.5 * s, Eigen::Vector3d::UnitY()))
+                                 .toRotationMatrix();
+    p.T_world_cam.translation() =
+        Eigen::Vector3d(std::sin(0.4 * s), 0.5 * std::cos(0.3 * s), 0.2 * s);
     tr.push_back(p);
   }
   return tr;
@@ -50,7 +51,7 @@ TEST(TimestampAssociation, GreedyBySmallestDifferenceEachUsedOnce) {
   ASSERT_EQ(m2.size(), 2u);
   EXPECT_EQ(m2[0], std::make_pair(std::size_t(1), std::size_t(0)));  // 1.0 <-> 0.5 + 0.5
   EXPECT_EQ(m2[1], std::make_pair(std::size_t(0), std::size_t(2)));  // 3.0 <-> 2.51 + 0.5
-  EXPECT_TRUE(associateTimestamps({0.0}, {0.02}, 0.02).empty());    // strict < max_dt
+  EXPECT_TRUE(associateTimestamps({0.0}, {0.02}, 0.02).empty());     // strict < max_dt
   EXPECT_EQ(closestIndex({0.0, 1.0, 2.0}, 1.4), 1u);
   EXPECT_EQ(closestIndex({0.0, 1.0, 2.0}, 9.0), 2u);
   EXPECT_EQ(closestIndex({0.0, 1.0, 2.0}, -1.0), 0u);
@@ -82,7 +83,7 @@ TEST(Trajectory, CommasTabsCommentsAndErrors) {
   std::ofstream(dir / "ok.txt") << "# c\n\n2.5,1,2,3,0,0,0,2\n1.0\t0 0 0  0 0 0 1  # trailing\n";
   const Trajectory t = readTumTrajectory(dir / "ok.txt");
   ASSERT_EQ(t.size(), 2u);
-  EXPECT_DOUBLE_EQ(t[0].timestamp_s, 1.0);  // sorted
+  EXPECT_DOUBLE_EQ(t[0].timestamp_s, 1.0);                                           // sorted
   EXPECT_LT(rotationAngle(t[1].T_world_cam, Eigen::Isometry3d::Identity()), 1e-12);  // normalised
 
   std::ofstream(dir / "bad.txt") << "1 2 3\n";
@@ -108,7 +109,8 @@ TEST(Trajectory, InterpolatePose) {
   for (int i = 0; i < 3; ++i) {
     StampedPose p;
     p.timestamp_s = i * 0.01;
-    p.T_world_cam.linear() = Eigen::AngleAxisd(0.1 * i, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    p.T_world_cam.linear() =
+        Eigen::AngleAxisd(0.1 * i, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     p.T_world_cam.translation() = Eigen::Vector3d(i, 0, 0);
     tr.push_back(p);
   }
@@ -116,8 +118,8 @@ TEST(Trajectory, InterpolatePose) {
   ASSERT_TRUE(mid.has_value());
   EXPECT_NEAR(mid->translation().x(), 1.5, 1e-12);
   EXPECT_NEAR(Eigen::AngleAxisd(mid->linear()).angle(), 0.15, 1e-12);
-  EXPECT_TRUE(interpolatePose(tr, 0.035).has_value());    // 15 ms past the end: nearest
-  EXPECT_FALSE(interpolatePose(tr, 0.045).has_value());   // 25 ms past the end
+  EXPECT_TRUE(interpolatePose(tr, 0.035).has_value());   // 15 ms past the end: nearest
+  EXPECT_FALSE(interpolatePose(tr, 0.045).has_value());  // 25 ms past the end
   EXPECT_FALSE(interpolatePose(tr, -0.021).has_value());
   EXPECT_FALSE(interpolatePose({}, 0.0).has_value());
 }
@@ -168,8 +170,9 @@ TEST(TrajectoryEvaluator, AteOfGaussianNoiseIsSqrt3Sigma) {
   EXPECT_NEAR(r.translation_m.mean, 2.0 * std::sqrt(2.0 / M_PI) * sigma, 0.05 * sigma);
   EXPECT_LE(r.translation_m.min, r.translation_m.median);
   EXPECT_LE(r.translation_m.median, r.translation_m.max);
-  EXPECT_NEAR(r.translation_m.std * r.translation_m.std + r.translation_m.mean * r.translation_m.mean,
-              r.translation_m.rmse * r.translation_m.rmse, 1e-12);
+  EXPECT_NEAR(
+      r.translation_m.std * r.translation_m.std + r.translation_m.mean * r.translation_m.mean,
+      r.translation_m.rmse * r.translation_m.rmse, 1e-12);
   const auto j = toJson(r, AteOptions{});
   EXPECT_EQ(j["pairs"].get<std::size_t>(), gt.size());
   EXPECT_DOUBLE_EQ(j["translation_m"]["rmse"].get<double>(), r.translation_m.rmse);
@@ -218,9 +221,11 @@ TEST(TrajectoryEvaluator, RpeOfConstantRotationDrift) {
     const double t = i / 30.0;
     StampedPose p;
     p.timestamp_s = t;
-    p.T_world_cam.linear() = Eigen::AngleAxisd(0.3 * t, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    p.T_world_cam.linear() =
+        Eigen::AngleAxisd(0.3 * t, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     gt.push_back(p);
-    p.T_world_cam.linear() = Eigen::AngleAxisd((0.3 + w) * t, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    p.T_world_cam.linear() =
+        Eigen::AngleAxisd((0.3 + w) * t, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     est.push_back(p);
   }
   const RpeResult r = TrajectoryEvaluator::computeRpe(gt, est);
@@ -234,7 +239,8 @@ TEST(TrajectoryEvaluator, UmeyamaRecoversSim3) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
   std::vector<Eigen::Vector3d> src, dst;
-  const Eigen::Matrix3d R0 = Eigen::AngleAxisd(1.1, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d R0 =
+      Eigen::AngleAxisd(1.1, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   const Eigen::Vector3d t0(0.5, -2, 3);
   for (int i = 0; i < 20; ++i) {
     src.emplace_back(u(rng), u(rng), u(rng));

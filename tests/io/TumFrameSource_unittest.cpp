@@ -1,5 +1,7 @@
 // TumFrameSource on a tiny TUM folder written by the test (known depths, colours, poses,
 // timestamp jitter, a missing depth frame), conversion to rawlog, and the real fr1_xyz excerpt.
+#include "rasm/io/TumFrameSource.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,7 +17,6 @@
 #include "rasm/io/FrameSource.h"
 #include "rasm/io/RawlogFrameSource.h"
 #include "rasm/io/Trajectory.h"
-#include "rasm/io/TumFrameSource.h"
 
 namespace fs = std::filesystem;
 using namespace rasm;
@@ -37,7 +38,9 @@ Eigen::Isometry3d gtPose(double t) {
 }
 
 /// Depth of frame k in 1/5000 m units at (x, y), 0 at a few pixels.
-std::uint16_t depthUnits(int k, int x, int y) { return (x == 3 && y == 4) ? 0 : std::uint16_t(5000 + 100 * k + 7 * x + 13 * y); }
+std::uint16_t depthUnits(int k, int x, int y) {
+  return (x == 3 && y == 4) ? 0 : std::uint16_t(5000 + 100 * k + 7 * x + 13 * y);
+}
 
 struct TinyTum {
   std::vector<double> depth_stamps;  // stamps of the frames expected after association
@@ -49,7 +52,8 @@ struct TinyTum {
 TinyTum writeTinyTum(const std::string& folder) {
   fs::create_directories(folder + "/rgb");
   fs::create_directories(folder + "/depth");
-  std::ofstream rgb(folder + "/rgb.txt"), depth(folder + "/depth.txt"), gt(folder + "/groundtruth.txt");
+  std::ofstream rgb(folder + "/rgb.txt"), depth(folder + "/depth.txt"),
+      gt(folder + "/groundtruth.txt");
   rgb << "# color images\n# timestamp filename\n";
   depth << "# depth maps\n# timestamp filename\n";
   gt << "# ground truth trajectory\n# timestamp tx ty tz qx qy qz qw\n";
@@ -86,8 +90,9 @@ TinyTum writeTinyTum(const std::string& folder) {
     const double t = kT0 + 0.01 * i;
     const Eigen::Isometry3d T = gtPose(t);
     const Eigen::Quaterniond q(T.linear());
-    gt << t << " " << T.translation().x() << " " << T.translation().y() << " " << T.translation().z() << " " << q.x()
-       << " " << q.y() << " " << q.z() << " " << q.w() << "\n";
+    gt << t << " " << T.translation().x() << " " << T.translation().y() << " "
+       << T.translation().z() << " " << q.x() << " " << q.y() << " " << q.z() << " " << q.w()
+       << "\n";
   }
   return out;
 }
@@ -128,8 +133,8 @@ TEST(TumFrameSource, AssociatesReadsDepthColourAndInterpolatesGroundTruth) {
         ASSERT_EQ(f->colour(x, y).g, x);
         ASSERT_EQ(f->colour(x, y).r, y);
       }
-    // Ground truth sampled at 100 Hz with a linear / constant-rate motion: interpolation is exact up
-    // to the 9 printed decimals.
+    // Ground truth sampled at 100 Hz with a linear / constant-rate motion: interpolation is exact
+    // up to the 9 printed decimals.
     ASSERT_TRUE(f->gt_T_world_cam.has_value());
     EXPECT_LT(translationDistance(*f->gt_T_world_cam, gtPose(f->timestamp_s)), 1e-8);
     EXPECT_LT(rotationAngle(*f->gt_T_world_cam, gtPose(f->timestamp_s)), 1e-8);
@@ -191,11 +196,12 @@ TEST(TumFrameSource, ConvertToRawlogWritesFramesAndGroundTruth) {
   std::size_t calls = 0;
   ConvertOptions opt;
   opt.max_frames = 4;
-  const auto res = convertToRawlog(*src, dir / "out.rawlog", opt, [&](std::size_t done, long long total) {
-    ++calls;
-    EXPECT_EQ(total, 4);
-    EXPECT_EQ(done, calls);
-  });
+  const auto res =
+      convertToRawlog(*src, dir / "out.rawlog", opt, [&](std::size_t done, long long total) {
+        ++calls;
+        EXPECT_EQ(total, 4);
+        EXPECT_EQ(done, calls);
+      });
   EXPECT_EQ(res.frames, 4u);
   EXPECT_EQ(res.frames_with_groundtruth, 4u);
   EXPECT_EQ(res.groundtruth_path, dir / "out_groundtruth.txt");
@@ -209,7 +215,8 @@ TEST(TumFrameSource, ConvertToRawlogWritesFramesAndGroundTruth) {
     ASSERT_TRUE(f.has_value());
     EXPECT_NEAR(f->timestamp_s, gt[i].timestamp_s, 1e-6);
     EXPECT_NEAR(f->timestamp_s, tum.depth_stamps[i], 1e-6);
-    EXPECT_NEAR(f->depth_m(2, 2), depthUnits(ks[i], 2, 2) / 5000.0, 0.0005 + 1e-6);  // 1 mm rawlog units
+    EXPECT_NEAR(f->depth_m(2, 2), depthUnits(ks[i], 2, 2) / 5000.0,
+                0.0005 + 1e-6);  // 1 mm rawlog units
     ASSERT_TRUE(f->gt_T_world_cam.has_value());
     EXPECT_LT(translationDistance(*f->gt_T_world_cam, gt[i].T_world_cam), 1e-6);
     EXPECT_LT(rotationAngle(*f->gt_T_world_cam, gt[i].T_world_cam), 1e-6);

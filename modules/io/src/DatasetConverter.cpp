@@ -14,8 +14,8 @@ std::string groundTruthPathFor(const std::string& rawlog_path) {
   return (p.parent_path() / (p.stem().string() + "_groundtruth.txt")).string();
 }
 
-ConvertResult convertToRawlog(FrameSource& source, const std::string& rawlog_path, const ConvertOptions& opt,
-                              const ConvertProgressFn& progress) {
+ConvertResult convertToRawlog(FrameSource& source, const std::string& rawlog_path,
+                              const ConvertOptions& opt, const ConvertProgressFn& progress) {
   long long total = source.sizeHint();
   if (opt.max_frames >= 0 && (total < 0 || total > opt.max_frames)) total = opt.max_frames;
 
@@ -38,8 +38,9 @@ ConvertResult convertToRawlog(FrameSource& source, const std::string& rawlog_pat
   if (opt.write_groundtruth && !gt.empty()) {
     res.groundtruth_path = groundTruthPathFor(rawlog_path);
     writeTumTrajectory(res.groundtruth_path, gt,
-                       "ground truth T_world_cam (optical frame) of " + fs::path(rawlog_path).filename().string() +
-                           "\nconverted by rasm from " + source.describe());
+                       "ground truth T_world_cam (optical frame) of " +
+                           fs::path(rawlog_path).filename().string() + "\nconverted by rasm from " +
+                           source.describe());
   }
   return res;
 }

@@ -12,7 +12,10 @@ nlohmann::json toJson(const AteResult& r, const AteOptions& opt) {
   j["metric"] = "ate";
   j["pairs"] = r.translation_m.count;
   j["translation_m"] = toJson(r.translation_m);
-  j["options"] = {{"max_dt_s", opt.max_dt_s}, {"offset_s", opt.offset_s}, {"align", opt.align}, {"scale", opt.scale}};
+  j["options"] = {{"max_dt_s", opt.max_dt_s},
+                  {"offset_s", opt.offset_s},
+                  {"align", opt.align},
+                  {"scale", opt.scale}};
   const Eigen::Matrix4d M = r.T_gt_est.matrix();
   nlohmann::json rows = nlohmann::json::array();
   for (int i = 0; i < 4; ++i) rows.push_back({M(i, 0), M(i, 1), M(i, 2), M(i, 3)});

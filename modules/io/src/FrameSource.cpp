@@ -11,16 +11,19 @@ namespace fs = std::filesystem;
 
 namespace rasm::io {
 
-std::unique_ptr<FrameSource> openFrameSource(const std::string& path,
-                                             const std::optional<CameraIntrinsics>& intrinsics_override) {
+std::unique_ptr<FrameSource> openFrameSource(
+    const std::string& path, const std::optional<CameraIntrinsics>& intrinsics_override) {
   FrameSourceOptions opt;
   opt.intrinsics_override = intrinsics_override;
   return openFrameSource(path, opt);
 }
 
-std::unique_ptr<FrameSource> openFrameSource(const std::string& path, const FrameSourceOptions& opt) {
+std::unique_ptr<FrameSource> openFrameSource(const std::string& path,
+                                             const FrameSourceOptions& opt) {
   if (!fs::exists(path))
-    throwInputError(path, "not found (expected a rawlog file, a TUM RGB-D / ICL-NUIM folder or a 7-Scenes folder)");
+    throwInputError(
+        path,
+        "not found (expected a rawlog file, a TUM RGB-D / ICL-NUIM folder or a 7-Scenes folder)");
   if (fs::is_directory(path)) {
     if (TumFrameSource::looksLikeTumFolder(path)) {
       TumSourceOptions t;
@@ -33,9 +36,10 @@ std::unique_ptr<FrameSource> openFrameSource(const std::string& path, const Fram
       s.intrinsics_override = opt.intrinsics_override;
       return std::make_unique<SevenScenesFrameSource>(path, s);
     }
-    throwInputError("folder " + path,
-                    "neither a TUM RGB-D folder (missing rgb.txt and depth.txt) nor a 7-Scenes sequence folder "
-                    "(missing frame-000000.depth.png)");
+    throwInputError(
+        "folder " + path,
+        "neither a TUM RGB-D folder (missing rgb.txt and depth.txt) nor a 7-Scenes sequence folder "
+        "(missing frame-000000.depth.png)");
   }
   RawlogSourceOptions r;
   r.sensor_label = opt.sensor_label;

@@ -12,7 +12,8 @@ cv::Mat cvView(Image<Bgr8>& img) {
   return cv::Mat(img.height(), img.width(), CV_8UC3, img.data(), img.pitchBytes());
 }
 cv::Mat cvView(const Image<Bgr8>& img) {
-  return cv::Mat(img.height(), img.width(), CV_8UC3, const_cast<Bgr8*>(img.data()), img.pitchBytes());
+  return cv::Mat(img.height(), img.width(), CV_8UC3, const_cast<Bgr8*>(img.data()),
+                 img.pitchBytes());
 }
 cv::Mat cvView(Image<float>& img) {
   return cv::Mat(img.height(), img.width(), CV_32FC1, img.data(), img.pitchBytes());
@@ -28,16 +29,23 @@ void colourFromMat(const cv::Mat& m, Image<Bgr8>& out, const std::string& what) 
   out.resize(m.cols, m.rows);
   cv::Mat dst = cvView(out);
   switch (m.channels()) {
-    case 3: m.copyTo(dst); break;
-    case 1: cv::cvtColor(m, dst, cv::COLOR_GRAY2BGR); break;
-    case 4: cv::cvtColor(m, dst, cv::COLOR_BGRA2BGR); break;
+    case 3:
+      m.copyTo(dst);
+      break;
+    case 1:
+      cv::cvtColor(m, dst, cv::COLOR_GRAY2BGR);
+      break;
+    case 4:
+      cv::cvtColor(m, dst, cv::COLOR_BGRA2BGR);
+      break;
     default:
       throwInputError(what, "colour image has " + std::to_string(m.channels()) +
                                 " channels, expected 1, 3 or 4");
   }
 }
 
-void depthFromU16(const cv::Mat& raw, double metres_per_unit, Image<float>& out, std::uint16_t also_invalid) {
+void depthFromU16(const cv::Mat& raw, double metres_per_unit, Image<float>& out,
+                  std::uint16_t also_invalid) {
   out.resize(raw.cols, raw.rows);
   const float k = float(metres_per_unit);
   for (int y = 0; y < raw.rows; ++y) {
@@ -67,8 +75,9 @@ cv::Mat readDepthU16(const std::string& path, const std::string& what) {
   cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);
   if (m.empty()) throwInputError(what + " " + path, "cannot decode the image");
   if (m.type() != CV_16UC1)
-    throwInputError(what + " " + path, "expected a 16-bit single-channel depth PNG, got OpenCV type " +
-                                           std::to_string(m.type()));
+    throwInputError(
+        what + " " + path,
+        "expected a 16-bit single-channel depth PNG, got OpenCV type " + std::to_string(m.type()));
   return m;
 }
 

@@ -24,7 +24,8 @@ namespace fs = std::filesystem;
 
 namespace rasm::io {
 
-const char* const kRawlogGroundTruthMarker = "rasm: sensorPose holds the ground-truth T_world_sensor";
+const char* const kRawlogGroundTruthMarker =
+    "rasm: sensorPose holds the ground-truth T_world_sensor";
 const char* const kRawlogNoGroundTruthMarker = "rasm: sensorPose holds no ground truth";
 
 struct RawlogFrameSource::Impl {
@@ -37,8 +38,8 @@ struct RawlogFrameSource::Impl {
   std::size_t entries = 0, frames = 0;
   bool eof = false;
   enum class Marker { None, GroundTruth, NoGroundTruth } gt_marker = Marker::None;
-  std::optional<Eigen::Vector3d> odometry;      // consumed by the next frame
-  mrpt::poses::CPose2D odometry_from_actions;   // composition of CActionRobotMovement2D increments
+  std::optional<Eigen::Vector3d> odometry;     // consumed by the next frame
+  mrpt::poses::CPose2D odometry_from_actions;  // composition of CActionRobotMovement2D increments
   std::set<std::string> range_scan_labels;
 
   std::string frameContext() const {
@@ -67,7 +68,9 @@ RawlogFrameSource::RawlogFrameSource(const std::string& path, const RawlogSource
   if (!std::filesystem::is_regular_file(path)) throwInputError("rawlog " + path, "file not found");
   std::string err;
   if (!impl_->file.open(path, err)) throwInputError("rawlog " + path, "cannot open: " + err);
-  impl_->ar = std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZInputStream>>(impl_->file);
+  impl_->ar =
+      std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZInputStream>>(
+          impl_->file);
   impl_->images_dir = imagesDirectoryOf(path);
 }
 
@@ -78,14 +81,17 @@ std::size_t RawlogFrameSource::entriesRead() const { return impl_->entries; }
 
 static bool isIdentity(const mrpt::poses::CPose3D& p) {
   return p.translation().norm() < 1e-9 &&
-         (p.getRotationMatrix().asEigen() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-9;
+         (p.getRotationMatrix().asEigen() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <
+             1e-9;
 }
 
 std::optional<RgbdFrame> RawlogFrameSource::Impl::handle(const mrpt::obs::CObservation::Ptr& o) {
   using namespace mrpt::obs;
   if (const auto c = std::dynamic_pointer_cast<CObservationComment>(o)) {
-    if (c->text.find(kRawlogGroundTruthMarker) != std::string::npos) gt_marker = Marker::GroundTruth;
-    if (c->text.find(kRawlogNoGroundTruthMarker) != std::string::npos) gt_marker = Marker::NoGroundTruth;
+    if (c->text.find(kRawlogGroundTruthMarker) != std::string::npos)
+      gt_marker = Marker::GroundTruth;
+    if (c->text.find(kRawlogNoGroundTruthMarker) != std::string::npos)
+      gt_marker = Marker::NoGroundTruth;
     return std::nullopt;
   }
   if (const auto od = std::dynamic_pointer_cast<CObservationOdometry>(o)) {
@@ -109,10 +115,15 @@ std::optional<RgbdFrame> RawlogFrameSource::Impl::handle(const mrpt::obs::CObser
   }
   bool gt = false;
   switch (opt.ground_truth) {
-    case RawlogSourceOptions::GroundTruthPolicy::Always: gt = true; break;
-    case RawlogSourceOptions::GroundTruthPolicy::Never: gt = false; break;
+    case RawlogSourceOptions::GroundTruthPolicy::Always:
+      gt = true;
+      break;
+    case RawlogSourceOptions::GroundTruthPolicy::Never:
+      gt = false;
+      break;
     case RawlogSourceOptions::GroundTruthPolicy::Auto:
-      gt = gt_marker == Marker::None ? !isIdentity(scan->sensorPose) : gt_marker == Marker::GroundTruth;
+      gt = gt_marker == Marker::None ? !isIdentity(scan->sensorPose)
+                                     : gt_marker == Marker::GroundTruth;
       break;
   }
   ObservationToFrameOptions conv;
@@ -161,7 +172,8 @@ std::optional<RgbdFrame> RawlogFrameSource::next() {
       }
       return std::nullopt;
     } catch (const std::exception& e) {
-      throwInputError(m.frameContext(), "corrupt or truncated rawlog: " + detail::shortMrptMessage(e.what()));
+      throwInputError(m.frameContext(),
+                      "corrupt or truncated rawlog: " + detail::shortMrptMessage(e.what()));
     }
     ++m.entries;
     if (const auto o = std::dynamic_pointer_cast<CObservation>(obj)) {

@@ -58,7 +58,8 @@ RawlogWriter::RawlogWriter(const std::string& path, const RawlogWriterOptions& o
   std::string err;
   if (!m.file.open(m.part, std::clamp(opt.compression_level, 0, 9), err))
     throwInputError("rawlog " + path, "cannot open " + m.part + " for writing: " + err);
-  m.ar = std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZOutputStream>>(m.file);
+  m.ar = std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZOutputStream>>(
+      m.file);
   m.open = true;
   // Images go where MRPT looks for them (imagesDirectoryOf: "<dir>/<stem>_Images").
   const fs::path p(path);
@@ -105,13 +106,16 @@ void RawlogWriter::write(const RgbdFrame& frame) {
     if (!fs::is_directory(m.images_dir)) {
       std::error_code ec;
       fs::create_directories(m.images_dir, ec);
-      if (ec) throwInputError("rawlog images folder " + m.images_dir.string(), "cannot create: " + ec.message());
+      if (ec)
+        throwInputError("rawlog images folder " + m.images_dir.string(),
+                        "cannot create: " + ec.message());
       m.created_images_dir = true;
     }
     char name[128];
     std::snprintf(name, sizeof(name), "%s_%06zu.png", m.opt.sensor_label.c_str(), m.frames);
     const std::string file = (m.images_dir / name).string();
-    if (!obs.intensityImage.saveToFile(file)) throwInputError("rawlog image " + file, "cannot write");
+    if (!obs.intensityImage.saveToFile(file))
+      throwInputError("rawlog image " + file, "cannot write");
     obs.intensityImage.setExternalStorage(name);  // relative to the images folder
   }
   m.put(obs);

@@ -18,14 +18,15 @@ namespace {
 // them through text).
 bool sameIntrinsics(const CameraIntrinsics& a, const CameraIntrinsics& b) {
   const double eps = 1e-6;
-  return std::abs(a.fx - b.fx) < eps && std::abs(a.fy - b.fy) < eps && std::abs(a.cx - b.cx) < eps &&
-         std::abs(a.cy - b.cy) < eps && a.width == b.width && a.height == b.height;
+  return std::abs(a.fx - b.fx) < eps && std::abs(a.fy - b.fy) < eps &&
+         std::abs(a.cx - b.cx) < eps && std::abs(a.cy - b.cy) < eps && a.width == b.width &&
+         a.height == b.height;
 }
 
 }  // namespace
 
-RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs, const std::string& source,
-                               const ObservationToFrameOptions& opt) {
+RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs,
+                               const std::string& source, const ObservationToFrameOptions& opt) {
   if (!obs.hasRangeImage)
     throwInputError(source, "CObservation3DRangeScan '" + obs.sensorLabel +
                                 "' has no range image (hasRangeImage = false)");
@@ -37,7 +38,8 @@ RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs, co
   RgbdFrame f;
   f.intrinsics = CameraIntrinsics::fromTCamera(obs.cameraParams);
   if (!f.intrinsics.valid())
-    throwInputError(source, "depth camera intrinsics (cameraParams) are invalid: " + f.intrinsics.toString());
+    throwInputError(
+        source, "depth camera intrinsics (cameraParams) are invalid: " + f.intrinsics.toString());
 
   // Depth (II-A, D_t). rangeImage is row-major (r, c).
   f.depth_m.resize(W, H);
@@ -84,8 +86,8 @@ RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs, co
       // relativePoseIntensityWRTDepth = T_depthSensor_colourOptical (depthSensor: MRPT +X forward).
       const Eigen::Isometry3d T_depthOpt_colourOpt =
           T_mrptSensor_optical().inverse() * fromCPose3D(obs.relativePoseIntensityWRTDepth);
-      detail::registerColourToDepthFilled(f.depth_m, f.intrinsics, colour, Kc, T_depthOpt_colourOpt.inverse(),
-                                          f.colour);
+      detail::registerColourToDepthFilled(f.depth_m, f.intrinsics, colour, Kc,
+                                          T_depthOpt_colourOpt.inverse(), f.colour);
     }
   }
 

@@ -30,7 +30,9 @@ CameraIntrinsics readIntrinsicsFile(const std::string& path) {
   std::vector<double> v;
   for (const auto& l : detail::readFieldLines(path, "7-Scenes intrinsics"))
     for (const auto& f : l.fields) v.push_back(detail::parseDouble(f, path, l.number, "K entry"));
-  if (v.size() != 9) throwInputError(path, "expected a 3x3 camera matrix (9 numbers), got " + std::to_string(v.size()));
+  if (v.size() != 9)
+    throwInputError(path,
+                    "expected a 3x3 camera matrix (9 numbers), got " + std::to_string(v.size()));
   CameraIntrinsics K;
   K.fx = v[0];
   K.cx = v[2];
@@ -53,15 +55,19 @@ std::optional<Eigen::Isometry3d> readPoseFile(const std::string& path) {
         throwInputError(detail::where(path, l.number), "'" + f + "' is not a number");
       v.push_back(x);
     }
-  if (v.size() != 16) throwInputError(path, "expected a 4x4 matrix (16 numbers), got " + std::to_string(v.size()));
-  if (!std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); })) return std::nullopt;
+  if (v.size() != 16)
+    throwInputError(path, "expected a 4x4 matrix (16 numbers), got " + std::to_string(v.size()));
+  if (!std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }))
+    return std::nullopt;
   Eigen::Matrix4d M;
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) M(r, c) = v[r * 4 + c];
   const Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
-  if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-3 || R.determinant() < 0 ||
+  if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-3 ||
+      R.determinant() < 0 ||
       (M.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-6)
-    throwInputError(path, "not a rigid transform (rotation not orthonormal or last row not 0 0 0 1)");
+    throwInputError(path,
+                    "not a rigid transform (rotation not orthonormal or last row not 0 0 0 1)");
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.matrix() = M;
   return orthonormalize(T);
@@ -69,16 +75,17 @@ std::optional<Eigen::Isometry3d> readPoseFile(const std::string& path) {
 
 }  // namespace
 
-SevenScenesSourceOptions::ColourRegistration SevenScenesSourceOptions::approximateKinectV1Calibration() {
+SevenScenesSourceOptions::ColourRegistration
+SevenScenesSourceOptions::approximateKinectV1Calibration() {
   ColourRegistration r;
   r.K_colour = CameraIntrinsics(525.0, 525.0, 320.0, 240.0, 640, 480);
   // Depth (IR) camera -> colour camera, metres; LIRIS Kinect calibration
   // (projet.liris.cnrs.fr/voir/activities-dataset/kinect-calibration.html).
   Eigen::Matrix4d M;
-  M << 9.9996518012567637e-01, 2.6765126468950343e-03, -7.9041012313000904e-03, -2.5558943178152542e-02,
-      -2.7409311281316700e-03, 9.9996302803027592e-01, -8.1504520778013286e-03, 1.0109636268061706e-04,
-      7.8819942130445332e-03, 8.1718328771890631e-03, 9.9993554558014031e-01, 2.0318321729487039e-03,
-      0, 0, 0, 1;
+  M << 9.9996518012567637e-01, 2.6765126468950343e-03, -7.9041012313000904e-03,
+      -2.5558943178152542e-02, -2.7409311281316700e-03, 9.9996302803027592e-01,
+      -8.1504520778013286e-03, 1.0109636268061706e-04, 7.8819942130445332e-03,
+      8.1718328771890631e-03, 9.9993554558014031e-01, 2.0318321729487039e-03, 0, 0, 0, 1;
   r.T_colour_depth.matrix() = M;
   r.T_colour_depth = orthonormalize(r.T_colour_depth);
   return r;
@@ -106,7 +113,8 @@ bool SevenScenesFrameSource::looksLikeSevenScenesFolder(const std::string& folde
   return false;
 }
 
-SevenScenesFrameSource::SevenScenesFrameSource(const std::string& folder, const SevenScenesSourceOptions& opt)
+SevenScenesFrameSource::SevenScenesFrameSource(const std::string& folder,
+                                               const SevenScenesSourceOptions& opt)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.folder = folder;
@@ -124,10 +132,14 @@ SevenScenesFrameSource::SevenScenesFrameSource(const std::string& folder, const 
     if (e.is_directory() && name.rfind("seq-", 0) == 0) has_seq_subfolders = true;
   }
   if (m.frames.empty())
-    throwInputError(what, std::string("missing frame-000000.depth.png (a 7-Scenes sequence folder holds "
-                                      "frame-NNNNNN.color.png|jpg, .depth.png and .pose.txt)") +
-                              (has_seq_subfolders ? "; this looks like a scene folder: pass one of its seq-NN folders" : ""));
-  std::sort(m.frames.begin(), m.frames.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
+    throwInputError(
+        what,
+        std::string("missing frame-000000.depth.png (a 7-Scenes sequence folder holds "
+                    "frame-NNNNNN.color.png|jpg, .depth.png and .pose.txt)") +
+            (has_seq_subfolders ? "; this looks like a scene folder: pass one of its seq-NN folders"
+                                : ""));
+  std::sort(m.frames.begin(), m.frames.end(),
+            [](const auto& a, const auto& b) { return a.index < b.index; });
 
   const fs::path first = fs::path(folder) / m.frames[0].stem;
   for (const char* ext : {".color.png", ".color.jpg"})
@@ -167,17 +179,20 @@ std::optional<RgbdFrame> SevenScenesFrameSource::next() {
   f.timestamp_s = double(e.index) / m.opt.frame_rate_hz;
   f.intrinsics = m.K;
   // Millimetres; 0 and 65535 mark missing measurements.
-  detail::depthFromU16(detail::readDepthU16(base + ".depth.png", "7-Scenes depth image"), 1e-3, f.depth_m, 65535);
+  detail::depthFromU16(detail::readDepthU16(base + ".depth.png", "7-Scenes depth image"), 1e-3,
+                       f.depth_m, 65535);
   const cv::Mat bgr = detail::readColourImage(base + m.colour_ext, "7-Scenes colour image");
   if (m.opt.register_colour) {
     Image<Bgr8> raw;
     detail::colourFromMat(bgr, raw, ctx);
-    const auto cal = m.opt.colour_registration ? *m.opt.colour_registration
-                                               : SevenScenesSourceOptions::approximateKinectV1Calibration();
+    const auto cal = m.opt.colour_registration
+                         ? *m.opt.colour_registration
+                         : SevenScenesSourceOptions::approximateKinectV1Calibration();
     CameraIntrinsics Kc = cal.K_colour;
     Kc.width = raw.width();
     Kc.height = raw.height();
-    detail::registerColourToDepthFilled(f.depth_m, f.intrinsics, raw, Kc, cal.T_colour_depth, f.colour);
+    detail::registerColourToDepthFilled(f.depth_m, f.intrinsics, raw, Kc, cal.T_colour_depth,
+                                        f.colour);
   } else {
     detail::colourFromMat(bgr, f.colour, ctx);
   }

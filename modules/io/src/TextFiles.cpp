@@ -36,7 +36,8 @@ std::vector<TextLine> readFieldLines(const std::string& path, const std::string&
   return out;
 }
 
-double parseDouble(const std::string& text, const std::string& path, int line, const std::string& field) {
+double parseDouble(const std::string& text, const std::string& path, int line,
+                   const std::string& field) {
   const char* b = text.c_str();
   char* e = nullptr;
   errno = 0;

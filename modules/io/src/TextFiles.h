@@ -17,7 +17,8 @@ struct TextLine {
 std::vector<TextLine> readFieldLines(const std::string& path, const std::string& what);
 
 /// Parses a double; throws InputError "<path>:<line>: <field name> '<text>' is not a number".
-double parseDouble(const std::string& text, const std::string& path, int line, const std::string& field);
+double parseDouble(const std::string& text, const std::string& path, int line,
+                   const std::string& field);
 
 /// "<path>:<line>"
 std::string where(const std::string& path, int line);

@@ -10,7 +10,8 @@ namespace rasm::io {
 
 std::vector<std::pair<std::size_t, std::size_t>> associateTimestamps(const std::vector<double>& a,
                                                                      const std::vector<double>& b,
-                                                                     double max_dt_s, double offset_s) {
+                                                                     double max_dt_s,
+                                                                     double offset_s) {
   std::vector<std::size_t> bi(b.size());
   std::iota(bi.begin(), bi.end(), 0);
   std::sort(bi.begin(), bi.end(), [&](std::size_t x, std::size_t y) { return b[x] < b[y]; });

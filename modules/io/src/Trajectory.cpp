@@ -34,8 +34,9 @@ Trajectory readTumTrajectory(const std::string& path) {
     p.T_world_cam.translation() = Eigen::Vector3d(v[1], v[2], v[3]);
     traj.push_back(p);
   }
-  std::stable_sort(traj.begin(), traj.end(),
-                   [](const StampedPose& a, const StampedPose& b) { return a.timestamp_s < b.timestamp_s; });
+  std::stable_sort(traj.begin(), traj.end(), [](const StampedPose& a, const StampedPose& b) {
+    return a.timestamp_s < b.timestamp_s;
+  });
   return traj;
 }
 
@@ -45,14 +46,16 @@ std::string formatTumLine(const StampedPose& p) {
   if (q.w() < 0) q.coeffs() = -q.coeffs();  // canonical sign, stable diffs between runs
   const Eigen::Vector3d t = p.T_world_cam.translation();
   char buf[256];
-  std::snprintf(buf, sizeof(buf), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f", p.timestamp_s, t.x(), t.y(),
-                t.z(), q.x(), q.y(), q.z(), q.w());
+  std::snprintf(buf, sizeof(buf), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f", p.timestamp_s, t.x(),
+                t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
   return buf;
 }
 
 static std::FILE* openForWrite(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) throwInputError("trajectory " + path, std::string("cannot open for writing: ") + std::strerror(errno));
+  if (!f)
+    throwInputError("trajectory " + path,
+                    std::string("cannot open for writing: ") + std::strerror(errno));
   return f;
 }
 
@@ -61,14 +64,16 @@ static void writeHeader(std::FILE* f, const std::string& header_comment) {
   std::size_t pos = 0;
   while (pos < h.size()) {
     const std::size_t e = h.find('\n', pos);
-    std::fprintf(f, "# %s\n", h.substr(pos, e == std::string::npos ? std::string::npos : e - pos).c_str());
+    std::fprintf(f, "# %s\n",
+                 h.substr(pos, e == std::string::npos ? std::string::npos : e - pos).c_str());
     if (e == std::string::npos) break;
     pos = e + 1;
   }
   std::fprintf(f, "# timestamp tx ty tz qx qy qz qw\n");
 }
 
-void writeTumTrajectory(const std::string& path, const Trajectory& traj, const std::string& header_comment) {
+void writeTumTrajectory(const std::string& path, const Trajectory& traj,
+                        const std::string& header_comment) {
   const std::string part = path + ".part";
   std::FILE* f = openForWrite(part);
   writeHeader(f, header_comment);
@@ -83,10 +88,12 @@ void writeTumTrajectory(const std::string& path, const Trajectory& traj, const s
   if (ec) throwInputError("trajectory " + path, "cannot rename from " + part + ": " + ec.message());
 }
 
-std::optional<Eigen::Isometry3d> interpolatePose(const Trajectory& traj, double t, double max_dt_s) {
+std::optional<Eigen::Isometry3d> interpolatePose(const Trajectory& traj, double t,
+                                                 double max_dt_s) {
   if (traj.empty()) return std::nullopt;
-  const auto it = std::lower_bound(traj.begin(), traj.end(), t,
-                                   [](const StampedPose& p, double v) { return p.timestamp_s < v; });
+  const auto it = std::lower_bound(traj.begin(), traj.end(), t, [](const StampedPose& p, double v) {
+    return p.timestamp_s < v;
+  });
   if (it == traj.end()) {
     const auto& last = traj.back();
     if (std::abs(t - last.timestamp_s) <= max_dt_s) return last.T_world_cam;

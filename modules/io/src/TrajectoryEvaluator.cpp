@@ -39,7 +39,8 @@ void alignUmeyama(const std::vector<Eigen::Vector3d>& src, const std::vector<Eig
   for (std::size_t i = 0; i < src.size(); ++i) mu_s += src[i], mu_d += dst[i];
   mu_s /= n;
   mu_d /= n;
-  // Cross-covariance Sigma = 1/n sum (d - mu_d)(s - mu_s)^T and source variance (Umeyama eq. 38-42).
+  // Cross-covariance Sigma = 1/n sum (d - mu_d)(s - mu_s)^T and source variance (Umeyama eq.
+  // 38-42).
   Eigen::Matrix3d Sigma = Eigen::Matrix3d::Zero();
   double var_s = 0;
   for (std::size_t i = 0; i < src.size(); ++i) {
@@ -67,8 +68,9 @@ std::vector<double> stampsOf(const Trajectory& tr) {
 }
 
 Trajectory sortedByTime(Trajectory tr) {
-  std::stable_sort(tr.begin(), tr.end(),
-                   [](const StampedPose& a, const StampedPose& b) { return a.timestamp_s < b.timestamp_s; });
+  std::stable_sort(tr.begin(), tr.end(), [](const StampedPose& a, const StampedPose& b) {
+    return a.timestamp_s < b.timestamp_s;
+  });
   return tr;
 }
 
@@ -88,14 +90,15 @@ double medianPeriod(const std::vector<double>& sorted) {
 
 }  // namespace
 
-AteResult TrajectoryEvaluator::computeAte(const Trajectory& ground_truth, const Trajectory& estimate,
-                                          const AteOptions& opt) {
-  const auto pairs = associateTimestamps(stampsOf(ground_truth), stampsOf(estimate), opt.max_dt_s, opt.offset_s);
+AteResult TrajectoryEvaluator::computeAte(const Trajectory& ground_truth,
+                                          const Trajectory& estimate, const AteOptions& opt) {
+  const auto pairs =
+      associateTimestamps(stampsOf(ground_truth), stampsOf(estimate), opt.max_dt_s, opt.offset_s);
   const std::size_t need = opt.align ? 3 : 1;
   if (pairs.size() < need) {
     std::ostringstream s;
-    s << "only " << pairs.size() << " pose pairs associate within " << opt.max_dt_s << " s (need " << need
-      << "); ground truth: " << span(ground_truth) << "; estimate: " << span(estimate);
+    s << "only " << pairs.size() << " pose pairs associate within " << opt.max_dt_s << " s (need "
+      << need << "); ground truth: " << span(ground_truth) << "; estimate: " << span(estimate);
     throwInputError("ATE", s.str());
   }
   std::vector<Eigen::Vector3d> p_gt, p_est;
@@ -114,17 +117,19 @@ AteResult TrajectoryEvaluator::computeAte(const Trajectory& ground_truth, const 
   r.T_gt_est.linear() = R;
   r.T_gt_est.translation() = t;
   r.scale = s;
-  for (std::size_t k = 0; k < p_gt.size(); ++k) r.errors_m.push_back((p_gt[k] - (s * R * p_est[k] + t)).norm());
+  for (std::size_t k = 0; k < p_gt.size(); ++k)
+    r.errors_m.push_back((p_gt[k] - (s * R * p_est[k] + t)).norm());
   r.translation_m = ErrorStats::of(r.errors_m);
   return r;
 }
 
-RpeResult TrajectoryEvaluator::computeRpe(const Trajectory& ground_truth_in, const Trajectory& estimate_in,
-                                          const RpeOptions& opt) {
+RpeResult TrajectoryEvaluator::computeRpe(const Trajectory& ground_truth_in,
+                                          const Trajectory& estimate_in, const RpeOptions& opt) {
   if (!(opt.delta > 0)) throwInputError("RPE", "delta must be > 0");
   const Trajectory gt = sortedByTime(ground_truth_in), est = sortedByTime(estimate_in);
   if (gt.size() < 2 || est.size() < 2)
-    throwInputError("RPE", "needs >= 2 poses in each trajectory; ground truth: " + span(gt) + "; estimate: " + span(est));
+    throwInputError("RPE", "needs >= 2 poses in each trajectory; ground truth: " + span(gt) +
+                               "; estimate: " + span(est));
   const std::vector<double> ts_gt = stampsOf(gt), ts_est = stampsOf(est);
   // Ground-truth lookups as evaluate_rpe.py: the nearest stamp, within twice the median period.
   const double gt_max_dt = 2.0 * medianPeriod(ts_gt);

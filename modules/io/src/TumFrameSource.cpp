@@ -48,13 +48,15 @@ struct TumFrameSource::Impl {
 };
 
 bool TumFrameSource::looksLikeTumFolder(const std::string& folder) {
-  return fs::is_regular_file(fs::path(folder) / "rgb.txt") && fs::is_regular_file(fs::path(folder) / "depth.txt");
+  return fs::is_regular_file(fs::path(folder) / "rgb.txt") &&
+         fs::is_regular_file(fs::path(folder) / "depth.txt");
 }
 
 CameraIntrinsics TumFrameSource::intrinsicsForFolderName(const std::string& folder) {
   std::string name = fs::path(folder).lexically_normal().filename().string();
   if (name.empty()) name = fs::path(folder).lexically_normal().parent_path().filename().string();
-  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  std::transform(name.begin(), name.end(), name.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
   // "rgbd_dataset_freiburg1_xyz", "fr1_xyz_first37", "freiburg3_cabinet", ...
   static const std::regex re("(^|[^a-z0-9])(freiburg|fr)([123])([^0-9]|$)");
   std::smatch m;
@@ -67,13 +69,15 @@ TumFrameSource::TumFrameSource(const std::string& folder, const TumSourceOptions
   Impl& m = *impl_;
   m.folder = folder;
   m.opt = opt;
-  if (!fs::is_directory(folder)) throwInputError("TUM folder " + folder, "not found (or not a folder)");
+  if (!fs::is_directory(folder))
+    throwInputError("TUM folder " + folder, "not found (or not a folder)");
   for (const char* f : {"rgb.txt", "depth.txt"})
     if (!fs::is_regular_file(fs::path(folder) / f))
-      throwInputError("TUM folder " + folder,
-                      std::string("missing ") + f +
-                          " (a TUM RGB-D sequence has rgb.txt, depth.txt, rgb/, depth/ and optionally "
-                          "groundtruth.txt)");
+      throwInputError(
+          "TUM folder " + folder,
+          std::string("missing ") + f +
+              " (a TUM RGB-D sequence has rgb.txt, depth.txt, rgb/, depth/ and optionally "
+              "groundtruth.txt)");
   if (!(opt.depth_factor > 0)) throwInputError("TUM folder " + folder, "depth_factor must be > 0");
 
   const auto rgb = readImageList((fs::path(folder) / "rgb.txt").string());
@@ -84,10 +88,10 @@ TumFrameSource::TumFrameSource(const std::string& folder, const TumSourceOptions
   for (const auto& [i, j] : associateTimestamps(trgb, tdepth, opt.max_association_dt_s))
     m.pairs.push_back({rgb[i], depth[j]});
   if (m.pairs.empty())
-    throwInputError("TUM folder " + folder, "no rgb/depth pair within " +
-                                                std::to_string(opt.max_association_dt_s) + " s (rgb.txt " +
-                                                std::to_string(rgb.size()) + " entries, depth.txt " +
-                                                std::to_string(depth.size()) + ")");
+    throwInputError("TUM folder " + folder,
+                    "no rgb/depth pair within " + std::to_string(opt.max_association_dt_s) +
+                        " s (rgb.txt " + std::to_string(rgb.size()) + " entries, depth.txt " +
+                        std::to_string(depth.size()) + ")");
 
   const fs::path gt = fs::path(folder) / "groundtruth.txt";
   if (fs::is_regular_file(gt)) m.groundtruth = readTumTrajectory(gt.string());
@@ -96,7 +100,8 @@ TumFrameSource::TumFrameSource(const std::string& folder, const TumSourceOptions
   if (m.K.fx <= 0 || m.K.fy == 0)
     throwInputError("TUM folder " + folder, "invalid intrinsics " + m.K.toString());
   // Image size from the first depth image (all frames must match it).
-  const cv::Mat first = detail::readDepthU16((fs::path(folder) / m.pairs[0].depth.file).string(), "TUM depth image");
+  const cv::Mat first =
+      detail::readDepthU16((fs::path(folder) / m.pairs[0].depth.file).string(), "TUM depth image");
   m.K.width = first.cols;
   m.K.height = first.rows;
   m.flip_rows = m.K.fy < 0;
@@ -113,20 +118,24 @@ std::string TumFrameSource::describe() const { return "TUM folder " + impl_->fol
 long long TumFrameSource::sizeHint() const { return (long long)impl_->pairs.size(); }
 
 const CameraIntrinsics& TumFrameSource::intrinsics() const { return impl_->K; }
+bool TumFrameSource::flipsRows() const { return impl_->flip_rows; }
 
 std::optional<RgbdFrame> TumFrameSource::next() {
   Impl& m = *impl_;
   if (m.next >= m.pairs.size()) return std::nullopt;
   const std::size_t idx = m.next++;
   const auto& p = m.pairs[idx];
-  const std::string ctx = describe() + ", frame " + std::to_string(idx) + " (depth " + p.depth.file + ")";
+  const std::string ctx =
+      describe() + ", frame " + std::to_string(idx) + " (depth " + p.depth.file + ")";
 
   RgbdFrame f;
   f.index = idx;
   f.timestamp_s = p.depth.t;
-  const cv::Mat raw = detail::readDepthU16((fs::path(m.folder) / p.depth.file).string(), "TUM depth image");
+  const cv::Mat raw =
+      detail::readDepthU16((fs::path(m.folder) / p.depth.file).string(), "TUM depth image");
   detail::depthFromU16(raw, 1.0 / m.opt.depth_factor, f.depth_m);
-  const cv::Mat bgr = detail::readColourImage((fs::path(m.folder) / p.rgb.file).string(), "TUM colour image");
+  const cv::Mat bgr =
+      detail::readColourImage((fs::path(m.folder) / p.rgb.file).string(), "TUM colour image");
   detail::colourFromMat(bgr, f.colour, ctx);
 
   f.intrinsics = m.K;

@@ -31,6 +31,7 @@ using ConvertProgressFn = std::function<void(std::size_t done, long long total)>
 std::string groundTruthPathFor(const std::string& rawlog_path);
 
 ConvertResult convertToRawlog(FrameSource& source, const std::string& rawlog_path,
-                              const ConvertOptions& opt = {}, const ConvertProgressFn& progress = {});
+                              const ConvertOptions& opt = {},
+                              const ConvertProgressFn& progress = {});
 
 }  // namespace rasm::io

@@ -37,8 +37,9 @@ struct FrameSourceOptions {
 /// Opens a rawlog file, a TUM/ICL-NUIM sequence folder or a 7-Scenes folder, by inspecting the
 /// path. `intrinsics_override` replaces the intrinsics for TUM-format folders (ICL-NUIM, other
 /// freiburg cameras). Throws InputError naming the path and what was expected.
+std::unique_ptr<FrameSource> openFrameSource(
+    const std::string& path, const std::optional<CameraIntrinsics>& intrinsics_override = {});
 std::unique_ptr<FrameSource> openFrameSource(const std::string& path,
-                                             const std::optional<CameraIntrinsics>& intrinsics_override = {});
-std::unique_ptr<FrameSource> openFrameSource(const std::string& path, const FrameSourceOptions& opt);
+                                             const FrameSourceOptions& opt);
 
 }  // namespace rasm::io

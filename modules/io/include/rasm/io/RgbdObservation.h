@@ -22,7 +22,8 @@ struct ObservationToFrameOptions {
 /// storage). `source` names the observation in error messages ("rawlog x.rawlog, frame 3").
 /// Leaves timestamp_s, index, odometry to the caller. Throws InputError for missing range image,
 /// mismatched sizes, invalid intrinsics or non-finite depth.
-RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs, const std::string& source,
+RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs,
+                               const std::string& source,
                                const ObservationToFrameOptions& opt = {});
 
 struct FrameToObservationOptions {

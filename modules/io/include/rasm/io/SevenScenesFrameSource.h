@@ -44,7 +44,8 @@ struct SevenScenesSourceOptions {
 
 class SevenScenesFrameSource : public FrameSource {
  public:
-  explicit SevenScenesFrameSource(const std::string& folder, const SevenScenesSourceOptions& opt = {});
+  explicit SevenScenesFrameSource(const std::string& folder,
+                                  const SevenScenesSourceOptions& opt = {});
   ~SevenScenesFrameSource() override;
 
   std::optional<RgbdFrame> next() override;

@@ -36,7 +36,8 @@ std::string formatTumLine(const StampedPose& p);
 /// samples bracketing t, when the nearest sample is within max_dt_s (the benchmark's association
 /// tolerance); the nearest sample when t lies outside the trajectory but within max_dt_s of its
 /// end; std::nullopt otherwise. `traj` must be sorted by time.
-std::optional<Eigen::Isometry3d> interpolatePose(const Trajectory& traj, double t, double max_dt_s = 0.02);
+std::optional<Eigen::Isometry3d> interpolatePose(const Trajectory& traj, double t,
+                                                 double max_dt_s = 0.02);
 
 /// Appends poses to a TUM file as they come (flushed per line), for long runs.
 class TumTrajectoryWriter {

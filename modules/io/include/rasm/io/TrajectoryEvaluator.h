@@ -6,11 +6,12 @@
 //    per-pose translation residuals.
 //  - RPE (relative pose error, evaluate_rpe.py with --fixed_delta): for every estimate pose i the
 //    pose j nearest to `delta` later (seconds: within half the median estimate period, so
-//    intervals are not shortened at the end or across gaps; or exactly `delta` frames), E_ij = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j) with Q
-//    ground truth and P estimate (the paper's eq. 1), its translation norm (m) and rotation angle
-//    (deg); ground-truth poses are the nearest stamps within twice the median ground-truth period.
-//    evaluate_rpe.py composes the two relative motions in the opposite order, which changes the
-//    translational error only at second order (rotation error x distance).
+//    intervals are not shortened at the end or across gaps; or exactly `delta` frames), E_ij =
+//    (Q_i^-1 Q_j)^-1 (P_i^-1 P_j) with Q ground truth and P estimate (the paper's eq. 1), its
+//    translation norm (m) and rotation angle (deg); ground-truth poses are the nearest stamps
+//    within twice the median ground-truth period. evaluate_rpe.py composes the two relative motions
+//    in the opposite order, which changes the translational error only at second order (rotation
+//    error x distance).
 
 #include <Eigen/Geometry>
 #include <cstddef>
@@ -50,7 +51,7 @@ struct RpeOptions {
 };
 
 struct RpeResult {
-  ErrorStats translation_m;    ///< per interval `delta`
+  ErrorStats translation_m;  ///< per interval `delta`
   ErrorStats rotation_deg;
   std::size_t pairs = 0;
 };

@@ -2,8 +2,9 @@
 // Frames from a TUM RGB-D benchmark sequence folder (Sturm et al. 2012), also ICL-NUIM in its
 // TUM-compatible layout:
 //   rgb.txt, depth.txt      "timestamp filename" per line, '#' comments
-//   rgb/*.png, depth/*.png  8-bit colour; 16-bit depth, depth_factor (5000) units per metre, 0 = none
-//   groundtruth.txt         optional, "t tx ty tz qx qy qz qw" (T_world_cam of the colour camera)
+//   rgb/*.png, depth/*.png  8-bit colour; 16-bit depth, depth_factor (5000) units per metre, 0 =
+//   none groundtruth.txt         optional, "t tx ty tz qx qy qz qw" (T_world_cam of the colour
+//   camera)
 //
 // Association (associate.py): rgb and depth stamps are paired greedily by smallest |dt| below
 // max_association_dt_s (0.02 s), each used once, sorted by time; unpaired images are dropped.
@@ -54,6 +55,8 @@ class TumFrameSource : public FrameSource {
 
   /// Intrinsics the frames get (after the negative-fy handling).
   const CameraIntrinsics& intrinsics() const;
+  /// True when the given fy was negative and rows are flipped (see above).
+  bool flipsRows() const;
   /// Intrinsics picked from the folder name: tum_fr1/2/3 or tum_default.
   static CameraIntrinsics intrinsicsForFolderName(const std::string& folder);
   /// True when `folder` holds rgb.txt and depth.txt.
