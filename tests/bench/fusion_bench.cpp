@@ -3,12 +3,14 @@
 // initialises ~300k surfels, the later ones mostly associate and update. Optionally the map is
 // pre-filled with extra surfels out of view (--extra_surfels) to show that the cost does not grow
 // with the map size beyond the O(N) pruning scan.
-//   bench_fusion [--threads 2] [--frames 30] [--extra_surfels 700000] [--labels on] [--cuda off]
+//   bench_fusion [--threads 2] [--frames 30] [--extra_surfels 700000] [--labels on] [--view_bins on]
+//                [--carve on] [--cuda off]
 // Prints one JSON line: {"bench":"fusion",...}.
 #include <omp.h>
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -22,6 +24,8 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+/// Process CPU time (all threads), ms (see surfel_render_bench.cpp).
+double cpuMs() { return 1000.0 * double(std::clock()) / CLOCKS_PER_SEC; }
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v[v.size() / 2];
@@ -30,13 +34,15 @@ double median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
   int threads = 2, frames = 30, extra = 700000;
-  bool labels = true, use_cuda = false;
+  bool labels = true, use_cuda = false, view_bins = true, carve = true;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
     if (k == "--threads") threads = std::stoi(v);
     else if (k == "--frames") frames = std::stoi(v);
     else if (k == "--extra_surfels") extra = std::stoi(v);
     else if (k == "--labels") labels = v == "on";
+    else if (k == "--view_bins") view_bins = v == "on";
+    else if (k == "--carve") carve = v == "on";
     else if (k == "--cuda") use_cuda = v == "on";
     else {
       std::fprintf(stderr, "unknown option %s\n", k.c_str());
@@ -83,25 +89,39 @@ int main(int argc, char** argv) {
     map.indexAppended();
   }
 
-  fusion::SurfelFusion fusion(fusion::TFusionParams(), use_cuda ? compute::Backend::Cuda : compute::Backend::Cpu);
-  std::vector<double> t_steady;
+  fusion::TFusionParams params;
+  params.update_view_bins = view_bins;
+  params.carve_free_space = carve;
+  fusion::SurfelFusion fusion(params, use_cuda ? compute::Backend::Cuda : compute::Backend::Cpu);
+  std::vector<double> t_steady, t_index, t_update, t_add, t_cleanup, c_steady;
   double t_init = 0.0;
   fusion::FusionStats last;
   for (int k = 0; k <= frames; ++k) {
     const auto in = seq[k].input(labels ? &label_img : nullptr);
     const auto t0 = Clock::now();
+    const double c0 = cpuMs();
     last = fusion.fuse(map, in);
-    const double ms = msSince(t0);
-    if (k == 0) t_init = ms;
-    else t_steady.push_back(ms);
+    const double ms = msSince(t0), cms = cpuMs() - c0;
+    if (k == 0) {
+      t_init = ms;
+    } else {
+      t_steady.push_back(ms);
+      c_steady.push_back(cms);
+      t_index.push_back(last.ms_index_map);
+      t_update.push_back(last.ms_update);
+      t_add.push_back(last.ms_add);
+      t_cleanup.push_back(last.ms_cleanup);
+    }
   }
   std::printf(
       "{\"bench\":\"fusion\",\"threads\":%d,\"backend\":\"%s\",\"width\":%d,\"height\":%d,\"frames\":%d,"
       "\"labels\":%s,\"ms_first_frame_init\":%.2f,\"ms_per_frame_median\":%.2f,\"ms_per_frame_max\":%.2f,"
+      "\"cpu_ms_per_frame_median\":%.2f,\"ms_index_map\":%.2f,\"ms_update\":%.2f,\"ms_add\":%.2f,\"ms_cleanup\":%.2f,"
       "\"map_surfels\":%d,\"extra_out_of_view\":%d,\"last_valid\":%d,\"last_associated\":%d,"
       "\"last_fused\":%d,\"last_added\":%d,\"last_surfels_in_view\":%lld}\n",
       threads, use_cuda ? "cuda" : "cpu", K.width, K.height, frames, labels ? "true" : "false", t_init,
-      median(t_steady), t_steady.empty() ? 0.0 : *std::max_element(t_steady.begin(), t_steady.end()), map.size(),
+      median(t_steady), t_steady.empty() ? 0.0 : *std::max_element(t_steady.begin(), t_steady.end()),
+      median(c_steady), median(t_index), median(t_update), median(t_add), median(t_cleanup), map.size(),
       extra, last.valid_pixels, last.associated, last.fused, last.added, last.render.surfels_drawn);
   return 0;
 }

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -23,6 +24,9 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+/// Process CPU time (all threads), ms: with --threads 1 it is the single-core cost even when the
+/// machine is shared (wall time then includes waiting for a core).
+double cpuMs() { return 1000.0 * double(std::clock()) / CLOCKS_PER_SEC; }
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -120,21 +124,24 @@ int main(int argc, char** argv) {
   track.outputs = kRenderVertex | kRenderNormal;
   RenderOptions pts = all;
   pts.splat = false;
-  std::vector<double> t_splat, t_track, t_points, t_4x, t_cull;
+  std::vector<double> t_splat, t_track, t_points, t_4x, t_cull, c_splat, c_track, c_4x;
   std::vector<int> visible;
   for (int r = 0; r < repeats + 2; ++r) {  // 2 warm-up renders
     auto t0 = Clock::now();
+    double c0 = cpuMs();
     renderer.render(store, T, K, all, maps, &st_splat);
-    const double a = msSince(t0);
+    const double a = msSince(t0), ca = cpuMs() - c0;
     t0 = Clock::now();
+    c0 = cpuMs();
     renderer.render(store, T, K, track, maps, &st_track);
-    const double b = msSince(t0);
+    const double b = msSince(t0), cb = cpuMs() - c0;
     t0 = Clock::now();
     renderer.render(store, T, K, pts, maps);
     const double c = msSince(t0);
     t0 = Clock::now();
+    c0 = cpuMs();
     renderer.renderIndexMap4x(store, T, K, all, index4x, &st_4x);
-    const double d = msSince(t0);
+    const double d = msSince(t0), cd = cpuMs() - c0;
     t0 = Clock::now();
     renderer.collectVisible(store, T, K, all, all.max_splat_radius_px, visible);
     const double e = msSince(t0);
@@ -144,6 +151,9 @@ int main(int argc, char** argv) {
     t_points.push_back(c);
     t_4x.push_back(d);
     t_cull.push_back(e);
+    c_splat.push_back(ca);
+    c_track.push_back(cb);
+    c_4x.push_back(cd);
   }
   int covered = 0;
   for (int y = 0; y < K.height; ++y)
@@ -156,11 +166,12 @@ int main(int argc, char** argv) {
       "\"surfels\":%d,\"blocks\":%d,\"blocks_visited\":%d,\"surfels_tested\":%lld,\"surfels_in_view\":%lld,"
       "\"pixels_covered_points\":%d,\"ms_build_map\":%.1f,\"ms_splat_all_outputs\":%.2f,"
       "\"ms_splat_tracking\":%.2f,\"ms_points\":%.2f,\"ms_index4x\":%.2f,\"ms_cull_collect\":%.2f,"
+      "\"cpu_ms_splat_all_outputs\":%.2f,\"cpu_ms_splat_tracking\":%.2f,\"cpu_ms_index4x\":%.2f,"
       "\"bytes_per_surfel_arrays\":%zu,\"bytes_per_surfel_index\":%zu,\"bytes_per_surfel_held\":%.1f,"
       "\"peak_rss_mb\":%.1f,\"peak_rss_mb_per_million_surfels\":%.1f}\n",
       threads, use_cuda ? "cuda" : "cpu", K.width, K.height, store.size(), st_splat.blocks_total,
       st_splat.blocks_visited, st_splat.surfels_tested, st_splat.surfels_drawn, covered, build_ms, median(t_splat),
-      median(t_track), median(t_points), median(t_4x), median(t_cull),
+      median(t_track), median(t_points), median(t_4x), median(t_cull), median(c_splat), median(c_track), median(c_4x),
       SurfelStore::bytesPerSurfel(0, store.options().nViewBins()), SurfelStore::kIndexBytesPerSurfel,
       store.memoryBytes() / n, peak / 1048576.0, (peak - rss0) / 1048576.0 / (n / 1e6));
   return 0;

@@ -1,11 +1,13 @@
 #include "rasm/fusion/SurfelFusion.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
 #include "rasm/core/Error.h"
+#include "rasm/core/SurfelMath.h"
 #include "rasm/fusion/kernels/FusionKernels.h"
 
 namespace rasm::fusion {
@@ -104,8 +106,24 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   if (!map.hasTimeOrigin()) map.setTimeOrigin(in.timestamp_s);
   const float now = map.toMapTime(in.timestamp_s);
   const kernels::FusionKernelParams prm = plainParams(m_params, map.options());
-  const kernels::FrameView fv = frameView(in);
+  kernels::FrameView fv = frameView(in);
+  if (!(m_weight_K == in.K) || m_weight_sigma != m_params.confidence_sigma) {
+    // w = exp(-gamma^2 / (2 sigma^2)) (II-B) depends only on the pixel: tabulate it once.
+    m_weight.resize(w, h);
+    const PinholeF Kp = in.K.plain();
+    const float sigma = m_params.confidence_sigma;
+    compute::forEach2D(w, h, [&](int x, int y) {
+      m_weight(x, y) = confidenceWeight(normalizedRadialDistance(float(x), float(y), Kp), sigma);
+    });
+    m_weight_K = in.K;
+    m_weight_sigma = sigma;
+  }
+  fv.weight = m_weight.cview();
   const RigidF T_wc = toRigid(in.T_world_cam), T_cw = toRigid(in.T_world_cam.inverse());
+
+  using Clock = std::chrono::steady_clock;
+  const auto ms = [](Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); };
+  auto t0 = Clock::now();
 
   // 1. 4x point index map of every surfel in view (II-D).
   maps::RenderOptions ro;
@@ -115,6 +133,8 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   ro.splat = false;
   m_renderer.renderIndexMap4x(map, in.T_world_cam, in.K, ro, m_index4x, &st.render);
   m_index_fresh = true;
+  st.ms_index_map = ms(t0);
+  t0 = Clock::now();
 
   // 2. association + update, per pixel.
   m_pixel_surfel.resize(w, h);
@@ -133,6 +153,9 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     cuda::associateUpdate(au);
   else
     compute::forEach2D(w, h, au);
+
+  st.ms_update = ms(t0);
+  t0 = Clock::now();
 
   // 3. new surfels: per-row counts, exclusive prefix sum, row-parallel writes in pixel order.
   m_row_offset.assign(h + 1, 0);
@@ -172,12 +195,18 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     }
   }
   map.reindex(m_scratch);
+  st.ms_add = ms(t0);
   st.added = added;
   st.map_size = map.size();
   return st;
 }
 
 void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, FusionStats& st) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const auto finish = [&] {
+    st.map_size = map.size();
+    st.ms_cleanup += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
+  };
   const bool index_fresh = m_index_fresh;
   m_index_fresh = false;  // the view list refers to indices that the removal below invalidates
   const maps::SurfelArrays a = map.arrays();
@@ -238,13 +267,12 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
   st.removed_unstable = int(removed.size() - std::min(removed.size(), n_carved));
   // (a surfel both carved and old is counted as carved)
   if (removed.empty()) {
-    st.map_size = map.size();
+    finish();
     return;
   }
 
   std::vector<std::pair<int, int>> moved;
   map.remove(removed, &moved);
-  st.map_size = map.size();
 
   // Keep pixelSurfels() valid: removed -> -1, moved -> new index.
   std::sort(moved.begin(), moved.end());
@@ -265,6 +293,7 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
       }
     });
   }
+  finish();
 }
 
 #ifndef RASM_HAVE_CUDA

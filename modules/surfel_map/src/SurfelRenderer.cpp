@@ -29,6 +29,51 @@ ImageView<T> viewIf(bool wanted, Image<T>& img, int w, int h) {
   return img.view();
 }
 
+/// Row bands for the CPU launchers: each band's rows are depth-tested by one thread with plain
+/// (non-atomic) min writes, so no `lock cmpxchg` serialises the memory accesses. The minimum does
+/// not depend on the visiting order, so the result equals the atomic path's.
+int numBands(int rows, int per_thread) {
+  const int t = compute::maxThreads();
+  return t <= 1 ? 1 : std::min(rows, per_thread * t);
+}
+
+void splatCpu(const kernels::SplatKernel& k, int n, std::vector<kernels::SplatFootprint>& fp,
+              std::vector<std::uint32_t>& rows) {
+  constexpr std::uint32_t kNone = 0xffffffffu;
+  fp.resize(n);
+  rows.resize(n);
+  compute::forEach1D(n, [&](int j) {
+    rows[j] = k.footprint(j, fp[j]) ? (std::uint32_t(fp[j].y0) | (std::uint32_t(fp[j].y1) << 16)) : kNone;
+  });
+  const int h = k.packed.height, nb = numBands(h, 2);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int b = 0; b < nb; ++b) {
+    const int lo = int(std::int64_t(h) * b / nb), hi = int(std::int64_t(h) * (b + 1) / nb) - 1;
+    for (int j = 0; j < n; ++j) {
+      const std::uint32_t r = rows[j];
+      if (r == kNone) continue;
+      const int y0 = int(r & 0xffffu), y1 = int(r >> 16);
+      if (y1 < lo || y0 > hi) continue;
+      k.rasterize(fp[j], std::max(lo, y0), std::min(hi, y1), false);
+    }
+  }
+}
+
+void pointsCpu(const kernels::PointKernel& k, int n, std::int64_t* ids, std::vector<std::uint64_t>& values) {
+  values.resize(n);
+  compute::forEach1D(n, [&](int j) { ids[j] = k.target(j, values[j]); });
+  const int h = k.packed.height, w = k.packed.width, nb = numBands(h, 1);
+#pragma omp parallel for schedule(static, 1)
+  for (int b = 0; b < nb; ++b) {
+    const std::int64_t lo = std::int64_t(h) * b / nb * w, hi = std::int64_t(h) * (b + 1) / nb * w;
+    for (int j = 0; j < n; ++j) {
+      const std::int64_t id = ids[j];
+      if (id < lo || id >= hi) continue;
+      kernels::depthTest(&k.packed(int(id % w), int(id / w)), values[j], false);
+    }
+  }
+}
+
 }  // namespace
 
 void SurfelRenderer::collectVisible(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
@@ -41,11 +86,12 @@ void SurfelRenderer::collectVisible(const SurfelStore& map, const Eigen::Isometr
   const VoxelBlockIndex& index = map.spatialIndex();
 
   std::vector<int> blocks;
+  std::vector<std::uint8_t> inside;
   const CameraFrustum frustum = CameraFrustum::fromCamera(T_wc, Kp, opt.min_depth_m, opt.max_depth_m);
   // Grow the culling by the largest radius and by the pixel margin at the far plane.
   const float f_min = float(std::min(std::fabs(K.fx), std::fabs(K.fy)));
   const float margin_m = map.radiusBound() + margin_px / f_min * opt.max_depth_m;
-  index.blocksInFrustum(frustum, margin_m, blocks);
+  index.blocksInFrustum(frustum, margin_m, blocks, &inside);
 
   kernels::VisibilityTest test;
   test.s = map.arrays();
@@ -73,8 +119,13 @@ void SurfelRenderer::collectVisible(const SurfelStore& map, const Eigen::Isometr
     std::vector<int>& out = per_block_[j];
     out.clear();
     tested += (long long)members.size();
-    for (int i : members)
-      if (test(i)) out.push_back(i);
+    if (inside[j]) {  // every centre is in the frustum: only the attribute filters remain
+      for (int i : members)
+        if (test.attributes(i)) out.push_back(i);
+    } else {
+      for (int i : members)
+        if (test(i)) out.push_back(i);
+    }
   }
   std::size_t total = 0;
   for (int j = 0; j < nb; ++j) total += per_block_[j].size();
@@ -105,10 +156,11 @@ void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_w
     if (opt.splat) {
       kernels::SplatKernel k{arr, visible_.data(), T_cw, Kp, opt.min_depth_m, opt.max_depth_m,
                              opt.max_splat_radius_px, packed_.view()};
-      compute::forEach1D(int(visible_.size()), k);
+      splatCpu(k, int(visible_.size()), footprints_, rows_);
     } else {
       kernels::PointKernel k{arr, visible_.data(), T_cw, Kp, opt.min_depth_m, opt.max_depth_m, 1, packed_.view(), nullptr};
-      compute::forEach1D(int(visible_.size()), k);
+      ids_.resize(visible_.size());
+      pointsCpu(k, int(visible_.size()), ids_.data(), values_);
     }
   }
 
@@ -152,8 +204,8 @@ void SurfelRenderer::renderIndexMap4x(const SurfelStore& map, const Eigen::Isome
     cuda::pointsPacked4x(arr, out.visible, T_cw, K.plain(), opt, out.packed, out.touched);
   } else {
     kernels::PointKernel k{arr, out.visible.data(), T_cw, K.plain(), opt.min_depth_m, opt.max_depth_m, S,
-                           out.packed.view(), out.touched.data()};
-    compute::forEach1D(int(out.visible.size()), k);
+                           out.packed.view(), nullptr};
+    pointsCpu(k, int(out.visible.size()), out.touched.data(), values_);
   }
 }
 

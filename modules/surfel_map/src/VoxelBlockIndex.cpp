@@ -170,13 +170,17 @@ void VoxelBlockIndex::clear() {
   surfel_slot_.clear();
 }
 
-void VoxelBlockIndex::blocksInFrustum(const CameraFrustum& frustum, float margin_m, std::vector<int>& block_ids) const {
+void VoxelBlockIndex::blocksInFrustum(const CameraFrustum& frustum, float margin_m, std::vector<int>& block_ids,
+                                      std::vector<std::uint8_t>* fully_inside) const {
   const float half = 0.5f * block_size_m_;
-  const float radius = half * 1.7320508f + margin_m;  // circumscribed sphere of the cube + margin
+  const float inner = half * 1.7320508f;  // circumscribed sphere of the cube
+  const float radius = inner + margin_m;
   for (int b = 0; b < int(blocks_.size()); ++b) {
     if (blocks_[b].members.empty()) continue;
     const Vec3f centre = blocks_[b].coords.cast<float>() * block_size_m_ + Vec3f::Constant(half);
-    if (frustum.intersectsSphere(centre, radius)) block_ids.push_back(b);
+    if (!frustum.intersectsSphere(centre, radius)) continue;
+    block_ids.push_back(b);
+    if (fully_inside) fully_inside->push_back(frustum.containsSphere(centre, inner * 1.001f) ? 1 : 0);
   }
 }
 

@@ -59,6 +59,11 @@ struct FusionStats {
   int demoted_carved = 0;    ///< stable free-space violators that lost confidence
   int map_size = 0;          ///< after the frame
   maps::RenderStats render;  ///< of the 4x index map render
+  // Wall-clock milliseconds of the stages (for report.json; tests never assert on them).
+  double ms_index_map = 0;   ///< 4x point index map (II-D)
+  double ms_update = 0;      ///< association + update
+  double ms_add = 0;         ///< new surfels + spatial index upkeep
+  double ms_cleanup = 0;     ///< carving + pruning + compaction
 };
 
 class SurfelFusion {
@@ -94,6 +99,9 @@ class SurfelFusion {
   maps::IndexMap4x m_index4x;
   Image<std::int32_t> m_pixel_surfel;  ///< per pixel: matched surfel / -2 new / -1 none
   Image<std::uint8_t> m_flags;
+  Image<float> m_weight;  ///< II-B confidence weight per pixel for m_weight_K / m_weight_sigma
+  CameraIntrinsics m_weight_K;
+  float m_weight_sigma = -1.0f;
   bool m_index_fresh = false;  ///< m_index4x.visible matches the map (integrate, no removal since)
   std::vector<int> m_row_offset;
   std::vector<int> m_scratch;

@@ -9,8 +9,11 @@
 //   3. splat: every surfel draws a disc of its radius in its own plane; each pixel of the disc's
 //      projected bounding box whose ray hits the disc competes with depth = camera z of the
 //      ray/disc intersection. The depth test is a 64-bit atomic min of (depth bits << 32 | index):
-//      race-free on the CPU (OpenMP) and on CUDA, and deterministic (ties go to the lower index),
-//      so the result does not depend on thread count or scheduling;
+//      race-free on CUDA and deterministic (ties go to the lower index). The CPU launcher gets the
+//      same result without atomics: surfel footprints are computed in parallel, then each thread
+//      depth-tests only its own band of image rows with plain min writes (a locked
+//      compare-exchange per pixel serialised the memory accesses). Either way the result does
+//      not depend on thread count or scheduling;
 //   4. resolve: per pixel, the winning surfel's attributes are written to the requested outputs.
 //
 // Frames and conventions: T_world_cam maps optical camera coordinates (x right, y down, z forward)
@@ -28,6 +31,7 @@
 #include "rasm/core/CameraIntrinsics.h"
 #include "rasm/core/Image.h"
 #include "rasm/surfel_map/SurfelStore.h"
+#include "rasm/surfel_map/kernels/RenderKernels.h"
 
 namespace rasm::maps {
 
@@ -122,6 +126,10 @@ class SurfelRenderer {
   std::vector<int> visible_;
   Image<std::uint64_t> packed_;
   mutable std::vector<std::vector<int>> per_block_;  ///< collectVisible scratch (not thread safe)
+  std::vector<kernels::SplatFootprint> footprints_;   ///< CPU splat launcher scratch
+  std::vector<std::uint32_t> rows_;
+  std::vector<std::int64_t> ids_;
+  std::vector<std::uint64_t> values_;
 };
 
 namespace cuda {

@@ -37,6 +37,12 @@ struct CameraFrustum {
       if (p.head<3>().dot(c) + p.w() < -r) return false;
     return true;
   }
+  /// True when the sphere lies entirely inside every plane.
+  bool containsSphere(const Vec3f& c, float r) const {
+    for (const Vec4f& p : planes)
+      if (p.head<3>().dot(c) + p.w() < r) return false;
+    return true;
+  }
 };
 
 class VoxelBlockIndex {
@@ -79,7 +85,10 @@ class VoxelBlockIndex {
 
   /// Appends the ids of the non-empty blocks whose bounding sphere, grown by `margin_m` (the
   /// largest splat radius), intersects the frustum. O(B). The ids are in increasing order.
-  void blocksInFrustum(const CameraFrustum& frustum, float margin_m, std::vector<int>& block_ids) const;
+  /// `fully_inside`, when given, receives per returned block whether the whole block lies inside
+  /// the frustum (then every surfel centre in it does, and per-surfel frustum tests can be skipped).
+  void blocksInFrustum(const CameraFrustum& frustum, float margin_m, std::vector<int>& block_ids,
+                       std::vector<std::uint8_t>* fully_inside = nullptr) const;
 
   /// Checks the invariants against surfel positions (tests): every surfel in [0, n) is in exactly
   /// the block containing it, at its recorded slot. Returns false and a reason otherwise.

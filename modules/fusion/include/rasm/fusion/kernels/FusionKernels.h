@@ -48,6 +48,9 @@ struct FrameView {
   ImageView<const Vec3f> vertex_cam;
   ImageView<const Vec3f> normal_cam;
   ImageView<const std::uint32_t> labels;  ///< may be empty
+  /// w per pixel (it depends only on the pixel, the intrinsics and sigma: a cached table);
+  /// computed on the fly when empty.
+  ImageView<const float> weight;
   PinholeF K;
   float focal_px = 525.0f;
 
@@ -59,7 +62,7 @@ struct FrameView {
     if (!(z >= p.min_depth_m && z <= p.max_depth_m)) return false;
     const float cos_inc = -n.dot(v) / v.norm();
     if (cos_inc < p.min_cos_incidence) return false;
-    w = confidenceWeight(normalizedRadialDistance(float(x), float(y), K), p.sigma);
+    w = weight.empty() ? confidenceWeight(normalizedRadialDistance(float(x), float(y), K), p.sigma) : weight(x, y);
     r = surfelRadius(z, n.z(), focal_px);
     return true;
   }
@@ -80,10 +83,10 @@ RASM_HD_INLINE void updateViewBin(const maps::SurfelArrays& s, int i, const Vec3
   const Vec3f d = camera_centre - p;
   const float dist = d.norm();
   if (!(dist > 0.0f)) return;
-  const float ic = maps::kernels::informationContent(dist, prm.ic_lambda1, prm.ic_d_min_m);
-  const int bin = maps::kernels::viewBinIndex(n, b, d / dist, prm.n_azimuth, prm.n_elevation);
+  const int bin = maps::kernels::viewBinIndex(n, b, d * (1.0f / dist), prm.n_azimuth, prm.n_elevation);
   std::uint8_t* row = s.viewRow(i);
-  const std::uint8_t q = maps::quantizeUnit(ic);
+  if (row[bin] == 255) return;  // already saturated: IC <= 1
+  const std::uint8_t q = maps::quantizeUnit(maps::kernels::informationContent(dist, prm.ic_lambda1, prm.ic_d_min_m));
   if (q > row[bin]) row[bin] = q;
 }
 
@@ -93,8 +96,8 @@ RASM_HD_INLINE void updateViewBin(const maps::SurfelArrays& s, int i, const Vec3
 ///
 /// Gates: |z_s - z| <= max(abs, rel z) along the ray, angle(n_s, n) <= max angle.
 /// Similarity cost (lowest wins, lower index on ties): d_perp / r + (1 - cos) / (1 - cos_max)
-/// + |ln(r_s / r)|, i.e. distance of the surfel to the pixel ray in units of the measurement radius,
-/// normal disagreement relative to the gate, and radius ratio.
+/// + (max(r_s, r) / min(r_s, r) - 1), i.e. distance of the surfel to the pixel ray in units of the
+/// measurement radius, normal disagreement relative to the gate, and radius mismatch.
 /// Update (Keller et al. 2013, ElasticFusion): when r <= ratio * r_s, position, normal and colour
 /// become the confidence-weighted means (w_s p_s + w p) / (w_s + w), and the radius too when the
 /// new one is smaller (radii only shrink: a coarser view must not blur a finer surfel); then
@@ -120,8 +123,10 @@ struct AssociateUpdateKernel {
       return;
     }
     const float z = v.z();
-    const float dz_max = fmaxf(prm.assoc_dz_abs_m, prm.assoc_dz_rel * z);
-    const float inv_v = 1.0f / v.norm();
+    const float dz_max = maps::kernels::maxF(prm.assoc_dz_abs_m, prm.assoc_dz_rel * z);
+    const float inv_v = 1.0f / v.norm(), inv_r = 1.0f / r;
+    const float cos_range = 1.0f - prm.min_cos_normal;
+    const float inv_cos_range = 1.0f / (cos_range > 1e-6f ? cos_range : 1e-6f);
     int best = -1;
     float best_cost = 3.0e38f;
     for (int sy = 4 * y; sy < 4 * y + 4; ++sy)
@@ -134,8 +139,8 @@ struct AssociateUpdateKernel {
         if (cos_n < prm.min_cos_normal) continue;
         const float d_perp = pc.cross(v).norm() * inv_v;
         const float rs = s.radius(i);
-        const float cost = d_perp / r + (1.0f - cos_n) / fmaxf(1.0f - prm.min_cos_normal, 1e-6f) +
-                           fabsf(logf(fmaxf(rs, 1e-9f) / r));
+        const float r_hi = rs > r ? rs : r, r_lo = rs > r ? r : rs;
+        const float cost = d_perp * inv_r + (1.0f - cos_n) * inv_cos_range + (r_hi / (r_lo > 1e-9f ? r_lo : 1e-9f) - 1.0f);
         if (cost < best_cost || (cost == best_cost && i < best)) {
           best_cost = cost;
           best = i;
@@ -285,6 +290,9 @@ struct CarveKernel {
     const int u = maps::kernels::pixelOf(K.fx * pc.x() / z + K.cx);
     const int v = maps::kernels::pixelOf(K.fy * pc.y() / z + K.cy);
     if (u < 1 || v < 1 || u >= depth_m.width - 1 || v >= depth_m.height - 1) return;
+    // Most surfels sit at (or behind) the measured depth: the centre pixel decides cheaply.
+    const float dc = depth_m(u, v);
+    if (!(dc - z > maps::kernels::maxF(margin_abs_m, margin_rel * dc))) return;
     float d_min = 3.0e38f;
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
@@ -292,7 +300,7 @@ struct CarveKernel {
         if (!(d >= min_depth_m && d <= max_depth_m)) return;  // not observed: no evidence
         d_min = d < d_min ? d : d_min;
       }
-    const float margin = fmaxf(margin_abs_m, margin_rel * d_min);
+    const float margin = maps::kernels::maxF(margin_abs_m, margin_rel * d_min);
     if (d_min - z <= margin) return;
     const std::uint32_t cf = s.colour_flags[i];
     if (!(cf & maps::kSurfelStable)) {

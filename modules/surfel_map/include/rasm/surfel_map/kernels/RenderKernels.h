@@ -54,6 +54,10 @@ RASM_HD_INLINE void atomicMinU64(std::uint64_t* addr, std::uint64_t v) {
 #endif
 }
 
+/// min / max without libm's NaN handling (fminf/fmaxf are calls without -ffast-math).
+RASM_HD_INLINE float minF(float a, float b) { return a < b ? a : b; }
+RASM_HD_INLINE float maxF(float a, float b) { return a > b ? a : b; }
+
 /// Pixel of a projection with pixel centres at integer coordinates: round to nearest.
 RASM_HD_INLINE int pixelOf(float u) { return int(floorf(u + 0.5f)); }
 /// Sub-pixel of the 4x map (IndexMap4x): floor(4 (u + 0.5)), so sub-pixel / 4 == pixelOf(u).
@@ -74,18 +78,42 @@ struct VisibilityTest {
   bool cull_back_faces = false;
   float u_lo = 0, u_hi = 0, v_lo = 0, v_hi = 0;
 
-  RASM_HD_INLINE bool operator()(int i) const {
+  /// The attribute and back-face filters only (for surfels known to be inside the frustum).
+  RASM_HD_INLINE bool attributes(int i) const {
     const std::uint32_t cf = s.colour_flags[i];
     if (cf & kSurfelFree) return false;
     if (stable_only && !(cf & kSurfelStable)) return false;
     if (s.pos_conf[i].w() < min_confidence || s.t_last[i] < min_t_last) return false;
+    return !cull_back_faces || s.normal(i).dot(camera_centre_world - s.position(i)) > 0.0f;
+  }
+
+  RASM_HD_INLINE bool operator()(int i) const {
+    if (!attributes(i)) return false;
     const Vec3f p = s.position(i);
-    if (cull_back_faces && s.normal(i).dot(camera_centre_world - p) <= 0.0f) return false;
     const Vec3f pc = T_cam_world.apply(p);
     if (!(pc.z() >= min_depth_m && pc.z() <= max_depth_m)) return false;
     const float u = K.fx * pc.x() / pc.z() + K.cx, v = K.fy * pc.y() / pc.z() + K.cy;
     return u >= u_lo && u <= u_hi && v >= v_lo && v <= v_hi;
   }
+};
+
+/// The depth test write: 64-bit atomic min (shared buffer) or a plain min (the CPU launcher gives
+/// each thread its own rows, see SurfelRenderer.cpp). Both keep the minimum, so results agree.
+RASM_HD_INLINE void depthTest(std::uint64_t* p, std::uint64_t v, bool atomic) {
+  if (atomic)
+    atomicMinU64(p, v);
+  else if (v < *p)
+    *p = v;
+}
+
+/// Where one surfel's splat lands: camera-frame centre and normal, radius, the centre's pixel and
+/// the clipped pixel bounding box (rows y0..y1, empty when y0 > y1).
+struct SplatFootprint {
+  Vec3f pc, nc;
+  float r;
+  int i;
+  int uc, vc;
+  int x0, x1, y0, y1;
 };
 
 /// Draws surfel visible[k] as a disc of its radius in its plane (II-A splatting). For each pixel of
@@ -101,54 +129,75 @@ struct SplatKernel {
   float max_radius_px = 12.0f;
   ImageView<std::uint64_t> packed;
 
-  RASM_HD_INLINE void operator()(int k) const {
+  /// False when the surfel is outside the depth range or its footprint misses the image.
+  RASM_HD_INLINE bool footprint(int k, SplatFootprint& f) const {
     const int i = visible[k];
+    f.i = i;
     const Vec3f pc = T_cam_world.apply(s.position(i));
     const float z = pc.z();
-    if (!(z >= min_depth_m && z <= max_depth_m)) return;
+    if (!(z >= min_depth_m && z <= max_depth_m)) return false;
     const Vec3f nc = T_cam_world.rotate(s.normal(i));
     const float r = s.radius(i);
     const float u = K.fx * pc.x() / z + K.cx, v = K.fy * pc.y() / z + K.cy;
-    // Bounding box of the projection of the cube [pc - r, pc + r] (contains the disc): x/z is
-    // extreme at the corners; fall back to the clamp when the cube reaches behind the near plane.
-    const float z0 = z - r, z1 = z + r;
+    // Bounding box of the disc's projection: the disc lies in the box pc +- e with
+    // e_a = r sqrt(1 - n_a^2), and x/z, y/z over a box are extreme at its corners. The clamp at
+    // max_radius_px bounds the cost of discs very close to the camera.
+    const float ex = r * sqrtf(maxF(0.0f, 1.0f - nc.x() * nc.x()));
+    const float ey = r * sqrtf(maxF(0.0f, 1.0f - nc.y() * nc.y()));
+    const float ez = r * sqrtf(maxF(0.0f, 1.0f - nc.z() * nc.z()));
     float u_lo = u - max_radius_px, u_hi = u + max_radius_px;
     float v_lo = v - max_radius_px, v_hi = v + max_radius_px;
+    const float z0 = z - ez, z1 = z + ez;
     if (z0 > 1e-3f) {
       const float iz0 = 1.0f / z0, iz1 = 1.0f / z1;
-      const float x0 = pc.x() - r, x1 = pc.x() + r, y0 = pc.y() - r, y1 = pc.y() + r;
-      const float ax = fminf(fminf(x0 * iz0, x0 * iz1), fminf(x1 * iz0, x1 * iz1));
-      const float bx = fmaxf(fmaxf(x0 * iz0, x0 * iz1), fmaxf(x1 * iz0, x1 * iz1));
-      const float ay = fminf(fminf(y0 * iz0, y0 * iz1), fminf(y1 * iz0, y1 * iz1));
-      const float by = fmaxf(fmaxf(y0 * iz0, y0 * iz1), fmaxf(y1 * iz0, y1 * iz1));
+      const float x0 = pc.x() - ex, x1 = pc.x() + ex, y0 = pc.y() - ey, y1 = pc.y() + ey;
+      const float ax = minF(minF(x0 * iz0, x0 * iz1), minF(x1 * iz0, x1 * iz1));
+      const float bx = maxF(maxF(x0 * iz0, x0 * iz1), maxF(x1 * iz0, x1 * iz1));
+      const float ay = minF(minF(y0 * iz0, y0 * iz1), minF(y1 * iz0, y1 * iz1));
+      const float by = maxF(maxF(y0 * iz0, y0 * iz1), maxF(y1 * iz0, y1 * iz1));
       const float ua = K.fx * ax + K.cx, ub = K.fx * bx + K.cx;  // fx may be negative
       const float va = K.fy * ay + K.cy, vb = K.fy * by + K.cy;
-      u_lo = fmaxf(u_lo, fminf(ua, ub));
-      u_hi = fminf(u_hi, fmaxf(ua, ub));
-      v_lo = fmaxf(v_lo, fminf(va, vb));
-      v_hi = fminf(v_hi, fmaxf(va, vb));
+      u_lo = maxF(u_lo, minF(ua, ub));
+      u_hi = minF(u_hi, maxF(ua, ub));
+      v_lo = maxF(v_lo, minF(va, vb));
+      v_hi = minF(v_hi, maxF(va, vb));
     }
     int x0 = int(ceilf(u_lo)), x1 = int(floorf(u_hi)), y0 = int(ceilf(v_lo)), y1 = int(floorf(v_hi));
-    // The centre's own pixel is always a candidate (see below).
+    // The centre's own pixel is always a candidate (see rasterize()).
     const int uc = pixelOf(u), vc = pixelOf(v);
     x0 = x0 < uc ? x0 : uc;
     x1 = x1 > uc ? x1 : uc;
     y0 = y0 < vc ? y0 : vc;
     y1 = y1 > vc ? y1 : vc;
-    if (x0 < 0) x0 = 0;
-    if (y0 < 0) y0 = 0;
-    if (x1 > packed.width - 1) x1 = packed.width - 1;
-    if (y1 > packed.height - 1) y1 = packed.height - 1;
+    f.x0 = x0 < 0 ? 0 : x0;
+    f.y0 = y0 < 0 ? 0 : y0;
+    f.x1 = x1 > packed.width - 1 ? packed.width - 1 : x1;
+    f.y1 = y1 > packed.height - 1 ? packed.height - 1 : y1;
+    f.pc = pc;
+    f.nc = nc;
+    f.r = r;
+    f.uc = uc;
+    f.vc = vc;
+    return f.x0 <= f.x1 && f.y0 <= f.y1;
+  }
+
+  /// Depth-tests the footprint's pixels in rows [y_lo, y_hi].
+  RASM_HD_INLINE void rasterize(const SplatFootprint& f, int y_lo, int y_hi, bool atomic) const {
+    const Vec3f& pc = f.pc;
+    const Vec3f& nc = f.nc;
+    const float z = pc.z(), r = f.r;
     const float n_dot_p = nc.dot(pc), r2 = r * r;
-    for (int y = y0; y <= y1; ++y) {
-      const float ry = (float(y) - K.cy) / K.fy;
+    const float inv_fx = 1.0f / K.fx, inv_fy = 1.0f / K.fy;
+    for (int y = y_lo; y <= y_hi; ++y) {
+      const float ry = (float(y) - K.cy) * inv_fy;
+      const float denom_y = nc.y() * ry + nc.z();
       std::uint64_t* row = packed.row(y);
-      for (int x = x0; x <= x1; ++x) {
-        const float rx = (float(x) - K.cx) / K.fx;
+      for (int x = f.x0; x <= f.x1; ++x) {
+        const float rx = (float(x) - K.cx) * inv_fx;
         // Ray d = (rx, ry, 1) meets the surfel plane n.(q - p) = 0 at q = t d, t = n.p / n.d.
-        const float denom = nc.x() * rx + nc.y() * ry + nc.z();
+        const float denom = nc.x() * rx + denom_y;
         float t = fabsf(denom) >= 1e-6f ? n_dot_p / denom : -1.0f;
-        if (x == uc && y == vc) {
+        if (x == f.uc && y == f.vc) {
           // The centre's own pixel is covered even when the disc is smaller than the pixel (a
           // surfel seen from farther away than it was measured): plane depth, else centre depth.
           if (!(t > 0.0f) || fabsf(t - z) > r) t = z;
@@ -157,9 +206,14 @@ struct SplatKernel {
           const float dx = t * rx - pc.x(), dy = t * ry - pc.y(), dz = t - z;
           if (dx * dx + dy * dy + dz * dz > r2) continue;
         }
-        atomicMinU64(&row[x], packDepthIndex(t, i));
+        depthTest(&row[x], packDepthIndex(t, f.i), atomic);
       }
     }
+  }
+
+  RASM_HD_INLINE void operator()(int k) const {
+    SplatFootprint f;
+    if (footprint(k, f)) rasterize(f, f.y0, f.y1, true);
   }
 };
 
@@ -176,20 +230,24 @@ struct PointKernel {
   ImageView<std::uint64_t> packed;
   std::int64_t* touched = nullptr;
 
-  RASM_HD_INLINE void operator()(int k) const {
+  /// Linear (sub-)pixel id of surfel visible[k] and its packed depth/index, or -1.
+  RASM_HD_INLINE std::int64_t target(int k, std::uint64_t& value) const {
     const int i = visible[k];
     const Vec3f pc = T_cam_world.apply(s.position(i));
     const float z = pc.z();
-    std::int64_t id = -1;
-    if (z >= min_depth_m && z <= max_depth_m) {
-      const float u = K.fx * pc.x() / z + K.cx, v = K.fy * pc.y() / z + K.cy;
-      const int sx = scale == 1 ? pixelOf(u) : int(floorf(float(scale) * (u + 0.5f)));
-      const int sy = scale == 1 ? pixelOf(v) : int(floorf(float(scale) * (v + 0.5f)));
-      if (packed.inside(sx, sy)) {
-        atomicMinU64(&packed(sx, sy), packDepthIndex(z, i));
-        id = std::int64_t(sy) * packed.width + sx;
-      }
-    }
+    if (!(z >= min_depth_m && z <= max_depth_m)) return -1;
+    const float u = K.fx * pc.x() / z + K.cx, v = K.fy * pc.y() / z + K.cy;
+    const int sx = scale == 1 ? pixelOf(u) : int(floorf(float(scale) * (u + 0.5f)));
+    const int sy = scale == 1 ? pixelOf(v) : int(floorf(float(scale) * (v + 0.5f)));
+    if (!packed.inside(sx, sy)) return -1;
+    value = packDepthIndex(z, i);
+    return std::int64_t(sy) * packed.width + sx;
+  }
+
+  RASM_HD_INLINE void operator()(int k) const {
+    std::uint64_t value = 0;
+    const std::int64_t id = target(k, value);
+    if (id >= 0) atomicMinU64(&packed(int(id % packed.width), int(id / packed.width)), value);
     if (touched) touched[k] = id;
   }
 };

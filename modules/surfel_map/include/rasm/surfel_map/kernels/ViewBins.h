@@ -10,8 +10,7 @@ namespace rasm::maps::kernels {
 
 /// IC(s) = exp(-lambda1 (max(||p - t||, d_min) - d_min)) (V-B): 1 up to d_min, then decaying.
 RASM_HD_INLINE float informationContent(float distance_m, float lambda1, float d_min_m) {
-  const float d = distance_m > d_min_m ? distance_m : d_min_m;
-  return expf(-lambda1 * (d - d_min_m));
+  return distance_m > d_min_m ? expf(-lambda1 * (distance_m - d_min_m)) : 1.0f;
 }
 
 /// A unit vector perpendicular to the unit vector n (initial basis b of a new surfel, II-B / V-B).
@@ -31,6 +30,20 @@ RASM_HD_INLINE Vec3f updateBasis(const Vec3f& n, const Vec3f& b) {
   return len > 1e-4f ? Vec3f(nb / len) : anyPerpendicular(n);
 }
 
+/// atan2 with |error| < 1e-5 rad (polynomial on [0, 1] plus octant folding): the bins
+/// are tens of degrees wide, and libm's atan2f/asinf dominated the per-surfel update cost.
+RASM_HD_INLINE float fastAtan2(float y, float x) {
+  const float ax = fabsf(x), ay = fabsf(y);
+  const float mx = ax > ay ? ax : ay, mn = ax > ay ? ay : ax;
+  if (mx == 0.0f) return 0.0f;
+  const float a = mn / mx, s = a * a;
+  // Minimax polynomial of atan on [0, 1] (odd, degree 11), |error| < 1e-5 rad.
+  float r = a * (0.99997726f + s * (-0.33262347f + s * (0.19354346f + s * (-0.11643287f + s * (0.05265332f - s * 0.01172120f)))));
+  if (ay > ax) r = 1.57079637f - r;
+  if (x < 0.0f) r = 3.14159274f - r;
+  return y < 0.0f ? -r : r;
+}
+
 /// Bin of the camera direction `dir_to_camera` (unit, from the surfel towards the camera centre)
 /// in the surfel frame (b, n x b, n) (V-B): azimuth atan2(d.(n x b), d.b) in [-pi, pi) over
 /// n_azimuth equal sectors, elevation asin(d.n) in [0, pi/2] over n_elevation equal rings
@@ -41,9 +54,10 @@ RASM_HD_INLINE int viewBinIndex(const Vec3f& n, const Vec3f& b, const Vec3f& dir
   const Vec3f c = n.cross(b);
   float s = dir_to_camera.dot(n);
   s = s < 0.0f ? 0.0f : (s > 1.0f ? 1.0f : s);
-  int el = int(asinf(s) * (2.0f / kPi) * float(n_elevation));
+  const float cos_el = sqrtf(1.0f - s * s);
+  int el = int(fastAtan2(s, cos_el) * (2.0f / kPi) * float(n_elevation));  // asin(s)
   if (el >= n_elevation) el = n_elevation - 1;
-  const float az = atan2f(dir_to_camera.dot(c), dir_to_camera.dot(b));  // (-pi, pi]
+  const float az = fastAtan2(dir_to_camera.dot(c), dir_to_camera.dot(b));  // (-pi, pi]
   int sector = int((az + kPi) * (0.5f / kPi) * float(n_azimuth));
   if (sector >= n_azimuth) sector = n_azimuth - 1;
   if (sector < 0) sector = 0;
