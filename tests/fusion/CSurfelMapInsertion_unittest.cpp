@@ -91,6 +91,24 @@ stable_confidence = 3
   EXPECT_NEAR(mean.y(), -0.2f, 0.05f);
 }
 
+TEST(CSurfelMapInsertion, LikelihoodPeaksAtTheTruePose) {
+  const CameraIntrinsics K(131.25, 131.25, 79.5, 59.5, 160, 120);
+  fusiontest::Scene scene;
+  scene.boxes.push_back({Eigen::Vector3d(-0.4, -0.3, 1.8), Eigen::Vector3d(0.3, 0.3, 2.2), Bgr8{0, 0, 200}});
+  const auto sf = fusiontest::renderScene(scene, K, Eigen::Isometry3d::Identity(), 0.0);
+  const auto obs = observationOf(sf.frame);
+  maps::CSurfelMap map;
+  const mrpt::poses::CPose3D truth = mrptSensorPoseFromOptical(Eigen::Isometry3d::Identity());
+  ASSERT_TRUE(map.insertObservation(obs, truth));
+  ASSERT_TRUE(map.canComputeObservationLikelihood(obs));
+  const double ll_true = map.computeObservationLikelihood(obs, truth);
+  for (const Eigen::Vector3d& off : {Eigen::Vector3d(0, 0, 0.1), Eigen::Vector3d(0.1, 0, 0), Eigen::Vector3d(0, 0.05, 0)}) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = off;
+    EXPECT_GT(ll_true, map.computeObservationLikelihood(obs, mrptSensorPoseFromOptical(T))) << off.transpose();
+  }
+}
+
 TEST(CSurfelMapInsertion, BadFusionKeyInInsertOptionsIsReported) {
   mrpt::config::CConfigFileMemory cfg(
       "[MAP]\nsurfelMap_count = 1\n[MAP_surfelMap_00_insertOpts]\nmax_dept_m = 4\n");

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "rasm/compute/Device.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
 #include "rasm/surfel_map/kernels/RenderKernels.h"
 
@@ -299,4 +300,29 @@ TEST(SurfelRenderer, FiltersAndInvalidPixels) {
       if (m.index(x, y) >= 0) {
         EXPECT_EQ(m.index(x, y) % 2, 1);
       }
+}
+
+TEST(SurfelRendererCuda, MatchesCpu) {
+  const auto avail = compute::cudaAvailability();
+  if (!avail.available) GTEST_SKIP() << avail.reason;
+  const Eigen::Isometry3d T = lookPose();
+  const SurfelStore store = randomMapInView(T, kSmallK, 3000, 17, 2.0f);
+  SurfelRenderer cpu(compute::Backend::Cpu), gpu(compute::Backend::Cuda);
+  for (bool splat : {true, false}) {
+    RenderOptions opt;
+    opt.splat = splat;
+    RenderedMaps a, b;
+    cpu.render(store, T, kSmallK, opt, a);
+    gpu.render(store, T, kSmallK, opt, b);
+    for (int y = 0; y < kSmallK.height; ++y)
+      for (int x = 0; x < kSmallK.width; ++x) {
+        ASSERT_EQ(a.index(x, y), b.index(x, y)) << x << "," << y << " splat " << splat;
+        ASSERT_EQ(a.depth_m(x, y), b.depth_m(x, y));
+      }
+  }
+  IndexMap4x a4, b4;
+  cpu.renderIndexMap4x(store, T, kSmallK, RenderOptions(), a4);
+  gpu.renderIndexMap4x(store, T, kSmallK, RenderOptions(), b4);
+  for (int y = 0; y < a4.packed.height(); ++y)
+    for (int x = 0; x < a4.packed.width(); ++x) ASSERT_EQ(a4.index(x, y), b4.index(x, y));
 }

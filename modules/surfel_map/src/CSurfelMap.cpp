@@ -12,10 +12,10 @@
 #include <cmath>
 #include <sstream>
 
-#include "ObservationToFrame.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 #include "rasm/core/SE3.h"
+#include "rasm/io/RgbdObservation.h"
 #include "rasm/surfel_map/SurfelFrameInserter.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
 
@@ -290,7 +290,9 @@ bool CSurfelMap::internal_insertObservation(const mrpt::obs::CObservation& obs,
   const auto* scan = dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs);
   if (!scan) return false;
   const std::string source = "CSurfelMap::insertObservation(" + scan->sensorLabel + ")";
-  const RgbdFrame frame = detail::frameFromRangeScan(*scan, source);
+  scan->load();  // externally stored images (lazy load)
+  RgbdFrame frame = io::frameFromObservation(*scan, source);
+  frame.timestamp_s = mrpt::Clock::toDouble(scan->timestamp);
   const mrpt::poses::CPose3D T_world_robot = robotPose ? *robotPose : mrpt::poses::CPose3D();
   const Eigen::Isometry3d T_world_cam = opticalFromMrptSensorPose(T_world_robot + scan->sensorPose);
   const std::string ini = insertionOptions.fusionIniText();
@@ -310,7 +312,8 @@ double CSurfelMap::internal_computeObservationLikelihood(const mrpt::obs::CObser
                                                          const mrpt::poses::CPose3D& takenFrom) const {
   const auto* scan = dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs);
   if (!scan || isEmpty()) return 0.0;
-  const RgbdFrame frame = detail::frameFromRangeScan(*scan, "CSurfelMap::computeObservationLikelihood");
+  scan->load();
+  const RgbdFrame frame = io::frameFromObservation(*scan, "CSurfelMap::computeObservationLikelihood");
   const Eigen::Isometry3d T_world_cam = opticalFromMrptSensorPose(takenFrom + scan->sensorPose);
   // Gaussian on the depth residual of the splat-rendered map, on a decimated pixel grid; pixels
   // the map does not explain (no surfel, or residual beyond 3 sigma) count as 3-sigma outliers so
@@ -324,8 +327,8 @@ double CSurfelMap::internal_computeObservationLikelihood(const mrpt::obs::CObser
   const double inv_s = 1.0 / likelihoodOptions.sigma_m, outlier = -0.5 * 9.0;
   double ll = 0.0;
   const int step = std::max(1, likelihoodOptions.decimation);
-  for (int y = 0; y < frame.height(); y += step)
-    for (int x = 0; x < frame.width(); x += step) {
+  for (int y = step / 2; y < frame.height(); y += step)  // cell centres: avoid the border rows
+    for (int x = step / 2; x < frame.width(); x += step) {
       const float z = frame.depth_m(x, y);
       if (!(z > 0.0f) || z > likelihoodOptions.max_depth_m) continue;
       const float zr = rm.depth_m(x, y);
