@@ -188,3 +188,18 @@ TEST(Cuda, VertexNormalMatchCpu) {
       EXPECT_LT((nc(x, y) - ng(x, y)).norm(), 1e-5);
     }
 }
+
+TEST(Bilateral, SmoothsNoiseKeepsEdgesAndInvalid) {
+  // Two fronto-parallel planes (1.0 m | 2.0 m) with +-2 mm alternating noise and a hole.
+  Image<float> d(64, 48);
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x) d(x, y) = (x < 32 ? 1.0f : 2.0f) + (((x + y) % 2) ? 0.002f : -0.002f);
+  d(10, 10) = 0.0f;
+  Image<float> f;
+  bilateralFilterDepth(d, f, 2, 4.5f, 0.03f);
+  EXPECT_EQ(f(10, 10), 0.0f);                  // invalid stays invalid
+  EXPECT_NEAR(f(11, 10), 1.0f, 0.0015f);       // a hole does not pull depth towards 0
+  EXPECT_NEAR(f(20, 20), 1.0f, 0.0008f);       // noise averaged down (5x5 of +-2 mm)
+  EXPECT_NEAR(f(31, 20), 1.0f, 0.0015f);       // the 1 m edge is not blended with 2 m
+  EXPECT_NEAR(f(32, 20), 2.0f, 0.0015f);
+}

