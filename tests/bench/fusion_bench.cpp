@@ -3,15 +3,16 @@
 // initialises ~300k surfels, the later ones mostly associate and update. Optionally the map is
 // pre-filled with extra surfels out of view (--extra_surfels) to show that the cost does not grow
 // with the map size beyond the O(N) pruning scan.
-//   bench_fusion [--threads 2] [--frames 30] [--extra_surfels 700000] [--labels on] [--view_bins on]
+//   bench_fusion [--threads 2] [--frames 30] [--extra_surfels 700000] [--labels on] [--view_bins
+//   on]
 //                [--carve on] [--cuda off]
 // Prints one JSON line: {"bench":"fusion",...}.
 #include <omp.h>
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,9 @@ using namespace rasm;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 /// Process CPU time (all threads), ms (see surfel_render_bench.cpp).
 double cpuMs() { return 1000.0 * double(std::clock()) / CLOCKS_PER_SEC; }
 double median(std::vector<double> v) {
@@ -37,13 +40,20 @@ int main(int argc, char** argv) {
   bool labels = true, use_cuda = false, view_bins = true, carve = true;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
-    if (k == "--threads") threads = std::stoi(v);
-    else if (k == "--frames") frames = std::stoi(v);
-    else if (k == "--extra_surfels") extra = std::stoi(v);
-    else if (k == "--labels") labels = v == "on";
-    else if (k == "--view_bins") view_bins = v == "on";
-    else if (k == "--carve") carve = v == "on";
-    else if (k == "--cuda") use_cuda = v == "on";
+    if (k == "--threads")
+      threads = std::stoi(v);
+    else if (k == "--frames")
+      frames = std::stoi(v);
+    else if (k == "--extra_surfels")
+      extra = std::stoi(v);
+    else if (k == "--labels")
+      labels = v == "on";
+    else if (k == "--view_bins")
+      view_bins = v == "on";
+    else if (k == "--carve")
+      carve = v == "on";
+    else if (k == "--cuda")
+      use_cuda = v == "on";
     else {
       std::fprintf(stderr, "unknown option %s\n", k.c_str());
       return 2;
@@ -57,8 +67,10 @@ int main(int argc, char** argv) {
   const CameraIntrinsics K = CameraIntrinsics::preset("kinect_v1");
   fusiontest::Scene scene;
   scene.wall_z = 3.0;
-  scene.boxes.push_back({Eigen::Vector3d(-0.6, -0.3, 1.6), Eigen::Vector3d(0.0, 0.4, 2.0), Bgr8{0, 0, 220}});
-  scene.boxes.push_back({Eigen::Vector3d(0.3, 0.2, 2.2), Eigen::Vector3d(0.9, 0.9, 2.6), Bgr8{0, 220, 0}});
+  scene.boxes.push_back(
+      {Eigen::Vector3d(-0.6, -0.3, 1.6), Eigen::Vector3d(0.0, 0.4, 2.0), Bgr8{0, 0, 220}});
+  scene.boxes.push_back(
+      {Eigen::Vector3d(0.3, 0.2, 2.2), Eigen::Vector3d(0.9, 0.9, 2.6), Bgr8{0, 220, 0}});
 
   std::vector<fusiontest::SyntheticFrame> seq;
   for (int k = 0; k <= frames; ++k) {
@@ -80,7 +92,8 @@ int main(int argc, char** argv) {
     const maps::SurfelArrays a = map.arrays();
     for (int i = 0; i < extra; ++i) {
       const int j = first + i;
-      a.pos_conf[j] = Vec4f(-5.0f + 0.01f * (i % 1000), -2.0f + 0.01f * ((i / 1000) % 400), -2.0f - 0.01f * (i / 400000), 20.0f);
+      a.pos_conf[j] = Vec4f(-5.0f + 0.01f * (i % 1000), -2.0f + 0.01f * ((i / 1000) % 400),
+                            -2.0f - 0.01f * (i / 400000), 20.0f);
       a.normal_radius[j] = Vec4f(0, 0, 1, 0.007f);
       a.colour_flags[j] = maps::packColour(Bgr8{100, 100, 100}, maps::kSurfelStable);
       a.basis[j] = Vec3f::UnitX();
@@ -114,14 +127,19 @@ int main(int argc, char** argv) {
     }
   }
   std::printf(
-      "{\"bench\":\"fusion\",\"threads\":%d,\"backend\":\"%s\",\"width\":%d,\"height\":%d,\"frames\":%d,"
-      "\"labels\":%s,\"ms_first_frame_init\":%.2f,\"ms_per_frame_median\":%.2f,\"ms_per_frame_max\":%.2f,"
-      "\"cpu_ms_per_frame_median\":%.2f,\"ms_index_map\":%.2f,\"ms_update\":%.2f,\"ms_add\":%.2f,\"ms_cleanup\":%.2f,"
+      "{\"bench\":\"fusion\",\"threads\":%d,\"backend\":\"%s\",\"width\":%d,\"height\":%d,"
+      "\"frames\":%d,"
+      "\"labels\":%s,\"ms_first_frame_init\":%.2f,\"ms_per_frame_median\":%.2f,\"ms_per_frame_"
+      "max\":%.2f,"
+      "\"cpu_ms_per_frame_median\":%.2f,\"ms_index_map\":%.2f,\"ms_update\":%.2f,\"ms_add\":%.2f,"
+      "\"ms_cleanup\":%.2f,"
       "\"map_surfels\":%d,\"extra_out_of_view\":%d,\"last_valid\":%d,\"last_associated\":%d,"
       "\"last_fused\":%d,\"last_added\":%d,\"last_surfels_in_view\":%lld}\n",
-      threads, use_cuda ? "cuda" : "cpu", K.width, K.height, frames, labels ? "true" : "false", t_init,
-      median(t_steady), t_steady.empty() ? 0.0 : *std::max_element(t_steady.begin(), t_steady.end()),
-      median(c_steady), median(t_index), median(t_update), median(t_add), median(t_cleanup), map.size(),
-      extra, last.valid_pixels, last.associated, last.fused, last.added, last.render.surfels_drawn);
+      threads, use_cuda ? "cuda" : "cpu", K.width, K.height, frames, labels ? "true" : "false",
+      t_init, median(t_steady),
+      t_steady.empty() ? 0.0 : *std::max_element(t_steady.begin(), t_steady.end()),
+      median(c_steady), median(t_index), median(t_update), median(t_add), median(t_cleanup),
+      map.size(), extra, last.valid_pixels, last.associated, last.fused, last.added,
+      last.render.surfels_drawn);
   return 0;
 }

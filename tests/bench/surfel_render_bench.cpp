@@ -8,8 +8,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -23,7 +23,9 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 /// Process CPU time (all threads), ms: with --threads 1 it is the single-core cost even when the
 /// machine is shared (wall time then includes waiting for a core).
 double cpuMs() { return 1000.0 * double(std::clock()) / CLOCKS_PER_SEC; }
@@ -43,8 +45,8 @@ double peakRssBytes() {
 }
 
 /// Axis-aligned rectangle sampled every `s` metres (fixed axis `axis` at `c`).
-void addRect(SurfelStore& store, int axis, float c, float a0, float a1, float b0, float b1, const Vec3f& n, float s,
-             Bgr8 col) {
+void addRect(SurfelStore& store, int axis, float c, float a0, float a1, float b0, float b1,
+             const Vec3f& n, float s, Bgr8 col) {
   const int u = (axis + 1) % 3, v = (axis + 2) % 3;
   const int first = store.allocate(int((a1 - a0) / s + 1) * int((b1 - b0) / s + 1));
   const SurfelArrays arr = store.arrays();
@@ -71,10 +73,14 @@ int main(int argc, char** argv) {
   bool use_cuda = false;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
-    if (k == "--threads") threads = std::stoi(v);
-    else if (k == "--repeats") repeats = std::stoi(v);
-    else if (k == "--spacing_cm") spacing_cm = std::stof(v);
-    else if (k == "--cuda") use_cuda = v == "on";
+    if (k == "--threads")
+      threads = std::stoi(v);
+    else if (k == "--repeats")
+      repeats = std::stoi(v);
+    else if (k == "--spacing_cm")
+      spacing_cm = std::stof(v);
+    else if (k == "--cuda")
+      use_cuda = v == "on";
     else {
       std::fprintf(stderr, "unknown option %s\n", k.c_str());
       return 2;
@@ -91,9 +97,9 @@ int main(int argc, char** argv) {
   const float s = spacing_cm * 0.01f;
   SurfelStore store;
   const auto t_build = Clock::now();
-  addRect(store, 2, 0.0f, -4, 4, -3, 3, {0, 0, 1}, s, {90, 120, 140});   // floor
-  addRect(store, 2, 3.0f, -4, 4, -3, 3, {0, 0, -1}, s, {230, 230, 230}); // ceiling
-  addRect(store, 0, -4.0f, -3, 3, 0, 3, {1, 0, 0}, s, {200, 180, 160});  // walls
+  addRect(store, 2, 0.0f, -4, 4, -3, 3, {0, 0, 1}, s, {90, 120, 140});    // floor
+  addRect(store, 2, 3.0f, -4, 4, -3, 3, {0, 0, -1}, s, {230, 230, 230});  // ceiling
+  addRect(store, 0, -4.0f, -3, 3, 0, 3, {1, 0, 0}, s, {200, 180, 160});   // walls
   addRect(store, 0, 4.0f, -3, 3, 0, 3, {-1, 0, 0}, s, {200, 180, 160});
   addRect(store, 1, -3.0f, 0, 3, -4, 4, {0, 1, 0}, s, {160, 200, 180});
   addRect(store, 1, 3.0f, 0, 3, -4, 4, {0, -1, 0}, s, {160, 200, 180});
@@ -110,7 +116,8 @@ int main(int argc, char** argv) {
   Eigen::Matrix3d R_world_cam;
   R_world_cam << 0, 0, 1, -1, 0, 0, 0, -1, 0;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = R_world_cam * Eigen::AngleAxisd(-10.0 * M_PI / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  T.linear() = R_world_cam *
+               Eigen::AngleAxisd(-10.0 * M_PI / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
   T.translation() = Eigen::Vector3d(-2.5, 0.0, 1.2);
 
   SurfelRenderer renderer(use_cuda ? compute::Backend::Cuda : compute::Backend::Cpu);
@@ -163,16 +170,20 @@ int main(int argc, char** argv) {
   const double peak = peakRssBytes();
   std::printf(
       "{\"bench\":\"surfel_render\",\"threads\":%d,\"backend\":\"%s\",\"width\":%d,\"height\":%d,"
-      "\"surfels\":%d,\"blocks\":%d,\"blocks_visited\":%d,\"surfels_tested\":%lld,\"surfels_in_view\":%lld,"
+      "\"surfels\":%d,\"blocks\":%d,\"blocks_visited\":%d,\"surfels_tested\":%lld,\"surfels_in_"
+      "view\":%lld,"
       "\"pixels_covered_points\":%d,\"ms_build_map\":%.1f,\"ms_splat_all_outputs\":%.2f,"
       "\"ms_splat_tracking\":%.2f,\"ms_points\":%.2f,\"ms_index4x\":%.2f,\"ms_cull_collect\":%.2f,"
       "\"cpu_ms_splat_all_outputs\":%.2f,\"cpu_ms_splat_tracking\":%.2f,\"cpu_ms_index4x\":%.2f,"
-      "\"bytes_per_surfel_arrays\":%zu,\"bytes_per_surfel_index\":%zu,\"bytes_per_surfel_held\":%.1f,"
+      "\"bytes_per_surfel_arrays\":%zu,\"bytes_per_surfel_index\":%zu,\"bytes_per_surfel_held\":%."
+      "1f,"
       "\"peak_rss_mb\":%.1f,\"peak_rss_mb_per_million_surfels\":%.1f}\n",
       threads, use_cuda ? "cuda" : "cpu", K.width, K.height, store.size(), st_splat.blocks_total,
-      st_splat.blocks_visited, st_splat.surfels_tested, st_splat.surfels_drawn, covered, build_ms, median(t_splat),
-      median(t_track), median(t_points), median(t_4x), median(t_cull), median(c_splat), median(c_track), median(c_4x),
-      SurfelStore::bytesPerSurfel(0, store.options().nViewBins()), SurfelStore::kIndexBytesPerSurfel,
-      store.memoryBytes() / n, peak / 1048576.0, (peak - rss0) / 1048576.0 / (n / 1e6));
+      st_splat.blocks_visited, st_splat.surfels_tested, st_splat.surfels_drawn, covered, build_ms,
+      median(t_splat), median(t_track), median(t_points), median(t_4x), median(t_cull),
+      median(c_splat), median(c_track), median(c_4x),
+      SurfelStore::bytesPerSurfel(0, store.options().nViewBins()),
+      SurfelStore::kIndexBytesPerSurfel, store.memoryBytes() / n, peak / 1048576.0,
+      (peak - rss0) / 1048576.0 / (n / 1e6));
   return 0;
 }

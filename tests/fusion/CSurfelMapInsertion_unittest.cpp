@@ -29,7 +29,8 @@ mrpt::obs::CObservation3DRangeScan observationOf(const RgbdFrame& f) {
   obs.rangeUnits = 0.001f;
   obs.rangeImage.resize(f.height(), f.width());
   for (int y = 0; y < f.height(); ++y)
-    for (int x = 0; x < f.width(); ++x) obs.rangeImage(y, x) = std::uint16_t(std::lround(f.depth_m(x, y) * 1000.0f));
+    for (int x = 0; x < f.width(); ++x)
+      obs.rangeImage(y, x) = std::uint16_t(std::lround(f.depth_m(x, y) * 1000.0f));
   obs.hasIntensityImage = true;
   obs.intensityImage = mrpt::img::CImage(f.width(), f.height(), mrpt::img::CH_RGB);
   for (int y = 0; y < f.height(); ++y)
@@ -94,7 +95,8 @@ stable_confidence = 3
 TEST(CSurfelMapInsertion, LikelihoodPeaksAtTheTruePose) {
   const CameraIntrinsics K(131.25, 131.25, 79.5, 59.5, 160, 120);
   fusiontest::Scene scene;
-  scene.boxes.push_back({Eigen::Vector3d(-0.4, -0.3, 1.8), Eigen::Vector3d(0.3, 0.3, 2.2), Bgr8{0, 0, 200}});
+  scene.boxes.push_back(
+      {Eigen::Vector3d(-0.4, -0.3, 1.8), Eigen::Vector3d(0.3, 0.3, 2.2), Bgr8{0, 0, 200}});
   const auto sf = fusiontest::renderScene(scene, K, Eigen::Isometry3d::Identity(), 0.0);
   const auto obs = observationOf(sf.frame);
   maps::CSurfelMap map;
@@ -102,10 +104,12 @@ TEST(CSurfelMapInsertion, LikelihoodPeaksAtTheTruePose) {
   ASSERT_TRUE(map.insertObservation(obs, truth));
   ASSERT_TRUE(map.canComputeObservationLikelihood(obs));
   const double ll_true = map.computeObservationLikelihood(obs, truth);
-  for (const Eigen::Vector3d& off : {Eigen::Vector3d(0, 0, 0.1), Eigen::Vector3d(0.1, 0, 0), Eigen::Vector3d(0, 0.05, 0)}) {
+  for (const Eigen::Vector3d& off :
+       {Eigen::Vector3d(0, 0, 0.1), Eigen::Vector3d(0.1, 0, 0), Eigen::Vector3d(0, 0.05, 0)}) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.translation() = off;
-    EXPECT_GT(ll_true, map.computeObservationLikelihood(obs, mrptSensorPoseFromOptical(T))) << off.transpose();
+    EXPECT_GT(ll_true, map.computeObservationLikelihood(obs, mrptSensorPoseFromOptical(T)))
+        << off.transpose();
   }
 }
 
@@ -116,7 +120,8 @@ TEST(CSurfelMapInsertion, BadFusionKeyInInsertOptionsIsReported) {
   inits.loadFromConfigFile(cfg, "MAP");
   mrpt::maps::CMultiMetricMap mm(inits);
   const CameraIntrinsics K(65.6, 65.6, 39.5, 29.5, 80, 60);
-  const auto sf = fusiontest::renderScene(fusiontest::Scene(), K, Eigen::Isometry3d::Identity(), 0.0);
+  const auto sf =
+      fusiontest::renderScene(fusiontest::Scene(), K, Eigen::Isometry3d::Identity(), 0.0);
   try {
     mm.insertObservation(observationOf(sf.frame));
     FAIL() << "expected an InputError for the misspelt key";
@@ -127,13 +132,15 @@ TEST(CSurfelMapInsertion, BadFusionKeyInInsertOptionsIsReported) {
 
 TEST(CSurfelMapInsertion, RealKinectFrameFromMrptDataset) {
   const std::string path = RASM_MRPT_TEST_RAWLOG;
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not installed (package mrpt-common)";
+  if (!std::filesystem::exists(path))
+    GTEST_SKIP() << path << " not installed (package mrpt-common)";
   mrpt::obs::CRawlog rawlog;
   ASSERT_TRUE(rawlog.loadFromRawLogFile(path));
   mrpt::obs::CObservation3DRangeScan::Ptr obs;
   for (std::size_t i = 0; i < rawlog.size() && !obs; ++i)
     if (rawlog.getType(i) == mrpt::obs::CRawlog::etObservation)
-      obs = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(rawlog.getAsObservation(i));
+      obs =
+          std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(rawlog.getAsObservation(i));
   ASSERT_TRUE(obs);
   maps::CSurfelMap map;
   ASSERT_TRUE(map.insertObservation(*obs));
@@ -142,7 +149,8 @@ TEST(CSurfelMapInsertion, RealKinectFrameFromMrptDataset) {
   // Depth of this frame is 1.62-2.56 m (MRPT-NOTES); the sensor is at the origin with MRPT's
   // sensor frame (+x forward), so surfels lie 1.6-2.6 m ahead along world +x.
   int in_range = 0;
-  for (int i = 0; i < a.size; ++i) in_range += a.position(i).x() > 1.55f && a.position(i).x() < 2.65f;
+  for (int i = 0; i < a.size; ++i)
+    in_range += a.position(i).x() > 1.55f && a.position(i).x() < 2.65f;
   EXPECT_GT(in_range, 0.99 * a.size);
   // Registered colour: not all black.
   int coloured = 0;

@@ -2,6 +2,8 @@
 // stability, carving of a removed object, pruning of old unstable surfels, segment weights (III),
 // basis and view bins (V-B), determinism, strict INI params.
 
+#include "rasm/fusion/SurfelFusion.h"
+
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <omp.h>
@@ -13,7 +15,6 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 #include "rasm/core/SurfelMath.h"
-#include "rasm/fusion/SurfelFusion.h"
 #include "rasm/surfel_map/kernels/ViewBins.h"
 
 using namespace rasm;
@@ -41,7 +42,8 @@ int countValid(const fusiontest::SyntheticFrame& f, const TFusionParams& p) {
 Scene wallAndBox() {
   Scene s;
   s.wall_z = 3.0;
-  s.boxes.push_back(Box{Eigen::Vector3d(-0.3, -0.25, 1.5), Eigen::Vector3d(0.3, 0.25, 1.9), Bgr8{0, 0, 255}});
+  s.boxes.push_back(
+      Box{Eigen::Vector3d(-0.3, -0.25, 1.5), Eigen::Vector3d(0.3, 0.25, 1.9), Bgr8{0, 0, 255}});
   return s;
 }
 
@@ -75,7 +77,8 @@ TEST(SurfelFusion, FirstFrameInitializesOneSurfelPerValidPixel) {
       ASSERT_LT(i, a.size);
       EXPECT_NEAR((a.position(i) - f.vertex(x, y)).norm(), 0.0f, 1e-5f);
       EXPECT_NEAR(a.normal(i).z(), -1.0f, 1e-4f);
-      const float w = confidenceWeight(normalizedRadialDistance(float(x), float(y), kK.plain()), 0.6f);
+      const float w =
+          confidenceWeight(normalizedRadialDistance(float(x), float(y), kK.plain()), 0.6f);
       EXPECT_NEAR(a.confidence(i), w, 1e-6f);
       EXPECT_NEAR(a.segment_w[i], 0.0f, 0.0f);  // no label image
       EXPECT_NEAR(a.radius(i), surfelRadius(3.0f, -1.0f, float(kK.fx)), 1e-6f);
@@ -105,7 +108,8 @@ TEST(SurfelFusion, StaticViewKeepsSurfelCountAndBecomesStable) {
   const int frames = 25;
   int n_first = 0;
   for (int k = 0; k < frames; ++k) {
-    const auto f = fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), 100.0 + k / 30.0);
+    const auto f =
+        fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), 100.0 + k / 30.0);
     const FusionStats st = fusion.fuse(map, f.input());
     if (k == 0) {
       n_first = map.size();
@@ -152,8 +156,10 @@ TEST(SurfelFusion, SmallMotionsFuseIntoTheSameSurfels) {
     T.linear() = Eigen::AngleAxisd(0.0035 * k, Eigen::Vector3d::UnitY()).toRotationMatrix();
     const auto f = fusiontest::renderScene(scene, kK, T, k / 30.0);
     const FusionStats st = fusion.fuse(map, f.input());
-    if (k == 0) n_first = map.size();
-    else EXPECT_GT(st.associated, 0.9 * st.valid_pixels) << "frame " << k;
+    if (k == 0)
+      n_first = map.size();
+    else
+      EXPECT_GT(st.associated, 0.9 * st.valid_pixels) << "frame " << k;
   }
   EXPECT_LT(map.size(), 1.15 * n_first);
   // All surfels stay on the wall plane.
@@ -169,7 +175,8 @@ TEST(SurfelFusion, MovedObjectIsCarvedAway) {
   Scene without_box;
   double t = 0.0;
   for (int k = 0; k < 20; ++k, t += 1.0 / 30)
-    fusion.fuse(map, fusiontest::renderScene(with_box, kK, Eigen::Isometry3d::Identity(), t).input());
+    fusion.fuse(map,
+                fusiontest::renderScene(with_box, kK, Eigen::Isometry3d::Identity(), t).input());
   auto countBox = [&] {
     int n = 0;
     const SurfelArrays a = map.arrays();
@@ -183,7 +190,8 @@ TEST(SurfelFusion, MovedObjectIsCarvedAway) {
   FusionStats last;
   int carved = 0, demoted = 0;
   for (int k = 0; k < 4; ++k, t += 1.0 / 30) {
-    last = fusion.fuse(map, fusiontest::renderScene(without_box, kK, Eigen::Isometry3d::Identity(), t).input());
+    last = fusion.fuse(
+        map, fusiontest::renderScene(without_box, kK, Eigen::Isometry3d::Identity(), t).input());
     carved += last.removed_carved;
     demoted += last.demoted_carved;
   }
@@ -203,9 +211,11 @@ TEST(SurfelFusion, OneBadFrameDoesNotEraseStableStructure) {
   const Scene with_box = wallAndBox();
   double t = 0.0;
   for (int k = 0; k < 30; ++k, t += 1.0 / 30)
-    fusion.fuse(map, fusiontest::renderScene(with_box, kK, Eigen::Isometry3d::Identity(), t).input());
+    fusion.fuse(map,
+                fusiontest::renderScene(with_box, kK, Eigen::Isometry3d::Identity(), t).input());
   const int n = map.size();
-  fusion.fuse(map, fusiontest::renderScene(Scene(), kK, Eigen::Isometry3d::Identity(), t).input());  // box missing once
+  fusion.fuse(map, fusiontest::renderScene(Scene(), kK, Eigen::Isometry3d::Identity(), t)
+                       .input());  // box missing once
   int box = 0;
   const SurfelArrays a = map.arrays();
   for (int i = 0; i < a.size; ++i) box += a.position(i).z() < 2.5f;
@@ -221,13 +231,15 @@ TEST(SurfelFusion, OldUnstableSurfelsArePruned) {
   Scene scene;
   // 12 frames: centre surfels (w > 10/12) become stable, the periphery stays unstable.
   for (int k = 0; k < 12; ++k)
-    fusion.fuse(map, fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), k / 30.0).input());
+    fusion.fuse(
+        map, fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), k / 30.0).input());
   int stable = 0;
   for (int i = 0; i < map.size(); ++i) stable += map.arrays().stable(i);
   ASSERT_GT(stable, 0);
   ASSERT_LT(stable, map.size());
   // Look away (empty frame) 1.5 s later: nothing is old enough yet.
-  fusiontest::SyntheticFrame empty = fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), 1.5, 0.5);
+  fusiontest::SyntheticFrame empty =
+      fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), 1.5, 0.5);
   const int before = map.size();
   FusionStats st = fusion.fuse(map, empty.input());
   EXPECT_EQ(st.removed_unstable, 0);
@@ -303,7 +315,8 @@ TEST(SurfelFusion, BasisStaysInPlaneAndViewBinsRecordTheView) {
       const float ic = dequantizeUnit(a.viewRow(i)[b]);
       if (ic > 0.0f) {
         ++nonzero;
-        EXPECT_LT(std::min(std::abs(ic - ic0), std::abs(ic - ic1)), 0.6f / 255.0f + 2e-3f) << "surfel " << i;
+        EXPECT_LT(std::min(std::abs(ic - ic0), std::abs(ic - ic1)), 0.6f / 255.0f + 2e-3f)
+            << "surfel " << i;
       }
     }
     EXPECT_GE(nonzero, 1);
@@ -370,7 +383,8 @@ TEST(SurfelFusionCuda, MatchesCpu) {
   if (!avail.available) GTEST_SKIP() << avail.reason;
   const Scene scene = wallAndBox();
   SurfelStore cpu_map, gpu_map;
-  SurfelFusion cpu(TFusionParams(), compute::Backend::Cpu), gpu(TFusionParams(), compute::Backend::Cuda);
+  SurfelFusion cpu(TFusionParams(), compute::Backend::Cpu),
+      gpu(TFusionParams(), compute::Backend::Cuda);
   for (int k = 0; k < 4; ++k) {
     const auto f = fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), k / 30.0);
     cpu.fuse(cpu_map, f.input());

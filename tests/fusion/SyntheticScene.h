@@ -51,8 +51,9 @@ struct SyntheticFrame {
 };
 
 /// Renders `scene` from T_world_cam (optical). Depth is the exact camera z of the first hit.
-inline SyntheticFrame renderScene(const Scene& scene, const CameraIntrinsics& K, const Eigen::Isometry3d& T_world_cam,
-                                  double t_s, double max_depth_m = 10.0) {
+inline SyntheticFrame renderScene(const Scene& scene, const CameraIntrinsics& K,
+                                  const Eigen::Isometry3d& T_world_cam, double t_s,
+                                  double max_depth_m = 10.0) {
   SyntheticFrame f;
   f.T_world_cam = T_world_cam;
   f.frame.intrinsics = K;

@@ -1,6 +1,8 @@
 // CSurfelMap as an MRPT metric map: serialization round trip, INI creation through
 // CMultiMetricMap, PLY and .3Dscene export, visualization.
 
+#include "rasm/surfel_map/CSurfelMap.h"
+
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/io/CMemoryStream.h>
@@ -15,7 +17,6 @@
 #include <random>
 
 #include "rasm/core/Error.h"
-#include "rasm/surfel_map/CSurfelMap.h"
 
 using namespace rasm;
 using namespace rasm::maps;

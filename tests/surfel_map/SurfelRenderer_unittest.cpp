@@ -1,6 +1,8 @@
 // Splat / point rendering (II-A) and the 4x index map (II-D) against brute-force projection,
 // frustum culling by block counts, rendered plane depth, determinism across thread counts.
 
+#include "rasm/surfel_map/SurfelRenderer.h"
+
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -8,7 +10,6 @@
 #include <random>
 
 #include "rasm/compute/Device.h"
-#include "rasm/surfel_map/SurfelRenderer.h"
 #include "rasm/surfel_map/kernels/RenderKernels.h"
 
 using namespace rasm;
@@ -28,8 +29,8 @@ Eigen::Isometry3d lookPose() {
 
 /// Random surfels in front of the camera T_world_cam (camera-frame depth 1-4 m), random normals
 /// facing the camera, radii 5-30 mm times radius_scale.
-SurfelStore randomMapInView(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K, int n, unsigned seed,
-                            float radius_scale = 1.0f) {
+SurfelStore randomMapInView(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K, int n,
+                            unsigned seed, float radius_scale = 1.0f) {
   SurfelStore store;
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
@@ -53,8 +54,10 @@ SurfelStore randomMapInView(const Eigen::Isometry3d& T_world_cam, const CameraIn
 }
 
 /// Brute force over ALL surfels (no culling) with the kernels' arithmetic: (depth, index) min.
-Image<std::uint64_t> bruteForcePoints(const SurfelStore& store, const Eigen::Isometry3d& T_world_cam,
-                                      const CameraIntrinsics& K, int scale, const RenderOptions& opt) {
+Image<std::uint64_t> bruteForcePoints(const SurfelStore& store,
+                                      const Eigen::Isometry3d& T_world_cam,
+                                      const CameraIntrinsics& K, int scale,
+                                      const RenderOptions& opt) {
   Image<std::uint64_t> out(K.width * scale, K.height * scale, kernels::kEmptyPacked);
   const RigidF T_cw = RigidF::fromMatrix(T_world_cam.inverse().matrix().cast<float>());
   const PinholeF Kp = K.plain();
@@ -92,7 +95,8 @@ TEST(SurfelRenderer, PointModeIndexMapEqualsBruteForce) {
         drawn += m.index(x, y) >= 0;
         if (m.index(x, y) >= 0) {
           EXPECT_EQ(m.segment(x, y), store.arrays().segment[m.index(x, y)]);
-          EXPECT_EQ(m.vertex_world(x, y), store.arrays().position(m.index(x, y)));  // point mode: centre
+          EXPECT_EQ(m.vertex_world(x, y),
+                    store.arrays().position(m.index(x, y)));  // point mode: centre
         }
       }
     EXPECT_GT(drawn, 500);
@@ -109,7 +113,8 @@ TEST(SurfelRenderer, IndexMap4xEqualsBruteForceAndSparseClearWorks) {
     r.renderIndexMap4x(store, T, kSmallK, opt, map4);
     const Image<std::uint64_t> bf = bruteForcePoints(store, T, kSmallK, 4, opt);
     for (int y = 0; y < bf.height(); ++y)
-      for (int x = 0; x < bf.width(); ++x) ASSERT_EQ(map4.index(x, y), kernels::unpackIndex(bf(x, y)));
+      for (int x = 0; x < bf.width(); ++x)
+        ASSERT_EQ(map4.index(x, y), kernels::unpackIndex(bf(x, y)));
   }
 }
 
@@ -135,7 +140,8 @@ TEST(SurfelRenderer, SplatPixelsHoldTheNearestCoveringSurfel) {
         const Eigen::Vector3d p = T_cw * a.position(i).cast<double>();
         const Eigen::Vector3d n = T_cw.linear() * a.normal(i).cast<double>();
         const double r = a.radius(i);
-        const double u = kSmallK.fx * p.x() / p.z() + kSmallK.cx, v = kSmallK.fy * p.y() / p.z() + kSmallK.cy;
+        const double u = kSmallK.fx * p.x() / p.z() + kSmallK.cx,
+                     v = kSmallK.fy * p.y() / p.z() + kSmallK.cy;
         const bool own = std::floor(u + 0.5) == x && std::floor(v + 0.5) == y;
         const double denom = n.dot(d);
         double t = std::abs(denom) > 1e-6 ? n.dot(p) / denom : -1.0;

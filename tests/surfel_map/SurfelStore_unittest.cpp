@@ -1,12 +1,12 @@
 // SurfelStore: SoA storage, removal with compaction, and the incremental spatial index.
 
+#include "rasm/surfel_map/SurfelStore.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
 #include <set>
-
-#include "rasm/surfel_map/SurfelStore.h"
 
 using namespace rasm;
 using namespace rasm::maps;
@@ -47,9 +47,11 @@ void expectSame(const Surfel& a, const Surfel& b) {
   EXPECT_NEAR(a.t_init_s, b.t_init_s, 1e-5);
   EXPECT_NEAR(a.t_last_s, b.t_last_s, 1e-5);
   ASSERT_EQ(a.class_p.size(), b.class_p.size());
-  for (std::size_t c = 0; c < a.class_p.size(); ++c) EXPECT_NEAR(a.class_p[c], b.class_p[c], 0.5 / 255.0 + 1e-6);
+  for (std::size_t c = 0; c < a.class_p.size(); ++c)
+    EXPECT_NEAR(a.class_p[c], b.class_p[c], 0.5 / 255.0 + 1e-6);
   ASSERT_EQ(a.view_ic.size(), b.view_ic.size());
-  for (std::size_t v = 0; v < a.view_ic.size(); ++v) EXPECT_NEAR(a.view_ic[v], b.view_ic[v], 0.5 / 255.0 + 1e-6);
+  for (std::size_t v = 0; v < a.view_ic.size(); ++v)
+    EXPECT_NEAR(a.view_ic[v], b.view_ic[v], 0.5 / 255.0 + 1e-6);
 }
 
 }  // namespace

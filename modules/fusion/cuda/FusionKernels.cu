@@ -20,9 +20,10 @@ struct DeviceView {
   ImageView<T> host;
   explicit DeviceView(const ImageView<T>& h) : host(h) {
     if (h.empty()) return;
-    buf = std::make_unique<cu::DeviceBuffer<std::remove_const_t<T>>>(std::size_t(h.width) * h.height);
-    cu::check(cudaMemcpy2D(buf->ptr, sizeof(T) * h.width, h.data, h.pitch_bytes, sizeof(T) * h.width, h.height,
-                           cudaMemcpyHostToDevice),
+    buf =
+        std::make_unique<cu::DeviceBuffer<std::remove_const_t<T>>>(std::size_t(h.width) * h.height);
+    cu::check(cudaMemcpy2D(buf->ptr, sizeof(T) * h.width, h.data, h.pitch_bytes,
+                           sizeof(T) * h.width, h.height, cudaMemcpyHostToDevice),
               "upload image");
   }
   ImageView<T> device() const {
@@ -30,8 +31,9 @@ struct DeviceView {
   }
   void download() const {
     if (!buf) return;
-    cu::check(cudaMemcpy2D(const_cast<std::remove_const_t<T>*>(host.data), host.pitch_bytes, buf->ptr,
-                           sizeof(T) * host.width, sizeof(T) * host.width, host.height, cudaMemcpyDeviceToHost),
+    cu::check(cudaMemcpy2D(const_cast<std::remove_const_t<T>*>(host.data), host.pitch_bytes,
+                           buf->ptr, sizeof(T) * host.width, sizeof(T) * host.width, host.height,
+                           cudaMemcpyDeviceToHost),
               "download image");
   }
 };

@@ -17,7 +17,8 @@ class FusionFrameInserter : public maps::SurfelFrameInserter {
  public:
   explicit FusionFrameInserter(const TFusionParams& p) : m_fusion(p) {}
 
-  void insertFrame(maps::SurfelStore& map, const RgbdFrame& frame, const Eigen::Isometry3d& T_world_cam) override {
+  void insertFrame(maps::SurfelStore& map, const RgbdFrame& frame,
+                   const Eigen::Isometry3d& T_world_cam) override {
     VertexMapOptions vo;
     vo.min_depth_m = m_fusion.params().min_depth_m;
     vo.max_depth_m = m_fusion.params().max_depth_m;
@@ -40,6 +41,7 @@ MRPT_INITIALIZER(rasm_fusion_register_inserter) {
     rasm::fusion::TFusionParams p;
     mrpt::config::CConfigFileMemory cfg(ini);
     rasm::loadParamsStrict(cfg, "fusion", p, source);
-    return std::unique_ptr<rasm::maps::SurfelFrameInserter>(new rasm::fusion::FusionFrameInserter(p));
+    return std::unique_ptr<rasm::maps::SurfelFrameInserter>(
+        new rasm::fusion::FusionFrameInserter(p));
   });
 }

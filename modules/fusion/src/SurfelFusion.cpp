@@ -18,7 +18,8 @@ constexpr float kDegToRad = 3.14159265358979f / 180.0f;
 
 RigidF toRigid(const Eigen::Isometry3d& T) { return RigidF::fromMatrix(T.matrix().cast<float>()); }
 
-kernels::FusionKernelParams plainParams(const TFusionParams& p, const maps::SurfelStoreOptions& layout) {
+kernels::FusionKernelParams plainParams(const TFusionParams& p,
+                                        const maps::SurfelStoreOptions& layout) {
   kernels::FusionKernelParams k;
   k.sigma = p.confidence_sigma;
   k.min_depth_m = p.min_depth_m;
@@ -40,7 +41,8 @@ kernels::FusionKernelParams plainParams(const TFusionParams& p, const maps::Surf
 }
 
 template <typename T>
-void checkSize(const ImageView<const T>& v, const CameraIntrinsics& K, const char* what, bool optional) {
+void checkSize(const ImageView<const T>& v, const CameraIntrinsics& K, const char* what,
+               bool optional) {
   if (optional && v.empty()) return;
   if (v.empty() || v.width != K.width || v.height != K.height) {
     std::ostringstream s;
@@ -63,8 +65,9 @@ kernels::FrameView frameView(const FusionInput& in) {
 
 }  // namespace
 
-FusionInput makeFusionInput(const RgbdFrame& frame, const Image<Vec3f>& vertex_cam, const Image<Vec3f>& normal_cam,
-                            const Eigen::Isometry3d& T_world_cam, const Image<std::uint32_t>* labels) {
+FusionInput makeFusionInput(const RgbdFrame& frame, const Image<Vec3f>& vertex_cam,
+                            const Image<Vec3f>& normal_cam, const Eigen::Isometry3d& T_world_cam,
+                            const Image<std::uint32_t>* labels) {
   FusionInput in;
   in.depth_m = frame.depth_m.view();
   if (!frame.colour.empty()) in.colour = frame.colour.view();
@@ -122,14 +125,17 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   const RigidF T_wc = toRigid(in.T_world_cam), T_cw = toRigid(in.T_world_cam.inverse());
 
   using Clock = std::chrono::steady_clock;
-  const auto ms = [](Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); };
+  const auto ms = [](Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  };
   auto t0 = Clock::now();
 
   // 1. 4x point index map of every surfel in view (II-D).
   maps::RenderOptions ro;
   ro.min_depth_m = m_params.min_depth_m;
   // Surfels up to the association gate behind the far limit can still match a far pixel.
-  ro.max_depth_m = m_params.max_depth_m * (1.0f + m_params.assoc_max_depth_diff_rel) + m_params.assoc_max_depth_diff_m;
+  ro.max_depth_m = m_params.max_depth_m * (1.0f + m_params.assoc_max_depth_diff_rel) +
+                   m_params.assoc_max_depth_diff_m;
   ro.splat = false;
   m_renderer.renderIndexMap4x(map, in.T_world_cam, in.K, ro, m_index4x, &st.render);
   m_index_fresh = true;
@@ -205,7 +211,9 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
   const auto t_start = std::chrono::steady_clock::now();
   const auto finish = [&] {
     st.map_size = map.size();
-    st.ms_cleanup += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
+    st.ms_cleanup +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start)
+            .count();
   };
   const bool index_fresh = m_index_fresh;
   m_index_fresh = false;  // the view list refers to indices that the removal below invalidates
@@ -256,9 +264,11 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
 #else
     const int t = 0, tn = 1;
 #endif
-    const int begin = int(std::int64_t(a.size) * t / tn), end = int(std::int64_t(a.size) * (t + 1) / tn);
+    const int begin = int(std::int64_t(a.size) * t / tn),
+              end = int(std::int64_t(a.size) * (t + 1) / tn);
     for (int i = begin; i < end; ++i)
-      if (!(a.colour_flags[i] & maps::kSurfelStable) && now - a.t_init[i] > max_age) old_lists[t].push_back(i);
+      if (!(a.colour_flags[i] & maps::kSurfelStable) && now - a.t_init[i] > max_age)
+        old_lists[t].push_back(i);
   }
   const std::size_t n_carved = removed.size();
   for (const auto& l : old_lists) removed.insert(removed.end(), l.begin(), l.end());

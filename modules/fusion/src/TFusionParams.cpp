@@ -6,7 +6,8 @@
 
 namespace rasm::fusion {
 
-void TFusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void TFusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                       const std::string& s) {
   MRPT_LOAD_CONFIG_VAR(confidence_sigma, float, c, s);
   MRPT_LOAD_CONFIG_VAR(min_depth_m, float, c, s);
   MRPT_LOAD_CONFIG_VAR(max_depth_m, float, c, s);

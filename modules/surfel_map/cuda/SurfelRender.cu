@@ -44,40 +44,45 @@ struct FillKernel {
 };
 
 void download(const cu::DeviceBuffer<std::uint64_t>& d, int w, int h, Image<std::uint64_t>& img) {
-  cu::check(cudaMemcpy2D(img.data(), img.pitchBytes(), d.ptr, sizeof(std::uint64_t) * w, sizeof(std::uint64_t) * w, h,
-                         cudaMemcpyDeviceToHost),
+  cu::check(cudaMemcpy2D(img.data(), img.pitchBytes(), d.ptr, sizeof(std::uint64_t) * w,
+                         sizeof(std::uint64_t) * w, h, cudaMemcpyDeviceToHost),
             "download packed");
 }
 }  // namespace
 
-void splatPacked(const SurfelArrays& a, const std::vector<int>& visible, const RigidF& T_cam_world, const PinholeF& K,
-                 const RenderOptions& opt, Image<std::uint64_t>& packed) {
+void splatPacked(const SurfelArrays& a, const std::vector<int>& visible, const RigidF& T_cam_world,
+                 const PinholeF& K, const RenderOptions& opt, Image<std::uint64_t>& packed) {
   const int w = packed.width(), h = packed.height();
   DeviceSurfels d(a, visible);
   cu::DeviceBuffer<std::uint64_t> buf(std::size_t(w) * h);
   cu::forEach1D(w * h, FillKernel{buf.ptr});
   const ImageView<std::uint64_t> view(buf.ptr, w, h);
   if (opt.splat) {
-    kernels::SplatKernel k{d.arrays, d.visible.ptr, T_cam_world, K, opt.min_depth_m, opt.max_depth_m,
-                           opt.max_splat_radius_px, view};
+    kernels::SplatKernel k{
+        d.arrays,        d.visible.ptr,           T_cam_world, K, opt.min_depth_m,
+        opt.max_depth_m, opt.max_splat_radius_px, view};
     cu::forEach1D(int(visible.size()), k);
   } else {
-    kernels::PointKernel k{d.arrays, d.visible.ptr, T_cam_world, K, opt.min_depth_m, opt.max_depth_m, 1, view, nullptr};
+    kernels::PointKernel k{d.arrays,        d.visible.ptr,   T_cam_world, K,
+                           opt.min_depth_m, opt.max_depth_m, 1,           view,
+                           nullptr};
     cu::forEach1D(int(visible.size()), k);
   }
   download(buf, w, h, packed);
 }
 
-void pointsPacked4x(const SurfelArrays& a, const std::vector<int>& visible, const RigidF& T_cam_world,
-                    const PinholeF& K, const RenderOptions& opt, Image<std::uint64_t>& packed4x,
-                    std::vector<std::int64_t>& touched) {
+void pointsPacked4x(const SurfelArrays& a, const std::vector<int>& visible,
+                    const RigidF& T_cam_world, const PinholeF& K, const RenderOptions& opt,
+                    Image<std::uint64_t>& packed4x, std::vector<std::int64_t>& touched) {
   const int w = packed4x.width(), h = packed4x.height();
   DeviceSurfels d(a, visible);
   cu::DeviceBuffer<std::uint64_t> buf(std::size_t(w) * h);
   cu::DeviceBuffer<std::int64_t> dtouched(visible.size());
   cu::forEach1D(w * h, FillKernel{buf.ptr});
-  kernels::PointKernel k{d.arrays, d.visible.ptr, T_cam_world, K, opt.min_depth_m, opt.max_depth_m, 4,
-                         ImageView<std::uint64_t>(buf.ptr, w, h), dtouched.ptr};
+  kernels::PointKernel k{
+      d.arrays,        d.visible.ptr,   T_cam_world, K,
+      opt.min_depth_m, opt.max_depth_m, 4,           ImageView<std::uint64_t>(buf.ptr, w, h),
+      dtouched.ptr};
   cu::forEach1D(int(visible.size()), k);
   download(buf, w, h, packed4x);
   touched.resize(visible.size());

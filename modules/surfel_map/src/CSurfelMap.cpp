@@ -36,12 +36,17 @@ namespace {
 
 const char* colouringName(SurfelColouring c) {
   switch (c) {
-    case SurfelColouring::Segment: return "segment";
-    case SurfelColouring::Class: return "class";
-    case SurfelColouring::Confidence: return "confidence";
-    case SurfelColouring::Stability: return "stability";
+    case SurfelColouring::Segment:
+      return "segment";
+    case SurfelColouring::Class:
+      return "class";
+    case SurfelColouring::Confidence:
+      return "confidence";
+    case SurfelColouring::Stability:
+      return "stability";
     case SurfelColouring::Rgb:
-    default: return "rgb";
+    default:
+      return "rgb";
   }
 }
 
@@ -58,7 +63,8 @@ SurfelStoreOptions CSurfelMap::TCreationOptions::toStoreOptions() const {
   return o;
 }
 
-void CSurfelMap::TCreationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void CSurfelMap::TCreationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                                      const std::string& s) {
   MRPT_LOAD_CONFIG_VAR(n_classes, int, c, s);
   MRPT_LOAD_CONFIG_VAR(view_bins_azimuth, int, c, s);
   MRPT_LOAD_CONFIG_VAR(view_bins_elevation, int, c, s);
@@ -69,7 +75,8 @@ void CSurfelMap::TCreationOptions::loadFromConfigFile(const mrpt::config::CConfi
   requireInRange(block_size_m, 0.01, 100.0, s, "block_size_m");
 }
 
-void CSurfelMap::TCreationOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+void CSurfelMap::TCreationOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                                    const std::string& s) const {
   c.write(s, "n_classes", n_classes);
   c.write(s, "view_bins_azimuth", view_bins_azimuth);
   c.write(s, "view_bins_elevation", view_bins_elevation);
@@ -83,7 +90,8 @@ std::string CSurfelMap::TInsertionOptions::fusionIniText() const {
   return s.str();
 }
 
-void CSurfelMap::TInsertionOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void CSurfelMap::TInsertionOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                                       const std::string& s) {
   std::vector<std::string> keys;
   c.getAllKeys(s, keys);
   std::sort(keys.begin(), keys.end());
@@ -92,11 +100,13 @@ void CSurfelMap::TInsertionOptions::loadFromConfigFile(const mrpt::config::CConf
   source = "[" + s + "]";
 }
 
-void CSurfelMap::TInsertionOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+void CSurfelMap::TInsertionOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                                     const std::string& s) const {
   for (const auto& kv : fusion_keys) c.write(s, kv.first, kv.second);
 }
 
-void CSurfelMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void CSurfelMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                                        const std::string& s) {
   MRPT_LOAD_CONFIG_VAR(sigma_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(decimation, int, c, s);
   MRPT_LOAD_CONFIG_VAR(max_depth_m, double, c, s);
@@ -105,13 +115,15 @@ void CSurfelMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CCon
   requireInRange(max_depth_m, 0.1, 100.0, s, "max_depth_m");
 }
 
-void CSurfelMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+void CSurfelMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                                      const std::string& s) const {
   c.write(s, "sigma_m", sigma_m);
   c.write(s, "decimation", decimation);
   c.write(s, "max_depth_m", max_depth_m);
 }
 
-void CSurfelMap::TRenderingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void CSurfelMap::TRenderingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                                       const std::string& s) {
   const std::string col = c.read_string(s, "colouring", colouringName(visual.colouring));
   bool found = false;
   for (int i = 0; i <= int(SurfelColouring::Stability); ++i)
@@ -120,14 +132,16 @@ void CSurfelMap::TRenderingOptions::loadFromConfigFile(const mrpt::config::CConf
       found = true;
     }
   if (!found)
-    throwInputError("[" + s + "] colouring", "'" + col + "', expected rgb, segment, class, confidence or stability");
+    throwInputError("[" + s + "] colouring",
+                    "'" + col + "', expected rgb, segment, class, confidence or stability");
   visual.point_size = c.read_float(s, "point_size", visual.point_size);
   visual.stable_only = c.read_bool(s, "stable_only", visual.stable_only);
   visual.min_confidence = c.read_float(s, "min_confidence", visual.min_confidence);
   requireInRange(visual.point_size, 0.1, 100.0, s, "point_size");
 }
 
-void CSurfelMap::TRenderingOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+void CSurfelMap::TRenderingOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                                     const std::string& s) const {
   c.write(s, "colouring", std::string(colouringName(visual.colouring)));
   c.write(s, "point_size", visual.point_size);
   c.write(s, "stable_only", visual.stable_only);
@@ -138,8 +152,8 @@ void CSurfelMap::TRenderingOptions::saveToConfigFile(mrpt::config::CConfigFileBa
 
 CSurfelMap::TMapDefinition::TMapDefinition() = default;
 
-void CSurfelMap::TMapDefinition::loadFromConfigFile_map_specific(const mrpt::config::CConfigFileBase& source,
-                                                                 const std::string& prefix) {
+void CSurfelMap::TMapDefinition::loadFromConfigFile_map_specific(
+    const mrpt::config::CConfigFileBase& source, const std::string& prefix) {
   // Strict: unknown keys in the creation / likelihood / rendering sections are errors. The
   // insertion section holds [fusion] keys, checked when the inserter parses them.
   const std::string what = "map definition " + prefix;
@@ -156,7 +170,8 @@ void CSurfelMap::TMapDefinition::dumpToTextStream_map_specific(std::ostream& out
   renderOpts.dumpToTextStream(out);
 }
 
-mrpt::maps::CMetricMap* CSurfelMap::internal_CreateFromMapDefinition(const mrpt::maps::TMetricMapInitializer& _def) {
+mrpt::maps::CMetricMap* CSurfelMap::internal_CreateFromMapDefinition(
+    const mrpt::maps::TMetricMapInitializer& _def) {
   const auto& def = dynamic_cast<const CSurfelMap::TMapDefinition&>(_def);
   auto* m = new CSurfelMap(def.creationOpts);
   m->insertionOptions = def.insertionOpts;
@@ -216,7 +231,8 @@ void CSurfelMap::serializeTo(mrpt::serialization::CArchive& out) const {
       << int32_t(m_creation.view_bins_elevation) << m_creation.block_size_m;
   out << uint32_t(insertionOptions.fusion_keys.size());
   for (const auto& kv : insertionOptions.fusion_keys) out << kv.first << kv.second;
-  out << likelihoodOptions.sigma_m << int32_t(likelihoodOptions.decimation) << likelihoodOptions.max_depth_m;
+  out << likelihoodOptions.sigma_m << int32_t(likelihoodOptions.decimation)
+      << likelihoodOptions.max_depth_m;
   out << int32_t(renderingOptions.visual.colouring) << renderingOptions.visual.point_size
       << renderingOptions.visual.stable_only << renderingOptions.visual.min_confidence;
   out << genericMapParams;
@@ -253,8 +269,8 @@ void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t versio
       int32_t dec, colouring;
       in >> likelihoodOptions.sigma_m >> dec >> likelihoodOptions.max_depth_m;
       likelihoodOptions.decimation = dec;
-      in >> colouring >> renderingOptions.visual.point_size >> renderingOptions.visual.stable_only >>
-          renderingOptions.visual.min_confidence;
+      in >> colouring >> renderingOptions.visual.point_size >>
+          renderingOptions.visual.stable_only >> renderingOptions.visual.min_confidence;
       renderingOptions.visual.colouring = SurfelColouring(colouring);
       in >> genericMapParams;
       double t0;
@@ -285,8 +301,9 @@ void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t versio
 
 // ---- CMetricMap ----
 
-bool CSurfelMap::internal_insertObservation(const mrpt::obs::CObservation& obs,
-                                            const std::optional<const mrpt::poses::CPose3D>& robotPose) {
+bool CSurfelMap::internal_insertObservation(
+    const mrpt::obs::CObservation& obs,
+    const std::optional<const mrpt::poses::CPose3D>& robotPose) {
   const auto* scan = dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs);
   if (!scan) return false;
   const std::string source = "CSurfelMap::insertObservation(" + scan->sensorLabel + ")";
@@ -304,16 +321,18 @@ bool CSurfelMap::internal_insertObservation(const mrpt::obs::CObservation& obs,
   return true;
 }
 
-bool CSurfelMap::internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const {
+bool CSurfelMap::internal_canComputeObservationLikelihood(
+    const mrpt::obs::CObservation& obs) const {
   return dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs) != nullptr && !isEmpty();
 }
 
-double CSurfelMap::internal_computeObservationLikelihood(const mrpt::obs::CObservation& obs,
-                                                         const mrpt::poses::CPose3D& takenFrom) const {
+double CSurfelMap::internal_computeObservationLikelihood(
+    const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const {
   const auto* scan = dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs);
   if (!scan || isEmpty()) return 0.0;
   scan->load();
-  const RgbdFrame frame = io::frameFromObservation(*scan, "CSurfelMap::computeObservationLikelihood");
+  const RgbdFrame frame =
+      io::frameFromObservation(*scan, "CSurfelMap::computeObservationLikelihood");
   const Eigen::Isometry3d T_world_cam = opticalFromMrptSensorPose(takenFrom + scan->sensorPose);
   // Gaussian on the depth residual of the splat-rendered map, on a decimated pixel grid; pixels
   // the map does not explain (no surfel, or residual beyond 3 sigma) count as 3-sigma outliers so
@@ -355,9 +374,10 @@ std::string CSurfelMap::asString() const {
   int stable = 0;
   const SurfelArrays a = m_store.arrays();
   for (int i = 0; i < a.size; ++i) stable += a.stable(i) ? 1 : 0;
-  s << "rasm::maps::CSurfelMap: " << a.size << " surfels (" << stable << " stable), n_classes="
-    << a.n_classes << ", view bins " << m_creation.view_bins_azimuth << "x" << m_creation.view_bins_elevation
-    << ", " << m_store.spatialIndex().numBlocks() << " blocks of " << m_creation.block_size_m << " m, "
+  s << "rasm::maps::CSurfelMap: " << a.size << " surfels (" << stable
+    << " stable), n_classes=" << a.n_classes << ", view bins " << m_creation.view_bins_azimuth
+    << "x" << m_creation.view_bins_elevation << ", " << m_store.spatialIndex().numBlocks()
+    << " blocks of " << m_creation.block_size_m << " m, "
     << m_store.memoryBytes() / (1024.0 * 1024.0) << " MiB";
   return s.str();
 }

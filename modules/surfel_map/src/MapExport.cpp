@@ -13,7 +13,8 @@
 
 #include "rasm/core/Error.h"
 
-static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "the PLY writer assumes a little-endian host");
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
+              "the PLY writer assumes a little-endian host");
 
 namespace rasm::maps {
 
@@ -21,9 +22,9 @@ namespace {
 
 // Property list of the PLY (order, type, name) — the reader accepts exactly this layout.
 const char* const kPlyProperties[] = {
-    "float x",    "float y",          "float z",      "float nx",  "float ny",      "float nz",
-    "uchar red",  "uchar green",      "uchar blue",   "float radius", "float confidence",
-    "uint segment", "int class",      "uchar stable",
+    "float x",          "float y",      "float z",     "float nx",     "float ny",
+    "float nz",         "uchar red",    "uchar green", "uchar blue",   "float radius",
+    "float confidence", "uint segment", "int class",   "uchar stable",
 };
 constexpr std::size_t kPlyRecordBytes = 6 * 4 + 3 + 4 + 4 + 4 + 4 + 1;
 
@@ -87,12 +88,33 @@ Bgr8 labelColour(long long label) {
   const double p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
   double r = v, g = t, b = p;
   switch (sector) {
-    case 1: r = q; g = v; b = p; break;
-    case 2: r = p; g = v; b = t; break;
-    case 3: r = p; g = q; b = v; break;
-    case 4: r = t; g = p; b = v; break;
-    case 5: r = v; g = p; b = q; break;
-    default: break;
+    case 1:
+      r = q;
+      g = v;
+      b = p;
+      break;
+    case 2:
+      r = p;
+      g = v;
+      b = t;
+      break;
+    case 3:
+      r = p;
+      g = q;
+      b = v;
+      break;
+    case 4:
+      r = t;
+      g = p;
+      b = v;
+      break;
+    case 5:
+      r = v;
+      g = p;
+      b = q;
+      break;
+    default:
+      break;
   }
   return Bgr8{std::uint8_t(255 * b), std::uint8_t(255 * g), std::uint8_t(255 * r)};
 }
@@ -170,7 +192,8 @@ PlySurfels readSurfelPly(const std::string& path) {
   }
   if (!format_ok) throwInputError(what, "expected format binary_little_endian");
   const std::size_t np = sizeof(kPlyProperties) / sizeof(kPlyProperties[0]);
-  if (props.size() != np) throwInputError(what, "expected the rasm surfel property layout (MapExport.h)");
+  if (props.size() != np)
+    throwInputError(what, "expected the rasm surfel property layout (MapExport.h)");
   for (std::size_t i = 0; i < np; ++i)
     if (props[i] != kPlyProperties[i])
       throwInputError(what, "property " + std::to_string(i) + " is '" + props[i] + "', expected '" +
@@ -205,7 +228,8 @@ PlySurfels readSurfelPly(const std::string& path) {
   return out;
 }
 
-void surfelsToOpenGL(const SurfelStore& map, const SurfelVisualOptions& opt, mrpt::opengl::CSetOfObjects& o) {
+void surfelsToOpenGL(const SurfelStore& map, const SurfelVisualOptions& opt,
+                     mrpt::opengl::CSetOfObjects& o) {
   const SurfelArrays a = map.arrays();
   auto cloud = mrpt::opengl::CPointCloudColoured::Create();
   cloud->setName("rasm_surfels");
@@ -222,7 +246,8 @@ void surfelsToOpenGL(const SurfelStore& map, const SurfelVisualOptions& opt, mrp
   o.insert(cloud);
 }
 
-void writeSurfelScene(const SurfelStore& map, const std::string& path, const SurfelVisualOptions& opt) {
+void writeSurfelScene(const SurfelStore& map, const std::string& path,
+                      const SurfelVisualOptions& opt) {
   mrpt::opengl::COpenGLScene scene;
   auto objs = mrpt::opengl::CSetOfObjects::Create();
   surfelsToOpenGL(map, opt, *objs);

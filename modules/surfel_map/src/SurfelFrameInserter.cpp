@@ -35,7 +35,8 @@ std::unique_ptr<SurfelFrameInserter> makeSurfelFrameInserter(const std::string& 
   }
   if (!f)
     throw std::logic_error(
-        "CSurfelMap::insertObservation needs the fusion module: link rasm::fusion (it registers the "
+        "CSurfelMap::insertObservation needs the fusion module: link rasm::fusion (it registers "
+        "the "
         "surfel frame inserter when loaded)");
   return f(fusion_ini_text, source);
 }

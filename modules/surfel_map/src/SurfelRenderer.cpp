@@ -43,7 +43,8 @@ void splatCpu(const kernels::SplatKernel& k, int n, std::vector<kernels::SplatFo
   fp.resize(n);
   rows.resize(n);
   compute::forEach1D(n, [&](int j) {
-    rows[j] = k.footprint(j, fp[j]) ? (std::uint32_t(fp[j].y0) | (std::uint32_t(fp[j].y1) << 16)) : kNone;
+    rows[j] =
+        k.footprint(j, fp[j]) ? (std::uint32_t(fp[j].y0) | (std::uint32_t(fp[j].y1) << 16)) : kNone;
   });
   const int h = k.packed.height, nb = numBands(h, 2);
 #pragma omp parallel for schedule(dynamic, 1)
@@ -59,7 +60,8 @@ void splatCpu(const kernels::SplatKernel& k, int n, std::vector<kernels::SplatFo
   }
 }
 
-void pointsCpu(const kernels::PointKernel& k, int n, std::int64_t* ids, std::vector<std::uint64_t>& values) {
+void pointsCpu(const kernels::PointKernel& k, int n, std::int64_t* ids,
+               std::vector<std::uint64_t>& values) {
   values.resize(n);
   compute::forEach1D(n, [&](int j) { ids[j] = k.target(j, values[j]); });
   const int h = k.packed.height, w = k.packed.width, nb = numBands(h, 1);
@@ -77,8 +79,9 @@ void pointsCpu(const kernels::PointKernel& k, int n, std::int64_t* ids, std::vec
 }  // namespace
 
 void SurfelRenderer::collectVisible(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
-                                    const CameraIntrinsics& K, const RenderOptions& opt, float margin_px,
-                                    std::vector<int>& visible, RenderStats* stats) const {
+                                    const CameraIntrinsics& K, const RenderOptions& opt,
+                                    float margin_px, std::vector<int>& visible,
+                                    RenderStats* stats) const {
   visible.clear();
   if (!K.valid()) throw std::invalid_argument("SurfelRenderer: invalid intrinsics " + K.toString());
   const RigidF T_wc = toRigid(T_world_cam);
@@ -87,7 +90,8 @@ void SurfelRenderer::collectVisible(const SurfelStore& map, const Eigen::Isometr
 
   std::vector<int> blocks;
   std::vector<std::uint8_t> inside;
-  const CameraFrustum frustum = CameraFrustum::fromCamera(T_wc, Kp, opt.min_depth_m, opt.max_depth_m);
+  const CameraFrustum frustum =
+      CameraFrustum::fromCamera(T_wc, Kp, opt.min_depth_m, opt.max_depth_m);
   // Grow the culling by the largest radius and by the pixel margin at the far plane.
   const float f_min = float(std::min(std::fabs(K.fx), std::fabs(K.fy)));
   const float margin_m = map.radiusBound() + margin_px / f_min * opt.max_depth_m;
@@ -101,7 +105,8 @@ void SurfelRenderer::collectVisible(const SurfelStore& map, const Eigen::Isometr
   test.min_depth_m = opt.min_depth_m;
   test.max_depth_m = opt.max_depth_m;
   test.min_confidence = opt.min_confidence;
-  if (std::isfinite(opt.time_window_s)) test.min_t_last = map.toMapTime(opt.now_s - opt.time_window_s);
+  if (std::isfinite(opt.time_window_s))
+    test.min_t_last = map.toMapTime(opt.now_s - opt.time_window_s);
   test.stable_only = opt.stable_only;
   test.cull_back_faces = opt.cull_back_faces;
   test.u_lo = -0.5f - margin_px;
@@ -130,7 +135,8 @@ void SurfelRenderer::collectVisible(const SurfelStore& map, const Eigen::Isometr
   std::size_t total = 0;
   for (int j = 0; j < nb; ++j) total += per_block_[j].size();
   visible.reserve(total);
-  for (int j = 0; j < nb; ++j) visible.insert(visible.end(), per_block_[j].begin(), per_block_[j].end());
+  for (int j = 0; j < nb; ++j)
+    visible.insert(visible.end(), per_block_[j].begin(), per_block_[j].end());
 
   if (stats) {
     stats->blocks_total = index.numBlocks();
@@ -140,10 +146,12 @@ void SurfelRenderer::collectVisible(const SurfelStore& map, const Eigen::Isometr
   }
 }
 
-void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K,
-                            const RenderOptions& opt, RenderedMaps& out, RenderStats* stats) {
+void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
+                            const CameraIntrinsics& K, const RenderOptions& opt, RenderedMaps& out,
+                            RenderStats* stats) {
   const int w = K.width, h = K.height;
-  collectVisible(map, T_world_cam, K, opt, opt.splat ? opt.max_splat_radius_px : 0.5f, visible_, stats);
+  collectVisible(map, T_world_cam, K, opt, opt.splat ? opt.max_splat_radius_px : 0.5f, visible_,
+                 stats);
   const SurfelArrays arr = map.arrays();
   const RigidF T_cw = toRigid(T_world_cam.inverse());
   const PinholeF Kp = K.plain();
@@ -154,11 +162,18 @@ void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_w
   } else {
     fillEmpty(packed_);
     if (opt.splat) {
-      kernels::SplatKernel k{arr, visible_.data(), T_cw, Kp, opt.min_depth_m, opt.max_depth_m,
-                             opt.max_splat_radius_px, packed_.view()};
+      kernels::SplatKernel k{arr,
+                             visible_.data(),
+                             T_cw,
+                             Kp,
+                             opt.min_depth_m,
+                             opt.max_depth_m,
+                             opt.max_splat_radius_px,
+                             packed_.view()};
       splatCpu(k, int(visible_.size()), footprints_, rows_);
     } else {
-      kernels::PointKernel k{arr, visible_.data(), T_cw, Kp, opt.min_depth_m, opt.max_depth_m, 1, packed_.view(), nullptr};
+      kernels::PointKernel k{arr, visible_.data(), T_cw,   Kp, opt.min_depth_m, opt.max_depth_m,
+                             1,   packed_.view(),  nullptr};
       ids_.resize(visible_.size());
       pointsCpu(k, int(visible_.size()), ids_.data(), values_);
     }
@@ -182,8 +197,8 @@ void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_w
 }
 
 void SurfelRenderer::renderIndexMap4x(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
-                                      const CameraIntrinsics& K, const RenderOptions& opt, IndexMap4x& out,
-                                      RenderStats* stats) {
+                                      const CameraIntrinsics& K, const RenderOptions& opt,
+                                      IndexMap4x& out, RenderStats* stats) {
   constexpr int S = IndexMap4x::kScale;
   const int W = K.width * S, H = K.height * S;
   if (!out.packed.sameSize(W, H)) {
@@ -203,16 +218,17 @@ void SurfelRenderer::renderIndexMap4x(const SurfelStore& map, const Eigen::Isome
   if (backend_ == compute::Backend::Cuda) {
     cuda::pointsPacked4x(arr, out.visible, T_cw, K.plain(), opt, out.packed, out.touched);
   } else {
-    kernels::PointKernel k{arr, out.visible.data(), T_cw, K.plain(), opt.min_depth_m, opt.max_depth_m, S,
-                           out.packed.view(), nullptr};
+    kernels::PointKernel k{arr,       out.visible.data(), T_cw,
+                           K.plain(), opt.min_depth_m,    opt.max_depth_m,
+                           S,         out.packed.view(),  nullptr};
     pointsCpu(k, int(out.visible.size()), out.touched.data(), values_);
   }
 }
 
 #ifndef RASM_HAVE_CUDA
 namespace cuda {
-void splatPacked(const SurfelArrays&, const std::vector<int>&, const RigidF&, const PinholeF&, const RenderOptions&,
-                 Image<std::uint64_t>&) {
+void splatPacked(const SurfelArrays&, const std::vector<int>&, const RigidF&, const PinholeF&,
+                 const RenderOptions&, Image<std::uint64_t>&) {
   throw std::runtime_error("rasm was built without CUDA (RASM_WITH_CUDA=OFF or no nvcc)");
 }
 void pointsPacked4x(const SurfelArrays&, const std::vector<int>&, const RigidF&, const PinholeF&,

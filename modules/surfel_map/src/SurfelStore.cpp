@@ -9,19 +9,21 @@ namespace rasm::maps {
 
 namespace {
 void checkOptions(const SurfelStoreOptions& o) {
-  if (o.n_classes < 0 || o.n_classes > 4096 || o.view_bins_azimuth < 0 || o.view_bins_elevation < 0 ||
-      o.nViewBins() > 4096 || !(o.block_size_m > 0.0f)) {
+  if (o.n_classes < 0 || o.n_classes > 4096 || o.view_bins_azimuth < 0 ||
+      o.view_bins_elevation < 0 || o.nViewBins() > 4096 || !(o.block_size_m > 0.0f)) {
     std::ostringstream s;
-    s << "SurfelStoreOptions: invalid layout n_classes=" << o.n_classes << " view_bins_azimuth="
-      << o.view_bins_azimuth << " view_bins_elevation=" << o.view_bins_elevation
-      << " block_size_m=" << o.block_size_m;
+    s << "SurfelStoreOptions: invalid layout n_classes=" << o.n_classes
+      << " view_bins_azimuth=" << o.view_bins_azimuth
+      << " view_bins_elevation=" << o.view_bins_elevation << " block_size_m=" << o.block_size_m;
     throw std::invalid_argument(s.str());
   }
 }
 constexpr std::uint8_t kPriorClassQ = 128;  // quantizeUnit(0.5f)
 }  // namespace
 
-SurfelStore::SurfelStore(const SurfelStoreOptions& opt) : opt_(opt), index_(opt.block_size_m) { checkOptions(opt); }
+SurfelStore::SurfelStore(const SurfelStoreOptions& opt) : opt_(opt), index_(opt.block_size_m) {
+  checkOptions(opt);
+}
 
 void SurfelStore::reset(const SurfelStoreOptions& opt) {
   checkOptions(opt);
@@ -93,7 +95,8 @@ int SurfelStore::allocate(int count) {
 void SurfelStore::indexAppended() {
   if (indexed_ >= size_) return;
   index_.insertRange(indexed_, size_ - indexed_, pos_conf_.data());
-  for (int i = indexed_; i < size_; ++i) radius_bound_ = std::max(radius_bound_, normal_radius_[i].w());
+  for (int i = indexed_; i < size_; ++i)
+    radius_bound_ = std::max(radius_bound_, normal_radius_[i].w());
   indexed_ = size_;
 }
 
@@ -125,11 +128,13 @@ int SurfelStore::append(const Surfel& s) {
 void SurfelStore::set(int i, const Surfel& s) {
   if (i < 0 || i >= size_) throw std::out_of_range("SurfelStore::set: index " + std::to_string(i));
   if (!s.class_p.empty() && int(s.class_p.size()) != opt_.n_classes)
-    throw std::invalid_argument("SurfelStore::set: class_p has " + std::to_string(s.class_p.size()) +
-                                " values, the map has n_classes = " + std::to_string(opt_.n_classes));
+    throw std::invalid_argument(
+        "SurfelStore::set: class_p has " + std::to_string(s.class_p.size()) +
+        " values, the map has n_classes = " + std::to_string(opt_.n_classes));
   if (!s.view_ic.empty() && int(s.view_ic.size()) != opt_.nViewBins())
-    throw std::invalid_argument("SurfelStore::set: view_ic has " + std::to_string(s.view_ic.size()) +
-                                " values, the map has " + std::to_string(opt_.nViewBins()) + " view bins");
+    throw std::invalid_argument("SurfelStore::set: view_ic has " +
+                                std::to_string(s.view_ic.size()) + " values, the map has " +
+                                std::to_string(opt_.nViewBins()) + " view bins");
   pos_conf_[i] = Vec4f(s.position.x(), s.position.y(), s.position.z(), s.confidence);
   normal_radius_[i] = Vec4f(s.normal.x(), s.normal.y(), s.normal.z(), s.radius);
   colour_flags_[i] = packColour(s.colour, s.stable ? kSurfelStable : 0u);
@@ -139,9 +144,11 @@ void SurfelStore::set(int i, const Surfel& s) {
   segment_[i] = s.segment;
   segment_w_[i] = s.segment_weight;
   std::uint8_t* cp = class_p_.data() + std::size_t(i) * opt_.n_classes;
-  for (int c = 0; c < opt_.n_classes; ++c) cp[c] = s.class_p.empty() ? kPriorClassQ : quantizeUnit(s.class_p[c]);
+  for (int c = 0; c < opt_.n_classes; ++c)
+    cp[c] = s.class_p.empty() ? kPriorClassQ : quantizeUnit(s.class_p[c]);
   std::uint8_t* vb = view_ic_.data() + std::size_t(i) * opt_.nViewBins();
-  for (int v = 0; v < opt_.nViewBins(); ++v) vb[v] = s.view_ic.empty() ? 0 : quantizeUnit(s.view_ic[v]);
+  for (int v = 0; v < opt_.nViewBins(); ++v)
+    vb[v] = s.view_ic.empty() ? 0 : quantizeUnit(s.view_ic[v]);
   if (i < indexed_) {
     radius_bound_ = std::max(radius_bound_, s.radius);
     index_.move(i, s.position);
@@ -163,9 +170,11 @@ Surfel SurfelStore::get(int i) const {
   s.segment = segment_[i];
   s.segment_weight = segment_w_[i];
   s.class_p.resize(opt_.n_classes);
-  for (int c = 0; c < opt_.n_classes; ++c) s.class_p[c] = dequantizeUnit(class_p_[std::size_t(i) * opt_.n_classes + c]);
+  for (int c = 0; c < opt_.n_classes; ++c)
+    s.class_p[c] = dequantizeUnit(class_p_[std::size_t(i) * opt_.n_classes + c]);
   s.view_ic.resize(opt_.nViewBins());
-  for (int v = 0; v < opt_.nViewBins(); ++v) s.view_ic[v] = dequantizeUnit(view_ic_[std::size_t(i) * opt_.nViewBins() + v]);
+  for (int v = 0; v < opt_.nViewBins(); ++v)
+    s.view_ic[v] = dequantizeUnit(view_ic_[std::size_t(i) * opt_.nViewBins() + v]);
   return s;
 }
 
@@ -219,8 +228,8 @@ void SurfelStore::remove(std::vector<int> surfels, std::vector<std::pair<int, in
 }
 
 std::size_t SurfelStore::bytesPerSurfel(int n_classes, int n_view_bins) {
-  return 2 * sizeof(Vec4f) + sizeof(std::uint32_t) + 2 * sizeof(float) + sizeof(Vec3f) + sizeof(std::uint32_t) +
-         sizeof(float) + std::size_t(n_classes) + std::size_t(n_view_bins);
+  return 2 * sizeof(Vec4f) + sizeof(std::uint32_t) + 2 * sizeof(float) + sizeof(Vec3f) +
+         sizeof(std::uint32_t) + sizeof(float) + std::size_t(n_classes) + std::size_t(n_view_bins);
 }
 
 std::size_t SurfelStore::memoryBytes() const {

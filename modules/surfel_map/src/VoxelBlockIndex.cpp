@@ -12,22 +12,26 @@ constexpr std::int64_t kBias = std::int64_t(1) << (kBits - 1);
 constexpr std::uint64_t kMask = (std::uint64_t(1) << kBits) - 1;
 
 std::uint64_t packKey(const Eigen::Vector3i& c) {
-  return (std::uint64_t(c.x() + kBias) & kMask) | ((std::uint64_t(c.y() + kBias) & kMask) << kBits) |
+  return (std::uint64_t(c.x() + kBias) & kMask) |
+         ((std::uint64_t(c.y() + kBias) & kMask) << kBits) |
          ((std::uint64_t(c.z() + kBias) & kMask) << (2 * kBits));
 }
 }  // namespace
 
-CameraFrustum CameraFrustum::fromCamera(const RigidF& T_world_cam, const PinholeF& K, float min_depth_m,
-                                        float max_depth_m) {
+CameraFrustum CameraFrustum::fromCamera(const RigidF& T_world_cam, const PinholeF& K,
+                                        float min_depth_m, float max_depth_m) {
   // Side planes through the optical centre: x >= xl z, x <= xr z, y >= yt z, y <= yb z (camera
   // frame) with the image borders at the outer pixel edges. fx or fy may be negative (ICL-NUIM).
   float xl = (-0.5f - K.cx) / K.fx, xr = (float(K.width) - 0.5f - K.cx) / K.fx;
   float yt = (-0.5f - K.cy) / K.fy, yb = (float(K.height) - 0.5f - K.cy) / K.fy;
   if (xl > xr) std::swap(xl, xr);
   if (yt > yb) std::swap(yt, yb);
-  const Vec3f n_cam[6] = {Vec3f(1, 0, -xl).normalized(), Vec3f(-1, 0, xr).normalized(),
-                          Vec3f(0, 1, -yt).normalized(), Vec3f(0, -1, yb).normalized(),
-                          Vec3f(0, 0, 1),                Vec3f(0, 0, -1)};
+  const Vec3f n_cam[6] = {Vec3f(1, 0, -xl).normalized(),
+                          Vec3f(-1, 0, xr).normalized(),
+                          Vec3f(0, 1, -yt).normalized(),
+                          Vec3f(0, -1, yb).normalized(),
+                          Vec3f(0, 0, 1),
+                          Vec3f(0, 0, -1)};
   const float d_cam[6] = {0, 0, 0, 0, -min_depth_m, max_depth_m};
   CameraFrustum f;
   const Vec3f t = T_world_cam.translation();
@@ -40,12 +44,14 @@ CameraFrustum CameraFrustum::fromCamera(const RigidF& T_world_cam, const Pinhole
 }
 
 VoxelBlockIndex::VoxelBlockIndex(float block_size_m) : block_size_m_(block_size_m) {
-  if (!(block_size_m > 0.0f)) throw std::invalid_argument("VoxelBlockIndex: block size must be > 0");
+  if (!(block_size_m > 0.0f))
+    throw std::invalid_argument("VoxelBlockIndex: block size must be > 0");
   inv_block_size_ = 1.0f / block_size_m;
 }
 
 std::uint64_t VoxelBlockIndex::keyOf(const Vec3f& p) const {
-  const Eigen::Vector3i c(int(std::floor(p.x() * inv_block_size_)), int(std::floor(p.y() * inv_block_size_)),
+  const Eigen::Vector3i c(int(std::floor(p.x() * inv_block_size_)),
+                          int(std::floor(p.y() * inv_block_size_)),
                           int(std::floor(p.z() * inv_block_size_)));
   return packKey(c);
 }
@@ -78,8 +84,10 @@ void VoxelBlockIndex::ensureSurfel(int surfel) {
 
 void VoxelBlockIndex::insert(int surfel, const Vec3f& p) {
   ensureSurfel(surfel);
-  if (surfel_block_[surfel] >= 0) throw std::logic_error("VoxelBlockIndex::insert: surfel already indexed");
-  const Eigen::Vector3i c(int(std::floor(p.x() * inv_block_size_)), int(std::floor(p.y() * inv_block_size_)),
+  if (surfel_block_[surfel] >= 0)
+    throw std::logic_error("VoxelBlockIndex::insert: surfel already indexed");
+  const Eigen::Vector3i c(int(std::floor(p.x() * inv_block_size_)),
+                          int(std::floor(p.y() * inv_block_size_)),
                           int(std::floor(p.z() * inv_block_size_)));
   const int b = blockFor(packKey(c), c);
   surfel_block_[surfel] = b;
@@ -93,9 +101,11 @@ void VoxelBlockIndex::insertRange(int first, int count, const Vec4f* pos_conf) {
   std::uint64_t last_key = ~std::uint64_t(0);
   int last_block = -1;
   for (int i = first; i < first + count; ++i) {
-    if (surfel_block_[i] >= 0) throw std::logic_error("VoxelBlockIndex::insertRange: surfel already indexed");
+    if (surfel_block_[i] >= 0)
+      throw std::logic_error("VoxelBlockIndex::insertRange: surfel already indexed");
     const Vec4f& p = pos_conf[i];
-    const Eigen::Vector3i c(int(std::floor(p.x() * inv_block_size_)), int(std::floor(p.y() * inv_block_size_)),
+    const Eigen::Vector3i c(int(std::floor(p.x() * inv_block_size_)),
+                            int(std::floor(p.y() * inv_block_size_)),
                             int(std::floor(p.z() * inv_block_size_)));
     const std::uint64_t key = packKey(c);
     if (key != last_key) {
@@ -133,7 +143,8 @@ void VoxelBlockIndex::erase(int surfel) {
 bool VoxelBlockIndex::move(int surfel, const Vec3f& p) {
   const int b = blockOf(surfel);
   if (b < 0) throw std::logic_error("VoxelBlockIndex::move: surfel not indexed");
-  const Eigen::Vector3i c(int(std::floor(p.x() * inv_block_size_)), int(std::floor(p.y() * inv_block_size_)),
+  const Eigen::Vector3i c(int(std::floor(p.x() * inv_block_size_)),
+                          int(std::floor(p.y() * inv_block_size_)),
                           int(std::floor(p.z() * inv_block_size_)));
   if (c == blocks_[b].coords) return false;
   eraseFromBlock(surfel);
@@ -148,7 +159,8 @@ void VoxelBlockIndex::renumber(int from, int to) {
   const int b = blockOf(from);
   if (b < 0) throw std::logic_error("VoxelBlockIndex::renumber: surfel not indexed");
   ensureSurfel(to);
-  if (surfel_block_[to] >= 0) throw std::logic_error("VoxelBlockIndex::renumber: target index in use");
+  if (surfel_block_[to] >= 0)
+    throw std::logic_error("VoxelBlockIndex::renumber: target index in use");
   const int slot = surfel_slot_[from];
   blocks_[b].members[slot] = to;
   surfel_block_[to] = b;
@@ -170,7 +182,8 @@ void VoxelBlockIndex::clear() {
   surfel_slot_.clear();
 }
 
-void VoxelBlockIndex::blocksInFrustum(const CameraFrustum& frustum, float margin_m, std::vector<int>& block_ids,
+void VoxelBlockIndex::blocksInFrustum(const CameraFrustum& frustum, float margin_m,
+                                      std::vector<int>& block_ids,
                                       std::vector<std::uint8_t>* fully_inside) const {
   const float half = 0.5f * block_size_m_;
   const float inner = half * 1.7320508f;  // circumscribed sphere of the cube
@@ -180,7 +193,8 @@ void VoxelBlockIndex::blocksInFrustum(const CameraFrustum& frustum, float margin
     const Vec3f centre = blocks_[b].coords.cast<float>() * block_size_m_ + Vec3f::Constant(half);
     if (!frustum.intersectsSphere(centre, radius)) continue;
     block_ids.push_back(b);
-    if (fully_inside) fully_inside->push_back(frustum.containsSphere(centre, inner * 1.001f) ? 1 : 0);
+    if (fully_inside)
+      fully_inside->push_back(frustum.containsSphere(centre, inner * 1.001f) ? 1 : 0);
   }
 }
 
@@ -215,10 +229,11 @@ bool VoxelBlockIndex::checkConsistency(const Vec4f* pos_conf, int n, std::string
 }
 
 std::size_t VoxelBlockIndex::memoryBytes() const {
-  std::size_t bytes = (surfel_block_.capacity() + surfel_slot_.capacity()) * sizeof(int) +
-                      blocks_.capacity() * sizeof(Block) + free_blocks_.capacity() * sizeof(int) +
-                      key_to_block_.size() * (sizeof(std::uint64_t) + sizeof(int) + 2 * sizeof(void*)) +
-                      key_to_block_.bucket_count() * sizeof(void*);
+  std::size_t bytes =
+      (surfel_block_.capacity() + surfel_slot_.capacity()) * sizeof(int) +
+      blocks_.capacity() * sizeof(Block) + free_blocks_.capacity() * sizeof(int) +
+      key_to_block_.size() * (sizeof(std::uint64_t) + sizeof(int) + 2 * sizeof(void*)) +
+      key_to_block_.bucket_count() * sizeof(void*);
   for (const Block& b : blocks_) bytes += b.members.capacity() * sizeof(int);
   return bytes;
 }

@@ -44,14 +44,15 @@ struct FusionInput {
 };
 
 /// FusionInput over an RgbdFrame and its camera-frame vertex/normal maps (views, no copies).
-FusionInput makeFusionInput(const RgbdFrame& frame, const Image<Vec3f>& vertex_cam, const Image<Vec3f>& normal_cam,
-                            const Eigen::Isometry3d& T_world_cam, const Image<std::uint32_t>* labels = nullptr);
+FusionInput makeFusionInput(const RgbdFrame& frame, const Image<Vec3f>& vertex_cam,
+                            const Image<Vec3f>& normal_cam, const Eigen::Isometry3d& T_world_cam,
+                            const Image<std::uint32_t>* labels = nullptr);
 
 struct FusionStats {
-  int valid_pixels = 0;      ///< pixels with valid vertex + normal within the depth range
-  int associated = 0;        ///< pixels matched to an existing surfel (confidence accumulated)
-  int fused = 0;             ///< of those, geometry averaged (radius rule passed)
-  int added = 0;             ///< new surfels (II-B)
+  int valid_pixels = 0;  ///< pixels with valid vertex + normal within the depth range
+  int associated = 0;    ///< pixels matched to an existing surfel (confidence accumulated)
+  int fused = 0;         ///< of those, geometry averaged (radius rule passed)
+  int added = 0;         ///< new surfels (II-B)
   int became_stable = 0;
   int relabelled = 0;        ///< surfels whose segment changed (III)
   int removed_unstable = 0;  ///< old unstable surfels removed
@@ -60,15 +61,16 @@ struct FusionStats {
   int map_size = 0;          ///< after the frame
   maps::RenderStats render;  ///< of the 4x index map render
   // Wall-clock milliseconds of the stages (for report.json; tests never assert on them).
-  double ms_index_map = 0;   ///< 4x point index map (II-D)
-  double ms_update = 0;      ///< association + update
-  double ms_add = 0;         ///< new surfels + spatial index upkeep
-  double ms_cleanup = 0;     ///< carving + pruning + compaction
+  double ms_index_map = 0;  ///< 4x point index map (II-D)
+  double ms_update = 0;     ///< association + update
+  double ms_add = 0;        ///< new surfels + spatial index upkeep
+  double ms_cleanup = 0;    ///< carving + pruning + compaction
 };
 
 class SurfelFusion {
  public:
-  explicit SurfelFusion(const TFusionParams& params = {}, compute::Backend backend = compute::Backend::Cpu);
+  explicit SurfelFusion(const TFusionParams& params = {},
+                        compute::Backend backend = compute::Backend::Cpu);
 
   const TFusionParams& params() const { return m_params; }
   void setParams(const TFusionParams& p) { m_params = p; }

@@ -11,8 +11,8 @@ namespace rasm::fusion {
 
 struct TFusionParams : public mrpt::config::CLoadableOptions {
   // ---- measurements (II-B) ----
-  float confidence_sigma = 0.6f;        ///< sigma of w = exp(-gamma^2 / (2 sigma^2)) (II-B)
-  float min_depth_m = 0.1f;             ///< pixels outside [min, max] depth are not fused
+  float confidence_sigma = 0.6f;  ///< sigma of w = exp(-gamma^2 / (2 sigma^2)) (II-B)
+  float min_depth_m = 0.1f;       ///< pixels outside [min, max] depth are not fused
   float max_depth_m = 5.0f;
   /// Measurements seen at more than this angle between the viewing ray and the normal are not
   /// fused (grazing pixels have unreliable depth and huge radii).
@@ -56,8 +56,10 @@ struct TFusionParams : public mrpt::config::CLoadableOptions {
   float ic_lambda1 = 0.5f;  ///< IC(s) = exp(-lambda1 (max(||p - t||, d_min) - d_min)), 1/m
   float ic_d_min_m = 1.0f;
 
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& section) override;
-  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& section) const override;
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                          const std::string& section) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                        const std::string& section) const override;
 };
 
 }  // namespace rasm::fusion

@@ -82,7 +82,7 @@ class CSurfelMap : public mrpt::maps::CMetricMap {
 
   CSurfelMap();
   explicit CSurfelMap(const TCreationOptions& creation);
-  CSurfelMap(const CSurfelMap& o);             ///< copies surfels and options, not the inserter
+  CSurfelMap(const CSurfelMap& o);  ///< copies surfels and options, not the inserter
   CSurfelMap& operator=(const CSurfelMap& o);
   ~CSurfelMap() override;
 
@@ -105,8 +105,12 @@ class CSurfelMap : public mrpt::maps::CMetricMap {
     m_store.remove(std::move(surfels), moved);
   }
 
-  void saveToPly(const std::string& path, bool stable_only = false) const { writeSurfelPly(m_store, path, stable_only); }
-  void saveTo3DScene(const std::string& path) const { writeSurfelScene(m_store, path, renderingOptions.visual); }
+  void saveToPly(const std::string& path, bool stable_only = false) const {
+    writeSurfelPly(m_store, path, stable_only);
+  }
+  void saveTo3DScene(const std::string& path) const {
+    writeSurfelScene(m_store, path, renderingOptions.visual);
+  }
 
   // ---- mrpt::maps::CMetricMap ----
   bool isEmpty() const override { return m_store.empty(); }
@@ -119,10 +123,11 @@ class CSurfelMap : public mrpt::maps::CMetricMap {
   void internal_clear() override;
   /// CObservation3DRangeScan only (returns false for other types): the frame is fused at
   /// robotPose (+) obs.sensorPose without tracking.
-  bool internal_insertObservation(const mrpt::obs::CObservation& obs,
-                                  const std::optional<const mrpt::poses::CPose3D>& robotPose) override;
-  double internal_computeObservationLikelihood(const mrpt::obs::CObservation& obs,
-                                               const mrpt::poses::CPose3D& takenFrom) const override;
+  bool internal_insertObservation(
+      const mrpt::obs::CObservation& obs,
+      const std::optional<const mrpt::poses::CPose3D>& robotPose) override;
+  double internal_computeObservationLikelihood(
+      const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const override;
   bool internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const override;
 
   TCreationOptions m_creation;

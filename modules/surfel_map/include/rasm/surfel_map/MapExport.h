@@ -66,10 +66,12 @@ struct PlySurfels {
 PlySurfels readSurfelPly(const std::string& path);
 
 /// Appends a coloured point cloud (mrpt::opengl::CPointCloudColoured, one point per surfel) to `o`.
-void surfelsToOpenGL(const SurfelStore& map, const SurfelVisualOptions& opt, mrpt::opengl::CSetOfObjects& o);
+void surfelsToOpenGL(const SurfelStore& map, const SurfelVisualOptions& opt,
+                     mrpt::opengl::CSetOfObjects& o);
 
 /// Saves a .3Dscene (mrpt::opengl::COpenGLScene::saveToFile) with the coloured cloud and a grid;
 /// SceneViewer3D opens it. Throws InputError naming the path on failure.
-void writeSurfelScene(const SurfelStore& map, const std::string& path, const SurfelVisualOptions& opt = {});
+void writeSurfelScene(const SurfelStore& map, const std::string& path,
+                      const SurfelVisualOptions& opt = {});
 
 }  // namespace rasm::maps

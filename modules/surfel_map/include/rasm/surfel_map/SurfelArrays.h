@@ -4,8 +4,8 @@
 //
 // Per surfel, bytes:
 //   pos_conf       Vec4f  16  position p (world, m) and confidence weight w            (II-A, II-B)
-//   normal_radius  Vec4f  16  unit normal n (world) and radius r (m)                    (II-A, II-B)
-//   colour_flags   u32     4  B,G,R (bits 0-23) and flags (bits 24-31: kStable, ...)    (II-A)
+//   normal_radius  Vec4f  16  unit normal n (world) and radius r (m)                    (II-A,
+//   II-B) colour_flags   u32     4  B,G,R (bits 0-23) and flags (bits 24-31: kStable, ...) (II-A)
 //   t_init         float   4  instantiation time t (s)                                  (II-A)
 //   t_last         float   4  last time the surfel was fused (s)                        (II-D)
 //   basis          Vec3f  12  in-plane basis direction b (unit, world)                  (V-B)
@@ -73,8 +73,12 @@ struct SurfelArrays {
   RASM_HD_INLINE float radius(int i) const { return normal_radius[i].w(); }
   RASM_HD_INLINE Bgr8 colour(int i) const { return unpackColour(colour_flags[i]); }
   /// Row of n_classes quantised probabilities / n_view_bins quantised IC values of surfel i.
-  RASM_HD_INLINE std::uint8_t* classRow(int i) const { return class_p + std::size_t(i) * n_classes; }
-  RASM_HD_INLINE std::uint8_t* viewRow(int i) const { return view_ic + std::size_t(i) * n_view_bins; }
+  RASM_HD_INLINE std::uint8_t* classRow(int i) const {
+    return class_p + std::size_t(i) * n_classes;
+  }
+  RASM_HD_INLINE std::uint8_t* viewRow(int i) const {
+    return view_ic + std::size_t(i) * n_view_bins;
+  }
 };
 
 }  // namespace rasm::maps

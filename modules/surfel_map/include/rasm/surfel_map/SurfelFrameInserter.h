@@ -19,13 +19,14 @@ class SurfelFrameInserter {
  public:
   virtual ~SurfelFrameInserter() = default;
   /// Fuses `frame` into `map` at the known camera pose T_world_cam (optical frame), no tracking.
-  virtual void insertFrame(SurfelStore& map, const RgbdFrame& frame, const Eigen::Isometry3d& T_world_cam) = 0;
+  virtual void insertFrame(SurfelStore& map, const RgbdFrame& frame,
+                           const Eigen::Isometry3d& T_world_cam) = 0;
 };
 
 /// Builds an inserter from INI text holding a `[fusion]` section (may be empty: defaults).
 /// `source` names where the text came from, for error messages. Throws InputError on bad keys.
-using SurfelFrameInserterFactory =
-    std::function<std::unique_ptr<SurfelFrameInserter>(const std::string& fusion_ini_text, const std::string& source)>;
+using SurfelFrameInserterFactory = std::function<std::unique_ptr<SurfelFrameInserter>(
+    const std::string& fusion_ini_text, const std::string& source)>;
 
 void setSurfelFrameInserterFactory(SurfelFrameInserterFactory factory);
 bool hasSurfelFrameInserterFactory();

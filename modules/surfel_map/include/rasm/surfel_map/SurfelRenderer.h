@@ -48,7 +48,7 @@ enum RenderOutput : unsigned {
 struct RenderOptions {
   float min_depth_m = 0.1f;
   float max_depth_m = 10.0f;
-  bool stable_only = false;    ///< II-C: ICP renders only stable surfels
+  bool stable_only = false;  ///< II-C: ICP renders only stable surfels
   float min_confidence = 0.0f;
   /// Render only surfels fused at or after now_s - time_window_s (absolute seconds), as in
   /// ElasticFusion's active-model window. Infinite window (default) = no time filter.
@@ -64,19 +64,19 @@ struct RenderOptions {
 
 /// Model maps predicted from the map at a pose (II-A: C^r, D^r, V^r, N^r, L^r and I^r).
 struct RenderedMaps {
-  Image<std::int32_t> index;      ///< I^r: surfel index, -1 none
-  Image<float> depth_m;           ///< D^r: camera-frame z (m), 0 none
-  Image<Vec3f> vertex_world;      ///< V^r: WORLD frame, x = NaN none
-  Image<Vec3f> normal_world;      ///< N^r: WORLD frame unit normal, x = NaN none
-  Image<Bgr8> colour;             ///< C^r: B,G,R; black none
-  Image<float> confidence;        ///< w of the surfel, 0 none
-  Image<std::uint32_t> segment;   ///< L^r: segment label, 0 none
+  Image<std::int32_t> index;     ///< I^r: surfel index, -1 none
+  Image<float> depth_m;          ///< D^r: camera-frame z (m), 0 none
+  Image<Vec3f> vertex_world;     ///< V^r: WORLD frame, x = NaN none
+  Image<Vec3f> normal_world;     ///< N^r: WORLD frame unit normal, x = NaN none
+  Image<Bgr8> colour;            ///< C^r: B,G,R; black none
+  Image<float> confidence;       ///< w of the surfel, 0 none
+  Image<std::uint32_t> segment;  ///< L^r: segment label, 0 none
 };
 
 /// What a render touched, for tests of the culling (counts, not time) and for reports.
 struct RenderStats {
-  int blocks_total = 0;    ///< non-empty blocks in the map
-  int blocks_visited = 0;  ///< blocks that passed frustum culling
+  int blocks_total = 0;          ///< non-empty blocks in the map
+  int blocks_visited = 0;        ///< blocks that passed frustum culling
   long long surfels_tested = 0;  ///< members of the visited blocks
   long long surfels_drawn = 0;   ///< surfels that passed all tests and were splatted / projected
 };
@@ -107,8 +107,9 @@ class SurfelRenderer {
   compute::Backend backend() const { return backend_; }
 
   /// Splat (opt.splat) or point rendering of the model maps at T_world_cam (II-A).
-  void render(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K,
-              const RenderOptions& opt, RenderedMaps& out, RenderStats* stats = nullptr);
+  void render(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
+              const CameraIntrinsics& K, const RenderOptions& opt, RenderedMaps& out,
+              RenderStats* stats = nullptr);
 
   /// The 4x point index map used by fusion (II-D). opt.splat and opt.outputs are ignored.
   void renderIndexMap4x(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
@@ -126,7 +127,7 @@ class SurfelRenderer {
   std::vector<int> visible_;
   Image<std::uint64_t> packed_;
   mutable std::vector<std::vector<int>> per_block_;  ///< collectVisible scratch (not thread safe)
-  std::vector<kernels::SplatFootprint> footprints_;   ///< CPU splat launcher scratch
+  std::vector<kernels::SplatFootprint> footprints_;  ///< CPU splat launcher scratch
   std::vector<std::uint32_t> rows_;
   std::vector<std::int64_t> ids_;
   std::vector<std::uint64_t> values_;
@@ -138,8 +139,9 @@ namespace cuda {
 /// packed depth/index buffer (`packed` keeps its size: W x H, or 4W x 4H for the 4x map).
 /// opt.splat = false renders points. Throw std::runtime_error when built without CUDA or without a
 /// device. Reference launchers: the map is not resident on the device, so transfers dominate.
-void splatPacked(const SurfelArrays& arrays, const std::vector<int>& visible, const RigidF& T_cam_world,
-                 const PinholeF& K, const RenderOptions& opt, Image<std::uint64_t>& packed);
+void splatPacked(const SurfelArrays& arrays, const std::vector<int>& visible,
+                 const RigidF& T_cam_world, const PinholeF& K, const RenderOptions& opt,
+                 Image<std::uint64_t>& packed);
 void pointsPacked4x(const SurfelArrays& arrays, const std::vector<int>& visible,
                     const RigidF& T_cam_world, const PinholeF& K, const RenderOptions& opt,
                     Image<std::uint64_t>& packed4x, std::vector<std::int64_t>& touched);

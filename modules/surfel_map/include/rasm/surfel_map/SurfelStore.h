@@ -29,10 +29,10 @@ namespace rasm::maps {
 
 /// Creation-time layout of a surfel store.
 struct SurfelStoreOptions {
-  int n_classes = 0;             ///< n_c of II-A (class probabilities per surfel, u8 each)
-  int view_bins_azimuth = 8;     ///< V-B view bins: azimuth sectors around the surfel normal
-  int view_bins_elevation = 2;   ///< V-B view bins: elevation rings between the plane and normal
-  float block_size_m = 0.5f;     ///< edge of the spatial index blocks
+  int n_classes = 0;            ///< n_c of II-A (class probabilities per surfel, u8 each)
+  int view_bins_azimuth = 8;    ///< V-B view bins: azimuth sectors around the surfel normal
+  int view_bins_elevation = 2;  ///< V-B view bins: elevation rings between the plane and normal
+  float block_size_m = 0.5f;    ///< edge of the spatial index blocks
 
   int nViewBins() const { return view_bins_azimuth * view_bins_elevation; }
   bool operator==(const SurfelStoreOptions& o) const {
@@ -44,19 +44,19 @@ struct SurfelStoreOptions {
 /// One surfel by value (host convenience for appends, tests and I/O; kernels use SurfelArrays).
 /// Probabilities and IC values are floats in [0,1] here and quantised to u8 in the store.
 struct Surfel {
-  Vec3f position = Vec3f::Zero();           ///< p, world (m)
-  Vec3f normal = Vec3f::UnitZ();            ///< n, world, unit
-  Vec3f basis = Vec3f::UnitX();             ///< b, world, unit, perpendicular to n (V-B)
-  float radius = 0.0f;                      ///< r (m)
-  float confidence = 0.0f;                  ///< w
-  Bgr8 colour;                              ///< c
-  bool stable = false;                      ///< s
-  double t_init_s = 0.0;                    ///< t, absolute seconds
-  double t_last_s = 0.0;                    ///< last fusion, absolute seconds
-  std::uint32_t segment = 0;                ///< l (0 = none)
-  float segment_weight = 0.0f;              ///< w_l
-  std::vector<float> class_p;               ///< p_c, n_classes values (empty = all 0.5)
-  std::vector<float> view_ic;               ///< b_v, n_view_bins values (empty = all 0)
+  Vec3f position = Vec3f::Zero();  ///< p, world (m)
+  Vec3f normal = Vec3f::UnitZ();   ///< n, world, unit
+  Vec3f basis = Vec3f::UnitX();    ///< b, world, unit, perpendicular to n (V-B)
+  float radius = 0.0f;             ///< r (m)
+  float confidence = 0.0f;         ///< w
+  Bgr8 colour;                     ///< c
+  bool stable = false;             ///< s
+  double t_init_s = 0.0;           ///< t, absolute seconds
+  double t_last_s = 0.0;           ///< last fusion, absolute seconds
+  std::uint32_t segment = 0;       ///< l (0 = none)
+  float segment_weight = 0.0f;     ///< w_l
+  std::vector<float> class_p;      ///< p_c, n_classes values (empty = all 0.5)
+  std::vector<float> view_ic;      ///< b_v, n_view_bins values (empty = all 0)
 };
 
 class SurfelStore {

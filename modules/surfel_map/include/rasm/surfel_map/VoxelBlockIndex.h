@@ -55,7 +55,9 @@ class VoxelBlockIndex {
   /// Integer block coordinates of block `block_id`.
   Eigen::Vector3i blockCoords(int block_id) const { return blocks_[block_id].coords; }
   /// Axis-aligned bounds of block `block_id` (world, m).
-  Vec3f blockMin(int block_id) const { return blocks_[block_id].coords.cast<float>() * block_size_m_; }
+  Vec3f blockMin(int block_id) const {
+    return blocks_[block_id].coords.cast<float>() * block_size_m_;
+  }
 
   /// Adds surfel `surfel` (which must not be indexed yet) at position p.
   void insert(int surfel, const Vec3f& p);
@@ -86,7 +88,8 @@ class VoxelBlockIndex {
   /// Appends the ids of the non-empty blocks whose bounding sphere, grown by `margin_m` (the
   /// largest splat radius), intersects the frustum. O(B). The ids are in increasing order.
   /// `fully_inside`, when given, receives per returned block whether the whole block lies inside
-  /// the frustum (then every surfel centre in it does, and per-surfel frustum tests can be skipped).
+  /// the frustum (then every surfel centre in it does, and per-surfel frustum tests can be
+  /// skipped).
   void blocksInFrustum(const CameraFrustum& frustum, float margin_m, std::vector<int>& block_ids,
                        std::vector<std::uint8_t>* fully_inside = nullptr) const;
 

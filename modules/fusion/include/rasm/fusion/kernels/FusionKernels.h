@@ -54,7 +54,8 @@ struct FrameView {
   PinholeF K;
   float focal_px = 525.0f;
 
-  RASM_HD_INLINE bool measure(int x, int y, const FusionKernelParams& p, Vec3f& v, Vec3f& n, float& w, float& r) const {
+  RASM_HD_INLINE bool measure(int x, int y, const FusionKernelParams& p, Vec3f& v, Vec3f& n,
+                              float& w, float& r) const {
     v = vertex_cam(x, y);
     n = normal_cam(x, y);
     if (!(v.x() == v.x()) || !(n.x() == n.x())) return false;
@@ -62,7 +63,8 @@ struct FrameView {
     if (!(z >= p.min_depth_m && z <= p.max_depth_m)) return false;
     const float cos_inc = -n.dot(v) / v.norm();
     if (cos_inc < p.min_cos_incidence) return false;
-    w = weight.empty() ? confidenceWeight(normalizedRadialDistance(float(x), float(y), K), p.sigma) : weight(x, y);
+    w = weight.empty() ? confidenceWeight(normalizedRadialDistance(float(x), float(y), K), p.sigma)
+                       : weight(x, y);
     r = surfelRadius(z, n.z(), focal_px);
     return true;
   }
@@ -77,16 +79,19 @@ RASM_HD_INLINE std::uint8_t blendU8(std::uint8_t a, std::uint8_t b, float wa, fl
 }
 
 /// Bin update of V-B: b_v(i) <- max(b_v(i), IC(s)) for the bin of the camera direction.
-RASM_HD_INLINE void updateViewBin(const maps::SurfelArrays& s, int i, const Vec3f& p, const Vec3f& n, const Vec3f& b,
-                                  const Vec3f& camera_centre, const FusionKernelParams& prm) {
+RASM_HD_INLINE void updateViewBin(const maps::SurfelArrays& s, int i, const Vec3f& p,
+                                  const Vec3f& n, const Vec3f& b, const Vec3f& camera_centre,
+                                  const FusionKernelParams& prm) {
   if (!prm.update_view_bins || s.n_view_bins <= 0) return;
   const Vec3f d = camera_centre - p;
   const float dist = d.norm();
   if (!(dist > 0.0f)) return;
-  const int bin = maps::kernels::viewBinIndex(n, b, d * (1.0f / dist), prm.n_azimuth, prm.n_elevation);
+  const int bin =
+      maps::kernels::viewBinIndex(n, b, d * (1.0f / dist), prm.n_azimuth, prm.n_elevation);
   std::uint8_t* row = s.viewRow(i);
   if (row[bin] == 255) return;  // already saturated: IC <= 1
-  const std::uint8_t q = maps::quantizeUnit(maps::kernels::informationContent(dist, prm.ic_lambda1, prm.ic_d_min_m));
+  const std::uint8_t q =
+      maps::quantizeUnit(maps::kernels::informationContent(dist, prm.ic_lambda1, prm.ic_d_min_m));
   if (q > row[bin]) row[bin] = q;
 }
 
@@ -110,7 +115,7 @@ struct AssociateUpdateKernel {
   ImageView<const std::uint64_t> index4x;
   maps::SurfelArrays s;
   RigidF T_world_cam, T_cam_world;
-  float now = 0.0f;  ///< map time
+  float now = 0.0f;                      ///< map time
   ImageView<std::int32_t> pixel_surfel;  ///< out: matched surfel, -2 new, -1 none
   ImageView<std::uint8_t> flags;         ///< out: PixelFlag bits
 
@@ -140,7 +145,8 @@ struct AssociateUpdateKernel {
         const float d_perp = pc.cross(v).norm() * inv_v;
         const float rs = s.radius(i);
         const float r_hi = rs > r ? rs : r, r_lo = rs > r ? r : rs;
-        const float cost = d_perp * inv_r + (1.0f - cos_n) * inv_cos_range + (r_hi / (r_lo > 1e-9f ? r_lo : 1e-9f) - 1.0f);
+        const float cost = d_perp * inv_r + (1.0f - cos_n) * inv_cos_range +
+                           (r_hi / (r_lo > 1e-9f ? r_lo : 1e-9f) - 1.0f);
         if (cost < best_cost || (cost == best_cost && i < best)) {
           best_cost = cost;
           best = i;
@@ -170,7 +176,8 @@ struct AssociateUpdateKernel {
       if (len > 1e-6f) ns = nn / len;
       if (!frame.colour.empty()) {
         const Bgr8 co = maps::unpackColour(cf), cn = frame.colour(x, y);
-        cf = maps::packColour(Bgr8{blendU8(co.b, cn.b, a0, a1), blendU8(co.g, cn.g, a0, a1), blendU8(co.r, cn.r, a0, a1)},
+        cf = maps::packColour(Bgr8{blendU8(co.b, cn.b, a0, a1), blendU8(co.g, cn.g, a0, a1),
+                                   blendU8(co.r, cn.r, a0, a1)},
                               cf & 0xff000000u);
       }
       if (r < rs) rs = a0 * rs + a1 * r;
@@ -249,7 +256,8 @@ struct NewSurfelKernel {
       const Vec3f b = maps::kernels::anyPerpendicular(nw);
       s.pos_conf[i] = Vec4f(p.x(), p.y(), p.z(), w);
       s.normal_radius[i] = Vec4f(nw.x(), nw.y(), nw.z(), r);
-      s.colour_flags[i] = maps::packColour(frame.colourAt(x, y), w >= prm.stable_confidence ? maps::kSurfelStable : 0u);
+      s.colour_flags[i] = maps::packColour(frame.colourAt(x, y),
+                                           w >= prm.stable_confidence ? maps::kSurfelStable : 0u);
       s.t_init[i] = now;
       s.t_last[i] = now;
       s.basis[i] = b;

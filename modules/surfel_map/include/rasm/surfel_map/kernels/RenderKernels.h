@@ -41,15 +41,20 @@ RASM_HD_INLINE float bitsFloat(std::uint32_t u) {
 RASM_HD_INLINE std::uint64_t packDepthIndex(float depth, int index) {
   return (std::uint64_t(floatBits(depth)) << 32) | std::uint64_t(std::uint32_t(index));
 }
-RASM_HD_INLINE int unpackIndex(std::uint64_t v) { return v == kEmptyPacked ? -1 : int(std::uint32_t(v)); }
-RASM_HD_INLINE float unpackDepth(std::uint64_t v) { return v == kEmptyPacked ? 0.0f : bitsFloat(std::uint32_t(v >> 32)); }
+RASM_HD_INLINE int unpackIndex(std::uint64_t v) {
+  return v == kEmptyPacked ? -1 : int(std::uint32_t(v));
+}
+RASM_HD_INLINE float unpackDepth(std::uint64_t v) {
+  return v == kEmptyPacked ? 0.0f : bitsFloat(std::uint32_t(v >> 32));
+}
 
 RASM_HD_INLINE void atomicMinU64(std::uint64_t* addr, std::uint64_t v) {
 #ifdef __CUDA_ARCH__
   atomicMin(reinterpret_cast<unsigned long long*>(addr), static_cast<unsigned long long>(v));
 #else
   std::uint64_t cur = __atomic_load_n(addr, __ATOMIC_RELAXED);
-  while (v < cur && !__atomic_compare_exchange_n(addr, &cur, v, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+  while (v < cur &&
+         !__atomic_compare_exchange_n(addr, &cur, v, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
   }
 #endif
 }
@@ -162,7 +167,8 @@ struct SplatKernel {
       v_lo = maxF(v_lo, minF(va, vb));
       v_hi = minF(v_hi, maxF(va, vb));
     }
-    int x0 = int(ceilf(u_lo)), x1 = int(floorf(u_hi)), y0 = int(ceilf(v_lo)), y1 = int(floorf(v_hi));
+    int x0 = int(ceilf(u_lo)), x1 = int(floorf(u_hi)), y0 = int(ceilf(v_lo)),
+        y1 = int(floorf(v_hi));
     // The centre's own pixel is always a candidate (see rasterize()).
     const int uc = pixelOf(u), vc = pixelOf(v);
     x0 = x0 < uc ? x0 : uc;
@@ -285,8 +291,9 @@ struct ResolveKernel {
     const float t = unpackDepth(v);
     if (!depth_m.empty()) depth_m(x, y) = t;
     if (!vertex_world.empty())
-      vertex_world(x, y) =
-          splat ? T_world_cam.apply(Vec3f((float(x) - K.cx) / K.fx * t, (float(y) - K.cy) / K.fy * t, t)) : s.position(i);
+      vertex_world(x, y) = splat ? T_world_cam.apply(Vec3f((float(x) - K.cx) / K.fx * t,
+                                                           (float(y) - K.cy) / K.fy * t, t))
+                                 : s.position(i);
     if (!normal_world.empty()) normal_world(x, y) = s.normal(i);
     if (!colour.empty()) colour(x, y) = unpackColour(s.colour_flags[i]);
     if (!confidence.empty()) confidence(x, y) = s.confidence(i);

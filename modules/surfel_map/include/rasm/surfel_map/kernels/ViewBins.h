@@ -17,7 +17,8 @@ RASM_HD_INLINE float informationContent(float distance_m, float lambda1, float d
 RASM_HD_INLINE Vec3f anyPerpendicular(const Vec3f& n) {
   // Cross with the axis least aligned with n: well conditioned for every n.
   const float ax = fabsf(n.x()), ay = fabsf(n.y()), az = fabsf(n.z());
-  const Vec3f a = (ax <= ay && ax <= az) ? Vec3f(1, 0, 0) : (ay <= az ? Vec3f(0, 1, 0) : Vec3f(0, 0, 1));
+  const Vec3f a =
+      (ax <= ay && ax <= az) ? Vec3f(1, 0, 0) : (ay <= az ? Vec3f(0, 1, 0) : Vec3f(0, 0, 1));
   return n.cross(a).normalized();
 }
 
@@ -38,7 +39,10 @@ RASM_HD_INLINE float fastAtan2(float y, float x) {
   if (mx == 0.0f) return 0.0f;
   const float a = mn / mx, s = a * a;
   // Minimax polynomial of atan on [0, 1] (odd, degree 11), |error| < 1e-5 rad.
-  float r = a * (0.99997726f + s * (-0.33262347f + s * (0.19354346f + s * (-0.11643287f + s * (0.05265332f - s * 0.01172120f)))));
+  float r =
+      a * (0.99997726f +
+           s * (-0.33262347f +
+                s * (0.19354346f + s * (-0.11643287f + s * (0.05265332f - s * 0.01172120f)))));
   if (ay > ax) r = 1.57079637f - r;
   if (x < 0.0f) r = 3.14159274f - r;
   return y < 0.0f ? -r : r;
@@ -48,8 +52,8 @@ RASM_HD_INLINE float fastAtan2(float y, float x) {
 /// in the surfel frame (b, n x b, n) (V-B): azimuth atan2(d.(n x b), d.b) in [-pi, pi) over
 /// n_azimuth equal sectors, elevation asin(d.n) in [0, pi/2] over n_elevation equal rings
 /// (back-facing directions clamp to elevation 0). Bin = elevation_ring * n_azimuth + sector.
-RASM_HD_INLINE int viewBinIndex(const Vec3f& n, const Vec3f& b, const Vec3f& dir_to_camera, int n_azimuth,
-                                int n_elevation) {
+RASM_HD_INLINE int viewBinIndex(const Vec3f& n, const Vec3f& b, const Vec3f& dir_to_camera,
+                                int n_azimuth, int n_elevation) {
   const float kPi = 3.14159265358979f;
   const Vec3f c = n.cross(b);
   float s = dir_to_camera.dot(n);
