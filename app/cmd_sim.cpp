@@ -1,0 +1,192 @@
+// `rasm sim ...`: the simulator's command line (thin layer over rasm::sim).
+//   rasm sim record <world> <trajectory.yaml> <out.rawlog> [--seed N] [--noise on|off] [--camera preset]
+//                   [--max-frames N]
+//   rasm sim render <world> <out_prefix> (--eye x,y,z (--yaw deg [--pitch deg] | --look-at x,y,z))
+//                   [--seed N] [--noise on|off] [--camera preset]
+//   rasm sim info <world>
+//   rasm sim make-models [dir]
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "Command.h"
+#include "rasm/core/Error.h"
+#include "rasm/sim/CameraPoses.h"
+#include "rasm/sim/FrameImages.h"
+#include "rasm/sim/ProceduralModels.h"
+#include "rasm/sim/RayScene.h"
+#include "rasm/sim/Recorder.h"
+#include "rasm/sim/RgbdSensor.h"
+#include "rasm/sim/SimClasses.h"
+#include "rasm/sim/World.h"
+
+namespace {
+
+using Args = std::vector<std::string>;
+
+const char* kUsage =
+    "usage:\n"
+    "  rasm sim record <world> <trajectory.yaml> <out.rawlog> [--seed N] [--noise on|off] [--camera preset]\n"
+    "                  [--max-frames N]\n"
+    "  rasm sim render <world> <out_prefix> --eye x,y,z (--yaw deg [--pitch deg] | --look-at x,y,z)\n"
+    "                  [--seed N] [--noise on|off] [--camera preset]\n"
+    "  rasm sim info <world>\n"
+    "  rasm sim make-models [dir]\n"
+    "<world> is a shipped world name (office, cluttered_lab, two_rooms) or a YAML file (docs/sim.md).\n";
+
+/// Splits positional arguments from --key value options (every option takes one value).
+struct Parsed {
+  Args positional;
+  std::map<std::string, std::string> options;
+};
+
+Parsed parse(const Args& args, std::initializer_list<const char*> known) {
+  Parsed p;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a.rfind("--", 0) != 0) {
+      p.positional.push_back(a);
+      continue;
+    }
+    const std::string key = a.substr(2);
+    bool ok = false;
+    for (const char* k : known) ok = ok || key == k;
+    if (!ok) rasm::throwInputError("option " + a, "unknown option\n" + std::string(kUsage));
+    if (i + 1 >= args.size()) rasm::throwInputError("option " + a, "missing value");
+    p.options[key] = args[++i];
+  }
+  return p;
+}
+
+std::uint64_t parseSeed(const Parsed& p) {
+  const auto it = p.options.find("seed");
+  if (it == p.options.end()) return 0;
+  try {
+    std::size_t n = 0;
+    const unsigned long long v = std::stoull(it->second, &n);
+    if (n == it->second.size()) return v;
+  } catch (const std::exception&) {
+  }
+  rasm::throwInputError("--seed " + it->second, "expected a non-negative integer");
+}
+
+bool parseOnOff(const Parsed& p, const std::string& key, bool def) {
+  const auto it = p.options.find(key);
+  if (it == p.options.end()) return def;
+  if (it->second == "on") return true;
+  if (it->second == "off") return false;
+  rasm::throwInputError("--" + key + " " + it->second, "expected on or off");
+}
+
+Eigen::Vector3d parseVec3(const Parsed& p, const std::string& key) {
+  const std::string& s = p.options.at(key);
+  Eigen::Vector3d v;
+  char c1 = 0, c2 = 0;
+  std::istringstream in(s);
+  if (!(in >> v.x() >> c1 >> v.y() >> c2 >> v.z()) || c1 != ',' || c2 != ',' || !in.eof())
+    rasm::throwInputError("--" + key + " " + s, "expected x,y,z");
+  return v;
+}
+
+double parseDouble(const Parsed& p, const std::string& key, double def) {
+  const auto it = p.options.find(key);
+  if (it == p.options.end()) return def;
+  try {
+    std::size_t n = 0;
+    const double v = std::stod(it->second, &n);
+    if (n == it->second.size()) return v;
+  } catch (const std::exception&) {
+  }
+  rasm::throwInputError("--" + key + " " + it->second, "expected a number");
+}
+
+int cmdRecord(const Args& args) {
+  const Parsed p = parse(args, {"seed", "noise", "camera", "max-frames"});
+  if (p.positional.size() != 3) rasm::throwInputError("rasm sim record", "expected <world> <trajectory.yaml> <out.rawlog>\n" + std::string(kUsage));
+  rasm::sim::RecordOptions opt;
+  opt.world = p.positional[0];
+  opt.trajectory_spec = p.positional[1];
+  opt.out_rawlog = p.positional[2];
+  opt.seed = parseSeed(p);
+  if (p.options.count("noise")) {
+    const char* v = parseOnOff(p, "noise", true) ? "true" : "false";
+    opt.sensor_overrides["noise"] = v;  // --noise off: exact depth, no dropouts
+    opt.sensor_overrides["dropouts"] = v;
+  }
+  if (p.options.count("camera")) opt.sensor_overrides["camera"] = p.options.at("camera");
+  if (p.options.count("max-frames")) opt.max_frames = (long long)parseDouble(p, "max-frames", -1);
+  opt.progress = true;
+  const rasm::sim::RecordResult r = rasm::sim::recordSequence(opt);
+  std::cout << "wrote " << r.frames << " frames to " << r.rawlog_path << "\n  ground truth: " << r.groundtruth_path
+            << "\n  labels: " << r.labels_dir << "\n";
+  return 0;
+}
+
+int cmdRender(const Args& args) {
+  const Parsed p = parse(args, {"eye", "yaw", "pitch", "look-at", "seed", "noise", "camera"});
+  if (p.positional.size() != 2) rasm::throwInputError("rasm sim render", "expected <world> <out_prefix>\n" + std::string(kUsage));
+  if (!p.options.count("eye")) rasm::throwInputError("rasm sim render", "--eye x,y,z is required");
+  const Eigen::Vector3d eye = parseVec3(p, "eye");
+  Eigen::Isometry3d T;
+  if (p.options.count("look-at")) {
+    T = rasm::sim::cameraPoseLookingAt(eye, parseVec3(p, "look-at"));
+  } else {
+    T = rasm::sim::cameraPoseFromHeading(eye, parseDouble(p, "yaw", 0.0), parseDouble(p, "pitch", 0.0));
+  }
+  rasm::sim::TSensorParams sp;
+  sp.noise = parseOnOff(p, "noise", true);
+  sp.dropouts = sp.noise;
+  if (p.options.count("camera")) sp.camera = p.options.at("camera");
+  const rasm::sim::RayScene scene(rasm::sim::loadWorld(p.positional[0]));
+  const rasm::sim::RgbdSensor sensor(scene, sp);
+  const rasm::RgbdFrame f = sensor.render(T, parseSeed(p), 0);
+  rasm::sim::savePreviewImages(f, p.positional[1], sp.max_depth_m);
+  std::cout << "wrote " << p.positional[1] << "_{colour,depth,instance,class}.png\n";
+  return 0;
+}
+
+int cmdInfo(const Args& args) {
+  if (args.size() != 1) rasm::throwInputError("rasm sim info", "expected <world>\n" + std::string(kUsage));
+  const rasm::sim::World w = rasm::sim::loadWorld(args[0]);
+  std::map<std::string, int> per_class;
+  std::size_t tris = 0;
+  for (const auto& o : w.objects) {
+    ++per_class[rasm::sim::className(o.class_id)];
+    tris += o.mesh.triangles.size();
+  }
+  const Eigen::AlignedBox3f b = w.bounds();
+  std::cout << "world " << w.name << " (" << w.source << "): " << w.objects.size() << " objects, " << tris
+            << " triangles, bounds [" << b.min().transpose() << "] - [" << b.max().transpose() << "] m\n";
+  for (const auto& [name, n] : per_class) std::cout << "  " << n << " x " << name << "\n";
+  return 0;
+}
+
+int cmdMakeModels(const Args& args) {
+  if (args.size() > 1) rasm::throwInputError("rasm sim make-models", "expected at most one directory");
+  const std::string dir = args.empty() ? rasm::sim::simDataDir() + "/models" : args[0];
+  for (const auto& f : rasm::sim::writeProceduralModels(dir)) std::cout << "wrote " << f << "\n";
+  return 0;
+}
+
+int cmdSim(const Args& args) {
+  if (args.empty()) {
+    std::cerr << kUsage;
+    return 1;
+  }
+  const Args rest(args.begin() + 1, args.end());
+  if (args[0] == "record") return cmdRecord(rest);
+  if (args[0] == "render") return cmdRender(rest);
+  if (args[0] == "info") return cmdInfo(rest);
+  if (args[0] == "make-models") return cmdMakeModels(rest);
+  if (args[0] == "help" || args[0] == "--help") {
+    std::cout << kUsage;
+    return 0;
+  }
+  rasm::throwInputError("rasm sim " + args[0], "unknown subcommand\n" + std::string(kUsage));
+}
+
+const rasm::app::Registrar kRegistrar{"sim", "simulator: record rawlogs from worlds, render previews (rasm sim help)",
+                                      &cmdSim};
+
+}  // namespace

@@ -1,0 +1,196 @@
+#pragma once
+// Structured-light (Kinect v1 class) depth sensor model, applied to exact ray-cast depth.
+//  - Axial noise (Nguyen, Izadi & Lovell 2012, eq. 3 with their fitted constants):
+//      sigma_z(z, theta) = 0.0012 + 0.0019 (z - 0.4)^2 + 0.0001 / sqrt(z) * theta^2 / (pi/2 - theta)^2
+//    z in metres, theta the angle between the surface normal and the viewing ray.
+//  - Lateral noise (same paper, eq. 2): sigma_L(theta) = 0.8 + 0.035 theta / (pi/2 - theta) pixels;
+//    the measurement at pixel u is the depth of the ray through u + N(0, sigma_L^2) (bilinear on
+//    smooth surfaces, nearest across depth discontinuities, so edges become ragged).
+//  - Disparity quantization: depth comes from disparity d = f b / z quantized to 1/subpixel px
+//    (Kinect v1: 1/8 px, b = 0.075 m, f = 580 px), so the depth step is z^2 / (f b) / subpixel.
+//  - Missing data: outside [min_depth_m, max_depth_m], at grazing angles (theta > max), and in the
+//    projector's shadow: pixels that the IR projector, offset by projector_offset_m along the
+//    camera x axis, does not see (found with an epipolar scan of each row, ProjectorShadowRows).
+// Plain header: compute/ and Eigen only.
+
+#include <cmath>
+#include <cstdint>
+
+#include "rasm/compute/ImageView.h"
+#include "rasm/sim/kernels/CounterRng.h"
+
+namespace rasm::sim {
+
+struct DepthModelParams {
+  bool axial_noise = true;
+  bool lateral_noise = true;
+  float sigma0_m = 0.0012f;      ///< Nguyen et al.: constant term
+  float sigma_quad = 0.0019f;    ///< Nguyen et al.: coefficient of (z - z0)^2 (1/m)
+  float sigma_z0_m = 0.4f;
+  float sigma_angle = 0.0001f;   ///< Nguyen et al.: angle term coefficient (m^1.5)
+  float lateral_px = 0.8f;       ///< Nguyen et al.: sigma_L at theta = 0
+  float lateral_angle = 0.035f;  ///< Nguyen et al.: angle term of sigma_L (px)
+  float disparity_fb = 580.f * 0.075f;  ///< f * b (px m); depth = fb / disparity
+  float disparity_subpixel = 8.f;       ///< quantization 1/subpixel px; 0 = no quantization
+  float min_depth_m = 0.4f;
+  float max_depth_m = 4.5f;
+  float max_incidence_rad = 80.f * 3.14159265f / 180.f;  ///< larger theta = missing; >= pi/2 disables
+  /// Lateral resampling uses bilinear interpolation only when the 4 neighbours agree within this
+  /// fraction of the depth (same surface); nearest neighbour otherwise.
+  float smooth_rel_tol = 0.02f;
+};
+
+/// acos for x in [0, 1] (Abramowitz & Stegun 4.4.45, |error| <= 7e-5 rad): the incidence angle
+/// only feeds the noise model, so libm's exact acos is not worth its cost per pixel.
+RASM_HD_INLINE float fastAcos01(float x) {
+  x = x < 0.f ? 0.f : (x > 1.f ? 1.f : x);
+  return std::sqrt(1.f - x) * (1.5707288f + x * (-0.2121144f + x * (0.0742610f - 0.0187293f * x)));
+}
+
+/// The angle factor theta / (pi/2 - theta) of both Nguyen et al. formulas (theta clamped to 1.5).
+RASM_HD_INLINE float angleFactor(float theta) {
+  const float th = theta < 1.5f ? theta : 1.5f;
+  return th / (1.57079633f - th);
+}
+
+/// sigma_z(z, theta) of Nguyen et al. (metres), from g = angleFactor(theta).
+RASM_HD_INLINE float axialSigmaG(const DepthModelParams& p, float z, float g) {
+  const float dz = z - p.sigma_z0_m;
+  return p.sigma0_m + p.sigma_quad * dz * dz + p.sigma_angle / std::sqrt(z) * g * g;
+}
+RASM_HD_INLINE float axialSigma(const DepthModelParams& p, float z, float theta) {
+  return axialSigmaG(p, z, angleFactor(theta));
+}
+
+/// sigma_L(theta) of Nguyen et al. (pixels).
+RASM_HD_INLINE float lateralSigmaPx(const DepthModelParams& p, float theta) {
+  return p.lateral_px + p.lateral_angle * angleFactor(theta);
+}
+
+/// Depth after rounding the disparity f b / z to 1/subpixel px (identity when subpixel <= 0).
+RASM_HD_INLINE float quantizeDepth(const DepthModelParams& p, float z) {
+  if (p.disparity_subpixel <= 0.f || z <= 0.f) return z;
+  const float d = std::floor(p.disparity_fb / z * p.disparity_subpixel + 0.5f) / p.disparity_subpixel;
+  return d > 0.f ? p.disparity_fb / d : 0.f;
+}
+
+/// Depth step of the quantization at depth z: z^2 / (f b) / subpixel.
+RASM_HD_INLINE float quantizationStep(const DepthModelParams& p, float z) {
+  return p.disparity_subpixel > 0.f ? z * z / p.disparity_fb / p.disparity_subpixel : 0.f;
+}
+
+/// Marks pixels the projector cannot see. The projector has the camera's orientation and sits at
+/// x = offset_m in the camera frame, so a point at column u and depth z lies on projector column
+/// u_p = u - fx * offset / z of the same row (the epipolar line). Seen from the projector, points
+/// keep their left-to-right order unless one hides another: scanning away from the projector
+/// (right to left for offset > 0), a pixel whose u_p is not below the running minimum of the u_p
+/// already passed is hidden from it. Run per row.
+struct ProjectorShadowRows {
+  ImageView<const float> z_exact;  ///< 0 = no surface
+  ImageView<std::uint8_t> shadow;  ///< out: 1 = not lit by the projector
+  float fx_offset = 580.f * 0.075f;  ///< fx * offset_m (px m), signed
+
+  RASM_HD void operator()(int y) const {
+    const float* z = z_exact.row(y);
+    std::uint8_t* s = shadow.row(y);
+    const int w = z_exact.width;
+    if (fx_offset == 0.f) {
+      for (int x = 0; x < w; ++x) s[x] = 0;
+      return;
+    }
+    const bool right = fx_offset > 0.f;  // projector to the right: scan right to left
+    float extreme = right ? 3.0e38f : -3.0e38f;
+    for (int i = 0; i < w; ++i) {
+      const int x = right ? w - 1 - i : i;
+      if (z[x] <= 0.f) {
+        s[x] = 0;
+        continue;
+      }
+      const float up = float(x) - fx_offset / z[x];
+      const bool hidden = right ? up >= extreme : up <= extreme;
+      s[x] = hidden ? 1 : 0;
+      if (!hidden) extreme = up;
+    }
+  }
+};
+
+/// Three independent standard normal variates per pixel (lateral du, dv and axial), from the
+/// counter-based generator: pixel index = counter. Rows are plain loops the compiler vectorizes.
+struct GaussianNoiseRows {
+  ImageView<float> n0, n1, n2;
+  CounterRng rng;
+
+  RASM_HD void operator()(int y) const {
+    float* a = n0.row(y);
+    float* b = n1.row(y);
+    float* c = n2.row(y);
+    const int w = n0.width;
+    const std::uint32_t base = std::uint32_t(y) * std::uint32_t(w);
+    for (int x = 0; x < w; ++x) {
+      float g0, g1, g2, g3;
+      rng.gaussian2(base + std::uint32_t(x), 0, g0, g1);
+      rng.gaussian2(base + std::uint32_t(x), 1, g2, g3);
+      a[x] = g0;
+      b[x] = g1;
+      c[x] = g2;
+    }
+  }
+};
+
+/// Measured depth per pixel from exact depth, incidence angle, projector shadow mask and the
+/// per-pixel normal variates of GaussianNoiseRows.
+struct DepthMeasurementKernel {
+  ImageView<const float> z_exact;    ///< exact z (m), 0 = no surface
+  ImageView<const float> cos_incidence;  ///< cos theta, theta between normal and viewing ray
+  ImageView<const std::uint8_t> shadow;  ///< may be empty (no shadows)
+  ImageView<const float> noise_du, noise_dv, noise_z;  ///< N(0, 1) per pixel; unused without noise
+  ImageView<float> depth_out;
+  DepthModelParams p;
+  bool dropouts = true;  ///< grazing-angle and shadow dropouts
+
+  /// Depth of the ray through (u, v), bilinear when its 4 neighbours are one smooth surface.
+  /// Samples beyond the image border are clamped to it.
+  RASM_HD float sampleDepth(float u, float v) const {
+    const int w = z_exact.width, h = z_exact.height;
+    u = u < 0.f ? 0.f : (u > float(w - 1) ? float(w - 1) : u);
+    v = v < 0.f ? 0.f : (v > float(h - 1) ? float(h - 1) : v);
+    const int x0 = int(u), y0 = int(v);
+    const int x1 = x0 + 1 < w ? x0 + 1 : x0, y1 = y0 + 1 < h ? y0 + 1 : y0;
+    const float a = z_exact(x0, y0), b = z_exact(x1, y0), c = z_exact(x0, y1), d = z_exact(x1, y1);
+    const float tx = u - float(x0), ty = v - float(y0);
+    const float lo = a < b ? (a < c ? (a < d ? a : d) : (c < d ? c : d)) : (b < c ? (b < d ? b : d) : (c < d ? c : d));
+    const float hi = a > b ? (a > c ? (a > d ? a : d) : (c > d ? c : d)) : (b > c ? (b > d ? b : d) : (c > d ? c : d));
+    if (lo > 0.f && hi - lo <= p.smooth_rel_tol * lo)
+      return (a * (1.f - tx) + b * tx) * (1.f - ty) + (c * (1.f - tx) + d * tx) * ty;
+    const int xn = tx < 0.5f ? x0 : x1, yn = ty < 0.5f ? y0 : y1;
+    return z_exact(xn, yn);
+  }
+
+  RASM_HD void operator()(int x, int y) const {
+    float z = z_exact(x, y);
+    float& out = depth_out(x, y);
+    if (z <= 0.f) {
+      out = 0.f;
+      return;
+    }
+    const float theta = fastAcos01(cos_incidence(x, y));
+    if (dropouts && (theta > p.max_incidence_rad || (!shadow.empty() && shadow(x, y)))) {
+      out = 0.f;
+      return;
+    }
+    const float g = angleFactor(theta);
+    if (p.lateral_noise) {
+      const float sl = p.lateral_px + p.lateral_angle * g;
+      z = sampleDepth(float(x) + sl * noise_du(x, y), float(y) + sl * noise_dv(x, y));
+      if (z <= 0.f) {
+        out = 0.f;
+        return;
+      }
+    }
+    if (p.axial_noise) z += axialSigmaG(p, z, g) * noise_z(x, y);
+    z = quantizeDepth(p, z);
+    out = (z >= p.min_depth_m && z <= p.max_depth_m) ? z : 0.f;
+  }
+};
+
+}  // namespace rasm::sim
