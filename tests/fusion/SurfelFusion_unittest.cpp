@@ -226,6 +226,7 @@ TEST(SurfelFusion, OneBadFrameDoesNotEraseStableStructure) {
 TEST(SurfelFusion, OldUnstableSurfelsArePruned) {
   TFusionParams p;
   p.unstable_max_age_s = 2.0;
+  p.unstable_max_idle_s = 100.0;  // age only (idle pruning: next test)
   SurfelFusion fusion(p);
   SurfelStore map;
   Scene scene;
@@ -252,6 +253,38 @@ TEST(SurfelFusion, OldUnstableSurfelsArePruned) {
   for (int i = 0; i < map.size(); ++i) EXPECT_TRUE(map.arrays().stable(i));
   std::string why;
   EXPECT_TRUE(map.checkConsistency(&why)) << why;
+}
+
+TEST(SurfelFusion, IdleUnstableSurfelsArePrunedBeforeTheAgeLimit) {
+  TFusionParams p;
+  p.unstable_max_age_s = 100.0;
+  p.unstable_max_idle_s = 0.5;
+  SurfelFusion fusion(p);
+  SurfelStore map;
+  // Left half of the view seen once at t = 0, the whole view fused again at t = 0.3 and 0.6 s:
+  // the left half is re-observed, nothing is idle for 0.5 s yet.
+  Scene scene;
+  auto frame = fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), 0.0);
+  fusion.fuse(map, frame.input());
+  const int n = map.size();
+  for (double t : {0.3, 0.6}) {
+    frame.frame.timestamp_s = t;
+    EXPECT_EQ(fusion.fuse(map, frame.input()).removed_unstable, 0);
+  }
+  // Now only the right half is observed (left half depth invalid) at t = 0.9 and 1.2 s: the
+  // left half's surfels were last fused at 0.6 s, idle for 0.6 s > 0.5 s at t = 1.2 s.
+  auto right = fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), 0.9);
+  for (int y = 0; y < kK.height; ++y)
+    for (int x = 0; x < kK.width / 2; ++x) right.frame.depth_m(x, y) = 0.0f;
+  computeVertexMap(right.frame.depth_m, kK, right.vertex);
+  computeNormalMap(right.vertex, right.normal);
+  right.frame.timestamp_s = 0.9;
+  EXPECT_EQ(fusion.fuse(map, right.input()).removed_unstable, 0);
+  right.frame.timestamp_s = 1.2;
+  const FusionStats st = fusion.fuse(map, right.input());
+  EXPECT_GT(st.removed_unstable, n / 2 - kK.height * 2);
+  EXPECT_LT(st.removed_unstable, n / 2 + kK.height * 2);
+  for (int i = 0; i < map.size(); ++i) EXPECT_GT(map.arrays().position(i).x(), -0.05f);
 }
 
 TEST(SurfelFusion, SegmentWeightsFollowThePropagatedLabels) {

@@ -29,6 +29,7 @@ kernels::FusionKernelParams plainParams(const TFusionParams& p,
   k.assoc_dz_rel = p.assoc_max_depth_diff_rel;
   k.min_cos_normal = std::cos(p.assoc_max_normal_angle_deg * kDegToRad);
   k.radius_update_ratio = p.radius_update_ratio;
+  k.neighbour_coverage_check = p.neighbour_coverage_check;
   k.stable_confidence = p.stable_confidence;
   k.max_confidence = p.max_confidence;
   k.update_segments = p.update_segments;
@@ -198,6 +199,7 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
       }
       if (b & kernels::kPixBecameStable) ++st.became_stable;
       if (b & kernels::kPixRelabelled) ++st.relabelled;
+      if (b & kernels::kPixCovered) ++st.covered;
     }
   }
   map.reindex(m_scratch);
@@ -250,10 +252,12 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
     }
   }
 
-  // Unstable surfels older than the time window (II-D). O(N) scan of two arrays (~1 ms per
-  // million surfels); per-thread lists concatenated in thread order keep it deterministic.
+  // Unstable surfels older than the time window, or not fused for unstable_max_idle_s (II-D).
+  // O(N) scan of three arrays (~1-2 ms per million surfels); per-thread lists concatenated in
+  // thread order keep it deterministic.
   const float now = map.toMapTime(in.timestamp_s);
   const float max_age = float(m_params.unstable_max_age_s);
+  const float max_idle = float(m_params.unstable_max_idle_s);
   const int nt = compute::maxThreads();
   std::vector<std::vector<int>> old_lists(nt);
 #pragma omp parallel num_threads(nt)
@@ -267,7 +271,8 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
     const int begin = int(std::int64_t(a.size) * t / tn),
               end = int(std::int64_t(a.size) * (t + 1) / tn);
     for (int i = begin; i < end; ++i)
-      if (!(a.colour_flags[i] & maps::kSurfelStable) && now - a.t_init[i] > max_age)
+      if (!(a.colour_flags[i] & maps::kSurfelStable) &&
+          (now - a.t_init[i] > max_age || now - a.t_last[i] > max_idle))
         old_lists[t].push_back(i);
   }
   const std::size_t n_carved = removed.size();

@@ -16,9 +16,11 @@ void TFusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(assoc_max_depth_diff_rel, float, c, s);
   MRPT_LOAD_CONFIG_VAR(assoc_max_normal_angle_deg, float, c, s);
   MRPT_LOAD_CONFIG_VAR(radius_update_ratio, float, c, s);
+  MRPT_LOAD_CONFIG_VAR(neighbour_coverage_check, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(stable_confidence, float, c, s);
   MRPT_LOAD_CONFIG_VAR(max_confidence, float, c, s);
   MRPT_LOAD_CONFIG_VAR(unstable_max_age_s, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(unstable_max_idle_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(carve_free_space, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(carve_margin_m, float, c, s);
   MRPT_LOAD_CONFIG_VAR(carve_margin_rel, float, c, s);
@@ -39,6 +41,7 @@ void TFusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireInRange(stable_confidence, 0.0, 1e9, s, "stable_confidence");
   requireInRange(max_confidence, 0.0, 1e9, s, "max_confidence");
   requireInRange(unstable_max_age_s, 0.0, 1e9, s, "unstable_max_age_s");
+  requireInRange(unstable_max_idle_s, 0.0, 1e9, s, "unstable_max_idle_s");
   requireInRange(carve_margin_m, 0.0, 10.0, s, "carve_margin_m");
   requireInRange(carve_margin_rel, 0.0, 1.0, s, "carve_margin_rel");
   requireInRange(carve_stable_decay, 0.0, 1.0, s, "carve_stable_decay");
@@ -55,9 +58,11 @@ void TFusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   c.write(s, "assoc_max_depth_diff_rel", assoc_max_depth_diff_rel);
   c.write(s, "assoc_max_normal_angle_deg", assoc_max_normal_angle_deg);
   c.write(s, "radius_update_ratio", radius_update_ratio);
+  c.write(s, "neighbour_coverage_check", neighbour_coverage_check);
   c.write(s, "stable_confidence", stable_confidence);
   c.write(s, "max_confidence", max_confidence);
   c.write(s, "unstable_max_age_s", unstable_max_age_s);
+  c.write(s, "unstable_max_idle_s", unstable_max_idle_s);
   c.write(s, "carve_free_space", carve_free_space);
   c.write(s, "carve_margin_m", carve_margin_m);
   c.write(s, "carve_margin_rel", carve_margin_rel);

@@ -53,6 +53,7 @@ struct FusionStats {
   int associated = 0;    ///< pixels matched to an existing surfel (confidence accumulated)
   int fused = 0;         ///< of those, geometry averaged (radius rule passed)
   int added = 0;         ///< new surfels (II-B)
+  int covered = 0;       ///< no own candidate, a neighbour's surfel covers its ray: not added
   int became_stable = 0;
   int relabelled = 0;        ///< surfels whose segment changed (III)
   int removed_unstable = 0;  ///< old unstable surfels removed
