@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
+#include <sstream>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -157,6 +159,12 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   std::array<double, int(Stage::Count)> ms_sum{};
   std::array<double, int(Stage::Count)> ms_max{};
   std::string error;
+  // frames.csv: one row per processed frame (tracking quality, fusion counts, stage times).
+  std::string frames_csv =
+      "index,timestamp_s,tracked,status,inliers,inlier_fraction,rms_m,model_pixels,model_all_surfels,"
+      "valid_pixels,associated,added,removed_unstable,removed_carved,surfels";
+  for (int s = 0; s < int(Stage::Count); ++s) frames_csv += std::string(",ms_") + toString(Stage(s));
+  frames_csv += "\n";
   long long read = 0;
   std::size_t processed = 0;
   CameraIntrinsics last_K;
@@ -178,6 +186,16 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
         ms_max[s] = std::max(ms_max[s], r.ms[s]);
       }
       if (on_frame) on_frame(r);
+      std::ostringstream row;
+      row << r.index << ',' << std::fixed << std::setprecision(6) << r.timestamp_s << ',' << int(r.tracked) << ','
+          << tracking::toString(r.tracking.status) << ',' << r.tracking.inliers << ',' << r.tracking.inlier_fraction
+          << ',' << r.tracking.rms_m << ',' << r.model_valid_pixels << ',' << int(r.model_all_surfels) << ','
+          << r.fusion.valid_pixels << ',' << r.fusion.associated << ',' << r.fusion.added << ','
+          << r.fusion.removed_unstable << ',' << r.fusion.removed_carved << ',' << r.fusion.map_size
+          << std::setprecision(2);
+      for (int s = 0; s < int(Stage::Count); ++s) row << ',' << r.ms[s];
+      frames_csv += row.str();
+      frames_csv += "\n";
       char extra[160];
       std::snprintf(extra, sizeof extra, "surfels %d lost %zu %s", m_mapper->map().size(), m_mapper->framesLost(),
                     r.tracked ? "" : tracking::toString(r.tracking.status));
@@ -195,6 +213,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
 
   // ---- outputs ----
   const std::string dir = m_output.dir;
+  writeFileAtomically(dir + "/frames.csv", frames_csv);
   io::writeTumTrajectory(dir + "/trajectory.txt", estimate, "rasm estimate (T_world_cam, optical frame)");
   if (!groundtruth.empty()) io::writeTumTrajectory(dir + "/groundtruth.txt", groundtruth, "ground truth of the source");
   if (m_output.write_ply) m_mapper->map().saveToPly(dir + "/map.ply");
