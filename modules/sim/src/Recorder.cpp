@@ -207,7 +207,7 @@ RecordResult recordSequence(const World& world, const TrajectorySpec& spec, cons
   progress.update(res.frames, 1.0, true);
   writer.close();
   io::writeTumTrajectory(res.groundtruth_path, gt,
-                         "ground truth T_world_cam (optical frame) of " + res.rawlog_path + ", world " + world.name +
+                         "ground truth T_world_cam (optical frame) of " + out.filename().string() + ", world " + world.name +
                              ", seed " + std::to_string(opt.seed));
   if (opt.write_labels) writeClassesJson(world, res.labels_dir + "/classes.json", res.frames, spec.rate_hz);
   return res;

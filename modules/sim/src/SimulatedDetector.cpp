@@ -193,18 +193,28 @@ std::vector<Detection> SimulatedDetector::detect(const RgbdFrame& f, std::uint64
   std::vector<Detection> out;
   if (f.gt_instance.empty() || f.gt_class.empty()) throwInputError("SimulatedDetector", "frame has no ground-truth labels");
   const int w = f.gt_instance.width(), h = f.gt_instance.height();
-  std::map<int, MaskStats> masks;  // ordered by instance id: deterministic draw order
+  // Mask statistics per instance in one pass (a slot table instead of a map lookup per pixel),
+  // then ordered by instance id: a deterministic draw order.
+  std::vector<std::int32_t> slot(65536, -1);
+  std::vector<std::pair<int, MaskStats>> found;
   for (int y = 0; y < h; ++y) {
     const std::uint16_t* ir = f.gt_instance.row(y);
     const std::uint16_t* cr = f.gt_class.row(y);
     for (int x = 0; x < w; ++x) {
       if (!ir[x]) continue;
-      MaskStats& m = masks[ir[x]];
+      std::int32_t& k = slot[ir[x]];
+      if (k < 0) {
+        k = std::int32_t(found.size());
+        found.push_back({ir[x], MaskStats{}});
+      }
+      MaskStats& m = found[std::size_t(k)].second;
       ++m.pixels;
       m.x0 = std::min(m.x0, x), m.x1 = std::max(m.x1, x), m.y0 = std::min(m.y0, y), m.y1 = std::max(m.y1, y);
       m.class_id = cr[x];
     }
   }
+  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  const std::map<int, MaskStats> masks(found.begin(), found.end());
   std::seed_seq seq{std::uint32_t(seed), std::uint32_t(seed >> 32), std::uint32_t(f.index),
                     std::uint32_t(std::uint64_t(f.index) >> 32), 0xDE7Eu};
   Draw d{std::mt19937_64(seq)};

@@ -124,6 +124,31 @@ Eigen::Vector3d between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 
 Eigen::Vector3d fromTPose(const mrpt::math::TPose2D& p) { return {p.x, p.y, p.phi}; }
 
+}  // namespace
+
+/// MRPT's simulator with an exact time step: simulateOneTimeStep(dt) loops
+/// `while (time <= time + dt)` over firmware periods, i.e. floor(dt / period) + 1 of them, which
+/// overshoots dt by up to a period (0.5 ms) per call. advance(dt) sets the period to dt / n and
+/// asks for (n - 1/2) periods, so exactly n run and the motion covers exactly dt.
+class SimulatedDiffDriveRobot::ExactStepSimulator : public mrpt::kinematics::CVehicleSimul_DiffDriven {
+ public:
+  void advance(double dt) {
+    const int n = std::max(1, int(std::ceil(dt / 5e-4 - 1e-9)));
+    m_firmware_control_period = dt / n;
+    simulateOneTimeStep((n - 0.5) * m_firmware_control_period);
+  }
+  /// Zero velocity now, including the velocity MRPT integrates in its next firmware period.
+  void halt() {
+    movementCommand(0.0, 0.0);
+    setV(0.0);
+    setW(0.0);
+    m_GT_vel = mrpt::math::TTwist2D(0, 0, 0);
+    m_odometric_vel = mrpt::math::TTwist2D(0, 0, 0);
+  }
+};
+
+namespace {
+
 /// Standard normal variate by Box-Muller on the raw engine output: unlike
 /// std::normal_distribution, the sequence is the same with every standard library.
 double gaussian(std::mt19937_64& rng) {
@@ -139,7 +164,7 @@ SimulatedDiffDriveRobot::SimulatedDiffDriveRobot(const RayScene& scene, const TR
       m_params(params),
       m_raster(scene.world(), float(params.ground_clearance_m), float(params.height_m), float(params.collision_cell_m)),
       m_footprint(params.footprintPolygon()),
-      m_sim(std::make_unique<mrpt::kinematics::CVehicleSimul_DiffDriven>()),
+      m_sim(std::make_unique<ExactStepSimulator>()),
       m_rng(seed) {
   m_params.validate();
   m_sim->setDelayModelParams(m_params.velocity_tau_s, 0.0);
@@ -179,20 +204,19 @@ bool SimulatedDiffDriveRobot::collidesAt(const Eigen::Vector3d& p) const {
 
 void SimulatedDiffDriveRobot::step(double dt) {
   if (!(dt > 0)) return;
+  m_time_s += dt;
   m_collided = false;
   const int n = std::max(1, int(std::ceil(dt / m_params.max_substep_s - 1e-9)));
   const double h = dt / n;
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d before = pose();
-    m_sim->simulateOneTimeStep(h);
+    m_sim->advance(h);
     const Eigen::Vector3d after = pose();
-    if (!m_collided && collidesAt(after)) {
+    if (collidesAt(after)) {
       // Stop at the last collision-free pose, velocities zeroed (no bounce, no sliding).
       m_sim->setCurrentGTPose(mrpt::math::TPose2D(before.x(), before.y(), before.z()));
       m_cmd_v = m_cmd_w = 0.0;
-      m_sim->movementCommand(0.0, 0.0);
-      m_sim->setV(0.0);
-      m_sim->setW(0.0);
+      m_sim->halt();
       m_collided = true;
       continue;
     }
@@ -210,7 +234,7 @@ void SimulatedDiffDriveRobot::step(double dt) {
   }
 }
 
-double SimulatedDiffDriveRobot::time_s() const { return m_sim->getTime(); }
+double SimulatedDiffDriveRobot::time_s() const { return m_time_s; }
 
 Eigen::Vector3d SimulatedDiffDriveRobot::pose() const { return fromTPose(m_sim->getCurrentGTPose()); }
 

@@ -52,12 +52,13 @@ HandheldTrajectory::HandheldTrajectory(std::vector<HandheldKeyframe> kf, const H
     if (i > 0 && q.dot(m_q.back()) < 0) q.coeffs() = -q.coeffs();
     m_q.push_back(q);
   }
-  // SQUAD control points (Shoemake 1987): s_i = q_i exp(-(log(q_i^-1 q_i+1) + log(q_i^-1 q_i-1)) / 4).
-  m_s = m_q;
+  // Angular velocity (body frame) at each keyframe, Catmull-Rom style like the position
+  // tangents: (r_i-1,i + r_i,i+1) / (t_i+1 - t_i-1) with r_a,b = log(q_a^-1 q_b); zero at the ends.
+  m_w.assign(n, Eigen::Vector3d::Zero());
   for (std::size_t i = 1; i + 1 < n; ++i) {
-    const Eigen::Quaterniond qi_inv = m_q[i].conjugate();
-    const Eigen::Vector3d l = quatLog(qi_inv * m_q[i + 1]) + quatLog(qi_inv * m_q[i - 1]);
-    m_s[i] = (m_q[i] * quatExp(-0.25 * l)).normalized();
+    const Eigen::Vector3d r_prev = 2.0 * quatLog(m_q[i - 1].conjugate() * m_q[i]);
+    const Eigen::Vector3d r_next = 2.0 * quatLog(m_q[i].conjugate() * m_q[i + 1]);
+    m_w[i] = (r_prev + r_next) / (m_kf[i + 1].t_s - m_kf[i - 1].t_s);
   }
   // Jitter: per axis three sinusoids, random frequency in [0.5, 1.5] f0 and phase, amplitudes
   // scaled so the RMS of their sum is the configured amplitude.
@@ -93,10 +94,15 @@ Eigen::Isometry3d HandheldTrajectory::smoothPose(double t) const {
   const Eigen::Vector3d p = (2 * h3 - 3 * h2 + 1) * m_kf[i].T_world_cam.translation() +
                             (h3 - 2 * h2 + h) * dt * tangent(i) +
                             (-2 * h3 + 3 * h2) * m_kf[i + 1].T_world_cam.translation() + (h3 - h2) * dt * tangent(i + 1);
-  // SQUAD orientation.
-  const Eigen::Quaterniond a = m_q[i].slerp(h, m_q[i + 1]);
-  const Eigen::Quaterniond b = m_s[i].slerp(h, m_s[i + 1]);
-  const Eigen::Quaterniond q = a.slerp(2 * h * (1 - h), b).normalized();
+  // Orientation: cubic Bezier on SO(3) evaluated by De Casteljau with slerp (Shoemake 1985).
+  // Inner control points b1 = q_i exp(dt w_i / 3), b2 = q_i+1 exp(-dt w_i+1 / 3) make the
+  // angular velocity at each keyframe w_i from both sides: C1 in time, not just in h.
+  const Eigen::Quaterniond b0 = m_q[i], b3 = m_q[i + 1];
+  const Eigen::Quaterniond b1 = b0 * quatExp(m_w[i] * (dt / 6.0));  // quatExp takes half angles
+  const Eigen::Quaterniond b2 = b3 * quatExp(-m_w[i + 1] * (dt / 6.0));
+  const Eigen::Quaterniond a1 = b0.slerp(h, b1), a2 = b1.slerp(h, b2), a3 = b2.slerp(h, b3);
+  const Eigen::Quaterniond c1 = a1.slerp(h, a2), c2 = a2.slerp(h, a3);
+  const Eigen::Quaterniond q = c1.slerp(h, c2).normalized();
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = q.toRotationMatrix();
   T.translation() = p;

@@ -16,10 +16,6 @@
 #include "rasm/sim/OccupancyRaster.h"
 #include "rasm/sim/RayScene.h"
 
-namespace mrpt::kinematics {
-class CVehicleSimul_DiffDriven;
-}
-
 namespace rasm::sim {
 
 /// INI section [sim_robot] (keys as the member names).
@@ -96,7 +92,9 @@ class SimulatedDiffDriveRobot : public IRobot {
   TRobotParams m_params;
   OccupancyRaster m_raster;
   std::vector<Eigen::Vector2f> m_footprint;
-  std::unique_ptr<mrpt::kinematics::CVehicleSimul_DiffDriven> m_sim;
+  class ExactStepSimulator;  // mrpt::kinematics::CVehicleSimul_DiffDriven with exact steps
+  std::unique_ptr<ExactStepSimulator> m_sim;
+  double m_time_s = 0.0;
   Eigen::Vector3d m_odometry = Eigen::Vector3d::Zero();
   std::mt19937_64 m_rng;
   bool m_collided = false;

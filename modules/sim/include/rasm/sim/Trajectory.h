@@ -1,8 +1,9 @@
 #pragma once
 // Scripted camera trajectories for the recorder (YAML spec, docs/sim.md):
-//  - handheld: 6-DoF keyframe poses, positions on a C1 cubic Hermite spline with Catmull-Rom
-//    tangents, orientations by SQUAD (spherical cubic, C1), plus smooth seeded hand jitter (a few
-//    sinusoids per axis with random frequencies and phases);
+//  - handheld: 6-DoF keyframe poses, positions on a cubic Hermite spline with Catmull-Rom
+//    tangents, orientations on a cubic Bezier curve on SO(3) (De Casteljau with slerp) with
+//    Catmull-Rom angular velocities, both C1 in time and exact at the keyframes; plus smooth
+//    seeded hand jitter (a few sinusoids per axis with random frequencies and phases);
 //  - robot: waypoints driven by a pure-pursuit controller through SimulatedDiffDriveRobot at a
 //    fixed control rate; the camera rides on the robot's mount.
 
@@ -41,7 +42,8 @@ class HandheldTrajectory {
 
  private:
   std::vector<HandheldKeyframe> m_kf;
-  std::vector<Eigen::Quaterniond> m_q, m_s;  ///< keyframe rotations (sign-aligned), SQUAD controls
+  std::vector<Eigen::Quaterniond> m_q;  ///< keyframe rotations (sign-aligned)
+  std::vector<Eigen::Vector3d> m_w;     ///< body angular velocity at each keyframe (rad/s)
   HandJitter m_jitter;
   struct Wave {
     double freq_hz, phase, amp;
