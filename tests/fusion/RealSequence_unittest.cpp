@@ -44,7 +44,8 @@ TEST(RealSequence, Fr1XyzFusedAtGroundTruthStaysConsistent) {
       for (int y = 0; y < f->height(); y += 4)
         for (int x = 0; x < f->width(); x += 4) {
           const float zm = f->depth_m(x, y), zr = m.depth_m(x, y);
-          if (zm > 0.0f && zr > 0.0f && zm < 3.0f) residuals_mm.push_back(1000.0 * std::abs(zm - zr));
+          if (zm > 0.0f && zr > 0.0f && zm < 3.0f)
+            residuals_mm.push_back(1000.0 * std::abs(zm - zr));
         }
     }
     const fusion::FusionStats st = fusion.fuse(map, fusion::makeFusionInput(*f, vertex, normal, T));
@@ -60,7 +61,8 @@ TEST(RealSequence, Fr1XyzFusedAtGroundTruthStaysConsistent) {
   }
   ASSERT_EQ(frames, 15);
   ASSERT_GT(residuals_mm.size(), 10000u);
-  std::nth_element(residuals_mm.begin(), residuals_mm.begin() + residuals_mm.size() / 2, residuals_mm.end());
+  std::nth_element(residuals_mm.begin(), residuals_mm.begin() + residuals_mm.size() / 2,
+                   residuals_mm.end());
   const double median_mm = residuals_mm[residuals_mm.size() / 2];
   // Kinect depth noise at 1-2 m is a few mm; the mocap ground truth is good to ~1 cm: the model
   // predicts the measured depth to well under 2 cm.

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rasm/compute/Parallel.h"
+
 namespace rasm::maps {
 
 namespace {
@@ -101,11 +103,31 @@ void SurfelStore::indexAppended() {
 }
 
 int SurfelStore::reindex(const std::vector<int>& surfels) {
+  // Parallel read-only pass (radius bound, which surfels crossed a block border), then the few
+  // re-binnings serially in input order.
+  const int n = int(surfels.size());
+  const int nt = compute::maxThreads();
+  std::vector<std::vector<int>> movers(nt);
+  std::vector<float> rmax(nt, 0.0f);
+#pragma omp parallel num_threads(nt)
+  {
+#ifdef _OPENMP
+    const int t = omp_get_thread_num(), tn = omp_get_num_threads();
+#else
+    const int t = 0, tn = 1;
+#endif
+    const int begin = int(std::int64_t(n) * t / tn), end = int(std::int64_t(n) * (t + 1) / tn);
+    for (int k = begin; k < end; ++k) {
+      const int i = surfels[k];
+      if (i < 0 || i >= indexed_) continue;
+      rmax[t] = std::max(rmax[t], normal_radius_[i].w());
+      if (index_.needsMove(i, pos_conf_[i].head<3>())) movers[t].push_back(i);
+    }
+  }
   int moved = 0;
-  for (int i : surfels) {
-    if (i < 0 || i >= indexed_) continue;
-    radius_bound_ = std::max(radius_bound_, normal_radius_[i].w());
-    moved += index_.move(i, pos_conf_[i].head<3>()) ? 1 : 0;
+  for (int t = 0; t < nt; ++t) {
+    radius_bound_ = std::max(radius_bound_, rmax[t]);
+    for (int i : movers[t]) moved += index_.move(i, pos_conf_[i].head<3>()) ? 1 : 0;
   }
   return moved;
 }

@@ -13,6 +13,7 @@
 //
 // Host-only (std containers); no MRPT.
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -68,6 +69,16 @@ class VoxelBlockIndex {
   void erase(int surfel);
   /// Re-bins surfel `surfel` if p lies in another block than its current one; returns true if so.
   bool move(int surfel, const Vec3f& p);
+  /// Whether move(surfel, p) would re-bin (read-only: safe to call from many threads).
+  bool needsMove(int surfel, const Vec3f& p) const {
+    const int b = blockOf(surfel);
+    return b >= 0 && blockCoordsOf(p) != blocks_[b].coords;
+  }
+  Eigen::Vector3i blockCoordsOf(const Vec3f& p) const {
+    return Eigen::Vector3i(int(std::floor(p.x() * inv_block_size_)),
+                           int(std::floor(p.y() * inv_block_size_)),
+                           int(std::floor(p.z() * inv_block_size_)));
+  }
   /// The surfel stored at index `from` now lives at index `to` (compaction); `to` must be free.
   void renumber(int from, int to);
   /// Drops everything.

@@ -128,11 +128,12 @@ struct AssociateUpdateKernel {
   /// frame). This read-only check of the 8 neighbouring blocks finds a surfel that passes the
   /// depth and normal gates and whose disc reaches the pixel ray; the measurement is then dropped
   /// (not fused: the exclusive update belongs to the neighbour pixel).
-  RASM_HD_INLINE bool coveredByNeighbour(int x, int y, const Vec3f& v, const Vec3f& n, float z, float dz_max,
-                                         float inv_v) const {
+  RASM_HD_INLINE bool coveredByNeighbour(int x, int y, const Vec3f& v, const Vec3f& n, float z,
+                                         float dz_max, float inv_v) const {
     for (int py = y - 1; py <= y + 1; ++py)
       for (int px = x - 1; px <= x + 1; ++px) {
-        if ((px == x && py == y) || px < 0 || py < 0 || 4 * px >= index4x.width || 4 * py >= index4x.height)
+        if ((px == x && py == y) || px < 0 || py < 0 || 4 * px >= index4x.width ||
+            4 * py >= index4x.height)
           continue;
         for (int sy = 4 * py; sy < 4 * py + 4; ++sy)
           for (int sx = 4 * px; sx < 4 * px + 4; ++sx) {
