@@ -61,22 +61,22 @@ TEST(IcpKernels, PlaneOffsetAlongNormal) {
   const IcpReduceKernel k = makeKernel(F, M.vertex, M.normal, I, I);
   const IcpAccumulator a = compute::reduce1D<IcpAccumulator>(k.items(), k);
   const double n_valid = double((K.width - 2) * (K.height - 2));  // border normals are invalid
-  EXPECT_EQ(a.valid, n_valid);
-  EXPECT_EQ(a.inliers, n_valid);
-  EXPECT_NEAR(a.r2 / a.inliers, 1e-4, 1e-7);
-  EXPECT_NEAR(a.JtJ[11], n_valid, 1e-3);  // (2,2): n_z^2
-  EXPECT_NEAR(a.JtJ[0], 0.0, 1e-6);       // (0,0): n_x^2
-  EXPECT_NEAR(a.Jtr[2], -0.01 * n_valid, 1e-3 * n_valid * 1e-2);
-  EXPECT_NEAR(a.depth / a.inliers, 2.0, 1e-5);
+  EXPECT_EQ(a.valid(), n_valid);
+  EXPECT_EQ(a.inliers(), n_valid);
+  EXPECT_NEAR(a.s[IcpAccumulator::kR2] / a.inliers(), 1e-4, 1e-7);
+  EXPECT_NEAR(a.s[IcpAccumulator::kJtJ + 11], n_valid, 1e-3);  // (2,2): n_z^2
+  EXPECT_NEAR(a.s[IcpAccumulator::kJtJ + 0], 0.0, 1e-6);       // (0,0): n_x^2
+  EXPECT_NEAR(a.s[IcpAccumulator::kJtr + 2], -0.01 * n_valid, 1e-3 * n_valid * 1e-2);
+  EXPECT_NEAR(a.s[IcpAccumulator::kDepth] / a.inliers(), 2.0, 1e-5);
   // Rotation about the optical axis does not move a fronto-parallel wall: (5,5) = 0.
-  EXPECT_NEAR(a.JtJ[20], 0.0, 1e-6);
+  EXPECT_NEAR(a.s[IcpAccumulator::kJtJ + 20], 0.0, 1e-6);
 
   // Beyond the distance limit nothing is an inlier.
   IcpReduceKernel far = k;
   far.max_dist_m = 0.005f;
   const IcpAccumulator b = compute::reduce1D<IcpAccumulator>(far.items(), far);
-  EXPECT_EQ(b.inliers, 0);
-  EXPECT_EQ(b.valid, n_valid);
+  EXPECT_EQ(b.inliers(), 0);
+  EXPECT_EQ(b.valid(), n_valid);
 }
 
 TEST(IcpKernels, JacobianMatchesFiniteDifferences) {
@@ -164,9 +164,9 @@ TEST(IcpKernels, CudaMatchesCpu) {
     k.stride = stride;
     const IcpAccumulator cpu = compute::reduce1D<IcpAccumulator>(k.items(), k);
     const IcpAccumulator gpu = tracking::cuda::reduceIcp(k);
-    EXPECT_EQ(cpu.valid, gpu.valid);
-    EXPECT_NEAR(cpu.inliers, gpu.inliers, 1e-4 * cpu.inliers + 2);  // fast-math rounding at limits
+    EXPECT_EQ(cpu.valid(), gpu.valid());
+    EXPECT_NEAR(cpu.inliers(), gpu.inliers(), 1e-4 * cpu.inliers() + 2);  // fast-math rounding at limits
     for (int i = 0; i < IcpAccumulator::kSize; ++i)
-      EXPECT_NEAR(cpu.data()[i], gpu.data()[i], 1e-3 * (1.0 + std::abs(cpu.data()[i]))) << "entry " << i;
+      EXPECT_NEAR(cpu.s[i], gpu.s[i], 1e-3 * (1.0 + std::abs(cpu.s[i]))) << "entry " << i;
   }
 }

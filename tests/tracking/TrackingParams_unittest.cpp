@@ -68,6 +68,6 @@ TEST(TrackingParams, RejectsBadKeysAndValues) {
   EXPECT_NE(e.find("num_levels"), std::string::npos) << e;
   e = errorOf("[tracking]\niterations_level0 = 0\n");
   EXPECT_NE(e.find("iterations_level0"), std::string::npos) << e;
-  e = errorOf("[tracking]\nmax_normal_angle_deg = 200\n");
-  EXPECT_NE(e.find("max_normal_angle_deg"), std::string::npos) << e;
+  e = errorOf("[tracking]\nmax_normal_angle_deg_level0 = 200\n");
+  EXPECT_NE(e.find("max_normal_angle_deg_level0"), std::string::npos) << e;
 }

@@ -32,7 +32,7 @@ __global__ void icpReduceKernel(IcpReduceKernel k, int n, double* partials) {
     const int x = (i % cols) * k.stride, y = (i / cols) * k.stride;
     float J[6], r = 0.f, w = 0.f, depth = 0.f;
     const int s = k.pixel(x, y, J, r, w, depth);
-    if (s != kernels::kIcpInvalid) a[29] = 1.f;
+    if (s != kernels::kIcpInvalid) a[IcpAccumulator::kValid] = 1.f;
     if (s == kernels::kIcpInlier) IcpReduceKernel::accumulate(a, J, r, w, depth);
   }
   const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
@@ -113,7 +113,7 @@ IcpAccumulator IcpCudaReducer::reduce(int level, const IcpReduceKernel& k_host) 
   check(cudaMemcpy(m_impl->host_partials.data(), m_impl->partials->ptr, sizeof(double) * blocks * kN,
                    cudaMemcpyDeviceToHost),
         "icpReduceKernel download");
-  double* t = total.data();
+  double* t = total.s;
   for (int b = 0; b < blocks; ++b)
     for (int j = 0; j < kN; ++j) t[j] += m_impl->host_partials[size_t(b) * kN + j];
   return total;

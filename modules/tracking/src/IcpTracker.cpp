@@ -54,15 +54,16 @@ struct IcpSystem {
   Eigen::Matrix<double, 6, 6> eigenvectors = Eigen::Matrix<double, 6, 6>::Identity();
 
   explicit IcpSystem(const kernels::IcpAccumulator& a) {
-    int k = 0;
+    using A = kernels::IcpAccumulator;
+    int k = A::kJtJ;
     for (int i = 0; i < 6; ++i)
-      for (int j = i; j < 6; ++j) H(i, j) = H(j, i) = a.JtJ[k++];
-    for (int i = 0; i < 6; ++i) g(i) = a.Jtr[i];
-    inliers = a.inliers;
-    valid = a.valid;
+      for (int j = i; j < 6; ++j) H(i, j) = H(j, i) = a.s[k++];
+    for (int i = 0; i < 6; ++i) g(i) = a.s[A::kJtr + i];
+    inliers = a.inliers();
+    valid = a.valid();
     if (inliers > 0) {
-      rms_m = std::sqrt(a.r2 / inliers);
-      mean_depth_m = std::max(1e-3, a.depth / inliers);
+      rms_m = std::sqrt(a.s[A::kR2] / inliers);
+      mean_depth_m = std::max(1e-3, a.s[A::kDepth] / inliers);
       const Vector6d dinv = scaleInv();
       const Eigen::Matrix<double, 6, 6> Hs = dinv.asDiagonal() * H * dinv.asDiagonal() / inliers;
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> es(Hs);
@@ -191,7 +192,6 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
   Eigen::Isometry3d T = T_world_cam_guess;
   if (!model_empty) buildModelPyramid(model);
   const Eigen::Isometry3d T_model_world = model.T_world_model.inverse();
-  const float min_cos = float(std::cos(P.max_normal_angle_deg * kDegToRad));
   const double conv_rot_rad = P.convergence_rotation_deg * kDegToRad;
 
   bool diverged = false;
@@ -210,7 +210,7 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
     }
     k.K_model = model.K.level(l).plain();
     k.max_dist_m = float(P.max_dist_m[l]);
-    k.min_normal_cos = min_cos;
+    k.min_normal_cos = float(std::cos(P.max_normal_angle_deg[l] * kDegToRad));
     k.huber_delta_m = float(P.huber_delta_m);
     k.stride = l == 0 ? P.level0_pixel_stride : 1;
     IcpSystem level_last(kernels::IcpAccumulator{});
@@ -227,7 +227,7 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
           for (int x = 0; x < k.frame_vertex.width; x += k.stride)
             if (k.frame_vertex(x, y).x() == k.frame_vertex(x, y).x() &&
                 k.frame_normal(x, y).x() == k.frame_normal(x, y).x())
-              acc.valid += 1;
+              acc.s[kernels::IcpAccumulator::kValid] += 1;
       } else if (P.use_cuda) {
         acc = m_cuda->reduce(l, k);
       } else {

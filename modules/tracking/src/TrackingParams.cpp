@@ -35,8 +35,8 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   for (int l = 0; l < kMaxLevels; ++l) {
     iterations[l] = c.read_int(s, levelKey("iterations", l), iterations[l]);
     max_dist_m[l] = c.read_double(s, levelKey("max_dist_m", l), max_dist_m[l]);
+    max_normal_angle_deg[l] = c.read_double(s, levelKey("max_normal_angle_deg", l), max_normal_angle_deg[l]);
   }
-  MRPT_LOAD_CONFIG_VAR_CS(max_normal_angle_deg, double);
   MRPT_LOAD_CONFIG_VAR_CS(level0_pixel_stride, int);
   MRPT_LOAD_CONFIG_VAR_CS(huber_delta_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(convergence_translation_m, double);
@@ -66,7 +66,8 @@ void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
     put(c, s, levelKey("iterations", l), iterations[l], "ICP iterations at this level (0 = full res)");
   for (int l = 0; l < kMaxLevels; ++l)
     put(c, s, levelKey("max_dist_m", l), max_dist_m[l], "association distance limit (m)");
-  put(c, s, "max_normal_angle_deg", max_normal_angle_deg, "association normal-angle limit (deg)");
+  for (int l = 0; l < kMaxLevels; ++l)
+    put(c, s, levelKey("max_normal_angle_deg", l), max_normal_angle_deg[l], "association normal-angle limit (deg)");
   put(c, s, "level0_pixel_stride", level0_pixel_stride, "use every n-th pixel in x and y at level 0");
   put(c, s, "huber_delta_m", huber_delta_m, "Huber threshold (m), 0 = least squares");
   put(c, s, "convergence_translation_m", convergence_translation_m, "early stop: increment below (m)");
@@ -87,8 +88,8 @@ void TTrackingParams::validate(const std::string& s) const {
   for (int l = 0; l < kMaxLevels; ++l) {
     requireInRange(iterations[l], l == 0 ? 1 : 0, 100, s, levelKey("iterations", l));
     requireInRange(max_dist_m[l], 1e-4, 10.0, s, levelKey("max_dist_m", l));
+    requireInRange(max_normal_angle_deg[l], 0.0, 180.0, s, levelKey("max_normal_angle_deg", l));
   }
-  requireInRange(max_normal_angle_deg, 0.0, 180.0, s, "max_normal_angle_deg");
   requireInRange(level0_pixel_stride, 1, 8, s, "level0_pixel_stride");
   requireInRange(huber_delta_m, 0.0, 10.0, s, "huber_delta_m");
   requireInRange(convergence_translation_m, 0.0, 1.0, s, "convergence_translation_m");

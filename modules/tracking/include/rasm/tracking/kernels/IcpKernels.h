@@ -12,7 +12,7 @@
 // associated model vertex q with normal n (world frame), the point-to-plane residual and its
 // Jacobian w.r.t. xi at xi = 0 are
 //     r = n . (p - q),      J = [ n^T , ((p - c) x n)^T ].
-// Each thread accumulates J^T J (21 unique entries), J^T r, r^2 and counts; the host solves
+// The reduction sums J^T J (21 unique entries), J^T r, r^2 and counts; the host solves
 // (J^T J) xi = -J^T r.
 
 #include <cmath>
@@ -22,28 +22,23 @@
 
 namespace rasm::tracking::kernels {
 
-/// Sums of the normal equations. Upper triangle of J^T J stored row-major:
-/// (0,0) (0,1) .. (0,5) (1,1) .. (1,5) .. (5,5).
+/// Sums of the normal equations, a flat array so both backends reduce it element-wise:
+/// s[kJtJ + k]: upper triangle of J^T J row-major, (0,0) (0,1) .. (0,5) (1,1) .. (5,5);
+/// s[kJtr + i]: J^T r; s[kR2]: sum of squared (unweighted) inlier residuals; s[kInliers];
+/// s[kValid]: frame pixels with a valid vertex and normal; s[kDepth]: sum of inlier depths
+/// (the scale that balances the rotation columns, see IcpTracker).
 struct IcpAccumulator {
+  static constexpr int kJtJ = 0, kJtr = 21, kR2 = 27, kInliers = 28, kValid = 29, kDepth = 30;
   static constexpr int kSize = 31;
-  double JtJ[21] = {};
-  double Jtr[6] = {};
-  double r2 = 0;        ///< sum of squared (unweighted) residuals of inliers
-  double inliers = 0;   ///< count of inliers
-  double valid = 0;     ///< count of frame pixels with valid vertex and normal
-  double depth = 0;     ///< sum of the frame depth of the inliers (scale of rotation columns)
+  double s[kSize] = {};
 
-  RASM_HD_INLINE double* data() { return JtJ; }
-  RASM_HD_INLINE const double* data() const { return JtJ; }
+  RASM_HD_INLINE double inliers() const { return s[kInliers]; }
+  RASM_HD_INLINE double valid() const { return s[kValid]; }
   RASM_HD_INLINE IcpAccumulator& operator+=(const IcpAccumulator& o) {
-    double* a = data();
-    const double* b = o.data();
-    for (int i = 0; i < kSize; ++i) a[i] += b[i];
+    for (int i = 0; i < kSize; ++i) s[i] += o.s[i];
     return *this;
   }
 };
-static_assert(sizeof(IcpAccumulator) == IcpAccumulator::kSize * sizeof(double),
-              "IcpAccumulator must be a flat array of doubles");
 
 /// Outcome of one pixel.
 enum IcpPixel : int { kIcpInvalid = 0, kIcpRejected = 1, kIcpInlier = 2 };
@@ -80,8 +75,9 @@ struct IcpReduceKernel {
     // Projective association: project the moved vertex into the model camera.
     const Vec3f pm = T_model_cam.apply(v);
     if (!(pm.z() > 0.0f)) return kIcpRejected;
-    const float u = K_model.fx * pm.x() / pm.z() + K_model.cx;
-    const float vv = K_model.fy * pm.y() / pm.z() + K_model.cy;
+    const float iz = 1.0f / pm.z();
+    const float u = K_model.fx * pm.x() * iz + K_model.cx;
+    const float vv = K_model.fy * pm.y() * iz + K_model.cy;
     if (!(u > -0.5f && vv > -0.5f && u < float(model_vertex.width) - 0.5f &&
           vv < float(model_vertex.height) - 0.5f))
       return kIcpRejected;
@@ -109,39 +105,69 @@ struct IcpReduceKernel {
     return kIcpInlier;
   }
 
-  /// Adds one (weighted) term to a flat accumulator of IcpAccumulator layout.
+  /// Adds one (weighted) inlier term to a flat array of IcpAccumulator layout (CUDA path).
   template <typename T>
   RASM_HD_INLINE static void accumulate(T* a, const float J[6], float r, float w, float depth) {
-    int k = 0;
+    int k = IcpAccumulator::kJtJ;
     for (int i = 0; i < 6; ++i) {
       const float wJi = w * J[i];
       for (int j = i; j < 6; ++j) a[k++] += T(wJi * J[j]);
     }
-    for (int i = 0; i < 6; ++i) a[21 + i] += T(w * J[i] * r);
-    a[27] += T(r * r);
-    a[28] += T(1);
-    a[30] += T(depth);
+    for (int i = 0; i < 6; ++i) a[IcpAccumulator::kJtr + i] += T(w * J[i] * r);
+    a[IcpAccumulator::kR2] += T(r * r);
+    a[IcpAccumulator::kInliers] += T(1);
+    a[IcpAccumulator::kDepth] += T(depth);
   }
 
-  /// CPU path: work item i = one row segment. Terms are summed in float within the segment
-  /// (<= kSegment terms) and in double across segments.
+  /// CPU path: work item i = one row segment. Two passes, so the arithmetic vectorises: (1)
+  /// association, residuals and Jacobians of the segment's pixels, inliers compacted into
+  /// structure-of-arrays buffers; (2) the 21 + 6 + 1 sums as dot products over the inliers
+  /// (SIMD across pixels), in float over <= kSegment terms, then added to the double accumulator.
   void operator()(int i, IcpAccumulator& acc) const {
     const int spr = segmentsPerRow();
     const int y = (i / spr) * stride;
     const int xs0 = (i % spr) * kSegment;
     const int xs1 = xs0 + kSegment < cols() ? xs0 + kSegment : cols();
-    float seg[IcpAccumulator::kSize] = {};
-    float J[6], r = 0.f, w = 0.f, depth = 0.f;
-    int valid = 0;
+    alignas(64) float Jb[6][kSegment];
+    alignas(64) float wJb[6][kSegment];
+    alignas(64) float rb[kSegment];
+    float J[6], r = 0.f, w = 0.f, depth = 0.f, depth_sum = 0.f;
+    int valid = 0, n = 0;
     for (int xs = xs0; xs < xs1; ++xs) {
       const int s = pixel(xs * stride, y, J, r, w, depth);
       if (s == kIcpInvalid) continue;
       ++valid;
-      if (s == kIcpInlier) accumulate(seg, J, r, w, depth);
+      if (s != kIcpInlier) continue;
+      for (int c = 0; c < 6; ++c) {
+        Jb[c][n] = J[c];
+        wJb[c][n] = w * J[c];
+      }
+      rb[n] = r;
+      depth_sum += depth;
+      ++n;
     }
-    seg[29] = float(valid);
-    double* a = acc.data();
-    for (int k = 0; k < IcpAccumulator::kSize; ++k) a[k] += double(seg[k]);
+    double* a = acc.s;
+    int k = IcpAccumulator::kJtJ;
+    for (int c = 0; c < 6; ++c)
+      for (int d = c; d < 6; ++d) {
+        float sum = 0.f;
+#pragma omp simd reduction(+ : sum)
+        for (int p = 0; p < n; ++p) sum += wJb[c][p] * Jb[d][p];
+        a[k++] += double(sum);
+      }
+    for (int c = 0; c < 6; ++c) {
+      float sum = 0.f;
+#pragma omp simd reduction(+ : sum)
+      for (int p = 0; p < n; ++p) sum += wJb[c][p] * rb[p];
+      a[IcpAccumulator::kJtr + c] += double(sum);
+    }
+    float r2 = 0.f;
+#pragma omp simd reduction(+ : r2)
+    for (int p = 0; p < n; ++p) r2 += rb[p] * rb[p];
+    a[IcpAccumulator::kR2] += double(r2);
+    a[IcpAccumulator::kInliers] += double(n);
+    a[IcpAccumulator::kValid] += double(valid);
+    a[IcpAccumulator::kDepth] += double(depth_sum);
   }
 };
 
@@ -166,7 +192,8 @@ struct ModelDownsampleKernel {
         if (sx >= in_vertex.width || sy >= in_vertex.height) continue;
         const Vec3f v = in_vertex(sx, sy), nn = in_normal(sx, sy);
         if (!(v.x() == v.x()) || !(nn.x() == nn.x())) continue;
-        const float z = T_model_world.apply(v).z();
+        const float* m = T_model_world.m;  // depth along the model camera: row 2 of [R | t]
+        const float z = m[8] * v.x() + m[9] * v.y() + m[10] * v.z() + m[11];
         vs[n] = v;
         ns[n] = nn;
         zs[n] = z;
