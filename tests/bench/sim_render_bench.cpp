@@ -61,21 +61,21 @@ int main(int argc, char** argv) {
     rasm::RgbdFrame f;
     for (int i = 0; i < 10; ++i) sensor.render(pose(i), 1, std::size_t(i), f);  // warm-up
     const auto t0 = std::chrono::steady_clock::now();
-    double checksum = 0, cast_ms = 0, noise_ms = 0, model_ms = 0;
+    double checksum = 0, cast_ms = 0, shadow_ms = 0, model_ms = 0;
     for (int i = 0; i < frames; ++i) {
       sensor.render(pose(i), 1, std::size_t(i), f);
       checksum += f.depth_m(f.width() / 2, f.height() / 2);
       cast_ms += sensor.lastStageTimes().cast_ms;
-      noise_ms += sensor.lastStageTimes().noise_ms;
+      shadow_ms += sensor.lastStageTimes().shadow_ms;
       model_ms += sensor.lastStageTimes().depth_model_ms;
     }
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf(
         "{\"bench\":\"sim_render\",\"fps\":%.1f,\"ms_per_frame\":%.3f,\"width\":%d,\"height\":%d,\"frames\":%d,"
         "\"threads\":%d,\"world\":\"%s\",\"triangles_objects\":%zu,\"noise\":%s,\"labels\":%s,\"packets\":%s,"
-        "\"cast_ms\":%.3f,\"noise_ms\":%.3f,\"depth_model_ms\":%.3f,\"checksum\":%.3f}\n",
+        "\"cast_ms\":%.3f,\"shadow_ms\":%.3f,\"depth_model_ms\":%.3f,\"checksum\":%.3f}\n",
         frames / s, 1000.0 * s / frames, f.width(), f.height(), frames, threads, world_name.c_str(),
-        world.objects.size(), noise ? "true" : "false", labels ? "true" : "false", packets ? "true" : "false", cast_ms / frames, noise_ms / frames, model_ms / frames, checksum);
+        world.objects.size(), noise ? "true" : "false", labels ? "true" : "false", packets ? "true" : "false", cast_ms / frames, shadow_ms / frames, model_ms / frames, checksum);
     return 0;
   } catch (const rasm::InputError& e) {
     std::fprintf(stderr, "bench_sim_render: %s\n", e.what());

@@ -86,8 +86,8 @@ class RgbdSensor {
   /// Wall-clock milliseconds of the stages of the last render() (for benchmarks).
   struct StageTimes {
     double cast_ms = 0;         ///< ray casting, shading, labels
-    double noise_ms = 0;        ///< projector shadows and the per-pixel normal variates
-    double depth_model_ms = 0;  ///< DepthMeasurementKernel
+    double shadow_ms = 0;       ///< projector shadows (ProjectorShadowRows)
+    double depth_model_ms = 0;  ///< DepthMeasurementKernel, its normal variates included
   };
   const StageTimes& lastStageTimes() const { return m_times; }
 
@@ -98,7 +98,6 @@ class RgbdSensor {
   // Scratch images of the last render (exact depth, cos of the incidence angle, projector shadow).
   mutable Image<float> m_z, m_cos;
   mutable Image<std::uint8_t> m_shadow;
-  mutable Image<float> m_n0, m_n1, m_n2;  ///< per-pixel N(0, 1) variates
   mutable StageTimes m_times;
 };
 

@@ -114,38 +114,24 @@ struct ProjectorShadowRows {
   }
 };
 
-/// Three independent standard normal variates per pixel (lateral du, dv and axial), from the
-/// counter-based generator: pixel index = counter. Rows are plain loops the compiler vectorizes.
-struct GaussianNoiseRows {
-  ImageView<float> n0, n1, n2;
-  CounterRng rng;
+/// The three independent standard normal variates of pixel `pix` (lateral du, dv and axial):
+/// counter = pixel index, so they do not depend on the order pixels are processed in.
+RASM_HD_INLINE void pixelNormals(const CounterRng& rng, std::uint32_t pix, float& du, float& dv, float& dz) {
+  float unused;
+  rng.gaussian2(pix, 0, du, dv);
+  rng.gaussian2(pix, 1, dz, unused);
+}
 
-  RASM_HD void operator()(int y) const {
-    float* a = n0.row(y);
-    float* b = n1.row(y);
-    float* c = n2.row(y);
-    const int w = n0.width;
-    const std::uint32_t base = std::uint32_t(y) * std::uint32_t(w);
-    for (int x = 0; x < w; ++x) {
-      float g0, g1, g2, g3;
-      rng.gaussian2(base + std::uint32_t(x), 0, g0, g1);
-      rng.gaussian2(base + std::uint32_t(x), 1, g2, g3);
-      a[x] = g0;
-      b[x] = g1;
-      c[x] = g2;
-    }
-  }
-};
-
-/// Measured depth per pixel from exact depth, incidence angle, projector shadow mask and the
-/// per-pixel normal variates of GaussianNoiseRows.
+/// Measured depth per pixel from exact depth, incidence angle and projector shadow mask.
+/// operator()(x, y) is the per-pixel kernel (any backend); operator()(y) runs a row on the CPU,
+/// drawing the row's normal variates first in chunks (a branch-free loop the compiler vectorizes).
 struct DepthMeasurementKernel {
   ImageView<const float> z_exact;    ///< exact z (m), 0 = no surface
   ImageView<const float> cos_incidence;  ///< cos theta, theta between normal and viewing ray
   ImageView<const std::uint8_t> shadow;  ///< may be empty (no shadows)
-  ImageView<const float> noise_du, noise_dv, noise_z;  ///< N(0, 1) per pixel; unused without noise
   ImageView<float> depth_out;
   DepthModelParams p;
+  CounterRng rng;
   bool dropouts = true;  ///< grazing-angle and shadow dropouts
 
   /// Depth of the ray through (u, v), bilinear when its 4 neighbours are one smooth surface.
@@ -158,8 +144,9 @@ struct DepthMeasurementKernel {
     const int x1 = x0 + 1 < w ? x0 + 1 : x0, y1 = y0 + 1 < h ? y0 + 1 : y0;
     const float a = z_exact(x0, y0), b = z_exact(x1, y0), c = z_exact(x0, y1), d = z_exact(x1, y1);
     const float tx = u - float(x0), ty = v - float(y0);
-    const float lo = a < b ? (a < c ? (a < d ? a : d) : (c < d ? c : d)) : (b < c ? (b < d ? b : d) : (c < d ? c : d));
-    const float hi = a > b ? (a > c ? (a > d ? a : d) : (c > d ? c : d)) : (b > c ? (b > d ? b : d) : (c > d ? c : d));
+    auto mn = [](float p0, float p1) { return p1 < p0 ? p1 : p0; };  // minss / maxss, no branches
+    auto mx = [](float p0, float p1) { return p1 > p0 ? p1 : p0; };
+    const float lo = mn(mn(a, b), mn(c, d)), hi = mx(mx(a, b), mx(c, d));
     if (lo > 0.f && hi - lo <= p.smooth_rel_tol * lo)
       return (a * (1.f - tx) + b * tx) * (1.f - ty) + (c * (1.f - tx) + d * tx) * ty;
     const int xn = tx < 0.5f ? x0 : x1, yn = ty < 0.5f ? y0 : y1;
@@ -167,6 +154,28 @@ struct DepthMeasurementKernel {
   }
 
   RASM_HD void operator()(int x, int y) const {
+    float du = 0.f, dv = 0.f, dz = 0.f;
+    if (p.lateral_noise || p.axial_noise)
+      pixelNormals(rng, std::uint32_t(y) * std::uint32_t(z_exact.width) + std::uint32_t(x), du, dv, dz);
+    measure(x, y, du, dv, dz);
+  }
+
+  void operator()(int y) const {
+    constexpr int kChunk = 64;
+    float du[kChunk], dv[kChunk], dz[kChunk];
+    const int w = z_exact.width;
+    const bool noisy = p.lateral_noise || p.axial_noise;
+    for (int x0 = 0; x0 < w; x0 += kChunk) {
+      const int n = w - x0 < kChunk ? w - x0 : kChunk;
+      const std::uint32_t base = std::uint32_t(y) * std::uint32_t(w) + std::uint32_t(x0);
+      if (noisy)
+        for (int i = 0; i < n; ++i) pixelNormals(rng, base + std::uint32_t(i), du[i], dv[i], dz[i]);
+      for (int i = 0; i < n; ++i) measure(x0 + i, y, noisy ? du[i] : 0.f, noisy ? dv[i] : 0.f, noisy ? dz[i] : 0.f);
+    }
+  }
+
+  /// Pixel (x, y) with its normal variates.
+  RASM_HD void measure(int x, int y, float noise_du, float noise_dv, float noise_z) const {
     float z = z_exact(x, y);
     float& out = depth_out(x, y);
     if (z <= 0.f) {
@@ -181,13 +190,13 @@ struct DepthMeasurementKernel {
     const float g = angleFactor(theta);
     if (p.lateral_noise) {
       const float sl = p.lateral_px + p.lateral_angle * g;
-      z = sampleDepth(float(x) + sl * noise_du(x, y), float(y) + sl * noise_dv(x, y));
+      z = sampleDepth(float(x) + sl * noise_du, float(y) + sl * noise_dv);
       if (z <= 0.f) {
         out = 0.f;
         return;
       }
     }
-    if (p.axial_noise) z += axialSigmaG(p, z, g) * noise_z(x, y);
+    if (p.axial_noise) z += axialSigmaG(p, z, g) * noise_z;
     z = quantizeDepth(p, z);
     out = (z >= p.min_depth_m && z <= p.max_depth_m) ? z : 0.f;
   }

@@ -1,6 +1,6 @@
 #pragma once
-// Colour of a simulated surface point: albedo from a solid procedural pattern (checker, stripes,
-// value noise) evaluated in the object's frame, lit by one directional light with Lambertian
+// Colour of a simulated surface point: albedo from a procedural pattern (3-D checker and stripes,
+// planar value noise) evaluated in the object's frame, lit by one directional light with Lambertian
 // diffuse reflection plus ambient:  c = albedo * (ambient + diffuse * max(0, -n . l)).
 // Plain header: compute/ and Eigen only.
 
@@ -30,17 +30,16 @@ struct LightF {
   float diffuse = 0.65f;
 };
 
-/// Value noise on the integer lattice, trilinear with smoothstep weights, in [0, 1].
-RASM_HD_INLINE float valueNoise3(const Vec3f& p) {
-  const float fx = std::floor(p.x()), fy = std::floor(p.y()), fz = std::floor(p.z());
-  const int ix = int(fx), iy = int(fy), iz = int(fz);
-  float tx = p.x() - fx, ty = p.y() - fy, tz = p.z() - fz;
-  tx = tx * tx * (3.f - 2.f * tx);
-  ty = ty * ty * (3.f - 2.f * ty);
-  tz = tz * tz * (3.f - 2.f * tz);
-  auto lattice = [](int x, int y, int z) {
+/// Value noise on the integer lattice of a plane, bilinear with smoothstep weights, in [0, 1].
+RASM_HD_INLINE float valueNoise2(float u, float v, std::uint32_t plane) {
+  const float fu = std::floor(u), fv = std::floor(v);
+  const int iu = int(fu), iv = int(fv);
+  float tu = u - fu, tv = v - fv;
+  tu = tu * tu * (3.f - 2.f * tu);
+  tv = tv * tv * (3.f - 2.f * tv);
+  auto lattice = [plane](int a, int b) {
     // Lattice values from a 32-bit integer hash (Wellons' lowbias32 finalizer).
-    std::uint32_t h = std::uint32_t(x) * 0x8DA6B343u ^ std::uint32_t(y) * 0xD8163841u ^ std::uint32_t(z) * 0xCB1AB31Fu;
+    std::uint32_t h = std::uint32_t(a) * 0x8DA6B343u ^ std::uint32_t(b) * 0xD8163841u ^ plane * 0xCB1AB31Fu;
     h ^= h >> 16;
     h *= 0x7FEB352Du;
     h ^= h >> 15;
@@ -48,19 +47,17 @@ RASM_HD_INLINE float valueNoise3(const Vec3f& p) {
     h ^= h >> 16;
     return float(h >> 8) * (1.0f / 16777216.0f);
   };
-  float c[2][2];
-  for (int dz = 0; dz < 2; ++dz)
-    for (int dy = 0; dy < 2; ++dy) {
-      const float a = lattice(ix, iy + dy, iz + dz), b = lattice(ix + 1, iy + dy, iz + dz);
-      c[dz][dy] = a + (b - a) * tx;
-    }
-  const float c0 = c[0][0] + (c[0][1] - c[0][0]) * ty;
-  const float c1 = c[1][0] + (c[1][1] - c[1][0]) * ty;
-  return c0 + (c1 - c0) * tz;
+  const float a = lattice(iu, iv), b = lattice(iu + 1, iv), c = lattice(iu, iv + 1), d = lattice(iu + 1, iv + 1);
+  const float ab = a + (b - a) * tu, cd = c + (d - c) * tu;
+  return ab + (cd - ab) * tv;
 }
 
-/// Blend weight of colour2 at an object-frame point (metres).
-RASM_HD_INLINE float patternWeight(const SurfaceMaterial& m, const Vec3f& p_obj) {
+/// Blend weight of colour2 at world point p_world with world normal n_world, evaluated in the
+/// object's frame (metres). Noise is 2-D on the object-frame coordinate plane most facing the
+/// surface (walls and floors are planes; half the cost of 3-D noise), indexed by that plane and
+/// the surface's offset along its normal axis so that parallel faces differ.
+RASM_HD_INLINE float patternWeight(const SurfaceMaterial& m, const Vec3f& p_world, const Vec3f& n_world) {
+  const Vec3f p_obj = m.T_object_world.apply(p_world);
   // A tiny offset keeps faces that lie exactly on a cell boundary (box faces at +-size/2) from
   // flickering between the two colours.
   const Vec3f q = p_obj * m.inv_period + Vec3f::Constant(1e-3f);
@@ -71,8 +68,13 @@ RASM_HD_INLINE float patternWeight(const SurfaceMaterial& m, const Vec3f& p_obj)
     }
     case 2:
       return (int(std::floor(q[m.stripe_axis])) & 1) ? 1.f : 0.f;
-    case 3:
-      return valueNoise3(q);
+    case 3: {
+      const Vec3f n_obj = m.T_object_world.rotate(n_world);
+      const float ax = std::abs(n_obj.x()), ay = std::abs(n_obj.y()), az = std::abs(n_obj.z());
+      if (ax >= ay && ax >= az) return valueNoise2(q.y(), q.z(), std::uint32_t(int(std::floor(q.x()))) * 3u + 0u);
+      if (ay >= az) return valueNoise2(q.x(), q.z(), std::uint32_t(int(std::floor(q.y()))) * 3u + 1u);
+      return valueNoise2(q.x(), q.y(), std::uint32_t(int(std::floor(q.z()))) * 3u + 2u);
+    }
     default:
       return 0.f;
   }
@@ -81,7 +83,7 @@ RASM_HD_INLINE float patternWeight(const SurfaceMaterial& m, const Vec3f& p_obj)
 /// Shaded RGB (0..1) of world point p with unit normal n facing the viewer.
 RASM_HD_INLINE Vec3f shadeSurface(const SurfaceMaterial& m, const LightF& light, const Vec3f& p_world,
                                   const Vec3f& n_world) {
-  const float w = m.pattern == 0 ? 0.f : patternWeight(m, m.T_object_world.apply(p_world));
+  const float w = m.pattern == 0 ? 0.f : patternWeight(m, p_world, n_world);
   const Vec3f albedo = m.colour * (1.f - w) + m.colour2 * w;
   const float lambert = -n_world.dot(light.direction);
   return albedo * (light.ambient + light.diffuse * (lambert > 0.f ? lambert : 0.f));
