@@ -26,7 +26,8 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   std::array<int, kMaxLevels> iterations{10, 5, 4};
   /// Max distance (m) between a transformed frame vertex and its projectively associated model
   /// vertex, per level (keys max_dist_m_level<i>). Looser at coarse levels, where the guess is
-  /// worst.
+  /// worst: on the test room, from 20 cm / 10 deg offsets 0.3 / 0.15 / 0.05 m converged 20 times
+  /// out of 20, KinectFusion-like 0.1 / 0.075 / 0.05 m 15 out of 20.
   std::array<double, kMaxLevels> max_dist_m{0.05, 0.15, 0.3};
   /// Max angle (deg) between the transformed frame normal and the model normal, per level (keys
   /// max_normal_angle_deg_level<i>). Looser at level 0, whose normals come from raw depth: on
@@ -57,6 +58,8 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   double max_jump_rotation_deg = 10.0;
   /// Degeneracy: smallest eigenvalue of the normalised, scale-balanced J^T J (see
   /// TrackingResult::min_eigenvalue). Directions below it are not updated (kept from the guess).
+  /// Seen: a room with boxes 0.012-0.015, TUM / 7-Scenes frames 0.013-0.022, a single wall 1e-11
+  /// (noise-free), ICP stuck in a wrong minimum typically 1e-5..1e-3.
   double min_eigenvalue = 1e-3;
   /// A degenerate frame (e.g. a single wall) is accepted (ok, fused with the unconstrained
   /// directions taken from the guess) only if at least this fraction of its valid pixels are
