@@ -1,6 +1,6 @@
 // `rasm sim ...`: the simulator's command line (thin layer over rasm::sim).
 //   rasm sim record <world> <trajectory.yaml> <out.rawlog> [--seed N] [--noise on|off] [--camera preset]
-//                   [--max-frames N]
+//                   [--max-frames N] [--set sim_sensor.key=value] [--set sim_robot.key=value]
 //   rasm sim render <world> <out_prefix> (--eye x,y,z (--yaw deg [--pitch deg] | --look-at x,y,z))
 //                   [--seed N] [--noise on|off] [--camera preset]
 //   rasm sim info <world>
@@ -28,7 +28,7 @@ using Args = std::vector<std::string>;
 const char* kUsage =
     "usage:\n"
     "  rasm sim record <world> <trajectory.yaml> <out.rawlog> [--seed N] [--noise on|off] [--camera preset]\n"
-    "                  [--max-frames N]\n"
+    "                  [--max-frames N] [--set sim_sensor.key=value] [--set sim_robot.key=value]\n"
     "  rasm sim render <world> <out_prefix> --eye x,y,z (--yaw deg [--pitch deg] | --look-at x,y,z)\n"
     "                  [--seed N] [--noise on|off] [--camera preset]\n"
     "  rasm sim info <world>\n"
@@ -39,6 +39,7 @@ const char* kUsage =
 struct Parsed {
   Args positional;
   std::map<std::string, std::string> options;
+  std::vector<std::string> sets;  ///< every --set value, in order
 };
 
 Parsed parse(const Args& args, std::initializer_list<const char*> known) {
@@ -54,7 +55,10 @@ Parsed parse(const Args& args, std::initializer_list<const char*> known) {
     for (const char* k : known) ok = ok || key == k;
     if (!ok) rasm::throwInputError("option " + a, "unknown option\n" + std::string(kUsage));
     if (i + 1 >= args.size()) rasm::throwInputError("option " + a, "missing value");
-    p.options[key] = args[++i];
+    if (key == "set")
+      p.sets.push_back(args[++i]);
+    else
+      p.options[key] = args[++i];
   }
   return p;
 }
@@ -101,8 +105,21 @@ double parseDouble(const Parsed& p, const std::string& key, double def) {
   rasm::throwInputError("--" + key + " " + it->second, "expected a number");
 }
 
+/// --set sim_sensor.key=value / sim_robot.key=value into the recorder's overrides.
+void applySets(const Parsed& p, rasm::sim::RecordOptions& opt) {
+  for (const std::string& s : p.sets) {
+    const auto dot = s.find('.'), eq = s.find('=');
+    if (dot == std::string::npos || eq == std::string::npos || eq < dot)
+      rasm::throwInputError("--set " + s, "expected section.key=value");
+    const std::string section = s.substr(0, dot), key = s.substr(dot + 1, eq - dot - 1), value = s.substr(eq + 1);
+    if (section == "sim_sensor") opt.sensor_overrides[key] = value;
+    else if (section == "sim_robot") opt.robot_overrides[key] = value;
+    else rasm::throwInputError("--set " + s, "unknown section '" + section + "'; expected sim_sensor or sim_robot");
+  }
+}
+
 int cmdRecord(const Args& args) {
-  const Parsed p = parse(args, {"seed", "noise", "camera", "max-frames"});
+  const Parsed p = parse(args, {"seed", "noise", "camera", "max-frames", "set"});
   if (p.positional.size() != 3) rasm::throwInputError("rasm sim record", "expected <world> <trajectory.yaml> <out.rawlog>\n" + std::string(kUsage));
   rasm::sim::RecordOptions opt;
   opt.world = p.positional[0];
@@ -116,6 +133,7 @@ int cmdRecord(const Args& args) {
   }
   if (p.options.count("camera")) opt.sensor_overrides["camera"] = p.options.at("camera");
   if (p.options.count("max-frames")) opt.max_frames = (long long)parseDouble(p, "max-frames", -1);
+  applySets(p, opt);
   opt.progress = true;
   const rasm::sim::RecordResult r = rasm::sim::recordSequence(opt);
   std::cout << "wrote " << r.frames << " frames to " << r.rawlog_path << "\n  ground truth: " << r.groundtruth_path
