@@ -1,4 +1,7 @@
 // rasm: rapid autonomous semantic mapping. `rasm <command> [args]`; `rasm help` lists commands.
+#include <unistd.h>
+
+#include <cstdlib>
 #include <exception>
 #include <iostream>
 
@@ -6,6 +9,15 @@
 #include "rasm/core/Error.h"
 
 int main(int argc, char** argv) {
+  // libgomp reads OMP_WAIT_POLICY when it is loaded, before main. Its default (spin for a while
+  // before sleeping) makes every parallel region wait for descheduled threads whenever another
+  // process or thread competes for the 2 cores of a robot laptop: measured 2-2.5x slower frames
+  // on TUM fr1/xyz. Unless the user chose a policy, re-execute once with the passive one.
+  if (!std::getenv("OMP_WAIT_POLICY") && !std::getenv("RASM_NO_REEXEC")) {
+    ::setenv("OMP_WAIT_POLICY", "passive", 1);
+    ::setenv("RASM_NO_REEXEC", "1", 1);
+    ::execv("/proc/self/exe", argv);  // returns only on failure: then go on with the default
+  }
   using namespace rasm::app;
   const auto& cmds = commands();
   if (argc < 2 || std::string(argv[1]) == "help" || std::string(argv[1]) == "--help" ||
