@@ -9,6 +9,7 @@
 #include <iostream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 #include "Command.h"
 #include "rasm/core/Error.h"
@@ -148,7 +149,11 @@ int cmdRender(const Args& args) {
   const Eigen::Vector3d eye = parseVec3(p, "eye");
   Eigen::Isometry3d T;
   if (p.options.count("look-at")) {
-    T = rasm::sim::cameraPoseLookingAt(eye, parseVec3(p, "look-at"));
+    try {
+      T = rasm::sim::cameraPoseLookingAt(eye, parseVec3(p, "look-at"));
+    } catch (const std::invalid_argument& e) {
+      rasm::throwInputError("--look-at " + p.options.at("look-at"), e.what());
+    }
   } else {
     T = rasm::sim::cameraPoseFromHeading(eye, parseDouble(p, "yaw", 0.0), parseDouble(p, "pitch", 0.0));
   }

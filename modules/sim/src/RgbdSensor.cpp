@@ -138,6 +138,7 @@ struct CastSetup {
   Mat3f R;     ///< R_world_cam
   Vec3f o;     ///< camera centre in the world
   PinholeF K;
+  float inv_fx = 1.f, inv_fy = 1.f;
   const SurfaceMaterial* materials = nullptr;
   LightF light;
   Bgr8 background;
@@ -174,8 +175,10 @@ __attribute__((always_inline)) inline void writePixel(const CastSetup& s, const 
   }
 }
 
+/// Ray direction of pixel (x, y) in the world, with unit z in the camera frame (so the ray
+/// parameter of a hit is its depth).
 inline Vec3f pixelRay(const CastSetup& s, int x, int y) {
-  return s.R * Vec3f((float(x) - s.K.cx) / s.K.fx, (float(y) - s.K.cy) / s.K.fy, 1.f);
+  return s.R * Vec3f((float(x) - s.K.cx) * s.inv_fx, (float(y) - s.K.cy) * s.inv_fy, 1.f);
 }
 
 void castPackets(RTCScene scene, const CastSetup& s, const CastTargets& t) {
@@ -190,24 +193,26 @@ void castPackets(RTCScene scene, const CastSetup& s, const CastTargets& t) {
     alignas(64) RTCRayHit16 rh;
     alignas(64) int valid[16];
     Vec3f dirs[16];
+    for (int k = 0; k < 16; ++k) {  // what Embree does not modify is set once per thread
+      rh.ray.org_x[k] = s.o.x();
+      rh.ray.org_y[k] = s.o.y();
+      rh.ray.org_z[k] = s.o.z();
+      rh.ray.tnear[k] = 0.f;
+      rh.ray.time[k] = 0.f;
+      rh.ray.mask[k] = 0xFFFFFFFFu;
+      rh.ray.id[k] = unsigned(k);
+      rh.ray.flags[k] = 0;
+    }
     for (int tx = 0; tx < tiles_x; ++tx) {
       for (int k = 0; k < 16; ++k) {
         const int x = tx * T + (k & 3), y = ty * T + (k >> 2);
         valid[k] = (x < w && y < h) ? -1 : 0;
         const Vec3f d = pixelRay(s, std::min(x, w - 1), std::min(y, h - 1));
         dirs[k] = d;
-        rh.ray.org_x[k] = s.o.x();
-        rh.ray.org_y[k] = s.o.y();
-        rh.ray.org_z[k] = s.o.z();
         rh.ray.dir_x[k] = d.x();
         rh.ray.dir_y[k] = d.y();
         rh.ray.dir_z[k] = d.z();
-        rh.ray.tnear[k] = 0.f;
         rh.ray.tfar[k] = std::numeric_limits<float>::infinity();
-        rh.ray.time[k] = 0.f;
-        rh.ray.mask[k] = 0xFFFFFFFFu;
-        rh.ray.id[k] = unsigned(k);
-        rh.ray.flags[k] = 0;
         rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
       }
@@ -285,6 +290,8 @@ void RgbdSensor::render(const Eigen::Isometry3d& T_world_cam, std::uint64_t seed
   setup.R = T_world_cam.linear().cast<float>();
   setup.o = T_world_cam.translation().cast<float>();
   setup.K = m_K.plain();
+  setup.inv_fx = float(1.0 / m_K.fx);
+  setup.inv_fy = float(1.0 / m_K.fy);
   setup.materials = scene.materials.data();
   setup.light.direction = scene.world.light.direction_world;
   setup.light.ambient = scene.world.light.ambient;

@@ -90,9 +90,11 @@ RASM_HD_INLINE Vec3f shadeSurface(const SurfaceMaterial& m, const LightF& light,
 }
 
 RASM_HD_INLINE Bgr8 toBgr8(const Vec3f& rgb) {
-  auto q = [](float v) {
-    const float s = v * 255.f + 0.5f;
-    return std::uint8_t(s <= 0.f ? 0 : (s >= 255.f ? 255 : int(s)));
+  auto q = [](float v) {  // clamp with minss / maxss, then truncate: no branches
+    float s = v * 255.f + 0.5f;
+    s = s > 0.f ? s : 0.f;
+    s = s < 255.f ? s : 255.f;
+    return std::uint8_t(int(s));
   };
   Bgr8 out;
   out.r = q(rgb.x());
