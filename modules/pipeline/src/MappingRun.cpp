@@ -1,6 +1,9 @@
 #include "rasm/pipeline/MappingRun.h"
 
+#include <mrpt/img/TCamera.h>
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationImage.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <chrono>
@@ -15,6 +18,9 @@
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
+#include "rasm/core/SE3.h"
+#include "rasm/io/RawlogWriter.h"
+#include "rasm/io/RgbdObservation.h"
 #include "rasm/io/TrajectoryEvaluator.h"
 #include "rasm/io/EvaluationJson.h"
 #include "rasm/pipeline/Progress.h"
@@ -130,6 +136,25 @@ nlohmann::json poseJson(const Eigen::Isometry3d& T) {
 }
 }  // namespace
 
+void MappingRun::writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, const FrameResult& r) {
+  mrpt::obs::CObservation3DRangeScan obs;
+  io::FrameToObservationOptions fo;
+  fo.sensor_pose_from_ground_truth = false;
+  io::observationFromFrame(frame, obs, fo);
+  obs.sensorPose = mrptSensorPoseFromOptical(r.T_world_cam);
+  w.writeObject(obs);
+  maps::RenderedMaps view;
+  m_mapper->renderView(r.T_world_cam, frame.intrinsics, view);
+  const cv::Mat img(view.colour.height(), view.colour.width(), CV_8UC3, view.colour.data(), view.colour.pitchBytes());
+  mrpt::obs::CObservationImage im;
+  im.sensorLabel = "MAP_VIEW";
+  im.timestamp = obs.timestamp;
+  im.cameraPose = obs.sensorPose;
+  frame.intrinsics.toTCamera(im.cameraParams);
+  im.image = mrpt::img::CImage(img, mrpt::img::DEEP_COPY);
+  w.writeObject(im);
+}
+
 RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_frame) {
   const auto t_start = std::chrono::steady_clock::now();
   RunSummary sum;
@@ -154,6 +179,16 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
     total = m_source.max_frames;
   }
   Progress progress("frames", total);
+
+  // annotated.rawlog: each input observation with the ESTIMATED camera pose as sensorPose (MRPT
+  // sensor frame), followed by a CObservationImage "MAP_VIEW" of the map rendered from that pose.
+  std::unique_ptr<io::RawlogWriter> annotated;
+  if (m_output.write_rawlog) {
+    io::RawlogWriterOptions wo;
+    wo.sensor_label = "RGBD";
+    wo.sensor_pose_from_ground_truth = false;
+    annotated = std::make_unique<io::RawlogWriter>(m_output.dir + "/annotated.rawlog", wo);
+  }
 
   io::Trajectory estimate, groundtruth;
   std::array<double, int(Stage::Count)> ms_sum{};
@@ -186,6 +221,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
         ms_max[s] = std::max(ms_max[s], r.ms[s]);
       }
       if (on_frame) on_frame(r);
+      if (annotated) writeAnnotated(*annotated, *f, r);
       std::ostringstream row;
       row << r.index << ',' << std::fixed << std::setprecision(6) << r.timestamp_s << ',' << int(r.tracked) << ','
           << tracking::toString(r.tracking.status) << ',' << r.tracking.inliers << ',' << r.tracking.inlier_fraction
@@ -205,6 +241,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
     error = e.what();
   }
   progress.finish(static_cast<long long>(processed), "done");
+  if (annotated) annotated->close();
 
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   sum.frames = processed;

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rasm/io/FrameSource.h"
+#include "rasm/io/RawlogWriter.h"
 #include "rasm/io/Trajectory.h"
 #include "rasm/pipeline/Mapper.h"
 #include "rasm/pipeline/RunConfig.h"
@@ -64,6 +65,8 @@ class MappingRun {
   std::unique_ptr<io::FrameSource> openSource() const;
 
  private:
+  void writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, const FrameResult& r);
+
   RunConfig m_config;
   TSourceParams m_source;
   TCameraParams m_camera;
