@@ -105,6 +105,22 @@ MappingRun::MappingRun(const RunConfig& config) : m_config(config) {
 
 MappingRun::~MappingRun() = default;
 
+std::string MappingRun::effectiveConfig() const {
+  mrpt::config::CConfigFileMemory mem;
+  m_source.saveToConfigFile(mem, "source");
+  m_camera.saveToConfigFile(mem, "camera");
+  m_mapper_params.mapper.saveToConfigFile(mem, "mapper");
+  m_mapper_params.tracking.saveToConfigFile(mem, "tracking");
+  m_mapper_params.fusion.saveToConfigFile(mem, "fusion");
+  m_mapper_params.map.saveToConfigFile(mem, "map");
+  m_output.saveToConfigFile(mem, "output");
+  std::string text;
+  mem.getContent(text);
+  std::string sim = m_sim_ini;
+  return "; effective configuration of a rasm run (every key, defaults included), from " + m_config.source() +
+         "\n" + text + "\n" + sim;
+}
+
 std::unique_ptr<io::FrameSource> MappingRun::openSource() const {
   if (m_source.type == "sim") return openSimSource(m_sim_ini, m_config.source(), m_camera.intrinsics());
   io::FrameSourceOptions opt;
@@ -164,7 +180,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   if (ec) throwInputError("[output] dir '" + m_output.dir + "'", "cannot be created: " + ec.message());
   if (!m_output.overwrite && !fs::is_empty(m_output.dir))
     throwInputError("[output] dir '" + m_output.dir + "'", "is not empty and [output] overwrite = false");
-  writeFileAtomically(m_output.dir + "/config.ini", m_config.text());
+  writeFileAtomically(m_output.dir + "/config.ini", effectiveConfig());
 
   auto source = openSource();
   m_mapper = std::make_unique<Mapper>(m_mapper_params);
@@ -288,6 +304,14 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
     st[toString(Stage(s))] = {{"mean_ms", processed ? ms_sum[s] / processed : 0.0}, {"max_ms", ms_max[s]}};
   rep["stages"] = st;
   if (processed > 0) rep["final_pose"] = poseJson(m_mapper->pose());
+  if (!m_source.groundtruth.empty()) {
+    try {
+      groundtruth = io::readTumTrajectory(m_source.groundtruth);
+    } catch (const std::exception& e) {
+      rep["ate_error"] = e.what();
+      groundtruth.clear();
+    }
+  }
   if (groundtruth.size() >= 3 && estimate.size() >= 3) {
     try {
       const io::AteOptions ao;

@@ -10,7 +10,6 @@ namespace rasm::pipeline {
 void TSourceParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
   MRPT_LOAD_CONFIG_VAR(type, string, c, s);
   MRPT_LOAD_CONFIG_VAR(path, string, c, s);
-  MRPT_LOAD_CONFIG_VAR(camera_preset, string, c, s);
   MRPT_LOAD_CONFIG_VAR(max_frames, int, c, s);
   MRPT_LOAD_CONFIG_VAR(start_frame, int, c, s);
   MRPT_LOAD_CONFIG_VAR(frame_step, int, c, s);
@@ -26,7 +25,6 @@ void TSourceParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
 void TSourceParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
   MRPT_SAVE_CONFIG_VAR(type, c, s);
   MRPT_SAVE_CONFIG_VAR(path, c, s);
-  MRPT_SAVE_CONFIG_VAR(camera_preset, c, s);
   MRPT_SAVE_CONFIG_VAR(max_frames, c, s);
   MRPT_SAVE_CONFIG_VAR(start_frame, c, s);
   MRPT_SAVE_CONFIG_VAR(frame_step, c, s);

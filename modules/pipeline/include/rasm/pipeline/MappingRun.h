@@ -61,6 +61,9 @@ class MappingRun {
   /// Available after run().
   const Mapper* mapper() const { return m_mapper.get(); }
 
+  /// Every key of every section with its effective value (defaults included), as INI text.
+  std::string effectiveConfig() const;
+
   /// Opens the configured frame source.
   std::unique_ptr<io::FrameSource> openSource() const;
 

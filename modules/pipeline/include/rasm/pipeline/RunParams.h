@@ -14,11 +14,12 @@ struct TSourceParams : mrpt::config::CLoadableOptions {
   /// sim | rawlog | tum | 7scenes | auto (auto: rawlog file, TUM or 7-Scenes folder by inspection)
   std::string type = "sim";
   std::string path;          ///< rawlog file or dataset folder (not for sim)
-  std::string camera_preset; ///< overrides the intrinsics of TUM-format folders (e.g. icl_nuim)
   int max_frames = 0;        ///< 0 = all
   int start_frame = 0;       ///< frames before this are skipped
   int frame_step = 1;        ///< use every n-th frame
-  std::string groundtruth;   ///< optional TUM trajectory for evaluation (else the source's own)
+  /// Optional TUM trajectory to evaluate against (ATE in report.json) instead of the source's
+  /// own ground truth (rawlogs without poses, e.g. converted elsewhere).
+  std::string groundtruth;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
