@@ -1,17 +1,24 @@
 // Benchmark of the II-C tracker: milliseconds per IcpTracker::align() call at 640x480 (3 levels,
-// default iterations) on an analytic room scene, frames along a smooth camera path, the model
-// being the previous frame's maps in the world frame (what the Mapper's render provides).
+// default iterations), the model being the previous frame's maps in the world frame (what the
+// Mapper's render provides). Frames come from an analytic room scene along a smooth camera path
+// (noise-free: few iterations), or with --tum from a TUM sequence folder (real depth noise: more
+// iterations before the increments fall below the convergence limits).
 //   bench_tracking_icp [--threads 2] [--frames 30] [--repeats 5] [--stride 2] [--noise_mm 0]
-//                      [--cuda off]
+//                      [--cuda off] [--tum <folder with depth.txt and groundtruth.txt>]
 // Prints one JSON line: {"bench":"tracking_icp","ms_per_track_median":...,...}. The frame
 // pyramid (buildFramePyramid, core) is timed separately: the Mapper builds it once per frame for
 // every stage.
 #include <omp.h>
 
+#include <mrpt/img/CImage.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
+#include <map>
 #include <numeric>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -27,10 +34,45 @@ static double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
+/// TUM depth frames (5000 units per metre) with the nearest ground-truth pose (within 20 ms).
+static bool loadTum(const std::string& dir, std::vector<Image<float>>& depth, std::vector<Eigen::Isometry3d>& gt) {
+  std::map<double, Eigen::Isometry3d> poses;
+  std::ifstream g(dir + "/groundtruth.txt");
+  for (std::string line; std::getline(g, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream is(line);
+    double t, tx, ty, tz, qx, qy, qz, qw;
+    is >> t >> tx >> ty >> tz >> qx >> qy >> qz >> qw;
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::Quaterniond(qw, qx, qy, qz).normalized().toRotationMatrix();
+    T.translation() = Eigen::Vector3d(tx, ty, tz);
+    poses[t] = T;
+  }
+  std::ifstream d(dir + "/depth.txt");
+  for (std::string line; std::getline(d, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream is(line);
+    double t;
+    std::string f;
+    is >> t >> f;
+    const auto it = poses.lower_bound(t);
+    if (it == poses.end() || std::abs(it->first - t) > 0.02) continue;
+    mrpt::img::CImage img;
+    if (!img.loadFromFile(dir + "/" + f, -1) || img.getPixelDepth() != mrpt::img::PixelDepth::D16U) return false;
+    Image<float> z(int(img.getWidth()), int(img.getHeight()));
+    for (int y = 0; y < z.height(); ++y)
+      for (int x = 0; x < z.width(); ++x) z(x, y) = float(img.ptrLine<uint16_t>(y)[x] / 5000.0);
+    depth.push_back(std::move(z));
+    gt.push_back(it->second);
+  }
+  return !depth.empty();
+}
+
 int main(int argc, char** argv) {
   int threads = 2, frames = 30, repeats = 5, stride = 2;
   double noise_mm = 0.0;
   bool use_cuda = false;
+  std::string tum;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
     if (k == "--threads") threads = std::stoi(v);
@@ -39,22 +81,31 @@ int main(int argc, char** argv) {
     else if (k == "--stride") stride = std::stoi(v);
     else if (k == "--noise_mm") noise_mm = std::stod(v);
     else if (k == "--cuda") use_cuda = v == "on";
+    else if (k == "--tum") tum = v;
     else {
       std::fprintf(stderr, "unknown option %s\n", k.c_str());
       return 2;
     }
   }
   omp_set_num_threads(threads);
-  const CameraIntrinsics K = CameraIntrinsics::preset("kinect_v1");
-  const test::Scene scene = test::Scene::room();
-
-  // Camera path: 1 cm and 0.5 deg per frame (a robot at 0.3 m/s, 30 Hz).
-  std::vector<Eigen::Isometry3d> gt{test::lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5})};
-  for (int i = 1; i <= frames; ++i) gt.push_back(gt.back() * test::motion({0.01, 0.0, 0.004}, {0.1, 1, 0}, 0.5));
-  std::vector<std::vector<FrameLevel>> pyr(gt.size());
+  CameraIntrinsics K = CameraIntrinsics::preset("kinect_v1");
+  std::vector<Eigen::Isometry3d> gt;
   std::vector<Image<float>> depth;
+  if (!tum.empty()) {
+    K = CameraIntrinsics::preset("tum_fr1");
+    if (!loadTum(tum, depth, gt)) {
+      std::fprintf(stderr, "cannot read a TUM sequence (depth.txt, groundtruth.txt, 16-bit PNGs) in %s\n", tum.c_str());
+      return 1;
+    }
+  } else {
+    // Camera path: 1 cm and 0.5 deg per frame (a robot at 0.3 m/s, 30 Hz).
+    const test::Scene scene = test::Scene::room();
+    gt.push_back(test::lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5}));
+    for (int i = 1; i <= frames; ++i) gt.push_back(gt.back() * test::motion({0.01, 0.0, 0.004}, {0.1, 1, 0}, 0.5));
+    for (std::size_t i = 0; i < gt.size(); ++i) depth.push_back(scene.render(K, gt[i], noise_mm * 1e-3, unsigned(i + 1)));
+  }
+  std::vector<std::vector<FrameLevel>> pyr(gt.size());
   std::vector<double> pyr_ms;
-  for (std::size_t i = 0; i < gt.size(); ++i) depth.push_back(scene.render(K, gt[i], noise_mm * 1e-3, unsigned(i + 1)));
   for (int r = 0; r < repeats; ++r)
     for (std::size_t i = 0; i < gt.size(); ++i) {
       const auto t0 = Clock::now();
@@ -88,12 +139,12 @@ int main(int argc, char** argv) {
     return v[v.size() / 2];
   };
   std::printf(
-      "{\"bench\":\"tracking_icp\",\"width\":%d,\"height\":%d,\"threads\":%d,\"levels\":%d,"
+      "{\"bench\":\"tracking_icp\",\"data\":\"%s\",\"width\":%d,\"height\":%d,\"threads\":%d,\"levels\":%d,"
       "\"iterations\":[%d,%d,%d],\"level0_pixel_stride\":%d,\"noise_mm\":%.2f,\"cuda\":%s,\"calls\":%d,"
       "\"ms_per_track_median\":%.3f,\"ms_per_track_mean\":%.3f,\"ms_per_track_min\":%.3f,"
       "\"ms_frame_pyramid_median\":%.3f,\"iterations_mean\":%.2f,\"ok_fraction\":%.3f,"
       "\"max_error_mm\":%.3f,\"max_error_deg\":%.4f}\n",
-      K.width, K.height, threads, P.num_levels, P.iterations[0], P.iterations[1], P.iterations[2], stride, noise_mm,
+      tum.empty() ? "synthetic_room" : "tum", K.width, K.height, threads, P.num_levels, P.iterations[0], P.iterations[1], P.iterations[2], stride, noise_mm,
       use_cuda ? "true" : "false", calls, median(ms), std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size(),
       *std::min_element(ms.begin(), ms.end()), median(pyr_ms), iterations / calls, double(ok) / calls, err_t * 1e3,
       err_r * 180.0 / M_PI);

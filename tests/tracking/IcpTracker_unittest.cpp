@@ -93,10 +93,9 @@ TEST(IcpTracker, SubsampledAndFullLevel0AgreeWithoutNoise) {
 }
 
 // II-C: the quarter- and half-resolution passes widen the basin of convergence. From 10 cm /
-// 5 deg the pyramid always converges; from 20 cm / 10 deg full resolution alone (same level-0
-// thresholds, as many iterations as the whole pyramid) often does not. Counts measured on this
-// scene with 20 random offsets each: 20/20 vs 20/20 at 10 cm / 5 deg, 20/20 vs 8/20 at 20 cm /
-// 10 deg (the test's 16 draws: 16 vs 11).
+// 5 deg both the pyramid and full resolution alone (same level-0 thresholds, as many iterations
+// as the whole pyramid) converge on this scene; from 25 cm / 12 deg the pyramid still converges
+// (16 of the 16 draws below) while full resolution alone mostly does not (6 of 16).
 TEST(IcpTracker, CoarseToFineWidensBasinOfConvergence) {
   const Scene scene = Scene::room();
   std::vector<FrameLevel> pyr_a = pyramidOf(scene.render(K, kRoomPose));
@@ -115,7 +114,7 @@ TEST(IcpTracker, CoarseToFineWidensBasinOfConvergence) {
     const TrackingResult r = tr.align(pyr_b, modelOf(model, kRoomPose), kRoomPose);
     return r.ok && translationDistance(T_b, r.T_world_cam) < 1e-3 && rotationAngle(T_b, r.T_world_cam) < 0.05 * kDeg;
   };
-  for (const auto& [offset_m, offset_deg, trials] : {std::tuple{0.1, 5.0, 4}, std::tuple{0.2, 10.0, 16}}) {
+  for (const auto& [offset_m, offset_deg, trials] : {std::tuple{0.1, 5.0, 4}, std::tuple{0.25, 12.0, 16}}) {
     int ok_pyramid = 0, ok_single = 0;
     for (int i = 0; i < trials; ++i) {
       const Eigen::Vector3d t(N(rng), N(rng), N(rng)), axis(N(rng), N(rng), N(rng));
@@ -132,7 +131,7 @@ TEST(IcpTracker, CoarseToFineWidensBasinOfConvergence) {
       EXPECT_EQ(ok_pyramid, trials);
     } else {
       EXPECT_GE(ok_pyramid, trials - 1);
-      EXPECT_LE(ok_single, ok_pyramid - 4);
+      EXPECT_LE(ok_single, ok_pyramid - 6);
     }
   }
 }

@@ -95,7 +95,7 @@ Sequence loadSevenScenes(const fs::path& dir, int frames) {
 
 struct RunStats {
   int frames = 0, lost = 0;
-  double ate_rmse_m = 0, max_rpe_m = 0, max_rpe_deg = 0, ms_mean = 0;
+  double ate_rmse_m = 0, max_rpe_m = 0, max_rpe_deg = 0, iterations_mean = 0;
 };
 
 RunStats run(const Sequence& s, double metres_per_unit, const TTrackingParams& P, bool bilateral, int step = 1) {
@@ -120,6 +120,7 @@ RunStats run(const Sequence& s, double metres_per_unit, const TTrackingParams& P
     const test::WorldMaps model(prev[0], tr.lastGoodPose());
     const TrackingResult r = tr.track(cur, ModelMaps{model.vertex.view(), model.normal.view(), s.K, tr.lastGoodPose()});
     ++st.frames;
+    st.iterations_mean += r.iterations;
     if (!r.ok) {
       ++st.lost;
       continue;
@@ -133,6 +134,8 @@ RunStats run(const Sequence& s, double metres_per_unit, const TTrackingParams& P
     prev.swap(cur);
   }
   st.ate_rmse_m = std::sqrt(se / std::max(1, st.frames - st.lost));
+  st.iterations_mean /= std::max(1, st.frames);
+  ::testing::Test::RecordProperty("iterations_mean", std::to_string(st.iterations_mean));
   ::testing::Test::RecordProperty("ate_mm", std::to_string(st.ate_rmse_m * 1e3));
   ::testing::Test::RecordProperty("max_rpe_mm", std::to_string(st.max_rpe_m * 1e3));
   ::testing::Test::RecordProperty("max_rpe_deg", std::to_string(st.max_rpe_deg));

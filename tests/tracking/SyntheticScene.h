@@ -4,6 +4,7 @@
 // motion between two frames is known to machine precision.
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -72,20 +73,24 @@ struct Scene {
   Image<float> render(const CameraIntrinsics& K, const Eigen::Isometry3d& T_world_cam, double sigma_m = 0.0,
                       unsigned seed = 1, double max_depth_m = 8.0) const {
     Image<float> depth(K.width, K.height, 0.0f);
-    std::mt19937 rng(seed);
-    std::normal_distribution<double> noise(0.0, sigma_m > 0 ? sigma_m : 1.0);
     const Eigen::Matrix3d R = T_world_cam.linear();
     const Eigen::Vector3d o = T_world_cam.translation();
+#pragma omp parallel for schedule(static)
     for (int y = 0; y < K.height; ++y)
       for (int x = 0; x < K.width; ++x) {
         const Eigen::Vector3d ray_c((x - K.cx) / K.fx, (y - K.cy) / K.fy, 1.0);
-        const Eigen::Vector3d dir = (R * ray_c).normalized();
-        const double t = cast(o, dir);
+        const double t = cast(o, (R * ray_c).normalized());
         if (!std::isfinite(t)) continue;
-        double z = t / ray_c.norm();  // depth along the optical axis
-        if (sigma_m > 0) z += noise(rng);
+        const double z = t / ray_c.norm();  // depth along the optical axis
         if (z > 0 && z <= max_depth_m) depth(x, y) = float(z);
       }
+    if (sigma_m > 0) {  // sequential, so the noise does not depend on the thread count
+      std::mt19937 rng(seed);
+      std::normal_distribution<double> noise(0.0, sigma_m);
+      for (int y = 0; y < K.height; ++y)
+        for (int x = 0; x < K.width; ++x)
+          if (depth(x, y) > 0) depth(x, y) = float(std::max(1e-3, depth(x, y) + noise(rng)));
+    }
     return depth;
   }
 
