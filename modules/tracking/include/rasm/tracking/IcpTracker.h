@@ -15,7 +15,10 @@
 //
 // Model maps: vertex and normal maps in the WORLD frame at full resolution, invalid pixels with
 // x = NaN (as core's kernels), rendered with intrinsics `K` from the pose `T_world_model`. The
-// tracker projects the frame's vertices into that camera to associate them.
+// tracker projects the frame's vertices into that camera to associate them. Its coarse levels
+// are built inside each call (kernels::ModelDownsampleKernel: the 2x2 block's foreground samples
+// averaged, the rule of core's depth pyramid, so both pyramids sample the same pixel centres).
+// Empty (0x0) or all-invalid maps are allowed: the frame is then reported TooFewInliers.
 //
 // Lost track and recovery: a frame that fails a quality rule (TrackingResult::status) leaves the
 // state untouched except that the velocity is reset to zero, so the next guess is the last good
