@@ -4,13 +4,19 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <mrpt/config/CConfigFileMemory.h>
+
 #include <cmath>
 #include <cstring>
 
+#include "rasm/core/Error.h"
+#include "rasm/core/Params.h"
 #include "rasm/sim/CameraPoses.h"
 #include "rasm/sim/RayScene.h"
 #include "rasm/sim/RgbdSensor.h"
 #include "rasm/sim/SimClasses.h"
+#include "rasm/sim/SimulatedDetector.h"
+#include "rasm/sim/SimulatedDiffDriveRobot.h"
 #include "rasm/sim/World.h"
 #include "rasm/sim/kernels/CounterRng.h"
 
@@ -331,4 +337,45 @@ TEST(RgbdSensor, ColourIsTexturedAndShaded) {
   // The wall is lit edge-on: ambient only, 0.2 * 200 = 40.
   EXPECT_EQ(f.colour(320, 40).g, 40);
   EXPECT_EQ(f.gt_instance(320, 40), 2);
+}
+
+TEST(SimParams, StrictIniLoadingOfTheThreeSections) {
+  mrpt::config::CConfigFileMemory ini;
+  ini.write("sim_sensor", "camera", "kinect_v2_depth");
+  ini.write("sim_sensor", "noise", "false");
+  ini.write("sim_robot", "camera_height_m", "0.8");
+  ini.write("sim_detector", "detectable_classes", "cup,conference_phone");
+  TSensorParams s;
+  rasm::loadParamsStrict(ini, "sim_sensor", s, "test.ini");
+  EXPECT_EQ(s.intrinsics().width, 512);
+  EXPECT_FALSE(s.noise);
+  EXPECT_TRUE(s.dropouts);  // untouched keys keep their defaults
+  TRobotParams r;
+  rasm::loadParamsStrict(ini, "sim_robot", r, "test.ini");
+  EXPECT_DOUBLE_EQ(r.camera_height_m, 0.8);
+  TDetectorParams d;
+  rasm::loadParamsStrict(ini, "sim_detector", d, "test.ini");
+  EXPECT_EQ(d.detectableClassIds().size(), 2u);
+  // Unknown keys and bad values name the file, section and key.
+  ini.write("sim_sensor", "noize", "false");
+  try {
+    TSensorParams bad;
+    rasm::loadParamsStrict(ini, "sim_sensor", bad, "test.ini");
+    FAIL();
+  } catch (const rasm::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("test.ini [sim_sensor] noize"), std::string::npos) << e.what();
+  }
+  mrpt::config::CConfigFileMemory ini2;
+  ini2.write("sim_sensor", "camera", "kinect_v9");
+  TSensorParams bad;
+  EXPECT_THROW(rasm::loadParamsStrict(ini2, "sim_sensor", bad, "test.ini"), rasm::InputError);
+  // Defaults survive a save / strict load round trip.
+  mrpt::config::CConfigFileMemory saved;
+  TSensorParams def;
+  def.saveToConfigFile(saved, "sim_sensor");
+  TSensorParams back;
+  back.noise = false;
+  rasm::loadParamsStrict(saved, "sim_sensor", back, "saved");
+  EXPECT_TRUE(back.noise);
+  EXPECT_DOUBLE_EQ(back.axial_sigma_quad, 0.0019);
 }
