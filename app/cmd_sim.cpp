@@ -1,5 +1,6 @@
 // `rasm sim ...`: the simulator's command line (thin layer over rasm::sim).
-//   rasm sim record <world> <trajectory.yaml> <out.rawlog> [--seed N] [--noise on|off] [--camera preset]
+//   rasm sim record <world> <trajectory.yaml> <out.rawlog> [--seed N] [--noise on|off] [--camera
+//   preset]
 //                   [--max-frames N] [--set sim_sensor.key=value] [--set sim_robot.key=value]
 //   rasm sim render <world> <out_prefix> (--eye x,y,z (--yaw deg [--pitch deg] | --look-at x,y,z))
 //                   [--seed N] [--noise on|off] [--camera preset]
@@ -28,13 +29,16 @@ using Args = std::vector<std::string>;
 
 const char* kUsage =
     "usage:\n"
-    "  rasm sim record <world> <trajectory.yaml> <out.rawlog> [--seed N] [--noise on|off] [--camera preset]\n"
+    "  rasm sim record <world> <trajectory.yaml> <out.rawlog> [--seed N] [--noise on|off] "
+    "[--camera preset]\n"
     "                  [--max-frames N] [--set sim_sensor.key=value] [--set sim_robot.key=value]\n"
-    "  rasm sim render <world> <out_prefix> --eye x,y,z (--yaw deg [--pitch deg] | --look-at x,y,z)\n"
+    "  rasm sim render <world> <out_prefix> --eye x,y,z (--yaw deg [--pitch deg] | --look-at "
+    "x,y,z)\n"
     "                  [--seed N] [--noise on|off] [--camera preset]\n"
     "  rasm sim info <world>\n"
     "  rasm sim make-models [dir]\n"
-    "<world> is a shipped world name (office, cluttered_lab, two_rooms) or a YAML file (docs/sim.md).\n";
+    "<world> is a shipped world name (office, cluttered_lab, two_rooms) or a YAML file "
+    "(docs/sim.md).\n";
 
 /// Splits positional arguments from --key value options (every option takes one value).
 struct Parsed {
@@ -112,16 +116,23 @@ void applySets(const Parsed& p, rasm::sim::RecordOptions& opt) {
     const auto dot = s.find('.'), eq = s.find('=');
     if (dot == std::string::npos || eq == std::string::npos || eq < dot)
       rasm::throwInputError("--set " + s, "expected section.key=value");
-    const std::string section = s.substr(0, dot), key = s.substr(dot + 1, eq - dot - 1), value = s.substr(eq + 1);
-    if (section == "sim_sensor") opt.sensor_overrides[key] = value;
-    else if (section == "sim_robot") opt.robot_overrides[key] = value;
-    else rasm::throwInputError("--set " + s, "unknown section '" + section + "'; expected sim_sensor or sim_robot");
+    const std::string section = s.substr(0, dot), key = s.substr(dot + 1, eq - dot - 1),
+                      value = s.substr(eq + 1);
+    if (section == "sim_sensor")
+      opt.sensor_overrides[key] = value;
+    else if (section == "sim_robot")
+      opt.robot_overrides[key] = value;
+    else
+      rasm::throwInputError("--set " + s,
+                            "unknown section '" + section + "'; expected sim_sensor or sim_robot");
   }
 }
 
 int cmdRecord(const Args& args) {
   const Parsed p = parse(args, {"seed", "noise", "camera", "max-frames", "set"});
-  if (p.positional.size() != 3) rasm::throwInputError("rasm sim record", "expected <world> <trajectory.yaml> <out.rawlog>\n" + std::string(kUsage));
+  if (p.positional.size() != 3)
+    rasm::throwInputError("rasm sim record", "expected <world> <trajectory.yaml> <out.rawlog>\n" +
+                                                 std::string(kUsage));
   rasm::sim::RecordOptions opt;
   opt.world = p.positional[0];
   opt.trajectory_spec = p.positional[1];
@@ -137,14 +148,16 @@ int cmdRecord(const Args& args) {
   applySets(p, opt);
   opt.progress = true;
   const rasm::sim::RecordResult r = rasm::sim::recordSequence(opt);
-  std::cout << "wrote " << r.frames << " frames to " << r.rawlog_path << "\n  ground truth: " << r.groundtruth_path
-            << "\n  labels: " << r.labels_dir << "\n";
+  std::cout << "wrote " << r.frames << " frames to " << r.rawlog_path
+            << "\n  ground truth: " << r.groundtruth_path << "\n  labels: " << r.labels_dir << "\n";
   return 0;
 }
 
 int cmdRender(const Args& args) {
   const Parsed p = parse(args, {"eye", "yaw", "pitch", "look-at", "seed", "noise", "camera"});
-  if (p.positional.size() != 2) rasm::throwInputError("rasm sim render", "expected <world> <out_prefix>\n" + std::string(kUsage));
+  if (p.positional.size() != 2)
+    rasm::throwInputError("rasm sim render",
+                          "expected <world> <out_prefix>\n" + std::string(kUsage));
   if (!p.options.count("eye")) rasm::throwInputError("rasm sim render", "--eye x,y,z is required");
   const Eigen::Vector3d eye = parseVec3(p, "eye");
   Eigen::Isometry3d T;
@@ -155,7 +168,8 @@ int cmdRender(const Args& args) {
       rasm::throwInputError("--look-at " + p.options.at("look-at"), e.what());
     }
   } else {
-    T = rasm::sim::cameraPoseFromHeading(eye, parseDouble(p, "yaw", 0.0), parseDouble(p, "pitch", 0.0));
+    T = rasm::sim::cameraPoseFromHeading(eye, parseDouble(p, "yaw", 0.0),
+                                         parseDouble(p, "pitch", 0.0));
   }
   rasm::sim::TSensorParams sp;
   sp.noise = parseOnOff(p, "noise", true);
@@ -170,7 +184,8 @@ int cmdRender(const Args& args) {
 }
 
 int cmdInfo(const Args& args) {
-  if (args.size() != 1) rasm::throwInputError("rasm sim info", "expected <world>\n" + std::string(kUsage));
+  if (args.size() != 1)
+    rasm::throwInputError("rasm sim info", "expected <world>\n" + std::string(kUsage));
   const rasm::sim::World w = rasm::sim::loadWorld(args[0]);
   std::map<std::string, int> per_class;
   std::size_t tris = 0;
@@ -179,14 +194,16 @@ int cmdInfo(const Args& args) {
     tris += o.mesh.triangles.size();
   }
   const Eigen::AlignedBox3f b = w.bounds();
-  std::cout << "world " << w.name << " (" << w.source << "): " << w.objects.size() << " objects, " << tris
-            << " triangles, bounds [" << b.min().transpose() << "] - [" << b.max().transpose() << "] m\n";
+  std::cout << "world " << w.name << " (" << w.source << "): " << w.objects.size() << " objects, "
+            << tris << " triangles, bounds [" << b.min().transpose() << "] - ["
+            << b.max().transpose() << "] m\n";
   for (const auto& [name, n] : per_class) std::cout << "  " << n << " x " << name << "\n";
   return 0;
 }
 
 int cmdMakeModels(const Args& args) {
-  if (args.size() > 1) rasm::throwInputError("rasm sim make-models", "expected at most one directory");
+  if (args.size() > 1)
+    rasm::throwInputError("rasm sim make-models", "expected at most one directory");
   const std::string dir = args.empty() ? rasm::sim::simDataDir() + "/models" : args[0];
   for (const auto& f : rasm::sim::writeProceduralModels(dir)) std::cout << "wrote " << f << "\n";
   return 0;
@@ -209,7 +226,7 @@ int cmdSim(const Args& args) {
   rasm::throwInputError("rasm sim " + args[0], "unknown subcommand\n" + std::string(kUsage));
 }
 
-const rasm::app::Registrar kRegistrar{"sim", "simulator: record rawlogs from worlds, render previews (rasm sim help)",
-                                      &cmdSim};
+const rasm::app::Registrar kRegistrar{
+    "sim", "simulator: record rawlogs from worlds, render previews (rasm sim help)", &cmdSim};
 
 }  // namespace

@@ -25,13 +25,20 @@ int main(int argc, char** argv) {
   bool noise = true, labels = true, packets = true;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
-    if (k == "--world") world_name = v;
-    else if (k == "--frames") frames = std::stoi(v);
-    else if (k == "--threads") threads = std::stoi(v);
-    else if (k == "--camera") camera = v;
-    else if (k == "--noise") noise = v == "on";
-    else if (k == "--labels") labels = v == "on";
-    else if (k == "--packets") packets = v == "on";
+    if (k == "--world")
+      world_name = v;
+    else if (k == "--frames")
+      frames = std::stoi(v);
+    else if (k == "--threads")
+      threads = std::stoi(v);
+    else if (k == "--camera")
+      camera = v;
+    else if (k == "--noise")
+      noise = v == "on";
+    else if (k == "--labels")
+      labels = v == "on";
+    else if (k == "--packets")
+      packets = v == "on";
     else {
       std::fprintf(stderr, "unknown option %s\n", k.c_str());
       return 2;
@@ -66,7 +73,8 @@ int main(int argc, char** argv) {
     auto cpuSeconds = [] {
       rusage u{};
       getrusage(RUSAGE_SELF, &u);
-      return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+      return u.ru_utime.tv_sec + u.ru_stime.tv_sec +
+             1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
     };
     const double cpu0 = cpuSeconds();
     const auto t0 = std::chrono::steady_clock::now();
@@ -81,11 +89,16 @@ int main(int argc, char** argv) {
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double cpu_ms = 1000.0 * (cpuSeconds() - cpu0) / frames;
     std::printf(
-        "{\"bench\":\"sim_render\",\"fps\":%.1f,\"ms_per_frame\":%.3f,\"width\":%d,\"height\":%d,\"frames\":%d,"
-        "\"threads\":%d,\"world\":\"%s\",\"triangles_objects\":%zu,\"noise\":%s,\"labels\":%s,\"packets\":%s,"
-        "\"cpu_ms_per_frame\":%.3f,\"cpus_used\":%.2f,\"cast_ms\":%.3f,\"shadow_ms\":%.3f,\"depth_model_ms\":%.3f,\"checksum\":%.3f}\n",
+        "{\"bench\":\"sim_render\",\"fps\":%.1f,\"ms_per_frame\":%.3f,\"width\":%d,\"height\":%d,"
+        "\"frames\":%d,"
+        "\"threads\":%d,\"world\":\"%s\",\"triangles_objects\":%zu,\"noise\":%s,\"labels\":%s,"
+        "\"packets\":%s,"
+        "\"cpu_ms_per_frame\":%.3f,\"cpus_used\":%.2f,\"cast_ms\":%.3f,\"shadow_ms\":%.3f,\"depth_"
+        "model_ms\":%.3f,\"checksum\":%.3f}\n",
         frames / s, 1000.0 * s / frames, f.width(), f.height(), frames, threads, world_name.c_str(),
-        world.objects.size(), noise ? "true" : "false", labels ? "true" : "false", packets ? "true" : "false", cpu_ms, cpu_ms / (1000.0 * s / frames), cast_ms / frames, shadow_ms / frames, model_ms / frames, checksum);
+        world.objects.size(), noise ? "true" : "false", labels ? "true" : "false",
+        packets ? "true" : "false", cpu_ms, cpu_ms / (1000.0 * s / frames), cast_ms / frames,
+        shadow_ms / frames, model_ms / frames, checksum);
     return 0;
   } catch (const rasm::InputError& e) {
     std::fprintf(stderr, "bench_sim_render: %s\n", e.what());

@@ -1,6 +1,8 @@
 // Recorder: the rawlog reads back through rasm::io with the ground-truth poses of the TUM file,
 // label PNGs match the rendered frames, and the same world, spec and seed give byte-identical
 // files whatever the thread count.
+#include "rasm/sim/Recorder.h"
+
 #include <gtest/gtest.h>
 #include <omp.h>
 #include <unistd.h>
@@ -13,7 +15,6 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/SE3.h"
 #include "rasm/sim/FrameImages.h"
-#include "rasm/sim/Recorder.h"
 #include "rasm/sim/SimClasses.h"
 
 #ifdef RASM_SIM_HAVE_IO
@@ -40,7 +41,8 @@ struct TempDir {
 
 /// 160 x 120 camera (a quarter of Kinect v1) keeps the tests fast.
 std::map<std::string, std::string> smallCamera() {
-  return {{"width", "160"}, {"height", "120"}, {"fx", "131.25"}, {"fy", "131.25"}, {"cx", "79.5"}, {"cy", "59.5"}};
+  return {{"width", "160"}, {"height", "120"}, {"fx", "131.25"},
+          {"fy", "131.25"}, {"cx", "79.5"},    {"cy", "59.5"}};
 }
 
 const char* kHandheld =
@@ -132,7 +134,8 @@ TEST(Recorder, ReadsBackThroughIoWithTheGroundTruthPoses) {
   EXPECT_EQ(j["frames"], r.frames);
   EXPECT_EQ(j["classes"][classIdFromName("cup")]["name"], "cup");
   bool found_phone = false;
-  for (const auto& inst : j["instances"]) found_phone = found_phone || inst["class"] == "conference_phone";
+  for (const auto& inst : j["instances"])
+    found_phone = found_phone || inst["class"] == "conference_phone";
   EXPECT_TRUE(found_phone);
 }
 
@@ -152,7 +155,8 @@ TEST(Recorder, SameSeedGivesByteIdenticalFilesWhateverTheThreadCount) {
     ASSERT_TRUE(sb.count(name)) << name;
     EXPECT_TRUE(bytes == sb.at(name)) << name << " differs between two runs with the same seed";
   }
-  EXPECT_FALSE(sa.at("seq.rawlog") == sc.at("seq.rawlog")) << "a different seed must change the noise";
+  EXPECT_FALSE(sa.at("seq.rawlog") == sc.at("seq.rawlog"))
+      << "a different seed must change the noise";
 }
 
 TEST(Recorder, GroundRobotWritesOdometry) {

@@ -1,10 +1,11 @@
 // Simulated RGB-D sensor against analytic geometry: exact depth of a plane with noise off, noise
 // statistics against the Nguyen et al. model, disparity quantization, range / grazing / projector
 // shadow dropouts, instance and class images against projected areas, determinism.
-#include <gtest/gtest.h>
-#include <omp.h>
+#include "rasm/sim/RgbdSensor.h"
 
+#include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
+#include <omp.h>
 
 #include <cmath>
 #include <cstring>
@@ -13,7 +14,6 @@
 #include "rasm/core/Params.h"
 #include "rasm/sim/CameraPoses.h"
 #include "rasm/sim/RayScene.h"
-#include "rasm/sim/RgbdSensor.h"
 #include "rasm/sim/SimClasses.h"
 #include "rasm/sim/SimulatedDetector.h"
 #include "rasm/sim/SimulatedDiffDriveRobot.h"
@@ -28,8 +28,9 @@ namespace {
 /// A wall (plane x = wall_x, facing -x) filling the view of a camera at the origin looking along
 /// +x (world z up), optionally with a box whose front face is at x = box_x.
 World planeWorld(double wall_x, const std::string& extra = "") {
-  const std::string yaml = "objects:\n  - {id: 1, class: wall, primitive: box, size: [0.2, 60, 60], position: [" +
-                           std::to_string(wall_x + 0.1) + ", 0, 0], colour: [200, 200, 200]}\n" + extra;
+  const std::string yaml =
+      "objects:\n  - {id: 1, class: wall, primitive: box, size: [0.2, 60, 60], position: [" +
+      std::to_string(wall_x + 0.1) + ", 0, 0], colour: [200, 200, 200]}\n" + extra;
   return loadWorldFromString(yaml, "test");
 }
 
@@ -62,8 +63,10 @@ TEST(DepthModel, NguyenFormulasAndQuantizationStep) {
   EXPECT_NEAR(axialSigma(p, 1.0f, 0.f), 0.0012 + 0.0019 * 0.36, 1e-7);
   EXPECT_NEAR(axialSigma(p, 3.0f, 0.f), 0.0012 + 0.0019 * 2.6 * 2.6, 1e-6);
   const double th = 60 * M_PI / 180;
-  EXPECT_NEAR(axialSigma(p, 2.0f, float(th)),
-              0.0012 + 0.0019 * 1.6 * 1.6 + 0.0001 / std::sqrt(2.0) * std::pow(th / (M_PI / 2 - th), 2), 1e-6);
+  EXPECT_NEAR(
+      axialSigma(p, 2.0f, float(th)),
+      0.0012 + 0.0019 * 1.6 * 1.6 + 0.0001 / std::sqrt(2.0) * std::pow(th / (M_PI / 2 - th), 2),
+      1e-6);
   EXPECT_NEAR(lateralSigmaPx(p, 0.f), 0.8, 1e-6);
   // Kinect v1: step z^2 / (f b) / 8 with f = 580, b = 0.075.
   EXPECT_NEAR(quantizationStep(p, 2.0f), 4.0 / (580 * 0.075) / 8, 1e-6);
@@ -107,7 +110,8 @@ TEST(RgbdSensor, PlaneDepthIsExactWithNoiseOff) {
   ASSERT_EQ(f.height(), 480);
   double max_err = 0;
   for (int y = 0; y < f.height(); ++y)
-    for (int x = 0; x < f.width(); ++x) max_err = std::max(max_err, std::abs(double(f.depth_m(x, y)) - 2.0));
+    for (int x = 0; x < f.width(); ++x)
+      max_err = std::max(max_err, std::abs(double(f.depth_m(x, y)) - 2.0));
   EXPECT_LT(max_err, 1e-4);
   EXPECT_NO_THROW(f.validate("sim"));
   ASSERT_TRUE(f.gt_T_world_cam.has_value());
@@ -116,7 +120,9 @@ TEST(RgbdSensor, PlaneDepthIsExactWithNoiseOff) {
 
 TEST(RgbdSensor, BoxDepthIsExactWithNoiseOffFromAnObliqueView) {
   // A box face seen at 30 degrees: depth of every pixel on it matches the ray-plane intersection.
-  const RayScene scene(planeWorld(6.0, "  - {id: 2, class: box, primitive: box, size: [0.5, 1.0, 1.0], position: [2.25, 0, 0]}\n"));
+  const RayScene scene(planeWorld(
+      6.0,
+      "  - {id: 2, class: box, primitive: box, size: [0.5, 1.0, 1.0], position: [2.25, 0, 0]}\n"));
   TSensorParams p = exactParams();
   const RgbdSensor sensor(scene, p);
   const Eigen::Vector3d eye(0.0, -0.6, 0.1);
@@ -141,7 +147,8 @@ TEST(RgbdSensor, BoxDepthIsExactWithNoiseOffFromAnObliqueView) {
 TEST(RgbdSensor, AxialNoiseMatchesTheModel) {
   const RayScene scene(planeWorld(2.0));
   TSensorParams p;
-  p.disparity_subpixel = 0;  // axial + lateral noise only (a fronto-parallel plane hides lateral noise)
+  p.disparity_subpixel =
+      0;  // axial + lateral noise only (a fronto-parallel plane hides lateral noise)
   const RgbdSensor sensor(scene, p);
   const RgbdFrame f = sensor.render(kCamAtOrigin, 7, 0);
   const DepthModelParams model = p.depthModel();
@@ -157,7 +164,8 @@ TEST(RgbdSensor, AxialNoiseMatchesTheModel) {
       var_model += s * s;
       ++n;
     }
-  const double mean = sum / n, sd = std::sqrt(sum2 / n - mean * mean), sd_model = std::sqrt(var_model / n);
+  const double mean = sum / n, sd = std::sqrt(sum2 / n - mean * mean),
+               sd_model = std::sqrt(var_model / n);
   EXPECT_NEAR(sd_model, 0.0012 + 0.0019 * 1.6 * 1.6, 1e-4);  // angle term is small at 2 m
   EXPECT_LT(std::abs(mean), 3.0 * sd_model / std::sqrt(double(n)));
   EXPECT_NEAR(sd / sd_model, 1.0, 0.01);  // relative standard error of sd: 1/sqrt(2n) = 0.13 %
@@ -203,7 +211,9 @@ TEST(RgbdSensor, GrazingAnglesAreMissing) {
   // A floor seen from 0.5 m with a horizontal camera: rows near the horizon meet it at grazing
   // angles. Incidence theta = atan(1 / s) for the ray slope s = (v - cy) / fy in the centre column.
   const World w = loadWorldFromString(
-      "objects:\n  - {id: 1, class: floor, primitive: box, size: [60, 60, 0.2], position: [0, 0, -0.1]}\n", "floor");
+      "objects:\n  - {id: 1, class: floor, primitive: box, size: [60, 60, 0.2], position: [0, 0, "
+      "-0.1]}\n",
+      "floor");
   const RayScene scene(w);
   TSensorParams p = exactParams();
   p.dropouts = true;
@@ -232,7 +242,9 @@ TEST(RgbdSensor, GrazingAnglesAreMissing) {
 TEST(RgbdSensor, ProjectorShadowBesideForegroundEdges) {
   // A 0.3 m wide pole 1.5 m in front of a wall 3 m away. The projector 7.5 cm to the right of the
   // camera cannot light a band of the wall left of the pole, fx b (1/1.5 - 1/3) = 13.1 px wide.
-  const World w = planeWorld(3.0, "  - {id: 2, class: none, primitive: box, size: [0.2, 0.3, 4.0], position: [1.6, 0, 0]}\n");
+  const World w = planeWorld(
+      3.0,
+      "  - {id: 2, class: none, primitive: box, size: [0.2, 0.3, 4.0], position: [1.6, 0, 0]}\n");
   const RayScene scene(w);
   TSensorParams p = exactParams();
   p.dropouts = true;
@@ -264,9 +276,11 @@ TEST(RgbdSensor, ProjectorShadowBesideForegroundEdges) {
 TEST(RgbdSensor, InstanceAndClassImagesMatchTheGeometry) {
   // Box face 0.6 m wide and 0.4 m high, 2 m in front of the camera, facing it: it projects to a
   // 157.5 x 105 px rectangle; pixel centres inside it differ from its area by at most w + h.
-  const World w = planeWorld(4.0,
-                             "  - {id: 2, class: cup, primitive: box, size: [0.2, 0.6, 0.4], position: [2.1, 0.05, 0.03]}\n"
-                             "  - {id: 3, class: none, primitive: sphere, radius: 0.1, position: [1.5, -0.6, 0.0]}\n");
+  const World w = planeWorld(
+      4.0,
+      "  - {id: 2, class: cup, primitive: box, size: [0.2, 0.6, 0.4], position: [2.1, 0.05, "
+      "0.03]}\n"
+      "  - {id: 3, class: none, primitive: sphere, radius: 0.1, position: [1.5, -0.6, 0.0]}\n");
   const RayScene scene(w);
   const RgbdFrame f = RgbdSensor(scene, exactParams()).render(kCamAtOrigin);
   const double wpx = 525.0 * 0.6 / 2.0, hpx = 525.0 * 0.4 / 2.0;
@@ -276,7 +290,9 @@ TEST(RgbdSensor, InstanceAndClassImagesMatchTheGeometry) {
       const int id = f.gt_instance(x, y);
       box += id == 2;
       sphere += id == 3;
-      const int expected_class = id == 1 ? classIdFromName("wall") : id == 2 ? classIdFromName("cup") : 0;
+      const int expected_class = id == 1   ? classIdFromName("wall")
+                                 : id == 2 ? classIdFromName("cup")
+                                           : 0;
       ASSERT_EQ(f.gt_class(x, y), expected_class) << x << "," << y;
     }
   EXPECT_NEAR(double(box), wpx * hpx, wpx + hpx);
@@ -293,7 +309,8 @@ TEST(RgbdSensor, DeterministicBySeedWhateverTheThreadCount) {
   const World w = loadWorld("office");
   const RayScene scene(w);
   const RgbdSensor sensor(scene, TSensorParams());
-  const Eigen::Isometry3d T = cameraPoseLookingAt(Eigen::Vector3d(6.5, 4.5, 1.6), Eigen::Vector3d(2, 1, 0.8));
+  const Eigen::Isometry3d T =
+      cameraPoseLookingAt(Eigen::Vector3d(6.5, 4.5, 1.6), Eigen::Vector3d(2, 1, 0.8));
   const int threads = omp_get_max_threads();
   omp_set_num_threads(1);
   const RgbdFrame a = sensor.render(T, 42, 5);
@@ -317,12 +334,15 @@ TEST(RgbdSensor, ColourIsTexturedAndShaded) {
   const World w = loadWorldFromString(
       "light: {direction: [0, 0, -1], ambient: 0.2, diffuse: 0.8}\n"
       "objects:\n"
-      "  - {id: 1, class: floor, primitive: box, size: [20, 20, 0.2], position: [0, 0, -0.1], colour: [200, 200, 200],\n"
+      "  - {id: 1, class: floor, primitive: box, size: [20, 20, 0.2], position: [0, 0, -0.1], "
+      "colour: [200, 200, 200],\n"
       "     texture: {pattern: checker, colour2: [50, 50, 50], period_m: 0.25}}\n"
-      "  - {id: 2, class: wall, primitive: box, size: [0.2, 20, 20], position: [3.1, 0, 0], colour: [200, 200, 200]}\n",
+      "  - {id: 2, class: wall, primitive: box, size: [0.2, 20, 20], position: [3.1, 0, 0], "
+      "colour: [200, 200, 200]}\n",
       "tex");
   const RayScene scene(w);
-  const RgbdFrame f = RgbdSensor(scene, exactParams()).render(cameraPoseFromHeading({0, 0, 1.0}, 0.0, -20.0));
+  const RgbdFrame f =
+      RgbdSensor(scene, exactParams()).render(cameraPoseFromHeading({0, 0, 1.0}, 0.0, -20.0));
   int bright = 0, dark = 0;
   for (int y = 0; y < f.height(); ++y)
     for (int x = 0; x < f.width(); ++x)
@@ -363,7 +383,8 @@ TEST(SimParams, StrictIniLoadingOfTheThreeSections) {
     rasm::loadParamsStrict(ini, "sim_sensor", bad, "test.ini");
     FAIL();
   } catch (const rasm::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("test.ini [sim_sensor] noize"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("test.ini [sim_sensor] noize"), std::string::npos)
+        << e.what();
   }
   mrpt::config::CConfigFileMemory ini2;
   ini2.write("sim_sensor", "camera", "kinect_v9");

@@ -76,9 +76,11 @@ TEST(SimulatedDiffDriveRobot, SimulatedClockAdvancesOnlyInStep) {
 
 TEST(SimulatedDiffDriveRobot, HeightBandDecidesWhatIsAnObstacle) {
   // A table top at 0.72-0.75 m (above the 0.6 m robot) and a 0.15 m high box (in the band).
-  const RayScene scene(wallWorld(
-      "  - {id: 3, class: dining table, primitive: box, size: [1.0, 1.0, 0.03], position: [1.0, 0, 0.735]}\n"
-      "  - {id: 4, class: box, primitive: box, size: [0.3, 0.3, 0.15], position: [1.0, 1.5, 0.075]}\n"));
+  const RayScene scene(
+      wallWorld("  - {id: 3, class: dining table, primitive: box, size: [1.0, 1.0, 0.03], "
+                "position: [1.0, 0, 0.735]}\n"
+                "  - {id: 4, class: box, primitive: box, size: [0.3, 0.3, 0.15], position: [1.0, "
+                "1.5, 0.075]}\n"));
   SimulatedDiffDriveRobot robot(scene, quietParams(), Eigen::Vector3d(0, 0, 0));
   robot.setVelocityCommand(0.4, 0.0);
   for (int i = 0; i < 10; ++i) robot.step(0.5);  // drives 2 m, right under the table top
@@ -86,9 +88,11 @@ TEST(SimulatedDiffDriveRobot, HeightBandDecidesWhatIsAnObstacle) {
   EXPECT_NEAR(robot.pose().x(), 2.0, 1e-3);
   EXPECT_FALSE(robot.collidesAt(Eigen::Vector3d(1.0, 0.0, 0.0)));
   EXPECT_TRUE(robot.collidesAt(Eigen::Vector3d(1.0, 1.5, 0.0)));
-  EXPECT_TRUE(robot.collidesAt(Eigen::Vector3d(1.0, 1.5 - 0.15 - 0.2, 0.0)));   // 0.2 < radius away
-  EXPECT_FALSE(robot.collidesAt(Eigen::Vector3d(1.0, 1.5 - 0.15 - 0.3, 0.0)));  // 0.3 > radius + cell
-  EXPECT_THROW(SimulatedDiffDriveRobot(scene, quietParams(), Eigen::Vector3d(1.0, 1.5, 0.0)), rasm::InputError);
+  EXPECT_TRUE(robot.collidesAt(Eigen::Vector3d(1.0, 1.5 - 0.15 - 0.2, 0.0)));  // 0.2 < radius away
+  EXPECT_FALSE(
+      robot.collidesAt(Eigen::Vector3d(1.0, 1.5 - 0.15 - 0.3, 0.0)));  // 0.3 > radius + cell
+  EXPECT_THROW(SimulatedDiffDriveRobot(scene, quietParams(), Eigen::Vector3d(1.0, 1.5, 0.0)),
+               rasm::InputError);
 }
 
 TEST(SimulatedDiffDriveRobot, PolygonFootprint) {
@@ -126,7 +130,7 @@ TEST(SimulatedDiffDriveRobot, ObstacleScanInTheRobotFrame) {
   }
   EXPECT_GT(on_wall, 10);
   const auto r = robot.scanRanges();
-  EXPECT_NEAR(r[270], 2.0, 1e-3);                 // ray 270 points to the robot's right
+  EXPECT_NEAR(r[270], 2.0, 1e-3);                     // ray 270 points to the robot's right
   EXPECT_FLOAT_EQ(r[90], float(p.scan_max_range_m));  // nothing to the left
 }
 

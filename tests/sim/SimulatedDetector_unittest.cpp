@@ -1,5 +1,7 @@
 // Simulated detector: detection rate rises with apparent size and falls with occlusion, boxes
 // hug the visible masks, visible fractions from ray casting, confusions, false positives, seeds.
+#include "rasm/sim/SimulatedDetector.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,7 +11,6 @@
 #include "rasm/sim/RayScene.h"
 #include "rasm/sim/RgbdSensor.h"
 #include "rasm/sim/SimClasses.h"
-#include "rasm/sim/SimulatedDetector.h"
 #include "rasm/sim/World.h"
 
 using namespace rasm;
@@ -26,10 +27,14 @@ const char* kWorld =
     "objects:\n"
     "  - {id: 1, class: wall, primitive: box, size: [0.2, 60, 60], position: [4.1, 0, 0]}\n"
     "  - {id: 2, class: cup, primitive: box, size: [0.1, 0.4, 0.4], position: [2.0, 0.0, 0.0]}\n"
-    "  - {id: 3, class: bottle, primitive: box, size: [0.04, 0.04, 0.04], position: [3.5, 0.6, 0.6]}\n"
-    "  - {id: 4, class: keyboard, primitive: box, size: [0.1, 0.4, 0.3], position: [2.5, 0.7, -0.5]}\n"
-    "  - {id: 5, class: none, primitive: box, size: [0.1, 0.18, 0.5], position: [1.5, 0.36, -0.3]}\n"
-    "  - {id: 6, class: conference_phone, primitive: box, size: [0.1, 0.4, 0.2], position: [2.5, -0.8, 0.5]}\n";
+    "  - {id: 3, class: bottle, primitive: box, size: [0.04, 0.04, 0.04], position: [3.5, 0.6, "
+    "0.6]}\n"
+    "  - {id: 4, class: keyboard, primitive: box, size: [0.1, 0.4, 0.3], position: [2.5, 0.7, "
+    "-0.5]}\n"
+    "  - {id: 5, class: none, primitive: box, size: [0.1, 0.18, 0.5], position: [1.5, 0.36, "
+    "-0.3]}\n"
+    "  - {id: 6, class: conference_phone, primitive: box, size: [0.1, 0.4, 0.2], position: [2.5, "
+    "-0.8, 0.5]}\n";
 
 struct Fixture {
   RayScene scene{loadWorldFromString(kWorld, "detector_world")};
@@ -78,11 +83,13 @@ TEST(SimulatedDetector, PartialOcclusionHalvesTheVisibleFraction) {
   const RayScene scene(loadWorldFromString(
       "objects:\n"
       "  - {id: 1, class: cup, primitive: box, size: [0.1, 0.4, 0.4], position: [3.05, 0.0, 0.0]}\n"
-      "  - {id: 2, class: none, primitive: box, size: [0.02, 0.0667, 1.0], position: [1.0, 0.03335, 0.0]}\n",
+      "  - {id: 2, class: none, primitive: box, size: [0.02, 0.0667, 1.0], position: [1.0, "
+      "0.03335, 0.0]}\n",
       "occlusion"));
   TSensorParams p;
   p.noise = false;
-  const RgbdFrame f = RgbdSensor(scene, p).render(cameraPoseFromHeading(Eigen::Vector3d::Zero(), 0.0, 0.0));
+  const RgbdFrame f =
+      RgbdSensor(scene, p).render(cameraPoseFromHeading(Eigen::Vector3d::Zero(), 0.0, 0.0));
   int mask = 0;
   for (int y = 0; y < f.height(); ++y)
     for (int x = 0; x < f.width(); ++x) mask += f.gt_instance(x, y) == 1;
@@ -113,7 +120,8 @@ TEST(SimulatedDetector, DetectionRateFollowsSizeAndVisibility) {
       if (d.gt_instance == 2) {
         EXPECT_EQ(d.class_name, "cup");
         // Box of the visible mask: 105 x 105 px around the image centre.
-        min_iou = std::min(min_iou, iou(d.box, cv::Rect2f(319.5f - 52.5f, 239.5f - 52.5f, 105.f, 105.f)));
+        min_iou =
+            std::min(min_iou, iou(d.box, cv::Rect2f(319.5f - 52.5f, 239.5f - 52.5f, 105.f, 105.f)));
       }
     }
   // Expected rate p = p_max * s(size) * v(visibility) for each object.
@@ -171,7 +179,8 @@ TEST(SimulatedDetector, ConfusionsAndFalsePositives) {
         ++cup;
         confused += d.confused;
         // The cup is mistaken for a similar class.
-        EXPECT_TRUE(d.class_name == "bottle" || d.class_name == "vase" || d.class_name == "bowl") << d.class_name;
+        EXPECT_TRUE(d.class_name == "bottle" || d.class_name == "vase" || d.class_name == "bowl")
+            << d.class_name;
       }
     }
   EXPECT_NEAR(fps / double(n), 2.0, 4 * std::sqrt(2.0 / n));
@@ -186,8 +195,8 @@ TEST(SimulatedDetector, DeterministicBySeedAndFrame) {
   auto key = [](const std::vector<Detection>& v) {
     std::string s;
     for (const auto& d : v)
-      s += std::to_string(d.class_id) + ":" + std::to_string(d.box.x) + "," + std::to_string(d.box.y) + "," +
-           std::to_string(d.score) + ";";
+      s += std::to_string(d.class_id) + ":" + std::to_string(d.box.x) + "," +
+           std::to_string(d.box.y) + "," + std::to_string(d.score) + ";";
     return s;
   };
   EXPECT_EQ(key(det.detect(fx.frame, 5)), key(det.detect(fx.frame, 5)));

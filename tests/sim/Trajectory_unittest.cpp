@@ -1,6 +1,8 @@
 // Trajectories: the hand-held spline passes through its keyframes smoothly, jitter is seeded and
 // small, specs parse (and fail naming file, line and key), pure pursuit drives the shipped robot
 // specs to their end without collisions.
+#include "rasm/sim/Trajectory.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +12,6 @@
 #include "rasm/sim/CameraPoses.h"
 #include "rasm/sim/RayScene.h"
 #include "rasm/sim/SimulatedDiffDriveRobot.h"
-#include "rasm/sim/Trajectory.h"
 #include "rasm/sim/World.h"
 
 using namespace rasm::sim;
@@ -43,7 +44,8 @@ DriveResult drive(const std::string& world, const std::string& spec_name) {
   const TrajectorySpec spec = loadTrajectorySpec(spec_name);
   const RayScene scene(loadWorld(world));
   TRobotParams rp;
-  if (spec.robot_overrides.count("footprint_radius_m")) rp.footprint_radius_m = std::stod(spec.robot_overrides.at("footprint_radius_m"));
+  if (spec.robot_overrides.count("footprint_radius_m"))
+    rp.footprint_radius_m = std::stod(spec.robot_overrides.at("footprint_radius_m"));
   SimulatedDiffDriveRobot robot(scene, rp, spec.start_pose, 1);
   std::vector<Eigen::Vector2d> path{spec.start_pose.head<2>()};
   path.insert(path.end(), spec.waypoints.begin(), spec.waypoints.end());
@@ -76,8 +78,10 @@ TEST(HandheldTrajectory, PassesThroughKeyframesSmoothly) {
   const double h = 1e-4;
   for (std::size_t i = 1; i + 1 < kf.size(); ++i) {
     const double t = kf[i].t_s;
-    const Eigen::Vector3d vl = (traj.smoothPose(t).translation() - traj.smoothPose(t - h).translation()) / h;
-    const Eigen::Vector3d vr = (traj.smoothPose(t + h).translation() - traj.smoothPose(t).translation()) / h;
+    const Eigen::Vector3d vl =
+        (traj.smoothPose(t).translation() - traj.smoothPose(t - h).translation()) / h;
+    const Eigen::Vector3d vr =
+        (traj.smoothPose(t + h).translation() - traj.smoothPose(t).translation()) / h;
     EXPECT_LT((vl - vr).norm(), 0.01 * std::max(1.0, vl.norm())) << "keyframe " << i;
     const double wl = rasm::rotationAngle(traj.smoothPose(t - h), traj.smoothPose(t)) / h;
     const double wr = rasm::rotationAngle(traj.smoothPose(t), traj.smoothPose(t + h)) / h;
@@ -95,21 +99,24 @@ TEST(HandheldTrajectory, JitterIsSmallSmoothAndSeeded) {
   HandJitter j;
   j.translation_m = 0.004;
   j.rotation_deg = 0.5;
-  const HandheldTrajectory a(someKeyframes(), j, 7), b(someKeyframes(), j, 7), c(someKeyframes(), j, 8);
+  const HandheldTrajectory a(someKeyframes(), j, 7), b(someKeyframes(), j, 7),
+      c(someKeyframes(), j, 8);
   double sum2 = 0;
   int n = 0;
   for (double t = 0; t <= 5.0; t += 0.01, ++n) {
     const double d = rasm::translationDistance(a.pose(t), a.smoothPose(t));
     sum2 += d * d;
     EXPECT_TRUE(a.pose(t).isApprox(b.pose(t)));
-    EXPECT_LT(rasm::rotationAngle(a.pose(t), a.smoothPose(t)), 4 * 0.5 * M_PI / 180 * std::sqrt(3.0));
+    EXPECT_LT(rasm::rotationAngle(a.pose(t), a.smoothPose(t)),
+              4 * 0.5 * M_PI / 180 * std::sqrt(3.0));
   }
   // Three axes of RMS 4 mm: about 7 mm RMS in 3-D.
   EXPECT_NEAR(std::sqrt(sum2 / n), 0.004 * std::sqrt(3.0), 0.004);
   EXPECT_FALSE(a.pose(1.0).isApprox(c.pose(1.0)));
   // Smooth: at 30 Hz consecutive jitter offsets differ by much less than their size.
   const Eigen::Vector3d j0 = (a.smoothPose(1.0).inverse() * a.pose(1.0)).translation();
-  const Eigen::Vector3d j1 = (a.smoothPose(1.0 + 1 / 30.0).inverse() * a.pose(1.0 + 1 / 30.0)).translation();
+  const Eigen::Vector3d j1 =
+      (a.smoothPose(1.0 + 1 / 30.0).inverse() * a.pose(1.0 + 1 / 30.0)).translation();
   EXPECT_LT((j1 - j0).norm(), 0.004);
 }
 
@@ -122,19 +129,22 @@ TEST(TrajectorySpec, ShippedSpecsLoad) {
   EXPECT_EQ(r.kind, TrajectorySpec::Kind::Robot);
   EXPECT_TRUE(r.loop);
   EXPECT_EQ(r.robot_overrides.at("camera_height_m"), "0.55");
-  for (const char* s : {"two_rooms_robot", "cluttered_lab_handheld"}) EXPECT_NO_THROW(loadTrajectorySpec(s)) << s;
+  for (const char* s : {"two_rooms_robot", "cluttered_lab_handheld"})
+    EXPECT_NO_THROW(loadTrajectorySpec(s)) << s;
 }
 
 TEST(TrajectorySpec, ErrorsNameFileLineAndKey) {
   std::string e = specError("rate_hz: 30\nkeyframes: []\n");
   EXPECT_NE(e.find("spec.yaml:1"), std::string::npos) << e;
   EXPECT_NE(e.find("missing key 'type'"), std::string::npos) << e;
-  e = specError("type: handheld\nkeyframes:\n  - {t: 0, position: [0, 0, 1], look_at: [1, 0, 1]}\n"
-                "  - {t: 1, position: [0, 0, 1], look_at: [1, 0, 1], fov: 3}\n");
+  e = specError(
+      "type: handheld\nkeyframes:\n  - {t: 0, position: [0, 0, 1], look_at: [1, 0, 1]}\n"
+      "  - {t: 1, position: [0, 0, 1], look_at: [1, 0, 1], fov: 3}\n");
   EXPECT_NE(e.find("spec.yaml:4"), std::string::npos) << e;
   EXPECT_NE(e.find("keyframes[1].fov: unknown key"), std::string::npos) << e;
-  e = specError("type: handheld\nkeyframes:\n  - {t: 2, position: [0, 0, 1], look_at: [1, 0, 1]}\n"
-                "  - {t: 1, position: [0, 0, 1], look_at: [1, 0, 1]}\n");
+  e = specError(
+      "type: handheld\nkeyframes:\n  - {t: 2, position: [0, 0, 1], look_at: [1, 0, 1]}\n"
+      "  - {t: 1, position: [0, 0, 1], look_at: [1, 0, 1]}\n");
   EXPECT_NE(e.find("keyframes[1].t: keyframe times must increase"), std::string::npos) << e;
   e = specError("type: robot\nstart: {x: 0, y: 0}\nwaypoints: [[1, 2], [3]]\n");
   EXPECT_NE(e.find("waypoints[1]: expected a sequence of 2 numbers"), std::string::npos) << e;
@@ -156,7 +166,8 @@ TEST(PurePursuit, DrivesASquareAndStops) {
     pose.y() += c.x() * std::sin(pose.z()) * dt;
     pose.z() += c.y() * dt;
     // Distance to the polyline.
-    const double dx = std::min({std::abs(pose.y()), std::abs(pose.x() - 2), std::abs(pose.y() - 2)});
+    const double dx =
+        std::min({std::abs(pose.y()), std::abs(pose.x() - 2), std::abs(pose.y() - 2)});
     max_dev = std::max(max_dev, dx);
   }
   EXPECT_TRUE(pp.done());

@@ -1,17 +1,18 @@
 // Worlds: the shipped worlds load, the class table, the procedural models, and world-file errors
 // that name the file, the line and the key.
+#include "rasm/sim/World.h"
+
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 #include "rasm/core/Error.h"
 #include "rasm/sim/Mesh.h"
 #include "rasm/sim/ProceduralModels.h"
 #include "rasm/sim/SimClasses.h"
-#include "rasm/sim/World.h"
 
 namespace fs = std::filesystem;
 using namespace rasm::sim;
@@ -64,7 +65,8 @@ TEST(World, ShippedWorldsLoadByName) {
     for (const auto& o : world.objects) {
       EXPECT_FALSE(o.mesh.empty());
       unknown += o.class_id == 0;
-      zero_shot += o.class_id == classIdFromName("conference_phone") || o.class_id == classIdFromName("headphones");
+      zero_shot += o.class_id == classIdFromName("conference_phone") ||
+                   o.class_id == classIdFromName("headphones");
     }
     EXPECT_GT(unknown, 0) << w << " has no unknown objects";
     EXPECT_GT(zero_shot, 0) << w << " has no zero-shot targets";
@@ -82,8 +84,8 @@ TEST(World, OfficeContents) {
   EXPECT_NEAR(b.max().y() - b.min().y(), 6.2, 0.05);
   std::map<std::string, int> count;
   for (const auto& o : w.objects) ++count[className(o.class_id)];
-  for (const char* c : {"chair", "dining table", "tv", "keyboard", "cup", "bottle", "clock", "shelf", "box",
-                        "conference_phone", "headphones", "door", "wall", "floor"})
+  for (const char* c : {"chair", "dining table", "tv", "keyboard", "cup", "bottle", "clock",
+                        "shelf", "box", "conference_phone", "headphones", "door", "wall", "floor"})
     EXPECT_GT(count[c], 0) << c;
 }
 
@@ -117,23 +119,27 @@ TEST(World, BadTypeNamesKeyPath) {
   EXPECT_NE(e.find("test_world.yaml:6"), std::string::npos) << e;
   EXPECT_NE(e.find("static[0].position[1]"), std::string::npos) << e;
   EXPECT_NE(e.find("expected a number"), std::string::npos) << e;
-  const std::string e2 = errorOf("objects:\n  - {id: 1, class: cup, primitive: box, size: 3, position: [0, 0, 0]}\n");
+  const std::string e2 =
+      errorOf("objects:\n  - {id: 1, class: cup, primitive: box, size: 3, position: [0, 0, 0]}\n");
   EXPECT_NE(e2.find("objects[0].size"), std::string::npos) << e2;
 }
 
 TEST(World, UnknownMeshFileNamesFileAndMesh) {
   const std::string e =
-      errorOf("objects:\n  - {id: 7, class: cup, mesh: teapot_missing.obj, position: [0, 0, 0]}\n", "w.yaml");
+      errorOf("objects:\n  - {id: 7, class: cup, mesh: teapot_missing.obj, position: [0, 0, 0]}\n",
+              "w.yaml");
   EXPECT_NE(e.find("w.yaml:2"), std::string::npos) << e;
   EXPECT_NE(e.find("objects[0].mesh"), std::string::npos) << e;
   EXPECT_NE(e.find("teapot_missing.obj"), std::string::npos) << e;
 }
 
 TEST(World, OtherErrors) {
-  EXPECT_NE(errorOf("objects:\n  - {id: 1, class: spaceship, primitive: sphere, radius: 1, position: [0, 0, 0]}\n")
+  EXPECT_NE(errorOf("objects:\n  - {id: 1, class: spaceship, primitive: sphere, radius: 1, "
+                    "position: [0, 0, 0]}\n")
                 .find("unknown class 'spaceship'"),
             std::string::npos);
-  EXPECT_NE(errorOf("objects:\n  - {id: 1, class: cup, primitive: sphere, radius: 1, position: [0, 0, 0], colr: [1, 2, 3]}\n")
+  EXPECT_NE(errorOf("objects:\n  - {id: 1, class: cup, primitive: sphere, radius: 1, position: [0, "
+                    "0, 0], colr: [1, 2, 3]}\n")
                 .find("objects[0].colr: unknown key"),
             std::string::npos);
   EXPECT_NE(errorOf("objects:\n"
@@ -141,20 +147,25 @@ TEST(World, OtherErrors) {
                     "  - {id: 3, class: cup, primitive: sphere, radius: 1, position: [0, 0, 0]}\n")
                 .find("already used by objects[0]"),
             std::string::npos);
-  EXPECT_NE(errorOf("objects:\n  - {id: 1, class: cup, primitive: cone, position: [0, 0, 0]}\n").find("unknown primitive"),
+  EXPECT_NE(errorOf("objects:\n  - {id: 1, class: cup, primitive: cone, position: [0, 0, 0]}\n")
+                .find("unknown primitive"),
             std::string::npos);
   EXPECT_NE(errorOf("objects: [\n").find("YAML syntax error"), std::string::npos);
-  EXPECT_NE(errorOf("objects:\n  - {id: 1, class: cup, primitive: box, size: [1, 1, 1], position: [0, 0, 0], "
-                    "colour: [300, 0, 0]}\n")
-                .find("out of range"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf(
+          "objects:\n  - {id: 1, class: cup, primitive: box, size: [1, 1, 1], position: [0, 0, 0], "
+          "colour: [300, 0, 0]}\n")
+          .find("out of range"),
+      std::string::npos);
 }
 
 TEST(World, PoseScaleAndMaterial) {
   const World w = loadWorldFromString(
       "objects:\n"
-      "  - {id: 9, class: none, primitive: box, size: [2, 1, 1], scale: [1, 2, 3], position: [1, 2, 3], yaw_deg: 90,\n"
-      "     colour: '#ff8000', texture: {pattern: checker, colour2: [0, 0, 255], period_m: 0.25}}\n",
+      "  - {id: 9, class: none, primitive: box, size: [2, 1, 1], scale: [1, 2, 3], position: [1, "
+      "2, 3], yaw_deg: 90,\n"
+      "     colour: '#ff8000', texture: {pattern: checker, colour2: [0, 0, 255], period_m: "
+      "0.25}}\n",
       "inline");
   ASSERT_EQ(w.objects.size(), 1u);
   const WorldObject& o = w.objects[0];
@@ -169,7 +180,8 @@ TEST(World, PoseScaleAndMaterial) {
 }
 
 TEST(ProceduralModels, CommittedObjFilesMatchTheGenerator) {
-  const fs::path tmp = fs::temp_directory_path() / ("rasm_sim_models_" + std::to_string(::getpid()));
+  const fs::path tmp =
+      fs::temp_directory_path() / ("rasm_sim_models_" + std::to_string(::getpid()));
   const auto written = writeProceduralModels(tmp.string());
   ASSERT_EQ(written.size(), proceduralModels().size());
   for (const auto& m : proceduralModels()) {
@@ -185,8 +197,10 @@ TEST(ProceduralModels, CommittedObjFilesMatchTheGenerator) {
     EXPECT_NEAR(loaded.surfaceArea(), made.surfaceArea(), 1e-3 * made.surfaceArea()) << m.name;
     // Model frame: resting on z = 0 (the wall clock hangs on x = 0 instead).
     const Eigen::AlignedBox3f b = made.bounds();
-    if (m.name == "clock") EXPECT_NEAR(b.min().x(), 0.0, 1e-4);
-    else EXPECT_NEAR(b.min().z(), 0.0, 1e-4) << m.name;
+    if (m.name == "clock")
+      EXPECT_NEAR(b.min().x(), 0.0, 1e-4);
+    else
+      EXPECT_NEAR(b.min().z(), 0.0, 1e-4) << m.name;
     EXPECT_GE(classIdFromName(m.class_name), 1) << m.name;
   }
   fs::remove_all(tmp);

@@ -17,13 +17,14 @@ Eigen::Matrix3d opticalFrom(const Eigen::Vector3d& fwd, const Eigen::Vector3d& l
 }
 }  // namespace
 
-Eigen::Isometry3d cameraPoseFromHeading(const Eigen::Vector3d& eye, double yaw_deg, double pitch_deg,
-                                        double roll_deg) {
+Eigen::Isometry3d cameraPoseFromHeading(const Eigen::Vector3d& eye, double yaw_deg,
+                                        double pitch_deg, double roll_deg) {
   const double y = yaw_deg * M_PI / 180.0, p = pitch_deg * M_PI / 180.0;
   const Eigen::Vector3d fwd(std::cos(p) * std::cos(y), std::cos(p) * std::sin(y), std::sin(p));
   const Eigen::Vector3d left(-std::sin(y), std::cos(y), 0.0);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = opticalFrom(fwd, left) * Eigen::AngleAxisd(roll_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ());
+  T.linear() =
+      opticalFrom(fwd, left) * Eigen::AngleAxisd(roll_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ());
   T.translation() = eye;
   return T;
 }
@@ -33,7 +34,8 @@ Eigen::Isometry3d cameraPoseLookingAt(const Eigen::Vector3d& eye, const Eigen::V
   if (d.norm() < 1e-9) throw std::invalid_argument("cameraPoseLookingAt: target == eye");
   const Eigen::Vector3d fwd = d.normalized();
   Eigen::Vector3d left = Eigen::Vector3d::UnitZ().cross(fwd);
-  if (left.norm() < 1e-9) throw std::invalid_argument("cameraPoseLookingAt: vertical view direction");
+  if (left.norm() < 1e-9)
+    throw std::invalid_argument("cameraPoseLookingAt: vertical view direction");
   left.normalize();
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = opticalFrom(fwd, left);

@@ -14,7 +14,8 @@ namespace {
 cv::Vec3b idColour(std::uint16_t id) {
   if (id == 0) return {0, 0, 0};
   const std::uint64_t h = splitMix64(id);
-  return {std::uint8_t(64 + (h & 191)), std::uint8_t(64 + ((h >> 8) & 191)), std::uint8_t(64 + ((h >> 16) & 191))};
+  return {std::uint8_t(64 + (h & 191)), std::uint8_t(64 + ((h >> 8) & 191)),
+          std::uint8_t(64 + ((h >> 16) & 191))};
 }
 
 void write(const std::string& path, const cv::Mat& m) {
@@ -53,14 +54,15 @@ Image<std::uint16_t> loadLabelPng(const std::string& path) {
 }
 
 void savePreviewImages(const RgbdFrame& f, const std::string& prefix, double max_depth_m) {
-  const cv::Mat colour(f.colour.height(), f.colour.width(), CV_8UC3, const_cast<Bgr8*>(f.colour.data()),
-                       f.colour.pitchBytes());
+  const cv::Mat colour(f.colour.height(), f.colour.width(), CV_8UC3,
+                       const_cast<Bgr8*>(f.colour.data()), f.colour.pitchBytes());
   write(prefix + "_colour.png", colour);
   cv::Mat d8(f.depth_m.height(), f.depth_m.width(), CV_8UC1);
   for (int y = 0; y < d8.rows; ++y)
     for (int x = 0; x < d8.cols; ++x) {
       const float z = f.depth_m(x, y);
-      d8.at<std::uint8_t>(y, x) = z <= 0.f ? 0 : std::uint8_t(std::clamp(255.0 * (1.0 - z / max_depth_m), 1.0, 255.0));
+      d8.at<std::uint8_t>(y, x) =
+          z <= 0.f ? 0 : std::uint8_t(std::clamp(255.0 * (1.0 - z / max_depth_m), 1.0, 255.0));
     }
   cv::Mat dc;
   cv::applyColorMap(d8, dc, cv::COLORMAP_JET);

@@ -24,7 +24,8 @@ void TriangleMesh::append(const TriangleMesh& other, const Eigen::Affine3f& T) {
 
 Eigen::AlignedBox3f TriangleMesh::bounds() const {
   Eigen::AlignedBox3f b;
-  if (vertices.empty()) return Eigen::AlignedBox3f(Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero());
+  if (vertices.empty())
+    return Eigen::AlignedBox3f(Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero());
   for (const auto& v : vertices) b.extend(v);
   return b;
 }
@@ -32,7 +33,8 @@ Eigen::AlignedBox3f TriangleMesh::bounds() const {
 double TriangleMesh::surfaceArea() const {
   double a = 0;
   for (const auto& t : triangles)
-    a += 0.5 * double((vertices[t[1]] - vertices[t[0]]).cross(vertices[t[2]] - vertices[t[0]]).norm());
+    a += 0.5 *
+         double((vertices[t[1]] - vertices[t[0]]).cross(vertices[t[2]] - vertices[t[0]]).norm());
   return a;
 }
 
@@ -40,9 +42,11 @@ TriangleMesh makeBox(const Eigen::Vector3f& size) {
   TriangleMesh m;
   const Eigen::Vector3f h = 0.5f * size;
   for (int i = 0; i < 8; ++i)
-    m.vertices.emplace_back((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
+    m.vertices.emplace_back((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(),
+                            (i & 4) ? h.z() : -h.z());
   // Two triangles per face, counter-clockwise seen from outside.
-  const int f[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  const int f[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                       {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& q : f) {
     m.triangles.emplace_back(q[0], q[1], q[2]);
     m.triangles.emplace_back(q[0], q[2], q[3]);
@@ -66,7 +70,9 @@ TriangleMesh makeLathe(const std::vector<Eigen::Vector2f>& profile, int segments
       m.vertices.emplace_back(r * std::cos(a), r * std::sin(a), z);
     }
   }
-  auto vid = [&](int i, int s) { return profile[i].x() <= 0.f ? first[i] : first[i] + (s % segments); };
+  auto vid = [&](int i, int s) {
+    return profile[i].x() <= 0.f ? first[i] : first[i] + (s % segments);
+  };
   for (int i = 0; i + 1 < n; ++i) {
     const bool pole0 = profile[i].x() <= 0.f, pole1 = profile[i + 1].x() <= 0.f;
     if (pole0 && pole1) continue;
@@ -88,7 +94,8 @@ TriangleMesh makeSphere(float radius, int rings, int segments) {
   std::vector<Eigen::Vector2f> profile;
   for (int i = 0; i <= rings; ++i) {
     const double a = M_PI * i / rings;  // from the south pole up
-    profile.emplace_back(i == 0 || i == rings ? 0.f : float(radius * std::sin(a)), float(-radius * std::cos(a)));
+    profile.emplace_back(i == 0 || i == rings ? 0.f : float(radius * std::sin(a)),
+                         float(-radius * std::cos(a)));
   }
   return makeLathe(profile, segments);
 }
@@ -116,7 +123,8 @@ TriangleMesh makeExtrusion(const std::vector<Eigen::Vector2f>& poly, float z0, f
 }
 
 TriangleMesh loadMesh(const std::string& path, const std::string& what) {
-  if (!std::filesystem::is_regular_file(path)) throwInputError(what, "mesh file '" + path + "' not found");
+  if (!std::filesystem::is_regular_file(path))
+    throwInputError(what, "mesh file '" + path + "' not found");
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(
       path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
@@ -124,7 +132,8 @@ TriangleMesh loadMesh(const std::string& path, const std::string& what) {
     throwInputError(what, "cannot read mesh file '" + path + "': " + importer.GetErrorString());
   TriangleMesh out;
   // Walk the node tree so node transforms (used by some exporters) are applied.
-  std::function<void(const aiNode*, const aiMatrix4x4&)> visit = [&](const aiNode* node, const aiMatrix4x4& parent) {
+  std::function<void(const aiNode*, const aiMatrix4x4&)> visit = [&](const aiNode* node,
+                                                                     const aiMatrix4x4& parent) {
     const aiMatrix4x4 T = parent * node->mTransformation;
     for (unsigned k = 0; k < node->mNumMeshes; ++k) {
       const aiMesh* mesh = scene->mMeshes[node->mMeshes[k]];
@@ -155,11 +164,15 @@ void saveObj(const TriangleMesh& mesh, const std::string& path, const std::strin
   char buf[96];
   for (const auto& v : mesh.vertices) {
     // Round to 0.1 mm and avoid "-0.0000" so files are byte-stable across platforms.
-    auto q = [](float x) { const double r = std::round(double(x) * 1e4) / 1e4; return r == 0.0 ? 0.0 : r; };
+    auto q = [](float x) {
+      const double r = std::round(double(x) * 1e4) / 1e4;
+      return r == 0.0 ? 0.0 : r;
+    };
     std::snprintf(buf, sizeof(buf), "v %.4f %.4f %.4f\n", q(v.x()), q(v.y()), q(v.z()));
     f << buf;
   }
-  for (const auto& t : mesh.triangles) f << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
+  for (const auto& t : mesh.triangles)
+    f << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
   if (!f) throwInputError(path, "write failed");
 }
 

@@ -8,7 +8,8 @@ namespace rasm::sim {
 namespace {
 
 /// Sutherland-Hodgman clip of a polygon against z >= lo (sign = +1) or z <= hi (sign = -1).
-std::vector<Eigen::Vector3f> clipZ(const std::vector<Eigen::Vector3f>& in, float bound, float sign) {
+std::vector<Eigen::Vector3f> clipZ(const std::vector<Eigen::Vector3f>& in, float bound,
+                                   float sign) {
   std::vector<Eigen::Vector3f> out;
   const int n = int(in.size());
   for (int i = 0; i < n; ++i) {
@@ -27,7 +28,8 @@ bool insidePolygon(const std::vector<Eigen::Vector2f>& poly, const Eigen::Vector
   for (int i = 0, j = n - 1; i < n; j = i++) {
     const Eigen::Vector2f& a = poly[i];
     const Eigen::Vector2f& b = poly[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+    if ((a.y() > p.y()) != (b.y() > p.y()) &&
+        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
       in = !in;
   }
   return in;
@@ -35,7 +37,8 @@ bool insidePolygon(const std::vector<Eigen::Vector2f>& poly, const Eigen::Vector
 
 }  // namespace
 
-OccupancyRaster::OccupancyRaster(const World& world, float z_min, float z_max, float cell) : m_cell(cell) {
+OccupancyRaster::OccupancyRaster(const World& world, float z_min, float z_max, float cell)
+    : m_cell(cell) {
   const Eigen::AlignedBox3f b = world.bounds();
   const float margin = 1.0f;
   m_origin = b.min().head<2>() - Eigen::Vector2f::Constant(margin);
@@ -45,7 +48,8 @@ OccupancyRaster::OccupancyRaster(const World& world, float z_min, float z_max, f
   for (const WorldObject& o : world.objects) {
     const Eigen::Affine3f T = o.worldFromObjectScaled();
     for (const auto& t : o.mesh.triangles) {
-      std::vector<Eigen::Vector3f> poly{T * o.mesh.vertices[t[0]], T * o.mesh.vertices[t[1]], T * o.mesh.vertices[t[2]]};
+      std::vector<Eigen::Vector3f> poly{T * o.mesh.vertices[t[0]], T * o.mesh.vertices[t[1]],
+                                        T * o.mesh.vertices[t[2]]};
       poly = clipZ(poly, z_min, 1.f);
       if (poly.empty()) continue;
       poly = clipZ(poly, z_max, -1.f);
@@ -62,7 +66,8 @@ void OccupancyRaster::markSegment(const Eigen::Vector2f& a, const Eigen::Vector2
   const int n = std::max(1, int(std::ceil(len / (0.25f * m_cell))));
   for (int i = 0; i <= n; ++i) {
     const Eigen::Vector2f p = a + (b - a) * (float(i) / float(n));
-    mark(int(std::floor((p.x() - m_origin.x()) / m_cell)), int(std::floor((p.y() - m_origin.y()) / m_cell)));
+    mark(int(std::floor((p.x() - m_origin.x()) / m_cell)),
+         int(std::floor((p.y() - m_origin.y()) / m_cell)));
   }
 }
 
@@ -78,11 +83,13 @@ void OccupancyRaster::markPolygon(const std::vector<Eigen::Vector2f>& poly) {
   if (x1 - x0 < 2 && y1 - y0 < 2) return;  // the edges already cover it
   for (int iy = y0; iy <= y1; ++iy)
     for (int ix = x0; ix <= x1; ++ix)
-      if (insidePolygon(poly, m_origin + m_cell * Eigen::Vector2f(ix + 0.5f, iy + 0.5f))) mark(ix, iy);
+      if (insidePolygon(poly, m_origin + m_cell * Eigen::Vector2f(ix + 0.5f, iy + 0.5f)))
+        mark(ix, iy);
 }
 
 bool OccupancyRaster::occupied(float x, float y) const {
-  return cell(int(std::floor((x - m_origin.x()) / m_cell)), int(std::floor((y - m_origin.y()) / m_cell)));
+  return cell(int(std::floor((x - m_origin.x()) / m_cell)),
+              int(std::floor((y - m_origin.y()) / m_cell)));
 }
 
 bool OccupancyRaster::collidesDisc(const Eigen::Vector2f& c, float r) const {

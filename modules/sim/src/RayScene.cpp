@@ -10,18 +10,19 @@ namespace {
 
 void check(RTCDevice dev, const char* what) {
   const RTCError e = rtcGetDeviceError(dev);
-  if (e != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree error ") + std::to_string(int(e)) + " in " + what);
+  if (e != RTC_ERROR_NONE)
+    throw std::runtime_error(std::string("Embree error ") + std::to_string(int(e)) + " in " + what);
 }
 
 /// Triangle geometry of `mesh` (world coordinates) committed into `scene` as geometry `id`.
 void attachMesh(RTCDevice dev, RTCScene scene, const TriangleMesh& mesh, unsigned id) {
   RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                        3 * sizeof(float), mesh.vertices.size()));
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+      g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
     for (int k = 0; k < 3; ++k) v[3 * i + k] = mesh.vertices[i][k];
-  auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                           3 * sizeof(unsigned), mesh.triangles.size()));
+  auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangles.size()));
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
     for (int k = 0; k < 3; ++k) t[3 * i + k] = unsigned(mesh.triangles[i][k]);
   rtcCommitGeometry(g);
@@ -53,7 +54,9 @@ RayScene::RayScene(World world) : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.world = std::move(world);
   m.device = rtcNewDevice("verbose=0");
-  if (!m.device) throw std::runtime_error("rtcNewDevice failed: " + std::to_string(int(rtcGetDeviceError(nullptr))));
+  if (!m.device)
+    throw std::runtime_error("rtcNewDevice failed: " +
+                             std::to_string(int(rtcGetDeviceError(nullptr))));
   // Robust traversal: rays through shared triangle edges (box corners, wall joints) never slip
   // through; worth a few percent of speed in a simulator whose ground truth must be watertight.
   m.scene = rtcNewScene(m.device);
@@ -91,9 +94,12 @@ RayScene::~RayScene() = default;
 
 const World& RayScene::world() const { return impl_->world; }
 
-const Eigen::AlignedBox3f& RayScene::objectBounds(int i) const { return impl_->bounds.at(std::size_t(i)); }
+const Eigen::AlignedBox3f& RayScene::objectBounds(int i) const {
+  return impl_->bounds.at(std::size_t(i));
+}
 
-RayHit RayScene::castRay(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_min, float t_max) const {
+RayHit RayScene::castRay(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_min,
+                         float t_max) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
@@ -102,7 +108,8 @@ RayHit RayScene::castRay(const Eigen::Vector3f& o, const Eigen::Vector3f& d, flo
   return toHit(rh, o, d, rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1 : int(rh.hit.geomID));
 }
 
-bool RayScene::occluded(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_min, float t_max) const {
+bool RayScene::occluded(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_min,
+                        float t_max) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
@@ -111,8 +118,8 @@ bool RayScene::occluded(const Eigen::Vector3f& o, const Eigen::Vector3f& d, floa
   return rh.ray.tfar < 0.f;  // Embree sets tfar = -inf on a hit
 }
 
-RayHit RayScene::castRayAlone(int object, const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_min,
-                              float t_max) const {
+RayHit RayScene::castRayAlone(int object, const Eigen::Vector3f& o, const Eigen::Vector3f& d,
+                              float t_min, float t_max) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;

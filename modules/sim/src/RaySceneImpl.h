@@ -22,7 +22,8 @@ struct RayScene::Impl {
 };
 
 /// Fills an RTCRayHit for a single ray.
-inline void initRayHit(RTCRayHit& rh, const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_min, float t_max) {
+inline void initRayHit(RTCRayHit& rh, const Eigen::Vector3f& o, const Eigen::Vector3f& d,
+                       float t_min, float t_max) {
   rh.ray.org_x = o.x();
   rh.ray.org_y = o.y();
   rh.ray.org_z = o.z();

@@ -63,8 +63,9 @@ class Progress {
     m_last = elapsed;
     const double fps = elapsed > 0 ? double(frames) / elapsed : 0.0;
     const double eta = fraction > 1e-6 ? elapsed * (1.0 - fraction) / fraction : 0.0;
-    std::fprintf(stderr, "%ssim record: %zu frames (%3.0f%%), %.1f frames/s, ETA %.0f s%s", m_tty ? "\r" : "",
-                 frames, 100.0 * std::min(1.0, fraction), fps, final ? 0.0 : eta, (m_tty && !final) ? "" : "\n");
+    std::fprintf(stderr, "%ssim record: %zu frames (%3.0f%%), %.1f frames/s, ETA %.0f s%s",
+                 m_tty ? "\r" : "", frames, 100.0 * std::min(1.0, fraction), fps, final ? 0.0 : eta,
+                 (m_tty && !final) ? "" : "\n");
     std::fflush(stderr);
   }
 
@@ -74,16 +75,19 @@ class Progress {
   double m_last = -1e9;
 };
 
-void writeClassesJson(const World& world, const std::string& path, std::size_t frames, double rate_hz) {
+void writeClassesJson(const World& world, const std::string& path, std::size_t frames,
+                      double rate_hz) {
   nlohmann::json j;
   j["format"] = "rasm sim labels v1";
   j["world"] = world.name;
   j["world_file"] = world.source;
   j["frames"] = frames;
   j["rate_hz"] = rate_hz;
-  j["images"] = "instance_NNNNNN.png / class_NNNNNN.png: 16-bit PNG, NNNNNN = frame index, 0 = none";
+  j["images"] =
+      "instance_NNNNNN.png / class_NNNNNN.png: 16-bit PNG, NNNNNN = frame index, 0 = none";
   nlohmann::json classes = nlohmann::json::array();
-  for (int i = 0; i < numClasses(); ++i) classes.push_back({{"id", i}, {"name", className(i)}, {"coco", isCocoClass(i)}});
+  for (int i = 0; i < numClasses(); ++i)
+    classes.push_back({{"id", i}, {"name", className(i)}, {"coco", isCocoClass(i)}});
   j["classes"] = classes;
   nlohmann::json inst = nlohmann::json::array();
   for (const WorldObject& o : world.objects)
@@ -103,7 +107,8 @@ void writeClassesJson(const World& world, const std::string& path, std::size_t f
 }  // namespace
 #endif
 
-RecordResult recordSequence(const World& world, const TrajectorySpec& spec, const RecordOptions& opt,
+RecordResult recordSequence(const World& world, const TrajectorySpec& spec,
+                            const RecordOptions& opt,
                             const std::function<void(const RgbdFrame&)>& on_frame) {
 #ifndef RASM_SIM_HAVE_IO
   (void)world, (void)spec, (void)opt, (void)on_frame;
@@ -129,7 +134,8 @@ RecordResult recordSequence(const World& world, const TrajectorySpec& spec, cons
   io::RawlogWriter writer(out.string(), wopt);
   if (opt.write_labels) {
     fs::create_directories(res.labels_dir);
-    for (const auto& e : fs::directory_iterator(res.labels_dir)) {  // stale frames of an earlier run
+    for (const auto& e :
+         fs::directory_iterator(res.labels_dir)) {  // stale frames of an earlier run
       const std::string n = e.path().filename().string();
       if (n.rfind("instance_", 0) == 0 || n.rfind("class_", 0) == 0) fs::remove(e.path());
     }
@@ -152,11 +158,13 @@ RecordResult recordSequence(const World& world, const TrajectorySpec& spec, cons
     std::vector<Eigen::Vector2d> path{spec.start_pose.head<2>()};
     path.insert(path.end(), spec.waypoints.begin(), spec.waypoints.end());
     pursuit = std::make_unique<PurePursuit>(path, spec.controller, spec.loop, spec.laps);
-    if (spec.duration_s) planned = (long long)(std::floor(*spec.duration_s * spec.rate_hz + 1e-9)) + 1;
+    if (spec.duration_s)
+      planned = (long long)(std::floor(*spec.duration_s * spec.rate_hz + 1e-9)) + 1;
   }
   if (opt.max_frames >= 0 && (planned < 0 || opt.max_frames < planned)) planned = opt.max_frames;
   const long long limit =
-      planned >= 0 ? planned : (long long)(std::floor(spec.max_duration_s * spec.rate_hz + 1e-9)) + 1;
+      planned >= 0 ? planned
+                   : (long long)(std::floor(spec.max_duration_s * spec.rate_hz + 1e-9)) + 1;
 
   io::Trajectory gt;
   Progress progress(opt.progress);
@@ -196,7 +204,8 @@ RecordResult recordSequence(const World& world, const TrajectorySpec& spec, cons
       if (stuck_s >= 1.0) {
         res.robot_collided = true;
         std::fprintf(stderr,
-                     "sim record: warning: the robot has been stuck against an obstacle for 1 s at (%.2f, %.2f); "
+                     "sim record: warning: the robot has been stuck against an obstacle for 1 s at "
+                     "(%.2f, %.2f); "
                      "stopping the recording at frame %lld (check the waypoints of %s)\n",
                      robot->pose().x(), robot->pose().y(), i, spec.source.c_str());
         break;
@@ -207,9 +216,10 @@ RecordResult recordSequence(const World& world, const TrajectorySpec& spec, cons
   progress.update(res.frames, 1.0, true);
   writer.close();
   io::writeTumTrajectory(res.groundtruth_path, gt,
-                         "ground truth T_world_cam (optical frame) of " + out.filename().string() + ", world " + world.name +
-                             ", seed " + std::to_string(opt.seed));
-  if (opt.write_labels) writeClassesJson(world, res.labels_dir + "/classes.json", res.frames, spec.rate_hz);
+                         "ground truth T_world_cam (optical frame) of " + out.filename().string() +
+                             ", world " + world.name + ", seed " + std::to_string(opt.seed));
+  if (opt.write_labels)
+    writeClassesJson(world, res.labels_dir + "/classes.json", res.frames, spec.rate_hz);
   return res;
 #endif
 }

@@ -7,10 +7,10 @@
 #include <cmath>
 #include <random>
 
+#include "ParamsWrite.h"
 #include "RaySceneImpl.h"
 #include "rasm/compute/Parallel.h"
 #include "rasm/core/Error.h"
-#include "ParamsWrite.h"
 #include "rasm/core/Params.h"
 
 namespace rasm::sim {
@@ -46,7 +46,8 @@ DepthModelParams TSensorParams::depthModel() const {
   return p;
 }
 
-void TSensorParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void TSensorParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                       const std::string& s) {
   MRPT_LOAD_CONFIG_VAR_CS(camera, string);
   MRPT_LOAD_CONFIG_VAR_CS(width, int);
   MRPT_LOAD_CONFIG_VAR_CS(height, int);
@@ -86,7 +87,8 @@ void TSensorParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   RASM_SIM_SAVE(max_depth_m, "");
   RASM_SIM_SAVE(noise, "axial + lateral noise and disparity quantization; false = exact depth");
   RASM_SIM_SAVE(dropouts, "projector-shadow and grazing-angle missing data");
-  RASM_SIM_SAVE(axial_sigma0_m, "Nguyen 2012 sigma_z: a + b (z - z0)^2 + c / sqrt(z) th^2/(pi/2-th)^2");
+  RASM_SIM_SAVE(axial_sigma0_m,
+                "Nguyen 2012 sigma_z: a + b (z - z0)^2 + c / sqrt(z) th^2/(pi/2-th)^2");
   RASM_SIM_SAVE(axial_sigma_quad, "b (1/m)");
   RASM_SIM_SAVE(axial_z0_m, "z0 (m)");
   RASM_SIM_SAVE(axial_sigma_angle, "c");
@@ -117,7 +119,8 @@ void TSensorParams::validate(const std::string& s) const {
   requireInRange(disparity_subpixel, 0.0, 1024.0, s, "disparity_subpixel");
   requireInRange(projector_offset_m, -10.0, 10.0, s, "projector_offset_m");
   requireInRange(grazing_max_deg, 0.0, 90.0, s, "grazing_max_deg");
-  if (!intrinsics().valid()) throwInputError("[" + s + "] camera", "invalid intrinsics " + intrinsics().toString());
+  if (!intrinsics().valid())
+    throwInputError("[" + s + "] camera", "invalid intrinsics " + intrinsics().toString());
 }
 
 // ---- sensor -------------------------------------------------------------------------------------
@@ -135,8 +138,8 @@ struct CastTargets {
 };
 
 struct CastSetup {
-  Mat3f R;     ///< R_world_cam
-  Vec3f o;     ///< camera centre in the world
+  Mat3f R;  ///< R_world_cam
+  Vec3f o;  ///< camera centre in the world
   PinholeF K;
   float inv_fx = 1.f, inv_fy = 1.f;
   const SurfaceMaterial* materials = nullptr;
@@ -145,8 +148,9 @@ struct CastSetup {
 };
 
 /// Writes one pixel from an Embree hit (geom == RTC_INVALID_GEOMETRY_ID: nothing hit).
-__attribute__((always_inline)) inline void writePixel(const CastSetup& s, const CastTargets& t, int x, int y, const Vec3f& d, unsigned geom,
-                       float tfar, float ngx, float ngy, float ngz) {
+__attribute__((always_inline)) inline void writePixel(const CastSetup& s, const CastTargets& t,
+                                                      int x, int y, const Vec3f& d, unsigned geom,
+                                                      float tfar, float ngx, float ngy, float ngz) {
   if (geom == RTC_INVALID_GEOMETRY_ID) {
     t.z(x, y) = 0.f;
     t.cos_incidence(x, y) = 1.f;
@@ -219,8 +223,8 @@ void castPackets(RTCScene scene, const CastSetup& s, const CastTargets& t) {
       rtcIntersect16(valid, scene, &ctx, &rh);
       for (int k = 0; k < 16; ++k) {
         if (!valid[k]) continue;
-        writePixel(s, t, tx * T + (k & 3), ty * T + (k >> 2), dirs[k], rh.hit.geomID[k], rh.ray.tfar[k],
-                   rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]);
+        writePixel(s, t, tx * T + (k & 3), ty * T + (k >> 2), dirs[k], rh.hit.geomID[k],
+                   rh.ray.tfar[k], rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]);
       }
     }
   }
@@ -258,14 +262,15 @@ std::uint64_t RgbdSensor::frameKey(std::uint64_t seed, std::size_t frame_index) 
   return (hi << 32) | gen();
 }
 
-RgbdFrame RgbdSensor::render(const Eigen::Isometry3d& T_world_cam, std::uint64_t seed, std::size_t frame_index) const {
+RgbdFrame RgbdSensor::render(const Eigen::Isometry3d& T_world_cam, std::uint64_t seed,
+                             std::size_t frame_index) const {
   RgbdFrame f;
   render(T_world_cam, seed, frame_index, f);
   return f;
 }
 
-void RgbdSensor::render(const Eigen::Isometry3d& T_world_cam, std::uint64_t seed, std::size_t frame_index,
-                        RgbdFrame& out) const {
+void RgbdSensor::render(const Eigen::Isometry3d& T_world_cam, std::uint64_t seed,
+                        std::size_t frame_index, RgbdFrame& out) const {
   const RayScene::Impl& scene = m_scene.impl();
   const int w = m_K.width, h = m_K.height;
   out.intrinsics = m_K;
@@ -298,7 +303,9 @@ void RgbdSensor::render(const Eigen::Isometry3d& T_world_cam, std::uint64_t seed
   setup.light.diffuse = scene.world.light.diffuse;
   setup.background = toBgr8(scene.world.background_rgb);
   using Clock = std::chrono::steady_clock;
-  auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+  auto ms = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+  };
   const auto t0 = Clock::now();
   if (m_params.ray_packets)
     castPackets(scene.scene, setup, targets);
@@ -315,7 +322,8 @@ void RgbdSensor::render(const Eigen::Isometry3d& T_world_cam, std::uint64_t seed
   k.rng.key = frameKey(seed, frame_index);
   if (m_params.dropouts && m_params.projector_offset_m != 0.0) {
     m_shadow.resize(w, h);
-    compute::forEach1D(h, ProjectorShadowRows{m_z.cview(), m_shadow.view(), float(m_K.fx * m_params.projector_offset_m)});
+    compute::forEach1D(h, ProjectorShadowRows{m_z.cview(), m_shadow.view(),
+                                              float(m_K.fx * m_params.projector_offset_m)});
     k.shadow = m_shadow.cview();
   }
   const auto t2 = Clock::now();

@@ -7,26 +7,38 @@ namespace rasm::sim {
 namespace {
 
 // COCO 2017 detection classes in contiguous order (the order of every coco.names).
-const char* const kCoco[kNumCocoClasses] = {
-    "person",        "bicycle",      "car",           "motorcycle",    "airplane",     "bus",
-    "train",         "truck",        "boat",          "traffic light", "fire hydrant", "stop sign",
-    "parking meter", "bench",        "bird",          "cat",           "dog",          "horse",
-    "sheep",         "cow",          "elephant",      "bear",          "zebra",        "giraffe",
-    "backpack",      "umbrella",     "handbag",       "tie",           "suitcase",     "frisbee",
-    "skis",          "snowboard",    "sports ball",   "kite",          "baseball bat", "baseball glove",
-    "skateboard",    "surfboard",    "tennis racket", "bottle",        "wine glass",   "cup",
-    "fork",          "knife",        "spoon",         "bowl",          "banana",       "apple",
-    "sandwich",      "orange",       "broccoli",      "carrot",        "hot dog",      "pizza",
-    "donut",         "cake",         "chair",         "couch",         "potted plant", "bed",
-    "dining table",  "toilet",       "tv",            "laptop",        "mouse",        "remote",
-    "keyboard",      "cell phone",   "microwave",     "oven",          "toaster",      "sink",
-    "refrigerator",  "book",         "clock",         "vase",          "scissors",     "teddy bear",
-    "hair drier",    "toothbrush"};
+const char* const kCoco[kNumCocoClasses] = {"person",        "bicycle",      "car",
+                                            "motorcycle",    "airplane",     "bus",
+                                            "train",         "truck",        "boat",
+                                            "traffic light", "fire hydrant", "stop sign",
+                                            "parking meter", "bench",        "bird",
+                                            "cat",           "dog",          "horse",
+                                            "sheep",         "cow",          "elephant",
+                                            "bear",          "zebra",        "giraffe",
+                                            "backpack",      "umbrella",     "handbag",
+                                            "tie",           "suitcase",     "frisbee",
+                                            "skis",          "snowboard",    "sports ball",
+                                            "kite",          "baseball bat", "baseball glove",
+                                            "skateboard",    "surfboard",    "tennis racket",
+                                            "bottle",        "wine glass",   "cup",
+                                            "fork",          "knife",        "spoon",
+                                            "bowl",          "banana",       "apple",
+                                            "sandwich",      "orange",       "broccoli",
+                                            "carrot",        "hot dog",      "pizza",
+                                            "donut",         "cake",         "chair",
+                                            "couch",         "potted plant", "bed",
+                                            "dining table",  "toilet",       "tv",
+                                            "laptop",        "mouse",        "remote",
+                                            "keyboard",      "cell phone",   "microwave",
+                                            "oven",          "toaster",      "sink",
+                                            "refrigerator",  "book",         "clock",
+                                            "vase",          "scissors",     "teddy bear",
+                                            "hair drier",    "toothbrush"};
 
 // Project classes (ids 81..): objects of interest without COCO training data (paper IV-A uses a
 // conference phone and headphones), plus furniture and structure the worlds are built from.
-const char* const kProject[] = {"conference_phone", "headphones", "shelf", "box",
-                                "floor",            "wall",       "ceiling", "door"};
+const char* const kProject[] = {"conference_phone", "headphones", "shelf", "box", "floor", "wall",
+                                "ceiling",          "door"};
 
 const std::vector<std::string>& table() {
   static const std::vector<std::string> t = [] {
@@ -51,10 +63,15 @@ int classIdFromName(const std::string& name) {
     m["unknown"] = 0;
     m[""] = 0;
     // Darknet / VOC-style spellings of coco.names.
-    const std::pair<const char*, const char*> aliases[] = {
-        {"motorbike", "motorcycle"},   {"aeroplane", "airplane"}, {"sofa", "couch"},
-        {"pottedplant", "potted plant"}, {"diningtable", "dining table"}, {"tvmonitor", "tv"},
-        {"monitor", "tv"},             {"desk", "dining table"},  {"mug", "cup"}};
+    const std::pair<const char*, const char*> aliases[] = {{"motorbike", "motorcycle"},
+                                                           {"aeroplane", "airplane"},
+                                                           {"sofa", "couch"},
+                                                           {"pottedplant", "potted plant"},
+                                                           {"diningtable", "dining table"},
+                                                           {"tvmonitor", "tv"},
+                                                           {"monitor", "tv"},
+                                                           {"desk", "dining table"},
+                                                           {"mug", "cup"}};
     for (const auto& [alias, name] : aliases) m[alias] = m.at(name);
     return m;
   }();
@@ -63,7 +80,8 @@ int classIdFromName(const std::string& name) {
 }
 
 const std::string& className(int id) {
-  if (id < 0 || id >= numClasses()) throw std::out_of_range("rasm::sim::className: bad id " + std::to_string(id));
+  if (id < 0 || id >= numClasses())
+    throw std::out_of_range("rasm::sim::className: bad id " + std::to_string(id));
   return table()[id];
 }
 

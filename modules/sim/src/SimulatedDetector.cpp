@@ -8,8 +8,8 @@
 #include <random>
 #include <sstream>
 
-#include "rasm/core/Error.h"
 #include "ParamsWrite.h"
+#include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 #include "rasm/sim/SimClasses.h"
 
@@ -30,7 +30,8 @@ std::vector<int> TDetectorParams::detectableClassIds() const {
       name.erase(0, name.find_first_not_of(' '));
       name.erase(name.find_last_not_of(' ') + 1);
       const int id = classIdFromName(name);
-      if (id <= 0) throwInputError("[sim_detector] detectable_classes", "unknown class '" + name + "'");
+      if (id <= 0)
+        throwInputError("[sim_detector] detectable_classes", "unknown class '" + name + "'");
       ids.push_back(id);
     }
   }
@@ -38,7 +39,8 @@ std::vector<int> TDetectorParams::detectableClassIds() const {
   return ids;
 }
 
-void TDetectorParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void TDetectorParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                         const std::string& s) {
   MRPT_LOAD_CONFIG_VAR_CS(detectable_classes, string);
   MRPT_LOAD_CONFIG_VAR_CS(p_max, double);
   MRPT_LOAD_CONFIG_VAR_CS(size50_px, double);
@@ -54,7 +56,8 @@ void TDetectorParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   validate(s);
 }
 
-void TDetectorParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+void TDetectorParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                       const std::string& s) const {
   RASM_SIM_SAVE(detectable_classes, "coco | all | comma-separated class names");
   RASM_SIM_SAVE(p_max, "detection probability of a large, fully visible object");
   RASM_SIM_SAVE(size50_px, "sqrt(mask area) at which the size factor is 1/2 (px)");
@@ -116,11 +119,16 @@ struct MaskStats {
 /// Classes a detector plausibly mistakes each class for (by name; filtered by detectability).
 const std::map<std::string, std::vector<std::string>>& confusions() {
   static const std::map<std::string, std::vector<std::string>> m = {
-      {"cup", {"bottle", "vase", "bowl"}},        {"bottle", {"cup", "vase"}},
-      {"tv", {"laptop", "microwave"}},            {"laptop", {"tv", "keyboard"}},
-      {"keyboard", {"laptop", "remote"}},         {"mouse", {"remote", "cell phone"}},
-      {"chair", {"couch", "bench"}},              {"dining table", {"bench", "bed"}},
-      {"book", {"cell phone", "remote"}},         {"clock", {"vase", "bowl"}},
+      {"cup", {"bottle", "vase", "bowl"}},
+      {"bottle", {"cup", "vase"}},
+      {"tv", {"laptop", "microwave"}},
+      {"laptop", {"tv", "keyboard"}},
+      {"keyboard", {"laptop", "remote"}},
+      {"mouse", {"remote", "cell phone"}},
+      {"chair", {"couch", "bench"}},
+      {"dining table", {"bench", "bed"}},
+      {"book", {"cell phone", "remote"}},
+      {"clock", {"vase", "bowl"}},
       {"conference_phone", {"cell phone", "remote", "mouse"}},
       {"headphones", {"mouse", "backpack"}}};
   return m;
@@ -145,7 +153,8 @@ SimulatedDetector::SimulatedDetector(const TDetectorParams& params, const RaySce
   for (int id : m_params.detectableClassIds()) m_detectable[std::size_t(id)] = 1;
 }
 
-float SimulatedDetector::visibleFraction(const RgbdFrame& f, int instance_id, int mask_pixels) const {
+float SimulatedDetector::visibleFraction(const RgbdFrame& f, int instance_id,
+                                         int mask_pixels) const {
   if (!m_scene || !m_params.occlusion_aware || !f.gt_T_world_cam) return 1.f;
   const int obj = m_scene->world().indexOfInstance(std::uint16_t(instance_id));
   if (obj < 0) return 1.f;
@@ -160,7 +169,8 @@ float SimulatedDetector::visibleFraction(const RgbdFrame& f, int instance_id, in
   bool behind = false;
   double pu0 = 1e30, pu1 = -1e30, pv0 = 1e30, pv1 = -1e30;
   for (int c = 0; c < 8; ++c) {
-    const Eigen::Vector3d p = T_cam_world * b.corner(Eigen::AlignedBox3f::CornerType(c)).cast<double>();
+    const Eigen::Vector3d p =
+        T_cam_world * b.corner(Eigen::AlignedBox3f::CornerType(c)).cast<double>();
     if (p.z() < 0.05) {
       behind = true;
       break;
@@ -181,7 +191,8 @@ float SimulatedDetector::visibleFraction(const RgbdFrame& f, int instance_id, in
   long long hits = 0;
   for (int v = int(v0); v <= int(v1); v += s)
     for (int u = int(u0); u <= int(u1); u += s) {
-      const Eigen::Vector3f d = R * Eigen::Vector3f(float((u - K.cx) / K.fx), float((v - K.cy) / K.fy), 1.f);
+      const Eigen::Vector3f d =
+          R * Eigen::Vector3f(float((u - K.cx) / K.fx), float((v - K.cy) / K.fy), 1.f);
       if (m_scene->castRayAlone(obj, o, d).hit) ++hits;
     }
   const double full = double(hits) * s * s;
@@ -191,7 +202,8 @@ float SimulatedDetector::visibleFraction(const RgbdFrame& f, int instance_id, in
 
 std::vector<Detection> SimulatedDetector::detect(const RgbdFrame& f, std::uint64_t seed) const {
   std::vector<Detection> out;
-  if (f.gt_instance.empty() || f.gt_class.empty()) throwInputError("SimulatedDetector", "frame has no ground-truth labels");
+  if (f.gt_instance.empty() || f.gt_class.empty())
+    throwInputError("SimulatedDetector", "frame has no ground-truth labels");
   const int w = f.gt_instance.width(), h = f.gt_instance.height();
   // Mask statistics per instance in one pass (a slot table instead of a map lookup per pixel),
   // then ordered by instance id: a deterministic draw order.
@@ -209,11 +221,13 @@ std::vector<Detection> SimulatedDetector::detect(const RgbdFrame& f, std::uint64
       }
       MaskStats& m = found[std::size_t(k)].second;
       ++m.pixels;
-      m.x0 = std::min(m.x0, x), m.x1 = std::max(m.x1, x), m.y0 = std::min(m.y0, y), m.y1 = std::max(m.y1, y);
+      m.x0 = std::min(m.x0, x), m.x1 = std::max(m.x1, x), m.y0 = std::min(m.y0, y),
+      m.y1 = std::max(m.y1, y);
       m.class_id = cr[x];
     }
   }
-  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::sort(found.begin(), found.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
   const std::map<int, MaskStats> masks(found.begin(), found.end());
   std::seed_seq seq{std::uint32_t(seed), std::uint32_t(seed >> 32), std::uint32_t(f.index),
                     std::uint32_t(std::uint64_t(f.index) >> 32), 0xDE7Eu};
@@ -224,16 +238,19 @@ std::vector<Detection> SimulatedDetector::detect(const RgbdFrame& f, std::uint64
   std::vector<int> clutter;  // visible unlabelled objects: where false positives like to land
   for (const auto& [id, m] : masks) {
     if (m.class_id == 0 && m.pixels >= P.min_mask_pixels) clutter.push_back(id);
-    if (m.class_id == 0 || !m_detectable[std::size_t(m.class_id)] || m.pixels < P.min_mask_pixels) continue;
+    if (m.class_id == 0 || !m_detectable[std::size_t(m.class_id)] || m.pixels < P.min_mask_pixels)
+      continue;
     const float vis = visibleFraction(f, id, m.pixels);
-    const double size_f = 1.0 / (1.0 + std::exp(-(std::sqrt(double(m.pixels)) - P.size50_px) / P.size_scale_px));
-    const double vis_f =
-        std::pow(std::clamp((vis - P.min_visible_fraction) / (1.0 - P.min_visible_fraction), 0.0, 1.0),
-                 P.occlusion_exponent);
+    const double size_f =
+        1.0 / (1.0 + std::exp(-(std::sqrt(double(m.pixels)) - P.size50_px) / P.size_scale_px));
+    const double vis_f = std::pow(
+        std::clamp((vis - P.min_visible_fraction) / (1.0 - P.min_visible_fraction), 0.0, 1.0),
+        P.occlusion_exponent);
     const double p = P.p_max * size_f * vis_f;
     // Draw every variate whether or not it is used, so one object's outcome does not shift the
     // random stream of the next.
-    const double u_det = d.uniform(), u_conf = d.uniform(), u_pick = d.uniform(), g_score = d.gaussian();
+    const double u_det = d.uniform(), u_conf = d.uniform(), u_pick = d.uniform(),
+                 g_score = d.gaussian();
     const cv::Rect2f box = jitteredBox(m, P.box_jitter, d, w, h);
     if (u_det >= p) continue;
     Detection det;
@@ -268,14 +285,18 @@ std::vector<Detection> SimulatedDetector::detect(const RgbdFrame& f, std::uint64
     if (!clutter.empty() && d.uniform() < 0.5) {
       fp.box = jitteredBox(masks.at(d.pick(clutter)), 2.0 * P.box_jitter, d, w, h);
     } else {
-      const double side = std::exp(std::log(20.0) + d.uniform() * (std::log(200.0) - std::log(20.0)));
+      const double side =
+          std::exp(std::log(20.0) + d.uniform() * (std::log(200.0) - std::log(20.0)));
       const double aspect = std::exp((d.uniform() - 0.5) * std::log(4.0));
-      const double bw = std::min(double(w), side * std::sqrt(aspect)), bh = std::min(double(h), side / std::sqrt(aspect));
-      fp.box = cv::Rect2f(float(d.uniform() * (w - bw)), float(d.uniform() * (h - bh)), float(bw), float(bh));
+      const double bw = std::min(double(w), side * std::sqrt(aspect)),
+                   bh = std::min(double(h), side / std::sqrt(aspect));
+      fp.box = cv::Rect2f(float(d.uniform() * (w - bw)), float(d.uniform() * (h - bh)), float(bw),
+                          float(bh));
     }
     fp.class_id = d.pick(detectable);
     fp.class_name = className(fp.class_id);
-    fp.score = float(std::clamp(0.05 + 0.4 * d.uniform() + P.score_noise * d.gaussian(), 0.01, 1.0));
+    fp.score =
+        float(std::clamp(0.05 + 0.4 * d.uniform() + P.score_noise * d.gaussian(), 0.01, 1.0));
     fp.visible_fraction = 0.f;
     out.push_back(fp);
   }

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "rasm/core/Error.h"
 #include "ParamsWrite.h"
+#include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 #include "rasm/sim/CameraPoses.h"
 
@@ -21,19 +21,23 @@ std::vector<Eigen::Vector2f> TRobotParams::footprintPolygon() const {
   if (footprint_radius_m > 0) {
     for (int i = 0; i < 16; ++i) {
       const double a = 2.0 * M_PI * i / 16;
-      poly.emplace_back(float(footprint_radius_m * std::cos(a)), float(footprint_radius_m * std::sin(a)));
+      poly.emplace_back(float(footprint_radius_m * std::cos(a)),
+                        float(footprint_radius_m * std::sin(a)));
     }
   } else {
-    for (std::size_t i = 0; i < footprint_xs.size(); ++i) poly.emplace_back(float(footprint_xs[i]), float(footprint_ys[i]));
+    for (std::size_t i = 0; i < footprint_xs.size(); ++i)
+      poly.emplace_back(float(footprint_xs[i]), float(footprint_ys[i]));
   }
   return poly;
 }
 
 Eigen::Isometry3d TRobotParams::T_base_cam() const {
-  return cameraPoseFromHeading(Eigen::Vector3d(camera_x_m, 0.0, camera_height_m), 0.0, camera_pitch_deg);
+  return cameraPoseFromHeading(Eigen::Vector3d(camera_x_m, 0.0, camera_height_m), 0.0,
+                               camera_pitch_deg);
 }
 
-void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                      const std::string& s) {
   MRPT_LOAD_CONFIG_VAR_CS(footprint_radius_m, double);
   c.read_vector(s, "footprint_xs", std::vector<double>(footprint_xs), footprint_xs);
   c.read_vector(s, "footprint_ys", std::vector<double>(footprint_ys), footprint_ys);
@@ -130,7 +134,8 @@ Eigen::Vector3d fromTPose(const mrpt::math::TPose2D& p) { return {p.x, p.y, p.ph
 /// `while (time <= time + dt)` over firmware periods, i.e. floor(dt / period) + 1 of them, which
 /// overshoots dt by up to a period (0.5 ms) per call. advance(dt) sets the period to dt / n and
 /// asks for (n - 1/2) periods, so exactly n run and the motion covers exactly dt.
-class SimulatedDiffDriveRobot::ExactStepSimulator : public mrpt::kinematics::CVehicleSimul_DiffDriven {
+class SimulatedDiffDriveRobot::ExactStepSimulator
+    : public mrpt::kinematics::CVehicleSimul_DiffDriven {
  public:
   void advance(double dt) {
     const int n = std::max(1, int(std::ceil(dt / 5e-4 - 1e-9)));
@@ -162,7 +167,8 @@ SimulatedDiffDriveRobot::SimulatedDiffDriveRobot(const RayScene& scene, const TR
                                                  const Eigen::Vector3d& start, std::uint64_t seed)
     : m_scene(scene),
       m_params(params),
-      m_raster(scene.world(), float(params.ground_clearance_m), float(params.height_m), float(params.collision_cell_m)),
+      m_raster(scene.world(), float(params.ground_clearance_m), float(params.height_m),
+               float(params.collision_cell_m)),
       m_footprint(params.footprintPolygon()),
       m_sim(std::make_unique<ExactStepSimulator>()),
       m_rng(seed) {
@@ -194,7 +200,8 @@ void SimulatedDiffDriveRobot::setVelocityCommand(double v, double w) {
 
 bool SimulatedDiffDriveRobot::collidesAt(const Eigen::Vector3d& p) const {
   if (m_params.footprint_radius_m > 0)
-    return m_raster.collidesDisc(Eigen::Vector2f(float(p.x()), float(p.y())), float(m_params.footprint_radius_m));
+    return m_raster.collidesDisc(Eigen::Vector2f(float(p.x()), float(p.y())),
+                                 float(m_params.footprint_radius_m));
   std::vector<Eigen::Vector2f> poly;
   const float c = float(std::cos(p.z())), s = float(std::sin(p.z()));
   for (const auto& v : m_footprint)
@@ -236,7 +243,9 @@ void SimulatedDiffDriveRobot::step(double dt) {
 
 double SimulatedDiffDriveRobot::time_s() const { return m_time_s; }
 
-Eigen::Vector3d SimulatedDiffDriveRobot::pose() const { return fromTPose(m_sim->getCurrentGTPose()); }
+Eigen::Vector3d SimulatedDiffDriveRobot::pose() const {
+  return fromTPose(m_sim->getCurrentGTPose());
+}
 
 Eigen::Vector2d SimulatedDiffDriveRobot::velocity() const {
   const mrpt::math::TTwist2D t = m_sim->getCurrentGTVelLocal();
@@ -258,7 +267,8 @@ std::vector<float> SimulatedDiffDriveRobot::scanRanges() const {
   const Eigen::Vector3f o(float(p.x()), float(p.y()), float(m_params.scan_height_m));
   for (int i = 0; i < n; ++i) {
     const double a = p.z() + 2.0 * M_PI * i / n;
-    const RayHit h = m_scene.castRay(o, Eigen::Vector3f(float(std::cos(a)), float(std::sin(a)), 0.f), 0.f, rmax);
+    const RayHit h =
+        m_scene.castRay(o, Eigen::Vector3f(float(std::cos(a)), float(std::sin(a)), 0.f), 0.f, rmax);
     if (h.hit) r[std::size_t(i)] = h.t;
   }
   return r;
@@ -276,7 +286,8 @@ void SimulatedDiffDriveRobot::senseObstacles(std::vector<Eigen::Vector3f>& pts) 
   }
 }
 
-std::vector<Eigen::Vector3f> obstaclePointsFromDepth(const RgbdFrame& f, const Eigen::Isometry3d& T_base_cam,
+std::vector<Eigen::Vector3f> obstaclePointsFromDepth(const RgbdFrame& f,
+                                                     const Eigen::Isometry3d& T_base_cam,
                                                      float z_min, float z_max, int stride) {
   std::vector<Eigen::Vector3f> pts;
   const PinholeF K = f.intrinsics.plain();

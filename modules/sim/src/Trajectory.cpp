@@ -17,7 +17,8 @@ namespace fs = std::filesystem;
 
 namespace rasm::sim {
 
-// ---- quaternion helpers (unit quaternions) -------------------------------------------------------
+// ---- quaternion helpers (unit quaternions)
+// -------------------------------------------------------
 
 namespace {
 
@@ -39,9 +40,11 @@ Eigen::Quaterniond quatExp(const Eigen::Vector3d& u) {
 
 // ---- handheld -----------------------------------------------------------------------------------
 
-HandheldTrajectory::HandheldTrajectory(std::vector<HandheldKeyframe> kf, const HandJitter& jitter, std::uint64_t seed)
+HandheldTrajectory::HandheldTrajectory(std::vector<HandheldKeyframe> kf, const HandJitter& jitter,
+                                       std::uint64_t seed)
     : m_kf(std::move(kf)), m_jitter(jitter) {
-  if (m_kf.size() < 2) throw std::invalid_argument("HandheldTrajectory: needs at least 2 keyframes");
+  if (m_kf.size() < 2)
+    throw std::invalid_argument("HandheldTrajectory: needs at least 2 keyframes");
   for (std::size_t i = 1; i < m_kf.size(); ++i)
     if (!(m_kf[i].t_s > m_kf[i - 1].t_s))
       throw std::invalid_argument("HandheldTrajectory: keyframe times must increase strictly");
@@ -69,7 +72,8 @@ HandheldTrajectory::HandheldTrajectory(std::vector<HandheldKeyframe> kf, const H
     const double target = axis < 3 ? jitter.translation_m : jitter.rotation_deg * M_PI / 180.0;
     double sum_sq = 0;
     for (int k = 0; k < 3; ++k) {
-      Wave w{jitter.frequency_hz * (0.5 + uniform()), 2.0 * M_PI * uniform(), 0.5 + 0.5 * uniform()};
+      Wave w{jitter.frequency_hz * (0.5 + uniform()), 2.0 * M_PI * uniform(),
+             0.5 + 0.5 * uniform()};
       sum_sq += 0.5 * w.amp * w.amp;
       m_waves[axis].push_back(w);
     }
@@ -93,7 +97,8 @@ Eigen::Isometry3d HandheldTrajectory::smoothPose(double t) const {
   const double h2 = h * h, h3 = h2 * h;
   const Eigen::Vector3d p = (2 * h3 - 3 * h2 + 1) * m_kf[i].T_world_cam.translation() +
                             (h3 - 2 * h2 + h) * dt * tangent(i) +
-                            (-2 * h3 + 3 * h2) * m_kf[i + 1].T_world_cam.translation() + (h3 - h2) * dt * tangent(i + 1);
+                            (-2 * h3 + 3 * h2) * m_kf[i + 1].T_world_cam.translation() +
+                            (h3 - h2) * dt * tangent(i + 1);
   // Orientation: cubic Bezier on SO(3) evaluated by De Casteljau with slerp (Shoemake 1985).
   // Inner control points b1 = q_i exp(dt w_i / 3), b2 = q_i+1 exp(-dt w_i+1 / 3) make the
   // angular velocity at each keyframe w_i from both sides: C1 in time, not just in h.
@@ -114,7 +119,8 @@ Eigen::Isometry3d HandheldTrajectory::pose(double t) const {
   double v[6];
   for (int axis = 0; axis < 6; ++axis) {
     v[axis] = 0;
-    for (const Wave& w : m_waves[axis]) v[axis] += w.amp * std::sin(2.0 * M_PI * w.freq_hz * t + w.phase);
+    for (const Wave& w : m_waves[axis])
+      v[axis] += w.amp * std::sin(2.0 * M_PI * w.freq_hz * t + w.phase);
   }
   Eigen::Isometry3d J = Eigen::Isometry3d::Identity();  // jitter in the camera frame
   J.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
@@ -125,12 +131,14 @@ Eigen::Isometry3d HandheldTrajectory::pose(double t) const {
 
 // ---- pure pursuit -------------------------------------------------------------------------------
 
-PurePursuit::PurePursuit(std::vector<Eigen::Vector2d> path, const PurePursuitParams& p, bool loop, int laps)
+PurePursuit::PurePursuit(std::vector<Eigen::Vector2d> path, const PurePursuitParams& p, bool loop,
+                         int laps)
     : m_path(std::move(path)), m_p(p), m_loop(loop) {
   if (m_path.size() < 2) throw std::invalid_argument("PurePursuit: path needs at least 2 points");
   if (m_loop) m_path.push_back(m_path.front());
   m_cum.push_back(0.0);
-  for (std::size_t i = 1; i < m_path.size(); ++i) m_cum.push_back(m_cum.back() + (m_path[i] - m_path[i - 1]).norm());
+  for (std::size_t i = 1; i < m_path.size(); ++i)
+    m_cum.push_back(m_cum.back() + (m_path[i] - m_path[i - 1]).norm());
   m_lap = m_cum.back();
   if (!(m_lap > 0)) throw std::invalid_argument("PurePursuit: path has zero length");
   m_total = m_loop ? m_lap * std::max(1, laps) : m_lap;
@@ -139,7 +147,8 @@ PurePursuit::PurePursuit(std::vector<Eigen::Vector2d> path, const PurePursuitPar
 Eigen::Vector2d PurePursuit::pointAt(double s) const {
   s = std::clamp(s, 0.0, m_total);
   if (m_loop && s < m_total) s = std::fmod(s, m_lap);
-  const std::size_t k = std::size_t(std::upper_bound(m_cum.begin(), m_cum.end(), s) - m_cum.begin());
+  const std::size_t k =
+      std::size_t(std::upper_bound(m_cum.begin(), m_cum.end(), s) - m_cum.begin());
   if (k >= m_cum.size()) return m_path.back();
   const std::size_t i = k - 1;
   const double seg = m_cum[i + 1] - m_cum[i];
@@ -154,7 +163,8 @@ Eigen::Vector2d PurePursuit::command(const Eigen::Vector3d& pose) {
   // path that passes near itself is followed in order).
   const double step = 0.01;
   double best_s = m_progress, best_d = (pointAt(m_progress) - xy).squaredNorm();
-  for (double s = m_progress; s <= std::min(m_total, m_progress + 2.0 * m_p.lookahead_m); s += step) {
+  for (double s = m_progress; s <= std::min(m_total, m_progress + 2.0 * m_p.lookahead_m);
+       s += step) {
     const double d = (pointAt(s) - xy).squaredNorm();
     if (d < best_d) {
       best_d = d;
@@ -176,7 +186,8 @@ Eigen::Vector2d PurePursuit::command(const Eigen::Vector3d& pose) {
   const double alpha = std::atan2(local.y(), local.x());
   const double wmax = m_p.max_w_degps * M_PI / 180.0;
   if (L < 1e-6) return Eigen::Vector2d::Zero();
-  if (std::abs(alpha) > m_p.rotate_in_place_deg * M_PI / 180.0) return {0.0, alpha > 0 ? wmax : -wmax};
+  if (std::abs(alpha) > m_p.rotate_in_place_deg * M_PI / 180.0)
+    return {0.0, alpha > 0 ? wmax : -wmax};
   const double kappa = 2.0 * std::sin(alpha) / L;
   const double remaining = (m_total - m_progress) + to_goal;
   double v = std::min(m_p.max_v_mps, std::max(0.05, m_p.slowdown_gain * remaining));
@@ -188,7 +199,8 @@ Eigen::Vector2d PurePursuit::command(const Eigen::Vector3d& pose) {
   return {v, w};
 }
 
-// ---- spec loading ---------------------------------------------------------------------------------
+// ---- spec loading
+// ---------------------------------------------------------------------------------
 
 namespace {
 
@@ -229,9 +241,10 @@ HandheldKeyframe parseKeyframe(const YNode& k) {
     }
   } else {
     if (!k.has("yaw_deg")) k.fail("missing key 'look_at' or 'yaw_deg'");
-    kf.T_world_cam = cameraPoseFromHeading(eye, k["yaw_deg"].asDouble(),
-                                           k.has("pitch_deg") ? k["pitch_deg"].asDouble(-89.9, 89.9) : 0.0,
-                                           k.has("roll_deg") ? k["roll_deg"].asDouble(-180, 180) : 0.0);
+    kf.T_world_cam =
+        cameraPoseFromHeading(eye, k["yaw_deg"].asDouble(),
+                              k.has("pitch_deg") ? k["pitch_deg"].asDouble(-89.9, 89.9) : 0.0,
+                              k.has("roll_deg") ? k["roll_deg"].asDouble(-180, 180) : 0.0);
   }
   return kf;
 }
@@ -247,11 +260,13 @@ TrajectorySpec loadTrajectorySpecFromString(const std::string& text, const std::
   const std::string type = doc["type"].asString();
   if (type == "handheld") {
     spec.kind = TrajectorySpec::Kind::Handheld;
-    doc.allowKeys({"type", "description", "rate_hz", "duration_s", "keyframes", "jitter", "sensor"});
+    doc.allowKeys(
+        {"type", "description", "rate_hz", "duration_s", "keyframes", "jitter", "sensor"});
   } else if (type == "robot") {
     spec.kind = TrajectorySpec::Kind::Robot;
-    doc.allowKeys({"type", "description", "rate_hz", "duration_s", "max_duration_s", "start", "waypoints", "loop",
-                   "laps", "controller", "control_substeps", "robot", "sensor"});
+    doc.allowKeys({"type", "description", "rate_hz", "duration_s", "max_duration_s", "start",
+                   "waypoints", "loop", "laps", "controller", "control_substeps", "robot",
+                   "sensor"});
   } else {
     doc["type"].fail("unknown trajectory type '" + type + "'; expected handheld or robot");
   }
@@ -269,14 +284,16 @@ TrajectorySpec loadTrajectorySpecFromString(const std::string& text, const std::
       with_t += spec.keyframes.back().t_s >= 0 ? 1 : 0;
     }
     if (with_t == 0) {
-      if (!spec.duration_s) list.fail("keyframes without 't' need 'duration_s' to spread them over");
+      if (!spec.duration_s)
+        list.fail("keyframes without 't' need 'duration_s' to spread them over");
       for (std::size_t i = 0; i < spec.keyframes.size(); ++i)
         spec.keyframes[i].t_s = *spec.duration_s * double(i) / double(spec.keyframes.size() - 1);
     } else if (with_t != int(items.size())) {
       list.fail("give 't' for every keyframe or for none");
     }
     for (std::size_t i = 1; i < spec.keyframes.size(); ++i)
-      if (!(spec.keyframes[i].t_s > spec.keyframes[i - 1].t_s)) items[i]["t"].fail("keyframe times must increase");
+      if (!(spec.keyframes[i].t_s > spec.keyframes[i - 1].t_s))
+        items[i]["t"].fail("keyframe times must increase");
     if (auto j = doc.optional("jitter")) {
       j->allowKeys({"translation_m", "rotation_deg", "frequency_hz"});
       if (auto v = j->optional("translation_m")) spec.jitter.translation_m = v->asDouble(0, 1);
@@ -286,8 +303,9 @@ TrajectorySpec loadTrajectorySpecFromString(const std::string& text, const std::
   } else {
     const YNode start = doc["start"];
     start.allowKeys({"x", "y", "yaw_deg"});
-    spec.start_pose = Eigen::Vector3d(start["x"].asDouble(), start["y"].asDouble(),
-                                      start.has("yaw_deg") ? start["yaw_deg"].asDouble() * M_PI / 180.0 : 0.0);
+    spec.start_pose =
+        Eigen::Vector3d(start["x"].asDouble(), start["y"].asDouble(),
+                        start.has("yaw_deg") ? start["yaw_deg"].asDouble() * M_PI / 180.0 : 0.0);
     const YNode wps = doc["waypoints"];
     for (const YNode& w : wps.items()) spec.waypoints.push_back(w.asVector(2));
     if (spec.waypoints.empty()) wps.fail("expected at least one waypoint [x, y]");
@@ -296,8 +314,8 @@ TrajectorySpec loadTrajectorySpecFromString(const std::string& text, const std::
     if (auto m = doc.optional("max_duration_s")) spec.max_duration_s = m->asDouble(1e-3, 1e6);
     if (auto c = doc.optional("control_substeps")) spec.control_substeps = int(c->asInt(1, 100));
     if (auto c = doc.optional("controller")) {
-      c->allowKeys({"lookahead_m", "max_v_mps", "max_w_degps", "rotate_in_place_deg", "goal_tolerance_m",
-                    "slowdown_gain"});
+      c->allowKeys({"lookahead_m", "max_v_mps", "max_w_degps", "rotate_in_place_deg",
+                    "goal_tolerance_m", "slowdown_gain"});
       auto& p = spec.controller;
       if (auto v = c->optional("lookahead_m")) p.lookahead_m = v->asDouble(0.01, 100);
       if (auto v = c->optional("max_v_mps")) p.max_v_mps = v->asDouble(0.01, 20);
@@ -314,11 +332,14 @@ TrajectorySpec loadTrajectorySpecFromString(const std::string& text, const std::
 TrajectorySpec loadTrajectorySpec(const std::string& name) {
   std::string path = name;
   const fs::path shipped = fs::path(simDataDir()) / "trajectories" / (name + ".yaml");
-  if (name.find('/') == std::string::npos && !fs::is_regular_file(name) && fs::is_regular_file(shipped))
+  if (name.find('/') == std::string::npos && !fs::is_regular_file(name) &&
+      fs::is_regular_file(shipped))
     path = shipped.string();
   std::ifstream f(path);
-  if (!f) throwInputError("trajectory spec '" + name + "'", "no such file (nor a shipped spec in " +
-                                                             (fs::path(simDataDir()) / "trajectories").string() + ")");
+  if (!f)
+    throwInputError("trajectory spec '" + name + "'",
+                    "no such file (nor a shipped spec in " +
+                        (fs::path(simDataDir()) / "trajectories").string() + ")");
   std::stringstream ss;
   ss << f.rdbuf();
   return loadTrajectorySpecFromString(ss.str(), path);

@@ -68,7 +68,8 @@ std::string resolveWorldPath(const std::string& name) {
   if (fs::is_regular_file(name)) return name;
   std::string list;
   for (const auto& w : shippedWorlds()) list += (list.empty() ? "" : ", ") + w;
-  throwInputError("world '" + name + "'", "no such file and not a shipped world (shipped: " + list + ")");
+  throwInputError("world '" + name + "'",
+                  "no such file and not a shipped world (shipped: " + list + ")");
 }
 
 namespace {
@@ -82,11 +83,13 @@ Eigen::Vector3f parseColour(const YNode& n) {
       char* end = nullptr;
       const long v = std::strtol(s.c_str() + 1, &end, 16);
       if (end && *end == 0)
-        return Eigen::Vector3f(float((v >> 16) & 255), float((v >> 8) & 255), float(v & 255)) / 255.f;
+        return Eigen::Vector3f(float((v >> 16) & 255), float((v >> 8) & 255), float(v & 255)) /
+               255.f;
     }
     n.fail("expected a colour [r, g, b] (0-255) or \"#rrggbb\", got '" + s + "'");
   }
-  if (!n.isSequence() || n.size() != 3) n.fail("expected a colour [r, g, b] (0-255) or \"#rrggbb\"");
+  if (!n.isSequence() || n.size() != 3)
+    n.fail("expected a colour [r, g, b] (0-255) or \"#rrggbb\"");
   Eigen::Vector3f c;
   for (int i = 0; i < 3; ++i) c[i] = float(n.at(std::size_t(i)).asDouble(0, 255) / 255.0);
   return c;
@@ -114,19 +117,29 @@ Material parseMaterial(const YNode& obj) {
   if (auto t = obj.optional("texture")) {
     t->allowKeys({"pattern", "colour2", "period_m", "axis"});
     const std::string p = (*t)["pattern"].asString();
-    if (p == "solid") m.pattern = Pattern::Solid;
-    else if (p == "checker") m.pattern = Pattern::Checker;
-    else if (p == "stripes") m.pattern = Pattern::Stripes;
-    else if (p == "noise") m.pattern = Pattern::Noise;
-    else (*t)["pattern"].fail("unknown pattern '" + p + "'; expected solid, checker, stripes or noise");
+    if (p == "solid")
+      m.pattern = Pattern::Solid;
+    else if (p == "checker")
+      m.pattern = Pattern::Checker;
+    else if (p == "stripes")
+      m.pattern = Pattern::Stripes;
+    else if (p == "noise")
+      m.pattern = Pattern::Noise;
+    else
+      (*t)["pattern"].fail("unknown pattern '" + p +
+                           "'; expected solid, checker, stripes or noise");
     if (auto c2 = t->optional("colour2")) m.colour2_rgb = parseColour(*c2);
     if (auto per = t->optional("period_m")) m.period_m = float(per->asDouble(1e-3, 100.0));
     if (auto ax = t->optional("axis")) {
       const std::string a = ax->asString();
-      if (a == "x") m.stripe_axis = 0;
-      else if (a == "y") m.stripe_axis = 1;
-      else if (a == "z") m.stripe_axis = 2;
-      else ax->fail("expected x, y or z");
+      if (a == "x")
+        m.stripe_axis = 0;
+      else if (a == "y")
+        m.stripe_axis = 1;
+      else if (a == "z")
+        m.stripe_axis = 2;
+      else
+        ax->fail("expected x, y or z");
     }
   }
   return m;
@@ -139,7 +152,8 @@ struct Loader {
   std::string resolveMesh(const YNode& n) {
     const std::string f = n.asString();
     std::vector<fs::path> tried;
-    if (fs::path(f).is_absolute()) tried.emplace_back(f);
+    if (fs::path(f).is_absolute())
+      tried.emplace_back(f);
     else {
       if (!base_dir.empty()) tried.push_back(fs::path(base_dir) / f);
       tried.push_back(fs::path(simDataDir()) / "models" / f);
@@ -162,7 +176,9 @@ struct Loader {
       const YNode c = o["class"];
       const std::string cname = c.isNull() ? std::string("none") : c.asString();
       const int id = classIdFromName(cname);
-      if (id < 0) c.fail("unknown class '" + cname + "' (use a COCO name, a project class or none; see docs/sim.md)");
+      if (id < 0)
+        c.fail("unknown class '" + cname +
+               "' (use a COCO name, a project class or none; see docs/sim.md)");
       w.class_id = std::uint16_t(id);
     }
     const bool has_mesh = o.has("mesh"), has_prim = o.has("primitive");
@@ -182,20 +198,25 @@ struct Loader {
       if (w.mesh_source == "box") {
         w.mesh = makeBox(parsePositiveVec3(o["size"]).cast<float>());
       } else if (w.mesh_source == "cylinder") {
-        w.mesh = makeCylinder(float(o["radius"].asDouble(1e-4, 1e3)), float(o["height"].asDouble(1e-4, 1e3)));
+        w.mesh = makeCylinder(float(o["radius"].asDouble(1e-4, 1e3)),
+                              float(o["height"].asDouble(1e-4, 1e3)));
       } else if (w.mesh_source == "sphere") {
         w.mesh = makeSphere(float(o["radius"].asDouble(1e-4, 1e3)));
       } else {
         p.fail("unknown primitive '" + w.mesh_source + "'; expected box, cylinder or sphere");
       }
       const bool box = w.mesh_source == "box";
-      if (box && (o.has("radius") || o.has("height"))) o.fail("a box takes 'size', not radius/height");
+      if (box && (o.has("radius") || o.has("height")))
+        o.fail("a box takes 'size', not radius/height");
       if (!box && o.has("size")) o["size"].fail("only boxes take 'size'");
-      if (w.mesh_source == "sphere" && o.has("height")) o["height"].fail("a sphere takes only 'radius'");
+      if (w.mesh_source == "sphere" && o.has("height"))
+        o["height"].fail("a sphere takes only 'radius'");
     }
     if (auto s = o.optional("scale")) {
-      if (s->raw().IsScalar()) w.scale.setConstant(float(s->asDouble(1e-4, 1e4)));
-      else w.scale = parsePositiveVec3(*s).cast<float>();
+      if (s->raw().IsScalar())
+        w.scale.setConstant(float(s->asDouble(1e-4, 1e4)));
+      else
+        w.scale = parsePositiveVec3(*s).cast<float>();
     }
     w.T_world_object.setIdentity();
     w.T_world_object.translation() = o["position"].asVec3();
@@ -219,7 +240,8 @@ struct Loader {
 
 }  // namespace
 
-World loadWorldFromString(const std::string& text, const std::string& source, const std::string& base_dir) {
+World loadWorldFromString(const std::string& text, const std::string& source,
+                          const std::string& base_dir) {
   const YNode doc = YNode::parse(text, source);
   if (doc.isNull()) doc.fail("empty world file");
   doc.allowKeys({"world", "description", "light", "background", "static", "objects"});
@@ -247,11 +269,14 @@ World loadWorldFromString(const std::string& text, const std::string& source, co
     for (const YNode& o : list->items()) {
       WorldObject obj = loader.parseObject(o, std::string(section) == "static");
       const auto [it, fresh] = seen.emplace(obj.instance_id, o.path());
-      if (!fresh) o["id"].fail("instance id " + std::to_string(obj.instance_id) + " already used by " + it->second);
+      if (!fresh)
+        o["id"].fail("instance id " + std::to_string(obj.instance_id) + " already used by " +
+                     it->second);
       w.objects.push_back(std::move(obj));
     }
   }
-  if (w.objects.empty()) doc.fail("the world has no geometry: expected 'static' and/or 'objects' lists");
+  if (w.objects.empty())
+    doc.fail("the world has no geometry: expected 'static' and/or 'objects' lists");
   return w;
 }
 

@@ -24,7 +24,8 @@ class YNode {
     try {
       return YNode(YAML::Load(text), source, "");
     } catch (const YAML::Exception& e) {
-      throwInputError(source + ":" + std::to_string(e.mark.line + 1), "YAML syntax error: " + e.msg);
+      throwInputError(source + ":" + std::to_string(e.mark.line + 1),
+                      "YAML syntax error: " + e.msg);
     }
   }
 
@@ -92,7 +93,8 @@ class YNode {
   double asDouble(double lo, double hi) const {
     const double v = asDouble();
     if (!(v >= lo && v <= hi))
-      fail("value " + node_.Scalar() + " out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      fail("value " + node_.Scalar() + " out of range [" + std::to_string(lo) + ", " +
+           std::to_string(hi) + "]");
     return v;
   }
   long long asInt(long long lo, long long hi) const {
@@ -104,7 +106,8 @@ class YNode {
       fail("expected an integer, got '" + node_.Scalar() + "'");
     }
     if (v < lo || v > hi)
-      fail("value " + std::to_string(v) + " out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      fail("value " + std::to_string(v) + " out of range [" + std::to_string(lo) + ", " +
+           std::to_string(hi) + "]");
     return v;
   }
   bool asBool() const {

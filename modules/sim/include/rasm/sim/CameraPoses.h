@@ -7,8 +7,8 @@ namespace rasm::sim {
 
 /// Camera at `eye` heading `yaw_deg` (about world z, 0 = +x), `pitch_deg` (positive = looking
 /// up) and `roll_deg` (about the viewing direction, positive = clockwise as seen by the camera).
-Eigen::Isometry3d cameraPoseFromHeading(const Eigen::Vector3d& eye, double yaw_deg, double pitch_deg,
-                                        double roll_deg = 0.0);
+Eigen::Isometry3d cameraPoseFromHeading(const Eigen::Vector3d& eye, double yaw_deg,
+                                        double pitch_deg, double roll_deg = 0.0);
 
 /// Camera at `eye` looking at `target`, image up towards world +z (no roll). Throws
 /// std::invalid_argument when target == eye or the view is exactly vertical.

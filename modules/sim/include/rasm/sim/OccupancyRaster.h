@@ -33,7 +33,9 @@ class OccupancyRaster {
   std::size_t occupiedCount() const;
 
  private:
-  bool cell(int ix, int iy) const { return ix >= 0 && iy >= 0 && ix < m_w && iy < m_h && m_occ[std::size_t(iy) * m_w + ix]; }
+  bool cell(int ix, int iy) const {
+    return ix >= 0 && iy >= 0 && ix < m_w && iy < m_h && m_occ[std::size_t(iy) * m_w + ix];
+  }
   void mark(int ix, int iy) {
     if (ix >= 0 && iy >= 0 && ix < m_w && iy < m_h) m_occ[std::size_t(iy) * m_w + ix] = 1;
   }

@@ -13,10 +13,10 @@ namespace rasm::sim {
 
 struct RayHit {
   bool hit = false;
-  float t = 0.f;            ///< ray parameter: hit point = origin + t * dir (dir not normalized)
+  float t = 0.f;  ///< ray parameter: hit point = origin + t * dir (dir not normalized)
   Eigen::Vector3f point = Eigen::Vector3f::Zero();
   Eigen::Vector3f normal = Eigen::Vector3f::Zero();  ///< unit geometric normal, facing the ray
-  int object = -1;          ///< index into World::objects
+  int object = -1;                                   ///< index into World::objects
 };
 
 class RayScene {
@@ -38,7 +38,8 @@ class RayScene {
                 float t_max = std::numeric_limits<float>::infinity()) const;
   /// Closest hit on object `object_index` alone, as if nothing else existed.
   RayHit castRayAlone(int object_index, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir,
-                      float t_min = 0.f, float t_max = std::numeric_limits<float>::infinity()) const;
+                      float t_min = 0.f,
+                      float t_max = std::numeric_limits<float>::infinity()) const;
   /// World-space bounds of one object.
   const Eigen::AlignedBox3f& objectBounds(int object_index) const;
 

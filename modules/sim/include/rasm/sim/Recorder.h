@@ -47,7 +47,8 @@ RecordResult recordSequence(const RecordOptions& opt);
 
 /// Records from an already loaded world and spec (tests). `on_frame`, when set, sees every
 /// rendered frame before it is written.
-RecordResult recordSequence(const World& world, const TrajectorySpec& spec, const RecordOptions& opt,
+RecordResult recordSequence(const World& world, const TrajectorySpec& spec,
+                            const RecordOptions& opt,
                             const std::function<void(const RgbdFrame&)>& on_frame = {});
 
 /// Whether this build can write rawlogs (the io module was available).

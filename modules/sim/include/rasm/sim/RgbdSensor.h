@@ -60,8 +60,10 @@ struct TSensorParams : public mrpt::config::CLoadableOptions {
   /// The depth model the kernels run with these settings.
   DepthModelParams depthModel() const;
 
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                        const std::string& section) const override;
   /// Throws InputError naming [section] key for out-of-range values.
   void validate(const std::string& section = "sim_sensor") const;
 };
@@ -77,7 +79,8 @@ class RgbdSensor {
   /// frame_index). `out` keeps its buffers between calls (no reallocation at steady state).
   void render(const Eigen::Isometry3d& T_world_cam, std::uint64_t seed, std::size_t frame_index,
               RgbdFrame& out) const;
-  RgbdFrame render(const Eigen::Isometry3d& T_world_cam, std::uint64_t seed = 0, std::size_t frame_index = 0) const;
+  RgbdFrame render(const Eigen::Isometry3d& T_world_cam, std::uint64_t seed = 0,
+                   std::size_t frame_index = 0) const;
 
   /// The key of the per-pixel counter RNG for a frame: first outputs of a std::mt19937 seeded
   /// with (seed, frame_index).

@@ -27,13 +27,13 @@
 namespace rasm::sim {
 
 struct Detection {
-  cv::Rect2f box;           ///< pixels (x, y, width, height), inside the image
-  int class_id = 0;         ///< SimClasses id (COCO k -> k + 1)
+  cv::Rect2f box;    ///< pixels (x, y, width, height), inside the image
+  int class_id = 0;  ///< SimClasses id (COCO k -> k + 1)
   std::string class_name;
-  float score = 0.f;        ///< [0, 1]
+  float score = 0.f;  ///< [0, 1]
   // Simulation bookkeeping (what a real detector cannot know), for evaluation:
-  int gt_instance = 0;      ///< the object it came from; 0 for a false positive
-  bool confused = false;    ///< class differs from the object's
+  int gt_instance = 0;    ///< the object it came from; 0 for a false positive
+  bool confused = false;  ///< class differs from the object's
   float visible_fraction = 1.f;
 };
 
@@ -58,8 +58,10 @@ struct TDetectorParams : public mrpt::config::CLoadableOptions {
   /// Parsed detectable_classes (class ids); throws InputError for unknown names.
   std::vector<int> detectableClassIds() const;
 
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                        const std::string& section) const override;
   void validate(const std::string& section = "sim_detector") const;
 };
 

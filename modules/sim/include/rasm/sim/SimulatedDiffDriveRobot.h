@@ -40,9 +40,9 @@ struct TRobotParams : public mrpt::config::CLoadableOptions {
   double max_substep_s = 0.01;
   // Odometry noise as random walks: std of the accumulated error after 1 m / 1 rad of motion.
   bool odometry_noise = true;
-  double odo_sigma_xy_per_sqrt_m = 0.01;       ///< m per sqrt(m travelled)
-  double odo_sigma_yaw_per_sqrt_rad = 0.02;    ///< rad per sqrt(rad turned)
-  double odo_sigma_yaw_per_sqrt_m = 0.005;     ///< rad per sqrt(m travelled)
+  double odo_sigma_xy_per_sqrt_m = 0.01;     ///< m per sqrt(m travelled)
+  double odo_sigma_yaw_per_sqrt_rad = 0.02;  ///< rad per sqrt(rad turned)
+  double odo_sigma_yaw_per_sqrt_m = 0.005;   ///< rad per sqrt(m travelled)
   // Planar obstacle scan (for the reactive navigator).
   double scan_height_m = 0.3;
   int scan_rays = 360;
@@ -53,8 +53,10 @@ struct TRobotParams : public mrpt::config::CLoadableOptions {
   /// T_base_cam (optical camera frame in the base frame).
   Eigen::Isometry3d T_base_cam() const;
 
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                        const std::string& section) const override;
   void validate(const std::string& section = "sim_robot") const;
 };
 
@@ -62,8 +64,8 @@ class SimulatedDiffDriveRobot : public IRobot {
  public:
   /// The robot starts at `start_pose` (x, y, yaw); `seed` drives the odometry noise. Throws
   /// InputError when the start pose collides with the world.
-  SimulatedDiffDriveRobot(const RayScene& scene, const TRobotParams& params, const Eigen::Vector3d& start_pose,
-                          std::uint64_t seed = 0);
+  SimulatedDiffDriveRobot(const RayScene& scene, const TRobotParams& params,
+                          const Eigen::Vector3d& start_pose, std::uint64_t seed = 0);
   ~SimulatedDiffDriveRobot() override;
 
   void setVelocityCommand(double v_mps, double w_radps) override;
@@ -103,7 +105,8 @@ class SimulatedDiffDriveRobot : public IRobot {
 
 /// Obstacle points in the robot frame from a depth image: valid pixels back-projected (every
 /// `stride`-th in x and y), moved by T_base_cam and kept when z_min_m <= z <= z_max_m.
-std::vector<Eigen::Vector3f> obstaclePointsFromDepth(const RgbdFrame& frame, const Eigen::Isometry3d& T_base_cam,
+std::vector<Eigen::Vector3f> obstaclePointsFromDepth(const RgbdFrame& frame,
+                                                     const Eigen::Isometry3d& T_base_cam,
                                                      float z_min_m, float z_max_m, int stride = 4);
 
 }  // namespace rasm::sim

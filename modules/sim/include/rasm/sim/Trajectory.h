@@ -31,7 +31,8 @@ struct HandJitter {
 class HandheldTrajectory {
  public:
   /// Needs >= 2 keyframes with strictly increasing times.
-  HandheldTrajectory(std::vector<HandheldKeyframe> keyframes, const HandJitter& jitter, std::uint64_t seed);
+  HandheldTrajectory(std::vector<HandheldKeyframe> keyframes, const HandJitter& jitter,
+                     std::uint64_t seed);
 
   /// Pose at time t (clamped to [first, last] keyframe time), jitter included.
   Eigen::Isometry3d pose(double t_s) const;
@@ -67,7 +68,8 @@ struct PurePursuitParams {
 class PurePursuit {
  public:
   /// `path` >= 2 points; with loop = true the path is closed and driven `laps` times.
-  PurePursuit(std::vector<Eigen::Vector2d> path, const PurePursuitParams& params, bool loop = false, int laps = 1);
+  PurePursuit(std::vector<Eigen::Vector2d> path, const PurePursuitParams& params, bool loop = false,
+              int laps = 1);
   /// Velocity command (v, w) for the robot at `pose` (x, y, yaw); (0, 0) once done().
   Eigen::Vector2d command(const Eigen::Vector3d& pose);
   bool done() const { return m_done; }

@@ -19,8 +19,9 @@ namespace rasm::sim {
 enum class Pattern { Solid, Checker, Stripes, Noise };
 
 struct Material {
-  Eigen::Vector3f colour_rgb{0.7f, 0.7f, 0.7f};   ///< linear 0..1
-  Eigen::Vector3f colour2_rgb{0.4f, 0.4f, 0.4f};  ///< second colour of the pattern
+  Eigen::Vector3f colour_rgb{0.7f, 0.7f, 0.7f};  ///< RGB, file value / 255
+  Eigen::Vector3f colour2_rgb{0.4f, 0.4f,
+                              0.4f};  ///< second colour of the pattern (default 0.6 x colour)
   Pattern pattern = Pattern::Solid;
   float period_m = 0.1f;  ///< checker cell / stripe period / noise feature size
   int stripe_axis = 0;    ///< 0 = x, 1 = y, 2 = z (object frame)
@@ -44,7 +45,8 @@ struct WorldObject {
 };
 
 struct Light {
-  Eigen::Vector3f direction_world{0.3f, 0.2f, -1.0f};  ///< direction light travels (normalized on load)
+  Eigen::Vector3f direction_world{0.3f, 0.2f,
+                                  -1.0f};  ///< direction light travels (normalized on load)
   float ambient = 0.35f;
   float diffuse = 0.65f;
 };
@@ -76,6 +78,7 @@ std::vector<std::string> shippedWorlds();
 /// then <simDataDir>/models. Throws InputError "<file>:<line>: <key path>: <problem>".
 World loadWorld(const std::string& name_or_path);
 /// Parses YAML text; `source` names it in errors, `base_dir` resolves relative mesh paths.
-World loadWorldFromString(const std::string& yaml, const std::string& source, const std::string& base_dir = {});
+World loadWorldFromString(const std::string& yaml, const std::string& source,
+                          const std::string& base_dir = {});
 
 }  // namespace rasm::sim

@@ -43,36 +43,46 @@ RASM_HD_INLINE float fastLog(float x) {
   std::memcpy(&m, &b, sizeof m);
   const float t = (m - 1.f) / (m + 1.f), t2 = t * t;
   return float(e) * 0.693147181f +
-         2.f * t * (1.f + t2 * (0.333333333f + t2 * (0.2f + t2 * (0.142857143f + t2 * 0.111111111f))));
+         2.f * t *
+             (1.f + t2 * (0.333333333f + t2 * (0.2f + t2 * (0.142857143f + t2 * 0.111111111f))));
 }
 
 /// sin and cos of 2 pi (u - 1/2) for u in [0, 1) (|error| < 1e-5): Taylor polynomials of the
 /// half angle h in [-pi/2, pi/2), then the double-angle formulas.
 RASM_HD_INLINE void fastSinCosTurn(float u, float& s, float& c) {
   const float h = 3.14159265f * (u - 0.5f), h2 = h * h;
-  const float sh = h * (1.f - h2 * (1.f / 6 - h2 * (1.f / 120 - h2 * (1.f / 5040 - h2 * (1.f / 362880)))));
-  const float ch = 1.f - h2 * (0.5f - h2 * (1.f / 24 - h2 * (1.f / 720 - h2 * (1.f / 40320 - h2 * (1.f / 3628800)))));
+  const float sh =
+      h * (1.f - h2 * (1.f / 6 - h2 * (1.f / 120 - h2 * (1.f / 5040 - h2 * (1.f / 362880)))));
+  const float ch =
+      1.f -
+      h2 * (0.5f - h2 * (1.f / 24 - h2 * (1.f / 720 - h2 * (1.f / 40320 - h2 * (1.f / 3628800)))));
   s = 2.f * sh * ch;
   c = ch * ch - sh * sh;
 }
 
 /// Uniform in (0, 1] from the top 24 bits (never 0, so log() is safe).
-RASM_HD_INLINE float uniformOpen0(std::uint32_t bits) { return float((bits >> 8) + 1u) * (1.0f / 16777216.0f); }
+RASM_HD_INLINE float uniformOpen0(std::uint32_t bits) {
+  return float((bits >> 8) + 1u) * (1.0f / 16777216.0f);
+}
 /// Uniform in [0, 1) from the top 24 bits.
-RASM_HD_INLINE float uniform01(std::uint32_t bits) { return float(bits >> 8) * (1.0f / 16777216.0f); }
+RASM_HD_INLINE float uniform01(std::uint32_t bits) {
+  return float(bits >> 8) * (1.0f / 16777216.0f);
+}
 
 struct CounterRng {
   std::uint64_t key = 0;
 
   /// 32 random bits for (counter, stream): a double hash keyed by both halves of the key.
   RASM_HD_INLINE std::uint32_t bits(std::uint32_t counter, std::uint32_t stream) const {
-    return hash32(std::uint32_t(key) ^ hash32(counter * 0x9E3779B9u + stream * 0x632BE5ABu + std::uint32_t(key >> 32)));
+    return hash32(std::uint32_t(key) ^
+                  hash32(counter * 0x9E3779B9u + stream * 0x632BE5ABu + std::uint32_t(key >> 32)));
   }
   RASM_HD_INLINE float uniform(std::uint32_t counter, std::uint32_t stream) const {
     return uniformOpen0(bits(counter, stream));
   }
   /// Two independent standard normal variates (Box-Muller; tails reach 5.8 sigma).
-  RASM_HD_INLINE void gaussian2(std::uint32_t counter, std::uint32_t stream, float& g0, float& g1) const {
+  RASM_HD_INLINE void gaussian2(std::uint32_t counter, std::uint32_t stream, float& g0,
+                                float& g1) const {
     const float r = std::sqrt(-2.f * fastLog(uniformOpen0(bits(counter, 2 * stream))));
     float s, c;
     fastSinCosTurn(uniform01(bits(counter, 2 * stream + 1)), s, c);

@@ -1,7 +1,8 @@
 #pragma once
 // Structured-light (Kinect v1 class) depth sensor model, applied to exact ray-cast depth.
 //  - Axial noise (Nguyen, Izadi & Lovell 2012, eq. 3 with their fitted constants):
-//      sigma_z(z, theta) = 0.0012 + 0.0019 (z - 0.4)^2 + 0.0001 / sqrt(z) * theta^2 / (pi/2 - theta)^2
+//      sigma_z(z, theta) = 0.0012 + 0.0019 (z - 0.4)^2 + 0.0001 / sqrt(z) * theta^2 / (pi/2 -
+//      theta)^2
 //    z in metres, theta the angle between the surface normal and the viewing ray.
 //  - Lateral noise (same paper, eq. 2): sigma_L(theta) = 0.8 + 0.035 theta / (pi/2 - theta) pixels;
 //    the measurement at pixel u is the depth of the ray through u + N(0, sigma_L^2) (bilinear on
@@ -24,17 +25,18 @@ namespace rasm::sim {
 struct DepthModelParams {
   bool axial_noise = true;
   bool lateral_noise = true;
-  float sigma0_m = 0.0012f;      ///< Nguyen et al.: constant term
-  float sigma_quad = 0.0019f;    ///< Nguyen et al.: coefficient of (z - z0)^2 (1/m)
+  float sigma0_m = 0.0012f;    ///< Nguyen et al.: constant term
+  float sigma_quad = 0.0019f;  ///< Nguyen et al.: coefficient of (z - z0)^2 (1/m)
   float sigma_z0_m = 0.4f;
-  float sigma_angle = 0.0001f;   ///< Nguyen et al.: angle term coefficient (m^1.5)
-  float lateral_px = 0.8f;       ///< Nguyen et al.: sigma_L at theta = 0
-  float lateral_angle = 0.035f;  ///< Nguyen et al.: angle term of sigma_L (px)
+  float sigma_angle = 0.0001f;          ///< Nguyen et al.: angle term coefficient (m^1.5)
+  float lateral_px = 0.8f;              ///< Nguyen et al.: sigma_L at theta = 0
+  float lateral_angle = 0.035f;         ///< Nguyen et al.: angle term of sigma_L (px)
   float disparity_fb = 580.f * 0.075f;  ///< f * b (px m); depth = fb / disparity
   float disparity_subpixel = 8.f;       ///< quantization 1/subpixel px; 0 = no quantization
   float min_depth_m = 0.4f;
   float max_depth_m = 4.5f;
-  float max_incidence_rad = 80.f * 3.14159265f / 180.f;  ///< larger theta = missing; >= pi/2 disables
+  float max_incidence_rad =
+      80.f * 3.14159265f / 180.f;  ///< larger theta = missing; >= pi/2 disables
   /// Lateral resampling uses bilinear interpolation only when the 4 neighbours agree within this
   /// fraction of the depth (same surface); nearest neighbour otherwise.
   float smooth_rel_tol = 0.02f;
@@ -70,7 +72,8 @@ RASM_HD_INLINE float lateralSigmaPx(const DepthModelParams& p, float theta) {
 /// Depth after rounding the disparity f b / z to 1/subpixel px (identity when subpixel <= 0).
 RASM_HD_INLINE float quantizeDepth(const DepthModelParams& p, float z) {
   if (p.disparity_subpixel <= 0.f || z <= 0.f) return z;
-  const float d = std::floor(p.disparity_fb / z * p.disparity_subpixel + 0.5f) / p.disparity_subpixel;
+  const float d =
+      std::floor(p.disparity_fb / z * p.disparity_subpixel + 0.5f) / p.disparity_subpixel;
   return d > 0.f ? p.disparity_fb / d : 0.f;
 }
 
@@ -86,8 +89,8 @@ RASM_HD_INLINE float quantizationStep(const DepthModelParams& p, float z) {
 /// (right to left for offset > 0), a pixel whose u_p is not below the running minimum of the u_p
 /// already passed is hidden from it. Run per row.
 struct ProjectorShadowRows {
-  ImageView<const float> z_exact;  ///< 0 = no surface
-  ImageView<std::uint8_t> shadow;  ///< out: 1 = not lit by the projector
+  ImageView<const float> z_exact;    ///< 0 = no surface
+  ImageView<std::uint8_t> shadow;    ///< out: 1 = not lit by the projector
   float fx_offset = 580.f * 0.075f;  ///< fx * offset_m (px m), signed
 
   RASM_HD void operator()(int y) const {
@@ -116,7 +119,8 @@ struct ProjectorShadowRows {
 
 /// The three independent standard normal variates of pixel `pix` (lateral du, dv and axial):
 /// counter = pixel index, so they do not depend on the order pixels are processed in.
-RASM_HD_INLINE void pixelNormals(const CounterRng& rng, std::uint32_t pix, float& du, float& dv, float& dz) {
+RASM_HD_INLINE void pixelNormals(const CounterRng& rng, std::uint32_t pix, float& du, float& dv,
+                                 float& dz) {
   float unused;
   rng.gaussian2(pix, 0, du, dv);
   rng.gaussian2(pix, 1, dz, unused);
@@ -126,7 +130,7 @@ RASM_HD_INLINE void pixelNormals(const CounterRng& rng, std::uint32_t pix, float
 /// operator()(x, y) is the per-pixel kernel (any backend); operator()(y) runs a row on the CPU,
 /// drawing the row's normal variates first in chunks (a branch-free loop the compiler vectorizes).
 struct DepthMeasurementKernel {
-  ImageView<const float> z_exact;    ///< exact z (m), 0 = no surface
+  ImageView<const float> z_exact;        ///< exact z (m), 0 = no surface
   ImageView<const float> cos_incidence;  ///< cos theta, theta between normal and viewing ray
   ImageView<const std::uint8_t> shadow;  ///< may be empty (no shadows)
   ImageView<float> depth_out;
@@ -156,7 +160,8 @@ struct DepthMeasurementKernel {
   RASM_HD void operator()(int x, int y) const {
     float du = 0.f, dv = 0.f, dz = 0.f;
     if (p.lateral_noise || p.axial_noise)
-      pixelNormals(rng, std::uint32_t(y) * std::uint32_t(z_exact.width) + std::uint32_t(x), du, dv, dz);
+      pixelNormals(rng, std::uint32_t(y) * std::uint32_t(z_exact.width) + std::uint32_t(x), du, dv,
+                   dz);
     measure(x, y, du, dv, dz);
   }
 
@@ -170,7 +175,8 @@ struct DepthMeasurementKernel {
       const std::uint32_t base = std::uint32_t(y) * std::uint32_t(w) + std::uint32_t(x0);
       if (noisy)
         for (int i = 0; i < n; ++i) pixelNormals(rng, base + std::uint32_t(i), du[i], dv[i], dz[i]);
-      for (int i = 0; i < n; ++i) measure(x0 + i, y, noisy ? du[i] : 0.f, noisy ? dv[i] : 0.f, noisy ? dz[i] : 0.f);
+      for (int i = 0; i < n; ++i)
+        measure(x0 + i, y, noisy ? du[i] : 0.f, noisy ? dv[i] : 0.f, noisy ? dz[i] : 0.f);
     }
   }
 

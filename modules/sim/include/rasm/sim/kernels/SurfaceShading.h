@@ -19,7 +19,7 @@ struct SurfaceMaterial {
   int pattern = 0;                  ///< 0 solid, 1 checker, 2 stripes, 3 noise (World.h Pattern)
   float inv_period = 10.f;          ///< 1 / period_m
   int stripe_axis = 0;
-  RigidF T_object_world;            ///< world -> object frame (rigid; pattern period in metres)
+  RigidF T_object_world;  ///< world -> object frame (rigid; pattern period in metres)
   std::uint16_t instance_id = 0;
   std::uint16_t class_id = 0;
 };
@@ -56,12 +56,14 @@ inline constexpr NoiseLattice kNoiseLattice = makeNoiseLattice();
 /// `plane` shifts the lattice so that different planes get different patterns.
 RASM_HD_INLINE float valueNoise2(float u, float v, std::uint32_t plane) {
   const float fu = std::floor(u), fv = std::floor(v);
-  const std::uint32_t iu = std::uint32_t(int(fu)) + plane * 17u, iv = std::uint32_t(int(fv)) + plane * 41u;
+  const std::uint32_t iu = std::uint32_t(int(fu)) + plane * 17u,
+                      iv = std::uint32_t(int(fv)) + plane * 41u;
   float tu = u - fu, tv = v - fv;
   tu = tu * tu * (3.f - 2.f * tu);
   tv = tv * tv * (3.f - 2.f * tv);
   const float* L = kNoiseLattice.v;
-  const std::uint32_t r0 = (iv & 63u) * 64u, r1 = ((iv + 1u) & 63u) * 64u, c0 = iu & 63u, c1 = (iu + 1u) & 63u;
+  const std::uint32_t r0 = (iv & 63u) * 64u, r1 = ((iv + 1u) & 63u) * 64u, c0 = iu & 63u,
+                      c1 = (iu + 1u) & 63u;
   const float a = L[r0 + c0], b = L[r0 + c1], c = L[r1 + c0], d = L[r1 + c1];
   const float ab = a + (b - a) * tu, cd = c + (d - c) * tu;
   return ab + (cd - ab) * tv;
@@ -71,7 +73,8 @@ RASM_HD_INLINE float valueNoise2(float u, float v, std::uint32_t plane) {
 /// object's frame (metres). Noise is 2-D on the object-frame coordinate plane most facing the
 /// surface (walls and floors are planes; half the cost of 3-D noise), indexed by that plane and
 /// the surface's offset along its normal axis so that parallel faces differ.
-RASM_HD_INLINE float patternWeight(const SurfaceMaterial& m, const Vec3f& p_world, const Vec3f& n_world) {
+RASM_HD_INLINE float patternWeight(const SurfaceMaterial& m, const Vec3f& p_world,
+                                   const Vec3f& n_world) {
   const Vec3f p_obj = m.T_object_world.apply(p_world);
   // A tiny offset keeps faces that lie exactly on a cell boundary (box faces at +-size/2) from
   // flickering between the two colours.
@@ -86,8 +89,10 @@ RASM_HD_INLINE float patternWeight(const SurfaceMaterial& m, const Vec3f& p_worl
     case 3: {
       const Vec3f n_obj = m.T_object_world.rotate(n_world);
       const float ax = std::abs(n_obj.x()), ay = std::abs(n_obj.y()), az = std::abs(n_obj.z());
-      if (ax >= ay && ax >= az) return valueNoise2(q.y(), q.z(), std::uint32_t(int(std::floor(q.x()))) * 3u + 0u);
-      if (ay >= az) return valueNoise2(q.x(), q.z(), std::uint32_t(int(std::floor(q.y()))) * 3u + 1u);
+      if (ax >= ay && ax >= az)
+        return valueNoise2(q.y(), q.z(), std::uint32_t(int(std::floor(q.x()))) * 3u + 0u);
+      if (ay >= az)
+        return valueNoise2(q.x(), q.z(), std::uint32_t(int(std::floor(q.y()))) * 3u + 1u);
       return valueNoise2(q.x(), q.y(), std::uint32_t(int(std::floor(q.z()))) * 3u + 2u);
     }
     default:
@@ -96,8 +101,8 @@ RASM_HD_INLINE float patternWeight(const SurfaceMaterial& m, const Vec3f& p_worl
 }
 
 /// Shaded RGB (0..1) of world point p with unit normal n facing the viewer.
-RASM_HD_INLINE Vec3f shadeSurface(const SurfaceMaterial& m, const LightF& light, const Vec3f& p_world,
-                                  const Vec3f& n_world) {
+RASM_HD_INLINE Vec3f shadeSurface(const SurfaceMaterial& m, const LightF& light,
+                                  const Vec3f& p_world, const Vec3f& n_world) {
   const float w = m.pattern == 0 ? 0.f : patternWeight(m, p_world, n_world);
   const Vec3f albedo = m.colour * (1.f - w) + m.colour2 * w;
   const float lambert = -n_world.dot(light.direction);
