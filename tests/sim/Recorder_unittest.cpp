@@ -4,15 +4,18 @@
 #include "rasm/sim/Recorder.h"
 
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
 #include <omp.h>
 #include <unistd.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "rasm/core/Error.h"
+#include "rasm/core/Params.h"
 #include "rasm/core/SE3.h"
 #include "rasm/sim/FrameImages.h"
 #include "rasm/sim/SimClasses.h"
@@ -20,6 +23,7 @@
 #ifdef RASM_SIM_HAVE_IO
 #include "rasm/io/FrameSource.h"
 #include "rasm/io/Trajectory.h"
+#include "rasm/sim/SimFrameSource.h"
 #endif
 
 namespace fs = std::filesystem;
@@ -205,4 +209,46 @@ TEST(Recorder, BadSensorKeyInTheSpecNamesFileAndKey) {
 
 #else
 TEST(Recorder, DISABLED_NeedsTheIoModule) {}
+#endif
+
+#ifdef RASM_SIM_HAVE_IO
+TEST(SimFrameSource, StreamsTheRecordersFramesAndTakesSimParams) {
+  // [sim] as a pipeline run would hand it over, with its [camera] intrinsics.
+  mrpt::config::CConfigFileMemory ini;
+  ini.write("sim", "world", "office");
+  ini.write("sim", "trajectory", "office_handheld");
+  ini.write("sim", "seed", "4");
+  ini.write("sim", "max_frames", "3");
+  TSimParams p;
+  loadParamsStrict(ini, "sim", p, "run.ini");
+  const CameraIntrinsics K(131.25, 131.25, 79.5, 59.5, 160, 120);
+  SimFrameSource source(p, K);
+  EXPECT_EQ(source.sizeHint(), 3);
+  EXPECT_NE(source.describe().find("office"), std::string::npos);
+  std::vector<RgbdFrame> frames;
+  while (auto f = source.next()) {
+    EXPECT_NO_THROW(f->validate(source.describe()));
+    frames.push_back(*f);
+  }
+  ASSERT_EQ(frames.size(), 3u);
+  EXPECT_TRUE(frames[0].intrinsics == K);
+  EXPECT_NEAR(frames[2].timestamp_s, 2.0 / 30.0, 1e-12);
+  // Same frames as the sequence the recorder writes with the same seed and camera.
+  SequenceOptions o;
+  o.seed = 4;
+  o.intrinsics = K;
+  o.max_frames = 3;
+  SimulatedSequence seq(loadWorld("office"), loadTrajectorySpec("office_handheld"), o);
+  RgbdFrame g;
+  for (const RgbdFrame& f : frames) {
+    ASSERT_TRUE(seq.next(g));
+    for (int y = 0; y < f.height(); ++y)
+      ASSERT_EQ(std::memcmp(f.depth_m.row(y), g.depth_m.row(y), sizeof(float) * f.width()), 0);
+  }
+  EXPECT_FALSE(seq.next(g));
+  // Unknown [sim] keys are errors naming the file.
+  ini.write("sim", "wrld", "office");
+  TSimParams bad;
+  EXPECT_THROW(loadParamsStrict(ini, "sim", bad, "run.ini"), InputError);
+}
 #endif

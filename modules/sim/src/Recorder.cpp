@@ -1,6 +1,5 @@
 #include "rasm/sim/Recorder.h"
 
-#include <mrpt/config/CConfigFileMemory.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -13,12 +12,9 @@
 #include <stdexcept>
 
 #include "rasm/core/Error.h"
-#include "rasm/core/Params.h"
 #include "rasm/sim/FrameImages.h"
-#include "rasm/sim/RayScene.h"
-#include "rasm/sim/RgbdSensor.h"
 #include "rasm/sim/SimClasses.h"
-#include "rasm/sim/SimulatedDiffDriveRobot.h"
+#include "rasm/sim/SimulatedSequence.h"
 
 #ifdef RASM_SIM_HAVE_IO
 #include "rasm/io/RawlogWriter.h"
@@ -39,17 +35,6 @@ bool recorderCanWriteRawlogs() {
 
 #ifdef RASM_SIM_HAVE_IO
 namespace {
-
-/// Applies key = value overrides to a params struct through the strict INI loader, so unknown
-/// keys and bad values fail the same way as in an INI file.
-void applyOverrides(mrpt::config::CLoadableOptions& params, const std::string& section,
-                    const std::map<std::string, std::string>& kv, const std::string& source) {
-  if (kv.empty()) return;
-  mrpt::config::CConfigFileMemory mem;
-  params.saveToConfigFile(mem, section);  // start from the current values
-  for (const auto& [k, v] : kv) mem.write(section, k, v);
-  loadParamsStrict(mem, section, params, source);
-}
 
 /// Progress line on stderr: frames, rate and ETA, at most once a second.
 class Progress {
@@ -114,12 +99,12 @@ RecordResult recordSequence(const World& world, const TrajectorySpec& spec,
   (void)world, (void)spec, (void)opt, (void)on_frame;
   throw std::runtime_error("rasm sim record: this build has no io module, cannot write rawlogs");
 #else
-  TSensorParams sp;
-  applyOverrides(sp, "sim_sensor", spec.sensor_overrides, spec.source + " sensor:");
-  applyOverrides(sp, "sim_sensor", opt.sensor_overrides, "command line");
-  TRobotParams rp;
-  applyOverrides(rp, "sim_robot", spec.robot_overrides, spec.source + " robot:");
-  applyOverrides(rp, "sim_robot", opt.robot_overrides, "command line");
+  SequenceOptions sopt;
+  sopt.seed = opt.seed;
+  sopt.sensor_overrides = opt.sensor_overrides;
+  sopt.robot_overrides = opt.robot_overrides;
+  sopt.max_frames = opt.max_frames;
+  SimulatedSequence seq(world, spec, sopt);
 
   RecordResult res;
   const fs::path out(opt.out_rawlog);
@@ -141,78 +126,25 @@ RecordResult recordSequence(const World& world, const TrajectorySpec& spec,
     }
   }
 
-  const RayScene scene(world);
-  const RgbdSensor sensor(scene, sp);
-  const double dt = 1.0 / spec.rate_hz;
-
-  std::unique_ptr<HandheldTrajectory> hand;
-  std::unique_ptr<SimulatedDiffDriveRobot> robot;
-  std::unique_ptr<PurePursuit> pursuit;
-  long long planned = -1;  // frames, when known in advance
-  if (spec.kind == TrajectorySpec::Kind::Handheld) {
-    hand = std::make_unique<HandheldTrajectory>(spec.keyframes, spec.jitter, opt.seed);
-    const double duration = spec.duration_s.value_or(hand->endTime() - hand->startTime());
-    planned = (long long)(std::floor(duration * spec.rate_hz + 1e-9)) + 1;
-  } else {
-    robot = std::make_unique<SimulatedDiffDriveRobot>(scene, rp, spec.start_pose, opt.seed);
-    std::vector<Eigen::Vector2d> path{spec.start_pose.head<2>()};
-    path.insert(path.end(), spec.waypoints.begin(), spec.waypoints.end());
-    pursuit = std::make_unique<PurePursuit>(path, spec.controller, spec.loop, spec.laps);
-    if (spec.duration_s)
-      planned = (long long)(std::floor(*spec.duration_s * spec.rate_hz + 1e-9)) + 1;
-  }
-  if (opt.max_frames >= 0 && (planned < 0 || opt.max_frames < planned)) planned = opt.max_frames;
-  const long long limit =
-      planned >= 0 ? planned
-                   : (long long)(std::floor(spec.max_duration_s * spec.rate_hz + 1e-9)) + 1;
-
   io::Trajectory gt;
   Progress progress(opt.progress);
   RgbdFrame frame;
-  double stuck_s = 0.0;
-  for (long long i = 0; i < limit; ++i) {
-    const double t = double(i) * dt;
-    const Eigen::Isometry3d T = hand ? hand->pose(hand->startTime() + t) : robot->cameraPose();
-    sensor.render(T, opt.seed, std::size_t(i), frame);
-    frame.timestamp_s = t;
-    frame.index = std::size_t(i);
-    if (robot) frame.odometry_xyyaw = robot->odometry();
+  while (seq.next(frame)) {
     if (on_frame) on_frame(frame);
     writer.write(frame);
-    gt.push_back({t, T});
+    gt.push_back({frame.timestamp_s, *frame.gt_T_world_cam});
     if (opt.write_labels) {
       char name[64];
-      std::snprintf(name, sizeof(name), "/instance_%06lld.png", i);
+      std::snprintf(name, sizeof(name), "/instance_%06zu.png", frame.index);
       saveLabelPng(frame.gt_instance, res.labels_dir + name);
-      std::snprintf(name, sizeof(name), "/class_%06lld.png", i);
+      std::snprintf(name, sizeof(name), "/class_%06zu.png", frame.index);
       saveLabelPng(frame.gt_class, res.labels_dir + name);
     }
     ++res.frames;
-    res.duration_s = t;
-    double fraction = planned > 0 ? double(i + 1) / double(planned) : 0.0;
-
-    if (robot) {
-      if (pursuit->done()) break;
-      const int sub = spec.control_substeps;
-      for (int k = 0; k < sub; ++k) {
-        const Eigen::Vector2d cmd = pursuit->command(robot->pose());
-        robot->setVelocityCommand(cmd.x(), cmd.y());
-        robot->step(dt / sub);
-        stuck_s = robot->collided() ? stuck_s + dt / sub : 0.0;
-      }
-      if (planned < 0) fraction = pursuit->progress() / pursuit->totalLength();
-      if (stuck_s >= 1.0) {
-        res.robot_collided = true;
-        std::fprintf(stderr,
-                     "sim record: warning: the robot has been stuck against an obstacle for 1 s at "
-                     "(%.2f, %.2f); "
-                     "stopping the recording at frame %lld (check the waypoints of %s)\n",
-                     robot->pose().x(), robot->pose().y(), i, spec.source.c_str());
-        break;
-      }
-    }
-    progress.update(res.frames, fraction);
+    res.duration_s = frame.timestamp_s;
+    progress.update(res.frames, seq.progress());
   }
+  res.robot_collided = seq.robotStuck();
   progress.update(res.frames, 1.0, true);
   writer.close();
   io::writeTumTrajectory(res.groundtruth_path, gt,
