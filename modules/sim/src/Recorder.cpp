@@ -133,7 +133,7 @@ RecordResult recordSequence(const World& world, const TrajectorySpec& spec,
     if (on_frame) on_frame(frame);
     writer.write(frame);
     gt.push_back({frame.timestamp_s, *frame.gt_T_world_cam});
-    if (opt.write_labels) {
+    if (opt.write_labels && !frame.gt_instance.empty()) {  // [sim_sensor] labels = false: none
       char name[64];
       std::snprintf(name, sizeof(name), "/instance_%06zu.png", frame.index);
       saveLabelPng(frame.gt_instance, res.labels_dir + name);
