@@ -53,8 +53,10 @@ struct DeviceArray {
 };
 }  // namespace
 
-void associateUpdate(const kernels::AssociateUpdateKernel& k) {
-  const maps::SurfelArrays& s = k.s;
+void associateUpdate(const kernels::AssociateKernel<kernels::Map4xCandidates>& a,
+                     const kernels::UpdateKernel& u,
+                     const kernels::CoverageKernel<kernels::Map4xCandidates>& c) {
+  const maps::SurfelArrays& s = a.s;
   const std::size_t n = std::size_t(s.size);
   DeviceArray<Vec4f> pos(s.pos_conf, n), nrm(s.normal_radius, n);
   DeviceArray<std::uint32_t> cf(s.colour_flags, n), seg(s.segment, n);
@@ -62,32 +64,59 @@ void associateUpdate(const kernels::AssociateUpdateKernel& k) {
   DeviceArray<Vec3f> basis(s.basis, n);
   DeviceArray<std::uint8_t> view(s.view_ic, n * std::size_t(s.n_view_bins));
 
-  DeviceView<const Bgr8> colour(k.frame.colour);
-  DeviceView<const Vec3f> vertex(k.frame.vertex_cam), normal(k.frame.normal_cam);
-  DeviceView<const std::uint32_t> labels(k.frame.labels);
-  DeviceView<const std::uint64_t> index4x(k.index4x);
-  DeviceView<std::int32_t> pixel_surfel(k.pixel_surfel);
-  DeviceView<std::uint8_t> flags(k.flags);
+  DeviceView<const Bgr8> colour(a.frame.colour);
+  DeviceView<const Vec3f> vertex(a.frame.vertex_cam), normal(a.frame.normal_cam);
+  DeviceView<const std::uint32_t> labels(a.frame.labels);
+  DeviceView<const float> weight(a.frame.weight), depth(u.carve_test.depth_m);
+  DeviceView<const std::uint64_t> index4x(a.candidates.index4x);
+  DeviceView<std::int32_t> pixel_surfel(a.pixel_surfel);
+  DeviceView<std::uint16_t> flags(a.flags);
 
-  kernels::AssociateUpdateKernel d = k;
-  d.frame.colour = colour.device();
-  d.frame.vertex_cam = vertex.device();
-  d.frame.normal_cam = normal.device();
-  d.frame.labels = labels.device();
-  d.index4x = index4x.device();
-  d.pixel_surfel = pixel_surfel.device();
-  d.flags = flags.device();
-  d.s.pos_conf = pos.buf.ptr;
-  d.s.normal_radius = nrm.buf.ptr;
-  d.s.colour_flags = cf.buf.ptr;
-  d.s.t_last = tl.buf.ptr;
-  d.s.basis = basis.buf.ptr;
-  d.s.segment = seg.buf.ptr;
-  d.s.segment_w = segw.buf.ptr;
-  d.s.view_ic = view.buf.ptr;
-  d.s.t_init = nullptr;  // not read by the kernel
-  d.s.class_p = nullptr;
-  cu::forEach2D(k.pixel_surfel.width, k.pixel_surfel.height, d);
+  maps::SurfelArrays d_s = s;
+  d_s.pos_conf = pos.buf.ptr;
+  d_s.normal_radius = nrm.buf.ptr;
+  d_s.colour_flags = cf.buf.ptr;
+  d_s.t_last = tl.buf.ptr;
+  d_s.basis = basis.buf.ptr;
+  d_s.segment = seg.buf.ptr;
+  d_s.segment_w = segw.buf.ptr;
+  d_s.view_ic = view.buf.ptr;
+  d_s.t_init = nullptr;  // not read by the kernels
+  d_s.class_p = nullptr;
+  kernels::FrameView d_frame = a.frame;
+  d_frame.colour = colour.device();
+  d_frame.vertex_cam = vertex.device();
+  d_frame.normal_cam = normal.device();
+  d_frame.labels = labels.device();
+  d_frame.weight = weight.device();
+
+  kernels::AssociateKernel<kernels::Map4xCandidates> da = a;
+  da.frame = d_frame;
+  da.candidates.index4x = index4x.device();
+  da.candidates.s = d_s;
+  da.s = d_s;
+  da.pixel_surfel = pixel_surfel.device();
+  da.flags = flags.device();
+  cu::forEach2D(a.pixel_surfel.width, a.pixel_surfel.height, da);
+
+  kernels::UpdateKernel du = u;
+  du.frame = d_frame;
+  du.s = d_s;
+  du.pixel_surfel = pixel_surfel.device();
+  du.flags = flags.device();
+  du.carve_test.depth_m = depth.device();
+  cu::forEach2D(a.pixel_surfel.width, a.pixel_surfel.height, du);
+
+  if (c.prm.neighbour_coverage_check) {
+    kernels::CoverageKernel<kernels::Map4xCandidates> dc = c;
+    dc.frame = d_frame;
+    dc.candidates.index4x = index4x.device();
+    dc.candidates.s = d_s;
+    dc.s = d_s;
+    dc.pixel_surfel = pixel_surfel.device();
+    dc.flags = flags.device();
+    cu::forEach2D(a.pixel_surfel.width, a.pixel_surfel.height, dc);
+  }
 
   pos.download();
   nrm.download();

@@ -1,6 +1,7 @@
 #include "rasm/fusion/SurfelFusion.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -38,7 +39,21 @@ kernels::FusionKernelParams plainParams(const TFusionParams& p,
   k.ic_d_min_m = p.ic_d_min_m;
   k.n_azimuth = layout.view_bins_azimuth;
   k.n_elevation = layout.view_bins_elevation;
+  k.inv_block_size = 1.0f / layout.block_size_m;  // as VoxelBlockIndex computes block coordinates
   return k;
+}
+
+kernels::CarveTest carveTest(const TFusionParams& p, const FusionInput& in) {
+  kernels::CarveTest t;
+  t.depth_m = in.depth_m;
+  t.K = in.K.plain();
+  t.min_depth_m = p.min_depth_m;
+  t.max_depth_m = p.max_depth_m;
+  t.margin_abs_m = p.carve_margin_m;
+  t.margin_rel = p.carve_margin_rel;
+  t.stable_confidence = p.stable_confidence;
+  t.stable_decay = p.carve_stable_decay;
+  return t;
 }
 
 template <typename T>
@@ -97,6 +112,61 @@ FusionStats SurfelFusion::fuse(maps::SurfelStore& map, const FusionInput& in) {
   return st;
 }
 
+namespace {
+
+int threadId() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+
+/// Open-addressing int -> int table for the compaction remap of pixelSurfels(): O(removed) to
+/// build, O(1) per pixel to look up, small enough to stay in cache.
+struct RemapTable {
+  std::vector<std::int32_t>& slots;  ///< key, value pairs; key -1 = empty
+  std::uint32_t mask = 0;
+
+  RemapTable(std::vector<std::int32_t>& storage, std::size_t entries) : slots(storage) {
+    std::size_t cap = 16;
+    while (cap < 2 * entries) cap *= 2;
+    slots.assign(2 * cap, -1);
+    mask = std::uint32_t(cap - 1);
+  }
+  static std::uint32_t hash(std::int32_t k) { return std::uint32_t(k) * 2654435761u; }
+  void put(std::int32_t k, std::int32_t v) {
+    std::uint32_t h = hash(k) & mask;
+    while (slots[2 * h] != -1 && slots[2 * h] != k) h = (h + 1) & mask;
+    slots[2 * h] = k;
+    slots[2 * h + 1] = v;
+  }
+  /// True and v set when k is in the table.
+  bool get(std::int32_t k, std::int32_t& v) const {
+    for (std::uint32_t h = hash(k) & mask;; h = (h + 1) & mask) {
+      if (slots[2 * h] == k) {
+        v = slots[2 * h + 1];
+        return true;
+      }
+      if (slots[2 * h] == -1) return false;
+    }
+  }
+};
+
+}  // namespace
+
+bool SurfelFusion::scheduleValid(const maps::SurfelStore& map) const {
+  return m_schedule_map == &map && m_schedule_generation == map.generation() &&
+         m_schedule.size() == map.size() &&
+         m_schedule.maxAge() == float(m_params.unstable_max_age_s) &&
+         m_schedule.maxIdle() == float(m_params.unstable_max_idle_s);
+}
+
+void SurfelFusion::scheduleSeen(const maps::SurfelStore& map) {
+  m_schedule_map = &map;
+  m_schedule_generation = map.generation();
+}
+
 FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& in) {
   if (!in.K.valid()) throwInputError("SurfelFusion input", "invalid intrinsics " + in.K.toString());
   checkSize(in.depth_m, in.K, "depth image", false);
@@ -109,6 +179,12 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   const int w = in.K.width, h = in.K.height;
   if (!map.hasTimeOrigin()) map.setTimeOrigin(in.timestamp_s);
   const float now = map.toMapTime(in.timestamp_s);
+  const maps::SurfelStore& cmap = map;  // read access that does not count as a modification
+  if (!scheduleValid(map))
+    m_schedule.rebuild(cmap.arrays(), now, float(m_params.unstable_max_age_s),
+                       float(m_params.unstable_max_idle_s));
+  m_due_now.clear();
+
   const kernels::FusionKernelParams prm = plainParams(m_params, map.options());
   kernels::FrameView fv = frameView(in);
   if (!(m_weight_K == in.K) || m_weight_sigma != m_params.confidence_sigma) {
@@ -132,35 +208,152 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   auto t0 = Clock::now();
 
   // 1. 4x point index map of every surfel in view (II-D).
-  maps::RenderOptions ro;
+  maps::RenderOptions& ro = m_index_options;
+  ro = maps::RenderOptions();
   ro.min_depth_m = m_params.min_depth_m;
   // Surfels up to the association gate behind the far limit can still match a far pixel.
   ro.max_depth_m = m_params.max_depth_m * (1.0f + m_params.assoc_max_depth_diff_rel) +
                    m_params.assoc_max_depth_diff_m;
   ro.splat = false;
-  m_renderer.renderIndexMap4x(map, in.T_world_cam, in.K, ro, m_index4x, &st.render);
+  if (cpu())
+    m_renderer.renderCandidates4x(map, in.T_world_cam, in.K, ro, m_candidates, &st.render);
+  else
+    m_renderer.renderIndexMap4x(map, in.T_world_cam, in.K, ro, m_index4x, &st.render);
   m_index_fresh = true;
   st.ms_index_map = ms(t0);
   t0 = Clock::now();
 
-  // 2. association + update, per pixel.
+  // 2. association (read-only, every pixel), then the update of the chosen surfels.
   m_pixel_surfel.resize(w, h);
   m_flags.resize(w, h);
-  kernels::AssociateUpdateKernel au;
-  au.frame = fv;
-  au.prm = prm;
-  au.index4x = m_index4x.packed.cview();
-  au.s = map.arrays();
-  au.T_world_cam = T_wc;
-  au.T_cam_world = T_cw;
-  au.now = now;
-  au.pixel_surfel = m_pixel_surfel.view();
-  au.flags = m_flags.view();
-  if (m_backend == compute::Backend::Cuda)
-    cuda::associateUpdate(au);
-  else
-    compute::forEach2D(w, h, au);
-
+  const maps::SurfelArrays arr = map.arrays();
+  kernels::UpdateKernel uk;
+  uk.frame = fv;
+  uk.prm = prm;
+  uk.s = arr;
+  uk.T_world_cam = T_wc;
+  uk.T_cam_world = T_cw;
+  uk.now = now;
+  uk.pixel_surfel = m_pixel_surfel.cview();
+  uk.flags = m_flags.view();
+  // On the CPU the carving verdict on each updated surfel is taken right after its update (its
+  // state does not change before the cleanup applies it); the other visible surfels are judged by
+  // the cleanup on the centres the projection computed.
+  uk.carve = cpu() && m_params.carve_free_space;
+  uk.carve_test = carveTest(m_params, in);
+  if (cpu()) {
+    kernels::AssociateKernel<kernels::ListCandidates> ak;
+    ak.frame = fv;
+    ak.prm = prm;
+    ak.candidates.entries = m_candidates.entries.data();
+    ak.candidates.first = m_candidates.first.data();
+    ak.candidates.count = m_candidates.count.data();
+    ak.candidates.width = w;
+    ak.candidates.height = h;
+    ak.s = arr;
+    ak.T_cam_world = T_cw;
+    ak.pixel_surfel = m_pixel_surfel.view();
+    ak.flags = m_flags.view();
+    kernels::CoverageKernel<kernels::ListCandidates> ck;
+    ck.frame = fv;
+    ck.prm = prm;
+    ck.candidates = ak.candidates;
+    ck.s = arr;
+    ck.T_cam_world = T_cw;
+    ck.pixel_surfel = m_pixel_surfel.view();
+    ck.flags = m_flags.view();
+    // Candidates' and chosen surfels' arrays are prefetched a few pixels ahead: they are spread
+    // over the map's memory.
+    constexpr int kAhead = 6;
+    const maps::kernels::CameraPoint* entries = m_candidates.entries.data();
+    const std::uint32_t* first = m_candidates.first.data();
+    const std::uint8_t* count = m_candidates.count.data();
+    const bool labels = prm.update_segments && !fv.labels.empty();
+    const bool bins = prm.update_view_bins && arr.n_view_bins > 0;
+    const auto associateRow = [&](int y) {
+      const int p0 = y * w;
+      for (int x = 0; x < w; ++x) {
+        if (x + kAhead < w) {
+          const int p = p0 + x + kAhead;
+          for (std::uint32_t q = first[p], e = first[p] + count[p]; q < e; ++q)
+            __builtin_prefetch(&arr.normal_radius[entries[q].index]);
+        }
+        ak(x, y);
+      }
+    };
+    const auto updateRow = [&](int y) {
+      const std::int32_t* ps = m_pixel_surfel.row(y);
+      for (int x = 0; x < w; ++x) {
+        if (x + kAhead < w) {
+          const int j = ps[x + kAhead];
+          if (j >= 0) {
+            __builtin_prefetch(&arr.pos_conf[j], 1);
+            __builtin_prefetch(&arr.normal_radius[j], 1);
+            __builtin_prefetch(&arr.colour_flags[j], 1);
+            __builtin_prefetch(&arr.basis[j], 1);
+            __builtin_prefetch(&arr.t_last[j], 1);
+            if (labels) {
+              __builtin_prefetch(&arr.segment[j], 1);
+              __builtin_prefetch(&arr.segment_w[j], 1);
+            }
+            if (bins) __builtin_prefetch(arr.viewRow(j), 1);
+          }
+        }
+        uk(x, y);
+      }
+    };
+    const bool cover = prm.neighbour_coverage_check;
+    const auto coverRow = [&](int y) {
+      for (int x = 0; x < w; ++x) ck(x, y);
+    };
+    // Row bands: in a band, row y is associated and updated, then the coverage of row y - 1 runs
+    // while its neighbourhood is in cache (rows y - 2 .. y are final). The first and last row of
+    // a band border another band: their coverage waits for every band.
+    const int nt = compute::maxThreads();
+    const int nbands = nt <= 1 ? 1 : std::min(h, 4 * nt);
+#pragma omp parallel num_threads(nt)
+    {
+#pragma omp for schedule(dynamic, 1)
+      for (int b = 0; b < nbands; ++b) {
+        const int lo = int(std::int64_t(h) * b / nbands), hi = int(std::int64_t(h) * (b + 1) / nbands);
+        for (int y = lo; y < hi; ++y) {
+          associateRow(y);
+          updateRow(y);
+          if (cover && y - 1 > lo) coverRow(y - 1);
+        }
+      }
+      if (cover) {
+#pragma omp for schedule(dynamic, 1)
+        for (int b = 0; b < nbands; ++b) {
+          const int lo = int(std::int64_t(h) * b / nbands), hi = int(std::int64_t(h) * (b + 1) / nbands);
+          if (hi > lo) coverRow(lo);
+          if (hi - 1 > lo) coverRow(hi - 1);
+        }
+      }
+    }
+  } else {
+    kernels::AssociateKernel<kernels::Map4xCandidates> ak;
+    ak.frame = fv;
+    ak.prm = prm;
+    ak.candidates.index4x = m_index4x.packed.cview();
+    ak.candidates.s = arr;
+    ak.candidates.T_cam_world = T_cw;
+    ak.candidates.width = w;
+    ak.candidates.height = h;
+    ak.s = arr;
+    ak.T_cam_world = T_cw;
+    ak.pixel_surfel = m_pixel_surfel.view();
+    ak.flags = m_flags.view();
+    kernels::CoverageKernel<kernels::Map4xCandidates> ck;
+    ck.frame = fv;
+    ck.prm = prm;
+    ck.candidates = ak.candidates;
+    ck.s = arr;
+    ck.T_cam_world = T_cw;
+    ck.pixel_surfel = m_pixel_surfel.view();
+    ck.flags = m_flags.view();
+    cuda::associateUpdate(ak, uk, ck);
+  }
   st.ms_update = ms(t0);
   t0 = Clock::now();
 
@@ -183,100 +376,180 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   compute::forEach1D(h, nk);
   map.indexAppended();
 
-  // Statistics and the surfels whose position moved (re-binned in the spatial index).
-  m_scratch.clear();
+  // Statistics, and the updated surfels that crossed a block border (re-binned in the index).
+  const int nt = compute::maxThreads();
+  m_thread_lists.resize(nt);
+  for (auto& l : m_thread_lists) l.clear();
+  std::vector<std::array<int, 6>> counts(nt, std::array<int, 6>{});
+#pragma omp parallel for schedule(static) num_threads(nt)
   for (int y = 0; y < h; ++y) {
-    const std::uint8_t* f = m_flags.row(y);
+    const int t = threadId();
+    std::array<int, 6>& c = counts[t];
+    const std::uint16_t* f = m_flags.row(y);
     const std::int32_t* ps = m_pixel_surfel.row(y);
     for (int x = 0; x < w; ++x) {
-      const std::uint8_t b = f[x];
+      const std::uint16_t b = f[x];
       if (!b) continue;
-      ++st.valid_pixels;
-      if (b & kernels::kPixAssociated) ++st.associated;
-      if (b & kernels::kPixFused) {
-        ++st.fused;
-        m_scratch.push_back(ps[x]);
-      }
-      if (b & kernels::kPixBecameStable) ++st.became_stable;
-      if (b & kernels::kPixRelabelled) ++st.relabelled;
-      if (b & kernels::kPixCovered) ++st.covered;
+      ++c[0];
+      c[1] += (b & kernels::kPixAssociated) != 0;
+      c[2] += (b & kernels::kPixFused) != 0;
+      c[3] += (b & kernels::kPixBecameStable) != 0;
+      c[4] += (b & kernels::kPixRelabelled) != 0;
+      c[5] += (b & kernels::kPixCovered) != 0;
+      if (b & kernels::kPixCrossedBlock) m_thread_lists[t].push_back(ps[x]);
     }
   }
-  map.reindex(m_scratch);
+  std::vector<int>& movers = m_removed;
+  movers.clear();
+  for (int t = 0; t < nt; ++t) {
+    st.valid_pixels += counts[t][0];
+    st.associated += counts[t][1];
+    st.fused += counts[t][2];
+    st.became_stable += counts[t][3];
+    st.relabelled += counts[t][4];
+    st.covered += counts[t][5];
+    movers.insert(movers.end(), m_thread_lists[t].begin(), m_thread_lists[t].end());
+  }
+  map.reindex(movers);
+
+  // New surfels enter the pruning schedule.
+  m_schedule.grow(map.size());
+  const maps::SurfelArrays a = cmap.arrays();
+  for (int i = first; i < first + added; ++i)
+    if (!(a.colour_flags[i] & maps::kSurfelStable) && m_schedule.file(a, i, now))
+      m_due_now.push_back(i);
+  scheduleSeen(map);
+
   st.ms_add = ms(t0);
   st.added = added;
   st.map_size = map.size();
   return st;
 }
 
+void SurfelFusion::carveCpu(const maps::SurfelStore& map, const FusionInput& in,
+                            std::vector<int>& removed, std::vector<int>& demoted) {
+  // Updated surfels: the verdict the update pass recorded in their pixel's flags.
+  const maps::SurfelArrays a = map.arrays();
+  const kernels::CarveTest test = carveTest(m_params, in);
+  const int w = m_flags.width(), h = m_flags.height();
+  const int nt = compute::maxThreads();
+  m_thread_lists.resize(2 * std::size_t(nt));
+  for (auto& l : m_thread_lists) l.clear();
+  const std::vector<std::vector<maps::kernels::CameraPoint>>& vis = m_candidates.visible;
+  const PinholeF Kp = in.K.plain();
+  const float zmin = m_index_options.min_depth_m, zmax = m_index_options.max_depth_m;
+#pragma omp parallel num_threads(nt)
+  {
+    const int t = threadId();
+    std::vector<int>& rem = m_thread_lists[2 * t];
+    std::vector<int>& dem = m_thread_lists[2 * t + 1];
+    const auto act = [&](int i, kernels::CarveTest::Action action) {
+      if (action == kernels::CarveTest::kRemove) {
+        rem.push_back(i);
+      } else if (action != kernels::CarveTest::kKeep) {
+        test.decay(a, i, action);
+        if (action == kernels::CarveTest::kDemote) dem.push_back(i);
+      }
+    };
+#pragma omp for schedule(static) nowait
+    for (int y = 0; y < h; ++y) {
+      const std::uint16_t* f = m_flags.row(y);
+      const std::int32_t* ps = m_pixel_surfel.row(y);
+      for (int x = 0; x < w; ++x) {
+        const int v = (f[x] >> kernels::kPixCarveShift) & 3;
+        if (v) act(ps[x], kernels::CarveTest::Action(v));
+      }
+    }
+    // The other surfels of the view are unchanged since the projection: judge them on the
+    // centres it computed. A surfel was updated iff it is the one its own pixel chose.
+    for (const auto& chunk : vis) {
+      const int n = int(chunk.size());
+#pragma omp for schedule(static) nowait
+      for (int k = 0; k < n; ++k) {
+        const maps::kernels::CameraPoint& cp = chunk[k];
+        if (!test.violates(cp.pc)) continue;
+        const std::uint32_t key = maps::kernels::candidateKey4x(cp.pc, Kp, zmin, zmax);
+        if (key != maps::kernels::kNoCandidate &&
+            m_pixel_surfel(maps::kernels::candidateColumn(key), maps::kernels::candidateRow(key)) ==
+                cp.index)
+          continue;
+        act(cp.index, test.action(a.colour_flags[cp.index], a.pos_conf[cp.index].w()));
+      }
+    }
+  }
+  for (int t = 0; t < nt; ++t) {
+    removed.insert(removed.end(), m_thread_lists[2 * t].begin(), m_thread_lists[2 * t].end());
+    demoted.insert(demoted.end(), m_thread_lists[2 * t + 1].begin(),
+                   m_thread_lists[2 * t + 1].end());
+  }
+}
+
+void SurfelFusion::carveIndexMap(maps::SurfelStore& map, const FusionInput& in,
+                                 std::vector<int>& removed, std::vector<int>& demoted) {
+  const std::vector<int>& vis = m_index4x.visible;
+  std::vector<std::uint8_t> action(vis.size());
+  kernels::CarveKernel ck;
+  ck.s = map.arrays();
+  ck.visible = vis.data();
+  ck.T_cam_world = toRigid(in.T_world_cam.inverse());
+  ck.test = carveTest(m_params, in);
+  ck.action = action.data();
+  compute::forEach1D(int(vis.size()), ck);
+  for (std::size_t k = 0; k < vis.size(); ++k) {
+    if (action[k] == kernels::CarveTest::kRemove)
+      removed.push_back(vis[k]);
+    else if (action[k] == kernels::CarveTest::kDemote)
+      demoted.push_back(vis[k]);
+  }
+}
+
 void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, FusionStats& st) {
   const auto t_start = std::chrono::steady_clock::now();
   const auto finish = [&] {
     st.map_size = map.size();
+    scheduleSeen(map);
     st.ms_cleanup +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start)
             .count();
   };
   const bool index_fresh = m_index_fresh;
-  m_index_fresh = false;  // the view list refers to indices that the removal below invalidates
-  const maps::SurfelArrays a = map.arrays();
-  std::vector<int>& removed = m_scratch;
+  m_index_fresh = false;  // the view refers to indices that the removal below invalidates
+  const float now = map.toMapTime(in.timestamp_s);
+  const maps::SurfelStore& cmap = map;
+  if (!scheduleValid(map)) {
+    m_schedule.rebuild(cmap.arrays(), now, float(m_params.unstable_max_age_s),
+                       float(m_params.unstable_max_idle_s));
+    m_due_now.clear();
+  }
+  std::vector<int>& removed = m_removed;
+  std::vector<int>& demoted = m_demoted;
   removed.clear();
+  demoted.clear();
 
   // Free-space carving over the surfels of the rendered view (II-D). Surfels added this frame are
-  // not in the view list; surfels updated this frame sit at the measured depth.
-  if (m_params.carve_free_space && index_fresh && !m_index4x.visible.empty()) {
-    const std::vector<int>& vis = m_index4x.visible;
-    std::vector<std::uint8_t> action(vis.size());
-    kernels::CarveKernel ck;
-    ck.s = a;
-    ck.visible = vis.data();
-    ck.T_cam_world = toRigid(in.T_world_cam.inverse());
-    ck.K = in.K.plain();
-    ck.depth_m = in.depth_m;
-    ck.min_depth_m = m_params.min_depth_m;
-    ck.max_depth_m = m_params.max_depth_m;
-    ck.margin_abs_m = m_params.carve_margin_m;
-    ck.margin_rel = m_params.carve_margin_rel;
-    ck.stable_confidence = m_params.stable_confidence;
-    ck.stable_decay = m_params.carve_stable_decay;
-    ck.action = action.data();
-    compute::forEach1D(int(vis.size()), ck);
-    for (std::size_t k = 0; k < vis.size(); ++k) {
-      if (action[k] == 1) {
-        removed.push_back(vis[k]);
-        ++st.removed_carved;
-      } else if (action[k] == 3) {
-        ++st.demoted_carved;
-      }
-    }
+  // not in the view; surfels updated this frame sit at the measured depth.
+  if (m_params.carve_free_space && index_fresh) {
+    if (cpu())
+      carveCpu(map, in, removed, demoted);
+    else
+      carveIndexMap(map, in, removed, demoted);
+    // (sorted: the order of the per-thread lists depends on the schedule)
+    std::sort(removed.begin(), removed.end());
+    std::sort(demoted.begin(), demoted.end());
   }
-
-  // Unstable surfels older than the time window, or not fused for unstable_max_idle_s (II-D).
-  // O(N) scan of three arrays (~1-2 ms per million surfels); per-thread lists concatenated in
-  // thread order keep it deterministic.
-  const float now = map.toMapTime(in.timestamp_s);
-  const float max_age = float(m_params.unstable_max_age_s);
-  const float max_idle = float(m_params.unstable_max_idle_s);
-  const int nt = compute::maxThreads();
-  std::vector<std::vector<int>> old_lists(nt);
-#pragma omp parallel num_threads(nt)
-  {
-#ifdef _OPENMP
-    const int t = omp_get_thread_num();
-    const int tn = omp_get_num_threads();
-#else
-    const int t = 0, tn = 1;
-#endif
-    const int begin = int(std::int64_t(a.size) * t / tn),
-              end = int(std::int64_t(a.size) * (t + 1) / tn);
-    for (int i = begin; i < end; ++i)
-      if (!(a.colour_flags[i] & maps::kSurfelStable) &&
-          (now - a.t_init[i] > max_age || now - a.t_last[i] > max_idle))
-        old_lists[t].push_back(i);
-  }
+  st.removed_carved = int(removed.size());
+  st.demoted_carved = int(demoted.size());
   const std::size_t n_carved = removed.size();
-  for (const auto& l : old_lists) removed.insert(removed.end(), l.begin(), l.end());
+
+  // Unstable surfels older than unstable_max_age_s or not fused for unstable_max_idle_s (II-D):
+  // those whose time has come in the schedule, the surfels carving just demoted, and new surfels
+  // that were due at once.
+  const maps::SurfelArrays a = cmap.arrays();
+  for (int i : demoted)
+    if (m_schedule.file(a, i, now)) removed.push_back(i);
+  m_schedule.collectDue(a, now, removed);
+  for (int i : m_due_now) removed.push_back(i);
+  m_due_now.clear();
   std::sort(removed.begin(), removed.end());
   removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
   st.removed_unstable = int(removed.size() - std::min(removed.size(), n_carved));
@@ -286,25 +559,22 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
     return;
   }
 
-  std::vector<std::pair<int, int>> moved;
+  std::vector<std::pair<int, int>>& moved = m_moved;
   map.remove(removed, &moved);
+  m_schedule.moved(moved, map.size());
 
   // Keep pixelSurfels() valid: removed -> -1, moved -> new index.
-  std::sort(moved.begin(), moved.end());
-  const int lowest = removed.front();
   if (!m_pixel_surfel.empty()) {
+    RemapTable table(m_remap_table, removed.size() + moved.size());
+    for (int i : removed) table.put(i, -1);
+    for (const auto& [from, to] : moved) table.put(from, to);  // `from` is never a removed one
+    const int lowest = removed.front();
     const int w = m_pixel_surfel.width(), h = m_pixel_surfel.height();
     compute::forEach1D(h, [&](int y) {
       std::int32_t* r = m_pixel_surfel.row(y);
       for (int x = 0; x < w; ++x) {
-        const int i = r[x];
-        if (i < lowest) continue;
-        if (std::binary_search(removed.begin(), removed.end(), i)) {
-          r[x] = -1;
-          continue;
-        }
-        auto it = std::lower_bound(moved.begin(), moved.end(), std::make_pair(i, -1));
-        if (it != moved.end() && it->first == i) r[x] = it->second;
+        std::int32_t v;
+        if (r[x] >= lowest && table.get(r[x], v)) r[x] = v;
       }
     });
   }
@@ -313,7 +583,9 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
 
 #ifndef RASM_HAVE_CUDA
 namespace cuda {
-void associateUpdate(const kernels::AssociateUpdateKernel&) {
+void associateUpdate(const kernels::AssociateKernel<kernels::Map4xCandidates>&,
+                     const kernels::UpdateKernel&,
+                     const kernels::CoverageKernel<kernels::Map4xCandidates>&) {
   throw std::runtime_error("rasm was built without CUDA (RASM_WITH_CUDA=OFF or no nvcc)");
 }
 }  // namespace cuda

@@ -37,29 +37,6 @@ int numBands(int rows, int per_thread) {
   return t <= 1 ? 1 : std::min(rows, per_thread * t);
 }
 
-void splatCpu(const kernels::SplatKernel& k, int n, std::vector<kernels::SplatFootprint>& fp,
-              std::vector<std::uint32_t>& rows) {
-  constexpr std::uint32_t kNone = 0xffffffffu;
-  fp.resize(n);
-  rows.resize(n);
-  compute::forEach1D(n, [&](int j) {
-    rows[j] =
-        k.footprint(j, fp[j]) ? (std::uint32_t(fp[j].y0) | (std::uint32_t(fp[j].y1) << 16)) : kNone;
-  });
-  const int h = k.packed.height, nb = numBands(h, 2);
-#pragma omp parallel for schedule(dynamic, 1)
-  for (int b = 0; b < nb; ++b) {
-    const int lo = int(std::int64_t(h) * b / nb), hi = int(std::int64_t(h) * (b + 1) / nb) - 1;
-    for (int j = 0; j < n; ++j) {
-      const std::uint32_t r = rows[j];
-      if (r == kNone) continue;
-      const int y0 = int(r & 0xffffu), y1 = int(r >> 16);
-      if (y1 < lo || y0 > hi) continue;
-      k.rasterize(fp[j], std::max(lo, y0), std::min(hi, y1), false);
-    }
-  }
-}
-
 void pointsCpu(const kernels::PointKernel& k, int n, std::int64_t* ids,
                std::vector<std::uint64_t>& values) {
   values.resize(n);
@@ -78,26 +55,29 @@ void pointsCpu(const kernels::PointKernel& k, int n, std::int64_t* ids,
 
 }  // namespace
 
-void SurfelRenderer::collectVisible(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
-                                    const CameraIntrinsics& K, const RenderOptions& opt,
-                                    float margin_px, std::vector<int>& visible,
-                                    RenderStats* stats) const {
-  visible.clear();
+struct SurfelRenderer::Culling {
+  std::vector<int> blocks;
+  std::vector<std::uint8_t> inside;  ///< per block: entirely inside the frustum
+  kernels::VisibilityTest test;
+  bool attribute_filters = false;  ///< test.filtersAttributes()
+};
+
+void SurfelRenderer::cull(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
+                          const CameraIntrinsics& K, const RenderOptions& opt, float margin_px,
+                          Culling& c) const {
   if (!K.valid()) throw std::invalid_argument("SurfelRenderer: invalid intrinsics " + K.toString());
   const RigidF T_wc = toRigid(T_world_cam);
   const PinholeF Kp = K.plain();
-  const VoxelBlockIndex& index = map.spatialIndex();
-
-  std::vector<int> blocks;
-  std::vector<std::uint8_t> inside;
   const CameraFrustum frustum =
       CameraFrustum::fromCamera(T_wc, Kp, opt.min_depth_m, opt.max_depth_m);
   // Grow the culling by the largest radius and by the pixel margin at the far plane.
   const float f_min = float(std::min(std::fabs(K.fx), std::fabs(K.fy)));
   const float margin_m = map.radiusBound() + margin_px / f_min * opt.max_depth_m;
-  index.blocksInFrustum(frustum, margin_m, blocks, &inside);
+  c.blocks.clear();
+  c.inside.clear();
+  map.spatialIndex().blocksInFrustum(frustum, margin_m, c.blocks, &c.inside);
 
-  kernels::VisibilityTest test;
+  kernels::VisibilityTest& test = c.test;
   test.s = map.arrays();
   test.T_cam_world = toRigid(T_world_cam.inverse());
   test.K = Kp;
@@ -113,24 +93,103 @@ void SurfelRenderer::collectVisible(const SurfelStore& map, const Eigen::Isometr
   test.u_hi = float(K.width) - 0.5f + margin_px;
   test.v_lo = -0.5f - margin_px;
   test.v_hi = float(K.height) - 0.5f + margin_px;
+  c.attribute_filters = test.filtersAttributes();
+}
+
+namespace {
+
+/// Calls f(i, pc) for every member i of a culled block that passes the render filters
+/// (VisibilityTest: attributes, then the geometric test unless the block lies inside the
+/// frustum), with its camera-frame centre pc. The spatial index holds live surfels only, so the
+/// flags are read only when an attribute filter is on. Member order is not memory order: the
+/// arrays of the members kAhead places on are prefetched (the flags twice as far ahead, so that
+/// with stable_only the geometry of unstable surfels is not fetched at all).
+template <typename F>
+inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribute_filters,
+                              bool inside, bool want_normals, const std::vector<int>& members,
+                              F&& f) {
+  constexpr int kAhead = 8;
+  const SurfelArrays& a = test.s;
+  const int n = int(members.size());
+  const int* m = members.data();
+  for (int k = 0; k < n; ++k) {
+    if (attribute_filters && k + 2 * kAhead < n)
+      __builtin_prefetch(&a.colour_flags[m[k + 2 * kAhead]]);
+    if (k + kAhead < n) {
+      const int j = m[k + kAhead];
+      if (!test.stable_only || (a.colour_flags[j] & kSurfelStable)) {
+        __builtin_prefetch(&a.pos_conf[j]);
+        if (want_normals) __builtin_prefetch(&a.normal_radius[j]);
+      }
+    }
+    const int i = m[k];
+    if (attribute_filters ? !test.attributes(i) : a.pos_conf[i].w() < test.min_confidence)
+      continue;
+    const Vec3f pc = test.T_cam_world.apply(a.pos_conf[i].head<3>());
+    if (!inside && !test.inView(pc)) continue;
+    f(i, pc);
+  }
+}
+
+int threadId() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+int teamSize() {
+#ifdef _OPENMP
+  return omp_get_num_threads();
+#else
+  return 1;
+#endif
+}
+
+/// Resolves row y (ResolveKernel), prefetching the winning surfels' arrays a few pixels ahead.
+inline void resolveRow(const kernels::ResolveKernel& r, int y) {
+  constexpr int kAhead = 8;
+  const int w = r.index.width;
+  const std::uint64_t* row = r.packed.row(y);
+  const bool geometry = !r.normal_world.empty() || !r.confidence.empty() ||
+                        (!r.vertex_world.empty() && !r.splat);
+  for (int x = 0; x < w; ++x) {
+    if (x + kAhead < w) {
+      const int j = kernels::unpackIndex(row[x + kAhead]);
+      if (j >= 0) {
+        if (!r.normal_world.empty()) __builtin_prefetch(&r.s.normal_radius[j]);
+        if (geometry && r.normal_world.empty()) __builtin_prefetch(&r.s.pos_conf[j]);
+        if (!r.colour.empty()) __builtin_prefetch(&r.s.colour_flags[j]);
+        if (!r.segment.empty()) __builtin_prefetch(&r.s.segment[j]);
+      }
+    }
+    r(x, y);
+  }
+}
+
+}  // namespace
+
+void SurfelRenderer::collectVisible(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
+                                    const CameraIntrinsics& K, const RenderOptions& opt,
+                                    float margin_px, std::vector<int>& visible,
+                                    RenderStats* stats) const {
+  visible.clear();
+  Culling c;
+  cull(map, T_world_cam, K, opt, margin_px, c);
+  const VoxelBlockIndex& index = map.spatialIndex();
 
   // Per-block results keep the output in block order whatever the thread schedule.
-  const int nb = int(blocks.size());
+  const int nb = int(c.blocks.size());
   per_block_.resize(std::max<std::size_t>(per_block_.size(), std::size_t(nb)));
   long long tested = 0;
 #pragma omp parallel for schedule(dynamic, 4) reduction(+ : tested)
   for (int j = 0; j < nb; ++j) {
-    const std::vector<int>& members = index.members(blocks[j]);
+    const std::vector<int>& members = index.members(c.blocks[j]);
     std::vector<int>& out = per_block_[j];
     out.clear();
     tested += (long long)members.size();
-    if (inside[j]) {  // every centre is in the frustum: only the attribute filters remain
-      for (int i : members)
-        if (test.attributes(i)) out.push_back(i);
-    } else {
-      for (int i : members)
-        if (test(i)) out.push_back(i);
-    }
+    forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, false, members,
+                      [&](int i, const Vec3f&) { out.push_back(i); });
   }
   std::size_t total = 0;
   for (int j = 0; j < nb; ++j) total += per_block_[j].size();
@@ -146,9 +205,98 @@ void SurfelRenderer::collectVisible(const SurfelStore& map, const Eigen::Isometr
   }
 }
 
+void SurfelRenderer::splatCpu(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
+                              const CameraIntrinsics& K, const RenderOptions& opt,
+                              RenderedMaps& out, RenderStats* stats) {
+  const int w = K.width, h = K.height;
+  Culling c;
+  cull(map, T_world_cam, K, opt, opt.max_splat_radius_px, c);
+  const VoxelBlockIndex& index = map.spatialIndex();
+  const SurfelArrays arr = map.arrays();
+  packed_.resize(w, h);
+  const kernels::SplatKernel k{arr,
+                               nullptr,
+                               c.test.T_cam_world,
+                               c.test.K,
+                               opt.min_depth_m,
+                               opt.max_depth_m,
+                               opt.max_splat_radius_px,
+                               packed_.view()};
+
+  out.index.resize(w, h);
+  kernels::ResolveKernel r;
+  r.s = arr;
+  r.packed = packed_.cview();
+  r.T_world_cam = toRigid(T_world_cam);
+  r.K = c.test.K;
+  r.splat = true;
+  r.index = out.index.view();
+  r.depth_m = viewIf((opt.outputs & kRenderDepth) != 0, out.depth_m, w, h);
+  r.vertex_world = viewIf((opt.outputs & kRenderVertex) != 0, out.vertex_world, w, h);
+  r.normal_world = viewIf((opt.outputs & kRenderNormal) != 0, out.normal_world, w, h);
+  r.colour = viewIf((opt.outputs & kRenderColour) != 0, out.colour, w, h);
+  r.confidence = viewIf((opt.outputs & kRenderConfidence) != 0, out.confidence, w, h);
+  r.segment = viewIf((opt.outputs & kRenderSegment) != 0, out.segment, w, h);
+
+  // Footprints are binned by row band as they are computed (one pass over the visible blocks);
+  // then each band is depth-tested by one thread with plain min writes and resolved while its
+  // rows are in cache. A footprint crossing a band border is drawn in both bands, clipped.
+  const int nt = compute::maxThreads();
+  const int nbands = nt <= 1 ? 1 : std::min(h, 4 * nt);
+  std::vector<int> band_lo(nbands + 1), band_of_row(h);
+  for (int b = 0; b <= nbands; ++b) band_lo[b] = int(std::int64_t(h) * b / nbands);
+  for (int b = 0; b < nbands; ++b)
+    for (int y = band_lo[b]; y < band_lo[b + 1]; ++y) band_of_row[y] = b;
+  if (int(band_fp_.size()) < nt * nbands) band_fp_.resize(nt * nbands);
+  const int nb = int(c.blocks.size());
+  long long tested = 0, drawn = 0;
+#pragma omp parallel num_threads(nt) reduction(+ : tested, drawn)
+  {
+    const int t = threadId();
+    std::vector<kernels::SplatFootprint>* mine = &band_fp_[std::size_t(t) * nbands];
+    for (int b = 0; b < nbands; ++b) mine[b].clear();
+#pragma omp for schedule(dynamic, 2)
+    for (int j = 0; j < nb; ++j) {
+      const std::vector<int>& members = index.members(c.blocks[j]);
+      tested += (long long)members.size();
+      forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, true, members,
+                        [&](int i, const Vec3f& pc) {
+                          ++drawn;
+                          kernels::SplatFootprint f;
+                          if (!k.footprintAt(i, pc, f)) return;
+                          for (int b = band_of_row[f.y0]; b <= band_of_row[f.y1]; ++b)
+                            mine[b].push_back(f);
+                        });
+    }
+    const int tn = teamSize();
+#pragma omp for schedule(dynamic, 1)
+    for (int b = 0; b < nbands; ++b) {
+      const int lo = band_lo[b], hi = band_lo[b + 1] - 1;
+      for (int y = lo; y <= hi; ++y) {
+        std::uint64_t* row = packed_.row(y);
+        for (int x = 0; x < w; ++x) row[x] = kernels::kEmptyPacked;
+      }
+      for (int tt = 0; tt < tn; ++tt)
+        for (const kernels::SplatFootprint& f : band_fp_[std::size_t(tt) * nbands + b])
+          k.rasterize(f, std::max(lo, f.y0), std::min(hi, f.y1), false);
+      for (int y = lo; y <= hi; ++y) resolveRow(r, y);
+    }
+  }
+  if (stats) {
+    stats->blocks_total = index.numBlocks();
+    stats->blocks_visited = nb;
+    stats->surfels_tested = tested;
+    stats->surfels_drawn = drawn;
+  }
+}
+
 void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
                             const CameraIntrinsics& K, const RenderOptions& opt, RenderedMaps& out,
                             RenderStats* stats) {
+  if (backend_ == compute::Backend::Cpu && opt.splat) {
+    splatCpu(map, T_world_cam, K, opt, out, stats);
+    return;
+  }
   const int w = K.width, h = K.height;
   collectVisible(map, T_world_cam, K, opt, opt.splat ? opt.max_splat_radius_px : 0.5f, visible_,
                  stats);
@@ -161,22 +309,10 @@ void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_w
     cuda::splatPacked(arr, visible_, T_cw, Kp, opt, packed_);
   } else {
     fillEmpty(packed_);
-    if (opt.splat) {
-      kernels::SplatKernel k{arr,
-                             visible_.data(),
-                             T_cw,
-                             Kp,
-                             opt.min_depth_m,
-                             opt.max_depth_m,
-                             opt.max_splat_radius_px,
-                             packed_.view()};
-      splatCpu(k, int(visible_.size()), footprints_, rows_);
-    } else {
-      kernels::PointKernel k{arr, visible_.data(), T_cw,   Kp, opt.min_depth_m, opt.max_depth_m,
-                             1,   packed_.view(),  nullptr};
-      ids_.resize(visible_.size());
-      pointsCpu(k, int(visible_.size()), ids_.data(), values_);
-    }
+    kernels::PointKernel k{arr, visible_.data(), T_cw,   Kp, opt.min_depth_m, opt.max_depth_m,
+                           1,   packed_.view(),  nullptr};
+    ids_.resize(visible_.size());
+    pointsCpu(k, int(visible_.size()), ids_.data(), values_);
   }
 
   out.index.resize(w, h);
@@ -193,7 +329,7 @@ void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_w
   r.colour = viewIf((opt.outputs & kRenderColour) != 0, out.colour, w, h);
   r.confidence = viewIf((opt.outputs & kRenderConfidence) != 0, out.confidence, w, h);
   r.segment = viewIf((opt.outputs & kRenderSegment) != 0, out.segment, w, h);
-  compute::forEach2D(w, h, r);
+  compute::forEach1D(h, [&](int y) { resolveRow(r, y); });
 }
 
 void SurfelRenderer::renderIndexMap4x(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
@@ -222,6 +358,137 @@ void SurfelRenderer::renderIndexMap4x(const SurfelStore& map, const Eigen::Isome
                            K.plain(), opt.min_depth_m,    opt.max_depth_m,
                            S,         out.packed.view(),  nullptr};
     pointsCpu(k, int(out.visible.size()), out.touched.data(), values_);
+  }
+}
+
+void SurfelRenderer::renderCandidates4x(const SurfelStore& map,
+                                        const Eigen::Isometry3d& T_world_cam,
+                                        const CameraIntrinsics& K, const RenderOptions& opt,
+                                        PointCandidates4x& out, RenderStats* stats) {
+  Culling c;
+  cull(map, T_world_cam, K, opt, 0.5f, c);
+  const VoxelBlockIndex& index = map.spatialIndex();
+  const int w = K.width, h = K.height, npix = w * h;
+  const int nt = compute::maxThreads();
+  out.width = w;
+  out.height = h;
+  out.visible.resize(nt);
+  for (auto& v : out.visible) v.clear();
+  keys_.resize(nt);
+  counts_.resize(nt);
+  out.first.resize(std::size_t(npix) + 1);
+  out.count.resize(npix);
+  std::vector<std::uint32_t> row_first(std::size_t(h) + 1, 0);
+  const PinholeF Kp = c.test.K;
+  const int nb = int(c.blocks.size());
+  long long tested = 0;
+  // Two-level counting sort of the projected surfels by frame pixel, every step O(surfels in view)
+  // or O(pixels), with small, cache-resident counters:
+  //   1. project the visible members; per-thread point lists and counts per image row;
+  //   2. prefix sum over rows -> per-thread write cursors;
+  //   3. scatter each thread's candidates into row buckets;
+  //   4. per row: counting sort by column into the final per-pixel lists, and per pixel keep only
+  //      the nearest surfel of each sub-pixel ((depth, index) minimum, as the atomic min of the
+  //      4x map does), compacted to the front of the pixel's list.
+  // The result does not depend on the thread schedule.
+#pragma omp parallel num_threads(nt) reduction(+ : tested)
+  {
+    const int t = threadId(), tn = teamSize();
+    std::vector<kernels::CameraPoint>& pts = out.visible[t];
+    std::vector<std::uint32_t>& keys = keys_[t];
+    std::vector<std::uint32_t>& cnt = counts_[t];
+    keys.clear();
+    cnt.assign(std::max(h, w) + 1, 0u);
+#pragma omp for schedule(dynamic, 2)
+    for (int j = 0; j < nb; ++j) {
+      const std::vector<int>& members = index.members(c.blocks[j]);
+      tested += (long long)members.size();
+      forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, false, members,
+                        [&](int i, const Vec3f& pc) {
+                          const std::uint32_t key =
+                              kernels::candidateKey4x(pc, Kp, opt.min_depth_m, opt.max_depth_m);
+                          pts.push_back(kernels::CameraPoint{pc, i});
+                          keys.push_back(key);
+                          if (key != kernels::kNoCandidate) ++cnt[kernels::candidateRow(key)];
+                        });
+    }
+#pragma omp single
+    {
+      std::uint32_t cur = 0;
+      for (int y = 0; y < h; ++y) {
+        row_first[y] = cur;
+        for (int tt = 0; tt < tn; ++tt) {
+          const std::uint32_t n = counts_[tt][y];
+          counts_[tt][y] = cur;
+          cur += n;
+        }
+      }
+      row_first[h] = cur;
+      bucket_pts_.resize(cur);
+      bucket_keys_.resize(cur);
+      out.entries.resize(cur);
+      sub_.resize(cur);
+    }
+    for (std::size_t q = 0; q < pts.size(); ++q) {
+      const std::uint32_t key = keys[q];
+      if (key == kernels::kNoCandidate) continue;
+      const std::uint32_t slot = cnt[kernels::candidateRow(key)]++;
+      bucket_pts_[slot] = pts[q];
+      bucket_keys_[slot] = key;
+    }
+#pragma omp barrier
+    constexpr std::uint8_t kLoser = 0x80;
+    kernels::CameraPoint* entries = out.entries.data();
+    std::uint8_t* sub = sub_.data();
+#pragma omp for schedule(dynamic, 8)
+    for (int y = 0; y < h; ++y) {
+      const std::uint32_t b = row_first[y], e = row_first[y + 1];
+      std::uint32_t* col = cnt.data();  // reused: per-column counts, then cursors
+      std::fill(col, col + w, 0u);
+      for (std::uint32_t q = b; q < e; ++q) ++col[kernels::candidateColumn(bucket_keys_[q])];
+      std::uint32_t* first = out.first.data() + std::size_t(y) * w;
+      std::uint32_t cur = b;
+      for (int x = 0; x < w; ++x) {
+        first[x] = cur;
+        const std::uint32_t n = col[x];
+        col[x] = cur;
+        cur += n;
+      }
+      for (std::uint32_t q = b; q < e; ++q) {
+        const std::uint32_t key = bucket_keys_[q];
+        const std::uint32_t slot = col[kernels::candidateColumn(key)]++;
+        entries[slot] = bucket_pts_[q];
+        sub[slot] = std::uint8_t(kernels::candidateSubPixel(key));
+      }
+      std::uint8_t* count = out.count.data() + std::size_t(y) * w;
+      for (int x = 0; x < w; ++x) {
+        const std::uint32_t pb = first[x], pe = x + 1 < w ? first[x + 1] : e;
+        if (pe - pb <= 1) {
+          count[x] = std::uint8_t(pe - pb);
+          continue;
+        }
+        for (std::uint32_t q = pb; q < pe; ++q) {
+          const std::uint64_t v = kernels::packDepthIndex(entries[q].pc.z(), entries[q].index);
+          for (std::uint32_t o = pb; o < pe; ++o)
+            if (o != q && (sub[o] & 15u) == sub[q] &&
+                kernels::packDepthIndex(entries[o].pc.z(), entries[o].index) < v) {
+              sub[q] |= kLoser;
+              break;
+            }
+        }
+        std::uint32_t m = pb;
+        for (std::uint32_t q = pb; q < pe; ++q)
+          if (!(sub[q] & kLoser)) entries[m++] = entries[q];
+        count[x] = std::uint8_t(m - pb);
+      }
+    }
+  }
+  out.first[npix] = row_first[h];
+  if (stats) {
+    stats->blocks_total = index.numBlocks();
+    stats->blocks_visited = nb;
+    stats->surfels_tested = tested;
+    stats->surfels_drawn = (long long)out.numVisible();
   }
 }
 

@@ -34,7 +34,17 @@ void SurfelStore::reset(const SurfelStoreOptions& opt) {
   indexed_ = 0;
   t0_s_ = std::numeric_limits<double>::quiet_NaN();
   radius_bound_ = 0.0f;
-  resizeArrays(0);
+  ++generation_;
+  pos_conf_.clear();
+  normal_radius_.clear();
+  colour_flags_.clear();
+  t_init_.clear();
+  t_last_.clear();
+  basis_.clear();
+  segment_.clear();
+  segment_w_.clear();
+  class_p_.clear();
+  view_ic_.clear();
   index_ = VoxelBlockIndex(opt.block_size_m);
 }
 
@@ -65,24 +75,28 @@ void SurfelStore::resizeArrays(int n) {
 }
 
 SurfelArrays SurfelStore::arrays() {
+  ++generation_;
+  return const_cast<const SurfelStore*>(this)->arrays();
+}
+
+SurfelArrays SurfelStore::arrays() const {
+  SurfelStore& m = const_cast<SurfelStore&>(*this);  // SurfelArrays is one plain mutable type
   SurfelArrays a;
-  a.pos_conf = pos_conf_.data();
-  a.normal_radius = normal_radius_.data();
-  a.colour_flags = colour_flags_.data();
-  a.t_init = t_init_.data();
-  a.t_last = t_last_.data();
-  a.basis = basis_.data();
-  a.segment = segment_.data();
-  a.segment_w = segment_w_.data();
-  a.class_p = class_p_.data();
-  a.view_ic = view_ic_.data();
+  a.pos_conf = m.pos_conf_.data();
+  a.normal_radius = m.normal_radius_.data();
+  a.colour_flags = m.colour_flags_.data();
+  a.t_init = m.t_init_.data();
+  a.t_last = m.t_last_.data();
+  a.basis = m.basis_.data();
+  a.segment = m.segment_.data();
+  a.segment_w = m.segment_w_.data();
+  a.class_p = m.class_p_.data();
+  a.view_ic = m.view_ic_.data();
   a.size = size_;
   a.n_classes = opt_.n_classes;
   a.n_view_bins = opt_.nViewBins();
   return a;
 }
-
-SurfelArrays SurfelStore::arrays() const { return const_cast<SurfelStore*>(this)->arrays(); }
 
 int SurfelStore::allocate(int count) {
   if (count < 0) throw std::invalid_argument("SurfelStore::allocate: negative count");
@@ -90,6 +104,7 @@ int SurfelStore::allocate(int count) {
   if (std::int64_t(size_) + count > std::int64_t(std::numeric_limits<int>::max() / 2))
     throw std::length_error("SurfelStore::allocate: too many surfels");
   size_ += count;
+  ++generation_;
   resizeArrays(size_);
   return first;
 }
@@ -153,6 +168,7 @@ void SurfelStore::set(int i, const Surfel& s) {
     throw std::invalid_argument(
         "SurfelStore::set: class_p has " + std::to_string(s.class_p.size()) +
         " values, the map has n_classes = " + std::to_string(opt_.n_classes));
+  ++generation_;
   if (!s.view_ic.empty() && int(s.view_ic.size()) != opt_.nViewBins())
     throw std::invalid_argument("SurfelStore::set: view_ic has " +
                                 std::to_string(s.view_ic.size()) + " values, the map has " +
@@ -210,8 +226,8 @@ void SurfelStore::moveSurfel(int from, int to) {
   segment_[to] = segment_[from];
   segment_w_[to] = segment_w_[from];
   const std::size_t nc = opt_.n_classes, nv = opt_.nViewBins();
-  std::copy_n(class_p_.begin() + from * nc, nc, class_p_.begin() + to * nc);
-  std::copy_n(view_ic_.begin() + from * nv, nv, view_ic_.begin() + to * nv);
+  std::copy_n(class_p_.data() + from * nc, nc, class_p_.data() + to * nc);
+  std::copy_n(view_ic_.data() + from * nv, nv, view_ic_.data() + to * nv);
   if (from < indexed_) index_.renumber(from, to);
 }
 
@@ -222,6 +238,7 @@ void SurfelStore::remove(std::vector<int> surfels, std::vector<std::pair<int, in
   surfels.erase(std::unique(surfels.begin(), surfels.end()), surfels.end());
   if (surfels.front() < 0 || surfels.back() >= size_)
     throw std::out_of_range("SurfelStore::remove: index out of range");
+  ++generation_;
   // Mark, and drop from the spatial index, every removed surfel.
   for (int i : surfels) {
     colour_flags_[i] |= kSurfelFree;

@@ -1,15 +1,19 @@
 #pragma once
 // Surfel map fusion of one RGB-D frame at a known pose (II-B, II-D, with the segment weights of
 // III and the view-information bins / basis of V-B):
-//   1. render the 4x point index map of the map at T_world_cam (SurfelRenderer, II-D);
-//   2. per pixel (parallel, race-free: each surfel is a candidate of one pixel only), pick the most
-//      similar candidate in the pixel's 4x4 sub-pixel block (depth along the ray and normal angle
-//      gate it; cost = normalised ray distance + normal angle + radius ratio), and update it by
-//      confidence-weighted averaging (Keller et al. 2013), accumulate w, update t_last, the
-//      stability flag, the segment weight (L^p), the basis b <- -n x (n x b) and the view bins;
+//   1. render the 4x point index map of the map at T_world_cam (SurfelRenderer, II-D; on the CPU
+//      as compact per-pixel candidate lists, renderCandidates4x);
+//   2. per pixel (parallel), pick the most similar candidate in the pixel's 4x4 sub-pixel block
+//      (depth along the ray and normal angle gate it; cost = normalised ray distance + normal
+//      angle + radius ratio); then, in a second pass (race-free: each surfel is a candidate of one
+//      pixel only), update it by confidence-weighted averaging (Keller et al. 2013), accumulate w,
+//      update t_last, the stability flag, the segment weight (L^p), the basis b <- -n x (n x b)
+//      and the view bins;
 //   3. pixels without a match become new surfels (II-B), appended in row-major pixel order through
 //      a per-row count + prefix sum (deterministic);
-//   4. cleanup: remove unstable surfels older than the time window, carve free space.
+//   4. cleanup: carve free space, remove unstable surfels past their age / idle limits.
+// Per frame the cost is O(pixels + surfels in view): nothing scans the whole map (pruning keeps a
+// schedule of the unstable surfels, PruneSchedule.h).
 // Works on the MRPT-free SurfelStore; CSurfelMap::store() gives it.
 
 #include <Eigen/Geometry>
@@ -22,6 +26,7 @@
 #include "rasm/core/CameraIntrinsics.h"
 #include "rasm/core/Image.h"
 #include "rasm/core/RgbdFrame.h"
+#include "rasm/fusion/PruneSchedule.h"
 #include "rasm/fusion/TFusionParams.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
 #include "rasm/surfel_map/SurfelStore.h"
@@ -92,22 +97,43 @@ class SurfelFusion {
   /// the cleanup's compaction (removed -> -1, moved -> new index); invalid after any later change
   /// of the map by someone else.
   const Image<std::int32_t>& pixelSurfels() const { return m_pixel_surfel; }
-  /// The 4x point index map rendered for the last frame (before its updates and cleanup).
+  /// The 4x point index map candidates of the last frame (before its updates and cleanup): CPU
+  /// backend lastCandidates(), CUDA backend lastIndexMap() (the other one is empty).
+  const maps::PointCandidates4x& lastCandidates() const { return m_candidates; }
   const maps::IndexMap4x& lastIndexMap() const { return m_index4x; }
 
  private:
+  bool cpu() const { return m_backend == compute::Backend::Cpu; }
+  /// Whether m_schedule describes `map` (only fusion changed it since fusion last looked).
+  bool scheduleValid(const maps::SurfelStore& map) const;
+  void scheduleSeen(const maps::SurfelStore& map);
+  void carveCpu(const maps::SurfelStore& map, const FusionInput& in, std::vector<int>& removed,
+                std::vector<int>& demoted);
+  void carveIndexMap(maps::SurfelStore& map, const FusionInput& in, std::vector<int>& removed,
+                     std::vector<int>& demoted);
+
   TFusionParams m_params;
   compute::Backend m_backend;
   maps::SurfelRenderer m_renderer;
-  maps::IndexMap4x m_index4x;
-  Image<std::int32_t> m_pixel_surfel;  ///< per pixel: matched surfel / -2 new / -1 none
-  Image<std::uint8_t> m_flags;
+  maps::PointCandidates4x m_candidates;  ///< CPU backend
+  maps::IndexMap4x m_index4x;            ///< CUDA backend
+  maps::RenderOptions m_index_options;   ///< of the last index map render
+  Image<std::int32_t> m_pixel_surfel;    ///< per pixel: matched surfel / -2 new / -1 none
+  Image<std::uint16_t> m_flags;          ///< per pixel: kernels::PixelFlag bits
   Image<float> m_weight;  ///< II-B confidence weight per pixel for m_weight_K / m_weight_sigma
   CameraIntrinsics m_weight_K;
   float m_weight_sigma = -1.0f;
-  bool m_index_fresh = false;  ///< m_index4x.visible matches the map (integrate, no removal since)
+  bool m_index_fresh = false;  ///< the last index map matches the map (integrate, no removal since)
   std::vector<int> m_row_offset;
-  std::vector<int> m_scratch;
+  std::vector<std::vector<int>> m_thread_lists;
+  std::vector<int> m_removed, m_demoted;
+  std::vector<std::pair<int, int>> m_moved;
+  std::vector<std::int32_t> m_remap_table;
+  // Pruning schedule and what it was built for.
+  PruneSchedule m_schedule;
+  const maps::SurfelStore* m_schedule_map = nullptr;
+  std::uint64_t m_schedule_generation = 0;
+  std::vector<int> m_due_now;  ///< surfels added by integrate() that are already due for pruning
 };
 
 }  // namespace rasm::fusion

@@ -100,6 +100,28 @@ struct IndexMap4x {
   }
 };
 
+/// The 4x point index map of II-D in compact form, for the CPU fusion path: for every frame pixel
+/// the same candidates as IndexMap4x (the nearest surfel of each of its 16 sub-pixels), stored as
+/// one contiguous list per pixel together with the camera-frame centre the projection computed.
+/// Memory is O(surfels in view), not O(16 W H): nothing has to be cleared between frames, and a
+/// pixel's candidates are read sequentially.
+struct PointCandidates4x {
+  int width = 0, height = 0;
+  /// Every surfel that passed the render filters (collectVisible's set, free-space carving's
+  /// input), in per-thread chunks of arbitrary order.
+  std::vector<std::vector<kernels::CameraPoint>> visible;
+  /// Candidates of pixel p = y * width + x: entries[first[p], first[p] + count[p]).
+  std::vector<std::uint32_t> first;
+  std::vector<std::uint8_t> count;
+  std::vector<kernels::CameraPoint> entries;
+
+  std::size_t numVisible() const {
+    std::size_t n = 0;
+    for (const auto& c : visible) n += c.size();
+    return n;
+  }
+};
+
 class SurfelRenderer {
  public:
   explicit SurfelRenderer(compute::Backend backend = compute::Backend::Cpu) : backend_(backend) {}
@@ -116,6 +138,12 @@ class SurfelRenderer {
                         const CameraIntrinsics& K, const RenderOptions& opt, IndexMap4x& out,
                         RenderStats* stats = nullptr);
 
+  /// The same candidates as renderIndexMap4x in compact per-pixel lists (CPU only; the backend is
+  /// ignored). opt.splat and opt.outputs are ignored.
+  void renderCandidates4x(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
+                          const CameraIntrinsics& K, const RenderOptions& opt,
+                          PointCandidates4x& out, RenderStats* stats = nullptr);
+
   /// Surfels of the frustum-culled blocks that pass the filters of `opt` and whose centre projects
   /// within `margin_px` of the image, in increasing block id then member order.
   void collectVisible(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
@@ -123,14 +151,27 @@ class SurfelRenderer {
                       std::vector<int>& visible, RenderStats* stats = nullptr) const;
 
  private:
+  /// Frustum-culled blocks and the per-surfel filters of a render (shared set-up).
+  struct Culling;
+  void cull(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K,
+            const RenderOptions& opt, float margin_px, Culling& c) const;
+  void splatCpu(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
+                const CameraIntrinsics& K, const RenderOptions& opt, RenderedMaps& out,
+                RenderStats* stats);
+
   compute::Backend backend_;
   std::vector<int> visible_;
   Image<std::uint64_t> packed_;
   mutable std::vector<std::vector<int>> per_block_;  ///< collectVisible scratch (not thread safe)
-  std::vector<kernels::SplatFootprint> footprints_;  ///< CPU splat launcher scratch
-  std::vector<std::uint32_t> rows_;
   std::vector<std::int64_t> ids_;
   std::vector<std::uint64_t> values_;
+  // CPU splat: footprints per (thread, row band); 4x candidates: keys and counts per thread.
+  std::vector<std::vector<kernels::SplatFootprint>> band_fp_;
+  std::vector<std::vector<std::uint32_t>> keys_;
+  std::vector<std::vector<std::uint32_t>> counts_;
+  std::vector<kernels::CameraPoint> bucket_pts_;
+  std::vector<std::uint32_t> bucket_keys_;
+  std::vector<std::uint8_t> sub_;
 };
 
 namespace cuda {

@@ -22,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "rasm/surfel_map/PodArray.h"
 #include "rasm/surfel_map/SurfelArrays.h"
 #include "rasm/surfel_map/VoxelBlockIndex.h"
 
@@ -72,7 +73,8 @@ class SurfelStore {
   bool empty() const { return size_ == 0; }
   void reserve(int n);
 
-  /// Mutable spans over the arrays (valid until the next size change).
+  /// Mutable spans over the arrays (valid until the next size change). Counts as a modification
+  /// (generation()).
   SurfelArrays arrays();
   /// Read-only by contract: the pointers are non-const because SurfelArrays is one plain type
   /// shared by all kernels; code holding a const store must not write through them.
@@ -120,6 +122,11 @@ class SurfelStore {
   /// Bytes held by arrays and index (capacity based).
   std::size_t memoryBytes() const;
 
+  /// Bumped by every call that may modify surfels (append, allocate, set, remove, reset, and the
+  /// mutable arrays()): a consumer that caches per-surfel state (fusion's pruning schedule) tells
+  /// from it whether someone else changed the map since it last did.
+  std::uint64_t generation() const { return generation_; }
+
   /// Spatial index consistent with the positions (tests).
   bool checkConsistency(std::string* why = nullptr) const;
 
@@ -133,16 +140,19 @@ class SurfelStore {
   double t0_s_ = std::numeric_limits<double>::quiet_NaN();
   float radius_bound_ = 0.0f;
 
-  std::vector<Vec4f> pos_conf_;
-  std::vector<Vec4f> normal_radius_;
-  std::vector<std::uint32_t> colour_flags_;
-  std::vector<float> t_init_;
-  std::vector<float> t_last_;
-  std::vector<Vec3f> basis_;
-  std::vector<std::uint32_t> segment_;
-  std::vector<float> segment_w_;
-  std::vector<std::uint8_t> class_p_;
-  std::vector<std::uint8_t> view_ic_;
+  std::uint64_t generation_ = 0;
+
+  // Growth never copies (PodArray.h): no reallocation spike when a large map grows.
+  PodArray<Vec4f> pos_conf_;
+  PodArray<Vec4f> normal_radius_;
+  PodArray<std::uint32_t> colour_flags_;
+  PodArray<float> t_init_;
+  PodArray<float> t_last_;
+  PodArray<Vec3f> basis_;
+  PodArray<std::uint32_t> segment_;
+  PodArray<float> segment_w_;
+  PodArray<std::uint8_t> class_p_;
+  PodArray<std::uint8_t> view_ic_;
 
   VoxelBlockIndex index_;
 };

@@ -15,8 +15,8 @@
 
 namespace rasm::fusion::kernels {
 
-/// Per-pixel outcome bits of the association / update pass.
-enum PixelFlag : std::uint8_t {
+/// Per-pixel outcome bits of the association and update passes.
+enum PixelFlag : std::uint16_t {
   kPixValid = 1,          ///< usable measurement (vertex, normal, depth range, incidence)
   kPixAssociated = 2,     ///< matched an existing surfel
   kPixFused = 4,          ///< geometry averaged (radius rule passed)
@@ -24,6 +24,10 @@ enum PixelFlag : std::uint8_t {
   kPixBecameStable = 16,  ///< the matched surfel crossed the stability threshold
   kPixRelabelled = 32,    ///< the matched surfel changed segment (III)
   kPixCovered = 64,       ///< no candidate of its own, but a neighbour's surfel covers it
+  kPixCrossedBlock = 128, ///< the update moved the surfel into another spatial-index block
+  /// Bits 8-9: free-space carving verdict on the updated surfel (CarveTest::Action), evaluated on
+  /// its state after the update and applied by the cleanup.
+  kPixCarveShift = 8,
 };
 
 /// Plain copy of TFusionParams with derived values, for kernels.
@@ -41,6 +45,7 @@ struct FusionKernelParams {
   bool update_view_bins = true;
   float ic_lambda1 = 0.5f, ic_d_min_m = 1.0f;
   int n_azimuth = 0, n_elevation = 0;
+  float inv_block_size = 2.0f;  ///< 1 / spatial-index block edge (1/m): block crossings
 };
 
 /// The measurement of pixel (x, y) (II-B): camera-frame vertex and normal, confidence weight
@@ -97,109 +102,265 @@ RASM_HD_INLINE void updateViewBin(const maps::SurfelArrays& s, int i, const Vec3
   if (q > row[bin]) row[bin] = q;
 }
 
-/// Association and update, one frame pixel per call (II-D). The candidates of pixel (x, y) are the
-/// surfels of its 4x4 sub-pixel block of the 4x index map; each surfel is in one block only, so
-/// the update of the chosen surfel is exclusive to this pixel (race-free, deterministic).
-///
+/// A pixel's measurement with the association gates derived from it (II-D).
+struct PixelMeasurement {
+  Vec3f v, n;      ///< camera-frame vertex and normal
+  float w = 0, r = 0;  ///< confidence weight and radius (II-B)
+  float z = 0, dz_max = 0, inv_v = 0, inv_r = 0;
+};
+
+RASM_HD_INLINE bool measureForAssociation(const FrameView& frame, int x, int y,
+                                          const FusionKernelParams& prm, PixelMeasurement& m) {
+  if (!frame.measure(x, y, prm, m.v, m.n, m.w, m.r)) return false;
+  m.z = m.v.z();
+  m.dz_max = maps::kernels::maxF(prm.assoc_dz_abs_m, prm.assoc_dz_rel * m.z);
+  m.inv_v = 1.0f / m.v.norm();
+  m.inv_r = 1.0f / m.r;
+  return true;
+}
+
+/// II-D association of one pixel: the most similar of its candidates (camera-frame centres and
+/// indices), -1 when none passes the gates.
 /// Gates: |z_s - z| <= max(abs, rel z) along the ray, angle(n_s, n) <= max angle.
 /// Similarity cost (lowest wins, lower index on ties): d_perp / r + (1 - cos) / (1 - cos_max)
 /// + (max(r_s, r) / min(r_s, r) - 1), i.e. distance of the surfel to the pixel ray in units of the
 /// measurement radius, normal disagreement relative to the gate, and radius mismatch.
-/// Update (Keller et al. 2013, ElasticFusion): when r <= ratio * r_s, position, normal and colour
-/// become the confidence-weighted means (w_s p_s + w p) / (w_s + w), and the radius too when the
-/// new one is smaller (radii only shrink: a coarser view must not blur a finer surfel); then
-/// w_s += w (optionally capped), t_last = now, stable once w_s >= threshold. The basis follows the
-/// normal, b <- -n x (n x b) (V-B); the segment weight follows L^p (III); the view bin of the
-/// camera direction takes max(b_v, IC) (V-B).
-struct AssociateUpdateKernel {
-  FrameView frame;
-  FusionKernelParams prm;
+RASM_HD_INLINE int bestCandidate(const PixelMeasurement& m, const maps::kernels::CameraPoint* c,
+                                 int n, const maps::SurfelArrays& s, const RigidF& T_cam_world,
+                                 const FusionKernelParams& prm) {
+  const float cos_range = 1.0f - prm.min_cos_normal;
+  const float inv_cos_range = 1.0f / (cos_range > 1e-6f ? cos_range : 1e-6f);
+  int best = -1;
+  float best_cost = 3.0e38f;
+  for (int k = 0; k < n; ++k) {
+    const Vec3f& pc = c[k].pc;
+    if (fabsf(pc.z() - m.z) > m.dz_max) continue;
+    const int i = c[k].index;
+    const Vec4f nr = s.normal_radius[i];
+    const float cos_n = T_cam_world.rotate(nr.head<3>()).dot(m.n);
+    if (cos_n < prm.min_cos_normal) continue;
+    const float d_perp = pc.cross(m.v).norm() * m.inv_v;
+    const float rs = nr.w(), r = m.r;
+    const float r_hi = rs > r ? rs : r, r_lo = rs > r ? r : rs;
+    const float cost = d_perp * m.inv_r + (1.0f - cos_n) * inv_cos_range +
+                       (r_hi / (r_lo > 1e-9f ? r_lo : 1e-9f) - 1.0f);
+    if (cost < best_cost || (cost == best_cost && i < best)) {
+      best_cost = cost;
+      best = i;
+    }
+  }
+  return best;
+}
+
+/// Whether one of the candidates, in its current state (the map after this frame's updates),
+/// passes the depth and normal gates and its disc reaches the pixel ray (neighbour coverage, see
+/// CoverageKernel). The candidates' camera-frame centres are current except for surfel `updated`
+/// (the one their pixel updated, -1 none), which is transformed again.
+RASM_HD_INLINE bool coversRay(const PixelMeasurement& m, const maps::kernels::CameraPoint* c, int n,
+                              int updated, const maps::SurfelArrays& s, const RigidF& T_cam_world,
+                              const FusionKernelParams& prm) {
+  for (int k = 0; k < n; ++k) {
+    const int i = c[k].index;
+    const Vec3f pc = i == updated ? T_cam_world.apply(s.position(i)) : c[k].pc;
+    if (fabsf(pc.z() - m.z) > m.dz_max) continue;
+    const Vec4f nr = s.normal_radius[i];
+    if (T_cam_world.rotate(nr.head<3>()).dot(m.n) < prm.min_cos_normal) continue;
+    if (pc.cross(m.v).norm() * m.inv_v <= nr.w()) return true;
+  }
+  return false;
+}
+
+/// Candidates of a frame pixel from the compact lists of SurfelRenderer::renderCandidates4x (CPU).
+struct ListCandidates {
+  const maps::kernels::CameraPoint* entries = nullptr;
+  const std::uint32_t* first = nullptr;
+  const std::uint8_t* count = nullptr;
+  int width = 0, height = 0;
+
+  /// Sets `out` to the candidates of pixel (x, y) and returns how many (buf is not used).
+  RASM_HD_INLINE int get(int x, int y, maps::kernels::CameraPoint* /*buf*/,
+                         const maps::kernels::CameraPoint*& out) const {
+    const int p = y * width + x;
+    out = entries + first[p];
+    return count[p];
+  }
+};
+
+/// Candidates of a frame pixel from the 4x packed index map (IndexMap4x; the CUDA path): the
+/// surfels of its 4x4 sub-pixel block, transformed into the camera frame (their current state).
+struct Map4xCandidates {
   ImageView<const std::uint64_t> index4x;
   maps::SurfelArrays s;
-  RigidF T_world_cam, T_cam_world;
-  float now = 0.0f;                      ///< map time
-  ImageView<std::int32_t> pixel_surfel;  ///< out: matched surfel, -2 new, -1 none
-  ImageView<std::uint8_t> flags;         ///< out: PixelFlag bits
+  RigidF T_cam_world;
+  int width = 0, height = 0;  ///< of the frame
 
-  /// Each surfel is a candidate of exactly one pixel, so after sub-pixel camera motion a pixel's
-  /// own 4x4 block is empty in ~1/3 of the cases (points are spread like a Poisson process) even
-  /// though a surfel of the same surface projects into the neighbouring block. Adding a surfel
-  /// there would duplicate the surface (real Kinect data grew the map by 25% of the pixels per
-  /// frame). This read-only check of the 8 neighbouring blocks finds a surfel that passes the
-  /// depth and normal gates and whose disc reaches the pixel ray; the measurement is then dropped
-  /// (not fused: the exclusive update belongs to the neighbour pixel).
-  RASM_HD_INLINE bool coveredByNeighbour(int x, int y, const Vec3f& v, const Vec3f& n, float z,
-                                         float dz_max, float inv_v) const {
-    for (int py = y - 1; py <= y + 1; ++py)
-      for (int px = x - 1; px <= x + 1; ++px) {
-        if ((px == x && py == y) || px < 0 || py < 0 || 4 * px >= index4x.width ||
-            4 * py >= index4x.height)
-          continue;
-        for (int sy = 4 * py; sy < 4 * py + 4; ++sy)
-          for (int sx = 4 * px; sx < 4 * px + 4; ++sx) {
-            const int i = maps::kernels::unpackIndex(index4x(sx, sy));
-            if (i < 0) continue;
-            const Vec3f pc = T_cam_world.apply(s.position(i));
-            if (fabsf(pc.z() - z) > dz_max) continue;
-            if (T_cam_world.rotate(s.normal(i)).dot(n) < prm.min_cos_normal) continue;
-            if (pc.cross(v).norm() * inv_v <= s.radius(i)) return true;
-          }
-      }
-    return false;
-  }
-
-  RASM_HD_INLINE void operator()(int x, int y) const {
-    Vec3f v, n;
-    float w, r;
-    if (!frame.measure(x, y, prm, v, n, w, r)) {
-      pixel_surfel(x, y) = -1;
-      flags(x, y) = 0;
-      return;
-    }
-    const float z = v.z();
-    const float dz_max = maps::kernels::maxF(prm.assoc_dz_abs_m, prm.assoc_dz_rel * z);
-    const float inv_v = 1.0f / v.norm(), inv_r = 1.0f / r;
-    const float cos_range = 1.0f - prm.min_cos_normal;
-    const float inv_cos_range = 1.0f / (cos_range > 1e-6f ? cos_range : 1e-6f);
-    int best = -1;
-    float best_cost = 3.0e38f;
+  /// Fills buf (16 entries) with the candidates of pixel (x, y); out = buf.
+  RASM_HD_INLINE int get(int x, int y, maps::kernels::CameraPoint* buf,
+                         const maps::kernels::CameraPoint*& out) const {
+    int n = 0;
     for (int sy = 4 * y; sy < 4 * y + 4; ++sy)
       for (int sx = 4 * x; sx < 4 * x + 4; ++sx) {
         const int i = maps::kernels::unpackIndex(index4x(sx, sy));
         if (i < 0) continue;
-        const Vec3f pc = T_cam_world.apply(s.position(i));
-        if (fabsf(pc.z() - z) > dz_max) continue;
-        const float cos_n = T_cam_world.rotate(s.normal(i)).dot(n);
-        if (cos_n < prm.min_cos_normal) continue;
-        const float d_perp = pc.cross(v).norm() * inv_v;
-        const float rs = s.radius(i);
-        const float r_hi = rs > r ? rs : r, r_lo = rs > r ? r : rs;
-        const float cost = d_perp * inv_r + (1.0f - cos_n) * inv_cos_range +
-                           (r_hi / (r_lo > 1e-9f ? r_lo : 1e-9f) - 1.0f);
-        if (cost < best_cost || (cost == best_cost && i < best)) {
-          best_cost = cost;
-          best = i;
-        }
+        buf[n].pc = T_cam_world.apply(s.position(i));
+        buf[n].index = i;
+        ++n;
       }
-    std::uint8_t f = kPixValid;
-    if (best < 0) {
-      if (prm.neighbour_coverage_check && coveredByNeighbour(x, y, v, n, z, dz_max, inv_v)) {
-        pixel_surfel(x, y) = -1;  // measured but neither fused nor added (see coveredByNeighbour)
-        flags(x, y) = f | kPixCovered;
-        return;
-      }
-      pixel_surfel(x, y) = -2;
-      flags(x, y) = f | kPixNew;
+    out = buf;
+    return n;
+  }
+};
+
+/// Association, one frame pixel per call (II-D), read-only on the map: picks the most similar
+/// candidate (bestCandidate), or marks the pixel as a new surfel (kPixNew; CoverageKernel may
+/// still drop it). Each surfel is a candidate of one pixel only, so the updates of the next pass
+/// are exclusive.
+template <typename Candidates>
+struct AssociateKernel {
+  FrameView frame;
+  FusionKernelParams prm;
+  Candidates candidates;
+  maps::SurfelArrays s;
+  RigidF T_cam_world;
+  ImageView<std::int32_t> pixel_surfel;  ///< out: matched surfel, -2 new, -1 none
+  ImageView<std::uint16_t> flags;        ///< out: PixelFlag bits
+
+  RASM_HD_INLINE void operator()(int x, int y) const {
+    PixelMeasurement m;
+    if (!measureForAssociation(frame, x, y, prm, m)) {
+      pixel_surfel(x, y) = -1;
+      flags(x, y) = 0;
       return;
     }
-    f |= kPixAssociated;
-    const int i = best;
+    maps::kernels::CameraPoint buf[16];
+    const maps::kernels::CameraPoint* c = nullptr;
+    const int n = candidates.get(x, y, buf, c);
+    const int best = bestCandidate(m, c, n, s, T_cam_world, prm);
+    pixel_surfel(x, y) = best >= 0 ? best : -2;
+    flags(x, y) = best >= 0 ? std::uint16_t(kPixValid | kPixAssociated)
+                            : std::uint16_t(kPixValid | kPixNew);
+  }
+};
+
+/// Neighbour coverage of a pixel the association left without a match, after the updates:
+/// each surfel is a candidate of exactly one pixel, so after sub-pixel camera motion a pixel's
+/// own 4x4 block is empty in ~1/3 of the cases (points are spread like a Poisson process) even
+/// though a surfel of the same surface projects into the neighbouring block. Adding a surfel there
+/// would duplicate the surface (real Kinect data grew the map by 25% of the pixels per frame).
+/// The 8 neighbouring blocks are searched for a surfel that, as this frame's updates left it,
+/// passes the depth and normal gates and whose disc reaches the pixel ray; the measurement is then
+/// dropped (neither fused nor added). Reading the map only after every update makes the outcome
+/// independent of pixel order and thread count.
+template <typename Candidates>
+struct CoverageKernel {
+  FrameView frame;
+  FusionKernelParams prm;
+  Candidates candidates;
+  maps::SurfelArrays s;
+  RigidF T_cam_world;
+  ImageView<std::int32_t> pixel_surfel;  ///< in/out
+  ImageView<std::uint16_t> flags;        ///< in/out
+
+  RASM_HD_INLINE void operator()(int x, int y) const {
+    if (!(flags(x, y) & kPixNew)) return;
+    PixelMeasurement m;
+    measureForAssociation(frame, x, y, prm, m);  // kPixNew pixels have a valid measurement
+    maps::kernels::CameraPoint buf[16];
+    const maps::kernels::CameraPoint* c = nullptr;
+    const int w = pixel_surfel.width, h = pixel_surfel.height;
+    for (int py = y - 1; py <= y + 1; ++py)
+      for (int px = x - 1; px <= x + 1; ++px) {
+        if ((px == x && py == y) || px < 0 || py < 0 || px >= w || py >= h) continue;
+        const int n = candidates.get(px, py, buf, c);
+        if (coversRay(m, c, n, pixel_surfel(px, py), s, T_cam_world, prm)) {
+          pixel_surfel(x, y) = -1;  // measured but neither fused nor added
+          flags(x, y) = kPixValid | kPixCovered;
+          return;
+        }
+      }
+  }
+};
+
+/// Free-space carving test (II-D "akin to space carving") of one surfel whose centre is pc in the
+/// camera frame: the centre projects onto pixel u whose whole 3x3 neighbourhood has valid measured
+/// depth, and it lies in front of the nearest of those depths by more than max(abs, rel * depth).
+/// Unstable violators are removed; stable ones lose confidence (w *= decay) and the stable flag
+/// once w < the threshold (the next violation removes them).
+struct CarveTest {
+  ImageView<const float> depth_m;
+  PinholeF K;
+  float min_depth_m = 0.1f, max_depth_m = 5.0f;
+  float margin_abs_m = 0.05f, margin_rel = 0.02f;
+  float stable_confidence = 10.0f;
+  float stable_decay = 0.5f;
+
+  enum Action : std::uint8_t { kKeep = 0, kRemove = 1, kDecay = 2, kDemote = 3 };
+
+  RASM_HD_INLINE bool violates(const Vec3f& pc) const {
+    const float z = pc.z();
+    if (!(z > 0.0f)) return false;
+    const int u = maps::kernels::pixelOf(K.fx * pc.x() / z + K.cx);
+    const int v = maps::kernels::pixelOf(K.fy * pc.y() / z + K.cy);
+    if (u < 1 || v < 1 || u >= depth_m.width - 1 || v >= depth_m.height - 1) return false;
+    // Most surfels sit at (or behind) the measured depth: the centre pixel decides cheaply.
+    const float dc = depth_m(u, v);
+    if (!(dc - z > maps::kernels::maxF(margin_abs_m, margin_rel * dc))) return false;
+    float d_min = 3.0e38f;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const float d = depth_m(u + dx, v + dy);
+        if (!(d >= min_depth_m && d <= max_depth_m)) return false;  // not observed: no evidence
+        d_min = d < d_min ? d : d_min;
+      }
+    return d_min - z > maps::kernels::maxF(margin_abs_m, margin_rel * d_min);
+  }
+
+  /// What a violation does to a surfel with these flags and confidence.
+  RASM_HD_INLINE Action action(std::uint32_t colour_flags, float confidence) const {
+    if (!(colour_flags & maps::kSurfelStable)) return kRemove;
+    return confidence * stable_decay < stable_confidence ? kDemote : kDecay;
+  }
+
+  /// Applies kDecay / kDemote to surfel i.
+  RASM_HD_INLINE void decay(const maps::SurfelArrays& s, int i, Action a) const {
+    s.pos_conf[i].w() = s.pos_conf[i].w() * stable_decay;
+    if (a == kDemote) s.colour_flags[i] &= ~std::uint32_t(maps::kSurfelStable);
+  }
+};
+
+/// Update of the surfel a pixel was associated with, one frame pixel per call (II-D; Keller et al.
+/// 2013, ElasticFusion): when r <= ratio * r_s, position, normal and colour become the
+/// confidence-weighted means (w_s p_s + w p) / (w_s + w), and the radius too when the new one is
+/// smaller (radii only shrink: a coarser view must not blur a finer surfel); then w_s += w
+/// (optionally capped), t_last = now, stable once w_s >= threshold. The basis follows the normal,
+/// b <- -n x (n x b) (V-B); the segment weight follows L^p (III); the view bin of the camera
+/// direction takes max(b_v, IC) (V-B). Optionally records the carving verdict on the updated
+/// state (CarveTest) in the pixel's flags.
+struct UpdateKernel {
+  FrameView frame;
+  FusionKernelParams prm;
+  maps::SurfelArrays s;
+  RigidF T_world_cam, T_cam_world;
+  float now = 0.0f;                            ///< map time
+  ImageView<const std::int32_t> pixel_surfel;  ///< of AssociateKernel
+  ImageView<std::uint16_t> flags;              ///< in/out: PixelFlag bits
+  bool carve = false;                          ///< evaluate `carve_test` on the updated surfel
+  CarveTest carve_test;
+
+  RASM_HD_INLINE void operator()(int x, int y) const {
+    const int i = pixel_surfel(x, y);
+    if (i < 0) return;
+    Vec3f v, n;
+    float w = 0.0f, r = 0.0f;
+    frame.measure(x, y, prm, v, n, w, r);  // associated pixels have a valid measurement
+    std::uint16_t f = flags(x, y);
     const Vec3f vw = T_world_cam.apply(v), nw = T_world_cam.rotate(n);
     Vec4f pcf = s.pos_conf[i];
     Vec4f nr = s.normal_radius[i];
     std::uint32_t cf = s.colour_flags[i];
     const float c = pcf.w();
-    Vec3f p = pcf.head<3>(), ns = nr.head<3>();
+    const Vec3f p_old = pcf.head<3>();
+    Vec3f p = p_old, ns = nr.head<3>();
     float rs = nr.w();
     Vec3f b = s.basis[i];
     if (r <= prm.radius_update_ratio * rs) {
@@ -217,6 +378,10 @@ struct AssociateUpdateKernel {
       if (r < rs) rs = a0 * rs + a1 * r;
       b = maps::kernels::updateBasis(ns, b);
       f |= kPixFused;
+      if (floorf(p.x() * prm.inv_block_size) != floorf(p_old.x() * prm.inv_block_size) ||
+          floorf(p.y() * prm.inv_block_size) != floorf(p_old.y() * prm.inv_block_size) ||
+          floorf(p.z() * prm.inv_block_size) != floorf(p_old.z() * prm.inv_block_size))
+        f |= kPixCrossedBlock;
     }
     float c_new = c + w;
     if (prm.max_confidence > 0.0f && c_new > prm.max_confidence) c_new = prm.max_confidence;
@@ -245,19 +410,20 @@ struct AssociateUpdateKernel {
       }
     }
     updateViewBin(s, i, p, ns, b, T_world_cam.translation(), prm);
-    pixel_surfel(x, y) = i;
+    if (carve && carve_test.violates(T_cam_world.apply(p)))
+      f |= std::uint16_t(carve_test.action(cf, c_new) << kPixCarveShift);
     flags(x, y) = f;
   }
 };
 
 /// Counts the new-surfel pixels of row y.
 struct RowCountKernel {
-  ImageView<const std::uint8_t> flags;
+  ImageView<const std::uint16_t> flags;
   int* row_count = nullptr;
 
   RASM_HD_INLINE void operator()(int y) const {
     int c = 0;
-    const std::uint8_t* r = flags.row(y);
+    const std::uint16_t* r = flags.row(y);
     for (int x = 0; x < flags.width; ++x) c += (r[x] & kPixNew) ? 1 : 0;
     row_count[y] = c;
   }
@@ -274,13 +440,13 @@ struct NewSurfelKernel {
   maps::SurfelArrays s;
   RigidF T_world_cam;
   float now = 0.0f;
-  ImageView<const std::uint8_t> flags;
+  ImageView<const std::uint16_t> flags;
   const int* row_first = nullptr;
   ImageView<std::int32_t> pixel_surfel;
 
   RASM_HD_INLINE void operator()(int y) const {
     int i = row_first[y];
-    const std::uint8_t* fr = flags.row(y);
+    const std::uint16_t* fr = flags.row(y);
     for (int x = 0; x < flags.width; ++x) {
       if (!(fr[x] & kPixNew)) continue;
       Vec3f v, n;
@@ -305,66 +471,35 @@ struct NewSurfelKernel {
   }
 };
 
-/// Free-space carving (II-D "akin to space carving"), one surfel of the rendered view per call:
-/// a surfel whose centre projects onto pixel u with valid measured depth in the whole 3x3
-/// neighbourhood, and lies in front of the nearest of those depths by more than
-/// max(abs, rel * depth), contradicts the measurement. Unstable violators are marked for removal;
-/// stable ones lose confidence (w *= decay) and the stable flag once w < the threshold.
-/// action[k]: 0 keep, 1 remove, 2 stable but decayed, 3 decayed and demoted to unstable.
+/// Free-space carving (CarveTest) of the surfels of a rendered view, one per call, on their current
+/// state (index-map path: after the updates). action[k]: CarveTest::Action of surfel visible[k];
+/// kDecay / kDemote are applied here, kRemove is left to the caller.
 struct CarveKernel {
   maps::SurfelArrays s;
   const int* visible = nullptr;
   RigidF T_cam_world;
-  PinholeF K;
-  ImageView<const float> depth_m;
-  float min_depth_m = 0.1f, max_depth_m = 5.0f;
-  float margin_abs_m = 0.05f, margin_rel = 0.02f;
-  float stable_confidence = 10.0f;
-  float stable_decay = 0.5f;
+  CarveTest test;
   std::uint8_t* action = nullptr;
 
   RASM_HD_INLINE void operator()(int k) const {
-    action[k] = 0;
+    action[k] = CarveTest::kKeep;
     const int i = visible[k];
-    const Vec3f pc = T_cam_world.apply(s.position(i));
-    const float z = pc.z();
-    if (!(z > 0.0f)) return;
-    const int u = maps::kernels::pixelOf(K.fx * pc.x() / z + K.cx);
-    const int v = maps::kernels::pixelOf(K.fy * pc.y() / z + K.cy);
-    if (u < 1 || v < 1 || u >= depth_m.width - 1 || v >= depth_m.height - 1) return;
-    // Most surfels sit at (or behind) the measured depth: the centre pixel decides cheaply.
-    const float dc = depth_m(u, v);
-    if (!(dc - z > maps::kernels::maxF(margin_abs_m, margin_rel * dc))) return;
-    float d_min = 3.0e38f;
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        const float d = depth_m(u + dx, v + dy);
-        if (!(d >= min_depth_m && d <= max_depth_m)) return;  // not observed: no evidence
-        d_min = d < d_min ? d : d_min;
-      }
-    const float margin = maps::kernels::maxF(margin_abs_m, margin_rel * d_min);
-    if (d_min - z <= margin) return;
-    const std::uint32_t cf = s.colour_flags[i];
-    if (!(cf & maps::kSurfelStable)) {
-      action[k] = 1;
-      return;
-    }
-    const float c = s.pos_conf[i].w() * stable_decay;
-    s.pos_conf[i].w() = c;
-    if (c < stable_confidence) {
-      s.colour_flags[i] = cf & ~std::uint32_t(maps::kSurfelStable);
-      action[k] = 3;
-    } else {
-      action[k] = 2;
-    }
+    if (!test.violates(T_cam_world.apply(s.position(i)))) return;
+    const CarveTest::Action a = test.action(s.colour_flags[i], s.pos_conf[i].w());
+    if (a != CarveTest::kRemove) test.decay(s, i, a);
+    action[k] = a;
   }
 };
 
 }  // namespace rasm::fusion::kernels
 
 namespace rasm::fusion::cuda {
-/// CUDA launcher of AssociateUpdateKernel (cuda/FusionKernels.cu): `k` holds HOST views and
-/// arrays; they are copied to the device, the kernel runs over the frame, and the surfel arrays,
-/// pixel_surfel and flags are copied back. Throws std::runtime_error without CUDA or a device.
-void associateUpdate(const kernels::AssociateUpdateKernel& k);
+/// CUDA launcher of the association (on the 4x index map), update and neighbour coverage kernels
+/// (cuda/FusionKernels.cu): the kernels hold HOST views and arrays; they are copied to the device,
+/// the three passes run over the frame one after the other (c is skipped when
+/// c.prm.neighbour_coverage_check is off), and the surfel arrays, pixel_surfel and flags are
+/// copied back. Throws std::runtime_error without CUDA or a device.
+void associateUpdate(const kernels::AssociateKernel<kernels::Map4xCandidates>& a,
+                     const kernels::UpdateKernel& u,
+                     const kernels::CoverageKernel<kernels::Map4xCandidates>& c);
 }  // namespace rasm::fusion::cuda

@@ -68,6 +68,36 @@ RASM_HD_INLINE int pixelOf(float u) { return int(floorf(u + 0.5f)); }
 /// Sub-pixel of the 4x map (IndexMap4x): floor(4 (u + 0.5)), so sub-pixel / 4 == pixelOf(u).
 RASM_HD_INLINE int subPixelOf4x(float u) { return int(floorf(4.0f * (u + 0.5f))); }
 
+/// A surfel's centre in the camera frame and its index: what a projection pass hands on to the
+/// passes after it (fusion's association and carving), so they need not transform it again.
+struct CameraPoint {
+  Vec3f pc;
+  std::int32_t index;
+};
+
+/// No 4x candidate (candidateKey4x).
+constexpr std::uint32_t kNoCandidate = 0xffffffffu;
+
+/// Where the point projection of the 4x index map (IndexMap4x, PointKernel with scale 4) puts a
+/// surfel whose camera-frame centre is pc: (sub-pixel row << 16) | sub-pixel column, or
+/// kNoCandidate outside the depth range or the image (frames up to 16383 pixels wide). Same
+/// arithmetic as PointKernel, so both give the same candidates.
+RASM_HD_INLINE std::uint32_t candidateKey4x(const Vec3f& pc, const PinholeF& K, float min_depth_m,
+                                            float max_depth_m) {
+  const float z = pc.z();
+  if (!(z >= min_depth_m && z <= max_depth_m)) return kNoCandidate;
+  const float u = K.fx * pc.x() / z + K.cx, v = K.fy * pc.y() / z + K.cy;
+  const int sx = subPixelOf4x(u), sy = subPixelOf4x(v);
+  if (sx < 0 || sy < 0 || sx >= 4 * K.width || sy >= 4 * K.height) return kNoCandidate;
+  return (std::uint32_t(sy) << 16) | std::uint32_t(sx);
+}
+/// Frame pixel row / column and sub-pixel (0-15, row-major in the 4x4 block) of a key.
+RASM_HD_INLINE int candidateRow(std::uint32_t key) { return int(key >> 18); }
+RASM_HD_INLINE int candidateColumn(std::uint32_t key) { return int((key & 0xffffu) >> 2); }
+RASM_HD_INLINE int candidateSubPixel(std::uint32_t key) {
+  return int(((key >> 16) & 3u) * 4u + (key & 3u));
+}
+
 /// The per-surfel filters of a render (RenderOptions) after block culling: alive, stable only,
 /// confidence, time window (map time), depth range, back faces, and the centre's projection within
 /// [lo, hi] (pixels; the image grown by the splat radius).
@@ -83,6 +113,13 @@ struct VisibilityTest {
   bool cull_back_faces = false;
   float u_lo = 0, u_hi = 0, v_lo = 0, v_hi = 0;
 
+  /// Whether attributes() can reject a surfel whose confidence is >= 0: when false, a projection
+  /// pass over the spatial index (which holds live surfels only) need not load the flags, times or
+  /// normals at all.
+  RASM_HD_INLINE bool filtersAttributes() const {
+    return stable_only || min_confidence > 0.0f || min_t_last > -3.0e38f || cull_back_faces;
+  }
+
   /// The attribute and back-face filters only (for surfels known to be inside the frustum).
   RASM_HD_INLINE bool attributes(int i) const {
     const std::uint32_t cf = s.colour_flags[i];
@@ -94,8 +131,11 @@ struct VisibilityTest {
 
   RASM_HD_INLINE bool operator()(int i) const {
     if (!attributes(i)) return false;
-    const Vec3f p = s.position(i);
-    const Vec3f pc = T_cam_world.apply(p);
+    return inView(T_cam_world.apply(s.position(i)));
+  }
+
+  /// The geometric part: depth range and the centre's projection within [lo, hi].
+  RASM_HD_INLINE bool inView(const Vec3f& pc) const {
     if (!(pc.z() >= min_depth_m && pc.z() <= max_depth_m)) return false;
     const float u = K.fx * pc.x() / pc.z() + K.cx, v = K.fy * pc.y() / pc.z() + K.cy;
     return u >= u_lo && u <= u_hi && v >= v_lo && v <= v_hi;
@@ -135,10 +175,16 @@ struct SplatKernel {
   ImageView<std::uint64_t> packed;
 
   /// False when the surfel is outside the depth range or its footprint misses the image.
-  RASM_HD_INLINE bool footprint(int k, SplatFootprint& f) const {
-    const int i = visible[k];
+  RASM_HD_INLINE bool footprint(int k, SplatFootprint& f) const { return footprintOf(visible[k], f); }
+
+  /// footprint() of surfel i.
+  RASM_HD_INLINE bool footprintOf(int i, SplatFootprint& f) const {
+    return footprintAt(i, T_cam_world.apply(s.position(i)), f);
+  }
+
+  /// footprint() of surfel i whose camera-frame centre pc is already known.
+  RASM_HD_INLINE bool footprintAt(int i, const Vec3f& pc, SplatFootprint& f) const {
     f.i = i;
-    const Vec3f pc = T_cam_world.apply(s.position(i));
     const float z = pc.z();
     if (!(z >= min_depth_m && z <= max_depth_m)) return false;
     const Vec3f nc = T_cam_world.rotate(s.normal(i));
@@ -239,7 +285,11 @@ struct PointKernel {
   /// Linear (sub-)pixel id of surfel visible[k] and its packed depth/index, or -1.
   RASM_HD_INLINE std::int64_t target(int k, std::uint64_t& value) const {
     const int i = visible[k];
-    const Vec3f pc = T_cam_world.apply(s.position(i));
+    return targetOf(i, T_cam_world.apply(s.position(i)), value);
+  }
+
+  /// target() of surfel i whose camera-frame centre is pc.
+  RASM_HD_INLINE std::int64_t targetOf(int i, const Vec3f& pc, std::uint64_t& value) const {
     const float z = pc.z();
     if (!(z >= min_depth_m && z <= max_depth_m)) return -1;
     const float u = K.fx * pc.x() / z + K.cx, v = K.fy * pc.y() / z + K.cy;
