@@ -435,9 +435,6 @@ void SurfelFusion::carveCpu(const maps::SurfelStore& map, const FusionInput& in,
   const int nt = compute::maxThreads();
   m_thread_lists.resize(2 * std::size_t(nt));
   for (auto& l : m_thread_lists) l.clear();
-  const std::vector<std::vector<maps::kernels::CameraPoint>>& vis = m_candidates.visible;
-  const PinholeF Kp = in.K.plain();
-  const float zmin = m_index_options.min_depth_m, zmax = m_index_options.max_depth_m;
 #pragma omp parallel num_threads(nt)
   {
     const int t = threadId();
@@ -461,20 +458,29 @@ void SurfelFusion::carveCpu(const maps::SurfelStore& map, const FusionInput& in,
       }
     }
     // The other surfels of the view are unchanged since the projection: judge them on the
-    // centres it computed. A surfel was updated iff it is the one its own pixel chose.
-    for (const auto& chunk : vis) {
-      const int n = int(chunk.size());
+    // centres it computed, pixel by pixel (a surfel of pixel p's list projects onto p: pixelOf
+    // of its centre is its 4x sub-pixel / 4). A surfel was updated iff its pixel chose it.
+    const maps::kernels::CameraPoint* entries = m_candidates.entries.data();
+    const std::uint32_t* first = m_candidates.first.data();
 #pragma omp for schedule(static) nowait
-      for (int k = 0; k < n; ++k) {
-        const maps::kernels::CameraPoint& cp = chunk[k];
-        if (!test.violates(cp.pc)) continue;
-        const std::uint32_t key = maps::kernels::candidateKey4x(cp.pc, Kp, zmin, zmax);
-        if (key != maps::kernels::kNoCandidate &&
-            m_pixel_surfel(maps::kernels::candidateColumn(key), maps::kernels::candidateRow(key)) ==
-                cp.index)
-          continue;
-        act(cp.index, test.action(a.colour_flags[cp.index], a.pos_conf[cp.index].w()));
+    for (int y = 0; y < h; ++y) {
+      const std::int32_t* ps = m_pixel_surfel.row(y);
+      for (int x = 0; x < w; ++x) {
+        const std::size_t p = std::size_t(y) * w + x;
+        for (std::uint32_t q = first[p]; q < first[p + 1]; ++q) {
+          const maps::kernels::CameraPoint& cp = entries[q];
+          if (cp.index == ps[x] || !test.violatesAt(cp.pc.z(), x, y)) continue;
+          act(cp.index, test.action(a.colour_flags[cp.index], a.pos_conf[cp.index].w()));
+        }
       }
+    }
+    const maps::kernels::CameraPoint* others = m_candidates.others.data();
+    const int n_others = int(m_candidates.others.size());
+#pragma omp for schedule(static) nowait
+    for (int k = 0; k < n_others; ++k) {
+      const maps::kernels::CameraPoint& cp = others[k];
+      if (test.violates(cp.pc))
+        act(cp.index, test.action(a.colour_flags[cp.index], a.pos_conf[cp.index].w()));
     }
   }
   for (int t = 0; t < nt; ++t) {

@@ -1,5 +1,7 @@
 #include "rasm/surfel_map/SurfelRenderer.h"
 
+#include <immintrin.h>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -146,6 +148,62 @@ int teamSize() {
 #endif
 }
 
+/// SplatKernel::rasterize (plain min writes) with four pixels of a row per SSE operation: the
+/// same float operations in the same order per pixel, so the result is identical; the branches of
+/// the tiny footprints (a few pixels each) become masks.
+inline void rasterizeSse(const kernels::SplatKernel& k, const kernels::SplatFootprint& f, int y_lo,
+                         int y_hi) {
+  const Vec3f& pc = f.pc;
+  const Vec3f& nc = f.nc;
+  const float z = pc.z(), r = f.r;
+  const float n_dot_p = nc.dot(pc), r2 = r * r;
+  const float inv_fx = 1.0f / k.K.fx, inv_fy = 1.0f / k.K.fy;
+  const __m128 v_cx = _mm_set1_ps(k.K.cx), v_inv_fx = _mm_set1_ps(inv_fx);
+  const __m128 v_ncx = _mm_set1_ps(nc.x()), v_ndp = _mm_set1_ps(n_dot_p);
+  const __m128 v_pcx = _mm_set1_ps(pc.x()), v_pcy = _mm_set1_ps(pc.y()), v_z = _mm_set1_ps(z);
+  const __m128 v_r2 = _mm_set1_ps(r2), v_eps = _mm_set1_ps(1e-6f), v_m1 = _mm_set1_ps(-1.0f);
+  const __m128 v_zero = _mm_setzero_ps();
+  const __m128 v_abs = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+  const __m128 v_lane = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
+  alignas(16) float t_lane[4];
+  for (int y = y_lo; y <= y_hi; ++y) {
+    const float ry = (float(y) - k.K.cy) * inv_fy;
+    const float denom_y = nc.y() * ry + nc.z();
+    const __m128 v_ry = _mm_set1_ps(ry), v_dy0 = _mm_set1_ps(denom_y);
+    std::uint64_t* row = k.packed.row(y);
+    for (int x0 = f.x0; x0 <= f.x1; x0 += 4) {
+      const __m128 xs = _mm_add_ps(_mm_set1_ps(float(x0)), v_lane);
+      const __m128 rx = _mm_mul_ps(_mm_sub_ps(xs, v_cx), v_inv_fx);
+      const __m128 denom = _mm_add_ps(_mm_mul_ps(v_ncx, rx), v_dy0);
+      const __m128 ok = _mm_cmpge_ps(_mm_and_ps(denom, v_abs), v_eps);
+      __m128 t = _mm_div_ps(v_ndp, denom);
+      t = _mm_or_ps(_mm_and_ps(ok, t), _mm_andnot_ps(ok, v_m1));
+      const __m128 dx = _mm_sub_ps(_mm_mul_ps(t, rx), v_pcx);
+      const __m128 dy = _mm_sub_ps(_mm_mul_ps(t, v_ry), v_pcy);
+      const __m128 dz = _mm_sub_ps(t, v_z);
+      const __m128 d2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)),
+                                   _mm_mul_ps(dz, dz));
+      const __m128 pass = _mm_and_ps(_mm_cmpgt_ps(t, v_zero), _mm_cmpngt_ps(d2, v_r2));
+      int mask = _mm_movemask_ps(pass);
+      const int n = std::min(4, f.x1 - x0 + 1);
+      mask &= (1 << n) - 1;
+      _mm_store_ps(t_lane, t);
+      const int centre = (y == f.vc && f.uc >= x0 && f.uc < x0 + n) ? f.uc - x0 : -1;
+      if (centre >= 0) {
+        // The centre's own pixel is always covered: plane depth, else centre depth.
+        float& tc = t_lane[centre];
+        if (!(tc > 0.0f) || fabsf(tc - z) > r) tc = z;
+        mask |= 1 << centre;
+      }
+      while (mask) {
+        const int l = __builtin_ctz(unsigned(mask));
+        mask &= mask - 1;
+        kernels::depthTest(&row[x0 + l], kernels::packDepthIndex(t_lane[l], f.i), false);
+      }
+    }
+  }
+}
+
 /// Resolves row y (ResolveKernel), prefetching the winning surfels' arrays a few pixels ahead.
 inline void resolveRow(const kernels::ResolveKernel& r, int y) {
   constexpr int kAhead = 8;
@@ -278,7 +336,7 @@ void SurfelRenderer::splatCpu(const SurfelStore& map, const Eigen::Isometry3d& T
       }
       for (int tt = 0; tt < tn; ++tt)
         for (const kernels::SplatFootprint& f : band_fp_[std::size_t(tt) * nbands + b])
-          k.rasterize(f, std::max(lo, f.y0), std::min(hi, f.y1), false);
+          rasterizeSse(k, f, std::max(lo, f.y0), std::min(hi, f.y1));
       for (int y = lo; y <= hi; ++y) resolveRow(r, y);
     }
   }
@@ -369,36 +427,35 @@ void SurfelRenderer::renderCandidates4x(const SurfelStore& map,
   cull(map, T_world_cam, K, opt, 0.5f, c);
   const VoxelBlockIndex& index = map.spatialIndex();
   const int w = K.width, h = K.height, npix = w * h;
+  if (w > 16383 || h > 16383)
+    throw std::invalid_argument("SurfelRenderer::renderCandidates4x: image larger than 16383");
   const int nt = compute::maxThreads();
   out.width = w;
   out.height = h;
-  out.visible.resize(nt);
-  for (auto& v : out.visible) v.clear();
-  keys_.resize(nt);
-  counts_.resize(nt);
+  row_points_.resize(std::size_t(nt) * h);
+  others_.resize(nt);
+  column_counts_.resize(nt);
+  row_scratch_.resize(nt);
   out.first.resize(std::size_t(npix) + 1);
   out.count.resize(npix);
   std::vector<std::uint32_t> row_first(std::size_t(h) + 1, 0);
   const PinholeF Kp = c.test.K;
   const int nb = int(c.blocks.size());
   long long tested = 0;
-  // Two-level counting sort of the projected surfels by frame pixel, every step O(surfels in view)
-  // or O(pixels), with small, cache-resident counters:
-  //   1. project the visible members; per-thread point lists and counts per image row;
-  //   2. prefix sum over rows -> per-thread write cursors;
-  //   3. scatter each thread's candidates into row buckets;
-  //   4. per row: counting sort by column into the final per-pixel lists, and per pixel keep only
-  //      the nearest surfel of each sub-pixel ((depth, index) minimum, as the atomic min of the
-  //      4x map does), compacted to the front of the pixel's list.
-  // The result does not depend on the thread schedule.
+  // Counting sort of the projected surfels by frame pixel, O(surfels in view + pixels):
+  //   1. project the visible members into per-thread, per-image-row lists (no shared counters);
+  //   2. prefix sum of the row sizes;
+  //   3. per row: counting sort by column into the pixels' ranges, then per pixel move the nearest
+  //      surfel of each sub-pixel ((depth, index) minimum, as the atomic min of the 4x map keeps)
+  //      to the front: those are the pixel's candidates.
+  // The result does not depend on the thread schedule (a pixel's range is in arbitrary order).
 #pragma omp parallel num_threads(nt) reduction(+ : tested)
   {
     const int t = threadId(), tn = teamSize();
-    std::vector<kernels::CameraPoint>& pts = out.visible[t];
-    std::vector<std::uint32_t>& keys = keys_[t];
-    std::vector<std::uint32_t>& cnt = counts_[t];
-    keys.clear();
-    cnt.assign(std::max(h, w) + 1, 0u);
+    std::vector<RowPoint>* rows = &row_points_[std::size_t(t) * h];
+    for (int y = 0; y < h; ++y) rows[y].clear();
+    std::vector<kernels::CameraPoint>& others = others_[t];
+    others.clear();
 #pragma omp for schedule(dynamic, 2)
     for (int j = 0; j < nb; ++j) {
       const std::vector<int>& members = index.members(c.blocks[j]);
@@ -407,9 +464,14 @@ void SurfelRenderer::renderCandidates4x(const SurfelStore& map,
                         [&](int i, const Vec3f& pc) {
                           const std::uint32_t key =
                               kernels::candidateKey4x(pc, Kp, opt.min_depth_m, opt.max_depth_m);
-                          pts.push_back(kernels::CameraPoint{pc, i});
-                          keys.push_back(key);
-                          if (key != kernels::kNoCandidate) ++cnt[kernels::candidateRow(key)];
+                          if (key == kernels::kNoCandidate) {
+                            others.push_back(kernels::CameraPoint{pc, i});
+                            return;
+                          }
+                          rows[kernels::candidateRow(key)].push_back(
+                              RowPoint{kernels::CameraPoint{pc, i},
+                                       std::uint16_t(kernels::candidateColumn(key)),
+                                       std::uint8_t(kernels::candidateSubPixel(key))});
                         });
     }
 #pragma omp single
@@ -417,69 +479,63 @@ void SurfelRenderer::renderCandidates4x(const SurfelStore& map,
       std::uint32_t cur = 0;
       for (int y = 0; y < h; ++y) {
         row_first[y] = cur;
-        for (int tt = 0; tt < tn; ++tt) {
-          const std::uint32_t n = counts_[tt][y];
-          counts_[tt][y] = cur;
-          cur += n;
-        }
+        for (int tt = 0; tt < tn; ++tt) cur += std::uint32_t(row_points_[std::size_t(tt) * h + y].size());
       }
       row_first[h] = cur;
-      bucket_pts_.resize(cur);
-      bucket_keys_.resize(cur);
       out.entries.resize(cur);
-      sub_.resize(cur);
+      std::size_t n_others = 0;
+      for (int tt = 0; tt < tn; ++tt) n_others += others_[tt].size();
+      out.others.clear();
+      out.others.reserve(n_others);
+      for (int tt = 0; tt < tn; ++tt)
+        out.others.insert(out.others.end(), others_[tt].begin(), others_[tt].end());
     }
-    for (std::size_t q = 0; q < pts.size(); ++q) {
-      const std::uint32_t key = keys[q];
-      if (key == kernels::kNoCandidate) continue;
-      const std::uint32_t slot = cnt[kernels::candidateRow(key)]++;
-      bucket_pts_[slot] = pts[q];
-      bucket_keys_[slot] = key;
-    }
-#pragma omp barrier
-    constexpr std::uint8_t kLoser = 0x80;
+    std::vector<std::uint32_t>& col = column_counts_[t];
+    col.resize(std::size_t(w) + 1);
+    std::vector<RowPoint>& sorted = row_scratch_[t];
     kernels::CameraPoint* entries = out.entries.data();
-    std::uint8_t* sub = sub_.data();
 #pragma omp for schedule(dynamic, 8)
     for (int y = 0; y < h; ++y) {
       const std::uint32_t b = row_first[y], e = row_first[y + 1];
-      std::uint32_t* col = cnt.data();  // reused: per-column counts, then cursors
-      std::fill(col, col + w, 0u);
-      for (std::uint32_t q = b; q < e; ++q) ++col[kernels::candidateColumn(bucket_keys_[q])];
+      std::fill(col.begin(), col.end(), 0u);
+      for (int tt = 0; tt < tn; ++tt)
+        for (const RowPoint& rp : row_points_[std::size_t(tt) * h + y]) ++col[rp.column + 1];
+      for (int x = 0; x < w; ++x) col[x + 1] += col[x];  // col[x] = start of column x in the row
+      sorted.resize(e - b);
+      for (int tt = 0; tt < tn; ++tt)
+        for (const RowPoint& rp : row_points_[std::size_t(tt) * h + y]) sorted[col[rp.column]++] = rp;
+      // col[x] is now the end of column x.
       std::uint32_t* first = out.first.data() + std::size_t(y) * w;
-      std::uint32_t cur = b;
-      for (int x = 0; x < w; ++x) {
-        first[x] = cur;
-        const std::uint32_t n = col[x];
-        col[x] = cur;
-        cur += n;
-      }
-      for (std::uint32_t q = b; q < e; ++q) {
-        const std::uint32_t key = bucket_keys_[q];
-        const std::uint32_t slot = col[kernels::candidateColumn(key)]++;
-        entries[slot] = bucket_pts_[q];
-        sub[slot] = std::uint8_t(kernels::candidateSubPixel(key));
-      }
       std::uint8_t* count = out.count.data() + std::size_t(y) * w;
+      std::uint32_t pb = 0;
       for (int x = 0; x < w; ++x) {
-        const std::uint32_t pb = first[x], pe = x + 1 < w ? first[x + 1] : e;
-        if (pe - pb <= 1) {
-          count[x] = std::uint8_t(pe - pb);
+        const std::uint32_t pe = col[x];
+        first[x] = b + pb;
+        std::uint32_t m = b + pb, n = pe - pb;
+        if (n <= 1) {
+          if (n) entries[m] = sorted[pb].p;
+          count[x] = std::uint8_t(n);
+          pb = pe;
           continue;
         }
+        // Candidates first, hidden ones after them.
+        std::uint32_t hidden = b + pe;
         for (std::uint32_t q = pb; q < pe; ++q) {
-          const std::uint64_t v = kernels::packDepthIndex(entries[q].pc.z(), entries[q].index);
+          const std::uint64_t v = kernels::packDepthIndex(sorted[q].p.pc.z(), sorted[q].p.index);
+          bool wins = true;
           for (std::uint32_t o = pb; o < pe; ++o)
-            if (o != q && (sub[o] & 15u) == sub[q] &&
-                kernels::packDepthIndex(entries[o].pc.z(), entries[o].index) < v) {
-              sub[q] |= kLoser;
+            if (o != q && sorted[o].sub == sorted[q].sub &&
+                kernels::packDepthIndex(sorted[o].p.pc.z(), sorted[o].p.index) < v) {
+              wins = false;
               break;
             }
+          if (wins)
+            entries[m++] = sorted[q].p;
+          else
+            entries[--hidden] = sorted[q].p;
         }
-        std::uint32_t m = pb;
-        for (std::uint32_t q = pb; q < pe; ++q)
-          if (!(sub[q] & kLoser)) entries[m++] = entries[q];
-        count[x] = std::uint8_t(m - pb);
+        count[x] = std::uint8_t(m - first[x]);
+        pb = pe;
       }
     }
   }

@@ -107,19 +107,17 @@ struct IndexMap4x {
 /// pixel's candidates are read sequentially.
 struct PointCandidates4x {
   int width = 0, height = 0;
-  /// Every surfel that passed the render filters (collectVisible's set, free-space carving's
-  /// input), in per-thread chunks of arbitrary order.
-  std::vector<std::vector<kernels::CameraPoint>> visible;
-  /// Candidates of pixel p = y * width + x: entries[first[p], first[p] + count[p]).
+  /// Per pixel p = y * width + x: entries[first[p], first[p] + count[p]) are its candidates; the
+  /// rest of its range, up to first[p + 1], are surfels projecting there that another surfel of
+  /// the same sub-pixel hides.
   std::vector<std::uint32_t> first;
   std::vector<std::uint8_t> count;
   std::vector<kernels::CameraPoint> entries;
+  /// Surfels that passed the render filters but project outside the 4x grid or depth range.
+  /// entries + others = every visible surfel (collectVisible's set: free-space carving's input).
+  std::vector<kernels::CameraPoint> others;
 
-  std::size_t numVisible() const {
-    std::size_t n = 0;
-    for (const auto& c : visible) n += c.size();
-    return n;
-  }
+  std::size_t numVisible() const { return entries.size() + others.size(); }
 };
 
 class SurfelRenderer {
@@ -165,13 +163,18 @@ class SurfelRenderer {
   mutable std::vector<std::vector<int>> per_block_;  ///< collectVisible scratch (not thread safe)
   std::vector<std::int64_t> ids_;
   std::vector<std::uint64_t> values_;
-  // CPU splat: footprints per (thread, row band); 4x candidates: keys and counts per thread.
+  // CPU splat: footprints per (thread, row band). 4x candidates: per (thread, image row) the
+  // projected points with their sub-pixel, and per thread the points outside the grid.
   std::vector<std::vector<kernels::SplatFootprint>> band_fp_;
-  std::vector<std::vector<std::uint32_t>> keys_;
-  std::vector<std::vector<std::uint32_t>> counts_;
-  std::vector<kernels::CameraPoint> bucket_pts_;
-  std::vector<std::uint32_t> bucket_keys_;
-  std::vector<std::uint8_t> sub_;
+  struct RowPoint {
+    kernels::CameraPoint p;
+    std::uint16_t column;  ///< frame pixel column
+    std::uint8_t sub;      ///< sub-pixel in the 4x4 block, row-major
+  };
+  std::vector<std::vector<RowPoint>> row_points_;
+  std::vector<std::vector<kernels::CameraPoint>> others_;
+  std::vector<std::vector<std::uint32_t>> column_counts_;
+  std::vector<std::vector<RowPoint>> row_scratch_;
 };
 
 namespace cuda {

@@ -299,8 +299,12 @@ struct CarveTest {
   RASM_HD_INLINE bool violates(const Vec3f& pc) const {
     const float z = pc.z();
     if (!(z > 0.0f)) return false;
-    const int u = maps::kernels::pixelOf(K.fx * pc.x() / z + K.cx);
-    const int v = maps::kernels::pixelOf(K.fy * pc.y() / z + K.cy);
+    return violatesAt(z, maps::kernels::pixelOf(K.fx * pc.x() / z + K.cx),
+                      maps::kernels::pixelOf(K.fy * pc.y() / z + K.cy));
+  }
+
+  /// violates() of a centre at depth z > 0 that projects onto pixel (u, v).
+  RASM_HD_INLINE bool violatesAt(float z, int u, int v) const {
     if (u < 1 || v < 1 || u >= depth_m.width - 1 || v >= depth_m.height - 1) return false;
     // Most surfels sit at (or behind) the measured depth: the centre pixel decides cheaply.
     const float dc = depth_m(u, v);

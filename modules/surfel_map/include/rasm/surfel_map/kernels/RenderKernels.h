@@ -125,7 +125,8 @@ struct VisibilityTest {
     const std::uint32_t cf = s.colour_flags[i];
     if (cf & kSurfelFree) return false;
     if (stable_only && !(cf & kSurfelStable)) return false;
-    if (s.pos_conf[i].w() < min_confidence || s.t_last[i] < min_t_last) return false;
+    if (s.pos_conf[i].w() < min_confidence) return false;
+    if (min_t_last > -3.0e38f && s.t_last[i] < min_t_last) return false;  // no window: no load
     return !cull_back_faces || s.normal(i).dot(camera_centre_world - s.position(i)) > 0.0f;
   }
 
