@@ -251,7 +251,7 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     ak.candidates.width = w;
     ak.candidates.height = h;
     ak.s = arr;
-    ak.T_cam_world = T_cw;
+    ak.T_world_cam = T_wc;
     ak.pixel_surfel = m_pixel_surfel.view();
     ak.flags = m_flags.view();
     kernels::CoverageKernel<kernels::ListCandidates> ck;
@@ -259,12 +259,13 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     ck.prm = prm;
     ck.candidates = ak.candidates;
     ck.s = arr;
+    ck.T_world_cam = T_wc;
     ck.T_cam_world = T_cw;
     ck.pixel_surfel = m_pixel_surfel.view();
     ck.flags = m_flags.view();
     // Candidates' and chosen surfels' arrays are prefetched a few pixels ahead: they are spread
     // over the map's memory.
-    constexpr int kAhead = 6;
+    constexpr int kAhead = 8;
     const maps::kernels::CameraPoint* entries = m_candidates.entries.data();
     const std::uint32_t* first = m_candidates.first.data();
     const std::uint8_t* count = m_candidates.count.data();
@@ -341,7 +342,7 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     ak.candidates.width = w;
     ak.candidates.height = h;
     ak.s = arr;
-    ak.T_cam_world = T_cw;
+    ak.T_world_cam = T_wc;
     ak.pixel_surfel = m_pixel_surfel.view();
     ak.flags = m_flags.view();
     kernels::CoverageKernel<kernels::Map4xCandidates> ck;
@@ -349,6 +350,7 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     ck.prm = prm;
     ck.candidates = ak.candidates;
     ck.s = arr;
+    ck.T_world_cam = T_wc;
     ck.T_cam_world = T_cw;
     ck.pixel_surfel = m_pixel_surfel.view();
     ck.flags = m_flags.view();

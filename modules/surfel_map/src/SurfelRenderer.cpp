@@ -100,18 +100,19 @@ void SurfelRenderer::cull(const SurfelStore& map, const Eigen::Isometry3d& T_wor
 
 namespace {
 
-/// Calls f(i, pc) for every member i of a culled block that passes the render filters
+/// Calls f(i, pc, u, v) for every member i of a culled block that passes the render filters
 /// (VisibilityTest: attributes, then the geometric test unless the block lies inside the
-/// frustum), with its camera-frame centre pc. The spatial index holds live surfels only, so the
-/// flags are read only when an attribute filter is on. Member order is not memory order: the
-/// arrays of the members kAhead places on are prefetched (the flags twice as far ahead, so that
-/// with stable_only the geometry of unstable surfels is not fetched at all).
+/// frustum), with its camera-frame centre pc and its projection (u, v). The spatial index holds
+/// live surfels only, so the flags are read only when an attribute filter is on. Member order is
+/// not memory order: the arrays of the members kAhead places on are prefetched (the flags twice
+/// as far ahead, so that with stable_only the geometry of unstable surfels is not fetched).
 template <typename F>
 inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribute_filters,
                               bool inside, bool want_normals, const std::vector<int>& members,
                               F&& f) {
-  constexpr int kAhead = 8;
+  constexpr int kAhead = 12;
   const SurfelArrays& a = test.s;
+  const PinholeF& K = test.K;
   const int n = int(members.size());
   const int* m = members.data();
   for (int k = 0; k < n; ++k) {
@@ -128,8 +129,10 @@ inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribut
     if (attribute_filters ? !test.attributes(i) : a.pos_conf[i].w() < test.min_confidence)
       continue;
     const Vec3f pc = test.T_cam_world.apply(a.pos_conf[i].head<3>());
-    if (!inside && !test.inView(pc)) continue;
-    f(i, pc);
+    // (z <= 0 only outside the frustum, where the test rejects the pixel coordinates anyway)
+    const float u = K.fx * pc.x() / pc.z() + K.cx, v = K.fy * pc.y() / pc.z() + K.cy;
+    if (!inside && !test.inView(pc.z(), u, v)) continue;
+    f(i, pc, u, v);
   }
 }
 
@@ -247,7 +250,7 @@ void SurfelRenderer::collectVisible(const SurfelStore& map, const Eigen::Isometr
     out.clear();
     tested += (long long)members.size();
     forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, false, members,
-                      [&](int i, const Vec3f&) { out.push_back(i); });
+                      [&](int i, const Vec3f&, float, float) { out.push_back(i); });
   }
   std::size_t total = 0;
   for (int j = 0; j < nb; ++j) total += per_block_[j].size();
@@ -318,10 +321,10 @@ void SurfelRenderer::splatCpu(const SurfelStore& map, const Eigen::Isometry3d& T
       const std::vector<int>& members = index.members(c.blocks[j]);
       tested += (long long)members.size();
       forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, true, members,
-                        [&](int i, const Vec3f& pc) {
+                        [&](int i, const Vec3f& pc, float u, float v) {
                           ++drawn;
                           kernels::SplatFootprint f;
-                          if (!k.footprintAt(i, pc, f)) return;
+                          if (!k.footprintAt(i, pc, u, v, f)) return;
                           for (int b = band_of_row[f.y0]; b <= band_of_row[f.y1]; ++b)
                             mine[b].push_back(f);
                         });
@@ -461,9 +464,9 @@ void SurfelRenderer::renderCandidates4x(const SurfelStore& map,
       const std::vector<int>& members = index.members(c.blocks[j]);
       tested += (long long)members.size();
       forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, false, members,
-                        [&](int i, const Vec3f& pc) {
-                          const std::uint32_t key =
-                              kernels::candidateKey4x(pc, Kp, opt.min_depth_m, opt.max_depth_m);
+                        [&](int i, const Vec3f& pc, float u, float v) {
+                          const std::uint32_t key = kernels::candidateKey4x(
+                              pc.z(), u, v, Kp, opt.min_depth_m, opt.max_depth_m);
                           if (key == kernels::kNoCandidate) {
                             others.push_back(kernels::CameraPoint{pc, i});
                             return;

@@ -104,14 +104,17 @@ RASM_HD_INLINE void updateViewBin(const maps::SurfelArrays& s, int i, const Vec3
 
 /// A pixel's measurement with the association gates derived from it (II-D).
 struct PixelMeasurement {
-  Vec3f v, n;      ///< camera-frame vertex and normal
+  Vec3f v, n;          ///< camera-frame vertex and normal
+  Vec3f n_world;       ///< normal in the world frame (compared with the surfel normals)
   float w = 0, r = 0;  ///< confidence weight and radius (II-B)
   float z = 0, dz_max = 0, inv_v = 0, inv_r = 0;
 };
 
 RASM_HD_INLINE bool measureForAssociation(const FrameView& frame, int x, int y,
-                                          const FusionKernelParams& prm, PixelMeasurement& m) {
+                                          const FusionKernelParams& prm,
+                                          const RigidF& T_world_cam, PixelMeasurement& m) {
   if (!frame.measure(x, y, prm, m.v, m.n, m.w, m.r)) return false;
+  m.n_world = T_world_cam.rotate(m.n);
   m.z = m.v.z();
   m.dz_max = maps::kernels::maxF(prm.assoc_dz_abs_m, prm.assoc_dz_rel * m.z);
   m.inv_v = 1.0f / m.v.norm();
@@ -120,13 +123,14 @@ RASM_HD_INLINE bool measureForAssociation(const FrameView& frame, int x, int y,
 }
 
 /// II-D association of one pixel: the most similar of its candidates (camera-frame centres and
-/// indices), -1 when none passes the gates.
+/// indices), -1 when none passes the gates. Normals are compared in the world frame (one rotation
+/// per pixel instead of one per candidate).
 /// Gates: |z_s - z| <= max(abs, rel z) along the ray, angle(n_s, n) <= max angle.
 /// Similarity cost (lowest wins, lower index on ties): d_perp / r + (1 - cos) / (1 - cos_max)
 /// + (max(r_s, r) / min(r_s, r) - 1), i.e. distance of the surfel to the pixel ray in units of the
 /// measurement radius, normal disagreement relative to the gate, and radius mismatch.
 RASM_HD_INLINE int bestCandidate(const PixelMeasurement& m, const maps::kernels::CameraPoint* c,
-                                 int n, const maps::SurfelArrays& s, const RigidF& T_cam_world,
+                                 int n, const maps::SurfelArrays& s,
                                  const FusionKernelParams& prm) {
   const float cos_range = 1.0f - prm.min_cos_normal;
   const float inv_cos_range = 1.0f / (cos_range > 1e-6f ? cos_range : 1e-6f);
@@ -137,7 +141,7 @@ RASM_HD_INLINE int bestCandidate(const PixelMeasurement& m, const maps::kernels:
     if (fabsf(pc.z() - m.z) > m.dz_max) continue;
     const int i = c[k].index;
     const Vec4f nr = s.normal_radius[i];
-    const float cos_n = T_cam_world.rotate(nr.head<3>()).dot(m.n);
+    const float cos_n = nr.head<3>().dot(m.n_world);
     if (cos_n < prm.min_cos_normal) continue;
     const float d_perp = pc.cross(m.v).norm() * m.inv_v;
     const float rs = nr.w(), r = m.r;
@@ -164,7 +168,7 @@ RASM_HD_INLINE bool coversRay(const PixelMeasurement& m, const maps::kernels::Ca
     const Vec3f pc = i == updated ? T_cam_world.apply(s.position(i)) : c[k].pc;
     if (fabsf(pc.z() - m.z) > m.dz_max) continue;
     const Vec4f nr = s.normal_radius[i];
-    if (T_cam_world.rotate(nr.head<3>()).dot(m.n) < prm.min_cos_normal) continue;
+    if (nr.head<3>().dot(m.n_world) < prm.min_cos_normal) continue;
     if (pc.cross(m.v).norm() * m.inv_v <= nr.w()) return true;
   }
   return false;
@@ -221,13 +225,13 @@ struct AssociateKernel {
   FusionKernelParams prm;
   Candidates candidates;
   maps::SurfelArrays s;
-  RigidF T_cam_world;
+  RigidF T_world_cam;
   ImageView<std::int32_t> pixel_surfel;  ///< out: matched surfel, -2 new, -1 none
   ImageView<std::uint16_t> flags;        ///< out: PixelFlag bits
 
   RASM_HD_INLINE void operator()(int x, int y) const {
     PixelMeasurement m;
-    if (!measureForAssociation(frame, x, y, prm, m)) {
+    if (!measureForAssociation(frame, x, y, prm, T_world_cam, m)) {
       pixel_surfel(x, y) = -1;
       flags(x, y) = 0;
       return;
@@ -235,7 +239,7 @@ struct AssociateKernel {
     maps::kernels::CameraPoint buf[16];
     const maps::kernels::CameraPoint* c = nullptr;
     const int n = candidates.get(x, y, buf, c);
-    const int best = bestCandidate(m, c, n, s, T_cam_world, prm);
+    const int best = bestCandidate(m, c, n, s, prm);
     pixel_surfel(x, y) = best >= 0 ? best : -2;
     flags(x, y) = best >= 0 ? std::uint16_t(kPixValid | kPixAssociated)
                             : std::uint16_t(kPixValid | kPixNew);
@@ -257,27 +261,29 @@ struct CoverageKernel {
   FusionKernelParams prm;
   Candidates candidates;
   maps::SurfelArrays s;
-  RigidF T_cam_world;
+  RigidF T_world_cam, T_cam_world;
   ImageView<std::int32_t> pixel_surfel;  ///< in/out
   ImageView<std::uint16_t> flags;        ///< in/out
 
   RASM_HD_INLINE void operator()(int x, int y) const {
     if (!(flags(x, y) & kPixNew)) return;
     PixelMeasurement m;
-    measureForAssociation(frame, x, y, prm, m);  // kPixNew pixels have a valid measurement
+    measureForAssociation(frame, x, y, prm, T_world_cam, m);  // kPixNew: a valid measurement
     maps::kernels::CameraPoint buf[16];
     const maps::kernels::CameraPoint* c = nullptr;
     const int w = pixel_surfel.width, h = pixel_surfel.height;
-    for (int py = y - 1; py <= y + 1; ++py)
-      for (int px = x - 1; px <= x + 1; ++px) {
-        if ((px == x && py == y) || px < 0 || py < 0 || px >= w || py >= h) continue;
-        const int n = candidates.get(px, py, buf, c);
-        if (coversRay(m, c, n, pixel_surfel(px, py), s, T_cam_world, prm)) {
-          pixel_surfel(x, y) = -1;  // measured but neither fused nor added
-          flags(x, y) = kPixValid | kPixCovered;
-          return;
-        }
+    // The 4-neighbours first (the likelier cover: the outcome is the same in any order).
+    const int dx[8] = {-1, 1, 0, 0, -1, 1, -1, 1}, dy[8] = {0, 0, -1, 1, -1, -1, 1, 1};
+    for (int k = 0; k < 8; ++k) {
+      const int px = x + dx[k], py = y + dy[k];
+      if (px < 0 || py < 0 || px >= w || py >= h) continue;
+      const int n = candidates.get(px, py, buf, c);
+      if (coversRay(m, c, n, pixel_surfel(px, py), s, T_cam_world, prm)) {
+        pixel_surfel(x, y) = -1;  // measured but neither fused nor added
+        flags(x, y) = kPixValid | kPixCovered;
+        return;
       }
+    }
   }
 };
 
@@ -368,11 +374,12 @@ struct UpdateKernel {
     float rs = nr.w();
     Vec3f b = s.basis[i];
     if (r <= prm.radius_update_ratio * rs) {
-      const float a0 = c / (c + w), a1 = w / (c + w);
+      const float inv_cw = 1.0f / (c + w);
+      const float a0 = c * inv_cw, a1 = w * inv_cw;
       p = a0 * p + a1 * vw;
       const Vec3f nn = a0 * ns + a1 * nw;
       const float len = nn.norm();
-      if (len > 1e-6f) ns = nn / len;
+      if (len > 1e-6f) ns = nn * (1.0f / len);
       if (!frame.colour.empty()) {
         const Bgr8 co = maps::unpackColour(cf), cn = frame.colour(x, y);
         cf = maps::packColour(Bgr8{blendU8(co.b, cn.b, a0, a1), blendU8(co.g, cn.g, a0, a1),

@@ -82,14 +82,20 @@ constexpr std::uint32_t kNoCandidate = 0xffffffffu;
 /// surfel whose camera-frame centre is pc: (sub-pixel row << 16) | sub-pixel column, or
 /// kNoCandidate outside the depth range or the image (frames up to 16383 pixels wide). Same
 /// arithmetic as PointKernel, so both give the same candidates.
+/// candidateKey4x() of a centre at depth z that projects to (u, v).
+RASM_HD_INLINE std::uint32_t candidateKey4x(float z, float u, float v, const PinholeF& K,
+                                            float min_depth_m, float max_depth_m) {
+  if (!(z >= min_depth_m && z <= max_depth_m)) return kNoCandidate;
+  const int sx = subPixelOf4x(u), sy = subPixelOf4x(v);
+  if (sx < 0 || sy < 0 || sx >= 4 * K.width || sy >= 4 * K.height) return kNoCandidate;
+  return (std::uint32_t(sy) << 16) | std::uint32_t(sx);
+}
 RASM_HD_INLINE std::uint32_t candidateKey4x(const Vec3f& pc, const PinholeF& K, float min_depth_m,
                                             float max_depth_m) {
   const float z = pc.z();
   if (!(z >= min_depth_m && z <= max_depth_m)) return kNoCandidate;
-  const float u = K.fx * pc.x() / z + K.cx, v = K.fy * pc.y() / z + K.cy;
-  const int sx = subPixelOf4x(u), sy = subPixelOf4x(v);
-  if (sx < 0 || sy < 0 || sx >= 4 * K.width || sy >= 4 * K.height) return kNoCandidate;
-  return (std::uint32_t(sy) << 16) | std::uint32_t(sx);
+  return candidateKey4x(z, K.fx * pc.x() / z + K.cx, K.fy * pc.y() / z + K.cy, K, min_depth_m,
+                        max_depth_m);
 }
 /// Frame pixel row / column and sub-pixel (0-15, row-major in the 4x4 block) of a key.
 RASM_HD_INLINE int candidateRow(std::uint32_t key) { return int(key >> 18); }
@@ -141,6 +147,11 @@ struct VisibilityTest {
     const float u = K.fx * pc.x() / pc.z() + K.cx, v = K.fy * pc.y() / pc.z() + K.cy;
     return u >= u_lo && u <= u_hi && v >= v_lo && v <= v_hi;
   }
+  /// inView() with the projection (u, v) of the centre already computed.
+  RASM_HD_INLINE bool inView(float z, float u, float v) const {
+    return z >= min_depth_m && z <= max_depth_m && u >= u_lo && u <= u_hi && v >= v_lo &&
+           v <= v_hi;
+  }
 };
 
 /// The depth test write: 64-bit atomic min (shared buffer) or a plain min (the CPU launcher gives
@@ -185,12 +196,19 @@ struct SplatKernel {
 
   /// footprint() of surfel i whose camera-frame centre pc is already known.
   RASM_HD_INLINE bool footprintAt(int i, const Vec3f& pc, SplatFootprint& f) const {
+    const float z = pc.z();
+    if (!(z >= min_depth_m && z <= max_depth_m)) return false;
+    return footprintAt(i, pc, K.fx * pc.x() / z + K.cx, K.fy * pc.y() / z + K.cy, f);
+  }
+
+  /// footprint() of surfel i whose camera-frame centre pc projects to (u, v).
+  RASM_HD_INLINE bool footprintAt(int i, const Vec3f& pc, float u, float v,
+                                  SplatFootprint& f) const {
     f.i = i;
     const float z = pc.z();
     if (!(z >= min_depth_m && z <= max_depth_m)) return false;
     const Vec3f nc = T_cam_world.rotate(s.normal(i));
     const float r = s.radius(i);
-    const float u = K.fx * pc.x() / z + K.cx, v = K.fy * pc.y() / z + K.cy;
     // Bounding box of the disc's projection: the disc lies in the box pc +- e with
     // e_a = r sqrt(1 - n_a^2), and x/z, y/z over a box are extreme at its corners. The clamp at
     // max_radius_px bounds the cost of discs very close to the camera.

@@ -28,7 +28,7 @@ RASM_HD_INLINE Vec3f anyPerpendicular(const Vec3f& n) {
 RASM_HD_INLINE Vec3f updateBasis(const Vec3f& n, const Vec3f& b) {
   const Vec3f nb = -n.cross(n.cross(b));
   const float len = nb.norm();
-  return len > 1e-4f ? Vec3f(nb / len) : anyPerpendicular(n);
+  return len > 1e-4f ? Vec3f(nb * (1.0f / len)) : anyPerpendicular(n);
 }
 
 /// atan2 with |error| < 1e-5 rad (polynomial on [0, 1] plus octant folding): the bins
@@ -52,19 +52,43 @@ RASM_HD_INLINE float fastAtan2(float y, float x) {
 /// in the surfel frame (b, n x b, n) (V-B): azimuth atan2(d.(n x b), d.b) in [-pi, pi) over
 /// n_azimuth equal sectors, elevation asin(d.n) in [0, pi/2] over n_elevation equal rings
 /// (back-facing directions clamp to elevation 0). Bin = elevation_ring * n_azimuth + sector.
+/// The common layouts (up to 4 rings, 8 sectors) are decided by comparisons against the ring and
+/// sector borders (no trigonometry); others by fastAtan2 (they agree but within 1e-5 rad of a
+/// border).
 RASM_HD_INLINE int viewBinIndex(const Vec3f& n, const Vec3f& b, const Vec3f& dir_to_camera,
                                 int n_azimuth, int n_elevation) {
   const float kPi = 3.14159265358979f;
   const Vec3f c = n.cross(b);
   float s = dir_to_camera.dot(n);
   s = s < 0.0f ? 0.0f : (s > 1.0f ? 1.0f : s);
-  const float cos_el = sqrtf(1.0f - s * s);
-  int el = int(fastAtan2(s, cos_el) * (2.0f / kPi) * float(n_elevation));  // asin(s)
-  if (el >= n_elevation) el = n_elevation - 1;
-  const float az = fastAtan2(dir_to_camera.dot(c), dir_to_camera.dot(b));  // (-pi, pi]
-  int sector = int((az + kPi) * (0.5f / kPi) * float(n_azimuth));
-  if (sector >= n_azimuth) sector = n_azimuth - 1;
-  if (sector < 0) sector = 0;
+  int el;
+  if (n_elevation == 1) {
+    el = 0;
+  } else if (n_elevation == 2) {  // ring border asin(s) = pi/4
+    el = s >= 0.70710678f ? 1 : 0;
+  } else if (n_elevation == 3) {  // pi/6, pi/3
+    el = (s >= 0.5f ? 1 : 0) + (s >= 0.86602540f ? 1 : 0);
+  } else if (n_elevation == 4) {  // pi/8, pi/4, 3 pi/8
+    el = (s >= 0.38268343f ? 1 : 0) + (s >= 0.70710678f ? 1 : 0) + (s >= 0.92387953f ? 1 : 0);
+  } else {
+    const float cos_el = sqrtf(1.0f - s * s);
+    el = int(fastAtan2(s, cos_el) * (2.0f / kPi) * float(n_elevation));  // asin(s)
+    if (el >= n_elevation) el = n_elevation - 1;
+  }
+  const float x = dir_to_camera.dot(b), y = dir_to_camera.dot(c);
+  int sector;
+  if (n_azimuth == 8) {  // sector borders every pi/4 from -pi; y = +-0 counts as the upper half
+    const float ax = fabsf(x), ay = fabsf(y);
+    if (y >= 0.0f)
+      sector = x > 0.0f ? (y < x ? 4 : 5) : (y > -x ? 6 : 7);
+    else
+      sector = x < 0.0f ? (ay < ax ? 0 : 1) : (ay > x ? 2 : 3);
+  } else {
+    const float az = fastAtan2(y, x);  // (-pi, pi]
+    sector = int((az + kPi) * (0.5f / kPi) * float(n_azimuth));
+    if (sector >= n_azimuth) sector = n_azimuth - 1;
+    if (sector < 0) sector = 0;
+  }
   return el * n_azimuth + sector;
 }
 
