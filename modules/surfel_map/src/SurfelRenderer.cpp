@@ -110,29 +110,83 @@ template <typename F>
 inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribute_filters,
                               bool inside, bool want_normals, const std::vector<int>& members,
                               F&& f) {
-  constexpr int kAhead = 12;
+  constexpr int kAhead = 12, kChunk = 64;
   const SurfelArrays& a = test.s;
   const PinholeF& K = test.K;
+  const float* T = test.T_cam_world.m;
+  const __m128 m0 = _mm_set1_ps(T[0]), m1 = _mm_set1_ps(T[1]), m2 = _mm_set1_ps(T[2]),
+               m3 = _mm_set1_ps(T[3]), m4 = _mm_set1_ps(T[4]), m5 = _mm_set1_ps(T[5]),
+               m6 = _mm_set1_ps(T[6]), m7 = _mm_set1_ps(T[7]), m8 = _mm_set1_ps(T[8]),
+               m9 = _mm_set1_ps(T[9]), m10 = _mm_set1_ps(T[10]), m11 = _mm_set1_ps(T[11]);
+  const __m128 fx = _mm_set1_ps(K.fx), fy = _mm_set1_ps(K.fy), cx = _mm_set1_ps(K.cx),
+               cy = _mm_set1_ps(K.cy);
+  const __m128 zlo = _mm_set1_ps(test.min_depth_m), zhi = _mm_set1_ps(test.max_depth_m);
+  const __m128 ulo = _mm_set1_ps(test.u_lo), uhi = _mm_set1_ps(test.u_hi),
+               vlo = _mm_set1_ps(test.v_lo), vhi = _mm_set1_ps(test.v_hi);
+  const __m128 wmin = _mm_set1_ps(test.min_confidence);
   const int n = int(members.size());
   const int* m = members.data();
-  for (int k = 0; k < n; ++k) {
-    if (attribute_filters && k + 2 * kAhead < n)
-      __builtin_prefetch(&a.colour_flags[m[k + 2 * kAhead]]);
-    if (k + kAhead < n) {
-      const int j = m[k + kAhead];
-      if (!test.stable_only || (a.colour_flags[j] & kSurfelStable)) {
-        __builtin_prefetch(&a.pos_conf[j]);
-        if (want_normals) __builtin_prefetch(&a.normal_radius[j]);
+  int buf[kChunk + 4];
+  alignas(16) float px[4], py[4], pz[4], pu[4], pv[4];
+  for (int k0 = 0; k0 < n; k0 += kChunk) {
+    // Attribute filters (scalar), prefetching the members ahead.
+    const int k1 = std::min(n, k0 + kChunk);
+    int nbuf = 0;
+    for (int k = k0; k < k1; ++k) {
+      if (attribute_filters && k + 2 * kAhead < n)
+        __builtin_prefetch(&a.colour_flags[m[k + 2 * kAhead]]);
+      if (k + kAhead < n) {
+        const int j = m[k + kAhead];
+        if (!test.stable_only || (a.colour_flags[j] & kSurfelStable)) {
+          __builtin_prefetch(&a.pos_conf[j]);
+          if (want_normals) __builtin_prefetch(&a.normal_radius[j]);
+        }
+      }
+      const int i = m[k];
+      if (!attribute_filters || test.attributes(i)) buf[nbuf++] = i;
+    }
+    // Projection, four surfels per SSE operation: the operations of RigidF::apply and of the
+    // pixel coordinates in the same order, so the values equal the scalar ones.
+    for (int q = 0; q < nbuf; q += 4) {
+      const int nl = std::min(4, nbuf - q);
+      for (int l = nl; l < 4; ++l) buf[q + l] = buf[q];  // pad with a valid surfel
+      __m128 r0 = _mm_load_ps(a.pos_conf[buf[q]].data());
+      __m128 r1 = _mm_load_ps(a.pos_conf[buf[q + 1]].data());
+      __m128 r2 = _mm_load_ps(a.pos_conf[buf[q + 2]].data());
+      __m128 r3 = _mm_load_ps(a.pos_conf[buf[q + 3]].data());
+      _MM_TRANSPOSE4_PS(r0, r1, r2, r3);  // r0 = x, r1 = y, r2 = z, r3 = confidence
+      const __m128 cx4 = _mm_add_ps(
+          _mm_add_ps(_mm_add_ps(_mm_mul_ps(m0, r0), _mm_mul_ps(m1, r1)), _mm_mul_ps(m2, r2)), m3);
+      const __m128 cy4 = _mm_add_ps(
+          _mm_add_ps(_mm_add_ps(_mm_mul_ps(m4, r0), _mm_mul_ps(m5, r1)), _mm_mul_ps(m6, r2)), m7);
+      const __m128 cz4 = _mm_add_ps(
+          _mm_add_ps(_mm_add_ps(_mm_mul_ps(m8, r0), _mm_mul_ps(m9, r1)), _mm_mul_ps(m10, r2)),
+          m11);
+      // (z <= 0 only outside the frustum, where the tests reject the pixel coordinates anyway)
+      const __m128 u4 = _mm_add_ps(_mm_div_ps(_mm_mul_ps(fx, cx4), cz4), cx);
+      const __m128 v4 = _mm_add_ps(_mm_div_ps(_mm_mul_ps(fy, cy4), cz4), cy);
+      __m128 ok = attribute_filters ? _mm_castsi128_ps(_mm_set1_epi32(-1))
+                                    : _mm_cmpnlt_ps(r3, wmin);  // !(w < min_confidence)
+      if (!inside) {
+        const __m128 in = _mm_and_ps(
+            _mm_and_ps(_mm_and_ps(_mm_cmpge_ps(cz4, zlo), _mm_cmple_ps(cz4, zhi)),
+                       _mm_and_ps(_mm_cmpge_ps(u4, ulo), _mm_cmple_ps(u4, uhi))),
+            _mm_and_ps(_mm_cmpge_ps(v4, vlo), _mm_cmple_ps(v4, vhi)));
+        ok = _mm_and_ps(ok, in);
+      }
+      int mask = _mm_movemask_ps(ok) & ((1 << nl) - 1);
+      if (!mask) continue;
+      _mm_store_ps(px, cx4);
+      _mm_store_ps(py, cy4);
+      _mm_store_ps(pz, cz4);
+      _mm_store_ps(pu, u4);
+      _mm_store_ps(pv, v4);
+      while (mask) {
+        const int l = __builtin_ctz(unsigned(mask));
+        mask &= mask - 1;
+        f(buf[q + l], Vec3f(px[l], py[l], pz[l]), pu[l], pv[l]);
       }
     }
-    const int i = m[k];
-    if (attribute_filters ? !test.attributes(i) : a.pos_conf[i].w() < test.min_confidence)
-      continue;
-    const Vec3f pc = test.T_cam_world.apply(a.pos_conf[i].head<3>());
-    // (z <= 0 only outside the frustum, where the test rejects the pixel coordinates anyway)
-    const float u = K.fx * pc.x() / pc.z() + K.cx, v = K.fy * pc.y() / pc.z() + K.cy;
-    if (!inside && !test.inView(pc.z(), u, v)) continue;
-    f(i, pc, u, v);
   }
 }
 
@@ -168,6 +222,11 @@ inline void rasterizeSse(const kernels::SplatKernel& k, const kernels::SplatFoot
   const __m128 v_zero = _mm_setzero_ps();
   const __m128 v_abs = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
   const __m128 v_lane = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
+  const __m128i v_idx = _mm_set1_epi32(f.i);
+  const __m128i v_top = _mm_set1_epi64x(std::int64_t(0x8000000000000000ull));
+  const __m128i lane_mask[4] = {_mm_setzero_si128(), _mm_set_epi64x(0, -1),
+                                _mm_set_epi64x(-1, 0), _mm_set_epi64x(-1, -1)};
+  const int w = k.packed.width;
   alignas(16) float t_lane[4];
   for (int y = y_lo; y <= y_hi; ++y) {
     const float ry = (float(y) - k.K.cy) * inv_fy;
@@ -190,42 +249,94 @@ inline void rasterizeSse(const kernels::SplatKernel& k, const kernels::SplatFoot
       int mask = _mm_movemask_ps(pass);
       const int n = std::min(4, f.x1 - x0 + 1);
       mask &= (1 << n) - 1;
-      _mm_store_ps(t_lane, t);
       const int centre = (y == f.vc && f.uc >= x0 && f.uc < x0 + n) ? f.uc - x0 : -1;
       if (centre >= 0) {
         // The centre's own pixel is always covered: plane depth, else centre depth.
+        _mm_store_ps(t_lane, t);
         float& tc = t_lane[centre];
         if (!(tc > 0.0f) || fabsf(tc - z) > r) tc = z;
         mask |= 1 << centre;
+        t = _mm_load_ps(t_lane);
       }
-      while (mask) {
-        const int l = __builtin_ctz(unsigned(mask));
-        mask &= mask - 1;
-        kernels::depthTest(&row[x0 + l], kernels::packDepthIndex(t_lane[l], f.i), false);
+      if (!mask) continue;
+      if (x0 + 3 < w) {
+        // Depth test of the four lanes at once: (depth bits << 32 | index) minimum, unsigned
+        // 64-bit compare as a signed one of the values with the top bit flipped.
+        const __m128i tb = _mm_castps_si128(t);
+        const __m128i p01 = _mm_unpacklo_epi32(v_idx, tb), p23 = _mm_unpackhi_epi32(v_idx, tb);
+        std::uint64_t* dst = row + x0;
+        const __m128i c01 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(dst));
+        const __m128i c23 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(dst + 2));
+        const __m128i lt01 = _mm_cmpgt_epi64(_mm_xor_si128(c01, v_top), _mm_xor_si128(p01, v_top));
+        const __m128i lt23 = _mm_cmpgt_epi64(_mm_xor_si128(c23, v_top), _mm_xor_si128(p23, v_top));
+        const __m128i m01 = _mm_and_si128(lt01, lane_mask[mask & 3]);
+        const __m128i m23 = _mm_and_si128(lt23, lane_mask[mask >> 2]);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(dst), _mm_blendv_epi8(c01, p01, m01));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(dst + 2), _mm_blendv_epi8(c23, p23, m23));
+      } else {  // the last columns: lanes past the row end are another row's pixels
+        _mm_store_ps(t_lane, t);
+        while (mask) {
+          const int l = __builtin_ctz(unsigned(mask));
+          mask &= mask - 1;
+          kernels::depthTest(&row[x0 + l], kernels::packDepthIndex(t_lane[l], f.i), false);
+        }
       }
     }
   }
 }
 
-/// Resolves row y (ResolveKernel), prefetching the winning surfels' arrays a few pixels ahead.
-inline void resolveRow(const kernels::ResolveKernel& r, int y) {
+/// Resolves row y: ResolveKernel's outputs, with the pixel rays (x - cx) / fx tabulated per column
+/// (the same values the kernel divides out per pixel) and the winning surfels' arrays prefetched a
+/// few pixels ahead.
+inline void resolveRow(const kernels::ResolveKernel& r, int y, const float* ray_x) {
   constexpr int kAhead = 8;
   const int w = r.index.width;
   const std::uint64_t* row = r.packed.row(y);
-  const bool geometry = !r.normal_world.empty() || !r.confidence.empty() ||
-                        (!r.vertex_world.empty() && !r.splat);
+  const bool want_depth = !r.depth_m.empty(), want_vertex = !r.vertex_world.empty(),
+             want_normal = !r.normal_world.empty(), want_colour = !r.colour.empty(),
+             want_conf = !r.confidence.empty(), want_segment = !r.segment.empty();
+  const bool want_pos = want_conf || (want_vertex && !r.splat);
+  const float ry = (float(y) - r.K.cy) / r.K.fy;
+  const float nan = compute::invalidFloat();
+  std::int32_t* index = r.index.row(y);
   for (int x = 0; x < w; ++x) {
     if (x + kAhead < w) {
       const int j = kernels::unpackIndex(row[x + kAhead]);
       if (j >= 0) {
-        if (!r.normal_world.empty()) __builtin_prefetch(&r.s.normal_radius[j]);
-        if (geometry && r.normal_world.empty()) __builtin_prefetch(&r.s.pos_conf[j]);
-        if (!r.colour.empty()) __builtin_prefetch(&r.s.colour_flags[j]);
-        if (!r.segment.empty()) __builtin_prefetch(&r.s.segment[j]);
+        if (want_normal) __builtin_prefetch(&r.s.normal_radius[j]);
+        if (want_pos) __builtin_prefetch(&r.s.pos_conf[j]);
+        if (want_colour) __builtin_prefetch(&r.s.colour_flags[j]);
+        if (want_segment) __builtin_prefetch(&r.s.segment[j]);
       }
     }
-    r(x, y);
+    const std::uint64_t v = row[x];
+    const int i = kernels::unpackIndex(v);
+    index[x] = i;
+    if (i < 0) {
+      if (want_depth) r.depth_m(x, y) = 0.0f;
+      if (want_vertex) r.vertex_world(x, y) = Vec3f(nan, nan, nan);
+      if (want_normal) r.normal_world(x, y) = Vec3f(nan, nan, nan);
+      if (want_colour) r.colour(x, y) = Bgr8{};
+      if (want_conf) r.confidence(x, y) = 0.0f;
+      if (want_segment) r.segment(x, y) = 0u;
+      continue;
+    }
+    const float t = kernels::unpackDepth(v);
+    if (want_depth) r.depth_m(x, y) = t;
+    if (want_vertex)
+      r.vertex_world(x, y) =
+          r.splat ? r.T_world_cam.apply(Vec3f(ray_x[x] * t, ry * t, t)) : r.s.position(i);
+    if (want_normal) r.normal_world(x, y) = r.s.normal(i);
+    if (want_colour) r.colour(x, y) = unpackColour(r.s.colour_flags[i]);
+    if (want_conf) r.confidence(x, y) = r.s.confidence(i);
+    if (want_segment) r.segment(x, y) = r.s.segment[i];
   }
+}
+
+/// (x - cx) / fx per column, as ResolveKernel computes it.
+void pixelRays(const PinholeF& K, std::vector<float>& ray_x) {
+  ray_x.resize(K.width);
+  for (int x = 0; x < K.width; ++x) ray_x[x] = (float(x) - K.cx) / K.fx;
 }
 
 }  // namespace
@@ -299,6 +410,8 @@ void SurfelRenderer::splatCpu(const SurfelStore& map, const Eigen::Isometry3d& T
   r.confidence = viewIf((opt.outputs & kRenderConfidence) != 0, out.confidence, w, h);
   r.segment = viewIf((opt.outputs & kRenderSegment) != 0, out.segment, w, h);
 
+  std::vector<float> ray_x;
+  pixelRays(c.test.K, ray_x);
   // Footprints are binned by row band as they are computed (one pass over the visible blocks);
   // then each band is depth-tested by one thread with plain min writes and resolved while its
   // rows are in cache. A footprint crossing a band border is drawn in both bands, clipped.
@@ -340,7 +453,7 @@ void SurfelRenderer::splatCpu(const SurfelStore& map, const Eigen::Isometry3d& T
       for (int tt = 0; tt < tn; ++tt)
         for (const kernels::SplatFootprint& f : band_fp_[std::size_t(tt) * nbands + b])
           rasterizeSse(k, f, std::max(lo, f.y0), std::min(hi, f.y1));
-      for (int y = lo; y <= hi; ++y) resolveRow(r, y);
+      for (int y = lo; y <= hi; ++y) resolveRow(r, y, ray_x.data());
     }
   }
   if (stats) {
@@ -390,7 +503,9 @@ void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_w
   r.colour = viewIf((opt.outputs & kRenderColour) != 0, out.colour, w, h);
   r.confidence = viewIf((opt.outputs & kRenderConfidence) != 0, out.confidence, w, h);
   r.segment = viewIf((opt.outputs & kRenderSegment) != 0, out.segment, w, h);
-  compute::forEach1D(h, [&](int y) { resolveRow(r, y); });
+  std::vector<float> ray_x;
+  pixelRays(Kp, ray_x);
+  compute::forEach1D(h, [&](int y) { resolveRow(r, y, ray_x.data()); });
 }
 
 void SurfelRenderer::renderIndexMap4x(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
