@@ -241,6 +241,34 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   // the cleanup on the centres the projection computed.
   uk.carve = cpu() && m_params.carve_free_space;
   uk.carve_test = carveTest(m_params, in);
+  // Per row, once its flags are final: statistics, the row's count of new surfels (the prefix
+  // sum below turns the counts into first indices) and the updated surfels that crossed a block
+  // border (re-binned in the spatial index).
+  const int nt = compute::maxThreads();
+  m_thread_lists.resize(nt);
+  for (auto& l : m_thread_lists) l.clear();
+  std::vector<std::array<int, 6>> counts(nt, std::array<int, 6>{});
+  m_row_offset.assign(h + 1, 0);
+  const auto tallyRow = [&](int y) {
+    const int t = threadId();
+    std::array<int, 6>& c = counts[t];
+    const std::uint16_t* f = m_flags.row(y);
+    const std::int32_t* ps = m_pixel_surfel.row(y);
+    int fresh = 0;
+    for (int x = 0; x < w; ++x) {
+      const std::uint16_t b = f[x];
+      if (!b) continue;
+      ++c[0];
+      c[1] += (b & kernels::kPixAssociated) != 0;
+      c[2] += (b & kernels::kPixFused) != 0;
+      c[3] += (b & kernels::kPixBecameStable) != 0;
+      c[4] += (b & kernels::kPixRelabelled) != 0;
+      c[5] += (b & kernels::kPixCovered) != 0;
+      fresh += (b & kernels::kPixNew) != 0;
+      if (b & kernels::kPixCrossedBlock) m_thread_lists[t].push_back(ps[x]);
+    }
+    m_row_offset[y + 1] = fresh;
+  };
   if (cpu()) {
     kernels::AssociateKernel<kernels::ListCandidates> ak;
     ak.frame = fv;
@@ -310,7 +338,6 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     // Row bands: in a band, row y is associated and updated, then the coverage of row y - 1 runs
     // while its neighbourhood is in cache (rows y - 2 .. y are final). The first and last row of
     // a band border another band: their coverage waits for every band.
-    const int nt = compute::maxThreads();
     const int nbands = nt <= 1 ? 1 : std::min(h, 4 * nt);
 #pragma omp parallel num_threads(nt)
     {
@@ -320,15 +347,26 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
         for (int y = lo; y < hi; ++y) {
           associateRow(y);
           updateRow(y);
-          if (cover && y - 1 > lo) coverRow(y - 1);
+          if (!cover) {
+            tallyRow(y);
+          } else if (y - 1 > lo) {
+            coverRow(y - 1);
+            if (y - 1 < hi - 1) tallyRow(y - 1);
+          }
         }
       }
       if (cover) {
 #pragma omp for schedule(dynamic, 1)
         for (int b = 0; b < nbands; ++b) {
           const int lo = int(std::int64_t(h) * b / nbands), hi = int(std::int64_t(h) * (b + 1) / nbands);
-          if (hi > lo) coverRow(lo);
-          if (hi - 1 > lo) coverRow(hi - 1);
+          if (hi > lo) {
+            coverRow(lo);
+            tallyRow(lo);
+          }
+          if (hi - 1 > lo) {
+            coverRow(hi - 1);
+            tallyRow(hi - 1);
+          }
         }
       }
     }
@@ -355,13 +393,14 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     ck.pixel_surfel = m_pixel_surfel.view();
     ck.flags = m_flags.view();
     cuda::associateUpdate(ak, uk, ck);
+#pragma omp parallel for schedule(static) num_threads(nt)
+    for (int y = 0; y < h; ++y) tallyRow(y);
   }
   st.ms_update = ms(t0);
   t0 = Clock::now();
 
-  // 3. new surfels: per-row counts, exclusive prefix sum, row-parallel writes in pixel order.
-  m_row_offset.assign(h + 1, 0);
-  compute::forEach1D(h, kernels::RowCountKernel{m_flags.cview(), m_row_offset.data() + 1});
+  // 3. new surfels: per-row counts (tallyRow), exclusive prefix sum, row-parallel writes in
+  // pixel order.
   for (int y = 0; y < h; ++y) m_row_offset[y + 1] += m_row_offset[y];
   const int added = m_row_offset[h];
   const int first = map.allocate(added);
@@ -378,29 +417,6 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   compute::forEach1D(h, nk);
   map.indexAppended();
 
-  // Statistics, and the updated surfels that crossed a block border (re-binned in the index).
-  const int nt = compute::maxThreads();
-  m_thread_lists.resize(nt);
-  for (auto& l : m_thread_lists) l.clear();
-  std::vector<std::array<int, 6>> counts(nt, std::array<int, 6>{});
-#pragma omp parallel for schedule(static) num_threads(nt)
-  for (int y = 0; y < h; ++y) {
-    const int t = threadId();
-    std::array<int, 6>& c = counts[t];
-    const std::uint16_t* f = m_flags.row(y);
-    const std::int32_t* ps = m_pixel_surfel.row(y);
-    for (int x = 0; x < w; ++x) {
-      const std::uint16_t b = f[x];
-      if (!b) continue;
-      ++c[0];
-      c[1] += (b & kernels::kPixAssociated) != 0;
-      c[2] += (b & kernels::kPixFused) != 0;
-      c[3] += (b & kernels::kPixBecameStable) != 0;
-      c[4] += (b & kernels::kPixRelabelled) != 0;
-      c[5] += (b & kernels::kPixCovered) != 0;
-      if (b & kernels::kPixCrossedBlock) m_thread_lists[t].push_back(ps[x]);
-    }
-  }
   std::vector<int>& movers = m_removed;
   movers.clear();
   for (int t = 0; t < nt; ++t) {
@@ -465,13 +481,20 @@ void SurfelFusion::carveCpu(const maps::SurfelStore& map, const FusionInput& in,
     const maps::kernels::CameraPoint* entries = m_candidates.entries.data();
     const std::uint32_t* first = m_candidates.first.data();
 #pragma omp for schedule(static) nowait
-    for (int y = 0; y < h; ++y) {
+    for (int y = 1; y < h - 1; ++y) {  // (violatesAt: border pixels have no 3x3 evidence)
       const std::int32_t* ps = m_pixel_surfel.row(y);
-      for (int x = 0; x < w; ++x) {
+      const float* depth = in.depth_m.row(y);
+      for (int x = 1; x < w - 1; ++x) {
         const std::size_t p = std::size_t(y) * w + x;
-        for (std::uint32_t q = first[p]; q < first[p + 1]; ++q) {
+        const std::uint32_t q0 = first[p], q1 = first[p + 1];
+        if (q0 == q1) continue;
+        const float dc = depth[x];
+        const float margin = maps::kernels::maxF(test.margin_abs_m, test.margin_rel * dc);
+        for (std::uint32_t q = q0; q < q1; ++q) {
           const maps::kernels::CameraPoint& cp = entries[q];
-          if (cp.index == ps[x] || !test.violatesAt(cp.pc.z(), x, y)) continue;
+          if (!test.inFrontOf(cp.pc.z(), dc, margin) || cp.index == ps[x] ||
+              !test.inFrontOfNeighbourhood(cp.pc.z(), x, y))
+            continue;
           act(cp.index, test.action(a.colour_flags[cp.index], a.pos_conf[cp.index].w()));
         }
       }
@@ -568,23 +591,35 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
   }
 
   std::vector<std::pair<int, int>>& moved = m_moved;
+  const int old_size = map.size();
   map.remove(removed, &moved);
   m_schedule.moved(moved, map.size());
 
-  // Keep pixelSurfels() valid: removed -> -1, moved -> new index.
+  // Keep pixelSurfels() valid: removed -> -1, moved -> new index. A bit per surfel index (kept
+  // between frames, set and cleared only for the affected ones) filters the pixels cheaply.
   if (!m_pixel_surfel.empty()) {
     RemapTable table(m_remap_table, removed.size() + moved.size());
-    for (int i : removed) table.put(i, -1);
-    for (const auto& [from, to] : moved) table.put(from, to);  // `from` is never a removed one
-    const int lowest = removed.front();
+    if (m_remap_bits.size() < std::size_t(old_size / 64 + 1)) m_remap_bits.resize(old_size / 64 + 1, 0);
+    std::uint64_t* bits = m_remap_bits.data();
+    for (int i : removed) {
+      table.put(i, -1);
+      bits[i >> 6] |= std::uint64_t(1) << (i & 63);
+    }
+    for (const auto& [from, to] : moved) {  // `from` is never a removed one
+      table.put(from, to);
+      bits[from >> 6] |= std::uint64_t(1) << (from & 63);
+    }
     const int w = m_pixel_surfel.width(), h = m_pixel_surfel.height();
     compute::forEach1D(h, [&](int y) {
       std::int32_t* r = m_pixel_surfel.row(y);
       for (int x = 0; x < w; ++x) {
+        const std::int32_t i = r[x];
         std::int32_t v;
-        if (r[x] >= lowest && table.get(r[x], v)) r[x] = v;
+        if (i >= 0 && (bits[i >> 6] >> (i & 63) & 1u) && table.get(i, v)) r[x] = v;
       }
     });
+    for (int i : removed) bits[i >> 6] = 0;
+    for (const auto& fm : moved) bits[fm.first >> 6] = 0;
   }
   finish();
 }

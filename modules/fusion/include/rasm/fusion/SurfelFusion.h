@@ -129,6 +129,7 @@ class SurfelFusion {
   std::vector<int> m_removed, m_demoted;
   std::vector<std::pair<int, int>> m_moved;
   std::vector<std::int32_t> m_remap_table;
+  std::vector<std::uint64_t> m_remap_bits;  ///< per surfel index, all zero between frames
   // Pruning schedule and what it was built for.
   PruneSchedule m_schedule;
   const maps::SurfelStore* m_schedule_map = nullptr;

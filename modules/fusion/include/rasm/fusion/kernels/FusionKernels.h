@@ -314,7 +314,15 @@ struct CarveTest {
     if (u < 1 || v < 1 || u >= depth_m.width - 1 || v >= depth_m.height - 1) return false;
     // Most surfels sit at (or behind) the measured depth: the centre pixel decides cheaply.
     const float dc = depth_m(u, v);
-    if (!(dc - z > maps::kernels::maxF(margin_abs_m, margin_rel * dc))) return false;
+    return inFrontOf(z, dc, maps::kernels::maxF(margin_abs_m, margin_rel * dc)) &&
+           inFrontOfNeighbourhood(z, u, v);
+  }
+  /// The centre-pixel part of violatesAt(): dc = depth_m(u, v), margin of dc.
+  RASM_HD_INLINE static bool inFrontOf(float z, float dc, float margin_dc) {
+    return dc - z > margin_dc;
+  }
+  /// The rest of violatesAt() for a surfel that passed inFrontOf() at an inner pixel (u, v).
+  RASM_HD_INLINE bool inFrontOfNeighbourhood(float z, int u, int v) const {
     float d_min = 3.0e38f;
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
@@ -424,19 +432,6 @@ struct UpdateKernel {
     if (carve && carve_test.violates(T_cam_world.apply(p)))
       f |= std::uint16_t(carve_test.action(cf, c_new) << kPixCarveShift);
     flags(x, y) = f;
-  }
-};
-
-/// Counts the new-surfel pixels of row y.
-struct RowCountKernel {
-  ImageView<const std::uint16_t> flags;
-  int* row_count = nullptr;
-
-  RASM_HD_INLINE void operator()(int y) const {
-    int c = 0;
-    const std::uint16_t* r = flags.row(y);
-    for (int x = 0; x < flags.width; ++x) c += (r[x] & kPixNew) ? 1 : 0;
-    row_count[y] = c;
   }
 };
 
