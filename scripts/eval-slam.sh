@@ -31,5 +31,5 @@ PY
 if [[ -d "$DATA/tum/fr1_xyz_first37" ]]; then run_seq tum_fr1_xyz_first37 ini/tum_fr1_xyz.ini "source.path=$DATA/tum/fr1_xyz_first37"; fi
 if [[ -d "$DATA/7scenes/redkitchen_first300" ]]; then run_seq 7scenes_redkitchen_first300 ini/7scenes_redkitchen.ini "source.path=$DATA/7scenes/redkitchen_first300"; fi
 if [[ "${1:-}" != "--quick" ]]; then
-  run_seq sim_office_handheld ini/default.ini
+  run_seq sim_office_handheld_long_60s ini/default.ini "sim.trajectory=office_handheld_long"
 fi
