@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -116,6 +117,58 @@ TEST(SurfelRenderer, IndexMap4xEqualsBruteForceAndSparseClearWorks) {
       for (int x = 0; x < bf.width(); ++x)
         ASSERT_EQ(map4.index(x, y), kernels::unpackIndex(bf(x, y)));
   }
+}
+
+TEST(SurfelRenderer, CompactCandidatesEqualTheIndexMap4x) {
+  // renderCandidates4x (fusion's CPU path) lists, per frame pixel, exactly the surfels of the 4x
+  // map's 4x4 block, with their camera-frame centres; with the hidden ones it lists every visible
+  // surfel once. Many surfels per pixel so that sub-pixels collide; several thread counts.
+  const Eigen::Isometry3d T = lookPose();
+  const RigidF T_cw = RigidF::fromMatrix(T.inverse().matrix().cast<float>());
+  const int nt = omp_get_max_threads();
+  for (int threads : {1, std::max(2, nt)}) {
+    omp_set_num_threads(threads);
+    for (unsigned seed : {31u, 32u}) {
+      const SurfelStore store = randomMapInView(T, kSmallK, 30000, seed);
+      RenderOptions opt;
+      opt.max_depth_m = 3.5f;  // some surfels beyond the range: visible, but not candidates
+      SurfelRenderer r;
+      IndexMap4x map4;
+      r.renderIndexMap4x(store, T, kSmallK, opt, map4);
+      PointCandidates4x cand;
+      r.renderCandidates4x(store, T, kSmallK, opt, cand);
+      ASSERT_EQ(cand.first.size(), std::size_t(kSmallK.width * kSmallK.height + 1));
+      std::vector<int> listed;
+      int candidates = 0;
+      for (int y = 0; y < kSmallK.height; ++y)
+        for (int x = 0; x < kSmallK.width; ++x) {
+          const int p = y * kSmallK.width + x;
+          std::vector<int> expect, got;
+          for (int sy = 4 * y; sy < 4 * y + 4; ++sy)
+            for (int sx = 4 * x; sx < 4 * x + 4; ++sx)
+              if (map4.index(sx, sy) >= 0) expect.push_back(map4.index(sx, sy));
+          for (std::uint32_t q = cand.first[p]; q < cand.first[p + 1]; ++q) {
+            const kernels::CameraPoint& c = cand.entries[q];
+            EXPECT_EQ(c.pc, T_cw.apply(store.arrays().position(c.index)));
+            if (q < cand.first[p] + cand.count[p]) got.push_back(c.index);
+            listed.push_back(c.index);
+          }
+          std::sort(expect.begin(), expect.end());
+          std::sort(got.begin(), got.end());
+          ASSERT_EQ(got, expect) << "pixel " << x << "," << y;
+          candidates += int(got.size());
+        }
+      for (const kernels::CameraPoint& c : cand.others) listed.push_back(c.index);
+      std::vector<int> visible;
+      r.collectVisible(store, T, kSmallK, opt, 0.5f, visible);
+      std::sort(listed.begin(), listed.end());
+      std::sort(visible.begin(), visible.end());
+      EXPECT_EQ(listed, visible);
+      EXPECT_GT(candidates, 2000);
+      EXPECT_LT(candidates, int(visible.size()));  // collisions happened
+    }
+  }
+  omp_set_num_threads(nt);
 }
 
 TEST(SurfelRenderer, SplatPixelsHoldTheNearestCoveringSurfel) {

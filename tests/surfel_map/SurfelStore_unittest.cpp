@@ -202,3 +202,43 @@ TEST(VoxelBlockIndex, FrustumKeepsOnlyBlocksInView) {
     EXPECT_LT(c.z(), 4.5f);
   }
 }
+
+TEST(SurfelStore, GrowingKeepsTheSurfelsAndCountsModifications) {
+  // PodArray growth (mremap) must keep the contents; generation() tells modifications apart and
+  // is unique per store (a copy does not continue the original's sequence).
+  SurfelStoreOptions opt;
+  opt.n_classes = 3;
+  SurfelStore store(opt);
+  store.setTimeOrigin(100.0);
+  std::mt19937 rng(11);
+  std::vector<Surfel> ref;
+  std::uint64_t g = store.generation();
+  for (int round = 0; round < 6; ++round) {
+    const int n = 1 << (8 + 2 * round);  // 256 ... 262144 surfels per round
+    const int first = store.allocate(n);
+    EXPECT_NE(store.generation(), g);
+    g = store.generation();
+    const SurfelArrays a = store.arrays();
+    for (int i = first; i < first + n; ++i) a.pos_conf[i] = Vec4f(float(i), 0.5f, -float(i), 1.0f);
+    ref.push_back(randomSurfel(rng, opt));
+    store.set(first, ref.back());
+  }
+  store.indexAppended();
+  const SurfelArrays a = store.arrays();
+  int k = 0, first = 0;
+  for (int round = 0; round < 6; ++round) {
+    const int n = 1 << (8 + 2 * round);
+    expectSame(store.get(first), ref[k++]);
+    for (int i = first + 1; i < first + n; i += 97) EXPECT_EQ(a.pos_conf[i].x(), float(i));
+    first += n;
+  }
+  const std::uint64_t before = store.generation();
+  const SurfelStore& cstore = store;
+  (void)cstore.arrays();  // read access
+  EXPECT_EQ(store.generation(), before);
+  const SurfelStore copy = store;
+  EXPECT_NE(copy.generation(), store.generation());
+  EXPECT_EQ(copy.size(), store.size());
+  std::string why;
+  EXPECT_TRUE(copy.checkConsistency(&why)) << why;
+}

@@ -34,7 +34,7 @@ void SurfelStore::reset(const SurfelStoreOptions& opt) {
   indexed_ = 0;
   t0_s_ = std::numeric_limits<double>::quiet_NaN();
   radius_bound_ = 0.0f;
-  ++generation_;
+  ++generation_.value;
   pos_conf_.clear();
   normal_radius_.clear();
   colour_flags_.clear();
@@ -75,7 +75,7 @@ void SurfelStore::resizeArrays(int n) {
 }
 
 SurfelArrays SurfelStore::arrays() {
-  ++generation_;
+  ++generation_.value;
   return const_cast<const SurfelStore*>(this)->arrays();
 }
 
@@ -104,7 +104,7 @@ int SurfelStore::allocate(int count) {
   if (std::int64_t(size_) + count > std::int64_t(std::numeric_limits<int>::max() / 2))
     throw std::length_error("SurfelStore::allocate: too many surfels");
   size_ += count;
-  ++generation_;
+  ++generation_.value;
   resizeArrays(size_);
   return first;
 }
@@ -168,7 +168,7 @@ void SurfelStore::set(int i, const Surfel& s) {
     throw std::invalid_argument(
         "SurfelStore::set: class_p has " + std::to_string(s.class_p.size()) +
         " values, the map has n_classes = " + std::to_string(opt_.n_classes));
-  ++generation_;
+  ++generation_.value;
   if (!s.view_ic.empty() && int(s.view_ic.size()) != opt_.nViewBins())
     throw std::invalid_argument("SurfelStore::set: view_ic has " +
                                 std::to_string(s.view_ic.size()) + " values, the map has " +
@@ -238,7 +238,7 @@ void SurfelStore::remove(std::vector<int> surfels, std::vector<std::pair<int, in
   surfels.erase(std::unique(surfels.begin(), surfels.end()), surfels.end());
   if (surfels.front() < 0 || surfels.back() >= size_)
     throw std::out_of_range("SurfelStore::remove: index out of range");
-  ++generation_;
+  ++generation_.value;
   // Mark, and drop from the spatial index, every removed surfel.
   for (int i : surfels) {
     colour_flags_[i] |= kSurfelFree;

@@ -10,11 +10,13 @@
 //      projected bounding box whose ray hits the disc competes with depth = camera z of the
 //      ray/disc intersection. The depth test is a 64-bit atomic min of (depth bits << 32 | index):
 //      race-free on CUDA and deterministic (ties go to the lower index). The CPU launcher gets the
-//      same result without atomics: surfel footprints are computed in parallel, then each thread
-//      depth-tests only its own band of image rows with plain min writes (a locked
+//      same result without atomics: one parallel pass over the visited blocks' members projects
+//      them (SSE, four at a time) and bins their footprints by row band, then each thread
+//      depth-tests whole bands with plain min writes, four pixels per SSE operation (a locked
 //      compare-exchange per pixel serialised the memory accesses). Either way the result does
 //      not depend on thread count or scheduling;
-//   4. resolve: per pixel, the winning surfel's attributes are written to the requested outputs.
+//   4. resolve: per pixel, the winning surfel's attributes are written to the requested outputs
+//      (on the CPU per band, right after its depth test).
 //
 // Frames and conventions: T_world_cam maps optical camera coordinates (x right, y down, z forward)
 // to world. Rendered vertex and normal maps are in the WORLD frame (as in ElasticFusion, what the

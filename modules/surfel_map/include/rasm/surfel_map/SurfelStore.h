@@ -16,6 +16,7 @@
 // Times: surfels store float seconds relative to the map's time origin (the first timestamp the
 // map saw), so sub-millisecond resolution holds for runs of hours; the API takes absolute seconds.
 
+#include <atomic>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -125,7 +126,7 @@ class SurfelStore {
   /// Bumped by every call that may modify surfels (append, allocate, set, remove, reset, and the
   /// mutable arrays()): a consumer that caches per-surfel state (fusion's pruning schedule) tells
   /// from it whether someone else changed the map since it last did.
-  std::uint64_t generation() const { return generation_; }
+  std::uint64_t generation() const { return generation_.value; }
 
   /// Spatial index consistent with the positions (tests).
   bool checkConsistency(std::string* why = nullptr) const;
@@ -140,7 +141,22 @@ class SurfelStore {
   double t0_s_ = std::numeric_limits<double>::quiet_NaN();
   float radius_bound_ = 0.0f;
 
-  std::uint64_t generation_ = 0;
+  /// Unique across stores: a copy, or a new store that happens to live at a freed store's
+  /// address, never continues another store's sequence.
+  struct Generation {
+    std::uint64_t value = next();
+    Generation() = default;
+    Generation(const Generation&) : value(next()) {}
+    Generation& operator=(const Generation&) {
+      value = next();
+      return *this;
+    }
+    static std::uint64_t next() {
+      static std::atomic<std::uint64_t> stores{0};
+      return (stores.fetch_add(1) + 1) << 32;
+    }
+  };
+  Generation generation_;
 
   // Growth never copies (PodArray.h): no reallocation spike when a large map grows.
   PodArray<Vec4f> pos_conf_;
