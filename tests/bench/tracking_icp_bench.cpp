@@ -124,7 +124,11 @@ int main(int argc, char** argv) {
   int ok = 0, calls = 0;
   for (int r = 0; r < repeats; ++r)
     for (std::size_t i = 1; i < gt.size(); ++i) {
-      const tracking::ModelMaps m{model[i - 1].vertex.view(), model[i - 1].normal.view(), K, gt[i - 1]};
+      tracking::ModelMaps m;
+      m.vertex_world = model[i - 1].vertex.view();
+      m.normal_world = model[i - 1].normal.view();
+      m.K = K;
+      m.T_world_model = gt[i - 1];
       const auto t0 = Clock::now();
       const tracking::TrackingResult res = tracker.align(pyr[i], m, gt[i - 1]);
       ms.push_back(msSince(t0));

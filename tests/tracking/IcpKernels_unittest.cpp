@@ -79,6 +79,34 @@ TEST(IcpKernels, PlaneOffsetAlongNormal) {
   EXPECT_EQ(b.valid(), n_valid);
 }
 
+TEST(IcpKernels, NoiseAndConfidenceWeights) {
+  // The wall of PlaneOffsetAlongNormal. Depth-noise weighting scales every term at z = 2 m by
+  // (sigma(1 m) / sigma(2 m))^2; a model confidence of 4 with confidence_full = 10 by 0.4. The
+  // Gauss-Newton step -J^T W r / J^T W J along the normal stays 1 cm either way.
+  const Image<float> d_frame(K.width, K.height, 2.0f), d_model(K.width, K.height, 2.01f);
+  const FrameLevel F = frameOf(d_frame), M = frameOf(d_model);
+  const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+  const IcpReduceKernel plain = makeKernel(F, M.vertex, M.normal, I, I);
+  const IcpAccumulator a0 = compute::reduce1D<IcpAccumulator>(plain.items(), plain);
+  EXPECT_NEAR(a0.s[IcpAccumulator::kW], a0.inliers(), 1e-6);
+  EXPECT_NEAR(a0.s[IcpAccumulator::kWR2], 1e-4 * a0.inliers(), 1e-6 * a0.inliers());
+
+  const double s = kernels::depthNoiseSigma(1.0f) / kernels::depthNoiseSigma(2.0f);
+  EXPECT_NEAR(kernels::depthNoiseSigma(2.0f), 0.0012 + 0.0019 * 1.6 * 1.6, 1e-7);
+  IcpReduceKernel k = plain;
+  k.depth_noise_weighting = true;
+  const Image<float> conf(K.width, K.height, 4.0f);
+  k.model_confidence = conf.cview();
+  k.confidence_full = 10.0f;
+  const IcpAccumulator a = compute::reduce1D<IcpAccumulator>(k.items(), k);
+  const double w = s * s * 0.4;
+  EXPECT_EQ(a.inliers(), a0.inliers());
+  EXPECT_NEAR(a.s[IcpAccumulator::kW], w * a0.inliers(), 1e-4 * a0.inliers());
+  EXPECT_NEAR(a.s[IcpAccumulator::kJtJ + 11], w * a0.s[IcpAccumulator::kJtJ + 11], 1e-4 * a0.inliers());
+  EXPECT_NEAR(-a.s[IcpAccumulator::kJtr + 2] / a.s[IcpAccumulator::kJtJ + 11], 0.01, 1e-5);
+  EXPECT_NEAR(a.s[IcpAccumulator::kR2], a0.s[IcpAccumulator::kR2], 1e-9 * a0.inliers());  // unweighted
+}
+
 TEST(IcpKernels, JacobianMatchesFiniteDifferences) {
   // One pixel of a sphere-and-planes scene: the residual n . (T(xi) v - q) with the association
   // held fixed, differentiated numerically w.r.t. xi (left increment about the pivot).
@@ -128,8 +156,29 @@ TEST(IcpKernels, ModelDownsampleKeepsForeground) {
   n(1, 0) = Vec3f(0.6f, 0, -0.8f);
   n(0, 1) = n(1, 1) = Vec3f(1, 0, 0);
   Image<Vec3f> ov(2, 1), on(2, 1);
-  kernels::ModelDownsampleKernel k{v.view(), n.view(), ov.view(), on.view(), RigidF(), 0.03f};
+  kernels::ModelDownsampleKernel k;
+  k.in_vertex = v.view();
+  k.in_normal = n.view();
+  k.out_vertex = ov.view();
+  k.out_normal = on.view();
+  k.max_diff_m = 0.03f;
+  // Intensity and confidence follow the same samples (the foreground pair).
+  Image<float> in_i(4, 2, nan), in_c(4, 2, 0.0f), out_i(2, 1), out_c(2, 1);
+  in_i(0, 0) = 0.2f;
+  in_i(1, 0) = 0.4f;
+  in_i(0, 1) = in_i(1, 1) = 0.9f;
+  in_c(0, 0) = 3.0f;
+  in_c(1, 0) = 7.0f;
+  in_c(0, 1) = in_c(1, 1) = 50.0f;
+  k.in_intensity = in_i.cview();
+  k.out_intensity = out_i.view();
+  k.in_confidence = in_c.cview();
+  k.out_confidence = out_c.view();
   compute::forEach2D(2, 1, k);
+  EXPECT_NEAR(out_i(0, 0), 0.3f, 1e-6);
+  EXPECT_NEAR(out_c(0, 0), 5.0f, 1e-6);
+  EXPECT_TRUE(std::isnan(out_i(1, 0)));
+  EXPECT_EQ(out_c(1, 0), 0.0f);
   EXPECT_NEAR(ov(0, 0).z(), 1.005f, 1e-6);
   EXPECT_NEAR(ov(0, 0).x(), 0.01f, 1e-6);
   EXPECT_NEAR(on(0, 0).norm(), 1.0f, 1e-6);
@@ -169,4 +218,78 @@ TEST(IcpKernels, CudaMatchesCpu) {
     for (int i = 0; i < IcpAccumulator::kSize; ++i)
       EXPECT_NEAR(cpu.s[i], gpu.s[i], 1e-3 * (1.0 + std::abs(cpu.s[i]))) << "entry " << i;
   }
+}
+
+TEST(IcpKernels, IntensityGradientOfRamp) {
+  // I = 0.01 x + 0.002 y: Sobel / 8 gives the exact slope per pixel in the interior.
+  Image<float> I(12, 9);
+  for (int y = 0; y < I.height(); ++y)
+    for (int x = 0; x < I.width(); ++x) I(x, y) = 0.01f * x + 0.002f * y;
+  Image<Vec3f> g(12, 9);
+  compute::forEach2D(12, 9, kernels::IntensityGradientKernel{I.cview(), g.view()});
+  EXPECT_NEAR(g(5, 4).x(), 0.058f, 1e-6);
+  EXPECT_NEAR(g(5, 4).y(), 0.01f, 1e-6);
+  EXPECT_NEAR(g(5, 4).z(), 0.002f, 1e-6);
+  EXPECT_EQ(g(0, 4).y(), 0.0f);  // border: no gradient
+  // Luma of pure channels (BT.601).
+  EXPECT_NEAR(kernels::luma(Bgr8{0, 0, 255}), 0.299f, 1e-6);
+  EXPECT_NEAR(kernels::luma(Bgr8{255, 255, 255}), 1.0f, 1e-6);
+}
+
+TEST(IcpKernels, PhotometricJacobianMatchesFiniteDifferences) {
+  // Room geometry; the frame's intensity a smooth quadratic of the pixel coordinates, so the
+  // Sobel gradient (exact up to the quadratic's second differences) and the bilinear
+  // interpolation both follow the true derivative closely. The residual of a model pixel warped
+  // into the frame is differentiated numerically w.r.t. xi (left increment about the pivot) by
+  // re-running the kernel at the perturbed pose.
+  const test::Scene scene = test::Scene::room();
+  const Eigen::Isometry3d T_model = test::lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5});
+  const Eigen::Isometry3d T_cam = T_model * test::motion({0.01, -0.005, 0.01}, {0.2, 1, 0.1}, 0.7);
+  const FrameLevel F = frameOf(scene.render(K, T_cam)), M = frameOf(scene.render(K, T_model));
+  const test::WorldMaps W(M, T_model);
+  Image<float> If(K.width, K.height), Im(K.width, K.height, 0.4f);
+  for (int y = 0; y < K.height; ++y)
+    for (int x = 0; x < K.width; ++x) If(x, y) = 0.2f + 0.006f * x + 0.004f * y + 1e-5f * x * y;
+  Image<Vec3f> G(K.width, K.height);
+  compute::forEach2D(K.width, K.height, kernels::IntensityGradientKernel{If.cview(), G.view()});
+
+  kernels::PhotometricReduceKernel k;
+  k.model_vertex = W.vertex.cview();
+  k.model_intensity = Im.cview();
+  k.frame_igrad = G.cview();
+  k.frame_depth_m = F.depth_m.cview();
+  k.K_frame = K.plain();
+  const Eigen::Vector3d c = T_cam.translation();
+  auto at = [&](const Vector6d& xi) {
+    Eigen::Isometry3d P = Eigen::Isometry3d::Identity();
+    P.translation() = c;
+    const Eigen::Isometry3d T = P * se3Exp(xi) * P.inverse() * T_cam;
+    kernels::PhotometricReduceKernel kk = k;
+    kk.T_world_cam = rigid(T);
+    kk.T_cam_world = rigid(T.inverse());
+    kk.pivot_world = c.cast<float>();
+    return kk;
+  };
+  const kernels::PhotometricReduceKernel k0 = at(Vector6d::Zero());
+  int checked = 0;
+  for (int y = 3; y < K.height - 3; y += 5)
+    for (int x = 3; x < K.width - 3; x += 7) {
+      float J[6], r, w, depth;
+      if (k0.pixel(x, y, J, r, w, depth) != kernels::kIcpInlier) continue;
+      // The residual at xi = 0: the quadratic at the warped point minus the model intensity.
+      const Vec3f p = k0.T_cam_world.apply(W.vertex(x, y));
+      const double u = K.fx * p.x() / p.z() + K.cx, v = K.fy * p.y() / p.z() + K.cy;
+      EXPECT_NEAR(r, 0.2 + 0.006 * u + 0.004 * v + 1e-5 * u * v - 0.4, 2e-4);
+      for (int i = 0; i < 6; ++i) {
+        Vector6d e = Vector6d::Zero();
+        e(i) = 1e-3;
+        float Jp[6], Jm[6], rp, rm, wp, wm, dp, dm;
+        ASSERT_EQ(at(e).pixel(x, y, Jp, rp, wp, dp), kernels::kIcpInlier);
+        ASSERT_EQ(at(-e).pixel(x, y, Jm, rm, wm, dm), kernels::kIcpInlier);
+        const double num = (rp - rm) / 2e-3;
+        EXPECT_NEAR(J[i], num, 0.02 * (0.1 + std::abs(num))) << "pixel " << x << "," << y << " dof " << i;
+      }
+      ++checked;
+    }
+  EXPECT_GT(checked, 20);
 }

@@ -118,7 +118,12 @@ RunStats run(const Sequence& s, double metres_per_unit, const TTrackingParams& P
   for (std::size_t i = step; i < s.depth_files.size(); i += step) {
     prepare(i, cur);
     const test::WorldMaps model(prev[0], tr.lastGoodPose());
-    const TrackingResult r = tr.track(cur, ModelMaps{model.vertex.view(), model.normal.view(), s.K, tr.lastGoodPose()});
+    ModelMaps m;
+    m.vertex_world = model.vertex.view();
+    m.normal_world = model.normal.view();
+    m.K = s.K;
+    m.T_world_model = tr.lastGoodPose();
+    const TrackingResult r = tr.track(cur, m);
     ++st.frames;
     st.iterations_mean += r.iterations;
     if (!r.ok) {

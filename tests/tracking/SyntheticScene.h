@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <random>
 #include <vector>
@@ -32,6 +33,8 @@ struct Scene {
   std::vector<Plane> planes;
   std::vector<Box> boxes;
   std::vector<Sphere> spheres;
+  /// Grey level of the surfaces at a world point, in [0, 1] (renderColour); none = uniform 0.5.
+  std::function<double(const Eigen::Vector3d&)> texture;
 
   /// Distance along the unit ray o + t d to the first surface (t > 1e-6), or +inf.
   double cast(const Eigen::Vector3d& o, const Eigen::Vector3d& d) const {
@@ -94,6 +97,32 @@ struct Scene {
     return depth;
   }
 
+  /// Colour image (grey, B = G = R) of the texture seen from T_world_cam, registered to render()'s
+  /// depth; black where no surface is hit.
+  Image<Bgr8> renderColour(const CameraIntrinsics& K, const Eigen::Isometry3d& T_world_cam) const {
+    Image<Bgr8> colour(K.width, K.height, Bgr8{});
+    const Eigen::Matrix3d R = T_world_cam.linear();
+    const Eigen::Vector3d o = T_world_cam.translation();
+#pragma omp parallel for schedule(static)
+    for (int y = 0; y < K.height; ++y)
+      for (int x = 0; x < K.width; ++x) {
+        const Eigen::Vector3d d = (R * Eigen::Vector3d((x - K.cx) / K.fx, (y - K.cy) / K.fy, 1.0)).normalized();
+        const double t = cast(o, d);
+        if (!std::isfinite(t)) continue;
+        const double g = texture ? texture(o + t * d) : 0.5;
+        const auto v = std::uint8_t(std::lround(255.0 * std::clamp(g, 0.0, 1.0)));
+        colour(x, y) = Bgr8{v, v, v};
+      }
+    return colour;
+  }
+
+  /// A smooth grey-level pattern (periods 11-30 cm: 20-80 px at 2 m with f = 525 px), so image
+  /// gradients are well defined at every pyramid level.
+  static double smoothTexture(const Eigen::Vector3d& p) {
+    const double k = 2.0 * M_PI;
+    return 0.5 + 0.2 * std::sin(k * p.x() / 0.3) * std::sin(k * p.z() / 0.25) + 0.12 * std::sin(k * (p.x() + p.y() + p.z()) / 0.11);
+  }
+
   /// A room (4 x 4 x 3 m, seen from inside) with two boxes and a sphere: every direction of
   /// motion is constrained.
   static Scene room() {
@@ -108,6 +137,12 @@ struct Scene {
   static Scene wall() {
     Scene s;
     s.planes.push_back({{0, 1, 0}, 2.0});
+    return s;
+  }
+  /// The same wall with smoothTexture painted on it: degenerate geometry, informative colour.
+  static Scene texturedWall() {
+    Scene s = wall();
+    s.texture = smoothTexture;
     return s;
   }
 };

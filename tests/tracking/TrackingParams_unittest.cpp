@@ -58,6 +58,28 @@ TEST(TrackingParams, LoadsAndRoundTrips) {
   EXPECT_DOUBLE_EQ(q.max_dist_m[1], 0.2);
 }
 
+TEST(TrackingParams, LoadsWeightingAndPhotometricKeys) {
+  const TTrackingParams p = load(
+      "[tracking]\ndepth_noise_weighting = false\nmodel_min_confidence = 7\nconfidence_full = 12\n"
+      "photometric_weight = 0.01\nphotometric_huber = 0.02\nphotometric_min_gradient = 0.005\n");
+  EXPECT_FALSE(p.depth_noise_weighting);
+  EXPECT_DOUBLE_EQ(p.model_min_confidence, 7.0);
+  EXPECT_DOUBLE_EQ(p.confidence_full, 12.0);
+  EXPECT_DOUBLE_EQ(p.photometric_weight, 0.01);
+  EXPECT_DOUBLE_EQ(p.photometric_huber, 0.02);
+  EXPECT_DOUBLE_EQ(p.photometric_min_gradient, 0.005);
+  mrpt::config::CConfigFileMemory saved;
+  p.saveToConfigFile(saved, "tracking");
+  TTrackingParams q;
+  loadParamsStrict(saved, "tracking", q, "saved");
+  EXPECT_FALSE(q.depth_noise_weighting);
+  EXPECT_DOUBLE_EQ(q.model_min_confidence, 7.0);
+  EXPECT_DOUBLE_EQ(q.photometric_weight, 0.01);
+
+  const std::string e = errorOf("[tracking]\nphotometric_weight = -1\n");
+  EXPECT_NE(e.find("photometric_weight"), std::string::npos) << e;
+}
+
 TEST(TrackingParams, RejectsBadKeysAndValues) {
   std::string e = errorOf("[tracking]\niterations = 10 5 4\n");
   EXPECT_NE(e.find("iterations"), std::string::npos) << e;

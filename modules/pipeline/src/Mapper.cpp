@@ -89,21 +89,29 @@ FrameResult Mapper::processFrame(const RgbdFrame& frame) {
     r.tracking.status = tracking::TrackingStatus::Ok;
     r.tracking.T_world_cam = T0;
   } else {
-    // II-C: model = the map rendered at the previous (last good) pose, stable surfels only. Until
-    // enough surfels are stable (the first frames of a run, or a newly seen area), the stable
-    // model is too sparse to constrain ICP; then all surfels are used.
+    // II-C: model = the map rendered at the previous (last good) pose from its reliable surfels:
+    // those with confidence >= [tracking] model_min_confidence, or the ones fusion flagged stable
+    // when that is 0. Until enough of them exist (the first frames of a run, or a newly seen
+    // area), that model is too sparse to constrain ICP; then all surfels are used.
     t = Clock::now();
+    const tracking::TTrackingParams& tp = m_params.tracking;
     maps::RenderOptions ro;
     ro.min_depth_m = float(m_params.mapper.min_depth_m);
     ro.max_depth_m = float(m_params.mapper.max_depth_m) * 1.5f;
-    ro.stable_only = true;
+    ro.stable_only = tp.model_min_confidence <= 0;
+    ro.min_confidence = float(tp.model_min_confidence);
     ro.outputs = maps::kRenderVertex | maps::kRenderNormal;
+    // Optional inputs of the tracker: colour for its photometric term, surfel confidence weights.
+    const bool photometric = tp.photometric_weight > 0 && !frame.colour.empty();
+    if (photometric) ro.outputs |= maps::kRenderColour;
+    if (tp.confidence_full > 0) ro.outputs |= maps::kRenderConfidence;
     const Eigen::Isometry3d T_model = m_tracker.lastGoodPose();
     m_renderer.render(m_map->store(), T_model, frame.intrinsics, ro, m_model);
     r.model_valid_pixels = countValid(m_model.normal_world);
     const int frame_valid = countValid(m_pyramid[0].normal);
     if (r.model_valid_pixels < 0.3 * frame_valid) {
       ro.stable_only = false;
+      ro.min_confidence = 0.0f;
       m_renderer.render(m_map->store(), T_model, frame.intrinsics, ro, m_model);
       r.model_valid_pixels = countValid(m_model.normal_world);
       r.model_all_surfels = true;
@@ -116,7 +124,9 @@ FrameResult Mapper::processFrame(const RgbdFrame& frame) {
     model.normal_world = m_model.normal_world.cview();
     model.K = frame.intrinsics;
     model.T_world_model = T_model;
-    r.tracking = m_tracker.track(m_pyramid, model);
+    if (photometric) model.colour = m_model.colour.cview();
+    if (tp.confidence_full > 0) model.confidence = m_model.confidence.cview();
+    r.tracking = m_tracker.track(m_pyramid, model, photometric ? frame.colour.cview() : ImageView<const Bgr8>());
     r.ms[int(Stage::Track)] = msSince(t);
     r.tracked = r.tracking.ok;
     r.T_world_cam = r.tracking.T_world_cam;

@@ -1,5 +1,5 @@
 // CUDA launcher of the ICP reduction of section II-C: the same IcpReduceKernel::pixel() the CPU
-// path runs, one thread per processed pixel, 31 sums reduced per block (warp shuffles, then
+// path runs, one thread per processed pixel, the IcpAccumulator sums reduced per block (warp shuffles, then
 // across warps in shared memory), per-block partials summed on the host in block order.
 #include <cuda_runtime.h>
 
@@ -33,7 +33,7 @@ __global__ void icpReduceKernel(IcpReduceKernel k, int n, double* partials) {
     float J[6], r = 0.f, w = 0.f, depth = 0.f;
     const int s = k.pixel(x, y, J, r, w, depth);
     if (s != kernels::kIcpInvalid) a[IcpAccumulator::kValid] = 1.f;
-    if (s == kernels::kIcpInlier) IcpReduceKernel::accumulate(a, J, r, w, depth);
+    if (s == kernels::kIcpInlier) kernels::accumulateTerm(a, J, r, w, depth);
   }
   const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
   for (int j = 0; j < kN; ++j) {

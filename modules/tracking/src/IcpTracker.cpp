@@ -42,30 +42,38 @@ constexpr double kMinSolveInliers = 20;
 
 RigidF toRigidF(const Eigen::Isometry3d& T) { return RigidF::fromMatrix(T.matrix().cast<float>()); }
 
-/// The normal equations of one linearisation, normalised and analysed.
+/// The normal equations of one linearisation, normalised and analysed: the point-to-plane
+/// sums plus, optionally, the photometric ones scaled by kappa (m^2 per squared intensity unit,
+/// TTrackingParams::photometric_weight), so the joint cost is in the units of the geometric one.
 struct IcpSystem {
-  Eigen::Matrix<double, 6, 6> H;  ///< J^T J
-  Vector6d g;                     ///< J^T r
+  Eigen::Matrix<double, 6, 6> H;  ///< J^T W J
+  Vector6d g;                     ///< J^T W r
   double inliers = 0, valid = 0, rms_m = 0, mean_depth_m = 1;
-  /// Eigen-decomposition of D^-1 H D^-1 / inliers, D = diag(1,1,1,d,d,d), d = mean depth: the
+  double weight = 0;  ///< sum of the point-to-plane weights (the count without IRLS weights)
+  /// Eigen-decomposition of D^-1 H D^-1 / weight, D = diag(1,1,1,d,d,d), d = mean depth: the
   /// rotation columns become (p - c) x n / d, of the same order as the unit normals, so the
   /// eigenvalues compare translation and rotation constraints on one dimensionless scale.
   Vector6d eigenvalues = Vector6d::Zero();
   Eigen::Matrix<double, 6, 6> eigenvectors = Eigen::Matrix<double, 6, 6>::Identity();
 
-  explicit IcpSystem(const kernels::IcpAccumulator& a) {
+  explicit IcpSystem(const kernels::IcpAccumulator& a, const kernels::IcpAccumulator* photo = nullptr,
+                     double kappa = 0.0) {
     using A = kernels::IcpAccumulator;
     int k = A::kJtJ;
     for (int i = 0; i < 6; ++i)
-      for (int j = i; j < 6; ++j) H(i, j) = H(j, i) = a.s[k++];
-    for (int i = 0; i < 6; ++i) g(i) = a.s[A::kJtr + i];
+      for (int j = i; j < 6; ++j) {
+        H(i, j) = H(j, i) = a.s[k] + (photo ? kappa * photo->s[k] : 0.0);
+        ++k;
+      }
+    for (int i = 0; i < 6; ++i) g(i) = a.s[A::kJtr + i] + (photo ? kappa * photo->s[A::kJtr + i] : 0.0);
     inliers = a.inliers();
     valid = a.valid();
-    if (inliers > 0) {
+    weight = a.s[A::kW];
+    if (inliers > 0 && weight > 0) {
       rms_m = std::sqrt(a.s[A::kR2] / inliers);
       mean_depth_m = std::max(1e-3, a.s[A::kDepth] / inliers);
       const Vector6d dinv = scaleInv();
-      const Eigen::Matrix<double, 6, 6> Hs = dinv.asDiagonal() * H * dinv.asDiagonal() / inliers;
+      const Eigen::Matrix<double, 6, 6> Hs = dinv.asDiagonal() * H * dinv.asDiagonal() / weight;
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> es(Hs);
       eigenvalues = es.eigenvalues();
       eigenvectors = es.eigenvectors();
@@ -91,9 +99,9 @@ struct IcpSystem {
       xi = H.ldlt().solve(-g);
       return 0;
     }
-    // In scaled coordinates xs = D xi: Hs xs = -gs with Hs = D^-1 H D^-1 / N, gs = D^-1 g / N.
+    // In scaled coordinates xs = D xi: Hs xs = -gs with Hs = D^-1 H D^-1 / W, gs = D^-1 g / W.
     const Vector6d dinv = scaleInv();
-    const Vector6d gs = dinv.cwiseProduct(g) / inliers;
+    const Vector6d gs = dinv.cwiseProduct(g) / weight;
     Vector6d xs = Vector6d::Zero();
     for (int i = 0; i < 6; ++i)
       if (eigenvalues(i) >= min_eig)
@@ -128,13 +136,14 @@ Eigen::Isometry3d IcpTracker::predictPose() const {
   return orthonormalize(m_T_last * (m_T_prev.inverse() * m_T_last));
 }
 
-TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const ModelMaps& model) {
+TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const ModelMaps& model,
+                                 ImageView<const Bgr8> frame_colour) {
   if (!m_initialized) {
     TrackingResult r;
     r.status = TrackingStatus::NotInitialized;
     return r;
   }
-  TrackingResult r = align(frame, model, predictPose());
+  TrackingResult r = align(frame, model, predictPose(), frame_colour);
   if (r.ok) {
     m_T_prev = m_T_last;
     m_T_last = r.T_world_cam;
@@ -144,10 +153,17 @@ TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const Mod
   return r;
 }
 
-void IcpTracker::buildModelPyramid(const ModelMaps& model) {
+void IcpTracker::buildModelPyramid(const ModelMaps& model, bool intensity, bool confidence) {
   const int L = m_params.num_levels;
   m_model_vertex.resize(std::max(0, L - 1));
   m_model_normal.resize(std::max(0, L - 1));
+  if (confidence) m_model_confidence.resize(std::max(0, L - 1));
+  if (intensity) {
+    m_model_intensity.resize(L);
+    m_model_intensity[0].resize(model.vertex_world.width, model.vertex_world.height);
+    compute::forEach2D(model.vertex_world.width, model.vertex_world.height,
+                       kernels::IntensityKernel{model.colour, model.vertex_world, m_model_intensity[0].view()});
+  }
   const RigidF T_model_world = toRigidF(model.T_world_model.inverse());
   ImageView<const Vec3f> v = model.vertex_world, n = model.normal_world;
   for (int l = 1; l < L; ++l) {
@@ -155,15 +171,48 @@ void IcpTracker::buildModelPyramid(const ModelMaps& model) {
     Image<Vec3f>& on = m_model_normal[l - 1];
     ov.resize((v.width + 1) / 2, (v.height + 1) / 2);
     on.resize(ov.width(), ov.height());
-    kernels::ModelDownsampleKernel k{v, n, ov.view(), on.view(), T_model_world, 0.03f};
+    kernels::ModelDownsampleKernel k;
+    k.in_vertex = v;
+    k.in_normal = n;
+    k.out_vertex = ov.view();
+    k.out_normal = on.view();
+    k.T_model_world = T_model_world;
+    k.max_diff_m = 0.03f;
+    if (intensity) {
+      m_model_intensity[l].resize(ov.width(), ov.height());
+      k.in_intensity = m_model_intensity[l - 1].cview();
+      k.out_intensity = m_model_intensity[l].view();
+    }
+    if (confidence) {
+      m_model_confidence[l - 1].resize(ov.width(), ov.height());
+      k.in_confidence = l == 1 ? model.confidence : m_model_confidence[l - 2].cview();
+      k.out_confidence = m_model_confidence[l - 1].view();
+    }
     compute::forEach2D(ov.width(), ov.height(), k);
     v = ov.view();
     n = on.view();
   }
 }
 
+void IcpTracker::buildFrameIntensity(const std::vector<FrameLevel>& frame, ImageView<const Bgr8> colour) {
+  const int L = m_params.num_levels;
+  m_frame_intensity.resize(L);
+  m_frame_igrad.resize(L);
+  for (int l = 0; l < L; ++l) {
+    const int w = frame[l].depth_m.width(), h = frame[l].depth_m.height();
+    Image<float>& I = m_frame_intensity[l];
+    I.resize(w, h);
+    if (l == 0)
+      compute::forEach2D(w, h, kernels::IntensityKernel{colour, {}, I.view()});
+    else
+      compute::forEach2D(w, h, kernels::IntensityDownsampleKernel{m_frame_intensity[l - 1].cview(), I.view()});
+    m_frame_igrad[l].resize(w, h);
+    compute::forEach2D(w, h, kernels::IntensityGradientKernel{I.cview(), m_frame_igrad[l].view()});
+  }
+}
+
 TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const ModelMaps& model,
-                                 const Eigen::Isometry3d& T_world_cam_guess) {
+                                 const Eigen::Isometry3d& T_world_cam_guess, ImageView<const Bgr8> frame_colour) {
   const TTrackingParams& P = m_params;
   const int L = P.num_levels;
   if (static_cast<int>(frame.size()) < L)
@@ -181,6 +230,17 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
     throwInputError("tracking: model maps", "size " + std::to_string(model.vertex_world.width) + "x" +
                                                 std::to_string(model.vertex_world.height) +
                                                 " differs from the model intrinsics " + model.K.toString());
+  // Photometric term: only with both colour images (and a model to render them from).
+  const bool photometric = P.photometric_weight > 0 && !model_empty && !model.colour.empty() && !frame_colour.empty();
+  if (photometric) {
+    if (model.colour.width != model.vertex_world.width || model.colour.height != model.vertex_world.height)
+      throwInputError("tracking: model colour", "size " + std::to_string(model.colour.width) + "x" +
+                                                    std::to_string(model.colour.height) + " differs from the vertex map");
+    if (frame_colour.width != frame[0].depth_m.width() || frame_colour.height != frame[0].depth_m.height())
+      throwInputError("tracking: frame colour", "size " + std::to_string(frame_colour.width) + "x" +
+                                                    std::to_string(frame_colour.height) +
+                                                    " differs from the level-0 depth image");
+  }
   if (P.use_cuda) {
     const auto avail = compute::cudaAvailability();
     if (!avail.available) throwInputError("[tracking] use_cuda", "CUDA is not usable: " + avail.reason);
@@ -190,7 +250,14 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
   TrackingResult res;
   res.T_world_cam_guess = T_world_cam_guess;
   Eigen::Isometry3d T = T_world_cam_guess;
-  if (!model_empty) buildModelPyramid(model);
+  const bool confidence = P.confidence_full > 0 && !model_empty && !model.confidence.empty();
+  if (confidence && (model.confidence.width != model.vertex_world.width ||
+                     model.confidence.height != model.vertex_world.height))
+    throwInputError("tracking: model confidence", "size " + std::to_string(model.confidence.width) + "x" +
+                                                      std::to_string(model.confidence.height) +
+                                                      " differs from the vertex map");
+  if (!model_empty) buildModelPyramid(model, photometric, confidence);
+  if (photometric) buildFrameIntensity(frame, frame_colour);
   const Eigen::Isometry3d T_model_world = model.T_world_model.inverse();
   const double conv_rot_rad = P.convergence_rotation_deg * kDegToRad;
 
@@ -212,7 +279,24 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
     k.max_dist_m = float(P.max_dist_m[l]);
     k.min_normal_cos = float(std::cos(P.max_normal_angle_deg[l] * kDegToRad));
     k.huber_delta_m = float(P.huber_delta_m);
+    k.depth_noise_weighting = P.depth_noise_weighting;
+    if (confidence) {
+      k.model_confidence = l == 0 ? model.confidence : ImageView<const float>(m_model_confidence[l - 1].cview());
+      k.confidence_full = float(P.confidence_full);
+    }
     k.stride = l == 0 ? P.level0_pixel_stride : 1;
+    kernels::PhotometricReduceKernel pk;
+    if (photometric) {
+      pk.model_vertex = k.model_vertex;
+      pk.model_intensity = m_model_intensity[l].cview();
+      pk.frame_igrad = m_frame_igrad[l].cview();
+      pk.frame_depth_m = frame[l].depth_m.cview();
+      pk.K_frame = frame[l].K.plain();
+      pk.max_depth_diff_m = k.max_dist_m;
+      pk.min_gradient = float(P.photometric_min_gradient);
+      pk.huber_delta = float(P.photometric_huber);
+      pk.stride = k.stride;
+    }
     IcpSystem level_last(kernels::IcpAccumulator{});
     if (P.use_cuda && !model_empty) m_cuda->upload(l, k);
 
@@ -233,7 +317,16 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
       } else {
         acc = compute::reduce1D<kernels::IcpAccumulator>(k.items(), k);
       }
-      const IcpSystem sys(acc);
+      kernels::IcpAccumulator acc_photo;
+      if (photometric) {
+        pk.T_world_cam = k.T_world_cam;
+        pk.T_cam_world = toRigidF(T.inverse());
+        pk.pivot_world = k.pivot_world;
+        acc_photo = compute::reduce1D<kernels::IcpAccumulator>(pk.items(), pk);
+        st.photometric_inliers = int(acc_photo.inliers());
+        st.photometric_rms = acc_photo.inliers() > 0 ? std::sqrt(acc_photo.s[kernels::IcpAccumulator::kR2] / acc_photo.inliers()) : 0.0;
+      }
+      const IcpSystem sys(acc, photometric ? &acc_photo : nullptr, P.photometric_weight);
       ++st.iterations;
       ++res.iterations;
       st.inliers = int(sys.inliers);
@@ -264,6 +357,8 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
         break;
     }
     if (l == 0) {
+      res.photometric_inliers = st.photometric_inliers;
+      res.photometric_rms = st.photometric_rms;
       res.final_step_translation_m = st.last_step_translation_m;
       res.final_step_rotation_rad = st.last_step_rotation_rad;
     }

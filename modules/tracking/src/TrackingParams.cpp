@@ -39,6 +39,12 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   }
   MRPT_LOAD_CONFIG_VAR_CS(level0_pixel_stride, int);
   MRPT_LOAD_CONFIG_VAR_CS(huber_delta_m, double);
+  MRPT_LOAD_CONFIG_VAR_CS(depth_noise_weighting, bool);
+  MRPT_LOAD_CONFIG_VAR_CS(confidence_full, double);
+  MRPT_LOAD_CONFIG_VAR_CS(photometric_weight, double);
+  MRPT_LOAD_CONFIG_VAR_CS(photometric_huber, double);
+  MRPT_LOAD_CONFIG_VAR_CS(photometric_min_gradient, double);
+  MRPT_LOAD_CONFIG_VAR_CS(model_min_confidence, double);
   MRPT_LOAD_CONFIG_VAR_CS(convergence_translation_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(convergence_rotation_deg, double);
   const std::string mm = c.read_string(s, "motion_model", toString(motion_model));
@@ -70,6 +76,12 @@ void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
     put(c, s, levelKey("max_normal_angle_deg", l), max_normal_angle_deg[l], "association normal-angle limit (deg)");
   put(c, s, "level0_pixel_stride", level0_pixel_stride, "use every n-th pixel in x and y at level 0");
   put(c, s, "huber_delta_m", huber_delta_m, "Huber threshold (m), 0 = least squares");
+  put(c, s, "depth_noise_weighting", depth_noise_weighting, "weight residuals by the depth noise model");
+  put(c, s, "confidence_full", confidence_full, "weight residuals by min(1, surfel confidence / this), 0 = off");
+  put(c, s, "photometric_weight", photometric_weight, "photometric cost weight (m^2 per intensity^2), 0 = off");
+  put(c, s, "photometric_huber", photometric_huber, "Huber threshold on intensity residuals, 0 = none");
+  put(c, s, "photometric_min_gradient", photometric_min_gradient, "skip samples with weaker intensity gradient");
+  put(c, s, "model_min_confidence", model_min_confidence, "model = surfels with confidence >= this (0 = stable flag)");
   put(c, s, "convergence_translation_m", convergence_translation_m, "early stop: increment below (m)");
   put(c, s, "convergence_rotation_deg", convergence_rotation_deg, "early stop: and below (deg)");
   put(c, s, "motion_model", std::string(toString(motion_model)), "constant_velocity | previous_pose");
@@ -92,6 +104,11 @@ void TTrackingParams::validate(const std::string& s) const {
   }
   requireInRange(level0_pixel_stride, 1, 8, s, "level0_pixel_stride");
   requireInRange(huber_delta_m, 0.0, 10.0, s, "huber_delta_m");
+  requireInRange(confidence_full, 0.0, 1e6, s, "confidence_full");
+  requireInRange(photometric_weight, 0.0, 100.0, s, "photometric_weight");
+  requireInRange(photometric_huber, 0.0, 1.0, s, "photometric_huber");
+  requireInRange(photometric_min_gradient, 0.0, 1.0, s, "photometric_min_gradient");
+  requireInRange(model_min_confidence, 0.0, 1e6, s, "model_min_confidence");
   requireInRange(convergence_translation_m, 0.0, 1.0, s, "convergence_translation_m");
   requireInRange(convergence_rotation_deg, 0.0, 90.0, s, "convergence_rotation_deg");
   requireInRange(min_inliers, 6, 1e9, s, "min_inliers");

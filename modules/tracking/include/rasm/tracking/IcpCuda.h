@@ -1,6 +1,6 @@
 #pragma once
 // CUDA launcher of kernels::IcpReduceKernel (cuda/IcpReduce.cu): one thread per processed pixel,
-// a block reduction of the 31 sums in double, per-block partials summed on the host in a fixed
+// a block reduction of the IcpAccumulator sums in double, per-block partials summed on the host in a fixed
 // order. Plain header (compute/ + the kernel header). Without a CUDA build every method throws
 // std::runtime_error; callers check compute::cudaAvailability() first.
 

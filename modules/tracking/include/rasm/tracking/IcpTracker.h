@@ -1,15 +1,21 @@
 #pragma once
 // Camera tracking of section II-C: coarse-to-fine point-to-plane ICP with projective data
 // association (KinectFusion [30], as in ElasticFusion) of the current frame against the model
-// rendered from the previous pose (stable surfels only).
+// rendered from the previous pose (reliable surfels only: TTrackingParams::model_min_confidence).
+// Residuals are weighted by the depth noise model (depth_noise_weighting); optional terms: an
+// ElasticFusion-style photometric term (photometric_weight, needs both colour images) and
+// surfel-confidence weights (confidence_full, needs the rendered confidence). docs/tracking.md
+// has the measurements behind the defaults.
 //
 // How the Mapper uses it (one call per frame):
 //
 //   tracker.reset(T_world_cam0);                      // first frame: map initialised there
 //   for each later frame:
 //     buildFramePyramid(frame.depth_m, K, params.numLevels(), pyr);  // core, camera frame
-//     ModelMaps m{render.vertex_world, render.normal_world, K_render, tracker.lastGoodPose()};
-//     TrackingResult r = tracker.track(pyr, m);       // motion-model guess, updates the state
+//     ModelMaps m;                                    // render at tracker.lastGoodPose()
+//     m.vertex_world = ...; m.normal_world = ...; m.K = K; m.T_world_model = lastGoodPose();
+//     m.colour = ...;                                 // optional (photometric term)
+//     TrackingResult r = tracker.track(pyr, m, frame.colour);  // motion-model guess, updates state
 //     if (r.ok) fuse(frame, r.T_world_cam);           // and render the next model from it
 //     else      skip fusion; keep rendering from tracker.lastGoodPose()
 //
@@ -19,6 +25,7 @@
 // are built inside each call (kernels::ModelDownsampleKernel: the 2x2 block's foreground samples
 // averaged, the rule of core's depth pyramid, so both pyramids sample the same pixel centres).
 // Empty (0x0) or all-invalid maps are allowed: the frame is then reported TooFewInliers.
+// The optional colour and confidence maps follow the same pyramid rule.
 //
 // Lost track and recovery: a frame that fails a quality rule (TrackingResult::status) leaves the
 // state untouched except that the velocity is reset to zero, so the next guess is the last good
@@ -50,6 +57,10 @@ struct ModelMaps {
   ImageView<const Vec3f> normal_world;  ///< unit normals, world frame, invalid = NaN x
   CameraIntrinsics K;                   ///< intrinsics of the render (size = map size)
   Eigen::Isometry3d T_world_model = Eigen::Isometry3d::Identity();
+  /// Optional rendered colour (same size) for the photometric term; empty = geometry only.
+  ImageView<const Bgr8> colour;
+  /// Optional rendered surfel confidence (same size), for TTrackingParams::confidence_full.
+  ImageView<const float> confidence;
 };
 
 class IcpTracker {
@@ -75,15 +86,19 @@ class IcpTracker {
   /// resolution, camera frame) with at least params().numLevels() levels. On ok the pose becomes
   /// the last good pose and the velocity is updated; otherwise only the velocity is reset.
   /// Returns NotInitialized (ok = false) before reset(). Throws InputError on malformed input.
-  TrackingResult track(const std::vector<FrameLevel>& frame, const ModelMaps& model);
+  /// `frame_colour` (optional, registered to the depth, size of level 0) enables the photometric
+  /// term when params().photometric_weight > 0 and the model has a colour map.
+  TrackingResult track(const std::vector<FrameLevel>& frame, const ModelMaps& model,
+                       ImageView<const Bgr8> frame_colour = {});
 
   /// Aligns `frame` to `model` starting from an explicit guess; does not touch the motion state.
   /// The quality rules (including the jump vs. the guess) are applied as in track().
   TrackingResult align(const std::vector<FrameLevel>& frame, const ModelMaps& model,
-                       const Eigen::Isometry3d& T_world_cam_guess);
+                       const Eigen::Isometry3d& T_world_cam_guess, ImageView<const Bgr8> frame_colour = {});
 
  private:
-  void buildModelPyramid(const ModelMaps& model);
+  void buildModelPyramid(const ModelMaps& model, bool intensity, bool confidence);
+  void buildFrameIntensity(const std::vector<FrameLevel>& frame, ImageView<const Bgr8> colour);
 
   TTrackingParams m_params;
   bool m_initialized = false;
@@ -91,6 +106,10 @@ class IcpTracker {
   Eigen::Isometry3d m_T_prev = Eigen::Isometry3d::Identity();  ///< good pose before m_T_last
   /// Scratch: model maps at levels >= 1 (level 0 is the caller's view).
   std::vector<Image<Vec3f>> m_model_vertex, m_model_normal;
+  /// Scratch of the photometric term, all levels: model intensity, frame (I, dI/du, dI/dv).
+  std::vector<Image<float>> m_model_intensity, m_frame_intensity;
+  std::vector<Image<float>> m_model_confidence;  ///< levels >= 1 (level 0 is the caller's view)
+  std::vector<Image<Vec3f>> m_frame_igrad;
   std::unique_ptr<cuda::IcpCudaReducer> m_cuda;  ///< created on first use when use_cuda
 };
 

@@ -38,12 +38,37 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   /// 640x480 frame has ~300k pixels; a stride of 2 keeps ~75k, plenty to constrain 6 DoF.
   int level0_pixel_stride = 2;
   /// Huber threshold (m) on the point-to-plane residual for IRLS weights; 0 = plain least squares.
+  /// With depth_noise_weighting it applies to the residual scaled to the noise at 1 m.
   double huber_delta_m = 0.0;
+  /// Weight each point-to-plane residual by (sigma(1 m) / sigma(z))^2, sigma(z) the axial noise
+  /// of Kinect-type depth (Nguyen et al. 2012, kernels::depthNoiseSigma): far, noisy points
+  /// count less.
+  bool depth_noise_weighting = false;
+  /// Weight each residual by min(1, c / confidence_full), c = confidence of the associated model
+  /// surfel, when the caller passes the model's confidence map; 0 = off.
+  double confidence_full = 0.0;
+
+  // ---- photometric term (joint ICP + RGB as ElasticFusion; kernels::PhotometricReduceKernel) ----
+  /// Weight of the photometric cost relative to the point-to-plane one, in m^2 per squared
+  /// intensity unit (intensity = luma in [0, 1]): an intensity residual of 1 costs as much as a
+  /// point-to-plane residual of sqrt(photometric_weight) m. 0 = geometry only. Used only when
+  /// the caller passes both the frame's colour and the model's rendered colour.
+  double photometric_weight = 0.0;
+  /// Huber threshold on the intensity residual (intensity units); 0 = least squares.
+  double photometric_huber = 0.0;
+  /// Samples whose frame intensity gradient is below this (intensity per pixel of the level)
+  /// carry little information and are skipped.
+  double photometric_min_gradient = 0.0;
   /// A level stops early once the increment is below both limits. On TUM fr1/xyz and 7-Scenes,
   /// 0.1 mm / 0.01 deg took 8 and 11.5 iterations per frame instead of 13 and 16 at 0.01 mm /
   /// 0.001 deg, with the ATE within 0.4 mm.
   double convergence_translation_m = 1e-4;
   double convergence_rotation_deg = 0.01;
+
+  // ---- model (prepared by the caller, pipeline::Mapper) ----
+  /// The model ICP aligns to is rendered from the surfels with at least this confidence; 0 =
+  /// those fusion flags stable (confidence >= [fusion] stable_confidence, 10, the II-C rule).
+  double model_min_confidence = 0.0;
 
   // ---- initial guess ----
   MotionModel motion_model = MotionModel::ConstantVelocity;
@@ -72,7 +97,8 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
 
   // ---- backend ----
   /// Run the ICP reduction on the GPU (CUDA launcher of the same kernel). Needs a CUDA build
-  /// and device; track() throws InputError otherwise.
+  /// and device; track() throws InputError otherwise. The photometric term has no CUDA launcher
+  /// yet: it is reduced on the CPU either way.
   bool use_cuda = false;
 
   int numLevels() const { return num_levels; }

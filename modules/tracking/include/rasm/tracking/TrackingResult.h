@@ -28,6 +28,8 @@ struct TrackingLevelStats {
   int inliers = 0;
   int valid_pixels = 0;     ///< frame pixels with a valid vertex and normal (after the stride)
   double rms_m = 0.0;       ///< RMS point-to-plane residual of the inliers
+  int photometric_inliers = 0;     ///< model pixels used by the photometric term (0 = off)
+  double photometric_rms = 0.0;    ///< their RMS intensity residual (luma in [0, 1])
   double min_eigenvalue = 0.0;  ///< of the level's last system (see TrackingResult)
   double last_step_translation_m = 0.0;
   double last_step_rotation_rad = 0.0;
@@ -46,6 +48,8 @@ struct TrackingResult {
   int inliers = 0;
   double inlier_fraction = 0.0;  ///< inliers / valid frame pixels at level 0
   double rms_m = 0.0;            ///< RMS point-to-plane residual of the inliers (m)
+  int photometric_inliers = 0;   ///< level-0 samples of the photometric term (0 = off)
+  double photometric_rms = 0.0;  ///< their RMS intensity residual (luma in [0, 1])
   /// Degeneracy: smallest eigenvalue of J^T J / inliers with the rotation columns scaled by the
   /// mean inlier depth, so translation and rotation share one dimensionless scale (a wall seen
   /// head-on constrains its normal direction with ~1, the directions in the plane with ~0).
