@@ -6,6 +6,7 @@
 // source's ground truth, or a TUM trajectory (e.g. the trajectory.txt of a `rasm run`).
 //   bench_fusion_sequence --source DIR [--poses trajectory.txt] [--frames 300] [--threads 2]
 //                         [--csv per_frame.csv] [--ranges 20-50,250-300] [--repeat_render 0]
+//                         [--merge 1]   (0: [fusion] merge_redundant = false, for A/B)
 // Prints one JSON line: {"bench":"fusion_sequence",...} with per-stage wall and process-CPU
 // means over every range (frame indices of the run, end exclusive). Wall time is what a frame
 // costs on an idle machine only; on a shared one, compare CPU time.
@@ -58,7 +59,7 @@ int countValid(const Image<Vec3f>& v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int threads = 2, max_frames = 300, repeat_render = 0;
+  int threads = 2, max_frames = 300, repeat_render = 0, merge = 1;
   std::string source_path, poses_path, csv_path, ranges_arg = "20-50,250-300";
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
@@ -76,6 +77,8 @@ int main(int argc, char** argv) {
       ranges_arg = v;
     else if (k == "--repeat_render")
       repeat_render = std::stoi(v);
+    else if (k == "--merge")
+      merge = std::stoi(v);
     else {
       std::fprintf(stderr, "unknown option %s\n", k.c_str());
       return 2;
@@ -102,7 +105,9 @@ int main(int argc, char** argv) {
   if (!poses_path.empty()) poses = io::readTumTrajectory(poses_path);
 
   maps::SurfelStore map;
-  fusion::SurfelFusion fusion;
+  fusion::TFusionParams fusion_params;
+  fusion_params.merge_redundant = merge != 0;
+  fusion::SurfelFusion fusion(fusion_params);
   maps::SurfelRenderer renderer;
   maps::RenderedMaps model;
   Image<float> filtered;

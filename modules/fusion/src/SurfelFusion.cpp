@@ -444,6 +444,101 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   return st;
 }
 
+void SurfelFusion::mergeCpu(maps::SurfelStore& map, std::vector<int>& removed) {
+  const maps::SurfelArrays a = map.arrays();
+  const kernels::FusionKernelParams prm = plainParams(m_params, map.options());
+  kernels::MergeTest test;
+  test.min_cos_normal = std::cos(m_params.merge_max_normal_angle_deg * kDegToRad);
+  test.dz_abs_m = m_params.assoc_max_depth_diff_m;
+  test.dz_rel = m_params.assoc_max_depth_diff_rel;
+  const std::uint64_t* excluded = m_remap_bits.data();
+  const auto isExcluded = [excluded](int i) { return (excluded[i >> 6] >> (i & 63)) & 1u; };
+  const int w = m_candidates.width, h = m_candidates.height;
+  const maps::kernels::CameraPoint* entries = m_candidates.entries.data();
+  const std::uint32_t* first = m_candidates.first.data();
+  const int nt = compute::maxThreads();
+  // Per thread: (loser, kept) pairs and survivors that crossed a block border.
+  std::vector<std::vector<std::pair<int, int>>> pairs(nt);
+  std::vector<std::vector<int>> crossed(nt);
+  const int stride = std::max(1, m_params.merge_row_stride);
+  const int row0 = int(m_merge_round++ % std::uint64_t(stride));
+  const int n_rows = row0 < h ? (h - row0 + stride - 1) / stride : 0;
+  // Every surfel is in the list of exactly one pixel (its centre's), and merging only touches
+  // surfels of one list: rows run in parallel without races.
+#pragma omp parallel num_threads(nt)
+  {
+    const int t = threadId();
+    constexpr int kMaxList = 32;  // longer lists (rare) are left alone
+    constexpr int kAhead = 6;
+    bool gone[kMaxList];
+    int idx[kMaxList];
+    float z[kMaxList];
+#pragma omp for schedule(dynamic, 8)
+    for (int r = 0; r < n_rows; ++r) {
+      const int y = row0 + r * stride;
+      for (int x = 0; x < w; ++x) {
+        const std::size_t p = std::size_t(y) * w + x;
+        if (x + kAhead < w) {  // the lists' surfels are spread over the map's memory
+          const std::uint32_t e = first[p + kAhead + 1];
+          if (e - first[p + kAhead] >= 2)
+            for (std::uint32_t q = first[p + kAhead]; q < e; ++q) {
+              __builtin_prefetch(&a.pos_conf[entries[q].index]);
+              __builtin_prefetch(&a.normal_radius[entries[q].index]);
+            }
+        }
+        const std::uint32_t q0 = first[p];
+        const int n = int(first[p + 1] - q0);
+        if (n < 2 || n > kMaxList) continue;
+        // The renderer's order within a list depends on the thread schedule: merge in surfel
+        // index order so that the result does not.
+        for (int k = 0; k < n; ++k) {
+          const maps::kernels::CameraPoint& cp = entries[q0 + k];
+          int m = k;
+          for (; m > 0 && idx[m - 1] > cp.index; --m) {
+            idx[m] = idx[m - 1];
+            z[m] = z[m - 1];
+          }
+          idx[m] = cp.index;
+          z[m] = cp.pc.z();
+        }
+        for (int k = 0; k < n; ++k) gone[k] = isExcluded(idx[k]);
+        for (int k = 0; k < n; ++k) {
+          if (gone[k]) continue;
+          int cur = k;
+          for (int m = k + 1; m < n; ++m) {
+            if (gone[m]) continue;
+            const int i = idx[cur], j = idx[m];
+            if (!test.redundant(a, i, j, z[cur])) continue;
+            // The surfel with more confidence (the older on ties) absorbs the other.
+            const bool keep_i = a.pos_conf[i].w() > a.pos_conf[j].w() ||
+                                (a.pos_conf[i].w() == a.pos_conf[j].w() && i < j);
+            const int keep = keep_i ? i : j, lose = keep_i ? j : i;
+            if (kernels::mergeSurfels(a, keep, lose, prm)) crossed[t].push_back(keep);
+            pairs[t].emplace_back(lose, keep);
+            gone[keep_i ? m : cur] = true;
+            if (!keep_i) cur = m;
+          }
+        }
+      }
+    }
+  }
+  for (int t = 0; t < nt; ++t) {
+    for (const auto& pr : pairs[t]) {
+      removed.push_back(pr.first);
+      m_merged.push_back(pr);
+    }
+  }
+  // A survivor may be listed twice; one that was merged on later is removed (reindex of a
+  // removed surfel is harmless: the removal drops it from the index).
+  std::vector<int> movers;
+  for (auto& c : crossed) movers.insert(movers.end(), c.begin(), c.end());
+  if (!movers.empty()) {
+    std::sort(movers.begin(), movers.end());
+    movers.erase(std::unique(movers.begin(), movers.end()), movers.end());
+    map.reindex(movers);
+  }
+}
+
 void SurfelFusion::carveCpu(const maps::SurfelStore& map, const FusionInput& in,
                             std::vector<int>& removed, std::vector<int>& demoted) {
   // Updated surfels: the verdict the update pass recorded in their pixel's flags.
@@ -572,6 +667,21 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
   st.demoted_carved = int(demoted.size());
   const std::size_t n_carved = removed.size();
 
+  // Redundant-surfel merging over the view (Keller et al. 2013). Carved and demoted surfels take
+  // no part (marked in m_remap_bits, all zero between frames).
+  m_merged.clear();
+  if (m_params.merge_redundant && cpu() && index_fresh) {
+    if (m_remap_bits.size() < std::size_t(map.size() / 64 + 1))
+      m_remap_bits.resize(map.size() / 64 + 1, 0);
+    for (int i : removed) m_remap_bits[i >> 6] |= std::uint64_t(1) << (i & 63);
+    for (int i : demoted) m_remap_bits[i >> 6] |= std::uint64_t(1) << (i & 63);
+    mergeCpu(map, removed);
+    for (int i : removed) m_remap_bits[i >> 6] = 0;
+    for (int i : demoted) m_remap_bits[i >> 6] = 0;
+  }
+  st.merged = int(m_merged.size());
+  const std::size_t n_carved_merged = removed.size();
+
   // Unstable surfels older than unstable_max_age_s or not fused for unstable_max_idle_s (II-D):
   // those whose time has come in the schedule, the surfels carving just demoted, and new surfels
   // that were due at once.
@@ -583,8 +693,8 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
   m_due_now.clear();
   std::sort(removed.begin(), removed.end());
   removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
-  st.removed_unstable = int(removed.size() - std::min(removed.size(), n_carved));
-  // (a surfel both carved and old is counted as carved)
+  st.removed_unstable = int(removed.size() - std::min(removed.size(), n_carved_merged));
+  // (a surfel both carved and old is counted as carved; merged ones are never carved)
   if (removed.empty()) {
     finish();
     return;
@@ -618,6 +728,14 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
         if (i >= 0 && (bits[i >> 6] >> (i & 63) & 1u) && table.get(i, v)) r[x] = v;
       }
     });
+    // Merged surfels: their pixels now refer to the surfel they were merged into (where that
+    // one went). m_merged is in merge order and a kept surfel may itself be merged later in its
+    // pixel's chain: resolve from the last pair back.
+    for (auto it = m_merged.rbegin(); it != m_merged.rend(); ++it) {
+      std::int32_t v = it->second;
+      table.get(it->second, v);  // moved -> new index, removed (or merged on) -> its target
+      table.put(it->first, v);
+    }
     for (int i : removed) bits[i >> 6] = 0;
     for (const auto& fm : moved) bits[fm.first >> 6] = 0;
   }

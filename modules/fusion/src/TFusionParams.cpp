@@ -25,6 +25,9 @@ void TFusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(carve_margin_m, float, c, s);
   MRPT_LOAD_CONFIG_VAR(carve_margin_rel, float, c, s);
   MRPT_LOAD_CONFIG_VAR(carve_stable_decay, float, c, s);
+  MRPT_LOAD_CONFIG_VAR(merge_redundant, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(merge_max_normal_angle_deg, float, c, s);
+  MRPT_LOAD_CONFIG_VAR(merge_row_stride, int, c, s);
   MRPT_LOAD_CONFIG_VAR(update_segments, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(update_view_bins, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(ic_lambda1, float, c, s);
@@ -45,6 +48,8 @@ void TFusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireInRange(carve_margin_m, 0.0, 10.0, s, "carve_margin_m");
   requireInRange(carve_margin_rel, 0.0, 1.0, s, "carve_margin_rel");
   requireInRange(carve_stable_decay, 0.0, 1.0, s, "carve_stable_decay");
+  requireInRange(merge_max_normal_angle_deg, 0.0, 90.0, s, "merge_max_normal_angle_deg");
+  requireInRange(merge_row_stride, 1, 64, s, "merge_row_stride");
   requireInRange(ic_lambda1, 0.0, 100.0, s, "ic_lambda1");
   requireInRange(ic_d_min_m, 0.0, 100.0, s, "ic_d_min_m");
 }
@@ -67,6 +72,9 @@ void TFusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   c.write(s, "carve_margin_m", carve_margin_m);
   c.write(s, "carve_margin_rel", carve_margin_rel);
   c.write(s, "carve_stable_decay", carve_stable_decay);
+  c.write(s, "merge_redundant", merge_redundant);
+  c.write(s, "merge_max_normal_angle_deg", merge_max_normal_angle_deg);
+  c.write(s, "merge_row_stride", merge_row_stride);
   c.write(s, "update_segments", update_segments);
   c.write(s, "update_view_bins", update_view_bins);
   c.write(s, "ic_lambda1", ic_lambda1);

@@ -11,7 +11,8 @@
 //      and the view bins;
 //   3. pixels without a match become new surfels (II-B), appended in row-major pixel order through
 //      a per-row count + prefix sum (deterministic);
-//   4. cleanup: carve free space, remove unstable surfels past their age / idle limits.
+//   4. cleanup: merge redundant surfels of the view (Keller et al. 2013), carve free space,
+//      remove unstable surfels past their age / idle limits.
 // Per frame the cost is O(pixels + surfels in view): nothing scans the whole map (pruning keeps a
 // schedule of the unstable surfels, PruneSchedule.h).
 // Works on the MRPT-free SurfelStore; CSurfelMap::store() gives it.
@@ -64,6 +65,7 @@ struct FusionStats {
   int removed_unstable = 0;  ///< old unstable surfels removed
   int removed_carved = 0;    ///< free-space violators removed
   int demoted_carved = 0;    ///< stable free-space violators that lost confidence
+  int merged = 0;            ///< redundant surfels merged into another one (and removed)
   int map_size = 0;          ///< after the frame
   maps::RenderStats render;  ///< of the 4x index map render
   // Wall-clock milliseconds of the stages (for report.json; tests never assert on them).
@@ -107,6 +109,9 @@ class SurfelFusion {
   /// Whether m_schedule describes `map` (only fusion changed it since fusion last looked).
   bool scheduleValid(const maps::SurfelStore& map) const;
   void scheduleSeen(const maps::SurfelStore& map);
+  /// Redundant-surfel merging over the per-pixel candidate lists of the last integrate(): the
+  /// losers go to `removed`, (loser, kept) pairs to m_merged, re-binned survivors to the index.
+  void mergeCpu(maps::SurfelStore& map, std::vector<int>& removed);
   void carveCpu(const maps::SurfelStore& map, const FusionInput& in, std::vector<int>& removed,
                 std::vector<int>& demoted);
   void carveIndexMap(maps::SurfelStore& map, const FusionInput& in, std::vector<int>& removed,
@@ -128,6 +133,8 @@ class SurfelFusion {
   std::vector<std::vector<int>> m_thread_lists;
   std::vector<int> m_removed, m_demoted;
   std::vector<std::pair<int, int>> m_moved;
+  std::vector<std::pair<int, int>> m_merged;  ///< (loser, kept) of the last mergeCpu
+  std::uint64_t m_merge_round = 0;             ///< merging frames so far (row phase)
   std::vector<std::int32_t> m_remap_table;
   std::vector<std::uint64_t> m_remap_bits;  ///< per surfel index, all zero between frames
   // Pruning schedule and what it was built for.

@@ -102,6 +102,78 @@ RASM_HD_INLINE void updateViewBin(const maps::SurfelArrays& s, int i, const Vec3
   if (q > row[bin]) row[bin] = q;
 }
 
+/// Redundant-surfel merging (Keller et al. 2013, sec. 4.3: "merge points with similar position
+/// and normal and overlapping radii"; ElasticFusion's clean-up step). Two surfels are redundant
+/// when their normals agree within the merge gate, their centres are within the association
+/// depth gate of each other along the normal (max(abs, rel * z), z = camera depth) and one disc
+/// contains the other's centre (in-plane distance <= the larger radius).
+struct MergeTest {
+  float min_cos_normal = 0.97f;  ///< cos(merge_max_normal_angle_deg)
+  float dz_abs_m = 0.03f, dz_rel = 0.01f;
+
+  RASM_HD_INLINE bool redundant(const maps::SurfelArrays& s, int i, int j, float z) const {
+    const Vec4f a = s.normal_radius[i], b = s.normal_radius[j];
+    const Vec3f na = a.head<3>(), nb = b.head<3>();
+    if (na.dot(nb) < min_cos_normal) return false;
+    const Vec3f d = s.pos_conf[j].head<3>() - s.pos_conf[i].head<3>();
+    const float along = d.dot(na);
+    const float dz = dz_rel * z > dz_abs_m ? dz_rel * z : dz_abs_m;
+    if (along > dz || along < -dz) return false;
+    const float r = a.w() > b.w() ? a.w() : b.w();
+    return d.squaredNorm() - along * along <= r * r;
+  }
+};
+
+/// Merges surfel `loser` into `keep` (the one with the higher confidence): confidence-weighted
+/// averages of position, normal, colour and radius as a fusion update would make them, summed
+/// confidence (capped), the earlier t_init and later t_last, the element-wise max of the view
+/// bins (each bin holds the best IC seen from its direction), and the segment weight of the
+/// kept segment (+ the loser's when both carry the same label). Class evidence stays the kept
+/// surfel's. Returns true when the kept surfel's position crossed a spatial-index block border.
+RASM_HD_INLINE bool mergeSurfels(const maps::SurfelArrays& s, int keep, int loser,
+                                 const FusionKernelParams& prm) {
+  const Vec4f pk = s.pos_conf[keep], pl = s.pos_conf[loser];
+  const Vec4f nk = s.normal_radius[keep], nl = s.normal_radius[loser];
+  const float ck = pk.w(), cl = pl.w();
+  const float inv = ck + cl > 0.0f ? 1.0f / (ck + cl) : 0.5f;
+  const float a0 = ck + cl > 0.0f ? ck * inv : 0.5f, a1 = 1.0f - a0;
+  const Vec3f p = a0 * pk.head<3>() + a1 * pl.head<3>();
+  Vec3f n = a0 * nk.head<3>() + a1 * nl.head<3>();
+  const float len = n.norm();
+  n = len > 1e-6f ? Vec3f(n * (1.0f / len)) : Vec3f(nk.head<3>());
+  const float r = a0 * nk.w() + a1 * nl.w();
+  float c = ck + cl;
+  if (prm.max_confidence > 0.0f && c > prm.max_confidence) c = prm.max_confidence;
+  std::uint32_t cf = s.colour_flags[keep];
+  const Bgr8 co = maps::unpackColour(cf), cn = maps::unpackColour(s.colour_flags[loser]);
+  cf = maps::packColour(Bgr8{blendU8(co.b, cn.b, a0, a1), blendU8(co.g, cn.g, a0, a1),
+                             blendU8(co.r, cn.r, a0, a1)},
+                        cf & 0xff000000u);
+  if (c >= prm.stable_confidence) cf |= maps::kSurfelStable;
+  s.pos_conf[keep] = Vec4f(p.x(), p.y(), p.z(), c);
+  s.normal_radius[keep] = Vec4f(n.x(), n.y(), n.z(), r);
+  s.colour_flags[keep] = cf;
+  s.basis[keep] = maps::kernels::updateBasis(n, s.basis[keep]);
+  if (s.t_init[loser] < s.t_init[keep]) s.t_init[keep] = s.t_init[loser];
+  if (s.t_last[loser] > s.t_last[keep]) s.t_last[keep] = s.t_last[loser];
+  if (s.segment[keep] == 0u) {
+    s.segment[keep] = s.segment[loser];
+    s.segment_w[keep] = s.segment_w[loser];
+  } else if (s.segment[keep] == s.segment[loser]) {
+    s.segment_w[keep] += s.segment_w[loser];
+  }
+  if (s.n_view_bins > 0) {
+    std::uint8_t* rk = s.viewRow(keep);
+    const std::uint8_t* rl = s.viewRow(loser);
+    for (int b = 0; b < s.n_view_bins; ++b)
+      if (rl[b] > rk[b]) rk[b] = rl[b];
+  }
+  const Vec3f q = pk.head<3>();
+  return floorf(p.x() * prm.inv_block_size) != floorf(q.x() * prm.inv_block_size) ||
+         floorf(p.y() * prm.inv_block_size) != floorf(q.y() * prm.inv_block_size) ||
+         floorf(p.z() * prm.inv_block_size) != floorf(q.z() * prm.inv_block_size);
+}
+
 /// A pixel's measurement with the association gates derived from it (II-D).
 struct PixelMeasurement {
   Vec3f v, n;          ///< camera-frame vertex and normal
