@@ -11,6 +11,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -258,4 +259,63 @@ TEST(RawlogFrameSource, GarbageFileIsAnInputError) {
       << "this is not a rawlog, just some text that goes on for a while............";
   const std::string msg = errorOf([&] { readAll(path); });
   EXPECT_NE(msg.find(path), std::string::npos) << msg;
+}
+
+// ---- PrefetchingFrameSource (reads ahead on its own thread) ----
+
+#include "rasm/io/PrefetchingFrameSource.h"
+
+TEST(PrefetchingFrameSource, GivesTheInnerSourcesFramesInOrder) {
+  const std::string path = std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
+  RawlogFrameSource direct(path);
+  PrefetchingFrameSource ahead(std::make_unique<RawlogFrameSource>(path), 3);
+  EXPECT_EQ(ahead.describe(), direct.describe());
+  EXPECT_EQ(ahead.sizeHint(), direct.sizeHint());
+  int n = 0;
+  for (;; ++n) {
+    std::optional<RgbdFrame> a = direct.next(), b = ahead.next();
+    ASSERT_EQ(a.has_value(), b.has_value()) << "frame " << n;
+    if (!a) break;
+    EXPECT_EQ(a->timestamp_s, b->timestamp_s);
+    ASSERT_EQ(a->depth_m.width(), b->depth_m.width());
+    ASSERT_EQ(a->colour.height(), b->colour.height());
+    for (int y = 0; y < a->depth_m.height(); ++y)
+      ASSERT_EQ(0, std::memcmp(a->depth_m.row(y), b->depth_m.row(y), a->depth_m.width() * sizeof(float)))
+          << "frame " << n << " row " << y;
+    for (int y = 0; y < a->colour.height(); ++y)
+      ASSERT_EQ(0, std::memcmp(a->colour.row(y), b->colour.row(y), a->colour.width() * sizeof(Bgr8)))
+          << "frame " << n << " row " << y;
+    ASSERT_EQ(a->gt_T_world_cam.has_value(), b->gt_T_world_cam.has_value());
+    if (a->gt_T_world_cam) EXPECT_TRUE(a->gt_T_world_cam->isApprox(*b->gt_T_world_cam, 0.0));
+  }
+  EXPECT_GT(n, 10);
+  EXPECT_FALSE(ahead.next().has_value());  // stays at the end
+}
+
+TEST(PrefetchingFrameSource, RethrowsTheInnerErrorAfterTheGoodFrames) {
+  ScratchDir dir("prefetch_trunc");
+  const std::string full = dir / "full.rawlog", cut = dir / "cut.rawlog";
+  {
+    mrpt::io::CFileGZOutputStream f(full, mrpt::io::OpenMode::TRUNCATE, 0);
+    auto ar = mrpt::serialization::archiveFrom(f);
+    for (int i = 0; i < 3; ++i) ar << *scanOf(syntheticFrame(i, 64, 48), "RGBD");
+  }
+  std::ifstream in(full, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() * 5 / 6));
+  PrefetchingFrameSource src(std::make_unique<RawlogFrameSource>(cut), 4);
+  EXPECT_TRUE(src.next().has_value());
+  EXPECT_TRUE(src.next().has_value());
+  const std::string msg = errorOf([&] { src.next(); });
+  EXPECT_NE(msg.find(cut), std::string::npos) << msg;
+  EXPECT_NE(msg.find("frame 2"), std::string::npos) << msg;
+  EXPECT_FALSE(src.next().has_value());
+}
+
+TEST(PrefetchingFrameSource, StopsWhenDestroyedMidStream) {
+  const std::string path = std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
+  for (int depth : {1, 4}) {
+    PrefetchingFrameSource src(std::make_unique<RawlogFrameSource>(path), depth);
+    ASSERT_TRUE(src.next().has_value());
+  }  // the destructor joins the reader, which is blocked on a full queue
 }

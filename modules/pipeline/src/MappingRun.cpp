@@ -19,6 +19,7 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 #include "rasm/core/SE3.h"
+#include "rasm/io/PrefetchingFrameSource.h"
 #include "rasm/io/RawlogWriter.h"
 #include "rasm/io/RgbdObservation.h"
 #include "rasm/io/TrajectoryEvaluator.h"
@@ -182,7 +183,9 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
     throwInputError("[output] dir '" + m_output.dir + "'", "is not empty and [output] overwrite = false");
   writeFileAtomically(m_output.dir + "/config.ini", effectiveConfig());
 
-  auto source = openSource();
+  std::unique_ptr<io::FrameSource> source = openSource();
+  if (m_source.prefetch_frames > 0)
+    source = std::make_unique<io::PrefetchingFrameSource>(std::move(source), m_source.prefetch_frames);
   m_mapper = std::make_unique<Mapper>(m_mapper_params);
   std::fprintf(stderr, "rasm run: %s -> %s\n", source->describe().c_str(), m_output.dir.c_str());
 

@@ -14,12 +14,14 @@ void TSourceParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   MRPT_LOAD_CONFIG_VAR(start_frame, int, c, s);
   MRPT_LOAD_CONFIG_VAR(frame_step, int, c, s);
   MRPT_LOAD_CONFIG_VAR(groundtruth, string, c, s);
+  MRPT_LOAD_CONFIG_VAR(prefetch_frames, int, c, s);
   if (type != "sim" && type != "rawlog" && type != "tum" && type != "7scenes" && type != "auto")
     throwInputError("[" + s + "] type", "'" + type + "' is not one of sim, rawlog, tum, 7scenes, auto");
   if (type != "sim" && path.empty()) throwInputError("[" + s + "] path", "required for type = " + type);
   requireInRange(max_frames, 0, 1e9, s, "max_frames");
   requireInRange(start_frame, 0, 1e9, s, "start_frame");
   requireInRange(frame_step, 1, 1e6, s, "frame_step");
+  requireInRange(prefetch_frames, 0, 64, s, "prefetch_frames");
 }
 
 void TSourceParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -29,6 +31,7 @@ void TSourceParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(start_frame, c, s);
   MRPT_SAVE_CONFIG_VAR(frame_step, c, s);
   MRPT_SAVE_CONFIG_VAR(groundtruth, c, s);
+  MRPT_SAVE_CONFIG_VAR(prefetch_frames, c, s);
 }
 
 void TMapperParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {

@@ -20,6 +20,9 @@ struct TSourceParams : mrpt::config::CLoadableOptions {
   /// Optional TUM trajectory to evaluate against (ATE in report.json) instead of the source's
   /// own ground truth (rawlogs without poses, e.g. converted elsewhere).
   std::string groundtruth;
+  /// Frames read ahead on a separate thread (io::PrefetchingFrameSource) while the previous one
+  /// is mapped; 0 = read in the mapping thread.
+  int prefetch_frames = 2;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
