@@ -286,7 +286,9 @@ TEST(PrefetchingFrameSource, GivesTheInnerSourcesFramesInOrder) {
       ASSERT_EQ(0, std::memcmp(a->colour.row(y), b->colour.row(y), a->colour.width() * sizeof(Bgr8)))
           << "frame " << n << " row " << y;
     ASSERT_EQ(a->gt_T_world_cam.has_value(), b->gt_T_world_cam.has_value());
-    if (a->gt_T_world_cam) EXPECT_TRUE(a->gt_T_world_cam->isApprox(*b->gt_T_world_cam, 0.0));
+    if (a->gt_T_world_cam) {
+      EXPECT_TRUE(a->gt_T_world_cam->isApprox(*b->gt_T_world_cam, 0.0));
+    }
   }
   EXPECT_GT(n, 10);
   EXPECT_FALSE(ahead.next().has_value());  // stays at the end

@@ -665,7 +665,6 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
   }
   st.removed_carved = int(removed.size());
   st.demoted_carved = int(demoted.size());
-  const std::size_t n_carved = removed.size();
 
   // Redundant-surfel merging over the view (Keller et al. 2013). Carved and demoted surfels take
   // no part (marked in m_remap_bits, all zero between frames).
