@@ -28,7 +28,9 @@ class Image {
   Image& operator=(const Image& o) {
     if (this == &o) return *this;
     resize(o.width_, o.height_);
-    for (int y = 0; y < height_; ++y) std::memcpy(row(y), o.row(y), sizeof(T) * width_);
+    // (element types are trivially copyable in practice; Eigen vectors do not declare it)
+    for (int y = 0; y < height_; ++y)
+      std::memcpy(static_cast<void*>(row(y)), o.row(y), sizeof(T) * width_);
     return *this;
   }
 
