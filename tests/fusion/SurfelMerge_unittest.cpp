@@ -132,7 +132,8 @@ struct PlantedMap {
 // third of a radius aside (same pixel, overlapping disc), and for every 7th a decoy that must
 // stay: 10 cm behind (beyond the 3 cm depth gate) or tilted by 40 deg (beyond the 15 deg merge
 // gate, and beyond fusion's 30 deg association gate, so updates do not turn it toward the wall).
-void plant(SurfelFusion& fusion, PlantedMap& pm, const fusiontest::SyntheticFrame& f) {
+void plant(SurfelFusion& fusion, PlantedMap& pm, const fusiontest::SyntheticFrame& f,
+           float dup_confidence = 0.7f) {
   fusion.fuse(pm.map, f.input());
   pm.n_first = pm.map.size();
   const Image<std::int32_t> px = fusion.pixelSurfels();
@@ -143,7 +144,7 @@ void plant(SurfelFusion& fusion, PlantedMap& pm, const fusiontest::SyntheticFram
       const Surfel s = pm.map.get(i);
       const int k = y * kK.width + x;
       if (k % 5 == 0) {
-        Surfel d = wallSurfel(s.position + Vec3f(s.radius / 3, 0, 0.004f), 0.7f,
+        Surfel d = wallSurfel(s.position + Vec3f(s.radius / 3, 0, 0.004f), dup_confidence,
                               Bgr8{0, 255, 0}, 0.0);
         pm.map.append(d);
         pm.dup_pixels.emplace_back(x, y);
@@ -163,7 +164,12 @@ void plant(SurfelFusion& fusion, PlantedMap& pm, const fusiontest::SyntheticFram
 
 }  // namespace
 
-TEST(SurfelMerge, PlantedDuplicatesAreMergedAndOthersKept) {
+// The duplicate is the less confident surfel (merged into the one the pixel updates) or the more
+// confident one (the pixel's surfel is merged away: pixelSurfels() must follow it to the survivor).
+class PlantedDuplicates : public ::testing::TestWithParam<float> {};
+
+TEST_P(PlantedDuplicates, AreMergedAndOthersKept) {
+  const float dup_confidence = GetParam();
   fusiontest::Scene scene;
   scene.wall_z = kWallZ;
   const auto f0 = fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), 0.0);
@@ -172,7 +178,7 @@ TEST(SurfelMerge, PlantedDuplicatesAreMergedAndOthersKept) {
   p.merge_row_stride = 1;
   SurfelFusion fusion(p);
   PlantedMap pm;
-  plant(fusion, pm, f0);
+  plant(fusion, pm, f0, dup_confidence);
   ASSERT_EQ(pm.n_first, (kK.width - 2) * (kK.height - 2));  // the wall fills the view (no normals on the border)
   ASSERT_GT(pm.n_dups, 1000);
   ASSERT_GT(pm.n_decoys, 500);
@@ -207,6 +213,8 @@ TEST(SurfelMerge, PlantedDuplicatesAreMergedAndOthersKept) {
     EXPECT_LT(a.colour(i).r, 200);
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(SurfelMerge, PlantedDuplicates, ::testing::Values(0.7f, 5.0f));
 
 TEST(SurfelMerge, DisabledOrStridedMerging) {
   fusiontest::Scene scene;

@@ -718,6 +718,14 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
       table.put(from, to);
       bits[from >> 6] |= std::uint64_t(1) << (from & 63);
     }
+    // Merged surfels: their pixels now refer to the surfel they were merged into (where that
+    // one went). m_merged is in merge order and a kept surfel may itself be merged later in its
+    // pixel's chain: resolve from the last pair back.
+    for (auto it = m_merged.rbegin(); it != m_merged.rend(); ++it) {
+      std::int32_t v = it->second;
+      table.get(it->second, v);  // moved -> new index, removed (or merged on) -> its target
+      table.put(it->first, v);
+    }
     const int w = m_pixel_surfel.width(), h = m_pixel_surfel.height();
     compute::forEach1D(h, [&](int y) {
       std::int32_t* r = m_pixel_surfel.row(y);
@@ -727,14 +735,6 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
         if (i >= 0 && (bits[i >> 6] >> (i & 63) & 1u) && table.get(i, v)) r[x] = v;
       }
     });
-    // Merged surfels: their pixels now refer to the surfel they were merged into (where that
-    // one went). m_merged is in merge order and a kept surfel may itself be merged later in its
-    // pixel's chain: resolve from the last pair back.
-    for (auto it = m_merged.rbegin(); it != m_merged.rend(); ++it) {
-      std::int32_t v = it->second;
-      table.get(it->second, v);  // moved -> new index, removed (or merged on) -> its target
-      table.put(it->first, v);
-    }
     for (int i : removed) bits[i >> 6] = 0;
     for (const auto& fm : moved) bits[fm.first >> 6] = 0;
   }
