@@ -269,28 +269,35 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     }
     m_row_offset[y + 1] = fresh;
   };
-  if (cpu()) {
-    kernels::AssociateKernel<kernels::ListCandidates> ak;
+  // Association and neighbour-coverage kernels over either candidate source (CPU lists, CUDA
+  // 4x index map): the same frame, map, poses and per-pixel outputs.
+  const auto setUpKernels = [&](auto& ak, auto& ck, const auto& candidates) {
     ak.frame = fv;
     ak.prm = prm;
-    ak.candidates.entries = m_candidates.entries.data();
-    ak.candidates.first = m_candidates.first.data();
-    ak.candidates.count = m_candidates.count.data();
-    ak.candidates.width = w;
-    ak.candidates.height = h;
+    ak.candidates = candidates;
     ak.s = arr;
     ak.T_world_cam = T_wc;
     ak.pixel_surfel = m_pixel_surfel.view();
     ak.flags = m_flags.view();
-    kernels::CoverageKernel<kernels::ListCandidates> ck;
     ck.frame = fv;
     ck.prm = prm;
-    ck.candidates = ak.candidates;
+    ck.candidates = candidates;
     ck.s = arr;
     ck.T_world_cam = T_wc;
     ck.T_cam_world = T_cw;
     ck.pixel_surfel = m_pixel_surfel.view();
     ck.flags = m_flags.view();
+  };
+  if (cpu()) {
+    kernels::ListCandidates lists;
+    lists.entries = m_candidates.entries.data();
+    lists.first = m_candidates.first.data();
+    lists.count = m_candidates.count.data();
+    lists.width = w;
+    lists.height = h;
+    kernels::AssociateKernel<kernels::ListCandidates> ak;
+    kernels::CoverageKernel<kernels::ListCandidates> ck;
+    setUpKernels(ak, ck, lists);
     // Candidates' and chosen surfels' arrays are prefetched a few pixels ahead: they are spread
     // over the map's memory.
     constexpr int kAhead = 8;
@@ -371,27 +378,15 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
       }
     }
   } else {
+    kernels::Map4xCandidates map4x;
+    map4x.index4x = m_index4x.packed.cview();
+    map4x.s = arr;
+    map4x.T_cam_world = T_cw;
+    map4x.width = w;
+    map4x.height = h;
     kernels::AssociateKernel<kernels::Map4xCandidates> ak;
-    ak.frame = fv;
-    ak.prm = prm;
-    ak.candidates.index4x = m_index4x.packed.cview();
-    ak.candidates.s = arr;
-    ak.candidates.T_cam_world = T_cw;
-    ak.candidates.width = w;
-    ak.candidates.height = h;
-    ak.s = arr;
-    ak.T_world_cam = T_wc;
-    ak.pixel_surfel = m_pixel_surfel.view();
-    ak.flags = m_flags.view();
     kernels::CoverageKernel<kernels::Map4xCandidates> ck;
-    ck.frame = fv;
-    ck.prm = prm;
-    ck.candidates = ak.candidates;
-    ck.s = arr;
-    ck.T_world_cam = T_wc;
-    ck.T_cam_world = T_cw;
-    ck.pixel_surfel = m_pixel_surfel.view();
-    ck.flags = m_flags.view();
+    setUpKernels(ak, ck, map4x);
     cuda::associateUpdate(ak, uk, ck);
 #pragma omp parallel for schedule(static) num_threads(nt)
     for (int y = 0; y < h; ++y) tallyRow(y);

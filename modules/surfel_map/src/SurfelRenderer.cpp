@@ -55,6 +55,29 @@ void pointsCpu(const kernels::PointKernel& k, int n, std::int64_t* ids,
   }
 }
 
+/// The resolve pass of a render: per pixel, the winner of the packed depth test -> the outputs
+/// `opt` asks for (sized here; the others stay empty views).
+kernels::ResolveKernel resolveKernel(const SurfelArrays& arr, const Image<std::uint64_t>& packed,
+                                     const Eigen::Isometry3d& T_world_cam, const PinholeF& K,
+                                     const RenderOptions& opt, RenderedMaps& out) {
+  const int w = packed.width(), h = packed.height();
+  out.index.resize(w, h);
+  kernels::ResolveKernel r;
+  r.s = arr;
+  r.packed = packed.cview();
+  r.T_world_cam = toRigid(T_world_cam);
+  r.K = K;
+  r.splat = opt.splat;
+  r.index = out.index.view();
+  r.depth_m = viewIf((opt.outputs & kRenderDepth) != 0, out.depth_m, w, h);
+  r.vertex_world = viewIf((opt.outputs & kRenderVertex) != 0, out.vertex_world, w, h);
+  r.normal_world = viewIf((opt.outputs & kRenderNormal) != 0, out.normal_world, w, h);
+  r.colour = viewIf((opt.outputs & kRenderColour) != 0, out.colour, w, h);
+  r.confidence = viewIf((opt.outputs & kRenderConfidence) != 0, out.confidence, w, h);
+  r.segment = viewIf((opt.outputs & kRenderSegment) != 0, out.segment, w, h);
+  return r;
+}
+
 }  // namespace
 
 struct SurfelRenderer::Culling {
@@ -395,20 +418,7 @@ void SurfelRenderer::splatCpu(const SurfelStore& map, const Eigen::Isometry3d& T
                                opt.max_splat_radius_px,
                                packed_.view()};
 
-  out.index.resize(w, h);
-  kernels::ResolveKernel r;
-  r.s = arr;
-  r.packed = packed_.cview();
-  r.T_world_cam = toRigid(T_world_cam);
-  r.K = c.test.K;
-  r.splat = true;
-  r.index = out.index.view();
-  r.depth_m = viewIf((opt.outputs & kRenderDepth) != 0, out.depth_m, w, h);
-  r.vertex_world = viewIf((opt.outputs & kRenderVertex) != 0, out.vertex_world, w, h);
-  r.normal_world = viewIf((opt.outputs & kRenderNormal) != 0, out.normal_world, w, h);
-  r.colour = viewIf((opt.outputs & kRenderColour) != 0, out.colour, w, h);
-  r.confidence = viewIf((opt.outputs & kRenderConfidence) != 0, out.confidence, w, h);
-  r.segment = viewIf((opt.outputs & kRenderSegment) != 0, out.segment, w, h);
+  const kernels::ResolveKernel r = resolveKernel(arr, packed_, T_world_cam, c.test.K, opt, out);
 
   std::vector<float> ray_x;
   pixelRays(c.test.K, ray_x);
@@ -489,20 +499,7 @@ void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_w
     pointsCpu(k, int(visible_.size()), ids_.data(), values_);
   }
 
-  out.index.resize(w, h);
-  kernels::ResolveKernel r;
-  r.s = arr;
-  r.packed = packed_.cview();
-  r.T_world_cam = toRigid(T_world_cam);
-  r.K = Kp;
-  r.splat = opt.splat;
-  r.index = out.index.view();
-  r.depth_m = viewIf((opt.outputs & kRenderDepth) != 0, out.depth_m, w, h);
-  r.vertex_world = viewIf((opt.outputs & kRenderVertex) != 0, out.vertex_world, w, h);
-  r.normal_world = viewIf((opt.outputs & kRenderNormal) != 0, out.normal_world, w, h);
-  r.colour = viewIf((opt.outputs & kRenderColour) != 0, out.colour, w, h);
-  r.confidence = viewIf((opt.outputs & kRenderConfidence) != 0, out.confidence, w, h);
-  r.segment = viewIf((opt.outputs & kRenderSegment) != 0, out.segment, w, h);
+  const kernels::ResolveKernel r = resolveKernel(arr, packed_, T_world_cam, Kp, opt, out);
   std::vector<float> ray_x;
   pixelRays(Kp, ray_x);
   compute::forEach1D(h, [&](int y) { resolveRow(r, y, ray_x.data()); });

@@ -102,6 +102,14 @@ RASM_HD_INLINE void updateViewBin(const maps::SurfelArrays& s, int i, const Vec3
   if (q > row[bin]) row[bin] = q;
 }
 
+/// Whether a surfel moved from p_old to p_new changed spatial-index block (VoxelBlockIndex's
+/// block coordinates: floor(p / block size)); the caller then re-bins it.
+RASM_HD_INLINE bool crossedBlock(const Vec3f& p_old, const Vec3f& p_new, float inv_block_size) {
+  return floorf(p_new.x() * inv_block_size) != floorf(p_old.x() * inv_block_size) ||
+         floorf(p_new.y() * inv_block_size) != floorf(p_old.y() * inv_block_size) ||
+         floorf(p_new.z() * inv_block_size) != floorf(p_old.z() * inv_block_size);
+}
+
 /// Redundant-surfel merging (Keller et al. 2013, sec. 4.3: "merge points with similar position
 /// and normal and overlapping radii"; ElasticFusion's clean-up step). Two surfels are redundant
 /// when their normals agree within the merge gate, their centres are within the association
@@ -117,7 +125,7 @@ struct MergeTest {
     if (na.dot(nb) < min_cos_normal) return false;
     const Vec3f d = s.pos_conf[j].head<3>() - s.pos_conf[i].head<3>();
     const float along = d.dot(na);
-    const float dz = dz_rel * z > dz_abs_m ? dz_rel * z : dz_abs_m;
+    const float dz = maps::kernels::maxF(dz_abs_m, dz_rel * z);  // as PixelMeasurement::dz_max
     if (along > dz || along < -dz) return false;
     const float r = a.w() > b.w() ? a.w() : b.w();
     return d.squaredNorm() - along * along <= r * r;
@@ -168,10 +176,7 @@ RASM_HD_INLINE bool mergeSurfels(const maps::SurfelArrays& s, int keep, int lose
     for (int b = 0; b < s.n_view_bins; ++b)
       if (rl[b] > rk[b]) rk[b] = rl[b];
   }
-  const Vec3f q = pk.head<3>();
-  return floorf(p.x() * prm.inv_block_size) != floorf(q.x() * prm.inv_block_size) ||
-         floorf(p.y() * prm.inv_block_size) != floorf(q.y() * prm.inv_block_size) ||
-         floorf(p.z() * prm.inv_block_size) != floorf(q.z() * prm.inv_block_size);
+  return crossedBlock(pk.head<3>(), p, prm.inv_block_size);
 }
 
 /// A pixel's measurement with the association gates derived from it (II-D).
@@ -469,10 +474,7 @@ struct UpdateKernel {
       if (r < rs) rs = a0 * rs + a1 * r;
       b = maps::kernels::updateBasis(ns, b);
       f |= kPixFused;
-      if (floorf(p.x() * prm.inv_block_size) != floorf(p_old.x() * prm.inv_block_size) ||
-          floorf(p.y() * prm.inv_block_size) != floorf(p_old.y() * prm.inv_block_size) ||
-          floorf(p.z() * prm.inv_block_size) != floorf(p_old.z() * prm.inv_block_size))
-        f |= kPixCrossedBlock;
+      if (crossedBlock(p_old, p, prm.inv_block_size)) f |= kPixCrossedBlock;
     }
     float c_new = c + w;
     if (prm.max_confidence > 0.0f && c_new > prm.max_confidence) c_new = prm.max_confidence;
