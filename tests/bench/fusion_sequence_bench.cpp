@@ -6,7 +6,9 @@
 // source's ground truth, or a TUM trajectory (e.g. the trajectory.txt of a `rasm run`).
 //   bench_fusion_sequence --source DIR [--poses trajectory.txt] [--frames 300] [--threads 2]
 //                         [--csv per_frame.csv] [--ranges 20-50,250-300] [--repeat_render 0]
+//                         [--repeat_sorted 0]
 //                         [--merge 1]   (0: [fusion] merge_redundant = false, for A/B)
+//                         [--resort F]  ([fusion] resort_unsorted_fraction, 1 = never)
 // Prints one JSON line: {"bench":"fusion_sequence",...} with per-stage wall and process-CPU
 // means over every range (frame indices of the run, end exclusive). Wall time is what a frame
 // costs on an idle machine only; on a shared one, compare CPU time.
@@ -45,6 +47,7 @@ struct FrameRow {
   int frame = 0;
   int map_size = 0;
   long long in_view = 0;
+  long long model_tested = 0, model_drawn = 0;  ///< tracking render: members visited, drawn
   bool render_all = false;
   double render_ms = 0, render_cpu = 0, fuse_ms = 0, fuse_cpu = 0;
   double index_ms = 0, update_ms = 0, add_ms = 0, cleanup_ms = 0;
@@ -59,7 +62,8 @@ int countValid(const Image<Vec3f>& v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int threads = 2, max_frames = 300, repeat_render = 0, merge = 1;
+  int threads = 2, max_frames = 300, repeat_render = 0, merge = 1, repeat_sorted = 0;
+  float resort = -1.0f;
   std::string source_path, poses_path, csv_path, ranges_arg = "20-50,250-300";
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
@@ -77,8 +81,12 @@ int main(int argc, char** argv) {
       ranges_arg = v;
     else if (k == "--repeat_render")
       repeat_render = std::stoi(v);
+    else if (k == "--repeat_sorted")
+      repeat_sorted = std::stoi(v);
     else if (k == "--merge")
       merge = std::stoi(v);
+    else if (k == "--resort")
+      resort = std::stof(v);
     else {
       std::fprintf(stderr, "unknown option %s\n", k.c_str());
       return 2;
@@ -107,6 +115,7 @@ int main(int argc, char** argv) {
   maps::SurfelStore map;
   fusion::TFusionParams fusion_params;
   fusion_params.merge_redundant = merge != 0;
+  if (resort >= 0.0f) fusion_params.resort_unsorted_fraction = resort;
   fusion::SurfelFusion fusion(fusion_params);
   maps::SurfelRenderer renderer;
   maps::RenderedMaps model;
@@ -142,13 +151,16 @@ int main(int argc, char** argv) {
       ro.max_depth_m = 6.0f;
       ro.stable_only = true;
       ro.outputs = maps::kRenderVertex | maps::kRenderNormal;
-      renderer.render(map, T_prev, f->intrinsics, ro, model);
+      maps::RenderStats rs;
+      renderer.render(map, T_prev, f->intrinsics, ro, model, &rs);
       if (countValid(model.normal_world) < 0.3 * countValid(normal)) {
         ro.stable_only = false;
-        renderer.render(map, T_prev, f->intrinsics, ro, model);
+        renderer.render(map, T_prev, f->intrinsics, ro, model, &rs);
         row.render_all = true;
       }
       row.render_ms = msSince(t0);
+      row.model_tested = rs.surfels_tested;
+      row.model_drawn = rs.surfels_drawn;
       row.render_cpu = cpuMs() - c0;
     }
     fusion::FusionInput in = fusion::makeFusionInput(*f, vertex, normal, *T);
@@ -170,44 +182,75 @@ int main(int argc, char** argv) {
   }
 
   // The tracking render of the final map at the last pose, repeated (a fixed workload for A/B).
-  std::vector<double> rep_ms, rep_cpu;
-  if (!rows.empty())
-    for (int k = 0; k < repeat_render; ++k) {
+  // The tracking render (stable surfels) and the 4x candidate lists of fusion, of the final map
+  // at the last pose, repeated: a fixed workload for A/B. With --repeat_sorted 1 the store is then
+  // sorted by block (SurfelStore::sortByBlock) and both are repeated again.
+  std::string repeats;
+  maps::PointCandidates4x candidates;
+  auto repeat = [&](const char* label) {
+    std::vector<double> rep_ms, rep_cpu, cand_ms, all_ms;
+    for (int k = 0; k < repeat_render && !rows.empty(); ++k) {
       maps::RenderOptions ro;
       ro.min_depth_m = 0.3f;
       ro.max_depth_m = 6.0f;
       ro.stable_only = true;
       ro.outputs = maps::kRenderVertex | maps::kRenderNormal;
-      const auto t0 = Clock::now();
+      auto t0 = Clock::now();
       const double c0 = cpuMs();
       renderer.render(map, T_prev, K_last, ro, model);
       rep_ms.push_back(msSince(t0));
       rep_cpu.push_back(cpuMs() - c0);
+      ro.stable_only = false;
+      t0 = Clock::now();
+      renderer.render(map, T_prev, K_last, ro, model);
+      all_ms.push_back(msSince(t0));
+      maps::RenderOptions r4;
+      r4.min_depth_m = 0.3f;
+      r4.max_depth_m = 4.0f;
+      t0 = Clock::now();
+      renderer.renderCandidates4x(map, T_prev, K_last, r4, candidates);
+      cand_ms.push_back(msSince(t0));
     }
-  std::sort(rep_ms.begin(), rep_ms.end());
-  std::sort(rep_cpu.begin(), rep_cpu.end());
+    if (rep_ms.empty()) return;
+    std::sort(rep_ms.begin(), rep_ms.end());
+    std::sort(rep_cpu.begin(), rep_cpu.end());
+    std::sort(cand_ms.begin(), cand_ms.end());
+    std::sort(all_ms.begin(), all_ms.end());
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  ",\"%s\":{\"n\":%zu,\"min_ms\":%.2f,\"median_ms\":%.2f,"
+                  "\"min_cpu_ms\":%.2f,\"all_surfels_min_ms\":%.2f,\"candidates4x_min_ms\":%.2f}",
+                  label, rep_ms.size(), rep_ms.front(), rep_ms[rep_ms.size() / 2], rep_cpu.front(),
+                  all_ms.front(), cand_ms.front());
+    repeats += buf;
+  };
+  repeat("repeat_render");
+  if (repeat_sorted) {
+    const double unsorted = map.unsortedFraction();
+    const auto t0 = Clock::now();
+    map.sortByBlock();
+    char buf[128];
+    std::snprintf(buf, sizeof buf, ",\"sort_by_block\":{\"unsorted_fraction\":%.3f,\"ms\":%.2f}", unsorted,
+                  msSince(t0));
+    repeats += buf;
+    repeat("repeat_render_sorted");
+  }
 
   if (!csv_path.empty()) {
     std::ofstream csv(csv_path);
     csv << "frame,map_size,in_view,render_all,render_ms,render_cpu_ms,fuse_ms,fuse_cpu_ms,"
-           "index_ms,update_ms,add_ms,cleanup_ms\n";
+           "index_ms,update_ms,add_ms,cleanup_ms,model_tested,model_drawn\n";
     for (const FrameRow& r : rows)
       csv << r.frame << ',' << r.map_size << ',' << r.in_view << ',' << int(r.render_all) << ','
           << r.render_ms << ',' << r.render_cpu << ',' << r.fuse_ms << ',' << r.fuse_cpu << ','
-          << r.index_ms << ',' << r.update_ms << ',' << r.add_ms << ',' << r.cleanup_ms << '\n';
+          << r.index_ms << ',' << r.update_ms << ',' << r.add_ms << ',' << r.cleanup_ms << ','
+          << r.model_tested << ',' << r.model_drawn << '\n';
   }
   ranges.emplace_back(1, int(rows.size()));  // every frame after the first
   std::string out = "{\"bench\":\"fusion_sequence\",\"threads\":" + std::to_string(threads) +
                     ",\"frames\":" + std::to_string(rows.size()) +
                     ",\"final_surfels\":" + std::to_string(map.size());
-  if (!rep_ms.empty()) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf,
-                  ",\"repeat_render\":{\"n\":%zu,\"min_ms\":%.2f,\"median_ms\":%.2f,"
-                  "\"min_cpu_ms\":%.2f}",
-                  rep_ms.size(), rep_ms.front(), rep_ms[rep_ms.size() / 2], rep_cpu.front());
-    out += buf;
-  }
+  out += repeats;
   out += ",\"ranges\":[";
   for (std::size_t k = 0; k < ranges.size(); ++k) {
     const int a = std::max(1, ranges[k].first), b = std::min(int(rows.size()), ranges[k].second);

@@ -1,6 +1,7 @@
 // The pruning schedule of II-D (PruneSchedule): over a long random history of fusion-like changes
-// (fused surfels, new surfels, surfels becoming stable, demotions, compacting removals) it must
-// report exactly the unstable surfels a full scan of the map finds past their age / idle limits.
+// (fused surfels, new surfels, surfels becoming stable, demotions, compacting removals, re-sorts
+// of the store by block) it must report exactly the unstable surfels a full scan of the map finds
+// past their age / idle limits.
 
 #include "rasm/fusion/PruneSchedule.h"
 
@@ -97,6 +98,12 @@ TEST(PruneSchedule, FindsExactlyWhatAFullScanFinds) {
     store.remove(removed, &moved);
     schedule.moved(moved, store.size());
     ASSERT_EQ(schedule.size(), store.size());
+    if (frame % 40 == 20) {  // fusion re-sorts the store now and then: every index changes
+      std::vector<int> new_of_old;
+      store.sortByBlock(&new_of_old);
+      schedule.permute(new_of_old);
+      ASSERT_EQ(schedule.size(), store.size());
+    }
   }
   EXPECT_GT(pruned_total, 10000);
 }

@@ -8,7 +8,9 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "SyntheticScene.h"
 #include "rasm/compute/Device.h"
@@ -301,20 +303,31 @@ TEST(SurfelFusion, SegmentWeightsFollowThePropagatedLabels) {
   const float w = map.arrays().confidence(i);  // one measurement: w of that pixel
   EXPECT_EQ(map.arrays().segment[i], 7u);
   EXPECT_FLOAT_EQ(map.arrays().segment_w[i], w);
-  fusion.fuse(map, f.input(&l7));
-  EXPECT_EQ(fusion.pixelSurfels()(cx, cy), i);
-  EXPECT_NEAR(map.arrays().segment_w[i], 2 * w, 1e-5f);
+  // Surfel indices may change at every fuse() (compaction, re-sorting by block): follow the
+  // pixel's surfel through pixelSurfels(). The same surfel keeps being updated (count constant).
+  const int n = map.size();
+  const auto fuseAndFollow = [&](const Image<std::uint32_t>* labels) {
+    const FusionStats st = fusion.fuse(map, labels ? f.input(labels) : f.input());
+    const int j = fusion.pixelSurfels()(cx, cy);
+    EXPECT_GE(j, 0);
+    EXPECT_EQ(map.size(), n);
+    EXPECT_EQ(st.added, 0);
+    return std::make_pair(j, st);
+  };
+  int j = fuseAndFollow(&l7).first;
+  EXPECT_NEAR(map.arrays().segment_w[j], 2 * w, 1e-5f);
   // Label 9 twice: 2w - w = w, then 0 -> relabel to 9 with weight w.
-  fusion.fuse(map, f.input(&l9));
-  EXPECT_EQ(map.arrays().segment[i], 7u);
-  EXPECT_NEAR(map.arrays().segment_w[i], w, 1e-5f);
-  const FusionStats st = fusion.fuse(map, f.input(&l9));
-  EXPECT_EQ(map.arrays().segment[i], 9u);
-  EXPECT_NEAR(map.arrays().segment_w[i], w, 1e-5f);
+  j = fuseAndFollow(&l9).first;
+  EXPECT_EQ(map.arrays().segment[j], 7u);
+  EXPECT_NEAR(map.arrays().segment_w[j], w, 1e-5f);
+  FusionStats st;
+  std::tie(j, st) = fuseAndFollow(&l9);
+  EXPECT_EQ(map.arrays().segment[j], 9u);
+  EXPECT_NEAR(map.arrays().segment_w[j], w, 1e-5f);
   EXPECT_EQ(st.relabelled, st.associated);
   // Without a label image the segment is left alone.
-  fusion.fuse(map, f.input());
-  EXPECT_EQ(map.arrays().segment[i], 9u);
+  j = fuseAndFollow(nullptr).first;
+  EXPECT_EQ(map.arrays().segment[j], 9u);
 }
 
 TEST(SurfelFusion, BasisStaysInPlaneAndViewBinsRecordTheView) {
@@ -380,6 +393,49 @@ TEST(SurfelFusion, ResultIsIndependentOfThreadCount) {
     ASSERT_EQ(a.arrays().normal_radius[i], b.arrays().normal_radius[i]);
     ASSERT_EQ(a.arrays().colour_flags[i], b.arrays().colour_flags[i]);
   }
+}
+
+// [fusion] resort_unsorted_fraction: re-sorting the store by block before a frame changes surfel
+// indices only. With merging off (its pairing follows index order) the map after a moving
+// sequence is the same set of surfels whether the store is re-sorted before every frame or never;
+// with every stage on, the spatial index (blocks, stable parts) stays consistent frame by frame.
+TEST(SurfelFusion, ResortingTheStoreKeepsTheMapAndTheIndex) {
+  const Scene scene = wallAndBox();
+  using Key = std::tuple<float, float, float, float, float, float, float, float, std::uint32_t>;
+  auto run = [&](float resort, bool merge, std::vector<Key>* keys) {
+    TFusionParams p;
+    p.resort_unsorted_fraction = resort;
+    p.merge_redundant = merge;
+    p.stable_confidence = 3.0f;  // surfels turn stable (and carving demotes some) within the run
+    SurfelFusion fusion(p);
+    SurfelStore map;
+    int resorted = 0;
+    for (int k = 0; k < 12; ++k) {
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      T.translation() = Eigen::Vector3d(0.02 * k, 0.01 * k, 0.005 * k);
+      T.linear() = Eigen::AngleAxisd(0.01 * k, Eigen::Vector3d::UnitY()).toRotationMatrix();
+      const FusionStats st =
+          fusion.fuse(map, fusiontest::renderScene(k < 8 ? scene : Scene(), kK, T, k / 30.0).input());
+      resorted += st.resorted ? 1 : 0;
+      std::string why;
+      EXPECT_TRUE(map.checkConsistency(&why)) << "frame " << k << ": " << why;
+    }
+    if (keys) {
+      const SurfelArrays a = map.arrays();
+      for (int i = 0; i < a.size; ++i)
+        keys->emplace_back(a.pos_conf[i].x(), a.pos_conf[i].y(), a.pos_conf[i].z(), a.pos_conf[i].w(),
+                           a.normal_radius[i].x(), a.normal_radius[i].y(), a.normal_radius[i].z(),
+                           a.normal_radius[i].w(), a.colour_flags[i]);
+      std::sort(keys->begin(), keys->end());
+    }
+    return resorted;
+  };
+  std::vector<Key> never, always;
+  EXPECT_EQ(run(1.0f, false, &never), 0);
+  EXPECT_GE(run(0.0f, false, &always), 10);
+  ASSERT_EQ(never.size(), always.size());
+  EXPECT_TRUE(never == always);
+  EXPECT_GE(run(0.0f, true, nullptr), 10);
 }
 
 TEST(SurfelFusion, InputSizeMismatchIsAnInputError) {

@@ -242,3 +242,116 @@ TEST(SurfelStore, GrowingKeepsTheSurfelsAndCountsModifications) {
   std::string why;
   EXPECT_TRUE(copy.checkConsistency(&why)) << why;
 }
+
+// sortByBlock: a permutation that keeps every attribute of every surfel and leaves each block's
+// members at consecutive indices in list order (what makes the renderer's reads sequential).
+TEST(SurfelStore, SortByBlockKeepsEverySurfelAndMakesBlocksContiguous) {
+  SurfelStoreOptions opt;
+  opt.n_classes = 3;
+  opt.block_size_m = 0.5f;
+  SurfelStore store(opt);
+  std::mt19937 rng(21);
+  for (int i = 0; i < 3000; ++i) store.append(randomSurfel(rng, opt));
+  // Scatter the order as fusion does: removals (tail moved into holes), appends, re-binning.
+  std::vector<int> rem;
+  for (int k = 0; k < 300; ++k) rem.push_back(int(rng() % store.size()));
+  store.remove(rem);
+  for (int i = 0; i < 200; ++i) store.append(randomSurfel(rng, opt));
+  std::vector<int> nudged;
+  for (int i = 0; i < store.size(); i += 7) {
+    store.arrays().pos_conf[i].head<3>() += Vec3f(0.2f, 0.0f, -0.1f);
+    nudged.push_back(i);
+  }
+  store.reindex(nudged);
+  EXPECT_GT(store.unsortedFraction(), 0.0);
+
+  const int n = store.size();
+  std::vector<Surfel> before(n);
+  for (int i = 0; i < n; ++i) before[i] = store.get(i);
+  std::vector<int> new_of_old;
+  store.sortByBlock(&new_of_old);
+  ASSERT_EQ(store.size(), n);
+  ASSERT_EQ(int(new_of_old.size()), n);
+  std::string why;
+  ASSERT_TRUE(store.checkConsistency(&why)) << why;
+  EXPECT_EQ(store.unsortedFraction(), 0.0);
+  std::vector<int> seen(n, 0);
+  for (int i = 0; i < n; ++i) {
+    ASSERT_GE(new_of_old[i], 0);
+    ASSERT_LT(new_of_old[i], n);
+    ++seen[new_of_old[i]];
+    expectSame(store.get(new_of_old[i]), before[i]);
+  }
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), n);  // a permutation
+  // Blocks in id order, each block's members consecutive in list order.
+  const VoxelBlockIndex& index = store.spatialIndex();
+  int next = 0;
+  for (int b = 0; b < index.blockCapacity(); ++b)
+    for (const int i : index.members(b)) EXPECT_EQ(i, next++) << "block " << b;
+  EXPECT_EQ(next, n);
+
+  store.append(randomSurfel(rng, opt));
+  EXPECT_NEAR(store.unsortedFraction(), 1.0 / store.size(), 1e-12);
+}
+
+// The index keeps each block's stable surfels first (renders of stable surfels visit only those);
+// insert, removal, re-binning, set() and refreshStable() keep it so.
+TEST(VoxelBlockIndex, StableSurfelsComeFirstInTheirBlock) {
+  SurfelStoreOptions opt;
+  opt.block_size_m = 2.0f;  // few blocks, many members each
+  SurfelStore store(opt);
+  std::mt19937 rng(8);
+  for (int i = 0; i < 1500; ++i) store.append(randomSurfel(rng, opt));
+  const auto expectPartitioned = [&](const char* when) {
+    std::string why;
+    EXPECT_TRUE(store.checkConsistency(&why)) << when << ": " << why;
+    const VoxelBlockIndex& index = store.spatialIndex();
+    const SurfelArrays a = store.arrays();
+    int stable = 0;
+    for (int b = 0; b < index.blockCapacity(); ++b) {
+      const std::vector<int>& m = index.members(b);
+      for (int k = 0; k < int(m.size()); ++k)
+        ASSERT_EQ(a.stable(m[k]), k < index.stableCount(b)) << when << ": block " << b << " slot " << k;
+      stable += index.stableCount(b);
+    }
+    int expect = 0;
+    for (int i = 0; i < a.size; ++i) expect += a.stable(i) ? 1 : 0;
+    EXPECT_EQ(stable, expect) << when;
+    EXPECT_GT(stable, 0) << when;
+    EXPECT_LT(stable, a.size) << when;
+  };
+  expectPartitioned("after appends");
+
+  // Flags flipped behind the index's back are caught by the check, then reported.
+  std::vector<int> flipped;
+  for (int i = 0; i < store.size(); i += 5) {
+    store.arrays().colour_flags[i] ^= kSurfelStable;
+    flipped.push_back(i);
+  }
+  EXPECT_FALSE(store.checkConsistency());
+  store.refreshStable(flipped);
+  expectPartitioned("after refreshStable");
+
+  std::vector<int> rem;
+  for (int k = 0; k < 200; ++k) rem.push_back(int(rng() % store.size()));
+  store.remove(rem);
+  expectPartitioned("after remove");
+
+  std::vector<int> moved;
+  for (int i = 0; i < store.size(); i += 3) {
+    store.arrays().pos_conf[i].head<3>() += Vec3f(1.1f, 0.0f, 0.0f);  // into the next block
+    moved.push_back(i);
+  }
+  EXPECT_GT(store.reindex(moved), 0);
+  expectPartitioned("after reindex");
+
+  Surfel s = store.get(10);
+  s.stable = !s.stable;
+  s.position += Vec3f(0.0f, 2.5f, 0.0f);
+  store.set(10, s);
+  expectPartitioned("after set");
+
+  std::vector<int> new_of_old;
+  store.sortByBlock(&new_of_old);
+  expectPartitioned("after sortByBlock");
+}

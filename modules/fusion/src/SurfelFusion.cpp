@@ -183,6 +183,16 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   if (!scheduleValid(map))
     m_schedule.rebuild(cmap.arrays(), now, float(m_params.unstable_max_age_s),
                        float(m_params.unstable_max_idle_s));
+  if (m_params.resort_unsorted_fraction < 1.0f && map.allIndexed() &&
+      map.unsortedFraction() > m_params.resort_unsorted_fraction) {
+    // Nothing of this frame holds surfel indices yet; the pruning schedule follows the sort.
+    const auto t0 = std::chrono::steady_clock::now();
+    map.sortByBlock(&m_new_of_old);
+    m_schedule.permute(m_new_of_old);
+    scheduleSeen(map);
+    st.resorted = true;
+    st.ms_resort = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  }
   m_due_now.clear();
 
   const kernels::FusionKernelParams prm = plainParams(m_params, map.options());
@@ -247,6 +257,8 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   const int nt = compute::maxThreads();
   m_thread_lists.resize(nt);
   for (auto& l : m_thread_lists) l.clear();
+  m_stable_lists.resize(nt);
+  for (auto& l : m_stable_lists) l.clear();
   std::vector<std::array<int, 6>> counts(nt, std::array<int, 6>{});
   m_row_offset.assign(h + 1, 0);
   const auto tallyRow = [&](int y) {
@@ -266,6 +278,7 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
       c[5] += (b & kernels::kPixCovered) != 0;
       fresh += (b & kernels::kPixNew) != 0;
       if (b & kernels::kPixCrossedBlock) m_thread_lists[t].push_back(ps[x]);
+      if (b & kernels::kPixBecameStable) m_stable_lists[t].push_back(ps[x]);
     }
     m_row_offset[y + 1] = fresh;
   };
@@ -423,7 +436,15 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     st.covered += counts[t][5];
     movers.insert(movers.end(), m_thread_lists[t].begin(), m_thread_lists[t].end());
   }
+  // In surfel order, not the thread schedule's: the order of the index's member lists (and with
+  // it the order sortByBlock() gives the store) must not depend on the thread count.
+  std::sort(movers.begin(), movers.end());
   map.reindex(movers);
+  std::vector<int>& became_stable = m_stable_changed;
+  became_stable.clear();
+  for (const auto& l : m_stable_lists) became_stable.insert(became_stable.end(), l.begin(), l.end());
+  std::sort(became_stable.begin(), became_stable.end());
+  map.refreshStable(became_stable);  // the index keeps stable surfels first
 
   // New surfels enter the pruning schedule.
   m_schedule.grow(map.size());
@@ -517,12 +538,17 @@ void SurfelFusion::mergeCpu(maps::SurfelStore& map, std::vector<int>& removed) {
       }
     }
   }
+  std::vector<int>& kept = m_stable_changed;
+  kept.clear();
   for (int t = 0; t < nt; ++t) {
     for (const auto& pr : pairs[t]) {
       removed.push_back(pr.first);
       m_merged.push_back(pr);
+      kept.push_back(pr.second);
     }
   }
+  std::sort(kept.begin(), kept.end());  // (schedule-independent order, as in integrate())
+  map.refreshStable(kept);  // summed confidence may have made a survivor stable
   // A survivor may be listed twice; one that was merged on later is removed (reindex of a
   // removed surfel is harmless: the removal drops it from the index).
   std::vector<int> movers;
@@ -660,6 +686,7 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
   }
   st.removed_carved = int(removed.size());
   st.demoted_carved = int(demoted.size());
+  map.refreshStable(demoted);
 
   // Redundant-surfel merging over the view (Keller et al. 2013). Carved and demoted surfels take
   // no part (marked in m_remap_bits, all zero between frames).

@@ -28,6 +28,7 @@ void TFusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(merge_redundant, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(merge_max_normal_angle_deg, float, c, s);
   MRPT_LOAD_CONFIG_VAR(merge_row_stride, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(resort_unsorted_fraction, float, c, s);
   MRPT_LOAD_CONFIG_VAR(update_segments, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(update_view_bins, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(ic_lambda1, float, c, s);
@@ -50,6 +51,7 @@ void TFusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireInRange(carve_stable_decay, 0.0, 1.0, s, "carve_stable_decay");
   requireInRange(merge_max_normal_angle_deg, 0.0, 90.0, s, "merge_max_normal_angle_deg");
   requireInRange(merge_row_stride, 1, 64, s, "merge_row_stride");
+  requireInRange(resort_unsorted_fraction, 0.0f, 1.0f, s, "resort_unsorted_fraction");
   requireInRange(ic_lambda1, 0.0, 100.0, s, "ic_lambda1");
   requireInRange(ic_d_min_m, 0.0, 100.0, s, "ic_d_min_m");
 }
@@ -75,6 +77,7 @@ void TFusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   c.write(s, "merge_redundant", merge_redundant);
   c.write(s, "merge_max_normal_angle_deg", merge_max_normal_angle_deg);
   c.write(s, "merge_row_stride", merge_row_stride);
+  c.write(s, "resort_unsorted_fraction", resort_unsorted_fraction);
   c.write(s, "update_segments", update_segments);
   c.write(s, "update_view_bins", update_view_bins);
   c.write(s, "ic_lambda1", ic_lambda1);

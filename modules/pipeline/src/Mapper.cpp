@@ -105,14 +105,16 @@ FrameResult Mapper::processFrame(const RgbdFrame& frame) {
     const bool photometric = tp.photometric_weight > 0 && !frame.colour.empty();
     if (photometric) ro.outputs |= maps::kRenderColour;
     if (tp.confidence_full > 0) ro.outputs |= maps::kRenderConfidence;
+    // Rendered at pyramid level [tracking] model_level (intrinsics of that level).
     const Eigen::Isometry3d T_model = m_tracker.lastGoodPose();
-    m_renderer.render(m_map->store(), T_model, frame.intrinsics, ro, m_model);
+    const CameraIntrinsics K_model = frame.intrinsics.level(tp.model_level);
+    m_renderer.render(m_map->store(), T_model, K_model, ro, m_model);
     r.model_valid_pixels = countValid(m_model.normal_world);
-    const int frame_valid = countValid(m_pyramid[0].normal);
+    const int frame_valid = countValid(m_pyramid[tp.model_level].normal);
     if (r.model_valid_pixels < 0.3 * frame_valid) {
       ro.stable_only = false;
       ro.min_confidence = 0.0f;
-      m_renderer.render(m_map->store(), T_model, frame.intrinsics, ro, m_model);
+      m_renderer.render(m_map->store(), T_model, K_model, ro, m_model);
       r.model_valid_pixels = countValid(m_model.normal_world);
       r.model_all_surfels = true;
     }
@@ -122,7 +124,7 @@ FrameResult Mapper::processFrame(const RgbdFrame& frame) {
     tracking::ModelMaps model;
     model.vertex_world = m_model.vertex_world.cview();
     model.normal_world = m_model.normal_world.cview();
-    model.K = frame.intrinsics;
+    model.K = K_model;
     model.T_world_model = T_model;
     if (photometric) model.colour = m_model.colour.cview();
     if (tp.confidence_full > 0) model.confidence = m_model.confidence.cview();

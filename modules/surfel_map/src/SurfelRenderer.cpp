@@ -129,10 +129,10 @@ namespace {
 /// live surfels only, so the flags are read only when an attribute filter is on. Member order is
 /// not memory order: the arrays of the members kAhead places on are prefetched (the flags twice
 /// as far ahead, so that with stable_only the geometry of unstable surfels is not fetched).
+/// `members`, `n`: the block's member list, or its stable prefix (membersToVisit).
 template <typename F>
 inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribute_filters,
-                              bool inside, bool want_normals, const std::vector<int>& members,
-                              F&& f) {
+                              bool inside, bool want_normals, const int* members, int n, F&& f) {
   constexpr int kAhead = 12, kChunk = 64;
   const SurfelArrays& a = test.s;
   const PinholeF& K = test.K;
@@ -147,8 +147,7 @@ inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribut
   const __m128 ulo = _mm_set1_ps(test.u_lo), uhi = _mm_set1_ps(test.u_hi),
                vlo = _mm_set1_ps(test.v_lo), vhi = _mm_set1_ps(test.v_hi);
   const __m128 wmin = _mm_set1_ps(test.min_confidence);
-  const int n = int(members.size());
-  const int* m = members.data();
+  const int* m = members;
   int buf[kChunk + 4];
   alignas(16) float px[4], py[4], pz[4], pu[4], pv[4];
   for (int k0 = 0; k0 < n; k0 += kChunk) {
@@ -211,6 +210,12 @@ inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribut
       }
     }
   }
+}
+
+/// The members of block b a render visits: with stable_only only the block's stable prefix
+/// (VoxelBlockIndex keeps stable surfels first), else all.
+inline int membersToVisit(const VoxelBlockIndex& index, int b, const kernels::VisibilityTest& test) {
+  return test.stable_only ? index.stableCount(b) : int(index.members(b).size());
 }
 
 int threadId() {
@@ -379,11 +384,11 @@ void SurfelRenderer::collectVisible(const SurfelStore& map, const Eigen::Isometr
   long long tested = 0;
 #pragma omp parallel for schedule(dynamic, 4) reduction(+ : tested)
   for (int j = 0; j < nb; ++j) {
-    const std::vector<int>& members = index.members(c.blocks[j]);
+    const int n = membersToVisit(index, c.blocks[j], c.test);
     std::vector<int>& out = per_block_[j];
     out.clear();
-    tested += (long long)members.size();
-    forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, false, members,
+    tested += n;
+    forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, false, index.members(c.blocks[j]).data(), n,
                       [&](int i, const Vec3f&, float, float) { out.push_back(i); });
   }
   std::size_t total = 0;
@@ -441,9 +446,9 @@ void SurfelRenderer::splatCpu(const SurfelStore& map, const Eigen::Isometry3d& T
     for (int b = 0; b < nbands; ++b) mine[b].clear();
 #pragma omp for schedule(dynamic, 2)
     for (int j = 0; j < nb; ++j) {
-      const std::vector<int>& members = index.members(c.blocks[j]);
-      tested += (long long)members.size();
-      forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, true, members,
+      const int n = membersToVisit(index, c.blocks[j], c.test);
+      tested += n;
+      forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, true, index.members(c.blocks[j]).data(), n,
                         [&](int i, const Vec3f& pc, float u, float v) {
                           ++drawn;
                           kernels::SplatFootprint f;
@@ -573,9 +578,9 @@ void SurfelRenderer::renderCandidates4x(const SurfelStore& map,
     others.clear();
 #pragma omp for schedule(dynamic, 2)
     for (int j = 0; j < nb; ++j) {
-      const std::vector<int>& members = index.members(c.blocks[j]);
-      tested += (long long)members.size();
-      forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, false, members,
+      const int n = membersToVisit(index, c.blocks[j], c.test);
+      tested += n;
+      forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, false, index.members(c.blocks[j]).data(), n,
                         [&](int i, const Vec3f& pc, float u, float v) {
                           const std::uint32_t key = kernels::candidateKey4x(
                               pc.z(), u, v, Kp, opt.min_depth_m, opt.max_depth_m);

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <memory>
+#include <type_traits>
 #include <sstream>
 #include <stdexcept>
 
@@ -32,6 +35,7 @@ void SurfelStore::reset(const SurfelStoreOptions& opt) {
   opt_ = opt;
   size_ = 0;
   indexed_ = 0;
+  unsorted_ = 0;
   t0_s_ = std::numeric_limits<double>::quiet_NaN();
   radius_bound_ = 0.0f;
   ++generation_.value;
@@ -104,6 +108,7 @@ int SurfelStore::allocate(int count) {
   if (std::int64_t(size_) + count > std::int64_t(std::numeric_limits<int>::max() / 2))
     throw std::length_error("SurfelStore::allocate: too many surfels");
   size_ += count;
+  unsorted_ += count;
   ++generation_.value;
   resizeArrays(size_);
   return first;
@@ -111,7 +116,7 @@ int SurfelStore::allocate(int count) {
 
 void SurfelStore::indexAppended() {
   if (indexed_ >= size_) return;
-  index_.insertRange(indexed_, size_ - indexed_, pos_conf_.data());
+  index_.insertRange(indexed_, size_ - indexed_, pos_conf_.data(), colour_flags_.data(), kSurfelStable);
   for (int i = indexed_; i < size_; ++i)
     radius_bound_ = std::max(radius_bound_, normal_radius_[i].w());
   indexed_ = size_;
@@ -144,6 +149,7 @@ int SurfelStore::reindex(const std::vector<int>& surfels) {
     radius_bound_ = std::max(radius_bound_, rmax[t]);
     for (int i : movers[t]) moved += index_.move(i, pos_conf_[i].head<3>()) ? 1 : 0;
   }
+  unsorted_ += moved;
   return moved;
 }
 
@@ -190,7 +196,13 @@ void SurfelStore::set(int i, const Surfel& s) {
   if (i < indexed_) {
     radius_bound_ = std::max(radius_bound_, s.radius);
     index_.move(i, s.position);
+    index_.setStable(i, s.stable);
   }
+}
+
+void SurfelStore::refreshStable(const std::vector<int>& surfels) {
+  for (const int i : surfels)
+    if (i >= 0 && i < indexed_) index_.setStable(i, (colour_flags_[i] & kSurfelStable) != 0);
 }
 
 Surfel SurfelStore::get(int i) const {
@@ -251,6 +263,7 @@ void SurfelStore::remove(std::vector<int> surfels, std::vector<std::pair<int, in
     if (hole >= new_size) break;  // the remaining holes are in the dropped tail
     while (colour_flags_[tail] & kSurfelFree) --tail;
     moveSurfel(tail, hole);
+    ++unsorted_;
     if (moved) moved->emplace_back(tail, hole);
     --tail;
   }
@@ -259,11 +272,71 @@ void SurfelStore::remove(std::vector<int> surfels, std::vector<std::pair<int, in
   const int keep_indexed = std::min(indexed_, new_size);
   for (const int hole : surfels) {
     if (hole >= keep_indexed) break;
-    if (index_.blockOf(hole) < 0) index_.insert(hole, pos_conf_[hole].head<3>());
+    if (index_.blockOf(hole) < 0)
+      index_.insert(hole, pos_conf_[hole].head<3>(), (colour_flags_[hole] & kSurfelStable) != 0);
   }
   indexed_ = keep_indexed;
   size_ = new_size;
   resizeArrays(size_);
+}
+
+namespace {
+/// a[k] <- a[old_of_new[k]] for `stride` consecutive elements per surfel, through `scratch` (at
+/// least a.size() * sizeof(T) bytes, shared by the arrays: no allocation, no page faults per
+/// array); the arrays keep their memory and capacity.
+template <typename T>
+void gatherSurfels(PodArray<T>& a, const std::vector<int>& old_of_new, std::size_t stride,
+                   unsigned char* scratch) {
+  static_assert(std::is_trivially_destructible_v<T>, "plain data only (as PodArray)");
+  if (stride == 0) return;
+  T* data = a.data();
+  T* tmp = reinterpret_cast<T*>(scratch);
+  const int n = int(old_of_new.size());
+  constexpr int kChunk = 4096;
+  const int chunks = (n + kChunk - 1) / kChunk;
+  compute::forEach1D(chunks, [&](int c) {
+    const int k1 = std::min(n, (c + 1) * kChunk);
+    for (int k = c * kChunk; k < k1; ++k)
+      std::memcpy(static_cast<void*>(tmp + std::size_t(k) * stride),
+                  data + std::size_t(old_of_new[std::size_t(k)]) * stride, stride * sizeof(T));
+  });
+  compute::forEach1D(chunks, [&](int c) {
+    const std::size_t k0 = std::size_t(c) * kChunk * stride,
+                      k1 = std::min(std::size_t(n), std::size_t(c + 1) * kChunk) * stride;
+    std::memcpy(static_cast<void*>(data + k0), tmp + k0, (k1 - k0) * sizeof(T));
+  });
+}
+}  // namespace
+
+void SurfelStore::sortByBlock(std::vector<int>* new_of_old_out) {
+  if (indexed_ != size_)
+    throw std::logic_error("SurfelStore::sortByBlock: surfels allocated but not indexed (call indexAppended())");
+  ++generation_.value;
+  std::vector<int> old_of_new;
+  old_of_new.reserve(std::size_t(size_));
+  for (int b = 0; b < index_.blockCapacity(); ++b)
+    for (const int i : index_.members(b)) old_of_new.push_back(i);
+  if (int(old_of_new.size()) != size_)
+    throw std::logic_error("SurfelStore::sortByBlock: the spatial index holds " + std::to_string(old_of_new.size()) +
+                           " surfels, the store " + std::to_string(size_));
+  std::vector<int> new_of_old(static_cast<std::size_t>(size_));
+  for (int k = 0; k < size_; ++k) new_of_old[std::size_t(old_of_new[std::size_t(k)])] = k;
+  const std::size_t nc = std::size_t(opt_.n_classes), nv = std::size_t(opt_.nViewBins());
+  const std::size_t scratch_bytes = std::size_t(size_) * std::max({sizeof(Vec4f), nc, nv});
+  const std::unique_ptr<unsigned char[]> scratch(new unsigned char[scratch_bytes]);
+  gatherSurfels(pos_conf_, old_of_new, 1, scratch.get());
+  gatherSurfels(normal_radius_, old_of_new, 1, scratch.get());
+  gatherSurfels(colour_flags_, old_of_new, 1, scratch.get());
+  gatherSurfels(t_init_, old_of_new, 1, scratch.get());
+  gatherSurfels(t_last_, old_of_new, 1, scratch.get());
+  gatherSurfels(basis_, old_of_new, 1, scratch.get());
+  gatherSurfels(segment_, old_of_new, 1, scratch.get());
+  gatherSurfels(segment_w_, old_of_new, 1, scratch.get());
+  gatherSurfels(class_p_, old_of_new, nc, scratch.get());
+  gatherSurfels(view_ic_, old_of_new, nv, scratch.get());
+  index_.permute(new_of_old);
+  unsorted_ = 0;
+  if (new_of_old_out) *new_of_old_out = std::move(new_of_old);
 }
 
 std::size_t SurfelStore::bytesPerSurfel(int n_classes, int n_view_bins) {
@@ -288,7 +361,7 @@ bool SurfelStore::checkConsistency(std::string* why) const {
       if (why) *why = "free flag set on live surfel " + std::to_string(i);
       return false;
     }
-  return index_.checkConsistency(pos_conf_.data(), size_, why);
+  return index_.checkConsistency(pos_conf_.data(), size_, why, colour_flags_.data(), kSurfelStable);
 }
 
 }  // namespace rasm::maps

@@ -71,6 +71,7 @@ int VoxelBlockIndex::blockFor(std::uint64_t key, const Eigen::Vector3i& coords) 
   b.coords = coords;
   b.key = key;
   b.members.clear();
+  b.n_stable = 0;
   key_to_block_.emplace(key, id);
   return id;
 }
@@ -82,20 +83,45 @@ void VoxelBlockIndex::ensureSurfel(int surfel) {
   }
 }
 
-void VoxelBlockIndex::insert(int surfel, const Vec3f& p) {
+void VoxelBlockIndex::swapSlots(Block& b, int slot_a, int slot_b) {
+  if (slot_a == slot_b) return;
+  std::swap(b.members[slot_a], b.members[slot_b]);
+  surfel_slot_[b.members[slot_a]] = slot_a;
+  surfel_slot_[b.members[slot_b]] = slot_b;
+}
+
+void VoxelBlockIndex::addToBlock(int surfel, int block_id, bool stable) {
+  Block& b = blocks_[block_id];
+  surfel_block_[surfel] = block_id;
+  surfel_slot_[surfel] = int(b.members.size());
+  b.members.push_back(surfel);
+  if (stable) swapSlots(b, surfel_slot_[surfel], b.n_stable++);
+}
+
+void VoxelBlockIndex::setStable(int surfel, bool stable) {
+  const int id = blockOf(surfel);
+  if (id < 0) throw std::logic_error("VoxelBlockIndex::setStable: surfel not indexed");
+  Block& b = blocks_[id];
+  const int slot = surfel_slot_[surfel];
+  if ((slot < b.n_stable) == stable) return;
+  if (stable)
+    swapSlots(b, slot, b.n_stable++);
+  else
+    swapSlots(b, slot, --b.n_stable);
+}
+
+void VoxelBlockIndex::insert(int surfel, const Vec3f& p, bool stable) {
   ensureSurfel(surfel);
   if (surfel_block_[surfel] >= 0)
     throw std::logic_error("VoxelBlockIndex::insert: surfel already indexed");
   const Eigen::Vector3i c(int(std::floor(p.x() * inv_block_size_)),
                           int(std::floor(p.y() * inv_block_size_)),
                           int(std::floor(p.z() * inv_block_size_)));
-  const int b = blockFor(packKey(c), c);
-  surfel_block_[surfel] = b;
-  surfel_slot_[surfel] = int(blocks_[b].members.size());
-  blocks_[b].members.push_back(surfel);
+  addToBlock(surfel, blockFor(packKey(c), c), stable);
 }
 
-void VoxelBlockIndex::insertRange(int first, int count, const Vec4f* pos_conf) {
+void VoxelBlockIndex::insertRange(int first, int count, const Vec4f* pos_conf, const std::uint32_t* flags,
+                                  std::uint32_t stable_mask) {
   if (count <= 0) return;
   ensureSurfel(first + count - 1);
   std::uint64_t last_key = ~std::uint64_t(0);
@@ -112,19 +138,17 @@ void VoxelBlockIndex::insertRange(int first, int count, const Vec4f* pos_conf) {
       last_block = blockFor(key, c);
       last_key = key;
     }
-    surfel_block_[i] = last_block;
-    surfel_slot_[i] = int(blocks_[last_block].members.size());
-    blocks_[last_block].members.push_back(i);
+    addToBlock(i, last_block, flags != nullptr && (flags[i] & stable_mask) != 0);
   }
 }
 
 void VoxelBlockIndex::eraseFromBlock(int surfel) {
   const int b = surfel_block_[surfel];
-  const int slot = surfel_slot_[surfel];
-  std::vector<int>& m = blocks_[b].members;
-  const int last = m.back();
-  m[slot] = last;
-  surfel_slot_[last] = slot;
+  Block& B = blocks_[b];
+  // Leave the stable part first (its last entry takes the slot), then swap with the list's end.
+  if (surfel_slot_[surfel] < B.n_stable) swapSlots(B, surfel_slot_[surfel], --B.n_stable);
+  std::vector<int>& m = B.members;
+  swapSlots(B, surfel_slot_[surfel], int(m.size()) - 1);
   m.pop_back();
   surfel_block_[surfel] = -1;
   surfel_slot_[surfel] = -1;
@@ -147,11 +171,9 @@ bool VoxelBlockIndex::move(int surfel, const Vec3f& p) {
                           int(std::floor(p.y() * inv_block_size_)),
                           int(std::floor(p.z() * inv_block_size_)));
   if (c == blocks_[b].coords) return false;
+  const bool stable = isStable(surfel);
   eraseFromBlock(surfel);
-  const int nb = blockFor(packKey(c), c);
-  surfel_block_[surfel] = nb;
-  surfel_slot_[surfel] = int(blocks_[nb].members.size());
-  blocks_[nb].members.push_back(surfel);
+  addToBlock(surfel, blockFor(packKey(c), c), stable);
   return true;
 }
 
@@ -172,6 +194,27 @@ void VoxelBlockIndex::renumber(int from, int to) {
     surfel_block_.pop_back();
     surfel_slot_.pop_back();
   }
+}
+
+void VoxelBlockIndex::permute(const std::vector<int>& new_of_old) {
+  const int n = numSurfels();
+  if (int(new_of_old.size()) != n)
+    throw std::invalid_argument("VoxelBlockIndex::permute: " + std::to_string(new_of_old.size()) +
+                                " new indices for " + std::to_string(n) + " surfels");
+  std::vector<int> block(std::size_t(n), -1), slot(std::size_t(n), -1);
+  for (int b = 0; b < int(blocks_.size()); ++b) {
+    std::vector<int>& m = blocks_[b].members;
+    for (int k = 0; k < int(m.size()); ++k) {
+      const int j = new_of_old[std::size_t(m[k])];
+      if (j < 0 || j >= n || block[std::size_t(j)] >= 0)
+        throw std::invalid_argument("VoxelBlockIndex::permute: not a permutation of the indexed surfels");
+      m[k] = j;
+      block[std::size_t(j)] = b;
+      slot[std::size_t(j)] = k;
+    }
+  }
+  surfel_block_.swap(block);
+  surfel_slot_.swap(slot);
 }
 
 void VoxelBlockIndex::clear() {
@@ -198,7 +241,8 @@ void VoxelBlockIndex::blocksInFrustum(const CameraFrustum& frustum, float margin
   }
 }
 
-bool VoxelBlockIndex::checkConsistency(const Vec4f* pos_conf, int n, std::string* why) const {
+bool VoxelBlockIndex::checkConsistency(const Vec4f* pos_conf, int n, std::string* why,
+                                       const std::uint32_t* flags, std::uint32_t stable_mask) const {
   auto fail = [&](const std::string& s) {
     if (why) *why = s;
     return false;
@@ -206,6 +250,8 @@ bool VoxelBlockIndex::checkConsistency(const Vec4f* pos_conf, int n, std::string
   std::size_t members = 0;
   for (int b = 0; b < int(blocks_.size()); ++b) {
     members += blocks_[b].members.size();
+    if (blocks_[b].n_stable < 0 || blocks_[b].n_stable > int(blocks_[b].members.size()))
+      return fail("block " + std::to_string(b) + " stable count out of range");
     if (!blocks_[b].members.empty()) {
       auto it = key_to_block_.find(blocks_[b].key);
       if (it == key_to_block_.end() || it->second != b) return fail("block key table out of sync");
@@ -224,6 +270,9 @@ bool VoxelBlockIndex::checkConsistency(const Vec4f* pos_conf, int n, std::string
       return fail("surfel " + std::to_string(i) + " slot mismatch");
     if (keyOf(pos_conf[i].head<3>()) != blocks_[b].key)
       return fail("surfel " + std::to_string(i) + " is not in the block containing it");
+    if (flags && isStable(i) != ((flags[i] & stable_mask) != 0))
+      return fail("surfel " + std::to_string(i) + (isStable(i) ? " is in the stable part but not stable"
+                                                               : " is stable but not in the stable part"));
   }
   return true;
 }

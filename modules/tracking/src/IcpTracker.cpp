@@ -154,7 +154,7 @@ TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const Mod
 }
 
 void IcpTracker::buildModelPyramid(const ModelMaps& model, bool intensity, bool confidence) {
-  const int L = m_params.num_levels;
+  const int L = m_params.num_levels - m_params.model_level;  // model levels the frame levels use
   m_model_vertex.resize(std::max(0, L - 1));
   m_model_normal.resize(std::max(0, L - 1));
   if (confidence) m_model_confidence.resize(std::max(0, L - 1));
@@ -230,6 +230,14 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
     throwInputError("tracking: model maps", "size " + std::to_string(model.vertex_world.width) + "x" +
                                                 std::to_string(model.vertex_world.height) +
                                                 " differs from the model intrinsics " + model.K.toString());
+  const FrameLevel& model_frame_level = frame[P.model_level];
+  if (!model_empty && (model.K.width != model_frame_level.depth_m.width() ||
+                       model.K.height != model_frame_level.depth_m.height()))
+    throwInputError("tracking: model maps", "size " + std::to_string(model.K.width) + "x" +
+                                                std::to_string(model.K.height) + " differs from frame level " +
+                                                std::to_string(P.model_level) + " ([tracking] model_level), " +
+                                                std::to_string(model_frame_level.depth_m.width()) + "x" +
+                                                std::to_string(model_frame_level.depth_m.height()));
   // Photometric term: only with both colour images (and a model to render them from).
   const bool photometric = P.photometric_weight > 0 && !model_empty && !model.colour.empty() && !frame_colour.empty();
   if (photometric) {
@@ -271,24 +279,25 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
     kernels::IcpReduceKernel k;
     k.frame_vertex = frame[l].vertex.view();
     k.frame_normal = frame[l].normal.view();
+    const int ml = std::max(0, l - P.model_level);  // model level associated with frame level l
     if (!model_empty) {
-      k.model_vertex = l == 0 ? model.vertex_world : ImageView<const Vec3f>(m_model_vertex[l - 1].view());
-      k.model_normal = l == 0 ? model.normal_world : ImageView<const Vec3f>(m_model_normal[l - 1].view());
+      k.model_vertex = ml == 0 ? model.vertex_world : ImageView<const Vec3f>(m_model_vertex[ml - 1].view());
+      k.model_normal = ml == 0 ? model.normal_world : ImageView<const Vec3f>(m_model_normal[ml - 1].view());
     }
-    k.K_model = model.K.level(l).plain();
+    k.K_model = model.K.level(ml).plain();
     k.max_dist_m = float(P.max_dist_m[l]);
     k.min_normal_cos = float(std::cos(P.max_normal_angle_deg[l] * kDegToRad));
     k.huber_delta_m = float(P.huber_delta_m);
     k.depth_noise_weighting = P.depth_noise_weighting;
     if (confidence) {
-      k.model_confidence = l == 0 ? model.confidence : ImageView<const float>(m_model_confidence[l - 1].cview());
+      k.model_confidence = ml == 0 ? model.confidence : ImageView<const float>(m_model_confidence[ml - 1].cview());
       k.confidence_full = float(P.confidence_full);
     }
     k.stride = l == 0 ? P.level0_pixel_stride : 1;
     kernels::PhotometricReduceKernel pk;
     if (photometric) {
       pk.model_vertex = k.model_vertex;
-      pk.model_intensity = m_model_intensity[l].cview();
+      pk.model_intensity = m_model_intensity[ml].cview();
       pk.frame_igrad = m_frame_igrad[l].cview();
       pk.frame_depth_m = frame[l].depth_m.cview();
       pk.K_frame = frame[l].K.plain();

@@ -45,6 +45,7 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR_CS(photometric_huber, double);
   MRPT_LOAD_CONFIG_VAR_CS(photometric_min_gradient, double);
   MRPT_LOAD_CONFIG_VAR_CS(model_min_confidence, double);
+  MRPT_LOAD_CONFIG_VAR_CS(model_level, int);
   MRPT_LOAD_CONFIG_VAR_CS(convergence_translation_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(convergence_rotation_deg, double);
   const std::string mm = c.read_string(s, "motion_model", toString(motion_model));
@@ -82,6 +83,7 @@ void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
   put(c, s, "photometric_huber", photometric_huber, "Huber threshold on intensity residuals, 0 = none");
   put(c, s, "photometric_min_gradient", photometric_min_gradient, "skip samples with weaker intensity gradient");
   put(c, s, "model_min_confidence", model_min_confidence, "model = surfels with confidence >= this (0 = stable flag)");
+  put(c, s, "model_level", model_level, "model rendered at this pyramid level (0 = full res, 1 = half)");
   put(c, s, "convergence_translation_m", convergence_translation_m, "early stop: increment below (m)");
   put(c, s, "convergence_rotation_deg", convergence_rotation_deg, "early stop: and below (deg)");
   put(c, s, "motion_model", std::string(toString(motion_model)), "constant_velocity | previous_pose");
@@ -109,6 +111,7 @@ void TTrackingParams::validate(const std::string& s) const {
   requireInRange(photometric_huber, 0.0, 1.0, s, "photometric_huber");
   requireInRange(photometric_min_gradient, 0.0, 1.0, s, "photometric_min_gradient");
   requireInRange(model_min_confidence, 0.0, 1e6, s, "model_min_confidence");
+  requireInRange(model_level, 0, num_levels - 1, s, "model_level");
   requireInRange(convergence_translation_m, 0.0, 1.0, s, "convergence_translation_m");
   requireInRange(convergence_rotation_deg, 0.0, 90.0, s, "convergence_rotation_deg");
   requireInRange(min_inliers, 6, 1e9, s, "min_inliers");

@@ -43,6 +43,8 @@ class PruneSchedule {
   /// After SurfelStore::remove(): the surfels `moved` (old, new) keep their filing, the map has
   /// new_size surfels.
   void moved(const std::vector<std::pair<int, int>>& moved, int new_size);
+  /// After SurfelStore::sortByBlock(): surfel i is now new_of_old[i] and keeps its filing.
+  void permute(const std::vector<int>& new_of_old);
 
  private:
   static constexpr std::int32_t kNone = INT32_MIN;

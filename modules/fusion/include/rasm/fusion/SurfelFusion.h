@@ -66,9 +66,11 @@ struct FusionStats {
   int removed_carved = 0;    ///< free-space violators removed
   int demoted_carved = 0;    ///< stable free-space violators that lost confidence
   int merged = 0;            ///< redundant surfels merged into another one (and removed)
+  bool resorted = false;     ///< the store was re-sorted by block first (every index changed)
   int map_size = 0;          ///< after the frame
   maps::RenderStats render;  ///< of the 4x index map render
   // Wall-clock milliseconds of the stages (for report.json; tests never assert on them).
+  double ms_resort = 0;     ///< SurfelStore::sortByBlock, when resorted
   double ms_index_map = 0;  ///< 4x point index map (II-D)
   double ms_update = 0;     ///< association + update
   double ms_add = 0;        ///< new surfels + spatial index upkeep
@@ -137,6 +139,9 @@ class SurfelFusion {
   std::uint64_t m_merge_round = 0;             ///< merging frames so far (row phase)
   std::vector<std::int32_t> m_remap_table;
   std::vector<std::uint64_t> m_remap_bits;  ///< per surfel index, all zero between frames
+  std::vector<int> m_new_of_old;              ///< scratch of SurfelStore::sortByBlock
+  std::vector<std::vector<int>> m_stable_lists;  ///< per thread: surfels that became stable
+  std::vector<int> m_stable_changed;                 ///< scratch: surfels whose stable flag changed
   // Pruning schedule and what it was built for.
   PruneSchedule m_schedule;
   const maps::SurfelStore* m_schedule_map = nullptr;

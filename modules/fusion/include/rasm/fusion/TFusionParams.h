@@ -69,6 +69,12 @@ struct TFusionParams : public mrpt::config::CLoadableOptions {
   /// all rows took ~20 ms per frame late in the sequence, 3% of the surfels in view merged).
   int merge_row_stride = 4;
 
+  // ---- memory order ----
+  /// Before fusing a frame, re-sort the store block by block (SurfelStore::sortByBlock) once more
+  /// than this fraction of its surfels was appended or moved since the last sort, so that the
+  /// index-map render, association and update read the arrays in order. 1 = never.
+  float resort_unsorted_fraction = 0.5f;
+
   // ---- segments (III) ----
   /// With a propagated label image L^p: same label -> w_l += w, else w_l -= w and relabel at 0.
   bool update_segments = true;

@@ -79,7 +79,7 @@ struct RenderedMaps {
 struct RenderStats {
   int blocks_total = 0;          ///< non-empty blocks in the map
   int blocks_visited = 0;        ///< blocks that passed frustum culling
-  long long surfels_tested = 0;  ///< members of the visited blocks
+  long long surfels_tested = 0;  ///< members of the visited blocks (their stable ones with stable_only)
   long long surfels_drawn = 0;   ///< surfels that passed all tests and were splatted / projected
 };
 

@@ -94,11 +94,32 @@ class SurfelStore {
   int reindex(const std::vector<int>& surfels);
   /// Re-bins every surfel (after bulk edits through arrays()).
   void rebuildIndex();
+  /// The spatial index keeps each block's stable surfels first (VoxelBlockIndex.h): code that
+  /// sets or clears kSurfelStable through arrays() reports those surfels here (fusion does), or
+  /// calls rebuildIndex(). A stable surfel the index does not know as stable is missed by
+  /// stable-only renders. O(k).
+  void refreshStable(const std::vector<int>& surfels);
 
   /// Removes the given surfels (any order, duplicates allowed) and compacts by moving tail
   /// surfels into the holes. `moved`, when given, receives (old index, new index) of every surfel
   /// that changed index. See the header comment for the invalidation rule. O(k) for k removals.
   void remove(std::vector<int> surfels, std::vector<std::pair<int, int>>* moved = nullptr);
+
+  /// Reorders the surfels block by block: spatial-index blocks in id order, each block's members
+  /// in their list order, the order in which the renderer and fusion visit the surfels of the
+  /// blocks in view. Their reads of the arrays then run almost sequentially instead of missing the
+  /// cache once per surfel and attribute. Appends and the compaction of remove() scatter that
+  /// order again, a few percent of the map per frame; unsortedFraction() says how much.
+  /// Every index may change (see the header comment): `new_of_old`, when given, receives the new
+  /// index of each old one. Requires every surfel indexed (std::logic_error otherwise). O(N).
+  void sortByBlock(std::vector<int>* new_of_old = nullptr);
+  /// Every surfel is in the spatial index (no allocate() awaiting indexAppended()).
+  bool allIndexed() const { return indexed_ == size_; }
+  /// Surfels appended or moved by remove() since the last sortByBlock(), over size() (an upper
+  /// bound of the fraction out of block order; 1 for a store never sorted).
+  double unsortedFraction() const {
+    return size_ > 0 ? std::min(1.0, double(unsorted_) / double(size_)) : 0.0;
+  }
 
   /// Value accessors (slow path: tests, I/O, tools).
   Surfel get(int i) const;
@@ -128,7 +149,7 @@ class SurfelStore {
   /// from it whether someone else changed the map since it last did.
   std::uint64_t generation() const { return generation_.value; }
 
-  /// Spatial index consistent with the positions (tests).
+  /// Spatial index consistent with the positions and stable flags (tests).
   bool checkConsistency(std::string* why = nullptr) const;
 
  private:
@@ -140,6 +161,7 @@ class SurfelStore {
   int indexed_ = 0;  ///< surfels [0, indexed_) are in index_
   double t0_s_ = std::numeric_limits<double>::quiet_NaN();
   float radius_bound_ = 0.0f;
+  long long unsorted_ = 0;  ///< appended or moved since the last sortByBlock() (unsortedFraction)
 
   /// Unique across stores: a copy, or a new store that happens to live at a freed store's
   /// address, never continues another store's sequence.

@@ -11,6 +11,11 @@
 // surfel to another index) are O(1) each. Memory: 12 bytes per surfel (member entry, block id,
 // slot) plus ~100 bytes per non-empty block.
 //
+// Each member list keeps the stable surfels first (members[0, stableCount)), so a render of the
+// stable surfels only (the tracking model of II-C, a third of the surfels in view on 7-Scenes)
+// visits just those. The index learns a surfel's stability when it is inserted and through
+// setStable(); SurfelStore keeps it in step with the kSurfelStable flag (SurfelStore.h).
+//
 // Host-only (std containers); no MRPT.
 
 #include <cmath>
@@ -61,10 +66,18 @@ class VoxelBlockIndex {
   }
 
   /// Adds surfel `surfel` (which must not be indexed yet) at position p.
-  void insert(int surfel, const Vec3f& p);
-  /// Adds surfels [first, first + count) at positions pos[i] (pos indexed by surfel id).
+  void insert(int surfel, const Vec3f& p, bool stable = false);
+  /// Adds surfels [first, first + count) at positions pos[i] (pos indexed by surfel id), stable
+  /// where flags[i] & stable_mask (flags may be null: none stable).
   /// Faster than single inserts: consecutive surfels usually share a block.
-  void insertRange(int first, int count, const Vec4f* pos_conf);
+  void insertRange(int first, int count, const Vec4f* pos_conf, const std::uint32_t* flags = nullptr,
+                   std::uint32_t stable_mask = 0);
+  /// Moves an indexed surfel into (or out of) its block's stable part. O(1).
+  void setStable(int surfel, bool stable);
+  /// Whether an indexed surfel is in its block's stable part.
+  bool isStable(int surfel) const {
+    return surfel_slot_[surfel] < blocks_[surfel_block_[surfel]].n_stable;
+  }
   /// Removes surfel `surfel` from its block (blocks that become empty are recycled).
   void erase(int surfel);
   /// Re-bins surfel `surfel` if p lies in another block than its current one; returns true if so.
@@ -81,6 +94,9 @@ class VoxelBlockIndex {
   }
   /// The surfel stored at index `from` now lives at index `to` (compaction); `to` must be free.
   void renumber(int from, int to);
+  /// Renames every indexed surfel i to new_of_old[i] (a permutation of [0, numSurfels()), e.g.
+  /// SurfelStore::sortByBlock's); blocks and the order of their member lists stay. O(N).
+  void permute(const std::vector<int>& new_of_old);
   /// Drops everything.
   void clear();
 
@@ -95,6 +111,8 @@ class VoxelBlockIndex {
     return surfel < int(surfel_block_.size()) ? surfel_block_[surfel] : -1;
   }
   const std::vector<int>& members(int block_id) const { return blocks_[block_id].members; }
+  /// The first stableCount(b) entries of members(b) are its stable surfels.
+  int stableCount(int block_id) const { return blocks_[block_id].n_stable; }
 
   /// Appends the ids of the non-empty blocks whose bounding sphere, grown by `margin_m` (the
   /// largest splat radius), intersects the frustum. O(B). The ids are in increasing order.
@@ -105,8 +123,10 @@ class VoxelBlockIndex {
                        std::vector<std::uint8_t>* fully_inside = nullptr) const;
 
   /// Checks the invariants against surfel positions (tests): every surfel in [0, n) is in exactly
-  /// the block containing it, at its recorded slot. Returns false and a reason otherwise.
-  bool checkConsistency(const Vec4f* pos_conf, int n, std::string* why = nullptr) const;
+  /// the block containing it, at its recorded slot, and (flags given) in the stable part exactly
+  /// when flags[i] & stable_mask. Returns false and a reason otherwise.
+  bool checkConsistency(const Vec4f* pos_conf, int n, std::string* why = nullptr,
+                        const std::uint32_t* flags = nullptr, std::uint32_t stable_mask = 0) const;
 
   /// Bytes held (capacity based).
   std::size_t memoryBytes() const;
@@ -115,9 +135,12 @@ class VoxelBlockIndex {
   struct Block {
     Eigen::Vector3i coords = Eigen::Vector3i::Zero();
     std::uint64_t key = 0;
-    std::vector<int> members;
+    std::vector<int> members;  ///< stable ones first
+    int n_stable = 0;
   };
   int blockFor(std::uint64_t key, const Eigen::Vector3i& coords);  // find or create
+  void addToBlock(int surfel, int block_id, bool stable);
+  void swapSlots(Block& b, int slot_a, int slot_b);
   void eraseFromBlock(int surfel);
   void ensureSurfel(int surfel);
 

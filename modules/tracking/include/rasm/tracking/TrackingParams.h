@@ -84,6 +84,12 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   /// camera are what constrains ICP there and what the weighting discounts; the defaults stay
   /// those that hold on all three.
   double model_min_confidence = 0.0;
+  /// Pyramid level the caller renders the model at (0 = full resolution, 1 = half). Frame level l
+  /// is associated with model level max(0, l - model_level), so at 1 the full-resolution frame
+  /// points of level 0 meet the half-resolution model: point-to-plane residuals tolerate the
+  /// coarser association along the surface, and the render, the costliest step of tracking,
+  /// touches a quarter of the pixels. docs/slam-eval.md has the measurements behind the default.
+  int model_level = 0;
 
   // ---- initial guess ----
   MotionModel motion_model = MotionModel::ConstantVelocity;

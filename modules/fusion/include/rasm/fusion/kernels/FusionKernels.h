@@ -181,8 +181,9 @@ RASM_HD_INLINE bool mergeSurfels(const maps::SurfelArrays& s, int keep, int lose
 
 /// A pixel's measurement with the association gates derived from it (II-D).
 struct PixelMeasurement {
-  Vec3f v, n;          ///< camera-frame vertex and normal
-  Vec3f n_world;       ///< normal in the world frame (compared with the surfel normals)
+  // (initialised: GCC 12 cannot see that the kernels read them only after a successful measure)
+  Vec3f v = Vec3f::Zero(), n = Vec3f::Zero();  ///< camera-frame vertex and normal
+  Vec3f n_world = Vec3f::Zero();  ///< normal in the world frame (compared with the surfel normals)
   float w = 0, r = 0;  ///< confidence weight and radius (II-B)
   float z = 0, dz_max = 0, inv_v = 0, inv_r = 0;
 };
