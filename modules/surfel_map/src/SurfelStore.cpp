@@ -319,21 +319,26 @@ void SurfelStore::sortByBlock(std::vector<int>* new_of_old_out) {
   if (int(old_of_new.size()) != size_)
     throw std::logic_error("SurfelStore::sortByBlock: the spatial index holds " + std::to_string(old_of_new.size()) +
                            " surfels, the store " + std::to_string(size_));
+  {
+    // Transient memory, freed as soon as it is no longer needed: the largest array's size plus
+    // 4 bytes per surfel (old_of_new) during the gathers, then 8 bytes per surfel.
+    const std::size_t nc = std::size_t(opt_.n_classes), nv = std::size_t(opt_.nViewBins());
+    const std::size_t scratch_bytes = std::size_t(size_) * std::max({sizeof(Vec4f), nc, nv});
+    const std::unique_ptr<unsigned char[]> scratch(new unsigned char[scratch_bytes]);
+    gatherSurfels(pos_conf_, old_of_new, 1, scratch.get());
+    gatherSurfels(normal_radius_, old_of_new, 1, scratch.get());
+    gatherSurfels(colour_flags_, old_of_new, 1, scratch.get());
+    gatherSurfels(t_init_, old_of_new, 1, scratch.get());
+    gatherSurfels(t_last_, old_of_new, 1, scratch.get());
+    gatherSurfels(basis_, old_of_new, 1, scratch.get());
+    gatherSurfels(segment_, old_of_new, 1, scratch.get());
+    gatherSurfels(segment_w_, old_of_new, 1, scratch.get());
+    gatherSurfels(class_p_, old_of_new, nc, scratch.get());
+    gatherSurfels(view_ic_, old_of_new, nv, scratch.get());
+  }
   std::vector<int> new_of_old(static_cast<std::size_t>(size_));
   for (int k = 0; k < size_; ++k) new_of_old[std::size_t(old_of_new[std::size_t(k)])] = k;
-  const std::size_t nc = std::size_t(opt_.n_classes), nv = std::size_t(opt_.nViewBins());
-  const std::size_t scratch_bytes = std::size_t(size_) * std::max({sizeof(Vec4f), nc, nv});
-  const std::unique_ptr<unsigned char[]> scratch(new unsigned char[scratch_bytes]);
-  gatherSurfels(pos_conf_, old_of_new, 1, scratch.get());
-  gatherSurfels(normal_radius_, old_of_new, 1, scratch.get());
-  gatherSurfels(colour_flags_, old_of_new, 1, scratch.get());
-  gatherSurfels(t_init_, old_of_new, 1, scratch.get());
-  gatherSurfels(t_last_, old_of_new, 1, scratch.get());
-  gatherSurfels(basis_, old_of_new, 1, scratch.get());
-  gatherSurfels(segment_, old_of_new, 1, scratch.get());
-  gatherSurfels(segment_w_, old_of_new, 1, scratch.get());
-  gatherSurfels(class_p_, old_of_new, nc, scratch.get());
-  gatherSurfels(view_ic_, old_of_new, nv, scratch.get());
+  std::vector<int>().swap(old_of_new);
   index_.permute(new_of_old);
   unsorted_ = 0;
   if (new_of_old_out) *new_of_old_out = std::move(new_of_old);

@@ -1,5 +1,6 @@
 #include "rasm/surfel_map/VoxelBlockIndex.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -201,20 +202,20 @@ void VoxelBlockIndex::permute(const std::vector<int>& new_of_old) {
   if (int(new_of_old.size()) != n)
     throw std::invalid_argument("VoxelBlockIndex::permute: " + std::to_string(new_of_old.size()) +
                                 " new indices for " + std::to_string(n) + " surfels");
-  std::vector<int> block(std::size_t(n), -1), slot(std::size_t(n), -1);
+  // The old per-surfel tables are not read again: rewritten in place (no second copy at the
+  // peak of a re-sort). Every index in [0, n) is indexed, so a permutation rewrites all of them.
+  std::fill(surfel_block_.begin(), surfel_block_.end(), -1);
   for (int b = 0; b < int(blocks_.size()); ++b) {
     std::vector<int>& m = blocks_[b].members;
     for (int k = 0; k < int(m.size()); ++k) {
       const int j = new_of_old[std::size_t(m[k])];
-      if (j < 0 || j >= n || block[std::size_t(j)] >= 0)
+      if (j < 0 || j >= n || surfel_block_[std::size_t(j)] >= 0)
         throw std::invalid_argument("VoxelBlockIndex::permute: not a permutation of the indexed surfels");
       m[k] = j;
-      block[std::size_t(j)] = b;
-      slot[std::size_t(j)] = k;
+      surfel_block_[std::size_t(j)] = b;
+      surfel_slot_[std::size_t(j)] = k;
     }
   }
-  surfel_block_.swap(block);
-  surfel_slot_.swap(slot);
 }
 
 void VoxelBlockIndex::clear() {

@@ -139,7 +139,6 @@ class SurfelFusion {
   std::uint64_t m_merge_round = 0;             ///< merging frames so far (row phase)
   std::vector<std::int32_t> m_remap_table;
   std::vector<std::uint64_t> m_remap_bits;  ///< per surfel index, all zero between frames
-  std::vector<int> m_new_of_old;              ///< scratch of SurfelStore::sortByBlock
   std::vector<std::vector<int>> m_stable_lists;  ///< per thread: surfels that became stable
   std::vector<int> m_stable_changed;                 ///< scratch: surfels whose stable flag changed
   // Pruning schedule and what it was built for.
