@@ -130,8 +130,9 @@ struct PlantedMap {
 
 // Wall fused once; then, for every 5th pixel of the central rows, a duplicate 4 mm behind and a
 // third of a radius aside (same pixel, overlapping disc), and for every 7th a decoy that must
-// stay: 10 cm behind (beyond the 3 cm depth gate) or 1 mm behind and tilted by 40 deg (beyond the 15 deg merge
-// gate, and beyond fusion's 30 deg association gate, so updates do not turn it toward the wall).
+// stay: 10 cm behind (beyond the 3 cm depth gate) or 1 mm behind and tilted by 60 deg (beyond the
+// 15 deg merge gate, and beyond fusion's 50 deg association gate, so updates do not turn it
+// toward the wall).
 void plant(SurfelFusion& fusion, PlantedMap& pm, const fusiontest::SyntheticFrame& f,
            float dup_confidence = 0.7f) {
   fusion.fuse(pm.map, f.input());
@@ -156,7 +157,7 @@ void plant(SurfelFusion& fusion, PlantedMap& pm, const fusiontest::SyntheticFram
           // 1 mm behind the wall surfel: an exact depth tie would leave the 4x map's per-sub-pixel
           // nearest surfel to the index order, which re-sorting the store changes.
           d.position = s.position + Vec3f(0, 0, 0.001f);
-          d.normal = Vec3f(std::sin(0.70f), 0.0f, -std::cos(0.70f));
+          d.normal = Vec3f(std::sin(1.05f), 0.0f, -std::cos(1.05f));
         }
         pm.map.append(d);
         ++pm.n_decoys;

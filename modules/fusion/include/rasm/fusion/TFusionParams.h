@@ -22,10 +22,19 @@ struct TFusionParams : public mrpt::config::CLoadableOptions {
   /// |z_surfel - z_measured| (camera frame) allowed for a candidate: max(abs, rel * z).
   float assoc_max_depth_diff_m = 0.03f;
   float assoc_max_depth_diff_rel = 0.01f;
-  /// Angle between surfel and measured normal. ElasticFusion uses 0.5 rad; on Kinect data
-  /// (TUM fr1/xyz at ground-truth poses, bilateral-filtered depth) 20 deg rejected enough noisy
-  /// normals to add ~8% of the pixels as duplicate surfels per frame, 30 deg ~5%.
-  float assoc_max_normal_angle_deg = 30.0f;
+  /// Angle between surfel and measured normal. ElasticFusion uses 0.5 rad, but the normals of raw
+  /// Kinect depth (3x3 differences of the bilateral-filtered level 0) are noisy: a tight gate
+  /// rejects correct matches and each rejected pixel adds a duplicate surfel, which then costs
+  /// every later frame (all passes are O(surfels in view)). Sweep, `rasm run`, 2 threads:
+  ///   gate   TUM fr1/xyz: added per frame, ATE   redkitchen: ATE, frames/s, map   sim 60 s: ATE, map
+  ///   30     2.8% of valid pixels, 0.30 cm       2.60 cm, 12.2-12.8, 1.25M         0.67 cm, 4.2M
+  ///   40           -                             2.51 cm, 14.1, 1.04M                   -
+  ///   45     1.2%, 0.29 cm                       2.49 cm, 14.5-14.8, 0.96M         0.64 cm, 3.3M
+  ///   50     1.0%, 0.29 cm                       2.48 cm, 15.3-15.6, 0.88M         0.63 cm, 3.1M
+  ///   60     0.8%, 0.30 cm                       2.55 cm, 16.6, 0.77M                   -
+  /// 50 deg is the most accurate on all three (45-50 ties); surfaces meeting at more than 50 deg
+  /// (walls, floors, box faces) still never share surfels. Above it redkitchen degrades.
+  float assoc_max_normal_angle_deg = 50.0f;
   /// Keller et al. 2013 / ElasticFusion: position, normal, colour and radius are averaged only
   /// when the new radius is < ratio * the surfel radius (a finer or equal measurement); otherwise
   /// only confidence and time are updated.
