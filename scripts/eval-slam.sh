@@ -39,14 +39,15 @@ row = {"sequence": name, "frames": rep["frames"], "frames_lost": rep["frames_los
        "ate_rmse_m": rmse(d + "/ate.json"), "ate_sim3_rmse_m": rmse(d + "/ate_sim3.json"),
        "rpe_1s_translation_rmse_m": rpe["translation_m"]["rmse"],
        "rpe_1s_rotation_rmse_deg": rpe["rotation_deg"]["rmse"],
-       "fps": rep["fps"], "stage_mean_ms": st, "surfels": rep.get("surfels"),
+       "fps": rep["fps"], "cpu_ms_per_frame": rep.get("cpu_ms_per_frame"),
+       "stage_mean_ms": st, "surfels": rep.get("surfels"),
        "peak_rss_mb": rep.get("peak_rss_mb")}
 if row["surfels"] and row["peak_rss_mb"]:
     row["peak_rss_mb_per_million_surfels"] = round(row["peak_rss_mb"] / (row["surfels"] / 1e6), 1)
 open(summary, "a").write(json.dumps(row) + "\n")
 print(f"{name:28s} frames {row['frames']:5d} lost {row['frames_lost']:3d}  ATE {100*row['ate_rmse_m']:.2f} cm "
       f"(Sim3 {100*row['ate_sim3_rmse_m']:.2f})  RPE/1s {100*row['rpe_1s_translation_rmse_m']:.2f} cm  "
-      f"{row['fps']:.2f} frames/s  " + " ".join(f"{k} {v:.1f}" for k, v in st.items() if k != "total") +
+      f"{row['fps']:.2f} frames/s ({row['cpu_ms_per_frame'] or 0:.0f} CPU ms/frame)  " + " ".join(f"{k} {v:.1f}" for k, v in st.items() if k != "total") +
       f" ms  peak {row['peak_rss_mb']:.0f} MB, {row['surfels']} surfels")
 PY
 }
