@@ -10,12 +10,15 @@
 // Index stability: surfel indices are positions in the arrays. append()/allocate() never change
 // existing indices. remove() compacts by moving surfels from the tail into the holes, so after it
 // every index >= the smallest removed index may name another surfel (the optional `moved` output
-// lists each (old index, new index)). Anything that keeps surfel indices across a removal (index
-// maps rendered earlier, per-pixel association results) must be remapped or recomputed.
+// lists each (old index, new index)). sortByBlock() permutes every index (`new_of_old`), and
+// SurfelFusion does it now and then before a frame. Anything that keeps surfel indices across a
+// removal or a sort (index maps rendered earlier, per-pixel association results) must be remapped
+// or recomputed.
 //
 // Times: surfels store float seconds relative to the map's time origin (the first timestamp the
 // map saw), so sub-millisecond resolution holds for runs of hours; the API takes absolute seconds.
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <limits>
