@@ -1,29 +1,26 @@
 // Benchmark of the II-C tracker: milliseconds per IcpTracker::align() call at 640x480 (3 levels,
 // default iterations), the model being the previous frame's maps in the world frame (what the
 // Mapper's render provides). Frames come from an analytic room scene along a smooth camera path
-// (noise-free: few iterations), or with --tum from a TUM sequence folder (real depth noise: more
-// iterations before the increments fall below the convergence limits).
+// (noise-free: few iterations), or with --tum from a sequence folder read by io::openFrameSource
+// (TUM-format or 7-Scenes; real depth noise: more iterations before the increments fall below
+// the convergence limits).
 //   bench_tracking_icp [--threads 2] [--frames 30] [--repeats 5] [--stride 2] [--noise_mm 0]
-//                      [--cuda off] [--tum <folder with depth.txt and groundtruth.txt>]
+//                      [--cuda off] [--tum <TUM-format or 7-Scenes folder>]
 // Prints one JSON line: {"bench":"tracking_icp","ms_per_track_median":...,...}. The frame
 // pyramid (buildFramePyramid, core) is timed separately: the Mapper builds it once per frame for
 // every stage.
 #include <omp.h>
 
-#include <mrpt/img/CImage.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
-#include <map>
 #include <numeric>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "rasm/core/FrameProcessing.h"
 #include "rasm/core/SE3.h"
+#include "rasm/io/FrameSource.h"
 #include "rasm/tracking/IcpTracker.h"
 #include "tracking/SyntheticScene.h"
 
@@ -34,36 +31,21 @@ static double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-/// TUM depth frames (5000 units per metre) with the nearest ground-truth pose (within 20 ms).
-static bool loadTum(const std::string& dir, std::vector<Image<float>>& depth, std::vector<Eigen::Isometry3d>& gt) {
-  std::map<double, Eigen::Isometry3d> poses;
-  std::ifstream g(dir + "/groundtruth.txt");
-  for (std::string line; std::getline(g, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream is(line);
-    double t, tx, ty, tz, qx, qy, qz, qw;
-    is >> t >> tx >> ty >> tz >> qx >> qy >> qz >> qw;
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Eigen::Quaterniond(qw, qx, qy, qz).normalized().toRotationMatrix();
-    T.translation() = Eigen::Vector3d(tx, ty, tz);
-    poses[t] = T;
-  }
-  std::ifstream d(dir + "/depth.txt");
-  for (std::string line; std::getline(d, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream is(line);
-    double t;
-    std::string f;
-    is >> t >> f;
-    const auto it = poses.lower_bound(t);
-    if (it == poses.end() || std::abs(it->first - t) > 0.02) continue;
-    mrpt::img::CImage img;
-    if (!img.loadFromFile(dir + "/" + f, -1) || img.getPixelDepth() != mrpt::img::PixelDepth::D16U) return false;
-    Image<float> z(int(img.getWidth()), int(img.getHeight()));
-    for (int y = 0; y < z.height(); ++y)
-      for (int x = 0; x < z.width(); ++x) z(x, y) = float(img.ptrLine<uint16_t>(y)[x] / 5000.0);
-    depth.push_back(std::move(z));
-    gt.push_back(it->second);
+/// Depth and ground truth of a sequence folder (TUM-format or 7-Scenes) through the product's
+/// reader (io::openFrameSource, as `rasm run`); K from the source. False when unreadable.
+static bool loadSequence(const std::string& dir, CameraIntrinsics& K, std::vector<Image<float>>& depth,
+                         std::vector<Eigen::Isometry3d>& gt) {
+  try {
+    const std::unique_ptr<io::FrameSource> src = io::openFrameSource(dir);
+    while (std::optional<RgbdFrame> f = src->next()) {
+      if (!f->gt_T_world_cam) continue;
+      K = f->intrinsics;
+      depth.push_back(std::move(f->depth_m));
+      gt.push_back(*f->gt_T_world_cam);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return false;
   }
   return !depth.empty();
 }
@@ -92,9 +74,8 @@ int main(int argc, char** argv) {
   std::vector<Eigen::Isometry3d> gt;
   std::vector<Image<float>> depth;
   if (!tum.empty()) {
-    K = CameraIntrinsics::preset("tum_fr1");
-    if (!loadTum(tum, depth, gt)) {
-      std::fprintf(stderr, "cannot read a TUM sequence (depth.txt, groundtruth.txt, 16-bit PNGs) in %s\n", tum.c_str());
+    if (!loadSequence(tum, K, depth, gt)) {
+      std::fprintf(stderr, "cannot read a sequence with ground truth in %s\n", tum.c_str());
       return 1;
     }
   } else {

@@ -2,10 +2,11 @@
 // Camera tracking of section II-C: coarse-to-fine point-to-plane ICP with projective data
 // association (KinectFusion [30], as in ElasticFusion) of the current frame against the model
 // rendered from the previous pose (reliable surfels only: TTrackingParams::model_min_confidence).
-// Residuals are weighted by the depth noise model (depth_noise_weighting); optional terms: an
-// ElasticFusion-style photometric term (photometric_weight, needs both colour images) and
-// surfel-confidence weights (confidence_full, needs the rendered confidence). docs/tracking.md
-// has the measurements behind the defaults.
+// Plain point-to-plane least squares by default; optional: residuals weighted by the depth
+// noise model (depth_noise_weighting), an ElasticFusion-style photometric term
+// (photometric_weight, needs both colour images), surfel-confidence weights (confidence_full,
+// needs the rendered confidence), a half-resolution model (model_level). TrackingParams.h and
+// docs/slam-eval.md have the measurements behind the defaults.
 //
 // How the Mapper uses it (one call per frame):
 //
@@ -19,7 +20,8 @@
 //     if (r.ok) fuse(frame, r.T_world_cam);           // and render the next model from it
 //     else      skip fusion; keep rendering from tracker.lastGoodPose()
 //
-// Model maps: vertex and normal maps in the WORLD frame at full resolution, invalid pixels with
+// Model maps: vertex and normal maps in the WORLD frame at the resolution of frame level
+// TTrackingParams::model_level (0 = full), invalid pixels with
 // x = NaN (as core's kernels), rendered with intrinsics `K` from the pose `T_world_model`. The
 // tracker projects the frame's vertices into that camera to associate them. Its coarse levels
 // are built inside each call (kernels::ModelDownsampleKernel: the 2x2 block's foreground samples
@@ -53,7 +55,7 @@ class IcpCudaReducer;
 
 /// The model the frame is aligned to: the map rendered from T_world_model.
 struct ModelMaps {
-  ImageView<const Vec3f> vertex_world;  ///< full resolution, world frame, invalid = NaN x
+  ImageView<const Vec3f> vertex_world;  ///< frame level model_level, world frame, invalid = NaN x
   ImageView<const Vec3f> normal_world;  ///< unit normals, world frame, invalid = NaN x
   CameraIntrinsics K;                   ///< intrinsics of the render (size = map size)
   Eigen::Isometry3d T_world_model = Eigen::Isometry3d::Identity();
