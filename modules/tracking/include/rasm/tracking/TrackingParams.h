@@ -42,8 +42,8 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   double huber_delta_m = 0.0;
   /// Weight each point-to-plane residual by (sigma(1 m) / sigma(z))^2, sigma(z) the axial noise
   /// of Kinect-type depth (Nguyen et al. 2012, kernels::depthNoiseSigma): far, noisy points
-  /// count less. Off by default: see model_min_confidence for what it measured.
-  bool depth_noise_weighting = false;
+  /// count less. On by default, with model_min_confidence = 3: see there for what it measured.
+  bool depth_noise_weighting = true;
   /// Weight each residual by min(1, c / confidence_full), c = confidence of the associated model
   /// surfel, when the caller passes the model's confidence map; 0 = off.
   double confidence_full = 0.0;
@@ -68,8 +68,19 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   // ---- model (prepared by the caller, pipeline::Mapper) ----
   /// The model ICP aligns to is rendered from the surfels with at least this confidence; 0 =
   /// those fusion flags stable (confidence >= [fusion] stable_confidence, 10; II-C renders "only
-  /// stable points (those with high confidence weights)"). ATE RMSE, rasm run + rasm eval ate
-  /// (docs/slam-eval.md), with depth_noise_weighting off / on:
+  /// stable points (those with high confidence weights)"). Default 3 with depth_noise_weighting:
+  /// with the 50 deg fusion normal gate (TFusionParams.h) that pair is the only setting measured
+  /// to meet all three accuracy targets (rasm run + rasm eval ate, docs/slam-eval.md):
+  ///                               redkitchen_first300   TUM fr1_xyz_first37   sim 60 s / 30 s
+  ///   stable (10), no weighting     2.48 cm               0.29 cm               0.63 / 0.61 cm
+  ///   stable (10), weighting        2.27                    -                     -
+  ///   >= 5, weighting               2.05                    -                     -
+  ///   >= 3, weighting (default)     1.95                  0.27                  0.84 / 0.68
+  ///   >= 2, weighting               1.92                  0.27                  1.13 (> 1 cm target)
+  ///   >= 3, no weighting            2.64                    -                     -
+  /// It costs CPU: a min_confidence model visits every member of the blocks in view, not only
+  /// their stable prefix (VoxelBlockIndex), ~5-12% more CPU per frame on redkitchen.
+  /// Earlier, with the 30 deg gate, off / on:
   ///                        redkitchen_first300   TUM fr1_xyz_first37   sim office_handheld_long
   ///   stable (10)            2.60 / 2.63 cm        0.30 / 0.28 cm        0.67 cm (60 s) / 195 of
   ///                                                                      1010 frames lost
@@ -79,13 +90,10 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   ///                                                                      diverged at 32.7 s
   ///   >= 1                     -  / 2.14             -                     -
   ///   all surfels            6.58 /  -               -                     -
-  /// A denser model and noise weighting reach 2.0 cm on redkitchen (settings picked on that
-  /// sequence) but drift or lose track on the simulated office, whose large planes far from the
-  /// camera are what constrains ICP there and what the weighting discounts; the defaults stay
-  /// those that hold on all three. (Table: fusion normal gate 30 deg. With the 50 deg gate of
-  /// now: stable 2.48 / TUM 0.29 / sim 0.63 cm; noise weighting + >= 2: 1.92 / 0.27 / 1.13 cm,
-  /// no divergence but over the 1 cm target; >= 3 without weighting 2.64 cm on redkitchen.)
-  double model_min_confidence = 0.0;
+  /// With the 30 deg gate the denser, weighted models drifted or lost track on the simulated
+  /// office (its large far planes constrain ICP there, and the weighting discounts them); the
+  /// 50 deg gate's cleaner map (fewer duplicate surfels) removed that.
+  double model_min_confidence = 3.0;
   /// Pyramid level the caller renders the model at (0 = full resolution, 1 = half). Frame level l
   /// is associated with model level max(0, l - model_level), so at 1 the full-resolution frame
   /// points of level 0 meet the half-resolution model: point-to-plane residuals tolerate the
