@@ -12,8 +12,8 @@
 // slot) plus ~100 bytes per non-empty block.
 //
 // Each member list keeps the stable surfels first (members[0, stableCount)), so a render of the
-// stable surfels only (the tracking model of II-C, a third of the surfels in view on 7-Scenes)
-// visits just those. The index learns a surfel's stability when it is inserted and through
+// stable surfels only (a third of the surfels in view on 7-Scenes; the II-C tracking model when
+// [tracking] model_min_confidence = 0) visits just those. The index learns a surfel's stability when it is inserted and through
 // setStable(); SurfelStore keeps it in step with the kSurfelStable flag (SurfelStore.h).
 //
 // Host-only (std containers); no MRPT.
