@@ -51,6 +51,7 @@ struct FrameRow {
   bool render_all = false;
   double render_ms = 0, render_cpu = 0, fuse_ms = 0, fuse_cpu = 0;
   double index_ms = 0, update_ms = 0, add_ms = 0, cleanup_ms = 0;
+  double resort_ms = 0;  ///< SurfelStore::sortByBlock before this frame (0 when none)
 };
 
 int countValid(const Image<Vec3f>& v) {
@@ -173,6 +174,7 @@ int main(int argc, char** argv) {
     row.update_ms = st.ms_update;
     row.add_ms = st.ms_add;
     row.cleanup_ms = st.ms_cleanup;
+    row.resort_ms = st.resorted ? st.ms_resort : 0.0;
     row.map_size = st.map_size;
     row.in_view = st.render.surfels_drawn;
     rows.push_back(row);
@@ -239,12 +241,12 @@ int main(int argc, char** argv) {
   if (!csv_path.empty()) {
     std::ofstream csv(csv_path);
     csv << "frame,map_size,in_view,render_all,render_ms,render_cpu_ms,fuse_ms,fuse_cpu_ms,"
-           "index_ms,update_ms,add_ms,cleanup_ms,model_tested,model_drawn\n";
+           "index_ms,update_ms,add_ms,cleanup_ms,model_tested,model_drawn,resort_ms\n";
     for (const FrameRow& r : rows)
       csv << r.frame << ',' << r.map_size << ',' << r.in_view << ',' << int(r.render_all) << ','
           << r.render_ms << ',' << r.render_cpu << ',' << r.fuse_ms << ',' << r.fuse_cpu << ','
           << r.index_ms << ',' << r.update_ms << ',' << r.add_ms << ',' << r.cleanup_ms << ','
-          << r.model_tested << ',' << r.model_drawn << '\n';
+          << r.model_tested << ',' << r.model_drawn << ',' << r.resort_ms << '\n';
   }
   ranges.emplace_back(1, int(rows.size()));  // every frame after the first
   std::string out = "{\"bench\":\"fusion_sequence\",\"threads\":" + std::to_string(threads) +

@@ -55,6 +55,23 @@ mrpt::obs::CObservation3DRangeScan::Ptr scanOf(const RgbdFrame& f, const std::st
   return obs;
 }
 
+std::string fileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// Writes `full`: three synthetic frames, uncompressed (so that cutting bytes cuts the serialized
+/// objects, not just the gzip stream), and `cut`: the same cut in the middle of the third object.
+void writeCutRawlog(const std::string& full, const std::string& cut) {
+  {
+    mrpt::io::CFileGZOutputStream f(full, mrpt::io::OpenMode::TRUNCATE, 0);
+    auto ar = mrpt::serialization::archiveFrom(f);
+    for (int i = 0; i < 3; ++i) ar << *scanOf(syntheticFrame(i, 64, 48), "RGBD");
+  }
+  const std::string bytes = fileBytes(full);
+  std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() * 5 / 6));
+}
+
 }  // namespace
 
 TEST(RawlogFrameSource, ActionsAndSensoryFramesFormatWithOdometryIncrements) {
@@ -219,17 +236,8 @@ TEST(RawlogFrameSource, MissingFileNamesIt) {
 TEST(RawlogFrameSource, TruncatedRawlogNamesFileAndFrame) {
   ScratchDir dir("trunc");
   const std::string full = dir / "full.rawlog", cut = dir / "cut.rawlog";
-  {
-    // Uncompressed, so that cutting bytes cuts the serialized objects (not just the gzip stream).
-    mrpt::io::CFileGZOutputStream f(full, mrpt::io::OpenMode::TRUNCATE, 0);
-    auto ar = mrpt::serialization::archiveFrom(f);
-    for (int i = 0; i < 3; ++i) ar << *scanOf(syntheticFrame(i, 64, 48), "RGBD");
-  }
+  writeCutRawlog(full, cut);
   ASSERT_EQ(readAll(full).size(), 3u);
-  std::ifstream in(full, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  // Cut in the middle of the third object.
-  std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() * 5 / 6));
   RawlogFrameSource src(cut);
   EXPECT_TRUE(src.next().has_value());
   EXPECT_TRUE(src.next().has_value());
@@ -244,8 +252,7 @@ TEST(RawlogFrameSource, CompressedTruncatedRawlogIsAnInputError) {
   if (!fs::exists(path)) GTEST_SKIP() << path << " not installed (package mrpt-common)";
   ScratchDir dir("gz");
   const std::string cut = dir / "cut.rawlog";
-  std::ifstream in(path, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes = fileBytes(path);
   std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() / 2));
   const std::string msg = errorOf([&] { readAll(cut); });
   EXPECT_NE(msg.find(cut), std::string::npos) << msg;
@@ -297,14 +304,7 @@ TEST(PrefetchingFrameSource, GivesTheInnerSourcesFramesInOrder) {
 TEST(PrefetchingFrameSource, RethrowsTheInnerErrorAfterTheGoodFrames) {
   ScratchDir dir("prefetch_trunc");
   const std::string full = dir / "full.rawlog", cut = dir / "cut.rawlog";
-  {
-    mrpt::io::CFileGZOutputStream f(full, mrpt::io::OpenMode::TRUNCATE, 0);
-    auto ar = mrpt::serialization::archiveFrom(f);
-    for (int i = 0; i < 3; ++i) ar << *scanOf(syntheticFrame(i, 64, 48), "RGBD");
-  }
-  std::ifstream in(full, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() * 5 / 6));
+  writeCutRawlog(full, cut);
   PrefetchingFrameSource src(std::make_unique<RawlogFrameSource>(cut), 4);
   EXPECT_TRUE(src.next().has_value());
   EXPECT_TRUE(src.next().has_value());
