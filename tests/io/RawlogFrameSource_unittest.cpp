@@ -321,3 +321,48 @@ TEST(PrefetchingFrameSource, StopsWhenDestroyedMidStream) {
     ASSERT_TRUE(src.next().has_value());
   }  // the destructor joins the reader, which is blocked on a full queue
 }
+
+// ---- PreloadedFrameSource (reads every frame into memory first: benchmarks) ----
+
+#include "rasm/io/PreloadedFrameSource.h"
+
+TEST(PreloadedFrameSource, ReadsEveryFrameFirstThenGivesThemInOrder) {
+  const std::string path = std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
+  RawlogFrameSource direct(path);
+  long long progress = 0;
+  PreloadedFrameSource pre(std::make_unique<RawlogFrameSource>(path), 0,
+                           [&](long long n) { progress = n; });
+  EXPECT_GT(pre.loaded(), 10);
+  EXPECT_EQ(progress, pre.loaded());
+  EXPECT_EQ(pre.sizeHint(), pre.loaded());
+  EXPECT_NE(pre.describe().find(direct.describe()), std::string::npos);
+  long long n = 0;
+  for (;; ++n) {
+    std::optional<RgbdFrame> a = direct.next(), b = pre.next();
+    ASSERT_EQ(a.has_value(), b.has_value()) << "frame " << n;
+    if (!a) break;
+    EXPECT_EQ(a->timestamp_s, b->timestamp_s);
+    for (int y = 0; y < a->depth_m.height(); ++y)
+      ASSERT_EQ(0, std::memcmp(a->depth_m.row(y), b->depth_m.row(y), a->depth_m.width() * sizeof(float)))
+          << "frame " << n << " row " << y;
+  }
+  EXPECT_EQ(n, pre.loaded());
+}
+
+TEST(PreloadedFrameSource, StopsAtTheLimitAndRethrowsTheInnerErrorAfterTheGoodFrames) {
+  const std::string path = std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
+  PreloadedFrameSource first3(std::make_unique<RawlogFrameSource>(path), 3);
+  EXPECT_EQ(first3.loaded(), 3);
+
+  ScratchDir dir("preload_trunc");
+  const std::string full = dir / "full.rawlog", cut = dir / "cut.rawlog";
+  writeCutRawlog(full, cut);
+  PreloadedFrameSource src(std::make_unique<RawlogFrameSource>(cut));
+  EXPECT_EQ(src.loaded(), 2);  // the error is held, not thrown by the constructor
+  EXPECT_TRUE(src.next().has_value());
+  EXPECT_TRUE(src.next().has_value());
+  const std::string msg = errorOf([&] { src.next(); });
+  EXPECT_NE(msg.find(cut), std::string::npos) << msg;
+  EXPECT_NE(msg.find("frame 2"), std::string::npos) << msg;
+  EXPECT_FALSE(src.next().has_value());
+}

@@ -1,7 +1,10 @@
 #include "rasm/core/FrameProcessing.h"
 
-#include <opencv2/imgproc.hpp>
+#include <immintrin.h>
+
+#include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "rasm/core/kernels/FrameKernels.h"
 
@@ -29,19 +32,98 @@ void downsampleDepth(const Image<float>& in, Image<float>& out, float max_diff_m
   compute::forEach2D(out.width(), out.height(), k);
 }
 
+namespace {
+
+/// exp(x) for x <= 0, four lanes (Cephes expf: range reduction by ln 2, degree-5 polynomial,
+/// relative error < 2e-7); x below -87.3 gives ~1e-38, not 0.
+inline __m128 expNonPositive(__m128 x) {
+  x = _mm_max_ps(x, _mm_set1_ps(-87.3f));
+  const __m128 fx = _mm_floor_ps(_mm_add_ps(_mm_mul_ps(x, _mm_set1_ps(1.44269504088896341f)),
+                                            _mm_set1_ps(0.5f)));
+  x = _mm_sub_ps(x, _mm_mul_ps(fx, _mm_set1_ps(0.693359375f)));
+  x = _mm_sub_ps(x, _mm_mul_ps(fx, _mm_set1_ps(-2.12194440e-4f)));
+  __m128 y = _mm_set1_ps(1.9875691500e-4f);
+  y = _mm_add_ps(_mm_mul_ps(y, x), _mm_set1_ps(1.3981999507e-3f));
+  y = _mm_add_ps(_mm_mul_ps(y, x), _mm_set1_ps(8.3334519073e-3f));
+  y = _mm_add_ps(_mm_mul_ps(y, x), _mm_set1_ps(4.1665795894e-2f));
+  y = _mm_add_ps(_mm_mul_ps(y, x), _mm_set1_ps(1.6666665459e-1f));
+  y = _mm_add_ps(_mm_mul_ps(y, x), _mm_set1_ps(5.0000001201e-1f));
+  y = _mm_add_ps(_mm_add_ps(_mm_mul_ps(y, _mm_mul_ps(x, x)), x), _mm_set1_ps(1.0f));
+  const __m128i e = _mm_slli_epi32(_mm_add_epi32(_mm_cvttps_epi32(fx), _mm_set1_epi32(127)), 23);
+  return _mm_mul_ps(y, _mm_castsi128_ps(e));
+}
+
+struct BilateralTap {
+  int dx, dy;
+  float w_space;
+};
+
+}  // namespace
+
 void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius, float sigma_space_px,
                           float sigma_depth_m) {
   if (&in == &out) throw std::invalid_argument("bilateralFilterDepth: in and out must differ");
-  out.resize(in.width(), in.height());
-  // OpenCV's bilateral filter (SIMD, exp look-up tables) is ~20x faster than the plain kernel on
-  // the CPU. Invalid pixels (0) differ from valid depth by metres, so their range weight
-  // exp(-dz^2 / 2 sigma^2) underflows to 0 and they do not leak into valid ones; pixels invalid
-  // in the input are reset to 0 (BilateralDepthKernel is the same filter for the CUDA path).
-  const cv::Mat src(in.height(), in.width(), CV_32F, const_cast<float*>(in.data()), in.pitchBytes());
-  cv::Mat dst(out.height(), out.width(), CV_32F, out.data(), out.pitchBytes());
-  cv::bilateralFilter(src, dst, 2 * radius + 1, sigma_depth_m, sigma_space_px, cv::BORDER_REPLICATE);
-  compute::forEach2D(in.width(), in.height(), [&](int x, int y) {
-    if (!(in(x, y) > 0.0f)) out(x, y) = 0.0f;
+  if (radius < 0 || !(sigma_space_px > 0.0f) || !(sigma_depth_m > 0.0f))
+    throw std::invalid_argument("bilateralFilterDepth: radius must be >= 0 and both sigmas > 0");
+  const int w = in.width(), h = in.height();
+  out.resize(w, h);
+  // BilateralDepthKernel's filter (the CUDA path's), four pixels per SSE operation: a circular
+  // window (dx^2 + dy^2 <= radius^2, as OpenCV's bilateralFilter: 13 taps at radius 2), weights
+  // exp(-(dx^2 + dy^2) / 2 sigma_s^2 - dz^2 / 2 sigma_d^2) over the VALID neighbours inside the
+  // image; invalid pixels (depth <= 0 or NaN) stay 0. OpenCV's filter (used before) ran 10-13 ms
+  // per 640x480 frame on TBB threads that competed with the OpenMP team; this one ~2 ms.
+  std::vector<BilateralTap> taps;
+  for (int dy = -radius; dy <= radius; ++dy)
+    for (int dx = -radius; dx <= radius; ++dx)
+      if (dx * dx + dy * dy <= radius * radius)
+        taps.push_back({dx, dy, float(std::exp(-double(dx * dx + dy * dy) /
+                                               (2.0 * double(sigma_space_px) * sigma_space_px)))});
+  const float id2 = float(1.0 / (2.0 * double(sigma_depth_m) * sigma_depth_m));
+  const __m128 v_id2 = _mm_set1_ps(id2), v_zero = _mm_setzero_ps();
+  // One pixel (any position): the same arithmetic on lane 0, taps outside the image skipped.
+  const auto pixel = [&](int x, int y) {
+    const float c = in(x, y);
+    if (!(c > 0.0f)) return 0.0f;
+    const __m128 vc = _mm_set1_ps(c);
+    __m128 sum = v_zero, wsum = v_zero;
+    for (const BilateralTap& t : taps) {
+      const int sx = x + t.dx, sy = y + t.dy;
+      if (sx < 0 || sy < 0 || sx >= w || sy >= h) continue;
+      const __m128 z = _mm_set1_ps(in(sx, sy));
+      const __m128 dz = _mm_sub_ps(z, vc);
+      __m128 wt = _mm_mul_ps(_mm_set1_ps(t.w_space),
+                             expNonPositive(_mm_mul_ps(_mm_mul_ps(dz, dz), _mm_sub_ps(v_zero, v_id2))));
+      wt = _mm_and_ps(wt, _mm_cmpgt_ps(z, v_zero));
+      sum = _mm_add_ps(sum, _mm_mul_ps(wt, z));
+      wsum = _mm_add_ps(wsum, wt);
+    }
+    return _mm_cvtss_f32(_mm_div_ps(sum, wsum));
+  };
+  const int x_lo = std::min(radius, w), x_hi = std::max(x_lo, w - radius);  // interior columns
+  compute::forEach1D(h, [&](int y) {
+    float* o = out.row(y);
+    if (y < radius || y >= h - radius) {
+      for (int x = 0; x < w; ++x) o[x] = pixel(x, y);
+      return;
+    }
+    int x = 0;
+    for (; x < x_lo; ++x) o[x] = pixel(x, y);
+    for (; x + 3 < x_hi; x += 4) {
+      const __m128 vc = _mm_loadu_ps(in.row(y) + x);
+      __m128 sum = v_zero, wsum = v_zero;
+      for (const BilateralTap& t : taps) {
+        const __m128 z = _mm_loadu_ps(in.row(y + t.dy) + x + t.dx);
+        const __m128 dz = _mm_sub_ps(z, vc);
+        __m128 wt = _mm_mul_ps(_mm_set1_ps(t.w_space),
+                               expNonPositive(_mm_mul_ps(_mm_mul_ps(dz, dz), _mm_sub_ps(v_zero, v_id2))));
+        wt = _mm_and_ps(wt, _mm_cmpgt_ps(z, v_zero));
+        sum = _mm_add_ps(sum, _mm_mul_ps(wt, z));
+        wsum = _mm_add_ps(wsum, wt);
+      }
+      // Invalid centres: 0 (their wsum may be 0; the division's NaN is masked away).
+      _mm_storeu_ps(o + x, _mm_and_ps(_mm_div_ps(sum, wsum), _mm_cmpgt_ps(vc, v_zero)));
+    }
+    for (; x < w; ++x) o[x] = pixel(x, y);
   });
 }
 

@@ -2,6 +2,10 @@
 
 #include <stdexcept>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace rasm::io {
 
 PrefetchingFrameSource::PrefetchingFrameSource(std::unique_ptr<FrameSource> inner, int depth)
@@ -23,6 +27,12 @@ PrefetchingFrameSource::~PrefetchingFrameSource() {
 }
 
 void PrefetchingFrameSource::run() {
+#ifdef _OPENMP
+  // The read-ahead runs beside the consumer's OpenMP team on the same cores: a parallel region of
+  // the source (e.g. colour registration) would start a second team that competes with it. One
+  // thread here (a per-thread setting): on 2 cores the mapper's team keeps both.
+  omp_set_num_threads(1);
+#endif
   for (;;) {
     {
       std::unique_lock<std::mutex> lock(m_mutex);

@@ -15,6 +15,7 @@ void TSourceParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   MRPT_LOAD_CONFIG_VAR(frame_step, int, c, s);
   MRPT_LOAD_CONFIG_VAR(groundtruth, string, c, s);
   MRPT_LOAD_CONFIG_VAR(prefetch_frames, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(preload, bool, c, s);
   if (type != "sim" && type != "rawlog" && type != "tum" && type != "7scenes" && type != "auto")
     throwInputError("[" + s + "] type", "'" + type + "' is not one of sim, rawlog, tum, 7scenes, auto");
   if (type != "sim" && path.empty()) throwInputError("[" + s + "] path", "required for type = " + type);
@@ -32,6 +33,7 @@ void TSourceParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(frame_step, c, s);
   MRPT_SAVE_CONFIG_VAR(groundtruth, c, s);
   MRPT_SAVE_CONFIG_VAR(prefetch_frames, c, s);
+  MRPT_SAVE_CONFIG_VAR(preload, c, s);
 }
 
 void TMapperParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {

@@ -103,7 +103,11 @@ struct DepthDownsampleKernel {
   }
 };
 
-/// Edge-preserving bilateral filter of depth (optional preprocessing, as in KinectFusion).
+/// Edge-preserving bilateral filter of depth (optional preprocessing, as in KinectFusion): the
+/// weighted mean of the valid depths of the circular window dx^2 + dy^2 <= radius^2 (13 taps at
+/// radius 2, OpenCV's bilateralFilter window) inside the image, weights exp(-(dx^2 + dy^2) /
+/// 2 sigma_s^2 - dz^2 / 2 sigma_d^2). The CPU launcher (bilateralFilterDepth) computes the same
+/// filter four pixels at a time.
 struct BilateralDepthKernel {
   ImageView<const float> in;
   ImageView<float> out;
@@ -123,7 +127,7 @@ struct BilateralDepthKernel {
     for (int dy = -radius; dy <= radius; ++dy)
       for (int dx = -radius; dx <= radius; ++dx) {
         const int sx = x + dx, sy = y + dy;
-        if (!in.inside(sx, sy)) continue;
+        if (dx * dx + dy * dy > radius * radius || !in.inside(sx, sy)) continue;
         const float z = in(sx, sy);
         if (!(z > 0.0f)) continue;
         const float dz = z - c;

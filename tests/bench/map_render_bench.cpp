@@ -1,0 +1,135 @@
+// Benchmark of the per-frame projections of a saved map (a `rasm run` output) at a pose of its
+// trajectory: the II-C tracking model (splats of the surfels with confidence >= min_conf, vertex
+// and normal maps, as pipeline::Mapper renders it) and fusion's II-D 4x candidate lists, repeated
+// on the same map so that A/B comparisons of the renderer do not depend on a whole run.
+//   bench_map_render --map DIR/map.surfelmap --poses DIR/trajectory.txt [--pose_index -1]
+//                    [--width 640 --height 480 --fx 585 --fy 585 --cx 320 --cy 240]
+//                    [--min_conf 3] [--max_depth 6] [--repeats 20] [--threads 2]
+// Prints one JSON line: {"bench":"map_render",...} with median wall and process-CPU ms per call
+// and the render counts (members tested, surfels drawn).
+#include <omp.h>
+#include <time.h>
+
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "rasm/io/Trajectory.h"
+#include "rasm/surfel_map/CSurfelMap.h"
+#include "rasm/surfel_map/SurfelRenderer.h"
+
+using namespace rasm;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+double cpuMs() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
+}
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string map_path, poses_path;
+  int pose_index = -1, repeats = 20, threads = 2, width = 640, height = 480;
+  double fx = 585, fy = 585, cx = 320, cy = 240, min_conf = 3, max_depth = 6;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string k = argv[i], v = argv[i + 1];
+    if (k == "--map") map_path = v;
+    else if (k == "--poses") poses_path = v;
+    else if (k == "--pose_index") pose_index = std::stoi(v);
+    else if (k == "--repeats") repeats = std::stoi(v);
+    else if (k == "--threads") threads = std::stoi(v);
+    else if (k == "--width") width = std::stoi(v);
+    else if (k == "--height") height = std::stoi(v);
+    else if (k == "--fx") fx = std::stod(v);
+    else if (k == "--fy") fy = std::stod(v);
+    else if (k == "--cx") cx = std::stod(v);
+    else if (k == "--cy") cy = std::stod(v);
+    else if (k == "--min_conf") min_conf = std::stod(v);
+    else if (k == "--max_depth") max_depth = std::stod(v);
+    else {
+      std::fprintf(stderr, "unknown option %s\n", k.c_str());
+      return 2;
+    }
+  }
+  if (map_path.empty() || poses_path.empty()) {
+    std::fprintf(stderr, "--map FILE and --poses FILE are required\n");
+    return 2;
+  }
+  omp_set_num_threads(threads);
+  maps::CSurfelMap map;
+  {
+    mrpt::io::CFileGZInputStream f(map_path);
+    auto a = mrpt::serialization::archiveFrom(f);
+    a >> map;
+  }
+  const io::Trajectory poses = io::readTumTrajectory(poses_path);
+  if (poses.empty()) {
+    std::fprintf(stderr, "%s holds no pose\n", poses_path.c_str());
+    return 2;
+  }
+  const int pi = pose_index < 0 ? int(poses.size()) - 1 : std::min(pose_index, int(poses.size()) - 1);
+  const Eigen::Isometry3d T = poses[pi].T_world_cam;
+  CameraIntrinsics K;
+  K.fx = fx; K.fy = fy; K.cx = cx; K.cy = cy; K.width = width; K.height = height;
+
+  maps::SurfelRenderer renderer;
+  maps::RenderOptions model_opt;  // as pipeline::Mapper
+  model_opt.min_depth_m = 0.3f;
+  model_opt.max_depth_m = float(max_depth);
+  model_opt.stable_only = min_conf <= 0;
+  model_opt.min_confidence = float(min_conf);
+  model_opt.outputs = maps::kRenderVertex | maps::kRenderNormal;
+  maps::RenderOptions cand_opt;  // as SurfelFusion
+  cand_opt.min_depth_m = 0.3f;
+  cand_opt.max_depth_m = 4.0f * 1.01f + 0.03f;
+  cand_opt.splat = false;
+
+  maps::RenderedMaps model;
+  maps::PointCandidates4x cand;
+  maps::RenderStats model_stats, cand_stats;
+  std::vector<double> model_ms, model_cpu, cand_ms, cand_cpu;
+  for (int r = 0; r < repeats + 1; ++r) {
+    auto t0 = Clock::now();
+    double c0 = cpuMs();
+    renderer.render(map.store(), T, K, model_opt, model, &model_stats);
+    if (r > 0) {
+      model_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      model_cpu.push_back(cpuMs() - c0);
+    }
+    t0 = Clock::now();
+    c0 = cpuMs();
+    renderer.renderCandidates4x(map.store(), T, K, cand_opt, cand, &cand_stats);
+    if (r > 0) {
+      cand_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      cand_cpu.push_back(cpuMs() - c0);
+    }
+  }
+  long long below_min_conf = 0;
+  {
+    const maps::SurfelArrays a = map.store().arrays();
+    for (int i = 0; i < map.size(); ++i) below_min_conf += a.pos_conf[i].w() < min_conf ? 1 : 0;
+  }
+  long long model_valid = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) model_valid += model.index(x, y) >= 0 ? 1 : 0;
+  std::printf(
+      "{\"bench\":\"map_render\",\"surfels\":%d,\"pose_index\":%d,\"threads\":%d,"
+      "\"model_ms\":%.3f,\"model_cpu_ms\":%.3f,\"model_tested\":%lld,\"model_drawn\":%lld,"
+      "\"model_valid_pixels\":%lld,\"candidates_ms\":%.3f,\"candidates_cpu_ms\":%.3f,"
+      "\"candidates_in_view\":%lld,\"surfels_below_min_conf\":%lld}\n",
+      map.size(), pi, threads, median(model_ms), median(model_cpu), model_stats.surfels_tested,
+      model_stats.surfels_drawn, model_valid, median(cand_ms), median(cand_cpu),
+      cand_stats.surfels_drawn, below_min_conf);
+  return 0;
+}
