@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "rasm/compute/Device.h"
 #include "rasm/core/FrameProcessing.h"
@@ -284,4 +285,38 @@ TEST(Reduce1D, SameBitsForAnyThreadCount) {
   double exact = 0.0;
   for (int i = 0; i < n; ++i) exact += 1.0 / (1 + i % 977) + (i % 3 == 0 ? 1e3 : 1e-3);
   EXPECT_NEAR(results[0].f, exact, 1e-4 * exact);
+}
+
+TEST(NormalMap, CpuLauncherIsBitIdenticalToTheKernel) {
+  // Noisy depth with holes, a depth step (normals invalid across it) and a width that is not a
+  // multiple of 4 (the SSE path, its scalar row ends and the borders all run).
+  const int w = 83, h = 37;
+  const CameraIntrinsics K(80.0, 80.0, 41.0, 18.0, w, h);
+  Image<float> d(w, h);
+  std::uint32_t s = 777u;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      s = s * 1664525u + 1013904223u;
+      d(x, y) = 1.0f + 0.01f * x - 0.005f * y + (x > 40 ? 0.3f : 0.0f) +
+                (float(s >> 8) / float(1u << 24) - 0.5f) * 0.004f;
+      if ((s >> 4) % 13 == 0) d(x, y) = 0.0f;
+    }
+  Image<Vec3f> v, n, ref(w, h);
+  computeVertexMap(d, K, v);
+  computeNormalMap(v, n, 0.05f);
+  const kernels::NormalMapKernel k{v.cview(), ref.view(), 0.05f};
+  int valid = 0, invalid = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      k(x, y);
+      if (kernels::validVec(ref(x, y))) {
+        ++valid;
+        ASSERT_EQ(0, std::memcmp(n(x, y).data(), ref(x, y).data(), sizeof(Vec3f))) << x << "," << y;
+      } else {
+        ++invalid;
+        ASSERT_FALSE(kernels::validVec(n(x, y))) << x << "," << y;
+      }
+    }
+  EXPECT_GT(valid, 1000);
+  EXPECT_GT(invalid, 500);
 }
