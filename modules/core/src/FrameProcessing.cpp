@@ -112,28 +112,29 @@ void downsampleDepth(const Image<float>& in, Image<float>& out, float max_diff_m
 
 namespace {
 
-/// exp(x) for x <= 0, four lanes (Cephes expf: range reduction by ln 2, degree-5 polynomial,
-/// relative error < 2e-7); x below -87.3 gives ~1e-38, not 0.
-inline __m128 expNonPositive(__m128 x) {
-  x = _mm_max_ps(x, _mm_set1_ps(-87.3f));
-  const __m128 fx = _mm_floor_ps(_mm_add_ps(_mm_mul_ps(x, _mm_set1_ps(1.44269504088896341f)),
-                                            _mm_set1_ps(0.5f)));
-  x = _mm_sub_ps(x, _mm_mul_ps(fx, _mm_set1_ps(0.693359375f)));
-  x = _mm_sub_ps(x, _mm_mul_ps(fx, _mm_set1_ps(-2.12194440e-4f)));
-  __m128 y = _mm_set1_ps(1.9875691500e-4f);
-  y = _mm_add_ps(_mm_mul_ps(y, x), _mm_set1_ps(1.3981999507e-3f));
-  y = _mm_add_ps(_mm_mul_ps(y, x), _mm_set1_ps(8.3334519073e-3f));
-  y = _mm_add_ps(_mm_mul_ps(y, x), _mm_set1_ps(4.1665795894e-2f));
-  y = _mm_add_ps(_mm_mul_ps(y, x), _mm_set1_ps(1.6666665459e-1f));
-  y = _mm_add_ps(_mm_mul_ps(y, x), _mm_set1_ps(5.0000001201e-1f));
-  y = _mm_add_ps(_mm_add_ps(_mm_mul_ps(y, _mm_mul_ps(x, x)), x), _mm_set1_ps(1.0f));
-  const __m128i e = _mm_slli_epi32(_mm_add_epi32(_mm_cvttps_epi32(fx), _mm_set1_epi32(127)), 23);
-  return _mm_mul_ps(y, _mm_castsi128_ps(e));
+/// 2^t for t <= 0, four lanes: t = n + f with n = round(t), f in [-0.5, 0.5], 2^f by its
+/// degree-5 Taylor polynomial (relative error < 3e-6, plenty for filter weights); t below -126
+/// gives 2^-126, not 0.
+inline __m128 exp2NonPositive(__m128 t) {
+  t = _mm_max_ps(t, _mm_set1_ps(-126.0f));
+  const __m128 n = _mm_round_ps(t, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+  const __m128 f = _mm_sub_ps(t, n);
+  __m128 p = _mm_set1_ps(1.5403530e-4f);
+  p = _mm_add_ps(_mm_mul_ps(p, f), _mm_set1_ps(1.3333558e-3f));
+  p = _mm_add_ps(_mm_mul_ps(p, f), _mm_set1_ps(9.6181291e-3f));
+  p = _mm_add_ps(_mm_mul_ps(p, f), _mm_set1_ps(5.5504109e-2f));
+  p = _mm_add_ps(_mm_mul_ps(p, f), _mm_set1_ps(2.4022651e-1f));
+  p = _mm_add_ps(_mm_mul_ps(p, f), _mm_set1_ps(6.9314718e-1f));
+  p = _mm_add_ps(_mm_mul_ps(p, f), _mm_set1_ps(1.0f));
+  const __m128i e = _mm_slli_epi32(_mm_add_epi32(_mm_cvtps_epi32(n), _mm_set1_epi32(127)), 23);
+  return _mm_mul_ps(p, _mm_castsi128_ps(e));
 }
+
+constexpr double kLog2e = 1.4426950408889634;
 
 struct BilateralTap {
   int dx, dy;
-  float w_space;
+  float space_log2;  ///< (dx^2 + dy^2) / (2 sigma_s^2) * log2(e): weight = 2^-(space + range)
 };
 
 }  // namespace
@@ -154,10 +155,15 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
   for (int dy = -radius; dy <= radius; ++dy)
     for (int dx = -radius; dx <= radius; ++dx)
       if (dx * dx + dy * dy <= radius * radius)
-        taps.push_back({dx, dy, float(std::exp(-double(dx * dx + dy * dy) /
-                                               (2.0 * double(sigma_space_px) * sigma_space_px)))});
-  const float id2 = float(1.0 / (2.0 * double(sigma_depth_m) * sigma_depth_m));
-  const __m128 v_id2 = _mm_set1_ps(id2), v_zero = _mm_setzero_ps();
+        taps.push_back({dx, dy, float(double(dx * dx + dy * dy) /
+                                      (2.0 * double(sigma_space_px) * sigma_space_px) * kLog2e)});
+  const float id2_log2 = float(kLog2e / (2.0 * double(sigma_depth_m) * sigma_depth_m));
+  const __m128 v_id2 = _mm_set1_ps(id2_log2), v_zero = _mm_setzero_ps();
+  // w = exp(-s - dz^2 / 2 sigma_d^2) = 2^-(s log2 e + dz^2 log2 e / 2 sigma_d^2)
+  const auto weight = [&](const BilateralTap& t, __m128 dz) {
+    return exp2NonPositive(
+        _mm_sub_ps(_mm_set1_ps(-t.space_log2), _mm_mul_ps(_mm_mul_ps(dz, dz), v_id2)));
+  };
   // One pixel (any position): the same arithmetic on lane 0, taps outside the image skipped.
   const auto pixel = [&](int x, int y) {
     const float c = in(x, y);
@@ -168,9 +174,7 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
       const int sx = x + t.dx, sy = y + t.dy;
       if (sx < 0 || sy < 0 || sx >= w || sy >= h) continue;
       const __m128 z = _mm_set1_ps(in(sx, sy));
-      const __m128 dz = _mm_sub_ps(z, vc);
-      __m128 wt = _mm_mul_ps(_mm_set1_ps(t.w_space),
-                             expNonPositive(_mm_mul_ps(_mm_mul_ps(dz, dz), _mm_sub_ps(v_zero, v_id2))));
+      __m128 wt = weight(t, _mm_sub_ps(z, vc));
       wt = _mm_and_ps(wt, _mm_cmpgt_ps(z, v_zero));
       sum = _mm_add_ps(sum, _mm_mul_ps(wt, z));
       wsum = _mm_add_ps(wsum, wt);
@@ -191,9 +195,7 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
       __m128 sum = v_zero, wsum = v_zero;
       for (const BilateralTap& t : taps) {
         const __m128 z = _mm_loadu_ps(in.row(y + t.dy) + x + t.dx);
-        const __m128 dz = _mm_sub_ps(z, vc);
-        __m128 wt = _mm_mul_ps(_mm_set1_ps(t.w_space),
-                               expNonPositive(_mm_mul_ps(_mm_mul_ps(dz, dz), _mm_sub_ps(v_zero, v_id2))));
+        __m128 wt = weight(t, _mm_sub_ps(z, vc));
         wt = _mm_and_ps(wt, _mm_cmpgt_ps(z, v_zero));
         sum = _mm_add_ps(sum, _mm_mul_ps(wt, z));
         wsum = _mm_add_ps(wsum, wt);
