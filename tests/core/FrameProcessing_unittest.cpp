@@ -320,3 +320,16 @@ TEST(NormalMap, CpuLauncherIsBitIdenticalToTheKernel) {
   EXPECT_GT(valid, 1000);
   EXPECT_GT(invalid, 500);
 }
+
+TEST(RoundHalfAway, EqualsLround) {
+  const float edge = std::nextafter(0.5f, 0.0f);  // 0.49999997: x + 0.5 would round up to 1
+  for (float x : {0.0f, -0.0f, 0.5f, -0.5f, 1.5f, -1.5f, 2.5f, -2.5f, edge, -edge, 0.7f, -0.7f,
+                  319.49998f, 639.5f, -3.2f, 1e6f + 0.5f})
+    EXPECT_EQ(compute::roundHalfAway(x), int(std::lround(x))) << x;
+  std::uint32_t s = 99u;
+  for (int k = 0; k < 100000; ++k) {
+    s = s * 1664525u + 1013904223u;
+    const float x = (float(s >> 8) / float(1u << 24) - 0.5f) * 2000.0f;
+    ASSERT_EQ(compute::roundHalfAway(x), int(std::lround(x))) << x;
+  }
+}

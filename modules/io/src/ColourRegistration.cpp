@@ -31,7 +31,7 @@ void registerColourToDepthFilled(const Image<float>& depth_m, const CameraIntrin
       const Eigen::Vector3f pc = R * Kd.backProject(float(x), float(y), z_fill) + t;
       if (pc.z() <= 0.0f) continue;
       const Eigen::Vector2f uv = Kc.project(pc);
-      const int u = int(std::lround(uv.x())), v = int(std::lround(uv.y()));
+      const int u = compute::roundHalfAway(uv.x()), v = compute::roundHalfAway(uv.y());
       if (u >= 0 && v >= 0 && u < colour.width() && v < colour.height()) out(x, y) = colour(u, v);
     }
 }
