@@ -366,3 +366,18 @@ TEST(PreloadedFrameSource, StopsAtTheLimitAndRethrowsTheInnerErrorAfterTheGoodFr
   EXPECT_NE(msg.find("frame 2"), std::string::npos) << msg;
   EXPECT_FALSE(src.next().has_value());
 }
+
+TEST(PreloadedFrameSource, StopsWithAClearErrorOverItsMemoryLimit) {
+  const std::string path = std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
+  // 320x240 frames hold 320 * 240 * (4 + 3) bytes = 525 KiB of depth and colour: 1 MiB is
+  // exceeded by the second frame.
+  const std::string msg = errorOf([&] {
+    PreloadedFrameSource src(std::make_unique<RawlogFrameSource>(path), 0, {}, std::size_t(1) << 20);
+  });
+  EXPECT_NE(msg.find(path), std::string::npos) << msg;
+  EXPECT_NE(msg.find("the first 2 frames"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("limit of 1 MiB"), std::string::npos) << msg;
+  PreloadedFrameSource fits(std::make_unique<RawlogFrameSource>(path), 1, {}, std::size_t(1) << 20);
+  EXPECT_EQ(fits.loaded(), 1);
+  EXPECT_GE(fits.bytes(), std::size_t(320 * 240 * 7));
+}

@@ -201,8 +201,9 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
     if (m_source.max_frames > 0)
       limit = m_source.start_frame + (long long)m_source.max_frames * m_source.frame_step;
     Progress reading("frames read", limit > 0 ? limit : source->sizeHint());
-    source = std::make_unique<io::PreloadedFrameSource>(std::move(source), limit,
-                                                        [&](long long n) { reading.update(n); });
+    source = std::make_unique<io::PreloadedFrameSource>(
+        std::move(source), limit, [&](long long n) { reading.update(n); },
+        std::size_t(m_source.preload_max_mib) << 20);
     reading.finish(source->sizeHint(), "in memory");
     preload_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     t_start = std::chrono::steady_clock::now();

@@ -16,6 +16,7 @@ void TSourceParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   MRPT_LOAD_CONFIG_VAR(groundtruth, string, c, s);
   MRPT_LOAD_CONFIG_VAR(prefetch_frames, int, c, s);
   MRPT_LOAD_CONFIG_VAR(preload, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(preload_max_mib, int, c, s);
   if (type != "sim" && type != "rawlog" && type != "tum" && type != "7scenes" && type != "auto")
     throwInputError("[" + s + "] type", "'" + type + "' is not one of sim, rawlog, tum, 7scenes, auto");
   if (type != "sim" && path.empty()) throwInputError("[" + s + "] path", "required for type = " + type);
@@ -23,6 +24,7 @@ void TSourceParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   requireInRange(start_frame, 0, 1e9, s, "start_frame");
   requireInRange(frame_step, 1, 1e6, s, "frame_step");
   requireInRange(prefetch_frames, 0, 64, s, "prefetch_frames");
+  requireInRange(preload_max_mib, 1, 1 << 20, s, "preload_max_mib");
 }
 
 void TSourceParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -34,6 +36,7 @@ void TSourceParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(groundtruth, c, s);
   MRPT_SAVE_CONFIG_VAR(prefetch_frames, c, s);
   MRPT_SAVE_CONFIG_VAR(preload, c, s);
+  MRPT_SAVE_CONFIG_VAR(preload_max_mib, c, s);
 }
 
 void TMapperParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {

@@ -18,9 +18,13 @@ namespace rasm::io {
 class PreloadedFrameSource : public FrameSource {
  public:
   /// Reads at most `max_frames` frames of `inner` (0 = all) at once; `on_frame(n)` is called
-  /// after each (progress).
+  /// after each (progress). Throws InputError once the decoded frames exceed `max_bytes`
+  /// (0 = no limit), naming the source, the frame count and the limit.
   PreloadedFrameSource(std::unique_ptr<FrameSource> inner, long long max_frames = 0,
-                       const std::function<void(long long)>& on_frame = {});
+                       const std::function<void(long long)>& on_frame = {},
+                       std::size_t max_bytes = 0);
+  /// Bytes of image data held (depth, colour, ground-truth label images).
+  std::size_t bytes() const { return m_bytes; }
 
   std::optional<RgbdFrame> next() override;
   long long sizeHint() const override { return m_size_hint; }
@@ -32,6 +36,7 @@ class PreloadedFrameSource : public FrameSource {
   std::deque<RgbdFrame> m_frames;
   std::exception_ptr m_error;  ///< what stopped the preload early, rethrown after the frames
   long long m_size_hint = -1, m_loaded = 0;
+  std::size_t m_bytes = 0;
   std::string m_describe;
 };
 

@@ -27,6 +27,8 @@ struct TSourceParams : mrpt::config::CLoadableOptions {
   /// frames/s then measures the mapping, not the decoding of the dataset's image files).
   /// ~2.2 MB per 640x480 frame. Replaces the read-ahead thread.
   bool preload = false;
+  /// Upper bound of the preloaded frames' memory (MiB): a run over it stops before mapping.
+  int preload_max_mib = 4096;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
