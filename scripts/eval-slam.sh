@@ -2,8 +2,9 @@
 # Reproduces the tracking accuracy and speed numbers of the surfel SLAM core (issue: Surfel SLAM
 # core; results and analysis in docs/slam-eval.md): ATE RMSE with `rasm eval ate` (SE(3) and
 # Sim(3) alignment), RPE over 1 s, frames/s, per-stage ms and peak memory on the real sequences
-# in ../shared/data and on the 60 s simulated hand-held office sequence. Prints one line per
-# sequence and writes $OUT/summary.json (one object per sequence).
+# in ../shared/data and on the 60 s simulated hand-held office sequence, and for the real ones
+# also the frame rate of the mapping alone (frames decoded before the clock starts: rasm bench
+# --preload). Prints one line per sequence and writes $OUT/summary.json (one object per line).
 #   scripts/eval-slam.sh [--quick]      (--quick: real sequences only)
 # Frame rates depend on the machine and on what else runs on it; ATE does not.
 set -euo pipefail
@@ -52,6 +53,27 @@ print(f"{name:28s} frames {row['frames']:5d} lost {row['frames_lost']:3d}  ATE {
 PY
 }
 
+bench_seq() {  # name ini [overrides...]: frame rate of the mapping alone (frames decoded first)
+  local name=$1 ini=$2; shift 2
+  local args=()
+  for o in "$@"; do args+=(--set "$o"); done
+  echo "benchmarking $name (rasm bench --preload) ..." >&2
+  "$RASM" bench "$ini" --preload "${args[@]}" 2> "$OUT/$name.bench.log" > "$OUT/$name.bench.json" || { echo "$name: bench failed (see $OUT/$name.bench.log)"; return; }
+  python3 - "$OUT/$name.bench.json" "$name" "$OUT/summary.jsonl" <<'PY'
+import json, sys
+f, name, summary = sys.argv[1:4]
+rep = json.load(open(f))
+st = {k: round(v["mean_ms"], 2) for k, v in rep["stages"].items()}
+row = {"sequence": name, "bench": "mapping, frames preloaded", "frames": rep["frames"],
+       "fps": rep["fps"], "cpu_ms_per_frame": rep.get("cpu_ms_per_frame"), "stage_mean_ms": st}
+open(summary, "a").write(json.dumps(row) + "\n")
+print(f"{name:28s} mapping alone (preloaded): {row['fps']:.2f} frames/s ({row['cpu_ms_per_frame'] or 0:.0f} CPU ms/frame)  " +
+      " ".join(f"{k} {v:.1f}" for k, v in st.items() if k != "total") + " ms")
+PY
+}
+
+if [[ -d "$DATA/tum/fr1_xyz_first37" ]]; then bench_seq tum_fr1_xyz_first37 ini/tum_fr1_xyz.ini "source.path=$DATA/tum/fr1_xyz_first37"; fi
+if [[ -d "$DATA/7scenes/redkitchen_first300" ]]; then bench_seq 7scenes_redkitchen_first300 ini/7scenes_redkitchen.ini "source.path=$DATA/7scenes/redkitchen_first300"; fi
 if [[ -d "$DATA/tum/fr1_xyz_first37" ]]; then run_seq tum_fr1_xyz_first37 ini/tum_fr1_xyz.ini "source.path=$DATA/tum/fr1_xyz_first37"; else echo "skipped TUM fr1_xyz_first37: $DATA/tum/fr1_xyz_first37 absent"; fi
 if [[ -d "$DATA/7scenes/redkitchen_first300" ]]; then run_seq 7scenes_redkitchen_first300 ini/7scenes_redkitchen.ini "source.path=$DATA/7scenes/redkitchen_first300"; else echo "skipped 7-Scenes redkitchen_first300: absent"; fi
 if [[ "${1:-}" != "--quick" ]]; then
