@@ -22,6 +22,7 @@
 #include "rasm/io/Trajectory.h"
 #include "rasm/surfel_map/CSurfelMap.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
+#include "rasm/surfel_map/kernels/RenderKernels.h"
 
 using namespace rasm;
 using Clock = std::chrono::steady_clock;
@@ -120,6 +121,27 @@ int main(int argc, char** argv) {
     const maps::SurfelArrays a = map.store().arrays();
     for (int i = 0; i < map.size(); ++i) below_min_conf += a.pos_conf[i].w() < min_conf ? 1 : 0;
   }
+  // Footprint sizes of the model's splats (bounding boxes in pixels, 3 = 3 or more).
+  long long fp[4][4] = {};
+  {
+    Image<std::uint64_t> scratch(width, height);
+    const maps::kernels::SplatKernel k{map.store().arrays(), nullptr,
+                                       RigidF::fromMatrix(T.inverse().matrix().cast<float>()),
+                                       K.plain(), model_opt.min_depth_m, model_opt.max_depth_m,
+                                       model_opt.max_splat_radius_px, scratch.view()};
+    const maps::SurfelArrays a = map.store().arrays();
+    for (int i = 0; i < map.size(); ++i) {
+      if (a.pos_conf[i].w() < model_opt.min_confidence) continue;
+      const Vec3f pc = k.T_cam_world.apply(a.position(i));
+      if (!(pc.z() > 0.0f)) continue;
+      const float u = k.K.fx * pc.x() / pc.z() + k.K.cx, v = k.K.fy * pc.y() / pc.z() + k.K.cy;
+      const float m = model_opt.max_splat_radius_px;
+      if (u < -0.5f - m || v < -0.5f - m || u > width - 0.5f + m || v > height - 0.5f + m) continue;
+      maps::kernels::SplatFootprint f;
+      if (!k.footprintAt(i, pc, u, v, f)) continue;
+      ++fp[std::min(f.x1 - f.x0 + 1, 3)][std::min(f.y1 - f.y0 + 1, 3)];
+    }
+  }
   long long model_valid = 0;
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) model_valid += model.index(x, y) >= 0 ? 1 : 0;
@@ -127,9 +149,12 @@ int main(int argc, char** argv) {
       "{\"bench\":\"map_render\",\"surfels\":%d,\"pose_index\":%d,\"threads\":%d,"
       "\"model_ms\":%.3f,\"model_cpu_ms\":%.3f,\"model_tested\":%lld,\"model_drawn\":%lld,"
       "\"model_valid_pixels\":%lld,\"candidates_ms\":%.3f,\"candidates_cpu_ms\":%.3f,"
-      "\"candidates_in_view\":%lld,\"surfels_below_min_conf\":%lld}\n",
+      "\"candidates_in_view\":%lld,\"surfels_below_min_conf\":%lld,"
+      "\"footprints_1x1\":%lld,\"footprints_2x1\":%lld,\"footprints_1x2\":%lld,"
+      "\"footprints_2x2\":%lld,\"footprints_larger\":%lld}\n",
       map.size(), pi, threads, median(model_ms), median(model_cpu), model_stats.surfels_tested,
       model_stats.surfels_drawn, model_valid, median(cand_ms), median(cand_cpu),
-      cand_stats.surfels_drawn, below_min_conf);
+      cand_stats.surfels_drawn, below_min_conf, fp[1][1], fp[2][1], fp[1][2], fp[2][2],
+      fp[3][1] + fp[3][2] + fp[3][3] + fp[1][3] + fp[2][3]);
   return 0;
 }
