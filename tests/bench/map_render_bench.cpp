@@ -145,16 +145,28 @@ int main(int argc, char** argv) {
   long long model_valid = 0;
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) model_valid += model.index(x, y) >= 0 ? 1 : 0;
+  // FNV-1a of the model's index, vertex and normal maps: equal hashes = bit-identical renders
+  // (for A/B of renderer changes that must not change the output).
+  std::uint64_t hash = 1469598103934665603ull;
+  const auto mix = [&](const void* p, std::size_t n) {
+    const unsigned char* b = static_cast<const unsigned char*>(p);
+    for (std::size_t k = 0; k < n; ++k) hash = (hash ^ b[k]) * 1099511628211ull;
+  };
+  for (int y = 0; y < height; ++y) {
+    mix(model.index.row(y), sizeof(std::int32_t) * width);
+    mix(model.vertex_world.row(y), sizeof(Vec3f) * width);
+    mix(model.normal_world.row(y), sizeof(Vec3f) * width);
+  }
   std::printf(
       "{\"bench\":\"map_render\",\"surfels\":%d,\"pose_index\":%d,\"threads\":%d,"
       "\"model_ms\":%.3f,\"model_cpu_ms\":%.3f,\"model_tested\":%lld,\"model_drawn\":%lld,"
       "\"model_valid_pixels\":%lld,\"candidates_ms\":%.3f,\"candidates_cpu_ms\":%.3f,"
       "\"candidates_in_view\":%lld,\"surfels_below_min_conf\":%lld,"
       "\"footprints_1x1\":%lld,\"footprints_2x1\":%lld,\"footprints_1x2\":%lld,"
-      "\"footprints_2x2\":%lld,\"footprints_larger\":%lld}\n",
+      "\"footprints_2x2\":%lld,\"footprints_larger\":%lld,\"model_hash\":\"%016llx\"}\n",
       map.size(), pi, threads, median(model_ms), median(model_cpu), model_stats.surfels_tested,
       model_stats.surfels_drawn, model_valid, median(cand_ms), median(cand_cpu),
       cand_stats.surfels_drawn, below_min_conf, fp[1][1], fp[2][1], fp[1][2], fp[2][2],
-      fp[3][1] + fp[3][2] + fp[3][3] + fp[1][3] + fp[2][3]);
+      fp[3][1] + fp[3][2] + fp[3][3] + fp[1][3] + fp[2][3], (unsigned long long)hash);
   return 0;
 }

@@ -123,16 +123,27 @@ void SurfelRenderer::cull(const SurfelStore& map, const Eigen::Isometry3d& T_wor
 
 namespace {
 
-/// Calls f(i, pc, u, v) for every member i of a culled block that passes the render filters
+/// forVisibleMembers calls f(i, pc, u, v) (forVisibleMemberGroups g(MemberGroup), four at a
+/// time) for every member i of a culled block that passes the render filters
 /// (VisibilityTest: attributes, then the geometric test unless the block lies inside the
 /// frustum), with its camera-frame centre pc and its projection (u, v). The spatial index holds
 /// live surfels only, so the flags are read only when an attribute filter is on. Member order is
 /// not memory order: the arrays of the members kAhead places on are prefetched (the flags twice
 /// as far ahead, so that with stable_only the geometry of unstable surfels is not fetched).
 /// `members`, `n`: the block's member list, or its stable prefix (membersToVisit).
-template <typename F>
-inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribute_filters,
-                              bool inside, bool want_normals, const int* members, int n, F&& f) {
+/// Four surfels of a render's visible members, after the filters: lanes set in `mask` passed,
+/// `idx[0..3]` their indices (unused lanes repeat a passing one), centres and projections.
+struct MemberGroup {
+  const int* idx;
+  int mask;
+  __m128 x, y, z, u, v;
+};
+
+/// forVisibleMembers, handing on four surfels at a time (MemberGroup).
+template <typename G>
+inline void forVisibleMemberGroups(const kernels::VisibilityTest& test, bool attribute_filters,
+                                   bool inside, bool want_normals, const int* members, int n,
+                                   G&& g) {
   constexpr int kAhead = 12, kChunk = 64;
   const SurfelArrays& a = test.s;
   const PinholeF& K = test.K;
@@ -149,7 +160,6 @@ inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribut
   const __m128 wmin = _mm_set1_ps(test.min_confidence);
   const int* m = members;
   int buf[kChunk + 4];
-  alignas(16) float px[4], py[4], pz[4], pu[4], pv[4];
   for (int k0 = 0; k0 < n; k0 += kChunk) {
     // Attribute filters (scalar), prefetching the members ahead.
     const int k1 = std::min(n, k0 + kChunk);
@@ -196,20 +206,131 @@ inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribut
             _mm_and_ps(_mm_cmpge_ps(v4, vlo), _mm_cmple_ps(v4, vhi)));
         ok = _mm_and_ps(ok, in);
       }
-      int mask = _mm_movemask_ps(ok) & ((1 << nl) - 1);
+      const int mask = _mm_movemask_ps(ok) & ((1 << nl) - 1);
       if (!mask) continue;
-      _mm_store_ps(px, cx4);
-      _mm_store_ps(py, cy4);
-      _mm_store_ps(pz, cz4);
-      _mm_store_ps(pu, u4);
-      _mm_store_ps(pv, v4);
-      while (mask) {
-        const int l = __builtin_ctz(unsigned(mask));
-        mask &= mask - 1;
-        f(buf[q + l], Vec3f(px[l], py[l], pz[l]), pu[l], pv[l]);
-      }
+      g(MemberGroup{buf + q, mask, cx4, cy4, cz4, u4, v4});
     }
   }
+}
+
+template <typename F>
+inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribute_filters,
+                              bool inside, bool want_normals, const int* members, int n, F&& f) {
+  forVisibleMemberGroups(test, attribute_filters, inside, want_normals, members, n,
+                         [&](const MemberGroup& grp) {
+                           alignas(16) float px[4], py[4], pz[4], pu[4], pv[4];
+                           _mm_store_ps(px, grp.x);
+                           _mm_store_ps(py, grp.y);
+                           _mm_store_ps(pz, grp.z);
+                           _mm_store_ps(pu, grp.u);
+                           _mm_store_ps(pv, grp.v);
+                           for (int mask = grp.mask; mask; mask &= mask - 1) {
+                             const int l = __builtin_ctz(unsigned(mask));
+                             f(grp.idx[l], Vec3f(px[l], py[l], pz[l]), pu[l], pv[l]);
+                           }
+                         });
+}
+
+/// SplatKernel::footprintAt of the four surfels of a group, four lanes per SSE operation: the
+/// same float operations in the same order per lane (minF / maxF are minps / maxps, ceilf /
+/// floorf are roundps), so the footprints are bit-identical. Returns the mask of the lanes whose
+/// footprint is drawn (footprintAt true), written to out[lane].
+inline int footprints4(const kernels::SplatKernel& k, const MemberGroup& g,
+                       kernels::SplatFootprint out[4]) {
+  const SurfelArrays& a = k.s;
+  __m128 nx = _mm_load_ps(a.normal_radius[g.idx[0]].data());
+  __m128 ny = _mm_load_ps(a.normal_radius[g.idx[1]].data());
+  __m128 nz = _mm_load_ps(a.normal_radius[g.idx[2]].data());
+  __m128 r = _mm_load_ps(a.normal_radius[g.idx[3]].data());
+  _MM_TRANSPOSE4_PS(nx, ny, nz, r);  // world normal x, y, z and radius per lane
+  const float* T = k.T_cam_world.m;
+  const auto row = [&](int i) {
+    return _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(T[i]), nx), _mm_mul_ps(_mm_set1_ps(T[i + 1]), ny)),
+                      _mm_mul_ps(_mm_set1_ps(T[i + 2]), nz));
+  };
+  const __m128 ncx = row(0), ncy = row(4), ncz = row(8);
+  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+  const __m128 z = g.z;
+  const __m128 depth_ok = _mm_and_ps(_mm_cmpge_ps(z, _mm_set1_ps(k.min_depth_m)),
+                                     _mm_cmple_ps(z, _mm_set1_ps(k.max_depth_m)));
+  const auto extent = [&](__m128 c) {
+    return _mm_mul_ps(r, _mm_sqrt_ps(_mm_max_ps(zero, _mm_sub_ps(one, _mm_mul_ps(c, c)))));
+  };
+  const __m128 ex = extent(ncx), ey = extent(ncy), ez = extent(ncz);
+  const __m128 maxr = _mm_set1_ps(k.max_radius_px);
+  __m128 u_lo = _mm_sub_ps(g.u, maxr), u_hi = _mm_add_ps(g.u, maxr);
+  __m128 v_lo = _mm_sub_ps(g.v, maxr), v_hi = _mm_add_ps(g.v, maxr);
+  const __m128 z0 = _mm_sub_ps(z, ez), z1 = _mm_add_ps(z, ez);
+  const __m128 near_ok = _mm_cmpgt_ps(z0, _mm_set1_ps(1e-3f));
+  if (_mm_movemask_ps(near_ok)) {
+    const __m128 iz0 = _mm_div_ps(one, z0), iz1 = _mm_div_ps(one, z1);
+    const __m128 x0 = _mm_sub_ps(g.x, ex), x1 = _mm_add_ps(g.x, ex);
+    const __m128 y0 = _mm_sub_ps(g.y, ey), y1 = _mm_add_ps(g.y, ey);
+    const __m128 ax = _mm_min_ps(_mm_min_ps(_mm_mul_ps(x0, iz0), _mm_mul_ps(x0, iz1)),
+                                 _mm_min_ps(_mm_mul_ps(x1, iz0), _mm_mul_ps(x1, iz1)));
+    const __m128 bx = _mm_max_ps(_mm_max_ps(_mm_mul_ps(x0, iz0), _mm_mul_ps(x0, iz1)),
+                                 _mm_max_ps(_mm_mul_ps(x1, iz0), _mm_mul_ps(x1, iz1)));
+    const __m128 ay = _mm_min_ps(_mm_min_ps(_mm_mul_ps(y0, iz0), _mm_mul_ps(y0, iz1)),
+                                 _mm_min_ps(_mm_mul_ps(y1, iz0), _mm_mul_ps(y1, iz1)));
+    const __m128 by = _mm_max_ps(_mm_max_ps(_mm_mul_ps(y0, iz0), _mm_mul_ps(y0, iz1)),
+                                 _mm_max_ps(_mm_mul_ps(y1, iz0), _mm_mul_ps(y1, iz1)));
+    const __m128 fx = _mm_set1_ps(k.K.fx), fy = _mm_set1_ps(k.K.fy);
+    const __m128 cx = _mm_set1_ps(k.K.cx), cy = _mm_set1_ps(k.K.cy);
+    const __m128 ua = _mm_add_ps(_mm_mul_ps(fx, ax), cx), ub = _mm_add_ps(_mm_mul_ps(fx, bx), cx);
+    const __m128 va = _mm_add_ps(_mm_mul_ps(fy, ay), cy), vb = _mm_add_ps(_mm_mul_ps(fy, by), cy);
+    const auto sel = [&](__m128 yes, __m128 no) {
+      return _mm_or_ps(_mm_and_ps(near_ok, yes), _mm_andnot_ps(near_ok, no));
+    };
+    u_lo = sel(_mm_max_ps(u_lo, _mm_min_ps(ua, ub)), u_lo);
+    u_hi = sel(_mm_min_ps(u_hi, _mm_max_ps(ua, ub)), u_hi);
+    v_lo = sel(_mm_max_ps(v_lo, _mm_min_ps(va, vb)), v_lo);
+    v_hi = sel(_mm_min_ps(v_hi, _mm_max_ps(va, vb)), v_hi);
+  }
+  const __m128 half = _mm_set1_ps(0.5f);
+  const __m128i uc = _mm_cvttps_epi32(_mm_floor_ps(_mm_add_ps(g.u, half)));
+  const __m128i vc = _mm_cvttps_epi32(_mm_floor_ps(_mm_add_ps(g.v, half)));
+  __m128i x0 = _mm_min_epi32(_mm_cvttps_epi32(_mm_ceil_ps(u_lo)), uc);
+  __m128i x1 = _mm_max_epi32(_mm_cvttps_epi32(_mm_floor_ps(u_hi)), uc);
+  __m128i y0 = _mm_min_epi32(_mm_cvttps_epi32(_mm_ceil_ps(v_lo)), vc);
+  __m128i y1 = _mm_max_epi32(_mm_cvttps_epi32(_mm_floor_ps(v_hi)), vc);
+  x0 = _mm_max_epi32(x0, _mm_setzero_si128());
+  y0 = _mm_max_epi32(y0, _mm_setzero_si128());
+  x1 = _mm_min_epi32(x1, _mm_set1_epi32(k.packed.width - 1));
+  y1 = _mm_min_epi32(y1, _mm_set1_epi32(k.packed.height - 1));
+  const __m128i box_ok = _mm_andnot_si128(
+      _mm_or_si128(_mm_cmpgt_epi32(x0, x1), _mm_cmpgt_epi32(y0, y1)), _mm_set1_epi32(-1));
+  int mask = g.mask & _mm_movemask_ps(_mm_and_ps(depth_ok, _mm_castsi128_ps(box_ok)));
+  if (!mask) return 0;
+  alignas(16) float PX[4], PY[4], PZ[4], NX[4], NY[4], NZ[4], R[4];
+  alignas(16) int X0[4], X1[4], Y0[4], Y1[4], UC[4], VC[4];
+  _mm_store_ps(PX, g.x);
+  _mm_store_ps(PY, g.y);
+  _mm_store_ps(PZ, z);
+  _mm_store_ps(NX, ncx);
+  _mm_store_ps(NY, ncy);
+  _mm_store_ps(NZ, ncz);
+  _mm_store_ps(R, r);
+  _mm_store_si128(reinterpret_cast<__m128i*>(X0), x0);
+  _mm_store_si128(reinterpret_cast<__m128i*>(X1), x1);
+  _mm_store_si128(reinterpret_cast<__m128i*>(Y0), y0);
+  _mm_store_si128(reinterpret_cast<__m128i*>(Y1), y1);
+  _mm_store_si128(reinterpret_cast<__m128i*>(UC), uc);
+  _mm_store_si128(reinterpret_cast<__m128i*>(VC), vc);
+  for (int m = mask; m; m &= m - 1) {
+    const int l = __builtin_ctz(unsigned(m));
+    kernels::SplatFootprint& f = out[l];
+    f.pc = Vec3f(PX[l], PY[l], PZ[l]);
+    f.nc = Vec3f(NX[l], NY[l], NZ[l]);
+    f.r = R[l];
+    f.i = g.idx[l];
+    f.uc = UC[l];
+    f.vc = VC[l];
+    f.x0 = X0[l];
+    f.x1 = X1[l];
+    f.y0 = Y0[l];
+    f.y1 = Y1[l];
+  }
+  return mask;
 }
 
 /// The members of block b a render visits: with stable_only only the block's stable prefix
@@ -448,14 +569,16 @@ void SurfelRenderer::splatCpu(const SurfelStore& map, const Eigen::Isometry3d& T
     for (int j = 0; j < nb; ++j) {
       const int n = membersToVisit(index, c.blocks[j], c.test);
       tested += n;
-      forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, true, index.members(c.blocks[j]).data(), n,
-                        [&](int i, const Vec3f& pc, float u, float v) {
-                          ++drawn;
-                          kernels::SplatFootprint f;
-                          if (!k.footprintAt(i, pc, u, v, f)) return;
-                          for (int b = band_of_row[f.y0]; b <= band_of_row[f.y1]; ++b)
-                            mine[b].push_back(f);
-                        });
+      forVisibleMemberGroups(c.test, c.attribute_filters, c.inside[j] != 0, true,
+                             index.members(c.blocks[j]).data(), n, [&](const MemberGroup& g) {
+                               drawn += __builtin_popcount(unsigned(g.mask));
+                               kernels::SplatFootprint fp[4];
+                               for (int m = footprints4(k, g, fp); m; m &= m - 1) {
+                                 const kernels::SplatFootprint& f = fp[__builtin_ctz(unsigned(m))];
+                                 for (int b = band_of_row[f.y0]; b <= band_of_row[f.y1]; ++b)
+                                   mine[b].push_back(f);
+                               }
+                             });
     }
     const int tn = teamSize();
 #pragma omp for schedule(dynamic, 1)
