@@ -11,7 +11,8 @@
 //      ray/disc intersection. The depth test is a 64-bit atomic min of (depth bits << 32 | index):
 //      race-free on CUDA and deterministic (ties go to the lower index). The CPU launcher gets the
 //      same result without atomics: one parallel pass over the visited blocks' members projects
-//      them (SSE, four at a time) and bins their footprints by row band, then each thread
+//      them and computes their footprints (SSE, four surfels at a time, the kernel's float
+//      operations per lane) and bins the footprints by row band, then each thread
 //      depth-tests whole bands with plain min writes, four pixels per SSE operation (a locked
 //      compare-exchange per pixel serialised the memory accesses). Either way the result does
 //      not depend on thread count or scheduling;
