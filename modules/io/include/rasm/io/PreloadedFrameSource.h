@@ -4,7 +4,9 @@
 // delivers decoded frames, not the PNG/JPEG decoding of a dataset on the same cores (on 7-Scenes
 // the reader costs ~20 CPU ms per frame, a tenth of a 2-core frame budget). Memory: the decoded
 // frames, ~2.2 MB each at 640x480 (float depth + BGR colour). An exception of the inner source is
-// rethrown by next() after the frames read before it. `rasm run`: [source] preload (false).
+// rethrown by next() after the frames read before it. Like PrefetchingFrameSource, only for
+// sources whose frames do not depend on what the consumer does (recorded data, open-loop
+// simulated trajectories). `rasm run`: [source] preload (false).
 
 #include <deque>
 #include <exception>
