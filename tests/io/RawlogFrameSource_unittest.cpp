@@ -301,17 +301,25 @@ TEST(PrefetchingFrameSource, GivesTheInnerSourcesFramesInOrder) {
   EXPECT_FALSE(ahead.next().has_value());  // stays at the end
 }
 
-TEST(PrefetchingFrameSource, RethrowsTheInnerErrorAfterTheGoodFrames) {
-  ScratchDir dir("prefetch_trunc");
-  const std::string full = dir / "full.rawlog", cut = dir / "cut.rawlog";
-  writeCutRawlog(full, cut);
-  PrefetchingFrameSource src(std::make_unique<RawlogFrameSource>(cut), 4);
+namespace {
+/// What a wrapper of a RawlogFrameSource over writeCutRawlog's file `cut` must give: its two good
+/// frames, then the inner error (naming the file and frame 2), then the end.
+void expectTwoFramesThenTheCutError(FrameSource& src, const std::string& cut) {
   EXPECT_TRUE(src.next().has_value());
   EXPECT_TRUE(src.next().has_value());
   const std::string msg = errorOf([&] { src.next(); });
   EXPECT_NE(msg.find(cut), std::string::npos) << msg;
   EXPECT_NE(msg.find("frame 2"), std::string::npos) << msg;
   EXPECT_FALSE(src.next().has_value());
+}
+}  // namespace
+
+TEST(PrefetchingFrameSource, RethrowsTheInnerErrorAfterTheGoodFrames) {
+  ScratchDir dir("prefetch_trunc");
+  const std::string full = dir / "full.rawlog", cut = dir / "cut.rawlog";
+  writeCutRawlog(full, cut);
+  PrefetchingFrameSource src(std::make_unique<RawlogFrameSource>(cut), 4);
+  expectTwoFramesThenTheCutError(src, cut);
 }
 
 TEST(PrefetchingFrameSource, StopsWhenDestroyedMidStream) {
@@ -359,12 +367,7 @@ TEST(PreloadedFrameSource, StopsAtTheLimitAndRethrowsTheInnerErrorAfterTheGoodFr
   writeCutRawlog(full, cut);
   PreloadedFrameSource src(std::make_unique<RawlogFrameSource>(cut));
   EXPECT_EQ(src.loaded(), 2);  // the error is held, not thrown by the constructor
-  EXPECT_TRUE(src.next().has_value());
-  EXPECT_TRUE(src.next().has_value());
-  const std::string msg = errorOf([&] { src.next(); });
-  EXPECT_NE(msg.find(cut), std::string::npos) << msg;
-  EXPECT_NE(msg.find("frame 2"), std::string::npos) << msg;
-  EXPECT_FALSE(src.next().has_value());
+  expectTwoFramesThenTheCutError(src, cut);
 }
 
 TEST(PreloadedFrameSource, StopsWithAClearErrorOverItsMemoryLimit) {
