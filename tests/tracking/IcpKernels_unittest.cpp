@@ -293,3 +293,50 @@ TEST(IcpKernels, PhotometricJacobianMatchesFiniteDifferences) {
     }
   EXPECT_GT(checked, 20);
 }
+
+// ---- the SSE CPU launcher (IcpReduceCpu.h) ----
+
+#include <cstring>
+
+#include "rasm/tracking/IcpReduceCpu.h"
+
+TEST(IcpReduceCpu, BitIdenticalToTheKernelsReduction) {
+  // The room seen from two poses 3 cm / 2.5 deg apart, noisy depth (holes at grazing angles,
+  // rejections by distance and normal angle, pixels projecting outside the model), every
+  // weighting option and both strides: the SSE launcher must give the kernel's sums bit for bit.
+  using test::Scene;
+  const CameraIntrinsics Kr(80.0, 80.0, 39.5, 29.5, 83, 61);  // odd sizes: partial lane groups
+  const Scene room = Scene::room();
+  const Eigen::Isometry3d T_model = test::lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5});
+  const Eigen::Isometry3d T_cam = T_model * test::motion({0.03, -0.02, 0.01}, {0.3, 1, 0.2}, 2.5);
+  std::vector<FrameLevel> fp, mp;
+  buildFramePyramid(room.render(Kr, T_cam, 0.004, 7), Kr, 1, fp);
+  buildFramePyramid(room.render(Kr, T_model, 0.004, 8), Kr, 1, mp);
+  const test::WorldMaps model(mp[0], T_model);
+  int cases = 0;
+  for (int stride : {1, 2})
+    for (bool noise : {false, true})
+      for (float huber : {0.0f, 0.005f}) {
+        IcpReduceKernel k;
+        k.frame_vertex = fp[0].vertex.view();
+        k.frame_normal = fp[0].normal.view();
+        k.model_vertex = model.vertex.view();
+        k.model_normal = model.normal.view();
+        k.K_model = Kr.plain();
+        k.T_world_cam = rigid(T_model);  // the guess: the model pose, 3 cm / 2.5 deg off
+        k.T_model_cam = rigid(Eigen::Isometry3d::Identity());
+        k.pivot_world = T_model.translation().cast<float>();
+        k.max_dist_m = 0.05f;
+        k.min_normal_cos = 0.9f;
+        k.stride = stride;
+        k.depth_noise_weighting = noise;
+        k.huber_delta_m = huber;
+        const IcpAccumulator a = compute::reduce1D<IcpAccumulator>(k.items(), k);
+        const IcpAccumulator b = reduceIcpCpu(k);
+        EXPECT_GT(a.inliers(), 100) << stride << noise << huber;
+        EXPECT_LT(a.inliers(), a.valid()) << "some pixels must be rejected";
+        EXPECT_EQ(0, std::memcmp(a.s, b.s, sizeof a.s)) << stride << noise << huber;
+        ++cases;
+      }
+  EXPECT_EQ(cases, 8);
+}

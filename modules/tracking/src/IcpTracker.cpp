@@ -10,6 +10,7 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/SE3.h"
 #include "rasm/tracking/IcpCuda.h"
+#include "rasm/tracking/IcpReduceCpu.h"
 #include "rasm/tracking/kernels/IcpKernels.h"
 
 namespace rasm::tracking {
@@ -324,7 +325,7 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
       } else if (P.use_cuda) {
         acc = m_cuda->reduce(l, k);
       } else {
-        acc = compute::reduce1D<kernels::IcpAccumulator>(k.items(), k);
+        acc = reduceIcpCpu(k);  // (SSE, bit-identical to reduce1D over the kernel)
       }
       kernels::IcpAccumulator acc_photo;
       if (photometric) {

@@ -68,6 +68,44 @@ RASM_HD_INLINE void accumulateTerm(T* a, const float J[6], float r, float w, flo
 /// Outcome of one pixel.
 enum IcpPixel : int { kIcpInvalid = 0, kIcpRejected = 1, kIcpInlier = 2 };
 
+/// The sums of a row segment's n inliers (SoA buffers: J, w J, r, w), valid pixels and inlier
+/// depth sum into acc: dot products over the inliers (SIMD across pixels) in float over <=
+/// kSegment terms, then added to the double accumulator. Shared by reduceRowSegment and the SSE
+/// CPU launcher (IcpReduceCpu.h), so both sum in the same order.
+template <int kSegment>
+inline void accumulateSegment(const float (&Jb)[6][kSegment], const float (&wJb)[6][kSegment],
+                              const float (&rb)[kSegment], const float (&wb)[kSegment], int n,
+                              int valid, float depth_sum, IcpAccumulator& acc) {
+  double* a = acc.s;
+  int kk = IcpAccumulator::kJtJ;
+  for (int c = 0; c < 6; ++c)
+    for (int d = c; d < 6; ++d) {
+      float sum = 0.f;
+#pragma omp simd reduction(+ : sum)
+      for (int p = 0; p < n; ++p) sum += wJb[c][p] * Jb[d][p];
+      a[kk++] += double(sum);
+    }
+  for (int c = 0; c < 6; ++c) {
+    float sum = 0.f;
+#pragma omp simd reduction(+ : sum)
+    for (int p = 0; p < n; ++p) sum += wJb[c][p] * rb[p];
+    a[IcpAccumulator::kJtr + c] += double(sum);
+  }
+  float r2 = 0.f, wsum = 0.f, wr2 = 0.f;
+#pragma omp simd reduction(+ : r2, wsum, wr2)
+  for (int p = 0; p < n; ++p) {
+    r2 += rb[p] * rb[p];
+    wsum += wb[p];
+    wr2 += wb[p] * rb[p] * rb[p];
+  }
+  a[IcpAccumulator::kR2] += double(r2);
+  a[IcpAccumulator::kInliers] += double(n);
+  a[IcpAccumulator::kValid] += double(valid);
+  a[IcpAccumulator::kDepth] += double(depth_sum);
+  a[IcpAccumulator::kW] += double(wsum);
+  a[IcpAccumulator::kWR2] += double(wr2);
+}
+
 /// CPU reduction of one work item (a row segment of kSegment processed pixels) of a kernel with
 /// `int pixel(x, y, J, r, w, depth)`, `stride`, `cols()` and `segmentsPerRow()`. Two passes, so
 /// the arithmetic vectorises: (1) the kernel's pixels, inliers compacted into
@@ -99,34 +137,7 @@ inline void reduceRowSegment(const Kernel& k, int i, IcpAccumulator& acc) {
     depth_sum += depth;
     ++n;
   }
-  double* a = acc.s;
-  int kk = IcpAccumulator::kJtJ;
-  for (int c = 0; c < 6; ++c)
-    for (int d = c; d < 6; ++d) {
-      float sum = 0.f;
-#pragma omp simd reduction(+ : sum)
-      for (int p = 0; p < n; ++p) sum += wJb[c][p] * Jb[d][p];
-      a[kk++] += double(sum);
-    }
-  for (int c = 0; c < 6; ++c) {
-    float sum = 0.f;
-#pragma omp simd reduction(+ : sum)
-    for (int p = 0; p < n; ++p) sum += wJb[c][p] * rb[p];
-    a[IcpAccumulator::kJtr + c] += double(sum);
-  }
-  float r2 = 0.f, wsum = 0.f, wr2 = 0.f;
-#pragma omp simd reduction(+ : r2, wsum, wr2)
-  for (int p = 0; p < n; ++p) {
-    r2 += rb[p] * rb[p];
-    wsum += wb[p];
-    wr2 += wb[p] * rb[p] * rb[p];
-  }
-  a[IcpAccumulator::kR2] += double(r2);
-  a[IcpAccumulator::kInliers] += double(n);
-  a[IcpAccumulator::kValid] += double(valid);
-  a[IcpAccumulator::kDepth] += double(depth_sum);
-  a[IcpAccumulator::kW] += double(wsum);
-  a[IcpAccumulator::kWR2] += double(wr2);
+  accumulateSegment<kSegment>(Jb, wJb, rb, wb, n, valid, depth_sum, acc);
 }
 
 /// Association, residual and Jacobian of the point-to-plane ICP (II-C) for one level.

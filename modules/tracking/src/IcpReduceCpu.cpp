@@ -1,0 +1,166 @@
+#include "rasm/tracking/IcpReduceCpu.h"
+
+#include <immintrin.h>
+
+#include "rasm/compute/Parallel.h"
+
+namespace rasm::tracking {
+
+namespace {
+
+using kernels::IcpAccumulator;
+using kernels::IcpReduceKernel;
+
+/// a0 + (a1 + a2), as Eigen sums three terms.
+inline __m128 sum3(__m128 a0, __m128 a1, __m128 a2) { return _mm_add_ps(a0, _mm_add_ps(a1, a2)); }
+
+/// m[0..2] . (x, y, z) (+ m[3] when `affine`), as RigidF::apply / rotate: ((m0 x + m1 y) + m2 z) + m3.
+inline __m128 rowDot(const float* m, __m128 x, __m128 y, __m128 z, bool affine) {
+  const __m128 r = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(m[0]), x), _mm_mul_ps(_mm_set1_ps(m[1]), y)),
+                              _mm_mul_ps(_mm_set1_ps(m[2]), z));
+  return affine ? _mm_add_ps(r, _mm_set1_ps(m[3])) : r;
+}
+
+/// One work item (a row segment), as kernels::reduceRowSegment with IcpReduceKernel::pixel.
+template <int kSegment>
+void reduceSegmentSse(const IcpReduceKernel& k, int item, IcpAccumulator& acc) {
+  const int spr = k.segmentsPerRow();
+  const int y = (item / spr) * k.stride;
+  const int xs0 = (item % spr) * kSegment;
+  const int xs1 = xs0 + kSegment < k.cols() ? xs0 + kSegment : k.cols();
+  alignas(64) float Jb[6][kSegment];
+  alignas(64) float wJb[6][kSegment];
+  alignas(64) float rb[kSegment];
+  alignas(64) float wb[kSegment];
+  float depth_sum = 0.f;
+  int valid = 0, n = 0;
+
+  const Vec3f* fv = k.frame_vertex.row(y);
+  const Vec3f* fn = k.frame_normal.row(y);
+  const float* Tm = k.T_model_cam.m;
+  const float* Tw = k.T_world_cam.m;
+  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f), half = _mm_set1_ps(0.5f);
+  const __m128 fx = _mm_set1_ps(k.K_model.fx), fy = _mm_set1_ps(k.K_model.fy);
+  const __m128 cx = _mm_set1_ps(k.K_model.cx), cy = _mm_set1_ps(k.K_model.cy);
+  const __m128 lo = _mm_set1_ps(-0.5f);
+  const __m128 u_hi = _mm_set1_ps(float(k.model_vertex.width) - 0.5f);
+  const __m128 v_hi = _mm_set1_ps(float(k.model_vertex.height) - 0.5f);
+  const __m128 max_d2 = _mm_set1_ps(k.max_dist_m * k.max_dist_m);
+  const __m128 min_cos = _mm_set1_ps(k.min_normal_cos);
+  const __m128 pvx = _mm_set1_ps(k.pivot_world.x()), pvy = _mm_set1_ps(k.pivot_world.y()),
+               pvz = _mm_set1_ps(k.pivot_world.z());
+  const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+  const __m128 sigma1 = _mm_set1_ps(kernels::depthNoiseSigma(1.0f));
+  const __m128 huber = _mm_set1_ps(k.huber_delta_m);
+  const bool use_huber = k.huber_delta_m > 0.0f;
+
+  for (int xs = xs0; xs < xs1; xs += 4) {
+    const int nl = xs1 - xs < 4 ? xs1 - xs : 4;
+    alignas(16) float VX[4], VY[4], VZ[4], NX[4], NY[4], NZ[4];
+    for (int l = 0; l < 4; ++l) {
+      const int x = (xs + (l < nl ? l : 0)) * k.stride;  // padding lanes repeat the first pixel
+      VX[l] = fv[x].x();
+      VY[l] = fv[x].y();
+      VZ[l] = fv[x].z();
+      NX[l] = fn[x].x();
+      NY[l] = fn[x].y();
+      NZ[l] = fn[x].z();
+    }
+    const __m128 vx = _mm_load_ps(VX), vy = _mm_load_ps(VY), vz = _mm_load_ps(VZ);
+    const __m128 nx = _mm_load_ps(NX), ny = _mm_load_ps(NY), nz = _mm_load_ps(NZ);
+    const int lanes = (1 << nl) - 1;
+    const int valid_mask = lanes & _mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(vx, vx), _mm_cmpeq_ps(nx, nx)));
+    valid += __builtin_popcount(unsigned(valid_mask));
+    if (!valid_mask) continue;
+    // Projective association in the model camera.
+    const __m128 pmx = rowDot(Tm, vx, vy, vz, true), pmy = rowDot(Tm + 4, vx, vy, vz, true),
+                 pmz = rowDot(Tm + 8, vx, vy, vz, true);
+    __m128 ok = _mm_cmpgt_ps(pmz, zero);
+    const __m128 iz = _mm_div_ps(one, pmz);
+    const __m128 u = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(fx, pmx), iz), cx);
+    const __m128 vv = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(fy, pmy), iz), cy);
+    ok = _mm_and_ps(ok, _mm_and_ps(_mm_and_ps(_mm_cmpgt_ps(u, lo), _mm_cmpgt_ps(vv, lo)),
+                                   _mm_and_ps(_mm_cmplt_ps(u, u_hi), _mm_cmplt_ps(vv, v_hi))));
+    int mask = valid_mask & _mm_movemask_ps(ok);
+    if (!mask) continue;
+    alignas(16) int UI[4], VI[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(UI), _mm_cvttps_epi32(_mm_add_ps(u, half)));
+    _mm_store_si128(reinterpret_cast<__m128i*>(VI), _mm_cvttps_epi32(_mm_add_ps(vv, half)));
+    alignas(16) float QX[4] = {}, QY[4] = {}, QZ[4] = {}, MX[4] = {}, MY[4] = {}, MZ[4] = {};
+    for (int m = mask; m; m &= m - 1) {
+      const int l = __builtin_ctz(unsigned(m));
+      const Vec3f& q = k.model_vertex(UI[l], VI[l]);
+      const Vec3f& mn = k.model_normal(UI[l], VI[l]);
+      QX[l] = q.x();
+      QY[l] = q.y();
+      QZ[l] = q.z();
+      MX[l] = mn.x();
+      MY[l] = mn.y();
+      MZ[l] = mn.z();
+    }
+    const __m128 qx = _mm_load_ps(QX), qy = _mm_load_ps(QY), qz = _mm_load_ps(QZ);
+    const __m128 mx = _mm_load_ps(MX), my = _mm_load_ps(MY), mz = _mm_load_ps(MZ);
+    ok = _mm_and_ps(_mm_cmpeq_ps(qx, qx), _mm_cmpeq_ps(mx, mx));
+    // Compatibility: distance and normal angle.
+    const __m128 px = rowDot(Tw, vx, vy, vz, true), py = rowDot(Tw + 4, vx, vy, vz, true),
+                 pz = rowDot(Tw + 8, vx, vy, vz, true);
+    const __m128 dx = _mm_sub_ps(px, qx), dy = _mm_sub_ps(py, qy), dz = _mm_sub_ps(pz, qz);
+    ok = _mm_and_ps(ok, _mm_cmpngt_ps(sum3(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy), _mm_mul_ps(dz, dz)), max_d2));
+    const __m128 nwx = rowDot(Tw, nx, ny, nz, false), nwy = rowDot(Tw + 4, nx, ny, nz, false),
+                 nwz = rowDot(Tw + 8, nx, ny, nz, false);
+    ok = _mm_and_ps(ok, _mm_cmpnlt_ps(sum3(_mm_mul_ps(nwx, mx), _mm_mul_ps(nwy, my), _mm_mul_ps(nwz, mz)), min_cos));
+    mask &= _mm_movemask_ps(ok);
+    if (!mask) continue;
+    const __m128 r = sum3(_mm_mul_ps(mx, dx), _mm_mul_ps(my, dy), _mm_mul_ps(mz, dz));
+    const __m128 pcx = _mm_sub_ps(px, pvx), pcy = _mm_sub_ps(py, pvy), pcz = _mm_sub_ps(pz, pvz);
+    const __m128 c0 = _mm_sub_ps(_mm_mul_ps(pcy, mz), _mm_mul_ps(pcz, my));
+    const __m128 c1 = _mm_sub_ps(_mm_mul_ps(pcz, mx), _mm_mul_ps(pcx, mz));
+    const __m128 c2 = _mm_sub_ps(_mm_mul_ps(pcx, my), _mm_mul_ps(pcy, mx));
+    // IRLS weight: noise scale s = sigma(1 m) / sigma(z), then Huber on |r| s.
+    __m128 s = one;
+    if (k.depth_noise_weighting) {
+      const __m128 d = _mm_sub_ps(vz, _mm_set1_ps(0.4f));
+      s = _mm_div_ps(sigma1, _mm_add_ps(_mm_set1_ps(0.0012f), _mm_mul_ps(_mm_mul_ps(_mm_set1_ps(0.0019f), d), d)));
+    }
+    __m128 h = one;
+    if (use_huber) {
+      const __m128 ar = _mm_mul_ps(_mm_and_ps(r, abs_mask), s);
+      const __m128 big = _mm_cmpgt_ps(ar, huber);
+      h = _mm_or_ps(_mm_and_ps(big, _mm_div_ps(huber, ar)), _mm_andnot_ps(big, one));
+    }
+    const __m128 w = _mm_mul_ps(_mm_mul_ps(s, s), h);
+    alignas(16) float J[6][4], R[4], W[4];
+    _mm_store_ps(J[0], mx);
+    _mm_store_ps(J[1], my);
+    _mm_store_ps(J[2], mz);
+    _mm_store_ps(J[3], c0);
+    _mm_store_ps(J[4], c1);
+    _mm_store_ps(J[5], c2);
+    _mm_store_ps(R, r);
+    _mm_store_ps(W, w);
+    for (int m = mask; m; m &= m - 1) {  // in pixel order, as the kernel's loop
+      const int l = __builtin_ctz(unsigned(m));
+      for (int c = 0; c < 6; ++c) {
+        Jb[c][n] = J[c][l];
+        wJb[c][n] = W[l] * J[c][l];
+      }
+      rb[n] = R[l];
+      wb[n] = W[l];
+      depth_sum += VZ[l];
+      ++n;
+    }
+  }
+  kernels::accumulateSegment<kSegment>(Jb, wJb, rb, wb, n, valid, depth_sum, acc);
+}
+
+}  // namespace
+
+kernels::IcpAccumulator reduceIcpCpu(const kernels::IcpReduceKernel& k) {
+  if (k.model_confidence.data) return compute::reduce1D<IcpAccumulator>(k.items(), k);
+  return compute::reduce1D<IcpAccumulator>(
+      k.items(), [&](int i, IcpAccumulator& acc) {
+        reduceSegmentSse<IcpReduceKernel::kSegment>(k, i, acc);
+      });
+}
+
+}  // namespace rasm::tracking
