@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -69,12 +70,18 @@ int main(int argc, char** argv) {
   }
   omp_set_num_threads(threads);
   maps::CSurfelMap map;
-  {
-    mrpt::io::CFileGZInputStream f(map_path);
+  io::Trajectory poses;
+  try {
+    mrpt::io::CFileGZInputStream f;
+    if (!f.open(map_path)) throw std::runtime_error("cannot open " + map_path);
     auto a = mrpt::serialization::archiveFrom(f);
     a >> map;
+    poses = io::readTumTrajectory(poses_path);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_map_render: %s (expected --map a rasm run's map.surfelmap, "
+                         "--poses its trajectory.txt)\n", e.what());
+    return 2;
   }
-  const io::Trajectory poses = io::readTumTrajectory(poses_path);
   if (poses.empty()) {
     std::fprintf(stderr, "%s holds no pose\n", poses_path.c_str());
     return 2;
