@@ -28,13 +28,14 @@ RigidF rigid(const Eigen::Isometry3d& T) { return RigidF::fromMatrix(T.matrix().
 
 /// Kernel aligning `frame` (camera frame at T_world_cam) with `model` (world, rendered at T_world_model).
 IcpReduceKernel makeKernel(const FrameLevel& frame, const Image<Vec3f>& mv, const Image<Vec3f>& mn,
-                           const Eigen::Isometry3d& T_world_cam, const Eigen::Isometry3d& T_world_model) {
+                           const Eigen::Isometry3d& T_world_cam, const Eigen::Isometry3d& T_world_model,
+                           const CameraIntrinsics& K_model = K) {
   IcpReduceKernel k;
   k.frame_vertex = frame.vertex.view();
   k.frame_normal = frame.normal.view();
   k.model_vertex = mv.view();
   k.model_normal = mn.view();
-  k.K_model = K.plain();
+  k.K_model = K_model.plain();
   k.T_world_cam = rigid(T_world_cam);
   k.T_model_cam = rigid(T_world_model.inverse() * T_world_cam);
   k.pivot_world = T_world_cam.translation().cast<float>();
@@ -317,15 +318,8 @@ TEST(IcpReduceCpu, BitIdenticalToTheKernelsReduction) {
   for (int stride : {1, 2})
     for (bool noise : {false, true})
       for (float huber : {0.0f, 0.005f}) {
-        IcpReduceKernel k;
-        k.frame_vertex = fp[0].vertex.view();
-        k.frame_normal = fp[0].normal.view();
-        k.model_vertex = model.vertex.view();
-        k.model_normal = model.normal.view();
-        k.K_model = Kr.plain();
-        k.T_world_cam = rigid(T_model);  // the guess: the model pose, 3 cm / 2.5 deg off
-        k.T_model_cam = rigid(Eigen::Isometry3d::Identity());
-        k.pivot_world = T_model.translation().cast<float>();
+        // The guess: the model pose, 3 cm / 2.5 deg off.
+        IcpReduceKernel k = makeKernel(fp[0], model.vertex, model.normal, T_model, T_model, Kr);
         k.max_dist_m = 0.05f;
         k.min_normal_cos = 0.9f;
         k.stride = stride;

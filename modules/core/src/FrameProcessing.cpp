@@ -149,8 +149,9 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
   // BilateralDepthKernel's filter (the CUDA path's), four pixels per SSE operation: a circular
   // window (dx^2 + dy^2 <= radius^2, as OpenCV's bilateralFilter: 13 taps at radius 2), weights
   // exp(-(dx^2 + dy^2) / 2 sigma_s^2 - dz^2 / 2 sigma_d^2) over the VALID neighbours inside the
-  // image; invalid pixels (depth <= 0 or NaN) stay 0. OpenCV's filter (used before) ran 10-13 ms
-  // per 640x480 frame on TBB threads that competed with the OpenMP team; this one ~2 ms.
+  // image; invalid pixels (depth <= 0 or NaN) stay 0. OpenCV's filter (used before) ran 9-13 ms
+  // per 640x480 frame on TBB threads that competed with the OpenMP team; this one ~5 ms on 2
+  // threads (docs/slam-eval.md, round 4).
   std::vector<BilateralTap> taps;
   for (int dy = -radius; dy <= radius; ++dy)
     for (int dx = -radius; dx <= radius; ++dx)
@@ -159,10 +160,15 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
                                       (2.0 * double(sigma_space_px) * sigma_space_px) * kLog2e)});
   const float id2_log2 = float(kLog2e / (2.0 * double(sigma_depth_m) * sigma_depth_m));
   const __m128 v_id2 = _mm_set1_ps(id2_log2), v_zero = _mm_setzero_ps();
-  // w = exp(-s - dz^2 / 2 sigma_d^2) = 2^-(s log2 e + dz^2 log2 e / 2 sigma_d^2)
-  const auto weight = [&](const BilateralTap& t, __m128 dz) {
-    return exp2NonPositive(
+  // One tap: w = exp(-s - dz^2 / 2 sigma_d^2) = 2^-(s log2 e + dz^2 log2 e / 2 sigma_d^2) for
+  // valid neighbour depths z, added to sum (w z) and wsum (w).
+  const auto addTap = [&](const BilateralTap& t, __m128 z, __m128 vc, __m128& sum, __m128& wsum) {
+    const __m128 dz = _mm_sub_ps(z, vc);
+    __m128 wt = exp2NonPositive(
         _mm_sub_ps(_mm_set1_ps(-t.space_log2), _mm_mul_ps(_mm_mul_ps(dz, dz), v_id2)));
+    wt = _mm_and_ps(wt, _mm_cmpgt_ps(z, v_zero));
+    sum = _mm_add_ps(sum, _mm_mul_ps(wt, z));
+    wsum = _mm_add_ps(wsum, wt);
   };
   // One pixel (any position): the same arithmetic on lane 0, taps outside the image skipped.
   const auto pixel = [&](int x, int y) {
@@ -173,11 +179,7 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
     for (const BilateralTap& t : taps) {
       const int sx = x + t.dx, sy = y + t.dy;
       if (sx < 0 || sy < 0 || sx >= w || sy >= h) continue;
-      const __m128 z = _mm_set1_ps(in(sx, sy));
-      __m128 wt = weight(t, _mm_sub_ps(z, vc));
-      wt = _mm_and_ps(wt, _mm_cmpgt_ps(z, v_zero));
-      sum = _mm_add_ps(sum, _mm_mul_ps(wt, z));
-      wsum = _mm_add_ps(wsum, wt);
+      addTap(t, _mm_set1_ps(in(sx, sy)), vc, sum, wsum);
     }
     return _mm_cvtss_f32(_mm_div_ps(sum, wsum));
   };
@@ -193,13 +195,8 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
     for (; x + 3 < x_hi; x += 4) {
       const __m128 vc = _mm_loadu_ps(in.row(y) + x);
       __m128 sum = v_zero, wsum = v_zero;
-      for (const BilateralTap& t : taps) {
-        const __m128 z = _mm_loadu_ps(in.row(y + t.dy) + x + t.dx);
-        __m128 wt = weight(t, _mm_sub_ps(z, vc));
-        wt = _mm_and_ps(wt, _mm_cmpgt_ps(z, v_zero));
-        sum = _mm_add_ps(sum, _mm_mul_ps(wt, z));
-        wsum = _mm_add_ps(wsum, wt);
-      }
+      for (const BilateralTap& t : taps)
+        addTap(t, _mm_loadu_ps(in.row(y + t.dy) + x + t.dx), vc, sum, wsum);
       // Invalid centres: 0 (their wsum may be 0; the division's NaN is masked away).
       _mm_storeu_ps(o + x, _mm_and_ps(_mm_div_ps(sum, wsum), _mm_cmpgt_ps(vc, v_zero)));
     }

@@ -24,10 +24,7 @@ inline __m128 rowDot(const float* m, __m128 x, __m128 y, __m128 z, bool affine) 
 /// One work item (a row segment), as kernels::reduceRowSegment with IcpReduceKernel::pixel.
 template <int kSegment>
 void reduceSegmentSse(const IcpReduceKernel& k, int item, IcpAccumulator& acc) {
-  const int spr = k.segmentsPerRow();
-  const int y = (item / spr) * k.stride;
-  const int xs0 = (item % spr) * kSegment;
-  const int xs1 = xs0 + kSegment < k.cols() ? xs0 + kSegment : k.cols();
+  const auto [y, xs0, xs1] = kernels::rowSegment<kSegment>(k, item);
   alignas(64) float Jb[6][kSegment];
   alignas(64) float wJb[6][kSegment];
   alignas(64) float rb[kSegment];

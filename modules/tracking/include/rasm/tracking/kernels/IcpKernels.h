@@ -111,12 +111,21 @@ inline void accumulateSegment(const float (&Jb)[6][kSegment], const float (&wJb)
 /// the arithmetic vectorises: (1) the kernel's pixels, inliers compacted into
 /// structure-of-arrays buffers; (2) the sums as dot products over the inliers (SIMD across
 /// pixels), in float over <= kSegment terms, then added to the double accumulator.
+/// Work item i of a CPU reduction: frame row y (stride applied) and the strided column range
+/// [xs0, xs1) of its kSegment-pixel segment.
+struct RowSegment {
+  int y, xs0, xs1;
+};
+template <int kSegment, typename Kernel>
+inline RowSegment rowSegment(const Kernel& k, int i) {
+  const int spr = k.segmentsPerRow();
+  const int xs0 = (i % spr) * kSegment;
+  return {(i / spr) * k.stride, xs0, xs0 + kSegment < k.cols() ? xs0 + kSegment : k.cols()};
+}
+
 template <int kSegment, typename Kernel>
 inline void reduceRowSegment(const Kernel& k, int i, IcpAccumulator& acc) {
-  const int spr = k.segmentsPerRow();
-  const int y = (i / spr) * k.stride;
-  const int xs0 = (i % spr) * kSegment;
-  const int xs1 = xs0 + kSegment < k.cols() ? xs0 + kSegment : k.cols();
+  const auto [y, xs0, xs1] = rowSegment<kSegment>(k, i);
   alignas(64) float Jb[6][kSegment];
   alignas(64) float wJb[6][kSegment];
   alignas(64) float rb[kSegment];
