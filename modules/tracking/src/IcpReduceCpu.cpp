@@ -21,6 +21,25 @@ inline __m128 rowDot(const float* m, __m128 x, __m128 y, __m128 z, bool affine) 
   return affine ? _mm_add_ps(r, _mm_set1_ps(m[3])) : r;
 }
 
+/// (x, y, z, *) of a Vec3f with one unaligned load: it reads the 4 bytes after the element, which
+/// lie inside the view unless it is the last element of the last row (then `last` is true).
+inline __m128 loadVec3(const Vec3f& p, bool last) {
+  return last ? _mm_setr_ps(p.x(), p.y(), p.z(), 0.0f) : _mm_loadu_ps(p.data());
+}
+
+/// x, y and z planes of four Vec3f (the fourth output is junk). Loading whole elements and
+/// transposing avoids the store-forwarding stalls of filling a lane buffer one float at a time
+/// and reloading it as a vector (which made the gathers the slowest part of the loop).
+inline void gather3(const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& d, bool last_a,
+                    bool last_b, bool last_c, bool last_d, __m128& x, __m128& y, __m128& z) {
+  __m128 r0 = loadVec3(a, last_a), r1 = loadVec3(b, last_b), r2 = loadVec3(c, last_c),
+         r3 = loadVec3(d, last_d);
+  _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+  x = r0;
+  y = r1;
+  z = r2;
+}
+
 /// One work item (a row segment), as kernels::reduceRowSegment with IcpReduceKernel::pixel.
 template <int kSegment>
 void reduceSegmentSse(const IcpReduceKernel& k, int item, IcpAccumulator& acc) {
@@ -51,20 +70,20 @@ void reduceSegmentSse(const IcpReduceKernel& k, int item, IcpAccumulator& acc) {
   const __m128 huber = _mm_set1_ps(k.huber_delta_m);
   const bool use_huber = k.huber_delta_m > 0.0f;
 
+  const bool last_row = y == k.frame_vertex.height - 1;
+  const int last_x = k.frame_vertex.width - 1;
+  const int model_last_u = k.model_vertex.width - 1, model_last_v = k.model_vertex.height - 1;
   for (int xs = xs0; xs < xs1; xs += 4) {
     const int nl = xs1 - xs < 4 ? xs1 - xs : 4;
-    alignas(16) float VX[4], VY[4], VZ[4], NX[4], NY[4], NZ[4];
+    int X[4];
+    bool L[4];
     for (int l = 0; l < 4; ++l) {
-      const int x = (xs + (l < nl ? l : 0)) * k.stride;  // padding lanes repeat the first pixel
-      VX[l] = fv[x].x();
-      VY[l] = fv[x].y();
-      VZ[l] = fv[x].z();
-      NX[l] = fn[x].x();
-      NY[l] = fn[x].y();
-      NZ[l] = fn[x].z();
+      X[l] = (xs + (l < nl ? l : 0)) * k.stride;  // padding lanes repeat the first pixel
+      L[l] = last_row && X[l] == last_x;
     }
-    const __m128 vx = _mm_load_ps(VX), vy = _mm_load_ps(VY), vz = _mm_load_ps(VZ);
-    const __m128 nx = _mm_load_ps(NX), ny = _mm_load_ps(NY), nz = _mm_load_ps(NZ);
+    __m128 vx, vy, vz, nx, ny, nz;
+    gather3(fv[X[0]], fv[X[1]], fv[X[2]], fv[X[3]], L[0], L[1], L[2], L[3], vx, vy, vz);
+    gather3(fn[X[0]], fn[X[1]], fn[X[2]], fn[X[3]], L[0], L[1], L[2], L[3], nx, ny, nz);
     const int lanes = (1 << nl) - 1;
     const int valid_mask = lanes & _mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(vx, vx), _mm_cmpeq_ps(nx, nx)));
     valid += __builtin_popcount(unsigned(valid_mask));
@@ -83,20 +102,20 @@ void reduceSegmentSse(const IcpReduceKernel& k, int item, IcpAccumulator& acc) {
     alignas(16) int UI[4], VI[4];
     _mm_store_si128(reinterpret_cast<__m128i*>(UI), _mm_cvttps_epi32(_mm_add_ps(u, half)));
     _mm_store_si128(reinterpret_cast<__m128i*>(VI), _mm_cvttps_epi32(_mm_add_ps(vv, half)));
-    alignas(16) float QX[4] = {}, QY[4] = {}, QZ[4] = {}, MX[4] = {}, MY[4] = {}, MZ[4] = {};
-    for (int m = mask; m; m &= m - 1) {
-      const int l = __builtin_ctz(unsigned(m));
-      const Vec3f& q = k.model_vertex(UI[l], VI[l]);
-      const Vec3f& mn = k.model_normal(UI[l], VI[l]);
-      QX[l] = q.x();
-      QY[l] = q.y();
-      QZ[l] = q.z();
-      MX[l] = mn.x();
-      MY[l] = mn.y();
-      MZ[l] = mn.z();
+    // Lanes outside the mask read the first masked lane's model pixel (never used).
+    const int l0 = __builtin_ctz(unsigned(mask));
+    const Vec3f* q[4];
+    const Vec3f* mn[4];
+    bool M[4];
+    for (int l = 0; l < 4; ++l) {
+      const int ll = (mask >> l) & 1 ? l : l0;
+      q[l] = &k.model_vertex(UI[ll], VI[ll]);
+      mn[l] = &k.model_normal(UI[ll], VI[ll]);
+      M[l] = UI[ll] == model_last_u && VI[ll] == model_last_v;
     }
-    const __m128 qx = _mm_load_ps(QX), qy = _mm_load_ps(QY), qz = _mm_load_ps(QZ);
-    const __m128 mx = _mm_load_ps(MX), my = _mm_load_ps(MY), mz = _mm_load_ps(MZ);
+    __m128 qx, qy, qz, mx, my, mz;
+    gather3(*q[0], *q[1], *q[2], *q[3], M[0], M[1], M[2], M[3], qx, qy, qz);
+    gather3(*mn[0], *mn[1], *mn[2], *mn[3], M[0], M[1], M[2], M[3], mx, my, mz);
     ok = _mm_and_ps(_mm_cmpeq_ps(qx, qx), _mm_cmpeq_ps(mx, mx));
     // Compatibility: distance and normal angle.
     const __m128 px = rowDot(Tw, vx, vy, vz, true), py = rowDot(Tw + 4, vx, vy, vz, true),
@@ -126,7 +145,8 @@ void reduceSegmentSse(const IcpReduceKernel& k, int item, IcpAccumulator& acc) {
       h = _mm_or_ps(_mm_and_ps(big, _mm_div_ps(huber, ar)), _mm_andnot_ps(big, one));
     }
     const __m128 w = _mm_mul_ps(_mm_mul_ps(s, s), h);
-    alignas(16) float J[6][4], R[4], W[4];
+    alignas(16) float J[6][4], R[4], W[4], VZ[4];
+    _mm_store_ps(VZ, vz);
     _mm_store_ps(J[0], mx);
     _mm_store_ps(J[1], my);
     _mm_store_ps(J[2], mz);
