@@ -320,19 +320,29 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     const std::uint8_t* count = m_candidates.count.data();
     const bool labels = prm.update_segments && !fv.labels.empty();
     const bool bins = prm.update_view_bins && arr.n_view_bins > 0;
+    // The association keeps each associated pixel's measurement (per thread, one row) for the
+    // update, which would otherwise measure the pixel again (the same values: FrameView::measure).
+    struct KeptMeasurement {
+      Vec3f v, n_world;
+      float w, r;
+    };
+    std::vector<std::vector<KeptMeasurement>> kept(nt, std::vector<KeptMeasurement>(w));
     const auto associateRow = [&](int y) {
       const int p0 = y * w;
+      KeptMeasurement* km = kept[threadId()].data();
       for (int x = 0; x < w; ++x) {
         if (x + kAhead < w) {
           const int p = p0 + x + kAhead;
           for (std::uint32_t q = first[p], e = first[p] + count[p]; q < e; ++q)
             __builtin_prefetch(&arr.normal_radius[entries[q].index]);
         }
-        ak(x, y);
+        kernels::PixelMeasurement m;
+        if (ak.associate(x, y, m) >= 0) km[x] = KeptMeasurement{m.v, m.n_world, m.w, m.r};
       }
     };
     const auto updateRow = [&](int y) {
       const std::int32_t* ps = m_pixel_surfel.row(y);
+      const KeptMeasurement* km = kept[threadId()].data();
       for (int x = 0; x < w; ++x) {
         if (x + kAhead < w) {
           const int j = ps[x + kAhead];
@@ -349,7 +359,8 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
             if (bins) __builtin_prefetch(arr.viewRow(j), 1);
           }
         }
-        uk(x, y);
+        const int i = ps[x];
+        if (i >= 0) uk.update(x, y, i, km[x].v, km[x].n_world, km[x].w, km[x].r);
       }
     };
     const bool cover = prm.neighbour_coverage_check;

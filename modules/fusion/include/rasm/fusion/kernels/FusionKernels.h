@@ -309,10 +309,16 @@ struct AssociateKernel {
 
   RASM_HD_INLINE void operator()(int x, int y) const {
     PixelMeasurement m;
+    associate(x, y, m);
+  }
+
+  /// operator() that also returns the pixel's measurement m (valid when the result is >= 0):
+  /// the matched surfel, -2 new, -1 no usable measurement.
+  RASM_HD_INLINE int associate(int x, int y, PixelMeasurement& m) const {
     if (!measureForAssociation(frame, x, y, prm, T_world_cam, m)) {
       pixel_surfel(x, y) = -1;
       flags(x, y) = 0;
-      return;
+      return -1;
     }
     maps::kernels::CameraPoint buf[16];
     const maps::kernels::CameraPoint* c = nullptr;
@@ -321,6 +327,7 @@ struct AssociateKernel {
     pixel_surfel(x, y) = best >= 0 ? best : -2;
     flags(x, y) = best >= 0 ? std::uint16_t(kPixValid | kPixAssociated)
                             : std::uint16_t(kPixValid | kPixNew);
+    return best >= 0 ? best : -2;
   }
 };
 
@@ -449,8 +456,16 @@ struct UpdateKernel {
     Vec3f v, n;
     float w = 0.0f, r = 0.0f;
     frame.measure(x, y, prm, v, n, w, r);  // associated pixels have a valid measurement
+    update(x, y, i, v, T_world_cam.rotate(n), w, r);
+  }
+
+  /// The update of surfel i = pixel_surfel(x, y) by the pixel's measurement (FrameView::measure:
+  /// camera-frame vertex v, confidence weight w, radius r) with its normal nw in the WORLD frame,
+  /// for callers that kept the association's measurement (PixelMeasurement).
+  RASM_HD_INLINE void update(int x, int y, int i, const Vec3f& v, const Vec3f& nw, float w,
+                             float r) const {
     std::uint16_t f = flags(x, y);
-    const Vec3f vw = T_world_cam.apply(v), nw = T_world_cam.rotate(n);
+    const Vec3f vw = T_world_cam.apply(v);
     Vec4f pcf = s.pos_conf[i];
     Vec4f nr = s.normal_radius[i];
     std::uint32_t cf = s.colour_flags[i];
