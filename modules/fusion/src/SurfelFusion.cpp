@@ -9,6 +9,7 @@
 
 #include "rasm/core/Error.h"
 #include "rasm/core/SurfelMath.h"
+#include "rasm/fusion/UpdateCpu.h"
 #include "rasm/fusion/kernels/FusionKernels.h"
 
 namespace rasm::fusion {
@@ -322,10 +323,6 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     const bool bins = prm.update_view_bins && arr.n_view_bins > 0;
     // The association keeps each associated pixel's measurement (per thread, one row) for the
     // update, which would otherwise measure the pixel again (the same values: FrameView::measure).
-    struct KeptMeasurement {
-      Vec3f v, n_world;
-      float w, r;
-    };
     std::vector<std::vector<KeptMeasurement>> kept(nt, std::vector<KeptMeasurement>(w));
     const auto associateRow = [&](int y) {
       const int p0 = y * w;
@@ -341,27 +338,7 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
       }
     };
     const auto updateRow = [&](int y) {
-      const std::int32_t* ps = m_pixel_surfel.row(y);
-      const KeptMeasurement* km = kept[threadId()].data();
-      for (int x = 0; x < w; ++x) {
-        if (x + kAhead < w) {
-          const int j = ps[x + kAhead];
-          if (j >= 0) {
-            __builtin_prefetch(&arr.pos_conf[j], 1);
-            __builtin_prefetch(&arr.normal_radius[j], 1);
-            __builtin_prefetch(&arr.colour_flags[j], 1);
-            __builtin_prefetch(&arr.basis[j], 1);
-            __builtin_prefetch(&arr.t_last[j], 1);
-            if (labels) {
-              __builtin_prefetch(&arr.segment[j], 1);
-              __builtin_prefetch(&arr.segment_w[j], 1);
-            }
-            if (bins) __builtin_prefetch(arr.viewRow(j), 1);
-          }
-        }
-        const int i = ps[x];
-        if (i >= 0) uk.update(x, y, i, km[x].v, km[x].n_world, km[x].w, km[x].r);
-      }
+      updateRowCpu(uk, y, kept[threadId()].data(), labels, bins);  // (SSE, bit-identical)
     };
     const bool cover = prm.neighbour_coverage_check;
     const auto coverRow = [&](int y) {

@@ -481,17 +481,30 @@ struct UpdateKernel {
       const Vec3f nn = a0 * ns + a1 * nw;
       const float len = nn.norm();
       if (len > 1e-6f) ns = nn * (1.0f / len);
-      if (!frame.colour.empty()) {
-        const Bgr8 co = maps::unpackColour(cf), cn = frame.colour(x, y);
-        cf = maps::packColour(Bgr8{blendU8(co.b, cn.b, a0, a1), blendU8(co.g, cn.g, a0, a1),
-                                   blendU8(co.r, cn.r, a0, a1)},
-                              cf & 0xff000000u);
-      }
+      cf = blendColour(x, y, cf, a0, a1);
       if (r < rs) rs = a0 * rs + a1 * r;
       b = maps::kernels::updateBasis(ns, b);
       f |= kPixFused;
       if (crossedBlock(p_old, p, prm.inv_block_size)) f |= kPixCrossedBlock;
     }
+    store(x, y, i, w, c, p, ns, rs, b, cf, f);
+  }
+
+  /// The surfel colour (packed, flags kept) blended with pixel (x, y)'s by the weights a0, a1.
+  RASM_HD_INLINE std::uint32_t blendColour(int x, int y, std::uint32_t cf, float a0,
+                                           float a1) const {
+    if (frame.colour.empty()) return cf;
+    const Bgr8 co = maps::unpackColour(cf), cn = frame.colour(x, y);
+    return maps::packColour(Bgr8{blendU8(co.b, cn.b, a0, a1), blendU8(co.g, cn.g, a0, a1),
+                                 blendU8(co.r, cn.r, a0, a1)},
+                            cf & 0xff000000u);
+  }
+
+  /// The rest of update() once the geometry (p, ns, rs, b) and colour cf are averaged: confidence
+  /// c + w, the stable flag, the stores, the segment weight, the view bin and the carving verdict;
+  /// f: the pixel's flags so far.
+  RASM_HD_INLINE void store(int x, int y, int i, float w, float c, const Vec3f& p, const Vec3f& ns,
+                            float rs, const Vec3f& b, std::uint32_t cf, std::uint16_t f) const {
     float c_new = c + w;
     if (prm.max_confidence > 0.0f && c_new > prm.max_confidence) c_new = prm.max_confidence;
     if (!(cf & maps::kSurfelStable) && c_new >= prm.stable_confidence) {

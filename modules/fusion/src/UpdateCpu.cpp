@@ -1,0 +1,180 @@
+#include "rasm/fusion/UpdateCpu.h"
+
+#include <immintrin.h>
+
+namespace rasm::fusion {
+
+namespace {
+
+/// a0 + (a1 + a2): Eigen's sum of three terms (dot, squaredNorm of a Vector3f).
+inline __m128 sum3(__m128 a0, __m128 a1, __m128 a2) { return _mm_add_ps(a0, _mm_add_ps(a1, a2)); }
+
+/// Row r of RigidF::apply over four lanes: ((m0 x + m1 y) + m2 z) + m3.
+inline __m128 applyRow(const float* m, __m128 x, __m128 y, __m128 z) {
+  return _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(m[0]), x),
+                                          _mm_mul_ps(_mm_set1_ps(m[1]), y)),
+                               _mm_mul_ps(_mm_set1_ps(m[2]), z)),
+                    _mm_set1_ps(m[3]));
+}
+
+/// mask ? a : b, per lane.
+inline __m128 select(__m128 mask, __m128 a, __m128 b) {
+  return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
+}
+
+/// a x b per lane, as Eigen's cross: (a1 b2 - a2 b1, a2 b0 - a0 b2, a0 b1 - a1 b0).
+inline void cross(__m128 ax, __m128 ay, __m128 az, __m128 bx, __m128 by, __m128 bz, __m128& cx,
+                  __m128& cy, __m128& cz) {
+  cx = _mm_sub_ps(_mm_mul_ps(ay, bz), _mm_mul_ps(az, by));
+  cy = _mm_sub_ps(_mm_mul_ps(az, bx), _mm_mul_ps(ax, bz));
+  cz = _mm_sub_ps(_mm_mul_ps(ax, by), _mm_mul_ps(ay, bx));
+}
+
+/// UpdateKernel::update of the surfels of n (1..4) pixels xs[] of row y: the geometry on four
+/// lanes (lanes >= n repeat lane 0 and are not stored), the rest per lane (UpdateKernel::store).
+void updateFour(const kernels::UpdateKernel& k, int y, const int* xs, int n,
+                const KeptMeasurement* kept) {
+  const maps::SurfelArrays& s = k.s;
+  const std::int32_t* ps = k.pixel_surfel.row(y);
+  int idx[4];
+  for (int l = 0; l < 4; ++l) idx[l] = ps[xs[l < n ? l : 0]];
+  // Measurements: [v.x v.y v.z nw.x] and [nw.y nw.z w r] per lane.
+  const KeptMeasurement* m[4];
+  for (int l = 0; l < 4; ++l) m[l] = &kept[xs[l < n ? l : 0]];
+  __m128 vx = _mm_load_ps(&m[0]->v.x()), vy = _mm_load_ps(&m[1]->v.x()),
+         vz = _mm_load_ps(&m[2]->v.x()), nwx = _mm_load_ps(&m[3]->v.x());
+  _MM_TRANSPOSE4_PS(vx, vy, vz, nwx);
+  __m128 nwy = _mm_load_ps(&m[0]->n_world.y()), nwz = _mm_load_ps(&m[1]->n_world.y()),
+         w = _mm_load_ps(&m[2]->n_world.y()), r = _mm_load_ps(&m[3]->n_world.y());
+  _MM_TRANSPOSE4_PS(nwy, nwz, w, r);
+  // Surfels: position + confidence, normal + radius, basis.
+  __m128 px = _mm_load_ps(s.pos_conf[idx[0]].data()), py = _mm_load_ps(s.pos_conf[idx[1]].data()),
+         pz = _mm_load_ps(s.pos_conf[idx[2]].data()), c = _mm_load_ps(s.pos_conf[idx[3]].data());
+  _MM_TRANSPOSE4_PS(px, py, pz, c);
+  __m128 nx = _mm_load_ps(s.normal_radius[idx[0]].data()),
+         ny = _mm_load_ps(s.normal_radius[idx[1]].data()),
+         nz = _mm_load_ps(s.normal_radius[idx[2]].data()),
+         rs = _mm_load_ps(s.normal_radius[idx[3]].data());
+  _MM_TRANSPOSE4_PS(nx, ny, nz, rs);
+  __m128 b[4];
+  for (int l = 0; l < 4; ++l) {
+    const Vec3f& bl = s.basis[idx[l]];
+    // One unaligned load reads 4 bytes past the element: inside the array unless it is the last.
+    b[l] = idx[l] + 1 < s.size ? _mm_loadu_ps(bl.data()) : _mm_setr_ps(bl.x(), bl.y(), bl.z(), 0.f);
+  }
+  __m128 bx = b[0], by = b[1], bz = b[2], bw = b[3];
+  _MM_TRANSPOSE4_PS(bx, by, bz, bw);
+
+  const __m128 one = _mm_set1_ps(1.0f);
+  const float* T = k.T_world_cam.m;
+  const __m128 vwx = applyRow(T, vx, vy, vz), vwy = applyRow(T + 4, vx, vy, vz),
+               vwz = applyRow(T + 8, vx, vy, vz);
+  // r <= ratio * rs: the geometry is averaged.
+  const __m128 fuse = _mm_cmple_ps(r, _mm_mul_ps(_mm_set1_ps(k.prm.radius_update_ratio), rs));
+  const __m128 inv_cw = _mm_div_ps(one, _mm_add_ps(c, w));
+  const __m128 a0 = _mm_mul_ps(c, inv_cw), a1 = _mm_mul_ps(w, inv_cw);
+  const __m128 qx = _mm_add_ps(_mm_mul_ps(a0, px), _mm_mul_ps(a1, vwx));
+  const __m128 qy = _mm_add_ps(_mm_mul_ps(a0, py), _mm_mul_ps(a1, vwy));
+  const __m128 qz = _mm_add_ps(_mm_mul_ps(a0, pz), _mm_mul_ps(a1, vwz));
+  const __m128 mx = _mm_add_ps(_mm_mul_ps(a0, nx), _mm_mul_ps(a1, nwx));
+  const __m128 my = _mm_add_ps(_mm_mul_ps(a0, ny), _mm_mul_ps(a1, nwy));
+  const __m128 mz = _mm_add_ps(_mm_mul_ps(a0, nz), _mm_mul_ps(a1, nwz));
+  const __m128 len = _mm_sqrt_ps(sum3(_mm_mul_ps(mx, mx), _mm_mul_ps(my, my), _mm_mul_ps(mz, mz)));
+  const __m128 inv_len = _mm_div_ps(one, len);
+  const __m128 renorm = _mm_and_ps(fuse, _mm_cmpgt_ps(len, _mm_set1_ps(1e-6f)));
+  const __m128 ox = select(renorm, _mm_mul_ps(mx, inv_len), nx);
+  const __m128 oy = select(renorm, _mm_mul_ps(my, inv_len), ny);
+  const __m128 oz = select(renorm, _mm_mul_ps(mz, inv_len), nz);
+  const __m128 shrink = _mm_and_ps(fuse, _mm_cmplt_ps(r, rs));
+  const __m128 ors = select(shrink, _mm_add_ps(_mm_mul_ps(a0, rs), _mm_mul_ps(a1, r)), rs);
+  // Basis (V-B): -n x (n x b), normalised; maps::kernels::updateBasis.
+  __m128 tx, ty, tz, ux, uy, uz;
+  cross(ox, oy, oz, bx, by, bz, tx, ty, tz);
+  cross(ox, oy, oz, tx, ty, tz, ux, uy, uz);
+  const __m128 sign = _mm_set1_ps(-0.0f);
+  ux = _mm_xor_ps(ux, sign);
+  uy = _mm_xor_ps(uy, sign);
+  uz = _mm_xor_ps(uz, sign);
+  const __m128 blen = _mm_sqrt_ps(sum3(_mm_mul_ps(ux, ux), _mm_mul_ps(uy, uy), _mm_mul_ps(uz, uz)));
+  const __m128 inv_blen = _mm_div_ps(one, blen);
+  const int basis_ok = _mm_movemask_ps(_mm_cmpgt_ps(blen, _mm_set1_ps(1e-4f)));
+  const __m128 obx = select(fuse, _mm_mul_ps(ux, inv_blen), bx);
+  const __m128 oby = select(fuse, _mm_mul_ps(uy, inv_blen), by);
+  const __m128 obz = select(fuse, _mm_mul_ps(uz, inv_blen), bz);
+  // Block crossings: floor(p * inv_block) of the new and old positions.
+  const __m128 ib = _mm_set1_ps(k.prm.inv_block_size);
+  const auto moved = [&](__m128 a, __m128 o) {
+    return _mm_cmpneq_ps(_mm_floor_ps(_mm_mul_ps(a, ib)), _mm_floor_ps(_mm_mul_ps(o, ib)));
+  };
+  const int crossed = _mm_movemask_ps(
+      _mm_and_ps(fuse, _mm_or_ps(_mm_or_ps(moved(qx, px), moved(qy, py)), moved(qz, pz))));
+  const int fused = _mm_movemask_ps(fuse);
+  const __m128 ox_p = select(fuse, qx, px), oy_p = select(fuse, qy, py), oz_p = select(fuse, qz, pz);
+
+  alignas(16) float P[3][4], N[4][4], B[3][4], A[2][4], C[4], W[4];
+  _mm_store_ps(P[0], ox_p);
+  _mm_store_ps(P[1], oy_p);
+  _mm_store_ps(P[2], oz_p);
+  _mm_store_ps(N[0], ox);
+  _mm_store_ps(N[1], oy);
+  _mm_store_ps(N[2], oz);
+  _mm_store_ps(N[3], ors);
+  _mm_store_ps(B[0], obx);
+  _mm_store_ps(B[1], oby);
+  _mm_store_ps(B[2], obz);
+  _mm_store_ps(A[0], a0);
+  _mm_store_ps(A[1], a1);
+  _mm_store_ps(C, c);
+  _mm_store_ps(W, w);
+  for (int l = 0; l < n; ++l) {
+    const int x = xs[l], i = idx[l];
+    std::uint16_t f = k.flags(x, y);
+    std::uint32_t cf = s.colour_flags[i];
+    const Vec3f ns(N[0][l], N[1][l], N[2][l]);
+    Vec3f bl(B[0][l], B[1][l], B[2][l]);
+    if ((fused >> l) & 1) {
+      cf = k.blendColour(x, y, cf, A[0][l], A[1][l]);
+      if (!((basis_ok >> l) & 1)) bl = maps::kernels::updateBasis(ns, s.basis[i]);  // fallback
+      f |= kernels::kPixFused;
+      if ((crossed >> l) & 1) f |= kernels::kPixCrossedBlock;
+    }
+    k.store(x, y, i, W[l], C[l], Vec3f(P[0][l], P[1][l], P[2][l]), ns, N[3][l], bl, cf, f);
+  }
+}
+
+}  // namespace
+
+void updateRowCpu(const kernels::UpdateKernel& k, int y, const KeptMeasurement* kept, bool labels,
+                  bool bins) {
+  constexpr int kAhead = 8;
+  const maps::SurfelArrays& s = k.s;
+  const std::int32_t* ps = k.pixel_surfel.row(y);
+  const int w = k.pixel_surfel.width;
+  int xs[4], n = 0;
+  for (int x = 0; x < w; ++x) {
+    if (x + kAhead < w) {
+      const int j = ps[x + kAhead];
+      if (j >= 0) {
+        __builtin_prefetch(&s.pos_conf[j], 1);
+        __builtin_prefetch(&s.normal_radius[j], 1);
+        __builtin_prefetch(&s.colour_flags[j], 1);
+        __builtin_prefetch(&s.basis[j], 1);
+        __builtin_prefetch(&s.t_last[j], 1);
+        if (labels) {
+          __builtin_prefetch(&s.segment[j], 1);
+          __builtin_prefetch(&s.segment_w[j], 1);
+        }
+        if (bins) __builtin_prefetch(s.viewRow(j), 1);
+      }
+    }
+    if (ps[x] < 0) continue;
+    xs[n++] = x;
+    if (n == 4) {
+      updateFour(k, y, xs, 4, kept);
+      n = 0;
+    }
+  }
+  if (n) updateFour(k, y, xs, n, kept);
+}
+
+}  // namespace rasm::fusion

@@ -1,0 +1,185 @@
+// The SSE CPU launcher of the surfel update (UpdateCpu.h) against UpdateKernel itself, bit for bit.
+
+#include "rasm/fusion/UpdateCpu.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "rasm/core/CameraIntrinsics.h"
+#include "rasm/core/Image.h"
+#include "rasm/surfel_map/SurfelStore.h"
+#include "rasm/surfel_map/kernels/ViewBins.h"
+
+using namespace rasm;
+using namespace rasm::fusion;
+
+namespace {
+
+template <typename T>
+bool sameBytes(const T* a, const T* b, std::size_t n) {
+  return std::memcmp(a, b, n * sizeof(T)) == 0;
+}
+
+}  // namespace
+
+TEST(UpdateCpu, BitIdenticalToTheKernel) {
+  // 37x6 pixels (partial lane groups), every pixel measured, ~80% associated with distinct
+  // surfels in shuffled order (the last surfel too: its basis is read without the vector load).
+  // The surfels cover every branch: geometry averaged or not (radius rule), radius shrunk or not,
+  // becoming stable, already stable, basis parallel to the normal (anyPerpendicular fallback),
+  // crossing a block border, labels that accumulate, erode and relabel, view bins, carving.
+  const int W = 37, H = 6;
+  const CameraIntrinsics K(30.0, 30.0, 18.0, 2.5, W, H);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), u01(0.0f, 1.0f);
+
+  Image<Vec3f> vertex(W, H), normal(W, H);
+  Image<Bgr8> colour(W, H);
+  Image<std::uint32_t> labels(W, H);
+  Image<float> depth(W, H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const float z = 1.0f + 2.0f * u01(rng);
+      const Vec3f v((float(x) - K.cx) / K.fx * z, (float(y) - K.cy) / K.fy * z, z);
+      vertex(x, y) = v;
+      normal(x, y) = (-v.normalized() + 0.3f * Vec3f(u(rng), u(rng), u(rng))).normalized();
+      colour(x, y) = Bgr8{std::uint8_t(rng() & 255), std::uint8_t(rng() & 255), std::uint8_t(rng() & 255)};
+      labels(x, y) = rng() % 4;  // 0 = none
+      depth(x, y) = u01(rng) < 0.2f ? z + 0.5f : z;  // some measurements far behind the surfels
+    }
+
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 1.0, 0.1).normalized()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(0.1, -0.2, 0.05);
+  const RigidF T_wc = RigidF::fromMatrix(T.matrix().cast<float>());
+
+  const int n_surfels = W * H + 5;
+  std::vector<int> order(n_surfels);
+  for (int i = 0; i < n_surfels; ++i) order[i] = n_surfels - 1 - i;
+  std::shuffle(order.begin() + 1, order.end(), rng);  // order[0] = the last surfel
+  Image<std::int32_t> pixel_surfel(W, H);
+  Image<std::uint16_t> flags_ref(W, H), flags_sse(W, H);
+  std::vector<Vec3f> near(n_surfels, Vec3f(0.5f, 0.2f, 2.0f));  // camera frame, unassigned ones
+  int next = 0, associated = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const bool take = u01(rng) < 0.8f;
+      pixel_surfel(x, y) = take ? order[next++] : -1;
+      associated += take;
+      flags_ref(x, y) = flags_sse(x, y) = take ? std::uint16_t(kernels::kPixValid | kernels::kPixAssociated) : 0;
+      // On the pixel's ray, from well in front of the measurement to just behind it.
+      if (take) near[pixel_surfel(x, y)] = vertex(x, y) * (0.6f + 0.45f * u01(rng));
+    }
+  ASSERT_GT(associated, 100);
+
+  maps::SurfelStoreOptions layout;
+  layout.view_bins_azimuth = 8;
+  layout.view_bins_elevation = 2;
+  maps::SurfelStore store(layout);
+  store.allocate(n_surfels);
+  {
+    const maps::SurfelArrays a = store.arrays();
+    for (int i = 0; i < n_surfels; ++i) {
+      const Vec3f n = Vec3f(u(rng), u(rng), u(rng)).normalized();
+      const float conf = 20.0f * u01(rng);
+      const Vec3f p = T_wc.apply(near[i]);
+      // Radii around the measurement's (z / (sqrt2 f n_z) ~ 0.02-0.1 m here): the radius rule
+      // (r <= 1.5 r_s) passes for about half of them.
+      a.pos_conf[i] = Vec4f(p.x(), p.y(), p.z(), conf);
+      a.normal_radius[i] = Vec4f(n.x(), n.y(), n.z(), 0.01f + 0.1f * u01(rng));
+      a.basis[i] = i % 11 == 0 ? n : maps::kernels::anyPerpendicular(n);
+      a.colour_flags[i] = (rng() & 0xffffffu) | (conf >= 10.0f ? maps::kSurfelStable : 0u);
+      a.t_init[i] = 0.0f;
+      a.t_last[i] = 0.1f;
+      a.segment[i] = rng() % 4;
+      a.segment_w[i] = 3.0f * u01(rng);
+      for (int b = 0; b < a.n_view_bins; ++b) a.viewRow(i)[b] = std::uint8_t(rng() % 3 == 0 ? 255 : rng() & 255);
+    }
+  }
+
+  maps::SurfelStore ref = store, sse = store;
+  kernels::UpdateKernel k;
+  k.frame.colour = colour.cview();
+  k.frame.vertex_cam = vertex.cview();
+  k.frame.normal_cam = normal.cview();
+  k.frame.labels = labels.cview();
+  k.frame.K = K.plain();
+  k.frame.focal_px = 30.0f;
+  k.prm.max_depth_m = 5.0f;
+  k.prm.n_azimuth = 8;
+  k.prm.n_elevation = 2;
+  k.prm.inv_block_size = 8.0f;  // 12.5 cm blocks: some updates cross a border
+  k.T_world_cam = T_wc;
+  k.T_cam_world = RigidF::fromMatrix(T.inverse().matrix().cast<float>());
+  k.now = 0.5f;
+  k.pixel_surfel = pixel_surfel.cview();
+  k.carve = true;
+  k.carve_test.depth_m = depth.cview();
+  k.carve_test.K = K.plain();
+
+  // The kernel, pixel by pixel.
+  kernels::UpdateKernel kr = k;
+  kr.s = ref.arrays();
+  kr.flags = flags_ref.view();
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) kr(x, y);
+
+  // The launcher, with the measurements an association keeps.
+  kernels::UpdateKernel ks = k;
+  ks.s = sse.arrays();
+  ks.flags = flags_sse.view();
+  std::vector<KeptMeasurement> kept(W);
+  int fused = 0, shrunk = 0, fallback = 0;
+  for (int y = 0; y < H; ++y) {
+    for (int x = 0; x < W; ++x) {
+      Vec3f v, n;
+      float w = 0.f, r = 0.f;
+      ASSERT_TRUE(k.frame.measure(x, y, k.prm, v, n, w, r)) << x << "," << y;
+      kept[x] = KeptMeasurement{v, k.T_world_cam.rotate(n), w, r};
+      const int i = pixel_surfel(x, y);
+      if (i >= 0) {
+        const float rs = store.arrays().normal_radius[i].w();
+        fused += r <= k.prm.radius_update_ratio * rs;
+        shrunk += r < rs;
+        fallback += i % 11 == 0 && r <= k.prm.radius_update_ratio * rs;
+      }
+    }
+    updateRowCpu(ks, y, kept.data(), true, true);
+  }
+  EXPECT_GT(fused, 20);
+  EXPECT_GT(associated - fused, 20);
+  EXPECT_GT(shrunk, 10);
+  EXPECT_GT(fallback, 2);
+
+  int flag_kinds = 0;
+  for (std::uint16_t bit : {kernels::kPixFused, kernels::kPixBecameStable, kernels::kPixRelabelled,
+                            kernels::kPixCrossedBlock}) {
+    int with = 0;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) with += (flags_ref(x, y) & bit) != 0;
+    flag_kinds += with > 0;
+  }
+  EXPECT_EQ(flag_kinds, 4) << "every outcome must occur";
+  int carved = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) carved += (flags_ref(x, y) >> kernels::kPixCarveShift) != 0;
+  EXPECT_GT(carved, 0);
+
+  const maps::SurfelArrays a = ref.arrays(), b = sse.arrays();
+  const std::size_t n = std::size_t(n_surfels);
+  EXPECT_TRUE(sameBytes(a.pos_conf, b.pos_conf, n));
+  EXPECT_TRUE(sameBytes(a.normal_radius, b.normal_radius, n));
+  EXPECT_TRUE(sameBytes(a.basis, b.basis, n));
+  EXPECT_TRUE(sameBytes(a.colour_flags, b.colour_flags, n));
+  EXPECT_TRUE(sameBytes(a.t_last, b.t_last, n));
+  EXPECT_TRUE(sameBytes(a.segment, b.segment, n));
+  EXPECT_TRUE(sameBytes(a.segment_w, b.segment_w, n));
+  EXPECT_TRUE(sameBytes(a.view_ic, b.view_ic, n * std::size_t(a.n_view_bins)));
+  for (int y = 0; y < H; ++y)
+    EXPECT_TRUE(sameBytes(flags_ref.row(y), flags_sse.row(y), std::size_t(W))) << "row " << y;
+}
