@@ -85,6 +85,16 @@ RASM_HD_INLINE std::uint8_t blendU8(std::uint8_t a, std::uint8_t b, float wa, fl
   return std::uint8_t(v > 255.0f ? 255.0f : v);
 }
 
+/// The bin update of updateViewBin once the bin and the camera distance are known.
+RASM_HD_INLINE void updateViewBinAt(const maps::SurfelArrays& s, int i, int bin, float dist,
+                                    const FusionKernelParams& prm) {
+  std::uint8_t* row = s.viewRow(i);
+  if (row[bin] == 255) return;  // already saturated: IC <= 1
+  const std::uint8_t q =
+      maps::quantizeUnit(maps::kernels::informationContent(dist, prm.ic_lambda1, prm.ic_d_min_m));
+  if (q > row[bin]) row[bin] = q;
+}
+
 /// Bin update of V-B: b_v(i) <- max(b_v(i), IC(s)) for the bin of the camera direction.
 RASM_HD_INLINE void updateViewBin(const maps::SurfelArrays& s, int i, const Vec3f& p,
                                   const Vec3f& n, const Vec3f& b, const Vec3f& camera_centre,
@@ -95,12 +105,9 @@ RASM_HD_INLINE void updateViewBin(const maps::SurfelArrays& s, int i, const Vec3
   if (!(dist > 0.0f)) return;
   const int bin =
       maps::kernels::viewBinIndex(n, b, d * (1.0f / dist), prm.n_azimuth, prm.n_elevation);
-  std::uint8_t* row = s.viewRow(i);
-  if (row[bin] == 255) return;  // already saturated: IC <= 1
-  const std::uint8_t q =
-      maps::quantizeUnit(maps::kernels::informationContent(dist, prm.ic_lambda1, prm.ic_d_min_m));
-  if (q > row[bin]) row[bin] = q;
+  updateViewBinAt(s, i, bin, dist, prm);
 }
+
 
 /// Whether a surfel moved from p_old to p_new changed spatial-index block (VoxelBlockIndex's
 /// block coordinates: floor(p / block size)); the caller then re-bins it.
@@ -503,8 +510,10 @@ struct UpdateKernel {
   /// The rest of update() once the geometry (p, ns, rs, b) and colour cf are averaged: confidence
   /// c + w, the stable flag, the stores, the segment weight, the view bin and the carving verdict;
   /// f: the pixel's flags so far.
+  /// view_bin = false leaves the view bin to the caller (updateViewBinAt).
   RASM_HD_INLINE void store(int x, int y, int i, float w, float c, const Vec3f& p, const Vec3f& ns,
-                            float rs, const Vec3f& b, std::uint32_t cf, std::uint16_t f) const {
+                            float rs, const Vec3f& b, std::uint32_t cf, std::uint16_t f,
+                            bool view_bin = true) const {
     float c_new = c + w;
     if (prm.max_confidence > 0.0f && c_new > prm.max_confidence) c_new = prm.max_confidence;
     if (!(cf & maps::kSurfelStable) && c_new >= prm.stable_confidence) {
@@ -531,7 +540,7 @@ struct UpdateKernel {
         }
       }
     }
-    updateViewBin(s, i, p, ns, b, T_world_cam.translation(), prm);
+    if (view_bin) updateViewBin(s, i, p, ns, b, T_world_cam.translation(), prm);
     if (carve && carve_test.violates(T_cam_world.apply(p)))
       f |= std::uint16_t(carve_test.action(cf, c_new) << kPixCarveShift);
     flags(x, y) = f;
