@@ -9,7 +9,7 @@
 
 #include "rasm/core/Error.h"
 #include "rasm/core/SurfelMath.h"
-#include "rasm/fusion/UpdateCpu.h"
+#include "rasm/fusion/FusionCpu.h"
 #include "rasm/fusion/kernels/FusionKernels.h"
 
 namespace rasm::fusion {
@@ -313,29 +313,14 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     kernels::AssociateKernel<kernels::ListCandidates> ak;
     kernels::CoverageKernel<kernels::ListCandidates> ck;
     setUpKernels(ak, ck, lists);
-    // Candidates' and chosen surfels' arrays are prefetched a few pixels ahead: they are spread
-    // over the map's memory.
-    constexpr int kAhead = 8;
-    const maps::kernels::CameraPoint* entries = m_candidates.entries.data();
-    const std::uint32_t* first = m_candidates.first.data();
-    const std::uint8_t* count = m_candidates.count.data();
     const bool labels = prm.update_segments && !fv.labels.empty();
     const bool bins = prm.update_view_bins && arr.n_view_bins > 0;
     // The association keeps each associated pixel's measurement (per thread, one row) for the
     // update, which would otherwise measure the pixel again (the same values: FrameView::measure).
+    // Both launchers prefetch the surfels a few pixels ahead: they are spread over the map's memory.
     std::vector<std::vector<KeptMeasurement>> kept(nt, std::vector<KeptMeasurement>(w));
     const auto associateRow = [&](int y) {
-      const int p0 = y * w;
-      KeptMeasurement* km = kept[threadId()].data();
-      for (int x = 0; x < w; ++x) {
-        if (x + kAhead < w) {
-          const int p = p0 + x + kAhead;
-          for (std::uint32_t q = first[p], e = first[p] + count[p]; q < e; ++q)
-            __builtin_prefetch(&arr.normal_radius[entries[q].index]);
-        }
-        kernels::PixelMeasurement m;
-        if (ak.associate(x, y, m) >= 0) km[x] = KeptMeasurement{m.v, m.n_world, m.w, m.r};
-      }
+      associateRowCpu(ak, y, kept[threadId()].data());  // (SSE, bit-identical)
     };
     const auto updateRow = [&](int y) {
       updateRowCpu(uk, y, kept[threadId()].data(), labels, bins);  // (SSE, bit-identical)

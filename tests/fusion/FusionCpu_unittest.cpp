@@ -1,6 +1,6 @@
-// The SSE CPU launcher of the surfel update (UpdateCpu.h) against UpdateKernel itself, bit for bit.
+// The SSE CPU launchers of fusion (FusionCpu.h) against the kernels themselves, bit for bit.
 
-#include "rasm/fusion/UpdateCpu.h"
+#include "rasm/fusion/FusionCpu.h"
 
 #include <gtest/gtest.h>
 
@@ -182,4 +182,152 @@ TEST(UpdateCpu, BitIdenticalToTheKernel) {
   EXPECT_TRUE(sameBytes(a.view_ic, b.view_ic, n * std::size_t(a.n_view_bins)));
   for (int y = 0; y < H; ++y)
     EXPECT_TRUE(sameBytes(flags_ref.row(y), flags_sse.row(y), std::size_t(W))) << "row " << y;
+}
+
+TEST(AssociateCpu, BitIdenticalToTheKernel) {
+  // 37x5 pixels: invalid vertices and normals, depths outside the range, grazing normals, and
+  // 0-3 candidates per pixel around the pixel ray (some outside the depth or normal gates); the
+  // launcher must give the kernel's matches, flags and kept measurements.
+  const int W = 37, H = 5;
+  const CameraIntrinsics K(30.0, 30.0, 18.0, 2.5, W, H);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), u01(0.0f, 1.0f);
+  const float nan = std::nanf("");
+  Image<Vec3f> vertex(W, H), normal(W, H);
+  Image<float> weight(W, H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const float z = 0.05f + 6.0f * u01(rng);  // some outside [0.1, 5]
+      const Vec3f v((float(x) - K.cx) / K.fx * z, (float(y) - K.cy) / K.fy * z, z);
+      vertex(x, y) = u01(rng) < 0.05f ? Vec3f(nan, nan, nan) : v;
+      const float tilt = u01(rng) < 0.15f ? 3.0f : 0.3f;  // some grazing
+      normal(x, y) = u01(rng) < 0.05f ? Vec3f(nan, nan, nan)
+                                      : (-v.normalized() + tilt * Vec3f(u(rng), u(rng), u(rng))).normalized();
+      weight(x, y) = u01(rng);
+    }
+  vertex(W - 1, H - 1) = Vec3f(0.1f, 0.05f, 1.0f);  // the last element is measured
+  normal(W - 1, H - 1) = Vec3f(0.0f, 0.0f, -1.0f);
+
+  maps::SurfelStore store;
+  std::vector<maps::kernels::CameraPoint> entries;
+  std::vector<std::uint32_t> first;
+  std::vector<std::uint8_t> count;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      first.push_back(std::uint32_t(entries.size()));
+      const int n = int(rng() % 4);
+      const Vec3f v = vertex(x, y).x() == vertex(x, y).x() ? vertex(x, y) : Vec3f(0, 0, 1);
+      for (int c = 0; c < n; ++c) {
+        maps::Surfel s;
+        const Vec3f pc = v * (1.0f + 0.03f * u(rng)) + 0.01f * Vec3f(u(rng), u(rng), u(rng));
+        s.position = pc;  // world = camera frame here
+        const Vec3f nn = normal(x, y).x() == normal(x, y).x() ? normal(x, y) : Vec3f(0, 0, -1);
+        s.normal = (nn + 0.6f * Vec3f(u(rng), u(rng), u(rng))).normalized();
+        s.radius = 0.005f + 0.05f * u01(rng);
+        s.confidence = 1.0f;
+        entries.push_back(maps::kernels::CameraPoint{pc, store.append(s)});
+      }
+      count.push_back(std::uint8_t(n));
+    }
+  first.push_back(std::uint32_t(entries.size()));
+
+  kernels::AssociateKernel<kernels::ListCandidates> k;
+  k.frame.vertex_cam = vertex.cview();
+  k.frame.normal_cam = normal.cview();
+  k.frame.weight = weight.cview();
+  k.frame.K = K.plain();
+  k.frame.focal_px = 30.0f;
+  k.prm.min_cos_normal = 0.9f;
+  k.candidates.entries = entries.data();
+  k.candidates.first = first.data();
+  k.candidates.count = count.data();
+  k.candidates.width = W;
+  k.candidates.height = H;
+  k.s = store.arrays();
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d(1.0, 0.3, 0.0).normalized()).toRotationMatrix();
+  k.T_world_cam = RigidF::fromMatrix(T.matrix().cast<float>());  // (normals compared in this frame)
+
+  Image<std::int32_t> ps_ref(W, H), ps_sse(W, H);
+  Image<std::uint16_t> fl_ref(W, H), fl_sse(W, H);
+  std::vector<KeptMeasurement> kept_ref(std::size_t(W * H)), kept_sse(std::size_t(W * H));
+  std::memset(static_cast<void*>(kept_ref.data()), 0, kept_ref.size() * sizeof(KeptMeasurement));
+  std::memset(static_cast<void*>(kept_sse.data()), 0, kept_sse.size() * sizeof(KeptMeasurement));
+  kernels::AssociateKernel<kernels::ListCandidates> kr = k, ks = k;
+  kr.pixel_surfel = ps_ref.view();
+  kr.flags = fl_ref.view();
+  ks.pixel_surfel = ps_sse.view();
+  ks.flags = fl_sse.view();
+  int outcome[3] = {0, 0, 0};  // none, new, associated
+  for (int y = 0; y < H; ++y) {
+    for (int x = 0; x < W; ++x) {
+      kernels::PixelMeasurement m;
+      const int best = kr.associate(x, y, m);
+      ++outcome[best >= 0 ? 2 : -best - 1];
+      if (best >= 0) kept_ref[std::size_t(y * W + x)] = KeptMeasurement{m.v, m.n_world, m.w, m.r};
+    }
+    associateRowCpu(ks, y, kept_sse.data() + std::size_t(y) * W);
+  }
+  EXPECT_GT(outcome[0], 10);
+  EXPECT_GT(outcome[1], 10);
+  EXPECT_GT(outcome[2], 10);
+  EXPECT_GE(ps_ref(W - 1, H - 1), -2);  // the last element was measured
+  for (int y = 0; y < H; ++y) {
+    EXPECT_TRUE(sameBytes(ps_ref.row(y), ps_sse.row(y), std::size_t(W))) << "row " << y;
+    EXPECT_TRUE(sameBytes(fl_ref.row(y), fl_sse.row(y), std::size_t(W))) << "row " << y;
+  }
+  EXPECT_TRUE(sameBytes(reinterpret_cast<const char*>(kept_ref.data()),
+                        reinterpret_cast<const char*>(kept_sse.data()),
+                        kept_ref.size() * sizeof(KeptMeasurement)));
+}
+
+TEST(AssociateCpu, MeasurementsBitIdenticalToTheKernel) {
+  // Every field of the association's measurement (FrameView::measure, measureForAssociation) on
+  // four lanes, for valid, invalid, out-of-range and grazing pixels, the last one of the image too.
+  const int W = 23, H = 4;
+  const CameraIntrinsics K(30.0, 28.0, 11.0, 1.5, W, H);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), u01(0.0f, 1.0f);
+  Image<Vec3f> vertex(W, H), normal(W, H);
+  Image<float> weight(W, H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const float z = 0.05f + 6.0f * u01(rng);
+      const Vec3f v((float(x) - K.cx) / K.fx * z, (float(y) - K.cy) / K.fy * z, z);
+      vertex(x, y) = u01(rng) < 0.05f ? Vec3f(std::nanf(""), 0, 0) : v;
+      normal(x, y) = (-v.normalized() + (u01(rng) < 0.2f ? 3.0f : 0.4f) * Vec3f(u(rng), u(rng), u(rng))).normalized();
+      weight(x, y) = u01(rng);
+    }
+  vertex(W - 1, H - 1) = Vec3f(0.1f, 0.05f, 1.0f);
+  normal(W - 1, H - 1) = Vec3f(0.1f, 0.0f, -1.0f).normalized();
+  kernels::FrameView fv;
+  fv.vertex_cam = vertex.cview();
+  fv.normal_cam = normal.cview();
+  fv.weight = weight.cview();
+  fv.K = K.plain();
+  fv.focal_px = 29.0f;
+  kernels::FusionKernelParams prm;
+  prm.assoc_dz_rel = 0.012f;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, 1.0, 0.2).normalized()).toRotationMatrix();
+  const RigidF R = RigidF::fromMatrix(T.matrix().cast<float>());
+  int valid = 0, invalid = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x0 = 0; x0 < W; x0 += 4) {
+      const int nl = std::min(4, W - x0);
+      int xs[4];
+      for (int l = 0; l < 4; ++l) xs[l] = x0 + (l < nl ? l : 0);
+      kernels::PixelMeasurement m[4];
+      const int mask = measureFour(fv, prm, R, y, xs, nl, m);
+      for (int l = 0; l < nl; ++l) {
+        kernels::PixelMeasurement ref;
+        const bool ok = kernels::measureForAssociation(fv, x0 + l, y, prm, R, ref);
+        ASSERT_EQ(ok, ((mask >> l) & 1) != 0) << x0 + l << "," << y;
+        valid += ok;
+        invalid += !ok;
+        if (ok) EXPECT_EQ(0, std::memcmp(&ref, &m[l], sizeof ref)) << x0 + l << "," << y;
+      }
+    }
+  EXPECT_GT(valid, 20);
+  EXPECT_GT(invalid, 10);
 }

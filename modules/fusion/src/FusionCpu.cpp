@@ -1,4 +1,4 @@
-#include "rasm/fusion/UpdateCpu.h"
+#include "rasm/fusion/FusionCpu.h"
 
 #include <immintrin.h>
 
@@ -28,6 +28,23 @@ inline void cross(__m128 ax, __m128 ay, __m128 az, __m128 bx, __m128 by, __m128 
   cx = _mm_sub_ps(_mm_mul_ps(ay, bz), _mm_mul_ps(az, by));
   cy = _mm_sub_ps(_mm_mul_ps(az, bx), _mm_mul_ps(ax, bz));
   cz = _mm_sub_ps(_mm_mul_ps(ax, by), _mm_mul_ps(ay, bx));
+}
+
+/// (x, y, z, *) of a Vec3f with one unaligned load: it reads the 4 bytes after the element, which
+/// lie inside the image unless it is the last element of the last row (then `last` is true).
+inline __m128 loadVec3(const Vec3f& p, bool last) {
+  return last ? _mm_setr_ps(p.x(), p.y(), p.z(), 0.0f) : _mm_loadu_ps(p.data());
+}
+
+/// x, y, z planes of the Vec3f of four columns xs[] of an image row.
+inline void gatherRow(const Vec3f* row, const int* xs, int last_x, __m128& x, __m128& y,
+                      __m128& z) {
+  __m128 r0 = loadVec3(row[xs[0]], xs[0] == last_x), r1 = loadVec3(row[xs[1]], xs[1] == last_x),
+         r2 = loadVec3(row[xs[2]], xs[2] == last_x), r3 = loadVec3(row[xs[3]], xs[3] == last_x);
+  _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+  x = r0;
+  y = r1;
+  z = r2;
 }
 
 /// The view bins (V-B) of four lanes, as updateViewBin computes them (camera direction from the
@@ -208,6 +225,118 @@ void updateFour(const kernels::UpdateKernel& k, int y, const int* xs, int n,
 }
 
 }  // namespace
+
+int measureFour(const kernels::FrameView& fv, const kernels::FusionKernelParams& prm,
+                const RigidF& T_world_cam, int y, const int xs[4], int nl,
+                kernels::PixelMeasurement m[4]) {
+  const int w = fv.vertex_cam.width;
+  // Only the last element of the last row has no 4 bytes after it inside the image.
+  const int last_v = y == fv.vertex_cam.height - 1 ? w - 1 : -1;
+  const int last_n = y == fv.normal_cam.height - 1 ? fv.normal_cam.width - 1 : -1;
+  const __m128 one = _mm_set1_ps(1.0f), sign = _mm_set1_ps(-0.0f);
+  __m128 vx, vy, vz, nx, ny, nz;
+  gatherRow(fv.vertex_cam.row(y), xs, last_v, vx, vy, vz);
+  gatherRow(fv.normal_cam.row(y), xs, last_n, nx, ny, nz);
+  __m128 ok = _mm_and_ps(_mm_cmpeq_ps(vx, vx), _mm_cmpeq_ps(nx, nx));
+  ok = _mm_and_ps(ok, _mm_and_ps(_mm_cmpge_ps(vz, _mm_set1_ps(prm.min_depth_m)),
+                                 _mm_cmple_ps(vz, _mm_set1_ps(prm.max_depth_m))));
+  const __m128 vnorm = _mm_sqrt_ps(sum3(_mm_mul_ps(vx, vx), _mm_mul_ps(vy, vy), _mm_mul_ps(vz, vz)));
+  const __m128 ndv = sum3(_mm_mul_ps(nx, vx), _mm_mul_ps(ny, vy), _mm_mul_ps(nz, vz));
+  const __m128 cos_inc = _mm_div_ps(_mm_xor_ps(ndv, sign), vnorm);
+  ok = _mm_and_ps(ok, _mm_cmpnlt_ps(cos_inc, _mm_set1_ps(prm.min_cos_incidence)));  // !(cos < min)
+  const int valid = _mm_movemask_ps(ok) & ((1 << nl) - 1);
+  if (!valid) return 0;
+  const float* wrow = fv.weight.row(y);
+  const __m128 wt = nl == 4 && xs[3] == xs[0] + 3
+                        ? _mm_loadu_ps(wrow + xs[0])
+                        : _mm_setr_ps(wrow[xs[0]], wrow[xs[1]], wrow[xs[2]], wrow[xs[3]]);
+  // surfelRadius: z / (sqrt2 f max(|n_z|, 0.2)).
+  __m128 anz = _mm_and_ps(nz, _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)));
+  anz = select(_mm_cmplt_ps(anz, _mm_set1_ps(0.2f)), _mm_set1_ps(0.2f), anz);
+  const __m128 r = _mm_div_ps(vz, _mm_mul_ps(_mm_set1_ps(1.41421356f * fv.focal_px), anz));
+  const float* R = T_world_cam.m;
+  const auto rot = [&](const float* mr) {
+    return _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(mr[0]), nx), _mm_mul_ps(_mm_set1_ps(mr[1]), ny)),
+                      _mm_mul_ps(_mm_set1_ps(mr[2]), nz));
+  };
+  const __m128 nwx = rot(R), nwy = rot(R + 4), nwz = rot(R + 8);
+  const __m128 dz_max =
+      _mm_max_ps(_mm_set1_ps(prm.assoc_dz_abs_m), _mm_mul_ps(_mm_set1_ps(prm.assoc_dz_rel), vz));
+  const __m128 inv_v = _mm_div_ps(one, vnorm), inv_r = _mm_div_ps(one, r);
+  alignas(16) float V[3][4], N[3][4], NW[3][4], Wt[4], Rr[4], DZ[4], IV[4], IR[4];
+  _mm_store_ps(V[0], vx);
+  _mm_store_ps(V[1], vy);
+  _mm_store_ps(V[2], vz);
+  _mm_store_ps(N[0], nx);
+  _mm_store_ps(N[1], ny);
+  _mm_store_ps(N[2], nz);
+  _mm_store_ps(NW[0], nwx);
+  _mm_store_ps(NW[1], nwy);
+  _mm_store_ps(NW[2], nwz);
+  _mm_store_ps(Wt, wt);
+  _mm_store_ps(Rr, r);
+  _mm_store_ps(DZ, dz_max);
+  _mm_store_ps(IV, inv_v);
+  _mm_store_ps(IR, inv_r);
+  for (int v = valid; v; v &= v - 1) {
+    const int l = __builtin_ctz(unsigned(v));
+    kernels::PixelMeasurement& pm = m[l];
+    pm.v = Vec3f(V[0][l], V[1][l], V[2][l]);
+    pm.n = Vec3f(N[0][l], N[1][l], N[2][l]);
+    pm.n_world = Vec3f(NW[0][l], NW[1][l], NW[2][l]);
+    pm.w = Wt[l];
+    pm.r = Rr[l];
+    pm.z = V[2][l];
+    pm.dz_max = DZ[l];
+    pm.inv_v = IV[l];
+    pm.inv_r = IR[l];
+  }
+  return valid;
+}
+
+void associateRowCpu(const kernels::AssociateKernel<kernels::ListCandidates>& k, int y,
+                     KeptMeasurement* kept) {
+  constexpr int kAhead = 8;
+  const kernels::ListCandidates& lists = k.candidates;
+  const int w = k.frame.vertex_cam.width;
+  if (k.frame.weight.empty()) {
+    for (int x = 0; x < w; ++x) {
+      kernels::PixelMeasurement m;
+      if (k.associate(x, y, m) >= 0) kept[x] = KeptMeasurement{m.v, m.n_world, m.w, m.r};
+    }
+    return;
+  }
+  std::int32_t* ps = k.pixel_surfel.row(y);
+  std::uint16_t* fl = k.flags.row(y);
+  const int p0 = y * lists.width;
+  for (int x0 = 0; x0 < w; x0 += 4) {
+    const int nl = w - x0 < 4 ? w - x0 : 4;
+    int xs[4];
+    for (int l = 0; l < 4; ++l) xs[l] = x0 + (l < nl ? l : 0);
+    for (int l = 0; l < nl; ++l) {
+      const int xa = x0 + l + kAhead;
+      if (xa < w)
+        for (std::uint32_t q = lists.first[p0 + xa], e = q + lists.count[p0 + xa]; q < e; ++q)
+          __builtin_prefetch(&k.s.normal_radius[lists.entries[q].index]);
+    }
+    kernels::PixelMeasurement m[4];
+    const int valid = measureFour(k.frame, k.prm, k.T_world_cam, y, xs, nl, m);
+    for (int l = 0; l < nl; ++l) {
+      const int x = x0 + l, p = p0 + x;
+      if (!((valid >> l) & 1)) {
+        ps[x] = -1;
+        fl[x] = 0;
+        continue;
+      }
+      const int best =
+          kernels::bestCandidate(m[l], lists.entries + lists.first[p], lists.count[p], k.s, k.prm);
+      ps[x] = best >= 0 ? best : -2;
+      fl[x] = best >= 0 ? std::uint16_t(kernels::kPixValid | kernels::kPixAssociated)
+                        : std::uint16_t(kernels::kPixValid | kernels::kPixNew);
+      if (best >= 0) kept[x] = KeptMeasurement{m[l].v, m[l].n_world, m[l].w, m[l].r};
+    }
+  }
+}
 
 void updateRowCpu(const kernels::UpdateKernel& k, int y, const KeptMeasurement* kept, bool labels,
                   bool bins) {
