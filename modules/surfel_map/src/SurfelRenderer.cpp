@@ -434,6 +434,75 @@ inline void rasterizeSse(const kernels::SplatKernel& k, const kernels::SplatFoot
   }
 }
 
+/// rasterizeSse of a footprint at most 2 pixels wide over exactly the two rows y_lo, y_lo + 1:
+/// both rows in one SSE operation (lanes (x0, y), (x0 + 1, y), (x0, y + 1), (x0 + 1, y + 1)),
+/// the same float operations per pixel. 38% of the redkitchen footprints are 1x2 or 2x2.
+inline void rasterizeTwoRowsSse(const kernels::SplatKernel& k, const kernels::SplatFootprint& f,
+                                int y_lo) {
+  const Vec3f& pc = f.pc;
+  const Vec3f& nc = f.nc;
+  const float z = pc.z(), r = f.r;
+  const float n_dot_p = nc.dot(pc), r2 = r * r;
+  const float inv_fx = 1.0f / k.K.fx, inv_fy = 1.0f / k.K.fy;
+  const float ry0 = (float(y_lo) - k.K.cy) * inv_fy, ry1 = (float(y_lo + 1) - k.K.cy) * inv_fy;
+  const float rx0 = (float(f.x0) - k.K.cx) * inv_fx, rx1 = (float(f.x0 + 1) - k.K.cx) * inv_fx;
+  const __m128 ry = _mm_setr_ps(ry0, ry0, ry1, ry1), rx = _mm_setr_ps(rx0, rx1, rx0, rx1);
+  const __m128 denom_y =
+      _mm_add_ps(_mm_mul_ps(_mm_set1_ps(nc.y()), ry), _mm_set1_ps(nc.z()));  // per row
+  const __m128 denom = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(nc.x()), rx), denom_y);
+  const __m128 v_abs = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+  const __m128 ok = _mm_cmpge_ps(_mm_and_ps(denom, v_abs), _mm_set1_ps(1e-6f));
+  __m128 t = _mm_div_ps(_mm_set1_ps(n_dot_p), denom);
+  t = _mm_or_ps(_mm_and_ps(ok, t), _mm_andnot_ps(ok, _mm_set1_ps(-1.0f)));
+  const __m128 v_z = _mm_set1_ps(z), v_zero = _mm_setzero_ps();
+  const __m128 dx = _mm_sub_ps(_mm_mul_ps(t, rx), _mm_set1_ps(pc.x()));
+  const __m128 dy = _mm_sub_ps(_mm_mul_ps(t, ry), _mm_set1_ps(pc.y()));
+  const __m128 dz = _mm_sub_ps(t, v_z);
+  const __m128 d2 =
+      _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
+  const __m128 pass = _mm_and_ps(_mm_cmpgt_ps(t, v_zero), _mm_cmpngt_ps(d2, _mm_set1_ps(r2)));
+  const int cols = f.x1 > f.x0 ? 0x5 | 0xa : 0x5;  // lanes of column x0 + 1 only when drawn
+  int mask = _mm_movemask_ps(pass) & cols;
+  if ((f.vc == y_lo || f.vc == y_lo + 1) && f.uc >= f.x0 && f.uc <= f.x1) {
+    // The centre's own pixel is always covered: plane depth, else centre depth.
+    const int centre = (f.uc - f.x0) + 2 * (f.vc - y_lo);
+    const __m128 at_centre =
+        _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_setr_epi32(0, 1, 2, 3), _mm_set1_epi32(centre)));
+    const __m128 off = _mm_and_ps(
+        at_centre, _mm_or_ps(_mm_cmpngt_ps(t, v_zero),
+                             _mm_cmpgt_ps(_mm_and_ps(dz, v_abs), _mm_set1_ps(r))));
+    t = _mm_or_ps(_mm_andnot_ps(off, t), _mm_and_ps(off, v_z));
+    mask |= 1 << centre;
+  }
+  if (!mask) return;
+  const __m128i tb = _mm_castps_si128(t), v_idx = _mm_set1_epi32(f.i);
+  const __m128i p01 = _mm_unpacklo_epi32(v_idx, tb), p23 = _mm_unpackhi_epi32(v_idx, tb);
+  if (f.x0 + 1 < k.packed.width) {
+    // Depth test of the two pixels of each row at once (as rasterizeSse).
+    const __m128i v_top = _mm_set1_epi64x(std::int64_t(0x8000000000000000ull));
+    const __m128i lane_mask[4] = {_mm_setzero_si128(), _mm_set_epi64x(0, -1),
+                                  _mm_set_epi64x(-1, 0), _mm_set_epi64x(-1, -1)};
+    std::uint64_t* d0 = k.packed.row(y_lo) + f.x0;
+    std::uint64_t* d1 = k.packed.row(y_lo + 1) + f.x0;
+    const __m128i c0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(d0));
+    const __m128i c1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(d1));
+    const __m128i lt0 = _mm_cmpgt_epi64(_mm_xor_si128(c0, v_top), _mm_xor_si128(p01, v_top));
+    const __m128i lt1 = _mm_cmpgt_epi64(_mm_xor_si128(c1, v_top), _mm_xor_si128(p23, v_top));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(d0),
+                     _mm_blendv_epi8(c0, p01, _mm_and_si128(lt0, lane_mask[mask & 3])));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(d1),
+                     _mm_blendv_epi8(c1, p23, _mm_and_si128(lt1, lane_mask[mask >> 2])));
+  } else {  // the last column: the lane past the row end is another row's pixel
+    alignas(16) float t_lane[4];
+    _mm_store_ps(t_lane, t);
+    for (int m = mask; m; m &= m - 1) {
+      const int l = __builtin_ctz(unsigned(m));
+      kernels::depthTest(k.packed.row(y_lo + (l >> 1)) + f.x0 + (l & 1),
+                         kernels::packDepthIndex(t_lane[l], f.i), false);
+    }
+  }
+}
+
 /// Resolves row y: ResolveKernel's outputs, with the pixel rays (x - cx) / fx tabulated per column
 /// (the same values the kernel divides out per pixel) and the winning surfels' arrays prefetched a
 /// few pixels ahead.
@@ -589,8 +658,13 @@ void SurfelRenderer::splatCpu(const SurfelStore& map, const Eigen::Isometry3d& T
         for (int x = 0; x < w; ++x) row[x] = kernels::kEmptyPacked;
       }
       for (int tt = 0; tt < tn; ++tt)
-        for (const kernels::SplatFootprint& f : band_fp_[std::size_t(tt) * nbands + b])
-          rasterizeSse(k, f, std::max(lo, f.y0), std::min(hi, f.y1));
+        for (const kernels::SplatFootprint& f : band_fp_[std::size_t(tt) * nbands + b]) {
+          const int y0 = std::max(lo, f.y0), y1 = std::min(hi, f.y1);
+          if (y1 == y0 + 1 && f.x1 <= f.x0 + 1)
+            rasterizeTwoRowsSse(k, f, y0);
+          else
+            rasterizeSse(k, f, y0, y1);
+        }
       for (int y = lo; y <= hi; ++y) resolveRow(r, y, ray_x.data());
     }
   }
