@@ -295,11 +295,11 @@ TEST(IcpKernels, PhotometricJacobianMatchesFiniteDifferences) {
   EXPECT_GT(checked, 20);
 }
 
-// ---- the SSE CPU launcher (IcpReduceCpu.h) ----
+// ---- the SSE CPU launcher (TrackingCpu.h) ----
 
 #include <cstring>
 
-#include "rasm/tracking/IcpReduceCpu.h"
+#include "rasm/tracking/TrackingCpu.h"
 
 TEST(IcpReduceCpu, BitIdenticalToTheKernelsReduction) {
   // The room seen from two poses 3 cm / 2.5 deg apart, noisy depth (holes at grazing angles,
@@ -333,4 +333,57 @@ TEST(IcpReduceCpu, BitIdenticalToTheKernelsReduction) {
         ++cases;
       }
   EXPECT_EQ(cases, 8);
+}
+
+TEST(TrackingCpu, ModelDownsampleBitIdenticalToTheKernel) {
+  // The room's model maps (holes at grazing angles, depth steps between the 2x2 samples, odd
+  // sizes: the last column and row have partial blocks), two levels down, plus opposing normals
+  // in one block: the SSE launcher must write the kernel's pixels bit for bit.
+  using test::Scene;
+  for (const CameraIntrinsics& Kr : {CameraIntrinsics(80.0, 80.0, 39.5, 29.5, 83, 61),
+                                     CameraIntrinsics(80.0, 80.0, 40.0, 30.0, 80, 60)}) {
+    const Eigen::Isometry3d T_model = test::lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5});
+    std::vector<FrameLevel> mp;
+    buildFramePyramid(Scene::room().render(Kr, T_model, 0.004, 8), Kr, 1, mp);
+    test::WorldMaps model(mp[0], T_model);
+    model.normal(10, 10) = Vec3f(0, 0, 1);  // a block whose normals cancel
+    model.normal(11, 10) = Vec3f(0, 0, -1);
+    model.vertex(11, 10) = model.vertex(10, 10);
+    model.normal(10, 11) = model.normal(11, 11) = Vec3f(compute::invalidFloat(), 0, 0);
+    ImageView<const Vec3f> v = model.vertex.cview(), n = model.normal.cview();
+    Image<Vec3f> ref_v, ref_n, sse_v, sse_n;
+    int checked = 0, holes = 0;
+    for (int level = 1; level <= 2; ++level) {
+      const int ow = (v.width + 1) / 2, oh = (v.height + 1) / 2;
+      ref_v.resize(ow, oh);
+      ref_n.resize(ow, oh);
+      sse_v.resize(ow, oh);
+      sse_n.resize(ow, oh);
+      kernels::ModelDownsampleKernel k;
+      k.in_vertex = v;
+      k.in_normal = n;
+      k.T_model_world = RigidF::fromMatrix(T_model.inverse().matrix().cast<float>());
+      k.out_vertex = ref_v.view();
+      k.out_normal = ref_n.view();
+      compute::forEach2D(ow, oh, k);
+      k.out_vertex = sse_v.view();
+      k.out_normal = sse_n.view();
+      downsampleModelCpu(k);
+      for (int y = 0; y < oh; ++y) {
+        EXPECT_EQ(0, std::memcmp(ref_v.row(y), sse_v.row(y), sizeof(Vec3f) * ow)) << level << " row " << y;
+        EXPECT_EQ(0, std::memcmp(ref_n.row(y), sse_n.row(y), sizeof(Vec3f) * ow)) << level << " row " << y;
+        for (int x = 0; x < ow; ++x) {
+          ++checked;
+          holes += !(ref_v(x, y).x() == ref_v(x, y).x());
+        }
+      }
+      // The next level from this one (kept in the reference images' storage).
+      model.vertex = ref_v;
+      model.normal = ref_n;
+      v = model.vertex.cview();
+      n = model.normal.cview();
+    }
+    EXPECT_GT(holes, 0);
+    EXPECT_GT(checked - holes, checked / 2);
+  }
 }

@@ -10,7 +10,7 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/SE3.h"
 #include "rasm/tracking/IcpCuda.h"
-#include "rasm/tracking/IcpReduceCpu.h"
+#include "rasm/tracking/TrackingCpu.h"
 #include "rasm/tracking/kernels/IcpKernels.h"
 
 namespace rasm::tracking {
@@ -189,7 +189,7 @@ void IcpTracker::buildModelPyramid(const ModelMaps& model, bool intensity, bool 
       k.in_confidence = l == 1 ? model.confidence : m_model_confidence[l - 2].cview();
       k.out_confidence = m_model_confidence[l - 1].view();
     }
-    compute::forEach2D(ov.width(), ov.height(), k);
+    downsampleModelCpu(k);  // (SSE, bit-identical)
     v = ov.view();
     n = on.view();
   }

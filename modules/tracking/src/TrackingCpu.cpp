@@ -1,4 +1,4 @@
-#include "rasm/tracking/IcpReduceCpu.h"
+#include "rasm/tracking/TrackingCpu.h"
 
 #include <immintrin.h>
 
@@ -178,6 +178,96 @@ kernels::IcpAccumulator reduceIcpCpu(const kernels::IcpReduceKernel& k) {
       k.items(), [&](int i, IcpAccumulator& acc) {
         reduceSegmentSse<IcpReduceKernel::kSegment>(k, i, acc);
       });
+}
+
+namespace {
+
+/// ModelDownsampleKernel of the four output pixels x0..x0+3 of row y, all of whose 2x2 input
+/// blocks lie inside the input: samples in the kernel's order (dy, dx), masked sums (adding +0
+/// to a sum that started at +0 is exact), the same divisions.
+void downsampleFour(const kernels::ModelDownsampleKernel& k, int x0, int y) {
+  const int w = k.in_vertex.width, h = k.in_vertex.height;
+  const float* m = k.T_model_world.m;
+  const __m128 nan = _mm_set1_ps(compute::invalidFloat());
+  __m128 vx[4], vy[4], vz[4], nx[4], ny[4], nz[4], z[4], ok[4];
+  __m128 nearest = _mm_set1_ps(1e30f);
+  for (int s = 0; s < 4; ++s) {
+    const int dy = s >> 1, dx = s & 1, sy = 2 * y + dy;
+    const Vec3f* vr = k.in_vertex.row(sy);
+    const Vec3f* nr = k.in_normal.row(sy);
+    int xs[4];
+    bool last[4];
+    for (int l = 0; l < 4; ++l) {
+      xs[l] = 2 * (x0 + l) + dx;
+      last[l] = sy == h - 1 && xs[l] == w - 1;
+    }
+    gather3(vr[xs[0]], vr[xs[1]], vr[xs[2]], vr[xs[3]], last[0], last[1], last[2], last[3], vx[s],
+            vy[s], vz[s]);
+    const bool nlast = sy == k.in_normal.height - 1;
+    const int nw = k.in_normal.width - 1;
+    gather3(nr[xs[0]], nr[xs[1]], nr[xs[2]], nr[xs[3]], nlast && xs[0] == nw, nlast && xs[1] == nw,
+            nlast && xs[2] == nw, nlast && xs[3] == nw, nx[s], ny[s], nz[s]);
+    ok[s] = _mm_and_ps(_mm_cmpeq_ps(vx[s], vx[s]), _mm_cmpeq_ps(nx[s], nx[s]));
+    z[s] = rowDot(m + 8, vx[s], vy[s], vz[s], true);
+    nearest = _mm_or_ps(_mm_and_ps(_mm_and_ps(ok[s], _mm_cmplt_ps(z[s], nearest)), z[s]),
+                        _mm_andnot_ps(_mm_and_ps(ok[s], _mm_cmplt_ps(z[s], nearest)), nearest));
+  }
+  const __m128 any = _mm_or_ps(_mm_or_ps(ok[0], ok[1]), _mm_or_ps(ok[2], ok[3]));
+  const __m128 max_diff = _mm_set1_ps(k.max_diff_m);
+  __m128 sx = _mm_setzero_ps(), sy = sx, sz = sx, tx = sx, ty = sx, tz = sx, cnt = sx;
+  for (int s = 0; s < 4; ++s) {
+    const __m128 sel = _mm_and_ps(ok[s], _mm_cmple_ps(_mm_sub_ps(z[s], nearest), max_diff));
+    sx = _mm_add_ps(sx, _mm_and_ps(sel, vx[s]));
+    sy = _mm_add_ps(sy, _mm_and_ps(sel, vy[s]));
+    sz = _mm_add_ps(sz, _mm_and_ps(sel, vz[s]));
+    tx = _mm_add_ps(tx, _mm_and_ps(sel, nx[s]));
+    ty = _mm_add_ps(ty, _mm_and_ps(sel, ny[s]));
+    tz = _mm_add_ps(tz, _mm_and_ps(sel, nz[s]));
+    cnt = _mm_add_ps(cnt, _mm_and_ps(sel, _mm_set1_ps(1.0f)));
+  }
+  const __m128 len = _mm_sqrt_ps(sum3(_mm_mul_ps(tx, tx), _mm_mul_ps(ty, ty), _mm_mul_ps(tz, tz)));
+  const __m128 good = _mm_and_ps(any, _mm_cmpgt_ps(len, _mm_set1_ps(1e-6f)));
+  const auto out = [&](__m128 a, __m128 d) {
+    return _mm_or_ps(_mm_and_ps(good, _mm_div_ps(a, d)), _mm_andnot_ps(good, nan));
+  };
+  __m128 o0 = out(sx, cnt), o1 = out(sy, cnt), o2 = out(sz, cnt), o3 = nan;
+  __m128 p0 = out(tx, len), p1 = out(ty, len), p2 = out(tz, len), p3 = nan;
+  _MM_TRANSPOSE4_PS(o0, o1, o2, o3);
+  _MM_TRANSPOSE4_PS(p0, p1, p2, p3);
+  alignas(16) float V[4][4], N[4][4];
+  _mm_store_ps(V[0], o0);
+  _mm_store_ps(V[1], o1);
+  _mm_store_ps(V[2], o2);
+  _mm_store_ps(V[3], o3);
+  _mm_store_ps(N[0], p0);
+  _mm_store_ps(N[1], p1);
+  _mm_store_ps(N[2], p2);
+  _mm_store_ps(N[3], p3);
+  Vec3f* ov = k.out_vertex.row(y) + x0;
+  Vec3f* on = k.out_normal.row(y) + x0;
+  for (int l = 0; l < 4; ++l) {
+    ov[l] = Vec3f(V[l][0], V[l][1], V[l][2]);
+    on[l] = Vec3f(N[l][0], N[l][1], N[l][2]);
+  }
+}
+
+}  // namespace
+
+void downsampleModelCpu(const kernels::ModelDownsampleKernel& k) {
+  const int ow = k.out_vertex.width, oh = k.out_vertex.height;
+  if (k.out_intensity.data || k.out_confidence.data) {
+    compute::forEach2D(ow, oh, k);
+    return;
+  }
+  // Output columns whose 2x2 blocks are whole: 2 x + 1 < input width (and rows likewise).
+  const int full_cols = k.in_vertex.width / 2, full_rows = k.in_vertex.height / 2;
+  const int groups = full_cols / 4;
+  compute::forEach1D(oh, [&](int y) {
+    int x = 0;
+    if (y < full_rows)
+      for (int g = 0; g < groups; ++g, x += 4) downsampleFour(k, x, y);
+    for (; x < ow; ++x) k(x, y);
+  });
 }
 
 }  // namespace rasm::tracking
