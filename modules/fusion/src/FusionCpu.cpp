@@ -1,50 +1,25 @@
 #include "rasm/fusion/FusionCpu.h"
 
-#include <immintrin.h>
+#include "rasm/compute/Sse.h"
 
 namespace rasm::fusion {
 
 namespace {
 
-/// a0 + (a1 + a2): Eigen's sum of three terms (dot, squaredNorm of a Vector3f).
-inline __m128 sum3(__m128 a0, __m128 a1, __m128 a2) { return _mm_add_ps(a0, _mm_add_ps(a1, a2)); }
+using sse::cross;
+using sse::gather3;
+using sse::select;
+using sse::sum3;
 
-/// Row r of RigidF::apply over four lanes: ((m0 x + m1 y) + m2 z) + m3.
-inline __m128 applyRow(const float* m, __m128 x, __m128 y, __m128 z) {
-  return _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(m[0]), x),
-                                          _mm_mul_ps(_mm_set1_ps(m[1]), y)),
-                               _mm_mul_ps(_mm_set1_ps(m[2]), z)),
-                    _mm_set1_ps(m[3]));
-}
-
-/// mask ? a : b, per lane.
-inline __m128 select(__m128 mask, __m128 a, __m128 b) {
-  return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
-}
-
-/// a x b per lane, as Eigen's cross: (a1 b2 - a2 b1, a2 b0 - a0 b2, a0 b1 - a1 b0).
-inline void cross(__m128 ax, __m128 ay, __m128 az, __m128 bx, __m128 by, __m128 bz, __m128& cx,
-                  __m128& cy, __m128& cz) {
-  cx = _mm_sub_ps(_mm_mul_ps(ay, bz), _mm_mul_ps(az, by));
-  cy = _mm_sub_ps(_mm_mul_ps(az, bx), _mm_mul_ps(ax, bz));
-  cz = _mm_sub_ps(_mm_mul_ps(ax, by), _mm_mul_ps(ay, bx));
-}
-
-/// (x, y, z, *) of a Vec3f with one unaligned load: it reads the 4 bytes after the element, which
-/// lie inside the image unless it is the last element of the last row (then `last` is true).
-inline __m128 loadVec3(const Vec3f& p, bool last) {
-  return last ? _mm_setr_ps(p.x(), p.y(), p.z(), 0.0f) : _mm_loadu_ps(p.data());
-}
+/// RigidF::apply's row m over four lanes.
+inline __m128 applyRow(const float* m, __m128 x, __m128 y, __m128 z) { return sse::rigidRow(m, x, y, z); }
 
 /// x, y, z planes of the Vec3f of four columns xs[] of an image row.
+/// (Only the last element of the last row, column last_x, has no 4 bytes after it; -1 none.)
 inline void gatherRow(const Vec3f* row, const int* xs, int last_x, __m128& x, __m128& y,
                       __m128& z) {
-  __m128 r0 = loadVec3(row[xs[0]], xs[0] == last_x), r1 = loadVec3(row[xs[1]], xs[1] == last_x),
-         r2 = loadVec3(row[xs[2]], xs[2] == last_x), r3 = loadVec3(row[xs[3]], xs[3] == last_x);
-  _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
-  x = r0;
-  y = r1;
-  z = r2;
+  gather3(row[xs[0]], row[xs[1]], row[xs[2]], row[xs[3]], xs[0] == last_x, xs[1] == last_x,
+          xs[2] == last_x, xs[3] == last_x, x, y, z);
 }
 
 /// The view bins (V-B) of four lanes, as updateViewBin computes them (camera direction from the
@@ -255,11 +230,8 @@ int measureFour(const kernels::FrameView& fv, const kernels::FusionKernelParams&
   anz = select(_mm_cmplt_ps(anz, _mm_set1_ps(0.2f)), _mm_set1_ps(0.2f), anz);
   const __m128 r = _mm_div_ps(vz, _mm_mul_ps(_mm_set1_ps(1.41421356f * fv.focal_px), anz));
   const float* R = T_world_cam.m;
-  const auto rot = [&](const float* mr) {
-    return _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(mr[0]), nx), _mm_mul_ps(_mm_set1_ps(mr[1]), ny)),
-                      _mm_mul_ps(_mm_set1_ps(mr[2]), nz));
-  };
-  const __m128 nwx = rot(R), nwy = rot(R + 4), nwz = rot(R + 8);
+  const __m128 nwx = sse::rigidRow(R, nx, ny, nz, false), nwy = sse::rigidRow(R + 4, nx, ny, nz, false),
+               nwz = sse::rigidRow(R + 8, nx, ny, nz, false);
   const __m128 dz_max =
       _mm_max_ps(_mm_set1_ps(prm.assoc_dz_abs_m), _mm_mul_ps(_mm_set1_ps(prm.assoc_dz_rel), vz));
   const __m128 inv_v = _mm_div_ps(one, vnorm), inv_r = _mm_div_ps(one, r);

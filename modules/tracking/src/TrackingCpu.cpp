@@ -1,6 +1,6 @@
 #include "rasm/tracking/TrackingCpu.h"
 
-#include <immintrin.h>
+#include "rasm/compute/Sse.h"
 
 #include "rasm/compute/Parallel.h"
 
@@ -11,33 +11,12 @@ namespace {
 using kernels::IcpAccumulator;
 using kernels::IcpReduceKernel;
 
-/// a0 + (a1 + a2), as Eigen sums three terms.
-inline __m128 sum3(__m128 a0, __m128 a1, __m128 a2) { return _mm_add_ps(a0, _mm_add_ps(a1, a2)); }
+using sse::gather3;
+using sse::sum3;
 
-/// m[0..2] . (x, y, z) (+ m[3] when `affine`), as RigidF::apply / rotate: ((m0 x + m1 y) + m2 z) + m3.
+/// m[0..2] . (x, y, z) (+ m[3] when `affine`), as RigidF::apply / rotate.
 inline __m128 rowDot(const float* m, __m128 x, __m128 y, __m128 z, bool affine) {
-  const __m128 r = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(m[0]), x), _mm_mul_ps(_mm_set1_ps(m[1]), y)),
-                              _mm_mul_ps(_mm_set1_ps(m[2]), z));
-  return affine ? _mm_add_ps(r, _mm_set1_ps(m[3])) : r;
-}
-
-/// (x, y, z, *) of a Vec3f with one unaligned load: it reads the 4 bytes after the element, which
-/// lie inside the view unless it is the last element of the last row (then `last` is true).
-inline __m128 loadVec3(const Vec3f& p, bool last) {
-  return last ? _mm_setr_ps(p.x(), p.y(), p.z(), 0.0f) : _mm_loadu_ps(p.data());
-}
-
-/// x, y and z planes of four Vec3f (the fourth output is junk). Loading whole elements and
-/// transposing avoids the store-forwarding stalls of filling a lane buffer one float at a time
-/// and reloading it as a vector (which made the gathers the slowest part of the loop).
-inline void gather3(const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& d, bool last_a,
-                    bool last_b, bool last_c, bool last_d, __m128& x, __m128& y, __m128& z) {
-  __m128 r0 = loadVec3(a, last_a), r1 = loadVec3(b, last_b), r2 = loadVec3(c, last_c),
-         r3 = loadVec3(d, last_d);
-  _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
-  x = r0;
-  y = r1;
-  z = r2;
+  return sse::rigidRow(m, x, y, z, affine);
 }
 
 /// One work item (a row segment), as kernels::reduceRowSegment with IcpReduceKernel::pixel.
