@@ -1,5 +1,7 @@
 #include "rasm/tracking/TrackingCpu.h"
 
+#include <cstdint>
+
 #include "rasm/compute/Sse.h"
 
 #include "rasm/compute/Parallel.h"
@@ -18,6 +20,26 @@ using sse::sum3;
 inline __m128 rowDot(const float* m, __m128 x, __m128 y, __m128 z, bool affine) {
   return sse::rigidRow(m, x, y, z, affine);
 }
+
+/// pshufb controls that move the 4-byte lanes set in a 4-bit mask to the front, in lane order.
+struct LeftPack {
+  __m128i ctl[16];
+  LeftPack() {
+    for (int m = 0; m < 16; ++m) {
+      alignas(16) std::uint8_t b[16];
+      int k = 0;
+      for (int l = 0; l < 4; ++l)
+        if ((m >> l) & 1) {
+          for (int j = 0; j < 4; ++j) b[4 * k + j] = std::uint8_t(4 * l + j);
+          ++k;
+        }
+      for (; k < 4; ++k)
+        for (int j = 0; j < 4; ++j) b[4 * k + j] = 0x80;  // zero
+      ctl[m] = _mm_load_si128(reinterpret_cast<const __m128i*>(b));
+    }
+  }
+};
+const LeftPack kLeftPack;
 
 /// One work item (a row segment), as kernels::reduceRowSegment with IcpReduceKernel::pixel.
 template <int kSegment>
@@ -124,26 +146,39 @@ void reduceSegmentSse(const IcpReduceKernel& k, int item, IcpAccumulator& acc) {
       h = _mm_or_ps(_mm_and_ps(big, _mm_div_ps(huber, ar)), _mm_andnot_ps(big, one));
     }
     const __m128 w = _mm_mul_ps(_mm_mul_ps(s, s), h);
-    alignas(16) float J[6][4], R[4], W[4], VZ[4];
+    alignas(16) float VZ[4];
     _mm_store_ps(VZ, vz);
-    _mm_store_ps(J[0], mx);
-    _mm_store_ps(J[1], my);
-    _mm_store_ps(J[2], mz);
-    _mm_store_ps(J[3], c0);
-    _mm_store_ps(J[4], c1);
-    _mm_store_ps(J[5], c2);
-    _mm_store_ps(R, r);
-    _mm_store_ps(W, w);
-    for (int m = mask; m; m &= m - 1) {  // in pixel order, as the kernel's loop
-      const int l = __builtin_ctz(unsigned(m));
+    for (int m = mask; m; m &= m - 1) depth_sum += VZ[__builtin_ctz(unsigned(m))];  // pixel order
+    const __m128 J[6] = {mx, my, mz, c0, c1, c2};
+    if (n <= kSegment - 4) {
+      // The inliers of the four lanes, left-packed in pixel order (the kernel's loop), straight
+      // into the buffers; the store's lanes past them are overwritten or never summed.
+      const __m128i ctl = kLeftPack.ctl[mask];
+      const auto pack = [&](__m128 v) {
+        return _mm_castsi128_ps(_mm_shuffle_epi8(_mm_castps_si128(v), ctl));
+      };
       for (int c = 0; c < 6; ++c) {
-        Jb[c][n] = J[c][l];
-        wJb[c][n] = W[l] * J[c][l];
+        _mm_storeu_ps(&Jb[c][n], pack(J[c]));
+        _mm_storeu_ps(&wJb[c][n], pack(_mm_mul_ps(w, J[c])));
       }
-      rb[n] = R[l];
-      wb[n] = W[l];
-      depth_sum += VZ[l];
-      ++n;
+      _mm_storeu_ps(&rb[n], pack(r));
+      _mm_storeu_ps(&wb[n], pack(w));
+      n += __builtin_popcount(unsigned(mask));
+    } else {  // the segment's last slots: lane by lane
+      alignas(16) float Jl[6][4], R[4], W[4];
+      for (int c = 0; c < 6; ++c) _mm_store_ps(Jl[c], J[c]);
+      _mm_store_ps(R, r);
+      _mm_store_ps(W, w);
+      for (int m = mask; m; m &= m - 1) {
+        const int l = __builtin_ctz(unsigned(m));
+        for (int c = 0; c < 6; ++c) {
+          Jb[c][n] = Jl[c][l];
+          wJb[c][n] = W[l] * Jl[c][l];
+        }
+        rb[n] = R[l];
+        wb[n] = W[l];
+        ++n;
+      }
     }
   }
   kernels::accumulateSegment<kSegment>(Jb, wJb, rb, wb, n, valid, depth_sum, acc);
