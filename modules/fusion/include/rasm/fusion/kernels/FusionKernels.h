@@ -108,7 +108,6 @@ RASM_HD_INLINE void updateViewBin(const maps::SurfelArrays& s, int i, const Vec3
   updateViewBinAt(s, i, bin, dist, prm);
 }
 
-
 /// Whether a surfel moved from p_old to p_new changed spatial-index block (VoxelBlockIndex's
 /// block coordinates: floor(p / block size)); the caller then re-bins it.
 RASM_HD_INLINE bool crossedBlock(const Vec3f& p_old, const Vec3f& p_new, float inv_block_size) {
