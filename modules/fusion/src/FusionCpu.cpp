@@ -7,12 +7,10 @@ namespace rasm::fusion {
 namespace {
 
 using sse::cross;
+using sse::rigidRow;
 using sse::gather3;
 using sse::select;
 using sse::sum3;
-
-/// RigidF::apply's row m over four lanes.
-inline __m128 applyRow(const float* m, __m128 x, __m128 y, __m128 z) { return sse::rigidRow(m, x, y, z); }
 
 /// x, y, z planes of the Vec3f of four columns xs[] of an image row.
 /// (Only the last element of the last row, column last_x, has no 4 bytes after it; -1 none.)
@@ -114,8 +112,8 @@ void updateFour(const kernels::UpdateKernel& k, int y, const int* xs, int n,
 
   const __m128 one = _mm_set1_ps(1.0f);
   const float* T = k.T_world_cam.m;
-  const __m128 vwx = applyRow(T, vx, vy, vz), vwy = applyRow(T + 4, vx, vy, vz),
-               vwz = applyRow(T + 8, vx, vy, vz);
+  const __m128 vwx = rigidRow(T, vx, vy, vz), vwy = rigidRow(T + 4, vx, vy, vz),
+               vwz = rigidRow(T + 8, vx, vy, vz);
   // r <= ratio * rs: the geometry is averaged.
   const __m128 fuse = _mm_cmple_ps(r, _mm_mul_ps(_mm_set1_ps(k.prm.radius_update_ratio), rs));
   const __m128 inv_cw = _mm_div_ps(one, _mm_add_ps(c, w));
@@ -191,11 +189,14 @@ void updateFour(const kernels::UpdateKernel& k, int y, const int* xs, int n,
       f |= kernels::kPixFused;
       if ((crossed >> l) & 1) f |= kernels::kPixCrossedBlock;
     }
+    const Vec3f p(P[0][l], P[1][l], P[2][l]);
+    k.store(x, y, i, W[l], C[l], p, ns, N[3][l], bl, cf, f);
     // (a basis from the fallback is not the lanes' one: that surfel's bin is computed again)
-    const bool lane_bin = bins4 && !(((fused & ~basis_ok) >> l) & 1);
-    k.store(x, y, i, W[l], C[l], Vec3f(P[0][l], P[1][l], P[2][l]), ns, N[3][l], bl, cf, f,
-            !lane_bin);
-    if (lane_bin && bin[l] >= 0) kernels::updateViewBinAt(s, i, bin[l], dist[l], k.prm);
+    if (bins4 && !(((fused & ~basis_ok) >> l) & 1)) {
+      if (bin[l] >= 0) kernels::updateViewBinAt(s, i, bin[l], dist[l], k.prm);
+    } else {
+      kernels::updateViewBin(s, i, p, ns, bl, k.T_world_cam.translation(), k.prm);
+    }
   }
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "rasm/compute/Sse.h"
 #include "rasm/surfel_map/kernels/RenderKernels.h"
 
 namespace rasm::maps {
@@ -244,11 +245,8 @@ inline int footprints4(const kernels::SplatKernel& k, const MemberGroup& g,
   __m128 r = _mm_load_ps(a.normal_radius[g.idx[3]].data());
   _MM_TRANSPOSE4_PS(nx, ny, nz, r);  // world normal x, y, z and radius per lane
   const float* T = k.T_cam_world.m;
-  const auto row = [&](int i) {
-    return _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(T[i]), nx), _mm_mul_ps(_mm_set1_ps(T[i + 1]), ny)),
-                      _mm_mul_ps(_mm_set1_ps(T[i + 2]), nz));
-  };
-  const __m128 ncx = row(0), ncy = row(4), ncz = row(8);
+  const __m128 ncx = sse::rigidRow(T, nx, ny, nz, false), ncy = sse::rigidRow(T + 4, nx, ny, nz, false),
+               ncz = sse::rigidRow(T + 8, nx, ny, nz, false);  // RigidF::rotate
   const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
   const __m128 z = g.z;
   const __m128 depth_ok = _mm_and_ps(_mm_cmpge_ps(z, _mm_set1_ps(k.min_depth_m)),
@@ -354,6 +352,19 @@ int teamSize() {
 #endif
 }
 
+/// Depth test of two adjacent pixels dst[0..1] at once: dst[j] = min(dst[j], packed lane j) for
+/// the lanes set in `lanes` (2 bits), the (depth bits << 32 | index) minimum as an unsigned
+/// 64-bit compare done as a signed one of the values with the top bit flipped.
+alignas(16) constexpr std::uint64_t kPairLanes[4][2] = {{0, 0}, {~0ull, 0}, {0, ~0ull}, {~0ull, ~0ull}};
+inline void depthTestPair(std::uint64_t* dst, __m128i packed, int lanes) {
+  const __m128i top = _mm_set1_epi64x(std::int64_t(0x8000000000000000ull));
+  const __m128i lane = _mm_load_si128(reinterpret_cast<const __m128i*>(kPairLanes[lanes]));
+  const __m128i cur = _mm_loadu_si128(reinterpret_cast<const __m128i*>(dst));
+  const __m128i less = _mm_cmpgt_epi64(_mm_xor_si128(cur, top), _mm_xor_si128(packed, top));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(dst),
+                   _mm_blendv_epi8(cur, packed, _mm_and_si128(less, lane)));
+}
+
 /// SplatKernel::rasterize (plain min writes) with four pixels of a row per SSE operation: the
 /// same float operations in the same order per pixel, so the result is identical; the branches of
 /// the tiny footprints (a few pixels each) become masks.
@@ -372,9 +383,6 @@ inline void rasterizeSse(const kernels::SplatKernel& k, const kernels::SplatFoot
   const __m128 v_abs = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
   const __m128 v_lane = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
   const __m128i v_idx = _mm_set1_epi32(f.i);
-  const __m128i v_top = _mm_set1_epi64x(std::int64_t(0x8000000000000000ull));
-  const __m128i lane_mask[4] = {_mm_setzero_si128(), _mm_set_epi64x(0, -1),
-                                _mm_set_epi64x(-1, 0), _mm_set_epi64x(-1, -1)};
   const int w = k.packed.width;
   alignas(16) float t_lane[4];
   for (int y = y_lo; y <= y_hi; ++y) {
@@ -408,20 +416,10 @@ inline void rasterizeSse(const kernels::SplatKernel& k, const kernels::SplatFoot
         t = _mm_load_ps(t_lane);
       }
       if (!mask) continue;
-      if (x0 + 3 < w) {
-        // Depth test of the four lanes at once: (depth bits << 32 | index) minimum, unsigned
-        // 64-bit compare as a signed one of the values with the top bit flipped.
+      if (x0 + 3 < w) {  // the four lanes, two pixels per depthTestPair
         const __m128i tb = _mm_castps_si128(t);
-        const __m128i p01 = _mm_unpacklo_epi32(v_idx, tb), p23 = _mm_unpackhi_epi32(v_idx, tb);
-        std::uint64_t* dst = row + x0;
-        const __m128i c01 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(dst));
-        const __m128i c23 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(dst + 2));
-        const __m128i lt01 = _mm_cmpgt_epi64(_mm_xor_si128(c01, v_top), _mm_xor_si128(p01, v_top));
-        const __m128i lt23 = _mm_cmpgt_epi64(_mm_xor_si128(c23, v_top), _mm_xor_si128(p23, v_top));
-        const __m128i m01 = _mm_and_si128(lt01, lane_mask[mask & 3]);
-        const __m128i m23 = _mm_and_si128(lt23, lane_mask[mask >> 2]);
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(dst), _mm_blendv_epi8(c01, p01, m01));
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(dst + 2), _mm_blendv_epi8(c23, p23, m23));
+        depthTestPair(row + x0, _mm_unpacklo_epi32(v_idx, tb), mask & 3);
+        depthTestPair(row + x0 + 2, _mm_unpackhi_epi32(v_idx, tb), mask >> 2);
       } else {  // the last columns: lanes past the row end are another row's pixels
         _mm_store_ps(t_lane, t);
         while (mask) {
@@ -475,23 +473,10 @@ inline void rasterizeTwoRowsSse(const kernels::SplatKernel& k, const kernels::Sp
     mask |= 1 << centre;
   }
   if (!mask) return;
-  const __m128i tb = _mm_castps_si128(t), v_idx = _mm_set1_epi32(f.i);
-  const __m128i p01 = _mm_unpacklo_epi32(v_idx, tb), p23 = _mm_unpackhi_epi32(v_idx, tb);
-  if (f.x0 + 1 < k.packed.width) {
-    // Depth test of the two pixels of each row at once (as rasterizeSse).
-    const __m128i v_top = _mm_set1_epi64x(std::int64_t(0x8000000000000000ull));
-    const __m128i lane_mask[4] = {_mm_setzero_si128(), _mm_set_epi64x(0, -1),
-                                  _mm_set_epi64x(-1, 0), _mm_set_epi64x(-1, -1)};
-    std::uint64_t* d0 = k.packed.row(y_lo) + f.x0;
-    std::uint64_t* d1 = k.packed.row(y_lo + 1) + f.x0;
-    const __m128i c0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(d0));
-    const __m128i c1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(d1));
-    const __m128i lt0 = _mm_cmpgt_epi64(_mm_xor_si128(c0, v_top), _mm_xor_si128(p01, v_top));
-    const __m128i lt1 = _mm_cmpgt_epi64(_mm_xor_si128(c1, v_top), _mm_xor_si128(p23, v_top));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(d0),
-                     _mm_blendv_epi8(c0, p01, _mm_and_si128(lt0, lane_mask[mask & 3])));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(d1),
-                     _mm_blendv_epi8(c1, p23, _mm_and_si128(lt1, lane_mask[mask >> 2])));
+  if (f.x0 + 1 < k.packed.width) {  // the two pixels of each row at once
+    const __m128i tb = _mm_castps_si128(t), v_idx = _mm_set1_epi32(f.i);
+    depthTestPair(k.packed.row(y_lo) + f.x0, _mm_unpacklo_epi32(v_idx, tb), mask & 3);
+    depthTestPair(k.packed.row(y_lo + 1) + f.x0, _mm_unpackhi_epi32(v_idx, tb), mask >> 2);
   } else {  // the last column: the lane past the row end is another row's pixel
     alignas(16) float t_lane[4];
     _mm_store_ps(t_lane, t);

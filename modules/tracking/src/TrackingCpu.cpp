@@ -14,12 +14,9 @@ using kernels::IcpAccumulator;
 using kernels::IcpReduceKernel;
 
 using sse::gather3;
+using sse::rigidRow;
+using sse::select;
 using sse::sum3;
-
-/// m[0..2] . (x, y, z) (+ m[3] when `affine`), as RigidF::apply / rotate.
-inline __m128 rowDot(const float* m, __m128 x, __m128 y, __m128 z, bool affine) {
-  return sse::rigidRow(m, x, y, z, affine);
-}
 
 /// pshufb controls that move the 4-byte lanes set in a 4-bit mask to the front, in lane order.
 struct LeftPack {
@@ -90,8 +87,8 @@ void reduceSegmentSse(const IcpReduceKernel& k, int item, IcpAccumulator& acc) {
     valid += __builtin_popcount(unsigned(valid_mask));
     if (!valid_mask) continue;
     // Projective association in the model camera.
-    const __m128 pmx = rowDot(Tm, vx, vy, vz, true), pmy = rowDot(Tm + 4, vx, vy, vz, true),
-                 pmz = rowDot(Tm + 8, vx, vy, vz, true);
+    const __m128 pmx = rigidRow(Tm, vx, vy, vz), pmy = rigidRow(Tm + 4, vx, vy, vz),
+                 pmz = rigidRow(Tm + 8, vx, vy, vz);
     __m128 ok = _mm_cmpgt_ps(pmz, zero);
     const __m128 iz = _mm_div_ps(one, pmz);
     const __m128 u = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(fx, pmx), iz), cx);
@@ -119,12 +116,12 @@ void reduceSegmentSse(const IcpReduceKernel& k, int item, IcpAccumulator& acc) {
     gather3(*mn[0], *mn[1], *mn[2], *mn[3], M[0], M[1], M[2], M[3], mx, my, mz);
     ok = _mm_and_ps(_mm_cmpeq_ps(qx, qx), _mm_cmpeq_ps(mx, mx));
     // Compatibility: distance and normal angle.
-    const __m128 px = rowDot(Tw, vx, vy, vz, true), py = rowDot(Tw + 4, vx, vy, vz, true),
-                 pz = rowDot(Tw + 8, vx, vy, vz, true);
+    const __m128 px = rigidRow(Tw, vx, vy, vz), py = rigidRow(Tw + 4, vx, vy, vz),
+                 pz = rigidRow(Tw + 8, vx, vy, vz);
     const __m128 dx = _mm_sub_ps(px, qx), dy = _mm_sub_ps(py, qy), dz = _mm_sub_ps(pz, qz);
     ok = _mm_and_ps(ok, _mm_cmpngt_ps(sum3(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy), _mm_mul_ps(dz, dz)), max_d2));
-    const __m128 nwx = rowDot(Tw, nx, ny, nz, false), nwy = rowDot(Tw + 4, nx, ny, nz, false),
-                 nwz = rowDot(Tw + 8, nx, ny, nz, false);
+    const __m128 nwx = rigidRow(Tw, nx, ny, nz, false), nwy = rigidRow(Tw + 4, nx, ny, nz, false),
+                 nwz = rigidRow(Tw + 8, nx, ny, nz, false);
     ok = _mm_and_ps(ok, _mm_cmpnlt_ps(sum3(_mm_mul_ps(nwx, mx), _mm_mul_ps(nwy, my), _mm_mul_ps(nwz, mz)), min_cos));
     mask &= _mm_movemask_ps(ok);
     if (!mask) continue;
@@ -222,9 +219,8 @@ void downsampleFour(const kernels::ModelDownsampleKernel& k, int x0, int y) {
     gather3(nr[xs[0]], nr[xs[1]], nr[xs[2]], nr[xs[3]], nlast && xs[0] == nw, nlast && xs[1] == nw,
             nlast && xs[2] == nw, nlast && xs[3] == nw, nx[s], ny[s], nz[s]);
     ok[s] = _mm_and_ps(_mm_cmpeq_ps(vx[s], vx[s]), _mm_cmpeq_ps(nx[s], nx[s]));
-    z[s] = rowDot(m + 8, vx[s], vy[s], vz[s], true);
-    nearest = _mm_or_ps(_mm_and_ps(_mm_and_ps(ok[s], _mm_cmplt_ps(z[s], nearest)), z[s]),
-                        _mm_andnot_ps(_mm_and_ps(ok[s], _mm_cmplt_ps(z[s], nearest)), nearest));
+    z[s] = rigidRow(m + 8, vx[s], vy[s], vz[s]);
+    nearest = select(_mm_and_ps(ok[s], _mm_cmplt_ps(z[s], nearest)), z[s], nearest);
   }
   const __m128 any = _mm_or_ps(_mm_or_ps(ok[0], ok[1]), _mm_or_ps(ok[2], ok[3]));
   const __m128 max_diff = _mm_set1_ps(k.max_diff_m);
@@ -241,9 +237,7 @@ void downsampleFour(const kernels::ModelDownsampleKernel& k, int x0, int y) {
   }
   const __m128 len = _mm_sqrt_ps(sum3(_mm_mul_ps(tx, tx), _mm_mul_ps(ty, ty), _mm_mul_ps(tz, tz)));
   const __m128 good = _mm_and_ps(any, _mm_cmpgt_ps(len, _mm_set1_ps(1e-6f)));
-  const auto out = [&](__m128 a, __m128 d) {
-    return _mm_or_ps(_mm_and_ps(good, _mm_div_ps(a, d)), _mm_andnot_ps(good, nan));
-  };
+  const auto out = [&](__m128 a, __m128 d) { return select(good, _mm_div_ps(a, d), nan); };
   __m128 o0 = out(sx, cnt), o1 = out(sy, cnt), o2 = out(sz, cnt), o3 = nan;
   __m128 p0 = out(tx, len), p1 = out(ty, len), p2 = out(tz, len), p3 = nan;
   _MM_TRANSPOSE4_PS(o0, o1, o2, o3);

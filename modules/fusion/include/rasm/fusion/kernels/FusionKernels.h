@@ -494,6 +494,7 @@ struct UpdateKernel {
       if (crossedBlock(p_old, p, prm.inv_block_size)) f |= kPixCrossedBlock;
     }
     store(x, y, i, w, c, p, ns, rs, b, cf, f);
+    updateViewBin(s, i, p, ns, b, T_world_cam.translation(), prm);
   }
 
   /// The surfel colour (packed, flags kept) blended with pixel (x, y)'s by the weights a0, a1.
@@ -506,13 +507,11 @@ struct UpdateKernel {
                             cf & 0xff000000u);
   }
 
-  /// The rest of update() once the geometry (p, ns, rs, b) and colour cf are averaged: confidence
-  /// c + w, the stable flag, the stores, the segment weight, the view bin and the carving verdict;
-  /// f: the pixel's flags so far.
-  /// view_bin = false leaves the view bin to the caller (updateViewBinAt).
+  /// The rest of update() once the geometry (p, ns, rs, b) and colour cf are averaged, but the
+  /// view bin (updateViewBin, independent of it): confidence c + w, the stable flag, the stores,
+  /// the segment weight and the carving verdict; f: the pixel's flags so far.
   RASM_HD_INLINE void store(int x, int y, int i, float w, float c, const Vec3f& p, const Vec3f& ns,
-                            float rs, const Vec3f& b, std::uint32_t cf, std::uint16_t f,
-                            bool view_bin = true) const {
+                            float rs, const Vec3f& b, std::uint32_t cf, std::uint16_t f) const {
     float c_new = c + w;
     if (prm.max_confidence > 0.0f && c_new > prm.max_confidence) c_new = prm.max_confidence;
     if (!(cf & maps::kSurfelStable) && c_new >= prm.stable_confidence) {
@@ -539,7 +538,6 @@ struct UpdateKernel {
         }
       }
     }
-    if (view_bin) updateViewBin(s, i, p, ns, b, T_world_cam.translation(), prm);
     if (carve && carve_test.violates(T_cam_world.apply(p)))
       f |= std::uint16_t(carve_test.action(cf, c_new) << kPixCarveShift);
     flags(x, y) = f;
