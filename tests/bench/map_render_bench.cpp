@@ -130,6 +130,7 @@ int main(int argc, char** argv) {
   }
   // Footprint sizes of the model's splats (bounding boxes in pixels, 3 = 3 or more).
   long long fp[4][4] = {};
+  long long box_pixels = 0, larger_pixels = 0;  // pixels the depth test visits (bounding boxes)
   {
     Image<std::uint64_t> scratch(width, height);
     const maps::kernels::SplatKernel k{map.store().arrays(), nullptr,
@@ -147,6 +148,9 @@ int main(int argc, char** argv) {
       maps::kernels::SplatFootprint f;
       if (!k.footprintAt(i, pc, u, v, f)) continue;
       ++fp[std::min(f.x1 - f.x0 + 1, 3)][std::min(f.y1 - f.y0 + 1, 3)];
+      box_pixels += (long long)(f.x1 - f.x0 + 1) * (f.y1 - f.y0 + 1);
+      if (f.x1 - f.x0 + 1 > 2 || f.y1 - f.y0 + 1 > 2)
+        larger_pixels += (long long)(f.x1 - f.x0 + 1) * (f.y1 - f.y0 + 1);
     }
   }
   long long model_valid = 0;
@@ -170,10 +174,12 @@ int main(int argc, char** argv) {
       "\"model_valid_pixels\":%lld,\"candidates_ms\":%.3f,\"candidates_cpu_ms\":%.3f,"
       "\"candidates_in_view\":%lld,\"surfels_below_min_conf\":%lld,"
       "\"footprints_1x1\":%lld,\"footprints_2x1\":%lld,\"footprints_1x2\":%lld,"
-      "\"footprints_2x2\":%lld,\"footprints_larger\":%lld,\"model_hash\":\"%016llx\"}\n",
+      "\"footprints_2x2\":%lld,\"footprints_larger\":%lld,\"footprint_box_pixels\":%lld,"
+      "\"footprint_box_pixels_larger\":%lld,\"model_hash\":\"%016llx\"}\n",
       map.size(), pi, threads, median(model_ms), median(model_cpu), model_stats.surfels_tested,
       model_stats.surfels_drawn, model_valid, median(cand_ms), median(cand_cpu),
       cand_stats.surfels_drawn, below_min_conf, fp[1][1], fp[2][1], fp[1][2], fp[2][2],
-      fp[3][1] + fp[3][2] + fp[3][3] + fp[1][3] + fp[2][3], (unsigned long long)hash);
+      fp[3][1] + fp[3][2] + fp[3][3] + fp[1][3] + fp[2][3], box_pixels, larger_pixels,
+      (unsigned long long)hash);
   return 0;
 }

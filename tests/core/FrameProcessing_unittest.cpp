@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <omp.h>
 
 #include "rasm/compute/Device.h"
 #include "rasm/core/FrameProcessing.h"
@@ -219,22 +220,53 @@ TEST(Bilateral, CpuLauncherComputesTheKernelsFilter) {
       d(x, y) = 1.2f + 0.004f * x + 0.002f * y + (x > 50 ? 0.4f : 0.0f) + noise;
       if ((s >> 4) % 17 == 0) d(x, y) = 0.0f;
     }
-  Image<float> cpu, ref(w, h);
-  bilateralFilterDepth(d, cpu, 2, 4.5f, 0.03f);
-  kernels::BilateralDepthKernel k{d.cview(), ref.view(), 2, 4.5f, 0.03f};
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) k(x, y);
-  int invalid = 0;
+  for (int radius = 0; radius <= 3; ++radius) {  // every window the launcher supports
+    Image<float> cpu, ref(w, h);
+    bilateralFilterDepth(d, cpu, radius, 4.5f, 0.03f);
+    kernels::BilateralDepthKernel k{d.cview(), ref.view(), radius, 4.5f, 0.03f};
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) k(x, y);
+    int invalid = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (d(x, y) == 0.0f) {
+          ++invalid;
+          ASSERT_EQ(cpu(x, y), 0.0f) << x << "," << y << " radius " << radius;
+          continue;
+        }
+        ASSERT_NEAR(cpu(x, y), ref(x, y), 2e-6f) << x << "," << y << " radius " << radius;
+      }
+    EXPECT_GT(invalid, 100);
+  }
+  Image<float> out;
+  EXPECT_THROW(bilateralFilterDepth(d, out, 4, 4.5f, 0.03f), std::invalid_argument);
+  Image<float> tiny(3, 2, 1.0f);  // narrower than one group of four pixels
+  bilateralFilterDepth(tiny, out, 2, 4.5f, 0.03f);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 3; ++x) EXPECT_FLOAT_EQ(out(x, y), 1.0f);
+}
+
+TEST(Bilateral, CpuLauncherIsIndependentOfThreadCount) {
+  // The launcher splits rows into bands by thread count and adds each pair's weight to both
+  // pixels: the sums' order must not depend on the split (bit-identical outputs).
+  const int w = 131, h = 77;
+  Image<float> d(w, h);
+  std::uint32_t s = 777u;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      if (d(x, y) == 0.0f) {
-        ++invalid;
-        ASSERT_EQ(cpu(x, y), 0.0f) << x << "," << y;
-        continue;
-      }
-      ASSERT_NEAR(cpu(x, y), ref(x, y), 2e-6f) << x << "," << y;
+      s = s * 1664525u + 1013904223u;
+      d(x, y) = 0.8f + 0.01f * float(x % 13) + (float(s >> 8) / float(1u << 24)) * 0.01f;
+      if ((s >> 4) % 11 == 0) d(x, y) = (s >> 9) % 2 ? 0.0f : std::nanf("");
     }
-  EXPECT_GT(invalid, 100);
+  const int nt = omp_get_max_threads();
+  Image<float> one, many;
+  omp_set_num_threads(1);
+  bilateralFilterDepth(d, one, 2, 4.5f, 0.03f);
+  omp_set_num_threads(std::max(3, nt));
+  bilateralFilterDepth(d, many, 2, 4.5f, 0.03f);
+  omp_set_num_threads(nt);
+  for (int y = 0; y < h; ++y)
+    ASSERT_EQ(std::memcmp(one.row(y), many.row(y), sizeof(float) * w), 0) << "row " << y;
 }
 
 // ---- compute::reduce1D: fixed chunks summed in order ----
