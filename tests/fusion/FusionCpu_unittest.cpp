@@ -333,3 +333,43 @@ TEST(AssociateCpu, MeasurementsBitIdenticalToTheKernel) {
   EXPECT_GT(valid, 20);
   EXPECT_GT(invalid, 10);
 }
+
+TEST(CarveTest, UpdatedSurfelSkipNeverHidesAViolation) {
+  // CarveTest::updatedMayViolate lets the update skip the carving projection of a surfel it just
+  // averaged with pixel (x, y)'s measurement. Random updates (old centre inside the pixel's square
+  // within the association gate of the measured depth z, averaged with the measured point on the
+  // pixel ray) over a raw depth image that differs from z by up to +-15 cm (the filtered depth
+  // near edges): whenever the full test says "violates", the skip test must say "may violate".
+  const CameraIntrinsics K(131.25, 131.25, 79.5, 59.5, 160, 120);
+  const PinholeF Kp = K.plain();
+  Image<float> raw(K.width, K.height);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  for (int y = 0; y < K.height; ++y)
+    for (int x = 0; x < K.width; ++x) raw(x, y) = 0.6f + 3.2f * float((x / 9 + y / 7) % 5) / 4.0f;
+  kernels::CarveTest t;
+  t.depth_m = raw.cview();
+  t.K = Kp;
+  t.min_depth_m = 0.3f;
+  t.max_depth_m = 4.5f;
+  const float gate_abs = 0.03f, gate_rel = 0.01f;  // TFusionParams' association gate
+  int violations = 0, skipped = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const int x = 1 + int(uni(rng) * float(K.width - 2)), y = 1 + int(uni(rng) * float(K.height - 2));
+    const float z = raw(x, y) + (uni(rng) - 0.5f) * 0.3f;
+    const float dz = std::max(gate_abs, gate_rel * z);
+    const float z_old = z + (2.0f * uni(rng) - 1.0f) * dz;
+    // Old centre anywhere in the pixel's square at depth z_old; measured point on the pixel ray.
+    const float u = float(x) - 0.5f + uni(rng), v = float(y) - 0.5f + uni(rng);
+    const Vec3f p_old((u - Kp.cx) / Kp.fx * z_old, (v - Kp.cy) / Kp.fy * z_old, z_old);
+    const Vec3f p_meas((float(x) - Kp.cx) / Kp.fx * z, (float(y) - Kp.cy) / Kp.fy * z, z);
+    const float a1 = uni(rng);
+    const Vec3f p = (1.0f - a1) * p_old + a1 * p_meas;
+    const bool violates = t.violates(p), may = t.updatedMayViolate(x, y, z, dz);
+    violations += violates;
+    skipped += !may;
+    if (violates) ASSERT_TRUE(may) << x << "," << y << " z " << z << " z_old " << z_old;
+  }
+  EXPECT_GT(violations, 100);   // the case the skip must not hide occurs
+  EXPECT_GT(skipped, 100000);   // and the skip is taken where the depths agree
+}

@@ -190,7 +190,7 @@ void updateFour(const kernels::UpdateKernel& k, int y, const int* xs, int n,
       if ((crossed >> l) & 1) f |= kernels::kPixCrossedBlock;
     }
     const Vec3f p(P[0][l], P[1][l], P[2][l]);
-    k.store(x, y, i, W[l], C[l], p, ns, N[3][l], bl, cf, f);
+    k.store(x, y, i, W[l], C[l], p, ns, N[3][l], bl, cf, f, m[l]->v.z());
     // (a basis from the fallback is not the lanes' one: that surfel's bin is computed again)
     if (bins4 && !(((fused & ~basis_ok) >> l) & 1)) {
       if (bin[l] >= 0) kernels::updateViewBinAt(s, i, bin[l], dist[l], k.prm);
