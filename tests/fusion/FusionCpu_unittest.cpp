@@ -264,7 +264,7 @@ TEST(AssociateCpu, BitIdenticalToTheKernel) {
       kernels::PixelMeasurement m;
       const int best = kr.associate(x, y, m);
       ++outcome[best >= 0 ? 2 : -best - 1];
-      if (best >= 0) kept_ref[std::size_t(y * W + x)] = KeptMeasurement{m.v, m.n_world, m.w, m.r};
+      if (best != -1) kept_ref[std::size_t(y * W + x)] = KeptMeasurement{m.v, m.n_world, m.w, m.r};
     }
     associateRowCpu(ks, y, kept_sse.data() + std::size_t(y) * W);
   }
@@ -279,6 +279,7 @@ TEST(AssociateCpu, BitIdenticalToTheKernel) {
   EXPECT_TRUE(sameBytes(reinterpret_cast<const char*>(kept_ref.data()),
                         reinterpret_cast<const char*>(kept_sse.data()),
                         kept_ref.size() * sizeof(KeptMeasurement)));
+
 }
 
 TEST(AssociateCpu, MeasurementsBitIdenticalToTheKernel) {
@@ -372,4 +373,92 @@ TEST(CarveTest, UpdatedSurfelSkipNeverHidesAViolation) {
   }
   EXPECT_GT(violations, 100);   // the case the skip must not hide occurs
   EXPECT_GT(skipped, 100000);   // and the skip is taken where the depths agree
+}
+
+TEST(CoverCpu, BitIdenticalToTheKernel) {
+  // A noisy plane 1 m ahead seen by 37x5 pixels; every third pixel has no candidate (new), the
+  // others 1-2 surfels near their ray with radii of 0.1-1.2 pixel footprints: coverRowCpu, with the
+  // association's kept measurements, must drop exactly the new pixels the kernel drops.
+  const int W = 37, H = 5;
+  const CameraIntrinsics K(30.0, 30.0, 18.0, 2.5, W, H);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), u01(0.0f, 1.0f);
+  Image<Vec3f> vertex(W, H), normal(W, H);
+  Image<float> weight(W, H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const float z = 1.0f + 0.005f * u(rng);
+      vertex(x, y) = Vec3f((float(x) - K.cx) / K.fx * z, (float(y) - K.cy) / K.fy * z, z);
+      normal(x, y) = (Vec3f(0, 0, -1) + 0.05f * Vec3f(u(rng), u(rng), u(rng))).normalized();
+      weight(x, y) = 0.2f + 0.8f * u01(rng);
+    }
+  maps::SurfelStore store;
+  std::vector<maps::kernels::CameraPoint> entries;
+  std::vector<std::uint32_t> first;
+  std::vector<std::uint8_t> count;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      first.push_back(std::uint32_t(entries.size()));
+      const int n = (x + 2 * y) % 3 == 0 ? 0 : 1 + int(rng() % 2);
+      for (int c = 0; c < n; ++c) {
+        maps::Surfel s;
+        const Vec3f pc = vertex(x, y) + Vec3f(0.012f * u(rng), 0.012f * u(rng), 0.005f * u(rng));
+        s.position = pc;  // world = camera frame
+        s.normal = (Vec3f(0, 0, -1) + 0.05f * Vec3f(u(rng), u(rng), u(rng))).normalized();
+        s.radius = (0.1f + 1.1f * u01(rng)) / 30.0f;
+        s.confidence = 1.0f;
+        entries.push_back(maps::kernels::CameraPoint{pc, store.append(s)});
+      }
+      count.push_back(std::uint8_t(n));
+    }
+  first.push_back(std::uint32_t(entries.size()));
+
+  kernels::AssociateKernel<kernels::ListCandidates> ka;
+  ka.frame.vertex_cam = vertex.cview();
+  ka.frame.normal_cam = normal.cview();
+  ka.frame.weight = weight.cview();
+  ka.frame.K = K.plain();
+  ka.frame.focal_px = 30.0f;
+  ka.candidates.entries = entries.data();
+  ka.candidates.first = first.data();
+  ka.candidates.count = count.data();
+  ka.candidates.width = W;
+  ka.candidates.height = H;
+  ka.s = store.arrays();
+  Image<std::int32_t> ps_ref(W, H), ps_cpu(W, H);
+  Image<std::uint16_t> fl_ref(W, H), fl_cpu(W, H);
+  std::vector<KeptMeasurement> kept(std::size_t(W * H));
+  ka.pixel_surfel = ps_cpu.view();
+  ka.flags = fl_cpu.view();
+  for (int y = 0; y < H; ++y) associateRowCpu(ka, y, kept.data() + std::size_t(y) * W);
+  for (int y = 0; y < H; ++y) {
+    std::memcpy(ps_ref.row(y), ps_cpu.row(y), sizeof(std::int32_t) * W);
+    std::memcpy(fl_ref.row(y), fl_cpu.row(y), sizeof(std::uint16_t) * W);
+  }
+
+  kernels::CoverageKernel<kernels::ListCandidates> cr;
+  cr.frame = ka.frame;
+  cr.prm = ka.prm;
+  cr.candidates = ka.candidates;
+  cr.s = ka.s;
+  kernels::CoverageKernel<kernels::ListCandidates> cc = cr;
+  cr.pixel_surfel = ps_ref.view();
+  cr.flags = fl_ref.view();
+  cc.pixel_surfel = ps_cpu.view();
+  cc.flags = fl_cpu.view();
+  for (int y = 0; y < H; ++y) {
+    for (int x = 0; x < W; ++x) cr(x, y);
+    coverRowCpu(cc, y, kept.data() + std::size_t(y) * W);
+  }
+  int covered = 0, still_new = 0;
+  for (int y = 0; y < H; ++y) {
+    EXPECT_TRUE(sameBytes(ps_ref.row(y), ps_cpu.row(y), std::size_t(W))) << "row " << y;
+    EXPECT_TRUE(sameBytes(fl_ref.row(y), fl_cpu.row(y), std::size_t(W))) << "row " << y;
+    for (int x = 0; x < W; ++x) {
+      covered += (fl_ref(x, y) & kernels::kPixCovered) != 0;
+      still_new += (fl_ref(x, y) & kernels::kPixNew) != 0;
+    }
+  }
+  EXPECT_GT(covered, 5);
+  EXPECT_GT(still_new, 5);
 }

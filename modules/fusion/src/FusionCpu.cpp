@@ -275,7 +275,7 @@ void associateRowCpu(const kernels::AssociateKernel<kernels::ListCandidates>& k,
   if (k.frame.weight.empty()) {
     for (int x = 0; x < w; ++x) {
       kernels::PixelMeasurement m;
-      if (k.associate(x, y, m) >= 0) kept[x] = KeptMeasurement{m.v, m.n_world, m.w, m.r};
+      if (k.associate(x, y, m) != -1) kept[x] = KeptMeasurement{m.v, m.n_world, m.w, m.r};
     }
     return;
   }
@@ -306,8 +306,25 @@ void associateRowCpu(const kernels::AssociateKernel<kernels::ListCandidates>& k,
       ps[x] = best >= 0 ? best : -2;
       fl[x] = best >= 0 ? std::uint16_t(kernels::kPixValid | kernels::kPixAssociated)
                         : std::uint16_t(kernels::kPixValid | kernels::kPixNew);
-      if (best >= 0) kept[x] = KeptMeasurement{m[l].v, m[l].n_world, m[l].w, m[l].r};
+      kept[x] = KeptMeasurement{m[l].v, m[l].n_world, m[l].w, m[l].r};
     }
+  }
+}
+
+void coverRowCpu(const kernels::CoverageKernel<kernels::ListCandidates>& k, int y,
+                 const KeptMeasurement* kept) {
+  const std::uint16_t* fl = k.flags.row(y);
+  const int w = k.flags.width;
+  for (int x = 0; x < w; ++x) {
+    if (!(fl[x] & kernels::kPixNew)) continue;
+    // The fields of measureForAssociation that CoverageKernel::cover reads, by its formulas.
+    kernels::PixelMeasurement m;
+    m.v = kept[x].v;
+    m.n_world = kept[x].n_world;
+    m.z = m.v.z();
+    m.dz_max = maps::kernels::maxF(k.prm.assoc_dz_abs_m, k.prm.assoc_dz_rel * m.z);
+    m.inv_v = 1.0f / m.v.norm();
+    k.cover(x, y, m);
   }
 }
 

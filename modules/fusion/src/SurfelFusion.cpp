@@ -318,15 +318,20 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     // The association keeps each associated pixel's measurement (per thread, one row) for the
     // update, which would otherwise measure the pixel again (the same values: FrameView::measure).
     // Both launchers prefetch the surfels a few pixels ahead: they are spread over the map's memory.
-    std::vector<std::vector<KeptMeasurement>> kept(nt, std::vector<KeptMeasurement>(w));
+    // Two rows per thread: the coverage of row y - 1 follows the update of row y (below).
+    std::vector<std::vector<KeptMeasurement>> kept(nt, std::vector<KeptMeasurement>(2 * w));
+    const auto keptRow = [&](int y) { return kept[threadId()].data() + (y & 1) * w; };
     const auto associateRow = [&](int y) {
-      associateRowCpu(ak, y, kept[threadId()].data());  // (SSE, bit-identical)
+      associateRowCpu(ak, y, keptRow(y));  // (SSE, bit-identical)
     };
     const auto updateRow = [&](int y) {
-      updateRowCpu(uk, y, kept[threadId()].data(), labels, bins);  // (SSE, bit-identical)
+      updateRowCpu(uk, y, keptRow(y), labels, bins);  // (SSE, bit-identical)
     };
     const bool cover = prm.neighbour_coverage_check;
-    const auto coverRow = [&](int y) {
+    const auto coverRow = [&](int y) {  // the band's own rows but its first and last: kept
+      coverRowCpu(ck, y, keptRow(y));
+    };
+    const auto coverRowMeasuring = [&](int y) {
       for (int x = 0; x < w; ++x) ck(x, y);
     };
     // Row bands: in a band, row y is associated and updated, then the coverage of row y - 1 runs
@@ -354,11 +359,11 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
         for (int b = 0; b < nbands; ++b) {
           const int lo = int(std::int64_t(h) * b / nbands), hi = int(std::int64_t(h) * (b + 1) / nbands);
           if (hi > lo) {
-            coverRow(lo);
+            coverRowMeasuring(lo);
             tallyRow(lo);
           }
           if (hi - 1 > lo) {
-            coverRow(hi - 1);
+            coverRowMeasuring(hi - 1);
             tallyRow(hi - 1);
           }
         }

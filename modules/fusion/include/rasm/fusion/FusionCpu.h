@@ -23,7 +23,7 @@ struct alignas(16) KeptMeasurement {
 };
 
 /// AssociateKernel::associate of every pixel of row y (k.pixel_surfel, k.flags), keeping the
-/// measurement of each associated pixel in kept[x]. Candidates' normals are prefetched a few
+/// measurement of each pixel with a valid one (associated or new) in kept[x]. Candidates' normals are prefetched a few
 /// pixels ahead. Needs the weight table (k.frame.weight); without it the kernel runs per pixel.
 void associateRowCpu(const kernels::AssociateKernel<kernels::ListCandidates>& k, int y,
                      KeptMeasurement* kept);
@@ -34,6 +34,11 @@ void associateRowCpu(const kernels::AssociateKernel<kernels::ListCandidates>& k,
 int measureFour(const kernels::FrameView& fv, const kernels::FusionKernelParams& prm,
                 const RigidF& T_world_cam, int y, const int xs[4], int nl,
                 kernels::PixelMeasurement m[4]);
+
+/// CoverageKernel of every pixel of row y flagged kPixNew, with the measurements `kept` of that
+/// row by associateRowCpu instead of measuring the pixel again (the same values).
+void coverRowCpu(const kernels::CoverageKernel<kernels::ListCandidates>& k, int y,
+                 const KeptMeasurement* kept);
 
 /// The update of every associated pixel of row y (k.pixel_surfel >= 0) with the measurements
 /// `kept` of that row (indexed by column), in column order; the surfels' arrays are prefetched a

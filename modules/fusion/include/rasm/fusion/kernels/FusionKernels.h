@@ -360,6 +360,12 @@ struct CoverageKernel {
     if (!(flags(x, y) & kPixNew)) return;
     PixelMeasurement m;
     measureForAssociation(frame, x, y, prm, T_world_cam, m);  // kPixNew: a valid measurement
+    cover(x, y, m);
+  }
+
+  /// operator() of a kPixNew pixel whose association measurement m the caller kept (of m it
+  /// reads v, n_world, z, dz_max and inv_v).
+  RASM_HD_INLINE void cover(int x, int y, const PixelMeasurement& m) const {
     maps::kernels::CameraPoint buf[16];
     const maps::kernels::CameraPoint* c = nullptr;
     const int w = pixel_surfel.width, h = pixel_surfel.height;
