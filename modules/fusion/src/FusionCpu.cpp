@@ -282,15 +282,23 @@ void associateRowCpu(const kernels::AssociateKernel<kernels::ListCandidates>& k,
   std::int32_t* ps = k.pixel_surfel.row(y);
   std::uint16_t* fl = k.flags.row(y);
   const int p0 = y * lists.width;
+  const std::uint32_t total = lists.first[std::size_t(lists.width) * lists.height];
   for (int x0 = 0; x0 < w; x0 += 4) {
     const int nl = w - x0 < 4 ? w - x0 : 4;
     int xs[4];
     for (int l = 0; l < 4; ++l) xs[l] = x0 + (l < nl ? l : 0);
     for (int l = 0; l < nl; ++l) {
       const int xa = x0 + l + kAhead;
-      if (xa < w)
-        for (std::uint32_t q = lists.first[p0 + xa], e = q + lists.count[p0 + xa]; q < e; ++q)
+      if (xa < w) {
+        // The first two entries of the pixel, whatever its count: a loop over the count
+        // mispredicted its exit at nearly every pixel. (A rare third candidate is not prefetched;
+        // past the count are the pixel's hidden surfels or the next pixel's.)
+        const std::uint32_t q = lists.first[p0 + xa];
+        if (q + 1 < total) {
           __builtin_prefetch(&k.s.normal_radius[lists.entries[q].index]);
+          __builtin_prefetch(&k.s.normal_radius[lists.entries[q + 1].index]);
+        }
+      }
     }
     kernels::PixelMeasurement m[4];
     const int valid = measureFour(k.frame, k.prm, k.T_world_cam, y, xs, nl, m);
