@@ -186,7 +186,7 @@ TEST(UpdateCpu, BitIdenticalToTheKernel) {
 
 TEST(AssociateCpu, BitIdenticalToTheKernel) {
   // 37x5 pixels: invalid vertices and normals, depths outside the range, grazing normals, and
-  // 0-3 candidates per pixel around the pixel ray (some outside the depth or normal gates); the
+  // 0-6 candidates per pixel around the pixel ray (some outside the depth or normal gates); the
   // launcher must give the kernel's matches, flags and kept measurements.
   const int W = 37, H = 5;
   const CameraIntrinsics K(30.0, 30.0, 18.0, 2.5, W, H);
@@ -215,8 +215,9 @@ TEST(AssociateCpu, BitIdenticalToTheKernel) {
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       first.push_back(std::uint32_t(entries.size()));
-      const int n = int(rng() % 4);
+      const int n = int(rng() % 7);  // 0-6: one or two groups of four in the SSE launcher
       const Vec3f v = vertex(x, y).x() == vertex(x, y).x() ? vertex(x, y) : Vec3f(0, 0, 1);
+      std::vector<maps::kernels::CameraPoint> pixel;
       for (int c = 0; c < n; ++c) {
         maps::Surfel s;
         const Vec3f pc = v * (1.0f + 0.03f * u(rng)) + 0.01f * Vec3f(u(rng), u(rng), u(rng));
@@ -225,9 +226,13 @@ TEST(AssociateCpu, BitIdenticalToTheKernel) {
         s.normal = (nn + 0.6f * Vec3f(u(rng), u(rng), u(rng))).normalized();
         s.radius = 0.005f + 0.05f * u01(rng);
         s.confidence = 1.0f;
-        entries.push_back(maps::kernels::CameraPoint{pc, store.append(s)});
+        pixel.push_back(maps::kernels::CameraPoint{pc, store.append(s)});
+        // Some exact twins (another index): equal costs, the lower index must win.
+        if (u01(rng) < 0.4f) pixel.push_back(maps::kernels::CameraPoint{pc, store.append(s)});
       }
-      count.push_back(std::uint8_t(n));
+      std::shuffle(pixel.begin(), pixel.end(), rng);
+      entries.insert(entries.end(), pixel.begin(), pixel.end());
+      count.push_back(std::uint8_t(pixel.size()));
     }
   first.push_back(std::uint32_t(entries.size()));
 
