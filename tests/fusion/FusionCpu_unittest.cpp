@@ -131,6 +131,8 @@ TEST(UpdateCpu, BitIdenticalToTheKernel) {
 
   // The launcher, with the measurements an association keeps.
   kernels::UpdateKernel ks = k;
+  ViewInfoThresholds ic;  // surfels 1-3 m away: IC 1-0.37, bins of random values raised or not
+  ic.build(k.prm.ic_lambda1, k.prm.ic_d_min_m);
   ks.s = sse.arrays();
   ks.flags = flags_sse.view();
   std::vector<KeptMeasurement> kept(W);
@@ -149,7 +151,8 @@ TEST(UpdateCpu, BitIdenticalToTheKernel) {
         fallback += i % 11 == 0 && r <= k.prm.radius_update_ratio * rs;
       }
     }
-    updateRowCpu(ks, y, kept.data(), true, true);
+    // (odd rows with the view-bin thresholds, even rows without: both must be the kernel's)
+    updateRowCpu(ks, y, kept.data(), true, true, y % 2 ? &ic : nullptr);
   }
   EXPECT_GT(fused, 20);
   EXPECT_GT(associated - fused, 20);
@@ -466,4 +469,32 @@ TEST(CoverCpu, BitIdenticalToTheKernel) {
   }
   EXPECT_GT(covered, 5);
   EXPECT_GT(still_new, 5);
+}
+
+TEST(ViewInfoThresholds, SkipOnlyWhereTheBinCannotRise) {
+  // Every float distance in [0.5, 12] m, default IC parameters and another set: the bin value v
+  // may be skipped (distance >= below[v]) only when the quantised IC is <= v, i.e. for every
+  // distance, below[q - 1] > distance where q is its quantised IC (below is non-increasing).
+  for (const auto& [l1, dm] : {std::pair<float, float>{0.5f, 1.0f}, {1.3f, 0.4f}}) {
+    ViewInfoThresholds t;
+    t.build(l1, dm);
+    ASSERT_TRUE(t.builtFor(l1, dm));
+    for (int v = 1; v < 255; ++v) ASSERT_LE(t.below[v], t.below[v - 1]) << v;
+    EXPECT_GT(t.below[0], dm);
+    EXPECT_GT(t.below[254], dm);
+    std::uint32_t b0, b1;
+    const float lo = 0.5f, hi = 12.0f;
+    std::memcpy(&b0, &lo, 4);
+    std::memcpy(&b1, &hi, 4);
+    long long skipped = 0, checked = 0;
+    for (std::uint32_t b = b0; b <= b1; b += 7) {  // every 7th float: ~2.8M distances
+      float d;
+      std::memcpy(&d, &b, 4);
+      const int q = maps::quantizeUnit(maps::kernels::informationContent(d, l1, dm));
+      ++checked;
+      if (q > 0) ASSERT_GT(t.below[q - 1], d) << "distance " << d << " IC level " << q;
+      skipped += q < 255 && d >= t.below[q];  // a bin already at q is skipped there
+    }
+    EXPECT_GT(skipped, checked / 2);
+  }
 }

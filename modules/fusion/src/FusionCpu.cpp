@@ -2,6 +2,9 @@
 
 #include "rasm/compute/Sse.h"
 
+#include <cstring>
+#include <limits>
+
 namespace rasm::fusion {
 
 namespace {
@@ -77,8 +80,18 @@ void viewBins4(const kernels::FusionKernelParams& prm, const RigidF& T_world_cam
 
 /// UpdateKernel::update of the surfels of n (1..4) pixels xs[] of row y: the geometry on four
 /// lanes (lanes >= n repeat lane 0 and are not stored), the rest per lane (UpdateKernel::store).
+/// kernels::updateViewBinAt, with the exponential skipped where it cannot raise the bin.
+inline void updateViewBinAtCpu(const maps::SurfelArrays& s, int i, int bin, float dist,
+                               const kernels::FusionKernelParams& prm, const ViewInfoThresholds* ic) {
+  if (ic) {
+    const std::uint8_t v = s.viewRow(i)[bin];
+    if (v == 255 || dist >= ic->below[v]) return;  // (a NaN distance takes the kernel's path)
+  }
+  kernels::updateViewBinAt(s, i, bin, dist, prm);
+}
+
 void updateFour(const kernels::UpdateKernel& k, int y, const int* xs, int n,
-                const KeptMeasurement* kept) {
+                const KeptMeasurement* kept, const ViewInfoThresholds* ic) {
   const maps::SurfelArrays& s = k.s;
   const std::int32_t* ps = k.pixel_surfel.row(y);
   int idx[4];
@@ -193,7 +206,7 @@ void updateFour(const kernels::UpdateKernel& k, int y, const int* xs, int n,
     k.store(x, y, i, W[l], C[l], p, ns, N[3][l], bl, cf, f, m[l]->v.z());
     // (a basis from the fallback is not the lanes' one: that surfel's bin is computed again)
     if (bins4 && !(((fused & ~basis_ok) >> l) & 1)) {
-      if (bin[l] >= 0) kernels::updateViewBinAt(s, i, bin[l], dist[l], k.prm);
+      if (bin[l] >= 0) updateViewBinAtCpu(s, i, bin[l], dist[l], k.prm, ic);
     } else {
       kernels::updateViewBin(s, i, p, ns, bl, k.T_world_cam.translation(), k.prm);
     }
@@ -336,8 +349,37 @@ void coverRowCpu(const kernels::CoverageKernel<kernels::ListCandidates>& k, int 
   }
 }
 
+void ViewInfoThresholds::build(float l1, float dm) {
+  if (builtFor(l1, dm)) return;
+  lambda1 = l1;
+  d_min_m = dm;
+  const auto q = [&](float d) { return maps::quantizeUnit(maps::kernels::informationContent(d, l1, dm)); };
+  // Positive floats are ordered as their bit patterns: bisect over those, between 0 (IC 1) and
+  // the largest finite float (IC 0 for any lambda1 > 0).
+  for (int v = 0; v < 255; ++v) {
+    std::uint32_t lo = 0, hi = 0x7f7fffffu;  // q(lo) > v (or lo = 0), q(hi) <= v
+    const auto at = [](std::uint32_t b) {
+      float f;
+      std::memcpy(&f, &b, sizeof f);
+      return f;
+    };
+    if (q(at(hi)) > v) {  // never falls to v (lambda1 <= 0): never skip
+      below[v] = std::numeric_limits<float>::infinity();
+      continue;
+    }
+    while (hi - lo > 1) {
+      const std::uint32_t mid = lo + (hi - lo) / 2;
+      if (q(at(mid)) <= v)
+        hi = mid;
+      else
+        lo = mid;
+    }
+    below[v] = q(at(lo)) <= v ? at(lo) : at(hi);
+  }
+}
+
 void updateRowCpu(const kernels::UpdateKernel& k, int y, const KeptMeasurement* kept, bool labels,
-                  bool bins) {
+                  bool bins, const ViewInfoThresholds* ic) {
   constexpr int kAhead = 8;
   const maps::SurfelArrays& s = k.s;
   const std::int32_t* ps = k.pixel_surfel.row(y);
@@ -362,11 +404,11 @@ void updateRowCpu(const kernels::UpdateKernel& k, int y, const KeptMeasurement* 
     if (ps[x] < 0) continue;
     xs[n++] = x;
     if (n == 4) {
-      updateFour(k, y, xs, 4, kept);
+      updateFour(k, y, xs, 4, kept, ic);
       n = 0;
     }
   }
-  if (n) updateFour(k, y, xs, n, kept);
+  if (n) updateFour(k, y, xs, n, kept, ic);
 }
 
 }  // namespace rasm::fusion

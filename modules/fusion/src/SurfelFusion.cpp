@@ -324,8 +324,9 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     const auto associateRow = [&](int y) {
       associateRowCpu(ak, y, keptRow(y));  // (SSE, bit-identical)
     };
+    if (bins) m_ic.build(prm.ic_lambda1, prm.ic_d_min_m);
     const auto updateRow = [&](int y) {
-      updateRowCpu(uk, y, keptRow(y), labels, bins);  // (SSE, bit-identical)
+      updateRowCpu(uk, y, keptRow(y), labels, bins, bins ? &m_ic : nullptr);  // (SSE, bit-identical)
     };
     const bool cover = prm.neighbour_coverage_check;
     const auto coverRow = [&](int y) {  // the band's own rows but its first and last: kept

@@ -20,6 +20,9 @@ void computeVertexMap(const Image<float>& depth_m, const CameraIntrinsics& K, Im
 void computeNormalMap(const Image<Vec3f>& vertex, Image<Vec3f>& normal, float max_jump_rel = 0.05f,
                       compute::Backend backend = compute::Backend::Cpu);
 void downsampleDepth(const Image<float>& in, Image<float>& out, float max_diff_m = 0.03f);
+/// Edge-preserving bilateral filter of depth (kernels::BilateralDepthKernel's filter): circular
+/// window of `radius` 0..3 pixels (std::invalid_argument otherwise), invalid pixels (<= 0, NaN)
+/// stay 0 and do not contribute. `in` and `out` must differ.
 void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius = 2,
                           float sigma_space_px = 4.5f, float sigma_depth_m = 0.03f);
 

@@ -10,6 +10,7 @@
 // kernels' (tested). Colour, segment weights, the carving verdict and the view bins of the layouts
 // that need trigonometry stay scalar per lane (the kernel's own code).
 
+#include "rasm/fusion/ViewInfoThresholds.h"
 #include "rasm/fusion/kernels/FusionKernels.h"
 
 namespace rasm::fusion {
@@ -43,7 +44,9 @@ void coverRowCpu(const kernels::CoverageKernel<kernels::ListCandidates>& k, int 
 /// The update of every associated pixel of row y (k.pixel_surfel >= 0) with the measurements
 /// `kept` of that row (indexed by column), in column order; the surfels' arrays are prefetched a
 /// few pixels ahead (segment arrays when `labels`, view-bin rows when `bins`).
+/// With `ic` (built for k.prm's IC parameters) the view bins skip their exponential where it
+/// cannot raise the bin (ViewInfoThresholds); the result is the same.
 void updateRowCpu(const kernels::UpdateKernel& k, int y, const KeptMeasurement* kept, bool labels,
-                  bool bins);
+                  bool bins, const ViewInfoThresholds* ic = nullptr);
 
 }  // namespace rasm::fusion

@@ -28,6 +28,7 @@
 #include "rasm/core/Image.h"
 #include "rasm/core/RgbdFrame.h"
 #include "rasm/fusion/PruneSchedule.h"
+#include "rasm/fusion/ViewInfoThresholds.h"
 #include "rasm/fusion/TFusionParams.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
 #include "rasm/surfel_map/SurfelStore.h"
@@ -130,6 +131,7 @@ class SurfelFusion {
   Image<float> m_weight;  ///< II-B confidence weight per pixel for m_weight_K / m_weight_sigma
   CameraIntrinsics m_weight_K;
   float m_weight_sigma = -1.0f;
+  ViewInfoThresholds m_ic;  ///< the CPU update's view-bin skip for the current IC parameters
   bool m_index_fresh = false;  ///< the last index map matches the map (integrate, no removal since)
   std::vector<int> m_row_offset;
   std::vector<std::vector<int>> m_thread_lists;
