@@ -246,6 +246,38 @@ TEST(Bilateral, CpuLauncherComputesTheKernelsFilter) {
     for (int x = 0; x < 3; ++x) EXPECT_FLOAT_EQ(out(x, y), 1.0f);
 }
 
+TEST(VertexMap, CpuLauncherBitIdenticalToTheKernel) {
+  // 103x7 (a tail of 3 columns per row): depths in and out of [min, max], zeros and NaNs; the
+  // SSE launcher must write the kernel's vertices bit for bit (invalid ones as its NaN triple).
+  const int w = 103, h = 7;
+  const CameraIntrinsics K(52.5, 51.0, 51.3, 3.1, w, h);
+  Image<float> d(w, h);
+  std::uint32_t s = 99u;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      s = s * 1664525u + 1013904223u;
+      const int kind = int((s >> 20) % 10);
+      d(x, y) = kind == 0 ? 0.0f : kind == 1 ? std::nanf("") : kind == 2 ? 0.05f : kind == 3 ? 12.0f
+                                                                     : 0.3f + float(s >> 8) / float(1u << 24) * 5.0f;
+    }
+  VertexMapOptions opt;
+  opt.min_depth_m = 0.1f;
+  opt.max_depth_m = 8.0f;
+  Image<Vec3f> cpu, ref(w, h);
+  computeVertexMap(d, K, cpu, opt, compute::Backend::Cpu);
+  const kernels::VertexMapKernel k{d.cview(), ref.view(), K.plain(), opt.min_depth_m, opt.max_depth_m};
+  int valid = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      k(x, y);
+      valid += ref(x, y).x() == ref(x, y).x();
+    }
+  for (int y = 0; y < h; ++y)
+    ASSERT_EQ(std::memcmp(cpu.row(y), ref.row(y), sizeof(Vec3f) * w), 0) << "row " << y;
+  EXPECT_GT(valid, w * h / 2);
+  EXPECT_LT(valid, w * h);
+}
+
 TEST(Bilateral, CpuLauncherIsIndependentOfThreadCount) {
   // The launcher splits rows into bands by thread count and adds each pair's weight to both
   // pixels: the sums' order must not depend on the split (bit-identical outputs).
