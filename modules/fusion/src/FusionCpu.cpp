@@ -78,8 +78,6 @@ void viewBins4(const kernels::FusionKernelParams& prm, const RigidF& T_world_cam
   _mm_storeu_ps(dist, d);
 }
 
-/// UpdateKernel::update of the surfels of n (1..4) pixels xs[] of row y: the geometry on four
-/// lanes (lanes >= n repeat lane 0 and are not stored), the rest per lane (UpdateKernel::store).
 /// kernels::updateViewBinAt, with the exponential skipped where it cannot raise the bin.
 inline void updateViewBinAtCpu(const maps::SurfelArrays& s, int i, int bin, float dist,
                                const kernels::FusionKernelParams& prm, const ViewInfoThresholds* ic) {
@@ -90,6 +88,8 @@ inline void updateViewBinAtCpu(const maps::SurfelArrays& s, int i, int bin, floa
   kernels::updateViewBinAt(s, i, bin, dist, prm);
 }
 
+/// UpdateKernel::update of the surfels of n (1..4) pixels xs[] of row y: the geometry on four
+/// lanes (lanes >= n repeat lane 0 and are not stored), the rest per lane (UpdateKernel::store).
 void updateFour(const kernels::UpdateKernel& k, int y, const int* xs, int n,
                 const KeptMeasurement* kept, const ViewInfoThresholds* ic) {
   const maps::SurfelArrays& s = k.s;

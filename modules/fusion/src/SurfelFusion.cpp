@@ -315,10 +315,11 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     setUpKernels(ak, ck, lists);
     const bool labels = prm.update_segments && !fv.labels.empty();
     const bool bins = prm.update_view_bins && arr.n_view_bins > 0;
-    // The association keeps each associated pixel's measurement (per thread, one row) for the
-    // update, which would otherwise measure the pixel again (the same values: FrameView::measure).
-    // Both launchers prefetch the surfels a few pixels ahead: they are spread over the map's memory.
-    // Two rows per thread: the coverage of row y - 1 follows the update of row y (below).
+    // The association keeps each measured pixel's measurement for the update and the neighbour
+    // coverage, which would otherwise measure the pixel again (the same values:
+    // FrameView::measure); two rows per thread, as the coverage of row y - 1 follows the update of
+    // row y (below). Both launchers prefetch the surfels a few pixels ahead: they are spread over
+    // the map's memory.
     std::vector<std::vector<KeptMeasurement>> kept(nt, std::vector<KeptMeasurement>(2 * w));
     const auto keptRow = [&](int y) { return kept[threadId()].data() + (y & 1) * w; };
     const auto associateRow = [&](int y) {
