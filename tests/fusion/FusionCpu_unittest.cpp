@@ -25,6 +25,28 @@ bool sameBytes(const T* a, const T* b, std::size_t n) {
   return std::memcmp(a, b, n * sizeof(T)) == 0;
 }
 
+/// An AssociateKernel over a frame (vertex, normal, weight images; focal length 30 px) and the
+/// candidate lists entries / first / count of the surfels in `store` (world = camera frame).
+kernels::AssociateKernel<kernels::ListCandidates> listAssociateKernel(
+    const Image<Vec3f>& vertex, const Image<Vec3f>& normal, const Image<float>& weight,
+    const CameraIntrinsics& K, const std::vector<maps::kernels::CameraPoint>& entries,
+    const std::vector<std::uint32_t>& first, const std::vector<std::uint8_t>& count,
+    const maps::SurfelStore& store) {
+  kernels::AssociateKernel<kernels::ListCandidates> k;
+  k.frame.vertex_cam = vertex.cview();
+  k.frame.normal_cam = normal.cview();
+  k.frame.weight = weight.cview();
+  k.frame.K = K.plain();
+  k.frame.focal_px = 30.0f;
+  k.candidates.entries = entries.data();
+  k.candidates.first = first.data();
+  k.candidates.count = count.data();
+  k.candidates.width = K.width;
+  k.candidates.height = K.height;
+  k.s = store.arrays();
+  return k;
+}
+
 }  // namespace
 
 TEST(UpdateCpu, BitIdenticalToTheKernel) {
@@ -239,19 +261,9 @@ TEST(AssociateCpu, BitIdenticalToTheKernel) {
     }
   first.push_back(std::uint32_t(entries.size()));
 
-  kernels::AssociateKernel<kernels::ListCandidates> k;
-  k.frame.vertex_cam = vertex.cview();
-  k.frame.normal_cam = normal.cview();
-  k.frame.weight = weight.cview();
-  k.frame.K = K.plain();
-  k.frame.focal_px = 30.0f;
+  kernels::AssociateKernel<kernels::ListCandidates> k =
+      listAssociateKernel(vertex, normal, weight, K, entries, first, count, store);
   k.prm.min_cos_normal = 0.9f;
-  k.candidates.entries = entries.data();
-  k.candidates.first = first.data();
-  k.candidates.count = count.data();
-  k.candidates.width = W;
-  k.candidates.height = H;
-  k.s = store.arrays();
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d(1.0, 0.3, 0.0).normalized()).toRotationMatrix();
   k.T_world_cam = RigidF::fromMatrix(T.matrix().cast<float>());  // (normals compared in this frame)
@@ -287,7 +299,6 @@ TEST(AssociateCpu, BitIdenticalToTheKernel) {
   EXPECT_TRUE(sameBytes(reinterpret_cast<const char*>(kept_ref.data()),
                         reinterpret_cast<const char*>(kept_sse.data()),
                         kept_ref.size() * sizeof(KeptMeasurement)));
-
 }
 
 TEST(AssociateCpu, MeasurementsBitIdenticalToTheKernel) {
@@ -421,18 +432,8 @@ TEST(CoverCpu, BitIdenticalToTheKernel) {
     }
   first.push_back(std::uint32_t(entries.size()));
 
-  kernels::AssociateKernel<kernels::ListCandidates> ka;
-  ka.frame.vertex_cam = vertex.cview();
-  ka.frame.normal_cam = normal.cview();
-  ka.frame.weight = weight.cview();
-  ka.frame.K = K.plain();
-  ka.frame.focal_px = 30.0f;
-  ka.candidates.entries = entries.data();
-  ka.candidates.first = first.data();
-  ka.candidates.count = count.data();
-  ka.candidates.width = W;
-  ka.candidates.height = H;
-  ka.s = store.arrays();
+  kernels::AssociateKernel<kernels::ListCandidates> ka =
+      listAssociateKernel(vertex, normal, weight, K, entries, first, count, store);
   Image<std::int32_t> ps_ref(W, H), ps_cpu(W, H);
   Image<std::uint16_t> fl_ref(W, H), fl_cpu(W, H);
   std::vector<KeptMeasurement> kept(std::size_t(W * H));
