@@ -366,12 +366,16 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
   // at least radius + 3 right, so that every group of four pixels reads inside it.
   const int r = radius, w4 = (w + 3) & ~3, pw = (w4 + 2 * r + 3) & ~3, ph = h + 2 * r;
   thread_local std::vector<float> padded;  // (the calling thread's; the team uses `pad`)
-  padded.assign(std::size_t(pw) * ph, 0.0f);
+  padded.resize(std::size_t(pw) * ph);
   float* const pad = padded.data();
   const auto prow = [pad, pw, r](int y) { return pad + std::size_t(y + r) * pw + r; };  // image row y
+  std::fill(pad, pad + std::size_t(r) * pw, 0.0f);                                 // rows above
+  std::fill(pad + std::size_t(h + r) * pw, pad + std::size_t(ph) * pw, 0.0f);      // rows below
   compute::forEach1D(h, [&](int y) {
     const float* src = in.row(y);
     float* dst = prow(y);
+    std::fill(dst - r, dst, 0.0f);  // columns left and right
+    std::fill(dst + w, dst - r + pw, 0.0f);
     for (int x = 0; x < w; ++x) dst[x] = src[x] > 0.0f ? src[x] : 0.0f;
   });
   const int nt = compute::maxThreads();
