@@ -338,13 +338,13 @@ void coverRowCpu(const kernels::CoverageKernel<kernels::ListCandidates>& k, int 
   const int w = k.flags.width;
   for (int x = 0; x < w; ++x) {
     if (!(fl[x] & kernels::kPixNew)) continue;
-    // The fields of measureForAssociation that CoverageKernel::cover reads, by its formulas.
+    // The association's measurement again (CoverageKernel::cover reads v, n_world and the gates).
     kernels::PixelMeasurement m;
     m.v = kept[x].v;
     m.n_world = kept[x].n_world;
-    m.z = m.v.z();
-    m.dz_max = maps::kernels::maxF(k.prm.assoc_dz_abs_m, k.prm.assoc_dz_rel * m.z);
-    m.inv_v = 1.0f / m.v.norm();
+    m.w = kept[x].w;
+    m.r = kept[x].r;
+    kernels::deriveGates(k.prm, m);
     k.cover(x, y, m);
   }
 }

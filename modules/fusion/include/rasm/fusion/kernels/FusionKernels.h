@@ -194,15 +194,20 @@ struct PixelMeasurement {
   float z = 0, dz_max = 0, inv_v = 0, inv_r = 0;
 };
 
+/// The fields of m that follow from its vertex v and radius r: z, the depth gate, 1/|v|, 1/r.
+RASM_HD_INLINE void deriveGates(const FusionKernelParams& prm, PixelMeasurement& m) {
+  m.z = m.v.z();
+  m.dz_max = maps::kernels::maxF(prm.assoc_dz_abs_m, prm.assoc_dz_rel * m.z);
+  m.inv_v = 1.0f / m.v.norm();
+  m.inv_r = 1.0f / m.r;
+}
+
 RASM_HD_INLINE bool measureForAssociation(const FrameView& frame, int x, int y,
                                           const FusionKernelParams& prm,
                                           const RigidF& T_world_cam, PixelMeasurement& m) {
   if (!frame.measure(x, y, prm, m.v, m.n, m.w, m.r)) return false;
   m.n_world = T_world_cam.rotate(m.n);
-  m.z = m.v.z();
-  m.dz_max = maps::kernels::maxF(prm.assoc_dz_abs_m, prm.assoc_dz_rel * m.z);
-  m.inv_v = 1.0f / m.v.norm();
-  m.inv_r = 1.0f / m.r;
+  deriveGates(prm, m);
   return true;
 }
 
