@@ -130,6 +130,7 @@ int main(int argc, char** argv) {
   }
   // Footprint sizes of the model's splats (bounding boxes in pixels, 3 = 3 or more).
   long long fp[4][4] = {};
+  long long probe[5] = {};
   long long box_pixels = 0, larger_pixels = 0;  // pixels the depth test visits (bounding boxes)
   {
     Image<std::uint64_t> scratch(width, height);
@@ -148,14 +149,36 @@ int main(int argc, char** argv) {
       maps::kernels::SplatFootprint f;
       if (!k.footprintAt(i, pc, u, v, f)) continue;
       ++fp[std::min(f.x1 - f.x0 + 1, 3)][std::min(f.y1 - f.y0 + 1, 3)];
+      {
+        const int ucx = std::min(width - 1, std::max(0, f.uc)), vcy = std::min(height - 1, std::max(0, f.vc));
+        const int wi = model.index(ucx, vcy);
+        if (wi != i) {
+          const Vec3f q = model.vertex_world(ucx, vcy);
+          const float d = wi < 0 ? 1e9f : k.T_cam_world.apply(q).z();
+          const float dz = pc.z() - d;
+          ++probe[dz < 0.005f ? 0 : dz < 0.02f ? 1 : dz < 0.05f ? 2 : dz < 0.2f ? 3 : 4];
+        }
+      }
       box_pixels += (long long)(f.x1 - f.x0 + 1) * (f.y1 - f.y0 + 1);
       if (f.x1 - f.x0 + 1 > 2 || f.y1 - f.y0 + 1 > 2)
         larger_pixels += (long long)(f.x1 - f.x0 + 1) * (f.y1 - f.y0 + 1);
     }
   }
   long long model_valid = 0;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) model_valid += model.index(x, y) >= 0 ? 1 : 0;
+  // Surfels that win at least one pixel of the model: drawn minus this is the overdraw that
+  // depth-tested and lost everywhere (occluded or covered by neighbours).
+  long long model_winners = 0;
+  {
+    std::vector<std::uint8_t> wins(std::size_t(map.size()), 0);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const int i = model.index(x, y);
+        if (i < 0) continue;
+        ++model_valid;
+        model_winners += wins[std::size_t(i)] ? 0 : 1;
+        wins[std::size_t(i)] = 1;
+      }
+  }
   // FNV-1a of the model's index, vertex and normal maps: equal hashes = bit-identical renders
   // (for A/B of renderer changes that must not change the output).
   std::uint64_t hash = 1469598103934665603ull;
@@ -171,15 +194,16 @@ int main(int argc, char** argv) {
   std::printf(
       "{\"bench\":\"map_render\",\"surfels\":%d,\"pose_index\":%d,\"threads\":%d,"
       "\"model_ms\":%.3f,\"model_cpu_ms\":%.3f,\"model_tested\":%lld,\"model_drawn\":%lld,"
-      "\"model_valid_pixels\":%lld,\"candidates_ms\":%.3f,\"candidates_cpu_ms\":%.3f,"
+      "\"model_valid_pixels\":%lld,\"model_winning_surfels\":%lld,\"candidates_ms\":%.3f,\"candidates_cpu_ms\":%.3f,"
       "\"candidates_in_view\":%lld,\"surfels_below_min_conf\":%lld,"
       "\"footprints_1x1\":%lld,\"footprints_2x1\":%lld,\"footprints_1x2\":%lld,"
       "\"footprints_2x2\":%lld,\"footprints_larger\":%lld,\"footprint_box_pixels\":%lld,"
       "\"footprint_box_pixels_larger\":%lld,\"model_hash\":\"%016llx\"}\n",
       map.size(), pi, threads, median(model_ms), median(model_cpu), model_stats.surfels_tested,
-      model_stats.surfels_drawn, model_valid, median(cand_ms), median(cand_cpu),
+      model_stats.surfels_drawn, model_valid, model_winners, median(cand_ms), median(cand_cpu),
       cand_stats.surfels_drawn, below_min_conf, fp[1][1], fp[2][1], fp[1][2], fp[2][2],
       fp[3][1] + fp[3][2] + fp[3][3] + fp[1][3] + fp[2][3], box_pixels, larger_pixels,
       (unsigned long long)hash);
+  std::printf("probe losers at centre: <5mm %lld <2cm %lld <5cm %lld <20cm %lld more %lld\n", probe[0], probe[1], probe[2], probe[3], probe[4]);
   return 0;
 }

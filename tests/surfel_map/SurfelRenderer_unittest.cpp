@@ -87,7 +87,8 @@ TEST(SurfelRenderer, PointModeIndexMapEqualsBruteForce) {
     opt.stable_only = stable_only;
     SurfelRenderer r;
     RenderedMaps m;
-    r.render(store, T, kSmallK, opt, m);
+    RenderStats st;
+    r.render(store, T, kSmallK, opt, m, &st);
     const Image<std::uint64_t> bf = bruteForcePoints(store, T, kSmallK, 1, opt);
     int drawn = 0;
     for (int y = 0; y < kSmallK.height; ++y)
@@ -101,6 +102,7 @@ TEST(SurfelRenderer, PointModeIndexMapEqualsBruteForce) {
         }
       }
     EXPECT_GT(drawn, 500);
+    EXPECT_EQ(st.pixels_drawn, drawn);
   }
 }
 
@@ -178,7 +180,8 @@ TEST(SurfelRenderer, SplatPixelsHoldTheNearestCoveringSurfel) {
   opt.max_splat_radius_px = 1000.0f;  // no clamp: every covering surfel must compete
   SurfelRenderer r;
   RenderedMaps m;
-  r.render(store, T, kSmallK, opt, m);
+  RenderStats st;
+  r.render(store, T, kSmallK, opt, m, &st);
 
   // Brute force, written independently in double precision: a surfel covers pixel (x, y) when the
   // pixel ray meets its disc, or when its centre projects into the pixel.
@@ -216,6 +219,7 @@ TEST(SurfelRenderer, SplatPixelsHoldTheNearestCoveringSurfel) {
       EXPECT_NEAR(m.depth_m(x, y), best_t, 1e-4 * best_t) << "pixel " << x << "," << y;
     }
   EXPECT_GT(covered, kSmallK.width * kSmallK.height / 2);
+  EXPECT_EQ(st.pixels_drawn, covered);
 }
 
 TEST(SurfelRenderer, CpuSplatEqualsTheKernelBitForBit) {
@@ -251,9 +255,10 @@ TEST(SurfelRenderer, CpuSplatEqualsTheKernelBitForBit) {
     for (int y = 0; y < kSmallK.height; ++y)
       for (int x = 0; x < kSmallK.width; ++x) {
         ASSERT_EQ(m.index(x, y), kernels::unpackIndex(ref(x, y))) << scale << ": " << x << "," << y;
-        if (m.index(x, y) >= 0)
+        if (m.index(x, y) >= 0) {
           ASSERT_EQ(kernels::floatBits(m.depth_m(x, y)), std::uint32_t(ref(x, y) >> 32))
               << scale << ": " << x << "," << y;
+        }
       }
   }
   EXPECT_GT(two_rows, 300);  // footprints of the two-row path

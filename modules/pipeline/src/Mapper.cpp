@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "rasm/compute/Parallel.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/kernels/FrameKernels.h"
 
@@ -12,12 +13,11 @@ using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 int countValid(const Image<Vec3f>& v) {
-  int n = 0;
-  for (int y = 0; y < v.height(); ++y) {
+  const int w = v.width();
+  return compute::reduce1D<int>(v.height(), [&](int y, int& n) {
     const Vec3f* r = v.row(y);
-    for (int x = 0; x < v.width(); ++x) n += kernels::validVec(r[x]) ? 1 : 0;
-  }
-  return n;
+    for (int x = 0; x < w; ++x) n += kernels::validVec(r[x]) ? 1 : 0;
+  });
 }
 }  // namespace
 
@@ -108,14 +108,16 @@ FrameResult Mapper::processFrame(const RgbdFrame& frame) {
     // Rendered at pyramid level [tracking] model_level (intrinsics of that level).
     const Eigen::Isometry3d T_model = m_tracker.lastGoodPose();
     const CameraIntrinsics K_model = frame.intrinsics.level(tp.model_level);
-    m_renderer.render(m_map->store(), T_model, K_model, ro, m_model);
-    r.model_valid_pixels = countValid(m_model.normal_world);
+    // (a pixel a surfel won has that surfel's normal: the render counts the valid model pixels)
+    maps::RenderStats rs;
+    m_renderer.render(m_map->store(), T_model, K_model, ro, m_model, &rs);
+    r.model_valid_pixels = int(rs.pixels_drawn);
     const int frame_valid = countValid(m_pyramid[tp.model_level].normal);
     if (r.model_valid_pixels < 0.3 * frame_valid) {
       ro.stable_only = false;
       ro.min_confidence = 0.0f;
-      m_renderer.render(m_map->store(), T_model, K_model, ro, m_model);
-      r.model_valid_pixels = countValid(m_model.normal_world);
+      m_renderer.render(m_map->store(), T_model, K_model, ro, m_model, &rs);
+      r.model_valid_pixels = int(rs.pixels_drawn);
       r.model_all_surfels = true;
     }
     r.ms[int(Stage::RenderModel)] = msSince(t);

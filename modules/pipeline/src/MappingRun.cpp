@@ -241,7 +241,8 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   // frames.csv: one row per processed frame (tracking quality, fusion counts, stage times).
   std::string frames_csv =
       "index,timestamp_s,tracked,status,inliers,inlier_fraction,rms_m,model_pixels,model_all_surfels,"
-      "valid_pixels,associated,added,removed_unstable,removed_carved,merged,surfels";
+      "icp_iterations,icp_iterations_level0,valid_pixels,associated,added,removed_unstable,removed_carved,merged,"
+      "surfels";
   for (int s = 0; s < int(Stage::Count); ++s) frames_csv += std::string(",ms_") + toString(Stage(s));
   frames_csv += "\n";
   long long read = 0;
@@ -270,7 +271,8 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
       row << r.index << ',' << std::fixed << std::setprecision(6) << r.timestamp_s << ',' << int(r.tracked) << ','
           << tracking::toString(r.tracking.status) << ',' << r.tracking.inliers << ',' << r.tracking.inlier_fraction
           << ',' << r.tracking.rms_m << ',' << r.model_valid_pixels << ',' << int(r.model_all_surfels) << ','
-          << r.fusion.valid_pixels << ',' << r.fusion.associated << ',' << r.fusion.added << ','
+          << r.tracking.iterations << ',' << (r.tracking.levels.empty() ? 0 : r.tracking.levels.back().iterations)
+          << ',' << r.fusion.valid_pixels << ',' << r.fusion.associated << ',' << r.fusion.added << ','
           << r.fusion.removed_unstable << ',' << r.fusion.removed_carved << ',' << r.fusion.merged
           << ',' << r.fusion.map_size
           << std::setprecision(2);

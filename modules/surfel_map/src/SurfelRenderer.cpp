@@ -490,8 +490,8 @@ inline void rasterizeTwoRowsSse(const kernels::SplatKernel& k, const kernels::Sp
 
 /// Resolves row y: ResolveKernel's outputs, with the pixel rays (x - cx) / fx tabulated per column
 /// (the same values the kernel divides out per pixel) and the winning surfels' arrays prefetched a
-/// few pixels ahead.
-inline void resolveRow(const kernels::ResolveKernel& r, int y, const float* ray_x) {
+/// few pixels ahead. Returns the number of pixels a surfel won.
+inline int resolveRow(const kernels::ResolveKernel& r, int y, const float* ray_x) {
   constexpr int kAhead = 8;
   const int w = r.index.width;
   const std::uint64_t* row = r.packed.row(y);
@@ -502,6 +502,7 @@ inline void resolveRow(const kernels::ResolveKernel& r, int y, const float* ray_
   const float ry = (float(y) - r.K.cy) / r.K.fy;
   const float nan = compute::invalidFloat();
   std::int32_t* index = r.index.row(y);
+  int drawn = 0;
   for (int x = 0; x < w; ++x) {
     if (x + kAhead < w) {
       const int j = kernels::unpackIndex(row[x + kAhead]);
@@ -524,6 +525,7 @@ inline void resolveRow(const kernels::ResolveKernel& r, int y, const float* ray_
       if (want_segment) r.segment(x, y) = 0u;
       continue;
     }
+    ++drawn;
     const float t = kernels::unpackDepth(v);
     if (want_depth) r.depth_m(x, y) = t;
     if (want_vertex)
@@ -534,6 +536,7 @@ inline void resolveRow(const kernels::ResolveKernel& r, int y, const float* ray_
     if (want_conf) r.confidence(x, y) = r.s.confidence(i);
     if (want_segment) r.segment(x, y) = r.s.segment[i];
   }
+  return drawn;
 }
 
 /// (x - cx) / fx per column, as ResolveKernel computes it.
@@ -613,8 +616,8 @@ void SurfelRenderer::splatCpu(const SurfelStore& map, const Eigen::Isometry3d& T
     for (int y = band_lo[b]; y < band_lo[b + 1]; ++y) band_of_row[y] = b;
   if (int(band_fp_.size()) < nt * nbands) band_fp_.resize(nt * nbands);
   const int nb = int(c.blocks.size());
-  long long tested = 0, drawn = 0;
-#pragma omp parallel num_threads(nt) reduction(+ : tested, drawn)
+  long long tested = 0, drawn = 0, pixels = 0;
+#pragma omp parallel num_threads(nt) reduction(+ : tested, drawn, pixels)
   {
     const int t = threadId();
     std::vector<kernels::SplatFootprint>* mine = &band_fp_[std::size_t(t) * nbands];
@@ -650,7 +653,7 @@ void SurfelRenderer::splatCpu(const SurfelStore& map, const Eigen::Isometry3d& T
           else
             rasterizeSse(k, f, y0, y1);
         }
-      for (int y = lo; y <= hi; ++y) resolveRow(r, y, ray_x.data());
+      for (int y = lo; y <= hi; ++y) pixels += resolveRow(r, y, ray_x.data());
     }
   }
   if (stats) {
@@ -658,6 +661,7 @@ void SurfelRenderer::splatCpu(const SurfelStore& map, const Eigen::Isometry3d& T
     stats->blocks_visited = nb;
     stats->surfels_tested = tested;
     stats->surfels_drawn = drawn;
+    stats->pixels_drawn = pixels;
   }
 }
 
@@ -689,7 +693,10 @@ void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_w
   const kernels::ResolveKernel r = resolveKernel(arr, packed_, T_world_cam, Kp, opt, out);
   std::vector<float> ray_x;
   pixelRays(Kp, ray_x);
-  compute::forEach1D(h, [&](int y) { resolveRow(r, y, ray_x.data()); });
+  long long pixels = 0;
+#pragma omp parallel for schedule(dynamic, 8) reduction(+ : pixels)
+  for (int y = 0; y < h; ++y) pixels += resolveRow(r, y, ray_x.data());
+  if (stats) stats->pixels_drawn = pixels;
 }
 
 void SurfelRenderer::renderIndexMap4x(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
