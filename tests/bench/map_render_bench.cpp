@@ -130,7 +130,9 @@ int main(int argc, char** argv) {
   }
   // Footprint sizes of the model's splats (bounding boxes in pixels, 3 = 3 or more).
   long long fp[4][4] = {};
-  long long probe[5] = {};
+  // Footprints that lose the depth test at their own centre pixel, by how far they lie behind
+  // the winner there: < 5 mm, < 2 cm, < 5 cm, < 20 cm, farther (same surface .. occluded).
+  long long behind[5] = {};
   long long box_pixels = 0, larger_pixels = 0;  // pixels the depth test visits (bounding boxes)
   {
     Image<std::uint64_t> scratch(width, height);
@@ -149,14 +151,11 @@ int main(int argc, char** argv) {
       maps::kernels::SplatFootprint f;
       if (!k.footprintAt(i, pc, u, v, f)) continue;
       ++fp[std::min(f.x1 - f.x0 + 1, 3)][std::min(f.y1 - f.y0 + 1, 3)];
-      {
-        const int ucx = std::min(width - 1, std::max(0, f.uc)), vcy = std::min(height - 1, std::max(0, f.vc));
-        const int wi = model.index(ucx, vcy);
-        if (wi != i) {
-          const Vec3f q = model.vertex_world(ucx, vcy);
-          const float d = wi < 0 ? 1e9f : k.T_cam_world.apply(q).z();
-          const float dz = pc.z() - d;
-          ++probe[dz < 0.005f ? 0 : dz < 0.02f ? 1 : dz < 0.05f ? 2 : dz < 0.2f ? 3 : 4];
+      if (f.uc >= 0 && f.vc >= 0 && f.uc < width && f.vc < height) {
+        const int wi = model.index(f.uc, f.vc);
+        if (wi >= 0 && wi != i) {
+          const float dz = pc.z() - k.T_cam_world.apply(model.vertex_world(f.uc, f.vc)).z();
+          ++behind[dz < 0.005f ? 0 : dz < 0.02f ? 1 : dz < 0.05f ? 2 : dz < 0.2f ? 3 : 4];
         }
       }
       box_pixels += (long long)(f.x1 - f.x0 + 1) * (f.y1 - f.y0 + 1);
@@ -198,12 +197,12 @@ int main(int argc, char** argv) {
       "\"candidates_in_view\":%lld,\"surfels_below_min_conf\":%lld,"
       "\"footprints_1x1\":%lld,\"footprints_2x1\":%lld,\"footprints_1x2\":%lld,"
       "\"footprints_2x2\":%lld,\"footprints_larger\":%lld,\"footprint_box_pixels\":%lld,"
-      "\"footprint_box_pixels_larger\":%lld,\"model_hash\":\"%016llx\"}\n",
+      "\"footprint_box_pixels_larger\":%lld,\"centre_losers_behind_5mm_2cm_5cm_20cm_more\":"
+      "[%lld,%lld,%lld,%lld,%lld],\"model_hash\":\"%016llx\"}\n",
       map.size(), pi, threads, median(model_ms), median(model_cpu), model_stats.surfels_tested,
       model_stats.surfels_drawn, model_valid, model_winners, median(cand_ms), median(cand_cpu),
       cand_stats.surfels_drawn, below_min_conf, fp[1][1], fp[2][1], fp[1][2], fp[2][2],
       fp[3][1] + fp[3][2] + fp[3][3] + fp[1][3] + fp[2][3], box_pixels, larger_pixels,
-      (unsigned long long)hash);
-  std::printf("probe losers at centre: <5mm %lld <2cm %lld <5cm %lld <20cm %lld more %lld\n", probe[0], probe[1], probe[2], probe[3], probe[4]);
+      behind[0], behind[1], behind[2], behind[3], behind[4], (unsigned long long)hash);
   return 0;
 }
