@@ -25,22 +25,51 @@ bool sameBytes(const T* a, const T* b, std::size_t n) {
   return std::memcmp(a, b, n * sizeof(T)) == 0;
 }
 
+/// Rows of two images byte-equal (one expectation per row, naming it).
+template <typename T>
+void expectSameRows(const Image<T>& a, const Image<T>& b) {
+  for (int y = 0; y < a.height(); ++y)
+    EXPECT_TRUE(sameBytes(a.row(y), b.row(y), std::size_t(a.width()))) << "row " << y;
+}
+
+/// Candidate lists in SurfelRenderer::renderCandidates4x's layout, every entry a candidate:
+/// build(W, H, pixel) calls pixel(x, y, out) in row order, which appends pixel (x, y)'s entries.
+struct TestLists {
+  std::vector<maps::kernels::CameraPoint> entries;
+  std::vector<std::uint32_t> first;
+  std::vector<std::uint8_t> count;
+
+  template <typename F>
+  static TestLists build(int w, int h, F&& pixel) {
+    TestLists l;
+    std::vector<maps::kernels::CameraPoint> out;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        out.clear();
+        pixel(x, y, out);
+        l.first.push_back(std::uint32_t(l.entries.size()));
+        l.entries.insert(l.entries.end(), out.begin(), out.end());
+        l.count.push_back(std::uint8_t(out.size()));
+      }
+    l.first.push_back(std::uint32_t(l.entries.size()));
+    return l;
+  }
+};
+
 /// An AssociateKernel over a frame (vertex, normal, weight images; focal length 30 px) and the
-/// candidate lists entries / first / count of the surfels in `store` (world = camera frame).
+/// candidate lists of the surfels in `store` (world = camera frame).
 kernels::AssociateKernel<kernels::ListCandidates> listAssociateKernel(
     const Image<Vec3f>& vertex, const Image<Vec3f>& normal, const Image<float>& weight,
-    const CameraIntrinsics& K, const std::vector<maps::kernels::CameraPoint>& entries,
-    const std::vector<std::uint32_t>& first, const std::vector<std::uint8_t>& count,
-    const maps::SurfelStore& store) {
+    const CameraIntrinsics& K, const TestLists& lists, const maps::SurfelStore& store) {
   kernels::AssociateKernel<kernels::ListCandidates> k;
   k.frame.vertex_cam = vertex.cview();
   k.frame.normal_cam = normal.cview();
   k.frame.weight = weight.cview();
   k.frame.K = K.plain();
   k.frame.focal_px = 30.0f;
-  k.candidates.entries = entries.data();
-  k.candidates.first = first.data();
-  k.candidates.count = count.data();
+  k.candidates.entries = lists.entries.data();
+  k.candidates.first = lists.first.data();
+  k.candidates.count = lists.count.data();
   k.candidates.width = K.width;
   k.candidates.height = K.height;
   k.s = store.arrays();
@@ -205,8 +234,7 @@ TEST(UpdateCpu, BitIdenticalToTheKernel) {
   EXPECT_TRUE(sameBytes(a.segment, b.segment, n));
   EXPECT_TRUE(sameBytes(a.segment_w, b.segment_w, n));
   EXPECT_TRUE(sameBytes(a.view_ic, b.view_ic, n * std::size_t(a.n_view_bins)));
-  for (int y = 0; y < H; ++y)
-    EXPECT_TRUE(sameBytes(flags_ref.row(y), flags_sse.row(y), std::size_t(W))) << "row " << y;
+  expectSameRows(flags_ref, flags_sse);
 }
 
 TEST(AssociateCpu, BitIdenticalToTheKernel) {
@@ -234,35 +262,27 @@ TEST(AssociateCpu, BitIdenticalToTheKernel) {
   normal(W - 1, H - 1) = Vec3f(0.0f, 0.0f, -1.0f);
 
   maps::SurfelStore store;
-  std::vector<maps::kernels::CameraPoint> entries;
-  std::vector<std::uint32_t> first;
-  std::vector<std::uint8_t> count;
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) {
-      first.push_back(std::uint32_t(entries.size()));
-      const int n = int(rng() % 7);  // 0-6: one or two groups of four in the SSE launcher
-      const Vec3f v = vertex(x, y).x() == vertex(x, y).x() ? vertex(x, y) : Vec3f(0, 0, 1);
-      std::vector<maps::kernels::CameraPoint> pixel;
-      for (int c = 0; c < n; ++c) {
-        maps::Surfel s;
-        const Vec3f pc = v * (1.0f + 0.03f * u(rng)) + 0.01f * Vec3f(u(rng), u(rng), u(rng));
-        s.position = pc;  // world = camera frame here
-        const Vec3f nn = normal(x, y).x() == normal(x, y).x() ? normal(x, y) : Vec3f(0, 0, -1);
-        s.normal = (nn + 0.6f * Vec3f(u(rng), u(rng), u(rng))).normalized();
-        s.radius = 0.005f + 0.05f * u01(rng);
-        s.confidence = 1.0f;
-        pixel.push_back(maps::kernels::CameraPoint{pc, store.append(s)});
-        // Some exact twins (another index): equal costs, the lower index must win.
-        if (u01(rng) < 0.4f) pixel.push_back(maps::kernels::CameraPoint{pc, store.append(s)});
-      }
-      std::shuffle(pixel.begin(), pixel.end(), rng);
-      entries.insert(entries.end(), pixel.begin(), pixel.end());
-      count.push_back(std::uint8_t(pixel.size()));
-    }
-  first.push_back(std::uint32_t(entries.size()));
+  const TestLists lists =
+      TestLists::build(W, H, [&](int x, int y, std::vector<maps::kernels::CameraPoint>& pixel) {
+        const int n = int(rng() % 7);  // 0-6: one or two groups of four in the SSE launcher
+        const Vec3f v = vertex(x, y).x() == vertex(x, y).x() ? vertex(x, y) : Vec3f(0, 0, 1);
+        for (int c = 0; c < n; ++c) {
+          maps::Surfel s;
+          const Vec3f pc = v * (1.0f + 0.03f * u(rng)) + 0.01f * Vec3f(u(rng), u(rng), u(rng));
+          s.position = pc;  // world = camera frame here
+          const Vec3f nn = normal(x, y).x() == normal(x, y).x() ? normal(x, y) : Vec3f(0, 0, -1);
+          s.normal = (nn + 0.6f * Vec3f(u(rng), u(rng), u(rng))).normalized();
+          s.radius = 0.005f + 0.05f * u01(rng);
+          s.confidence = 1.0f;
+          pixel.push_back(maps::kernels::CameraPoint{pc, store.append(s)});
+          // Some exact twins (another index): equal costs, the lower index must win.
+          if (u01(rng) < 0.4f) pixel.push_back(maps::kernels::CameraPoint{pc, store.append(s)});
+        }
+        std::shuffle(pixel.begin(), pixel.end(), rng);
+      });
 
   kernels::AssociateKernel<kernels::ListCandidates> k =
-      listAssociateKernel(vertex, normal, weight, K, entries, first, count, store);
+      listAssociateKernel(vertex, normal, weight, K, lists, store);
   k.prm.min_cos_normal = 0.9f;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d(1.0, 0.3, 0.0).normalized()).toRotationMatrix();
@@ -292,10 +312,8 @@ TEST(AssociateCpu, BitIdenticalToTheKernel) {
   EXPECT_GT(outcome[1], 10);
   EXPECT_GT(outcome[2], 10);
   EXPECT_GE(ps_ref(W - 1, H - 1), -2);  // the last element was measured
-  for (int y = 0; y < H; ++y) {
-    EXPECT_TRUE(sameBytes(ps_ref.row(y), ps_sse.row(y), std::size_t(W))) << "row " << y;
-    EXPECT_TRUE(sameBytes(fl_ref.row(y), fl_sse.row(y), std::size_t(W))) << "row " << y;
-  }
+  expectSameRows(ps_ref, ps_sse);
+  expectSameRows(fl_ref, fl_sse);
   EXPECT_TRUE(sameBytes(reinterpret_cast<const char*>(kept_ref.data()),
                         reinterpret_cast<const char*>(kept_sse.data()),
                         kept_ref.size() * sizeof(KeptMeasurement)));
@@ -388,7 +406,9 @@ TEST(CarveTest, UpdatedSurfelSkipNeverHidesAViolation) {
     const bool violates = t.violates(p), may = t.updatedMayViolate(x, y, z, dz);
     violations += violates;
     skipped += !may;
-    if (violates) ASSERT_TRUE(may) << x << "," << y << " z " << z << " z_old " << z_old;
+    if (violates) {
+      ASSERT_TRUE(may) << x << "," << y << " z " << z << " z_old " << z_old;
+    }
   }
   EXPECT_GT(violations, 100);   // the case the skip must not hide occurs
   EXPECT_GT(skipped, 100000);   // and the skip is taken where the depths agree
@@ -412,28 +432,22 @@ TEST(CoverCpu, BitIdenticalToTheKernel) {
       weight(x, y) = 0.2f + 0.8f * u01(rng);
     }
   maps::SurfelStore store;
-  std::vector<maps::kernels::CameraPoint> entries;
-  std::vector<std::uint32_t> first;
-  std::vector<std::uint8_t> count;
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) {
-      first.push_back(std::uint32_t(entries.size()));
-      const int n = (x + 2 * y) % 3 == 0 ? 0 : 1 + int(rng() % 2);
-      for (int c = 0; c < n; ++c) {
-        maps::Surfel s;
-        const Vec3f pc = vertex(x, y) + Vec3f(0.012f * u(rng), 0.012f * u(rng), 0.005f * u(rng));
-        s.position = pc;  // world = camera frame
-        s.normal = (Vec3f(0, 0, -1) + 0.05f * Vec3f(u(rng), u(rng), u(rng))).normalized();
-        s.radius = (0.1f + 1.1f * u01(rng)) / 30.0f;
-        s.confidence = 1.0f;
-        entries.push_back(maps::kernels::CameraPoint{pc, store.append(s)});
-      }
-      count.push_back(std::uint8_t(n));
-    }
-  first.push_back(std::uint32_t(entries.size()));
+  const TestLists lists =
+      TestLists::build(W, H, [&](int x, int y, std::vector<maps::kernels::CameraPoint>& pixel) {
+        const int n = (x + 2 * y) % 3 == 0 ? 0 : 1 + int(rng() % 2);
+        for (int c = 0; c < n; ++c) {
+          maps::Surfel s;
+          const Vec3f pc = vertex(x, y) + Vec3f(0.012f * u(rng), 0.012f * u(rng), 0.005f * u(rng));
+          s.position = pc;  // world = camera frame
+          s.normal = (Vec3f(0, 0, -1) + 0.05f * Vec3f(u(rng), u(rng), u(rng))).normalized();
+          s.radius = (0.1f + 1.1f * u01(rng)) / 30.0f;
+          s.confidence = 1.0f;
+          pixel.push_back(maps::kernels::CameraPoint{pc, store.append(s)});
+        }
+      });
 
   kernels::AssociateKernel<kernels::ListCandidates> ka =
-      listAssociateKernel(vertex, normal, weight, K, entries, first, count, store);
+      listAssociateKernel(vertex, normal, weight, K, lists, store);
   Image<std::int32_t> ps_ref(W, H), ps_cpu(W, H);
   Image<std::uint16_t> fl_ref(W, H), fl_cpu(W, H);
   std::vector<KeptMeasurement> kept(std::size_t(W * H));
@@ -460,9 +474,9 @@ TEST(CoverCpu, BitIdenticalToTheKernel) {
     coverRowCpu(cc, y, kept.data() + std::size_t(y) * W);
   }
   int covered = 0, still_new = 0;
+  expectSameRows(ps_ref, ps_cpu);
+  expectSameRows(fl_ref, fl_cpu);
   for (int y = 0; y < H; ++y) {
-    EXPECT_TRUE(sameBytes(ps_ref.row(y), ps_cpu.row(y), std::size_t(W))) << "row " << y;
-    EXPECT_TRUE(sameBytes(fl_ref.row(y), fl_cpu.row(y), std::size_t(W))) << "row " << y;
     for (int x = 0; x < W; ++x) {
       covered += (fl_ref(x, y) & kernels::kPixCovered) != 0;
       still_new += (fl_ref(x, y) & kernels::kPixNew) != 0;
@@ -493,7 +507,9 @@ TEST(ViewInfoThresholds, SkipOnlyWhereTheBinCannotRise) {
       std::memcpy(&d, &b, 4);
       const int q = maps::quantizeUnit(maps::kernels::informationContent(d, l1, dm));
       ++checked;
-      if (q > 0) ASSERT_GT(t.below[q - 1], d) << "distance " << d << " IC level " << q;
+      if (q > 0) {
+        ASSERT_GT(t.below[q - 1], d) << "distance " << d << " IC level " << q;
+      }
       skipped += q < 255 && d >= t.below[q];  // a bin already at q is skipped there
     }
     EXPECT_GT(skipped, checked / 2);
