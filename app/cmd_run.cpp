@@ -33,10 +33,21 @@ int runMain(const std::vector<std::string>& args) {
   for (const auto& o : overrides) cfg.applyOverride(o);
   MappingRun run(cfg);
   const RunSummary s = run.run();
-  std::printf("frames %zu (lost %zu) in %.1f s = %.2f frames/s, %zu surfels\n", s.frames, s.lost, s.seconds, s.fps,
-              s.surfels);
-  if (s.ate_rmse_m) std::printf("ATE RMSE %.4f m (vs. the source's ground truth)\n", *s.ate_rmse_m);
+  const double lost_pct = s.frames ? 100.0 * double(s.lost) / double(s.frames) : 0.0;
+  std::printf("frames %zu (tracked %zu, lost %zu = %.1f%% in %zu intervals) in %.1f s = %.2f frames/s, %zu surfels\n",
+              s.frames, s.frames - s.lost, s.lost, lost_pct, s.lost_intervals, s.seconds, s.fps, s.surfels);
+  if (s.ate_rmse_m) {
+    char tracked[96] = "";
+    if (s.ate_tracked_rmse_m && s.lost > 0)
+      std::snprintf(tracked, sizeof tracked, ", %.4f m over the %zu tracked", *s.ate_tracked_rmse_m, s.frames - s.lost);
+    std::printf("ATE RMSE %.4f m over all %zu frames (lost ones at their propagated pose)%s\n", *s.ate_rmse_m,
+                s.frames, tracked);
+  }
   std::printf("outputs in %s\n", s.out_dir.c_str());
+  if (lost_pct > 5.0)
+    std::printf("WARNING: tracking lost %.1f%% of the frames (%zu of %zu, frames.csv: tracked = 0); the map holds only "
+                "the tracked ones\n",
+                lost_pct, s.lost, s.frames);
   return 0;
 }
 

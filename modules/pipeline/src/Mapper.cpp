@@ -32,11 +32,21 @@ const char* toString(Stage s) {
   }
 }
 
+const char* toString(PoseSource s) {
+  switch (s) {
+    case PoseSource::Tracked: return "tracked";
+    case PoseSource::Odometry: return "odometry";
+    case PoseSource::MotionModel: return "motion_model";
+  }
+  return "?";
+}
+
 Mapper::Mapper(const MapperParams& params)
     : m_params(params),
       m_map(std::make_unique<maps::CSurfelMap>(params.map)),
       m_tracker(params.tracking),
-      m_fusion(params.fusion) {
+      m_fusion(params.fusion),
+      m_odometry(params.robot) {
   if (m_params.tracking.numLevels() > m_params.mapper.pyramid_levels)
     throwInputError("[mapper] pyramid_levels",
                     "must be >= the number of [tracking] levels (" + std::to_string(m_params.tracking.numLevels()) + ")");
@@ -82,6 +92,7 @@ FrameResult Mapper::processFrame(const RgbdFrame& frame) {
     const Eigen::Isometry3d T0 = (m_params.init_from_groundtruth && frame.gt_T_world_cam) ? *frame.gt_T_world_cam
                                                                                           : Eigen::Isometry3d::Identity();
     m_tracker.reset(T0);
+    m_odometry.start(T0, frame.odometry_xyyaw);
     r.first = true;
     r.tracked = true;
     r.T_world_cam = T0;
@@ -89,52 +100,39 @@ FrameResult Mapper::processFrame(const RgbdFrame& frame) {
     r.tracking.status = tracking::TrackingStatus::Ok;
     r.tracking.T_world_cam = T0;
   } else {
-    // II-C: model = the map rendered at the previous (last good) pose from its reliable surfels:
-    // those with confidence >= [tracking] model_min_confidence, or the ones fusion flagged stable
-    // when that is 0. Until enough of them exist (the first frames of a run, or a newly seen
-    // area), that model is too sparse to constrain ICP; then all surfels are used.
+    const std::optional<tracking::MotionPrior> prior = m_odometry.predict(frame.odometry_xyyaw, m_T_prev_frame);
+    // The model is rendered where the guess starts from: the previous frame's pose when odometry
+    // carries the estimate on (also through lost frames), else the last good pose.
     t = Clock::now();
-    const tracking::TTrackingParams& tp = m_params.tracking;
-    maps::RenderOptions ro;
-    ro.min_depth_m = float(m_params.mapper.min_depth_m);
-    ro.max_depth_m = float(m_params.mapper.max_depth_m) * 1.5f;
-    ro.stable_only = tp.model_min_confidence <= 0;
-    ro.min_confidence = float(tp.model_min_confidence);
-    ro.outputs = maps::kRenderVertex | maps::kRenderNormal;
-    // Optional inputs of the tracker: colour for its photometric term, surfel confidence weights.
-    const bool photometric = tp.photometric_weight > 0 && !frame.colour.empty();
-    if (photometric) ro.outputs |= maps::kRenderColour;
-    if (tp.confidence_full > 0) ro.outputs |= maps::kRenderConfidence;
-    // Rendered at pyramid level [tracking] model_level (intrinsics of that level).
-    const Eigen::Isometry3d T_model = m_tracker.lastGoodPose();
-    const CameraIntrinsics K_model = frame.intrinsics.level(tp.model_level);
-    // (a pixel a surfel won has that surfel's normal: the render counts the valid model pixels)
-    maps::RenderStats rs;
-    m_renderer.render(m_map->store(), T_model, K_model, ro, m_model, &rs);
-    r.model_valid_pixels = int(rs.pixels_drawn);
-    const int frame_valid = countValid(m_pyramid[tp.model_level].normal);
-    if (r.model_valid_pixels < 0.3 * frame_valid) {
-      ro.stable_only = false;
-      ro.min_confidence = 0.0f;
-      m_renderer.render(m_map->store(), T_model, K_model, ro, m_model, &rs);
-      r.model_valid_pixels = int(rs.pixels_drawn);
-      r.model_all_surfels = true;
-    }
+    renderModel(frame, prior ? m_T_prev_frame : m_tracker.lastGoodPose(), r);
     r.ms[int(Stage::RenderModel)] = msSince(t);
 
     t = Clock::now();
+    const tracking::TTrackingParams& tp = m_params.tracking;
+    const bool photometric = tp.photometric_weight > 0 && !frame.colour.empty();
     tracking::ModelMaps model;
     model.vertex_world = m_model.vertex_world.cview();
     model.normal_world = m_model.normal_world.cview();
-    model.K = K_model;
-    model.T_world_model = T_model;
+    model.K = frame.intrinsics.level(tp.model_level);
+    model.T_world_model = prior ? m_T_prev_frame : m_tracker.lastGoodPose();
     if (photometric) model.colour = m_model.colour.cview();
     if (tp.confidence_full > 0) model.confidence = m_model.confidence.cview();
-    r.tracking = m_tracker.track(m_pyramid, model, photometric ? frame.colour.cview() : ImageView<const Bgr8>());
+    r.tracking = m_tracker.track(m_pyramid, model, photometric ? frame.colour.cview() : ImageView<const Bgr8>(),
+                                 prior ? &*prior : nullptr);
     r.ms[int(Stage::Track)] = msSince(t);
     r.tracked = r.tracking.ok;
-    r.T_world_cam = r.tracking.T_world_cam;
+    if (r.tracked) {
+      r.T_world_cam = r.tracking.T_world_cam;
+      if (m_params.robot.planar_motion) {
+        r.T_world_cam = m_odometry.projectToFloor(r.T_world_cam);
+        m_tracker.correctLastPose(r.T_world_cam);
+      }
+    } else {
+      r.pose_source = prior ? PoseSource::Odometry : PoseSource::MotionModel;
+      r.T_world_cam = prior ? prior->T_world_cam : r.tracking.T_world_cam_guess;
+    }
   }
+  m_T_prev_frame = r.T_world_cam;
 
   if (r.tracked) {
     t = Clock::now();
@@ -149,6 +147,37 @@ FrameResult Mapper::processFrame(const RgbdFrame& frame) {
   ++m_frames;
   r.ms[int(Stage::Total)] = msSince(t_start);
   return r;
+}
+
+void Mapper::renderModel(const RgbdFrame& frame, const Eigen::Isometry3d& T_model, FrameResult& r) {
+  // II-C: model = the map rendered at the previous pose from its reliable surfels: those with
+  // confidence >= [tracking] model_min_confidence, or the ones fusion flagged stable when that is
+  // 0. Until enough of them exist (the first frames of a run, or a newly seen area), that model
+  // is too sparse to constrain ICP; then all surfels are used.
+  const tracking::TTrackingParams& tp = m_params.tracking;
+  maps::RenderOptions ro;
+  ro.min_depth_m = float(m_params.mapper.min_depth_m);
+  ro.max_depth_m = float(m_params.mapper.max_depth_m) * 1.5f;
+  ro.stable_only = tp.model_min_confidence <= 0;
+  ro.min_confidence = float(tp.model_min_confidence);
+  ro.outputs = maps::kRenderVertex | maps::kRenderNormal;
+  // Optional inputs of the tracker: colour for its photometric term, surfel confidence weights.
+  if (tp.photometric_weight > 0 && !frame.colour.empty()) ro.outputs |= maps::kRenderColour;
+  if (tp.confidence_full > 0) ro.outputs |= maps::kRenderConfidence;
+  // Rendered at pyramid level [tracking] model_level (intrinsics of that level); a pixel a
+  // surfel won has that surfel's normal: the render counts the valid model pixels.
+  const CameraIntrinsics K_model = frame.intrinsics.level(tp.model_level);
+  maps::RenderStats rs;
+  m_renderer.render(m_map->store(), T_model, K_model, ro, m_model, &rs);
+  r.model_valid_pixels = int(rs.pixels_drawn);
+  const int frame_valid = countValid(m_pyramid[tp.model_level].normal);
+  if (r.model_valid_pixels < 0.3 * frame_valid) {
+    ro.stable_only = false;
+    ro.min_confidence = 0.0f;
+    m_renderer.render(m_map->store(), T_model, K_model, ro, m_model, &rs);
+    r.model_valid_pixels = int(rs.pixels_drawn);
+    r.model_all_surfels = true;
+  }
 }
 
 void Mapper::renderView(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K, maps::RenderedMaps& out) {

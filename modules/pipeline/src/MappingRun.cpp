@@ -83,7 +83,7 @@ void writeFileAtomically(const std::string& path, const std::string& text) {
 }
 
 std::vector<std::string> MappingRun::knownSections() {
-  return {"source", "camera", "mapper", "tracking", "fusion", "map", "output", "sim"};
+  return {"source", "camera", "mapper", "tracking", "fusion", "map", "robot", "output", "sim"};
 }
 
 MappingRun::MappingRun(const RunConfig& config) : m_config(config) {
@@ -97,6 +97,7 @@ MappingRun::MappingRun(const RunConfig& config) : m_config(config) {
   loadParamsStrict(ini, "tracking", m_mapper_params.tracking, src);
   loadParamsStrict(ini, "fusion", m_mapper_params.fusion, src);
   loadParamsStrict(ini, "map", m_mapper_params.map, src);
+  loadParamsStrict(ini, "robot", m_mapper_params.robot, src);
   m_mapper_params.tracking.validate("tracking");
   (void)m_camera.intrinsics();  // validates
   // [sim] belongs to the simulator; it is parsed strictly when the sim source is opened.
@@ -116,6 +117,7 @@ std::string MappingRun::effectiveConfig() const {
   m_mapper_params.tracking.saveToConfigFile(mem, "tracking");
   m_mapper_params.fusion.saveToConfigFile(mem, "fusion");
   m_mapper_params.map.saveToConfigFile(mem, "map");
+  m_mapper_params.robot.saveToConfigFile(mem, "robot");
   m_output.saveToConfigFile(mem, "output");
   std::string text;
   mem.getContent(text);
@@ -154,6 +156,19 @@ double peakRssMb() {
     if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
   return 0.0;
 }
+
+/// Runs of consecutive lost frames (issue 14's honest loss reporting).
+struct LossIntervals {
+  std::size_t intervals = 0, longest = 0, current = 0;
+  void add(bool tracked) {
+    if (tracked) {
+      current = 0;
+      return;
+    }
+    if (current++ == 0) ++intervals;
+    longest = std::max(longest, current);
+  }
+};
 
 nlohmann::json poseJson(const Eigen::Isometry3d& T) {
   const Eigen::Quaterniond q(T.linear());
@@ -234,7 +249,8 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
     annotated = std::make_unique<io::RawlogWriter>(m_output.dir + "/annotated.rawlog", wo);
   }
 
-  io::Trajectory estimate, groundtruth;
+  io::Trajectory estimate, estimate_tracked, groundtruth;
+  LossIntervals loss;
   std::array<double, int(Stage::Count)> ms_sum{};
   std::array<double, int(Stage::Count)> ms_max{};
   std::string error;
@@ -242,7 +258,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   std::string frames_csv =
       "index,timestamp_s,tracked,status,inliers,inlier_fraction,rms_m,model_pixels,model_all_surfels,"
       "icp_iterations,icp_iterations_level0,valid_pixels,associated,added,removed_unstable,removed_carved,merged,"
-      "surfels";
+      "surfels,pose_source,check_overlap,check_agreement,check_behind,used_prior,prior_sigmas";
   for (int s = 0; s < int(Stage::Count); ++s) frames_csv += std::string(",ms_") + toString(Stage(s));
   frames_csv += "\n";
   long long read = 0;
@@ -259,7 +275,10 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
       ++processed;
       last_K = f->intrinsics;
       have_K = true;
-      if (r.tracked) estimate.push_back({r.timestamp_s, r.T_world_cam});
+      // Every frame has a pose (propagated while lost: pose_source in frames.csv).
+      estimate.push_back({r.timestamp_s, r.T_world_cam});
+      if (r.tracked) estimate_tracked.push_back({r.timestamp_s, r.T_world_cam});
+      loss.add(r.tracked);
       if (f->gt_T_world_cam) groundtruth.push_back({f->timestamp_s, *f->gt_T_world_cam});
       for (int s = 0; s < int(Stage::Count); ++s) {
         ms_sum[s] += r.ms[s];
@@ -274,8 +293,9 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
           << r.tracking.iterations << ',' << (r.tracking.levels.empty() ? 0 : r.tracking.levels.back().iterations)
           << ',' << r.fusion.valid_pixels << ',' << r.fusion.associated << ',' << r.fusion.added << ','
           << r.fusion.removed_unstable << ',' << r.fusion.removed_carved << ',' << r.fusion.merged
-          << ',' << r.fusion.map_size
-          << std::setprecision(2);
+          << ',' << r.fusion.map_size << ',' << toString(r.pose_source) << ',' << std::setprecision(4)
+          << r.tracking.check_overlap << ',' << r.tracking.check_agreement << ',' << r.tracking.check_behind << ','
+          << int(r.tracking.used_prior) << ',' << r.tracking.prior_sigmas << std::setprecision(2);
       for (int s = 0; s < int(Stage::Count); ++s) row << ',' << r.ms[s];
       frames_csv += row.str();
       frames_csv += "\n";
@@ -350,16 +370,27 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
       groundtruth.clear();
     }
   }
-  if (groundtruth.size() >= 3 && estimate.size() >= 3) {
+  rep["frames_tracked"] = processed - sum.lost;
+  rep["tracked_fraction"] = processed > 0 ? double(processed - sum.lost) / double(processed) : 0.0;
+  rep["lost_intervals"] = loss.intervals;
+  rep["longest_lost_interval_frames"] = loss.longest;
+  sum.lost_intervals = loss.intervals;
+  // ATE over every frame (lost ones at their propagated pose) and over the tracked ones alone;
+  // each states how many frames it covers.
+  const io::AteOptions ao;
+  auto ate = [&](const io::Trajectory& est, const char* key) -> std::optional<double> {
+    if (groundtruth.size() < 3 || est.size() < 3) return std::nullopt;
     try {
-      const io::AteOptions ao;
-      const io::AteResult ate = io::TrajectoryEvaluator::computeAte(groundtruth, estimate, ao);
-      rep["ate"] = io::toJson(ate, ao);
-      sum.ate_rmse_m = ate.translation_m.rmse;
+      const io::AteResult a = io::TrajectoryEvaluator::computeAte(groundtruth, est, ao);
+      rep[key] = io::toJson(a, ao);
+      return a.translation_m.rmse;
     } catch (const std::exception& e) {
-      rep["ate_error"] = e.what();
+      rep[std::string(key) + "_error"] = e.what();
+      return std::nullopt;
     }
-  }
+  };
+  sum.ate_rmse_m = ate(estimate, "ate");
+  sum.ate_tracked_rmse_m = ate(estimate_tracked, "ate_tracked");
   sum.seconds = seconds;
   sum.fps = processed > 0 ? processed / seconds : 0.0;
   sum.report = rep;

@@ -2,6 +2,8 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 
+#include <cmath>
+
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 
@@ -47,14 +49,12 @@ void TMapperParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   MRPT_LOAD_CONFIG_VAR(bilateral_sigma_space_px, double, c, s);
   MRPT_LOAD_CONFIG_VAR(bilateral_sigma_depth_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(normal_max_jump_rel, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(max_lost_frames, int, c, s);
   requireInRange(pyramid_levels, 1, 6, s, "pyramid_levels");
   requireInRange(min_depth_m, 0.0, 100.0, s, "min_depth_m");
   requireInRange(max_depth_m, min_depth_m, 100.0, s, "max_depth_m");
   requireInRange(bilateral_sigma_space_px, 0.1, 50.0, s, "bilateral_sigma_space_px");
   requireInRange(bilateral_sigma_depth_m, 1e-4, 1.0, s, "bilateral_sigma_depth_m");
   requireInRange(normal_max_jump_rel, 1e-3, 10.0, s, "normal_max_jump_rel");
-  requireInRange(max_lost_frames, 0, 1e9, s, "max_lost_frames");
 }
 
 void TMapperParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -65,7 +65,72 @@ void TMapperParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(bilateral_sigma_space_px, c, s);
   MRPT_SAVE_CONFIG_VAR(bilateral_sigma_depth_m, c, s);
   MRPT_SAVE_CONFIG_VAR(normal_max_jump_rel, c, s);
-  MRPT_SAVE_CONFIG_VAR(max_lost_frames, c, s);
+}
+
+Eigen::Isometry3d TRobotParams::T_base_cam() const {
+  constexpr double kDeg = M_PI / 180.0;
+  // Optical axes in a body frame looking along the base's x: z (forward) = x, x (right) = -y,
+  // y (down) = -z; then roll about the viewing direction, pitch (up positive), yaw.
+  Eigen::Matrix3d R_body_optical;
+  R_body_optical << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(camera_x_m, camera_y_m, camera_z_m);
+  T.linear() = (Eigen::AngleAxisd(camera_yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(-camera_pitch_deg * kDeg, Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(camera_roll_deg * kDeg, Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix() *
+               R_body_optical;
+  return T;
+}
+
+void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+  MRPT_LOAD_CONFIG_VAR(use_odometry, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(camera_x_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(camera_y_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(camera_z_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(camera_yaw_deg, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(camera_pitch_deg, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(camera_roll_deg, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(odometry_sigma_xy_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(odometry_sigma_xy_per_sqrt_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(odometry_sigma_yaw_deg, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(odometry_sigma_yaw_per_sqrt_rad, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(odometry_sigma_yaw_per_sqrt_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(odometry_sigma_z_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(odometry_sigma_tilt_deg, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(planar_motion, bool, c, s);
+  requireInRange(camera_x_m, -10.0, 10.0, s, "camera_x_m");
+  requireInRange(camera_y_m, -10.0, 10.0, s, "camera_y_m");
+  requireInRange(camera_z_m, -10.0, 10.0, s, "camera_z_m");
+  requireInRange(camera_yaw_deg, -180.0, 180.0, s, "camera_yaw_deg");
+  requireInRange(camera_pitch_deg, -90.0, 90.0, s, "camera_pitch_deg");
+  requireInRange(camera_roll_deg, -180.0, 180.0, s, "camera_roll_deg");
+  // Standard deviations: > 0 where they are the only term (a zero would make the prior exact).
+  requireInRange(odometry_sigma_xy_m, 1e-6, 1.0, s, "odometry_sigma_xy_m");
+  requireInRange(odometry_sigma_xy_per_sqrt_m, 0.0, 1.0, s, "odometry_sigma_xy_per_sqrt_m");
+  requireInRange(odometry_sigma_yaw_deg, 1e-6, 90.0, s, "odometry_sigma_yaw_deg");
+  requireInRange(odometry_sigma_yaw_per_sqrt_rad, 0.0, 1.0, s, "odometry_sigma_yaw_per_sqrt_rad");
+  requireInRange(odometry_sigma_yaw_per_sqrt_m, 0.0, 1.0, s, "odometry_sigma_yaw_per_sqrt_m");
+  requireInRange(odometry_sigma_z_m, 1e-6, 1.0, s, "odometry_sigma_z_m");
+  requireInRange(odometry_sigma_tilt_deg, 1e-6, 90.0, s, "odometry_sigma_tilt_deg");
+}
+
+void TRobotParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+  MRPT_SAVE_CONFIG_VAR(use_odometry, c, s);
+  MRPT_SAVE_CONFIG_VAR(camera_x_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(camera_y_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(camera_z_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(camera_yaw_deg, c, s);
+  MRPT_SAVE_CONFIG_VAR(camera_pitch_deg, c, s);
+  MRPT_SAVE_CONFIG_VAR(camera_roll_deg, c, s);
+  MRPT_SAVE_CONFIG_VAR(odometry_sigma_xy_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(odometry_sigma_xy_per_sqrt_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(odometry_sigma_yaw_deg, c, s);
+  MRPT_SAVE_CONFIG_VAR(odometry_sigma_yaw_per_sqrt_rad, c, s);
+  MRPT_SAVE_CONFIG_VAR(odometry_sigma_yaw_per_sqrt_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(odometry_sigma_z_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(odometry_sigma_tilt_deg, c, s);
+  MRPT_SAVE_CONFIG_VAR(planar_motion, c, s);
 }
 
 void TOutputParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {

@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -12,6 +13,7 @@
 #include "rasm/tracking/IcpCuda.h"
 #include "rasm/tracking/TrackingCpu.h"
 #include "rasm/tracking/kernels/IcpKernels.h"
+#include "rasm/tracking/kernels/PoseCheckKernels.h"
 
 namespace rasm::tracking {
 
@@ -27,6 +29,10 @@ const char* toString(TrackingStatus s) {
       return "high_residual";
     case TrackingStatus::ExcessiveMotion:
       return "excessive_motion";
+    case TrackingStatus::Inconsistent:
+      return "inconsistent";
+    case TrackingStatus::PriorConflict:
+      return "prior_conflict";
     case TrackingStatus::Diverged:
       return "diverged";
     case TrackingStatus::NotInitialized:
@@ -110,7 +116,59 @@ struct IcpSystem {
     xi = dinv.cwiseProduct(xs);
     return unconstrained;
   }
+
+  /// Gauss-Newton step with a Gaussian prior on the increment: minimises the ICP cost / sigma^2
+  /// plus (xi - delta)^T Lambda (xi - delta), delta the increment that would move the estimate
+  /// onto the prior's pose. Degeneracy per direction (issue 14): the data enter only along the
+  /// eigen-directions above `min_eig` (scaled coordinates, as solve()); along the others
+  /// (a floor's in-plane directions, where noisy normals add spurious, biased constraints) the
+  /// prior alone decides. So (H_s + sigma^2 Lambda) xi = -g_s + sigma^2 Lambda delta with H_s,
+  /// g_s the normal equations restricted to the constrained subspace.
+  void solveWithPrior(const Eigen::Matrix<double, 6, 6>& information, const Vector6d& delta, double pixel_sigma2,
+                      double min_eig, Vector6d& xi) const {
+    Eigen::Matrix<double, 6, 6> Hs = Eigen::Matrix<double, 6, 6>::Zero();  // scaled, constrained part
+    Eigen::Matrix<double, 6, 6> Ps = Eigen::Matrix<double, 6, 6>::Zero();  // projector onto it
+    for (int i = 0; i < 6; ++i)
+      if (eigenvalues(i) >= min_eig) {
+        Hs += eigenvalues(i) * eigenvectors.col(i) * eigenvectors.col(i).transpose();
+        Ps += eigenvectors.col(i) * eigenvectors.col(i).transpose();
+      }
+    const Vector6d dinv = scaleInv();
+    const Vector6d dsc = dinv.cwiseInverse();
+    const Eigen::Matrix<double, 6, 6> H_c = weight * dsc.asDiagonal() * Hs * dsc.asDiagonal();
+    const Vector6d g_c = dsc.asDiagonal() * (Ps * dinv.cwiseProduct(g));
+    const Eigen::Matrix<double, 6, 6> Hp = H_c + pixel_sigma2 * information;
+    xi = Hp.ldlt().solve(-g_c + pixel_sigma2 * (information * delta));
+  }
 };
+
+/// The increment delta (IcpKernels.h coordinates: world axes about the camera centre c of T) with
+/// P exp(delta) P^-1 T = T_target.
+Vector6d incrementTo(const Eigen::Isometry3d& T, const Eigen::Isometry3d& T_target) {
+  Eigen::Isometry3d Pc = Eigen::Isometry3d::Identity();
+  Pc.translation() = T.translation();
+  return se3Log(Pc.inverse() * T_target * T.inverse() * Pc);
+}
+
+/// Counts of kernels::PoseCheckKernel for the pose T at frame level `level`.
+kernels::PoseCheckCounts checkPoseCounts(const FrameLevel& F, const ImageView<const Vec3f>& model_vertex,
+                                   const ImageView<const Vec3f>& model_normal, const CameraIntrinsics& K_model,
+                                   const Eigen::Isometry3d& T_world_model, const Eigen::Isometry3d& T,
+                                   const TTrackingParams& P) {
+  kernels::PoseCheckKernel k;
+  k.frame_vertex = F.vertex.view();
+  k.frame_normal = F.normal.view();
+  k.model_vertex = model_vertex;
+  k.model_normal = model_normal;
+  k.K_model = K_model.plain();
+  k.T_world_cam = toRigidF(T);
+  k.T_model_cam = toRigidF(T_world_model.inverse() * T);
+  k.T_model_world = toRigidF(T_world_model.inverse());
+  k.base_gate_m = float(P.check_gate_m);
+  k.noise_sigmas = float(P.check_noise_sigmas);
+  k.min_normal_cos = float(std::cos(P.check_max_normal_angle_deg * kDegToRad));
+  return compute::reduce1D<kernels::PoseCheckCounts>(k.rows(), k);
+}
 
 void checkMap(const ImageView<const Vec3f>& v, const ImageView<const Vec3f>& n, const std::string& what) {
   if (v.width != n.width || v.height != n.height)
@@ -138,13 +196,17 @@ Eigen::Isometry3d IcpTracker::predictPose() const {
 }
 
 TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const ModelMaps& model,
-                                 ImageView<const Bgr8> frame_colour) {
+                                 ImageView<const Bgr8> frame_colour, const MotionPrior* prior) {
   if (!m_initialized) {
     TrackingResult r;
     r.status = TrackingStatus::NotInitialized;
     return r;
   }
-  TrackingResult r = align(frame, model, predictPose(), frame_colour);
+  TrackingResult r = align(frame, model, prior ? prior->T_world_cam : predictPose(), frame_colour, prior);
+  if (r.ok && r.check_overlap >= m_params.check_min_overlap) {
+    m_recent_disagreement.push_back(1.0 - r.check_agreement);
+    while (int(m_recent_disagreement.size()) > m_params.check_history) m_recent_disagreement.pop_front();
+  }
   if (r.ok) {
     m_T_prev = m_T_last;
     m_T_last = r.T_world_cam;
@@ -152,6 +214,45 @@ TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const Mod
     m_T_prev = m_T_last;  // zero velocity: the next guess is the last good pose
   }
   return r;
+}
+
+IcpTracker::PoseCheck IcpTracker::checkPose(const std::vector<FrameLevel>& frame, const ModelMaps& model,
+                                            const Eigen::Isometry3d& T_world_cam) {
+  if (model.vertex_world.empty()) return {};
+  checkMap(model.vertex_world, model.normal_world, "model maps");
+  buildModelPyramid(model, false, false);
+  return checkPoseBuilt(frame, model, T_world_cam);
+}
+
+IcpTracker::PoseCheck IcpTracker::checkPoseBuilt(const std::vector<FrameLevel>& frame, const ModelMaps& model,
+                                                 const Eigen::Isometry3d& T_world_cam) const {
+  const TTrackingParams& P = m_params;
+  const int cl = std::min(P.check_level, P.num_levels - 1);
+  const int cml = std::max(0, cl - P.model_level);
+  if (static_cast<int>(frame.size()) <= cl)
+    throwInputError("tracking: frame pyramid", "has " + std::to_string(frame.size()) + " levels, the pose check needs " +
+                                                   std::to_string(cl + 1));
+  const kernels::PoseCheckCounts c =
+      checkPoseCounts(frame[cl], cml == 0 ? model.vertex_world : ImageView<const Vec3f>(m_model_vertex[cml - 1].view()),
+                      cml == 0 ? model.normal_world : ImageView<const Vec3f>(m_model_normal[cml - 1].view()),
+                      model.K.level(cml), model.T_world_model, T_world_cam, P);
+  PoseCheck r;
+  const double overlap = double(c.overlap());
+  r.overlap = c.valid > 0 ? overlap / double(c.valid) : 0.0;
+  r.agreement = overlap > 0 ? double(c.agree) / overlap : 0.0;
+  r.behind = overlap > 0 ? double(c.behind) / overlap : 0.0;
+  r.max_disagreement = maxDisagreement();
+  r.passed = r.overlap >= P.check_min_overlap && r.agreement >= P.check_min_agreement && r.behind <= P.check_max_behind &&
+             1.0 - r.agreement <= r.max_disagreement;
+  return r;
+}
+
+double IcpTracker::maxDisagreement() const {
+  const TTrackingParams& P = m_params;
+  if (P.check_max_disagreement_ratio <= 0 || m_recent_disagreement.size() < 5) return 1.0;
+  std::vector<double> v(m_recent_disagreement.begin(), m_recent_disagreement.end());
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return std::max(P.check_min_disagreement, P.check_max_disagreement_ratio * v[v.size() / 2]);
 }
 
 void IcpTracker::buildModelPyramid(const ModelMaps& model, bool intensity, bool confidence) {
@@ -213,7 +314,8 @@ void IcpTracker::buildFrameIntensity(const std::vector<FrameLevel>& frame, Image
 }
 
 TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const ModelMaps& model,
-                                 const Eigen::Isometry3d& T_world_cam_guess, ImageView<const Bgr8> frame_colour) {
+                                 const Eigen::Isometry3d& T_world_cam_guess, ImageView<const Bgr8> frame_colour,
+                                 const MotionPrior* prior) {
   const TTrackingParams& P = m_params;
   const int L = P.num_levels;
   if (static_cast<int>(frame.size()) < L)
@@ -269,6 +371,8 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
   if (photometric) buildFrameIntensity(frame, frame_colour);
   const Eigen::Isometry3d T_model_world = model.T_world_model.inverse();
   const double conv_rot_rad = P.convergence_rotation_deg * kDegToRad;
+  const double prior_sigma2 = P.prior_pixel_sigma_m * P.prior_pixel_sigma_m;
+  res.used_prior = prior != nullptr;
 
   bool diverged = false;
   IcpSystem last(kernels::IcpAccumulator{});  // level 0's last system
@@ -348,7 +452,10 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
       if (sys.inliers < kMinSolveInliers) break;  // nothing to solve at this level
 
       Vector6d xi;
-      sys.solve(P.min_eigenvalue, xi);
+      if (prior)
+        sys.solveWithPrior(prior->information, incrementTo(T, prior->T_world_cam), prior_sigma2, P.prior_min_eigenvalue, xi);
+      else
+        sys.solve(P.min_eigenvalue, xi);
       if (!xi.allFinite()) {
         diverged = true;
         break;
@@ -393,6 +500,20 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
   res.correction_translation_m = translationDistance(T_world_cam_guess, res.T_world_cam);
   res.correction_rotation_rad = rotationAngle(T_world_cam_guess, res.T_world_cam);
 
+  // Pose check: the aligned frame against the model it was aligned to.
+  bool check_failed = false;
+  if (!model_empty && res.T_world_cam.matrix().allFinite()) {
+    const PoseCheck c = checkPoseBuilt(frame, model, res.T_world_cam);
+    res.check_overlap = c.overlap;
+    res.check_agreement = c.agreement;
+    res.check_behind = c.behind;
+    check_failed = c.overlap >= P.check_min_overlap && !c.passed;
+  }
+  if (prior && res.T_world_cam.matrix().allFinite()) {
+    const Vector6d d = incrementTo(res.T_world_cam, prior->T_world_cam);
+    res.prior_sigmas = std::sqrt(std::max(0.0, d.dot(prior->information * d)));
+  }
+
   // Quality rules (most severe first).
   if (diverged || !res.T_world_cam.matrix().allFinite())
     res.status = TrackingStatus::Diverged;
@@ -403,12 +524,20 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
   else if (res.correction_translation_m > P.max_jump_translation_m ||
            res.correction_rotation_rad > P.max_jump_rotation_deg * kDegToRad)
     res.status = TrackingStatus::ExcessiveMotion;
+  else if (check_failed)
+    res.status = TrackingStatus::Inconsistent;
+  else if (P.max_prior_sigmas > 0 && res.prior_sigmas > P.max_prior_sigmas)
+    res.status = TrackingStatus::PriorConflict;
   else if (res.unconstrained_directions > 0)
     res.status = TrackingStatus::Degenerate;
   else
     res.status = TrackingStatus::Ok;
+  // A degenerate frame: with a prior its weak directions come from the prior (per direction,
+  // not a reason to drop the frame); without one, only near-total agreement with the model
+  // supports the directions the geometry cannot check.
   res.ok = res.status == TrackingStatus::Ok ||
-           (res.status == TrackingStatus::Degenerate && res.inlier_fraction >= P.degenerate_min_inlier_fraction);
+           (res.status == TrackingStatus::Degenerate &&
+            (prior || res.inlier_fraction >= P.degenerate_min_inlier_fraction));
   return res;
 }
 

@@ -63,6 +63,19 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR_CS(max_jump_rotation_deg, double);
   MRPT_LOAD_CONFIG_VAR_CS(min_eigenvalue, double);
   MRPT_LOAD_CONFIG_VAR_CS(degenerate_min_inlier_fraction, double);
+  MRPT_LOAD_CONFIG_VAR_CS(prior_pixel_sigma_m, double);
+  MRPT_LOAD_CONFIG_VAR_CS(prior_min_eigenvalue, double);
+  MRPT_LOAD_CONFIG_VAR_CS(max_prior_sigmas, double);
+  MRPT_LOAD_CONFIG_VAR_CS(check_level, int);
+  MRPT_LOAD_CONFIG_VAR_CS(check_gate_m, double);
+  MRPT_LOAD_CONFIG_VAR_CS(check_noise_sigmas, double);
+  MRPT_LOAD_CONFIG_VAR_CS(check_max_normal_angle_deg, double);
+  MRPT_LOAD_CONFIG_VAR_CS(check_min_agreement, double);
+  MRPT_LOAD_CONFIG_VAR_CS(check_max_behind, double);
+  MRPT_LOAD_CONFIG_VAR_CS(check_min_overlap, double);
+  MRPT_LOAD_CONFIG_VAR_CS(check_max_disagreement_ratio, double);
+  MRPT_LOAD_CONFIG_VAR_CS(check_min_disagreement, double);
+  MRPT_LOAD_CONFIG_VAR_CS(check_history, int);
   MRPT_LOAD_CONFIG_VAR_CS(use_cuda, bool);
   validate(s);
 }
@@ -94,6 +107,19 @@ void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
   put(c, s, "max_jump_rotation_deg", max_jump_rotation_deg, "lost if result rotated from guess (deg)");
   put(c, s, "min_eigenvalue", min_eigenvalue, "degenerate below (normalised J^T J eigenvalue)");
   put(c, s, "degenerate_min_inlier_fraction", degenerate_min_inlier_fraction, "accept degenerate frames above (>1: never)");
+  put(c, s, "prior_pixel_sigma_m", prior_pixel_sigma_m, "per-residual sigma (m) weighing ICP against a motion prior");
+  put(c, s, "prior_min_eigenvalue", prior_min_eigenvalue, "with a prior: data only along directions above this");
+  put(c, s, "max_prior_sigmas", max_prior_sigmas, "lost if further from the prior (Mahalanobis), 0 = off");
+  put(c, s, "check_level", check_level, "pyramid level of the pose check");
+  put(c, s, "check_gate_m", check_gate_m, "pose check: agreement gate base (m)");
+  put(c, s, "check_noise_sigmas", check_noise_sigmas, "pose check: plus this many depth-noise sigmas");
+  put(c, s, "check_max_normal_angle_deg", check_max_normal_angle_deg, "pose check: normal angle limit (deg)");
+  put(c, s, "check_min_agreement", check_min_agreement, "lost if fewer overlapping pixels agree with the model");
+  put(c, s, "check_max_behind", check_max_behind, "lost if more overlapping pixels lie behind the model");
+  put(c, s, "check_min_overlap", check_min_overlap, "check conclusive above this overlap fraction");
+  put(c, s, "check_max_disagreement_ratio", check_max_disagreement_ratio, "lost if disagreement > this x recent median (0 = off)");
+  put(c, s, "check_min_disagreement", check_min_disagreement, "relative rule: disagreement always allowed up to this");
+  put(c, s, "check_history", check_history, "relative rule: accepted frames in the median");
   put(c, s, "use_cuda", use_cuda, "ICP reduction on the GPU");
 }
 
@@ -121,6 +147,19 @@ void TTrackingParams::validate(const std::string& s) const {
   requireInRange(max_jump_rotation_deg, 0.0, 180.0, s, "max_jump_rotation_deg");
   requireInRange(min_eigenvalue, 0.0, 1.0, s, "min_eigenvalue");
   requireInRange(degenerate_min_inlier_fraction, 0.0, 2.0, s, "degenerate_min_inlier_fraction");
+  requireInRange(prior_pixel_sigma_m, 1e-5, 10.0, s, "prior_pixel_sigma_m");
+  requireInRange(prior_min_eigenvalue, 0.0, 1.0, s, "prior_min_eigenvalue");
+  requireInRange(max_prior_sigmas, 0.0, 1e6, s, "max_prior_sigmas");
+  requireInRange(check_level, 0, kMaxLevels - 1, s, "check_level");  // used at min(this, num_levels - 1)
+  requireInRange(check_gate_m, 0.0, 1.0, s, "check_gate_m");
+  requireInRange(check_noise_sigmas, 0.0, 100.0, s, "check_noise_sigmas");
+  requireInRange(check_max_normal_angle_deg, 0.0, 180.0, s, "check_max_normal_angle_deg");
+  requireInRange(check_min_agreement, 0.0, 1.0, s, "check_min_agreement");
+  requireInRange(check_max_behind, 0.0, 1.0, s, "check_max_behind");
+  requireInRange(check_min_overlap, 0.0, 1.0, s, "check_min_overlap");
+  requireInRange(check_max_disagreement_ratio, 0.0, 1e3, s, "check_max_disagreement_ratio");
+  requireInRange(check_min_disagreement, 0.0, 1.0, s, "check_min_disagreement");
+  requireInRange(check_history, 1, 10000, s, "check_history");
 }
 
 }  // namespace rasm::tracking

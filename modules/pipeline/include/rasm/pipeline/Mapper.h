@@ -7,8 +7,15 @@
 //   for (frame : source) { FrameResult r = mapper.processFrame(frame); ... }
 //   mapper.map().saveToPly("map.ply");
 //
-// Lost track: a frame whose TrackingResult is not ok is not fused; the model stays rendered from
-// the last good pose, so tracking resumes when the camera comes back near it (IcpTracker.h).
+// Motion prior: a frame with odometry (RgbdFrame::odometry_xyyaw, the robot's wheels) is tracked
+// from the odometry's prediction through the camera mount, and ICP weighs the data against it
+// (OdometryPrior.h, [robot]); without odometry the tracker's motion model gives the guess.
+//
+// Lost track: a frame whose TrackingResult is not ok is not fused. It still gets a pose, flagged
+// by FrameResult::pose_source: the odometry's prediction when there is one (the model is then
+// rendered from that propagated pose, so tracking resumes as soon as the view agrees again), the
+// motion model's guess otherwise (the model stays rendered from the last good pose, so tracking
+// resumes when the camera comes back near it, IcpTracker.h).
 
 #include <Eigen/Geometry>
 #include <array>
@@ -19,6 +26,7 @@
 #include "rasm/core/FrameProcessing.h"
 #include "rasm/core/RgbdFrame.h"
 #include "rasm/fusion/SurfelFusion.h"
+#include "rasm/pipeline/OdometryPrior.h"
 #include "rasm/pipeline/RunParams.h"
 #include "rasm/surfel_map/CSurfelMap.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
@@ -30,11 +38,20 @@ namespace rasm::pipeline {
 enum class Stage : int { Preprocess = 0, RenderModel, Track, Fuse, Total, Count };
 const char* toString(Stage s);
 
+/// Where a frame's pose comes from.
+enum class PoseSource : int {
+  Tracked,      ///< ICP against the map (with the odometry prior when there is one)
+  Odometry,     ///< lost: the odometry's prediction from the previous frame's pose
+  MotionModel,  ///< lost: the tracker's motion-model guess (no odometry)
+};
+const char* toString(PoseSource s);
+
 struct MapperParams {
   TMapperParams mapper;
   tracking::TTrackingParams tracking;
   fusion::TFusionParams fusion;
   maps::CSurfelMap::TCreationOptions map;
+  TRobotParams robot;
   /// Start at the source's ground-truth pose when the first frame has one (keeps the map in the
   /// ground-truth/world frame; ATE aligns anyway). Otherwise the identity.
   bool init_from_groundtruth = true;
@@ -44,7 +61,8 @@ struct FrameResult {
   std::size_t index = 0;
   double timestamp_s = 0.0;
   Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
-  bool tracked = false;  ///< false while lost (the pose is then the tracker's best guess)
+  bool tracked = false;  ///< false while lost (the pose is then propagated: pose_source)
+  PoseSource pose_source = PoseSource::Tracked;
   bool fused = false;
   bool first = false;
   tracking::TrackingResult tracking;
@@ -67,11 +85,15 @@ class Mapper {
   std::size_t framesLost() const { return m_lost; }
   /// Last good camera pose.
   const Eigen::Isometry3d& pose() const { return m_tracker.lastGoodPose(); }
+  /// Pose of the last frame processed (tracked or propagated while lost).
+  const Eigen::Isometry3d& lastFramePose() const { return m_T_prev_frame; }
   /// Renders the map's colour / segment view at a pose (previews, annotated rawlogs).
   void renderView(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K, maps::RenderedMaps& out);
 
  private:
   void preprocess(const RgbdFrame& frame);
+  /// II-C: renders the tracking model at T_model (reliable surfels, all of them while too few).
+  void renderModel(const RgbdFrame& frame, const Eigen::Isometry3d& T_model, FrameResult& r);
 
   MapperParams m_params;
   std::unique_ptr<maps::CSurfelMap> m_map;
@@ -79,6 +101,8 @@ class Mapper {
   fusion::SurfelFusion m_fusion;
   maps::SurfelRenderer m_renderer;
   maps::RenderedMaps m_model;
+  OdometryPrior m_odometry;
+  Eigen::Isometry3d m_T_prev_frame = Eigen::Isometry3d::Identity();
   Image<float> m_depth_filtered;
   std::vector<FrameLevel> m_pyramid;
   std::size_t m_frames = 0, m_lost = 0;

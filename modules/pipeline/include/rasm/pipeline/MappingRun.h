@@ -36,9 +36,11 @@ struct TCameraParams : mrpt::config::CLoadableOptions {
 struct RunSummary {
   std::string out_dir;
   std::size_t frames = 0, lost = 0;
+  std::size_t lost_intervals = 0;  ///< runs of consecutive lost frames
   double seconds = 0.0, fps = 0.0;
   std::size_t surfels = 0;
-  std::optional<double> ate_rmse_m;
+  std::optional<double> ate_rmse_m;          ///< over every frame (lost ones at their propagated pose)
+  std::optional<double> ate_tracked_rmse_m;  ///< over the tracked frames alone
   nlohmann::json report;  ///< what report.json holds
 };
 

@@ -5,6 +5,7 @@
 
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <Eigen/Geometry>
 #include <string>
 
 namespace rasm::pipeline {
@@ -43,10 +44,44 @@ struct TMapperParams : mrpt::config::CLoadableOptions {
   double bilateral_sigma_space_px = 4.5;
   double bilateral_sigma_depth_m = 0.03;
   double normal_max_jump_rel = 0.05; ///< neighbour depth jump that invalidates a normal
-  /// Lost-track handling: frames are not fused while lost; after this many consecutive lost
-  /// frames the tracker is re-initialised from the motion model (0 = never).
-  int max_lost_frames = 0;
 
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+/// [robot]: the platform the camera rides on, for the odometry prior of tracking (issue 14):
+/// the camera's mounting pose on the base and the wheel odometry's noise. Used when the source
+/// gives odometry (the simulated robot's CObservationOdometry in its rawlogs, later the
+/// Segway's); hand-held sources have none and track with the motion model alone.
+/// Base frame: x forward, y left, z up, on the floor at the rotation centre (MRPT's planar-robot
+/// convention). The defaults are the simulated robot's mount ([sim_robot] camera_x_m,
+/// camera_height_m, camera_pitch_deg), so its rawlogs track without an INI.
+struct TRobotParams : mrpt::config::CLoadableOptions {
+  bool use_odometry = true;  ///< false: ignore the source's odometry
+  // Camera mount: position (m) and yaw, pitch (positive = looking up), roll (deg) of the camera's
+  // viewing direction in the base frame.
+  double camera_x_m = 0.10, camera_y_m = 0.0, camera_z_m = 0.55;
+  double camera_yaw_deg = 0.0, camera_pitch_deg = -10.0, camera_roll_deg = 0.0;
+  // Odometry noise of one frame's increment (d m travelled, a rad turned): standard deviations
+  // sigma_xy = odometry_sigma_xy_m + odometry_sigma_xy_per_sqrt_m sqrt(d) along x and y, and
+  // sigma_yaw = odometry_sigma_yaw_deg + odometry_sigma_yaw_per_sqrt_rad sqrt(a) [rad]
+  // + odometry_sigma_yaw_per_sqrt_m sqrt(d) [rad]: random walks as the simulated robot's
+  // ([sim_robot] odo_sigma_*), twice its values, plus a floor.
+  double odometry_sigma_xy_m = 0.0005;
+  double odometry_sigma_xy_per_sqrt_m = 0.02;
+  double odometry_sigma_yaw_deg = 0.05;
+  double odometry_sigma_yaw_per_sqrt_rad = 0.04;
+  double odometry_sigma_yaw_per_sqrt_m = 0.01;
+  /// A ground robot's base stays on the floor: the increment's height, roll and pitch have these
+  /// standard deviations (bumps, suspension).
+  double odometry_sigma_z_m = 0.005;
+  double odometry_sigma_tilt_deg = 0.3;
+  /// Constrain the camera to the SE(2) motion of a ground robot: every tracked pose is projected
+  /// to the floor plane of the first frame's base (fixed height, roll and pitch of the mount).
+  bool planar_motion = false;
+
+  /// T_base_cam of the mount (optical camera frame in the base frame).
+  Eigen::Isometry3d T_base_cam() const;
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };

@@ -36,6 +36,7 @@
 // rules; nothing else is needed from the caller.
 
 #include <Eigen/Geometry>
+#include <deque>
 #include <memory>
 #include <vector>
 
@@ -44,6 +45,7 @@
 #include "rasm/core/CameraIntrinsics.h"
 #include "rasm/core/FrameProcessing.h"
 #include "rasm/core/Image.h"
+#include "rasm/tracking/MotionPrior.h"
 #include "rasm/tracking/TrackingParams.h"
 #include "rasm/tracking/TrackingResult.h"
 
@@ -79,6 +81,10 @@ class IcpTracker {
   void reset(const Eigen::Isometry3d& T_world_cam);
   bool initialized() const { return m_initialized; }
 
+  /// Replaces the last good pose (e.g. by its projection onto a motion constraint) without
+  /// touching the pose before it, so the velocity follows the corrected pose.
+  void correctLastPose(const Eigen::Isometry3d& T_world_cam) { m_T_last = T_world_cam; }
+
   /// Motion-model prediction for the next frame (constant velocity or previous pose).
   Eigen::Isometry3d predictPose() const;
   /// Last pose of a frame tracked with ok = true (or of reset()).
@@ -90,15 +96,36 @@ class IcpTracker {
   /// Returns NotInitialized (ok = false) before reset(). Throws InputError on malformed input.
   /// `frame_colour` (optional, registered to the depth, size of level 0) enables the photometric
   /// term when params().photometric_weight > 0 and the model has a colour map.
+  /// `prior` (optional): the pose predicted from odometry (or another source) with its
+  /// uncertainty; it replaces the motion-model guess and enters the solve (MotionPrior.h).
   TrackingResult track(const std::vector<FrameLevel>& frame, const ModelMaps& model,
-                       ImageView<const Bgr8> frame_colour = {});
+                       ImageView<const Bgr8> frame_colour = {}, const MotionPrior* prior = nullptr);
 
   /// Aligns `frame` to `model` starting from an explicit guess; does not touch the motion state.
   /// The quality rules (including the jump vs. the guess) are applied as in track().
   TrackingResult align(const std::vector<FrameLevel>& frame, const ModelMaps& model,
-                       const Eigen::Isometry3d& T_world_cam_guess, ImageView<const Bgr8> frame_colour = {});
+                       const Eigen::Isometry3d& T_world_cam_guess, ImageView<const Bgr8> frame_colour = {},
+                       const MotionPrior* prior = nullptr);
+
+  /// The pose check of align() on its own (kernels::PoseCheckKernel at params().check_level):
+  /// how the frame seen from T_world_cam agrees with the model. For verifying a pose found
+  /// elsewhere (relocalisation) before tracking resumes from it.
+  struct PoseCheck {
+    double overlap = 0.0;    ///< fraction of the frame's valid pixels landing on the model
+    double agreement = 0.0;  ///< of those, fraction agreeing with the model's surface
+    double behind = 0.0;     ///< of those, fraction behind it (seeing through mapped space)
+    /// Disagreement allowed by the relative rule (recent accepted frames), 1 = no history yet.
+    double max_disagreement = 1.0;
+    bool passed = false;     ///< conclusive (overlap >= check_min_overlap) and within the limits
+  };
+  /// The relative rule's limit from the recent accepted frames (1 without history).
+  double maxDisagreement() const;
+  PoseCheck checkPose(const std::vector<FrameLevel>& frame, const ModelMaps& model,
+                      const Eigen::Isometry3d& T_world_cam);
 
  private:
+  PoseCheck checkPoseBuilt(const std::vector<FrameLevel>& frame, const ModelMaps& model,
+                           const Eigen::Isometry3d& T_world_cam) const;
   void buildModelPyramid(const ModelMaps& model, bool intensity, bool confidence);
   void buildFrameIntensity(const std::vector<FrameLevel>& frame, ImageView<const Bgr8> colour);
 
@@ -112,6 +139,7 @@ class IcpTracker {
   std::vector<Image<float>> m_model_intensity, m_frame_intensity;
   std::vector<Image<float>> m_model_confidence;  ///< levels >= 1 (level 0 is the caller's view)
   std::vector<Image<Vec3f>> m_frame_igrad;
+  std::deque<double> m_recent_disagreement;  ///< of the last accepted frames (relative rule)
   std::unique_ptr<cuda::IcpCudaReducer> m_cuda;  ///< created on first use when use_cuda
 };
 

@@ -126,6 +126,45 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   /// direction also looks degenerate but agrees with far fewer pixels. > 1 = never accept.
   double degenerate_min_inlier_fraction = 0.7;
 
+  // ---- motion prior (odometry or motion model, IcpTracker::track's `prior`) ----
+  /// Standard deviation (m) assumed for one point-to-plane residual when the ICP data are
+  /// weighed against a motion prior: the ICP information is J^T W J / sigma^2. Larger than the
+  /// sensor noise (1.9 mm at 1 m) because neighbouring residuals are correlated (the model is one
+  /// surface, not independent samples); with tens of thousands of inliers the data still
+  /// dominate every direction they constrain, and the prior the ones they do not (a floor and a
+  /// far wall: the directions along them).
+  double prior_pixel_sigma_m = 0.05;
+  /// With a prior, the data enter only along the directions whose eigenvalue (as
+  /// min_eigenvalue) is at least this; the prior alone holds the others.
+  double prior_min_eigenvalue = 1e-2;
+  /// A result further from the prior than this many standard deviations (Mahalanobis distance
+  /// of the 6-DoF difference under the prior's covariance) is lost (status prior_conflict):
+  /// wheel slip or a bump shows as a few sigmas, a wrong ICP minimum as many. 0 = no check.
+  double max_prior_sigmas = 0.0;
+
+  // ---- pose check after alignment (kernels::PoseCheckKernel) ----
+  /// Pyramid level of the check (frame level; the model level is max(0, level - model_level)).
+  int check_level = 1;
+  /// Agreement gate: |p - q| <= check_gate_m + check_noise_sigmas * sigma(z) (depth noise model)
+  /// and normals within check_max_normal_angle_deg.
+  double check_gate_m = 0.01;
+  double check_noise_sigmas = 3.0;
+  double check_max_normal_angle_deg = 45.0;
+  /// Of the frame pixels that land on the model's surface, at least this fraction must agree
+  /// with it, and at most check_max_behind may lie behind it (seeing through mapped space);
+  /// otherwise the pose is lost (status inconsistent). The check needs check_min_overlap of the
+  /// frame's valid pixels on the model to be conclusive; below that the other rules decide.
+  double check_min_agreement = 0.5;
+  double check_max_behind = 0.25;
+  double check_min_overlap = 0.1;
+  /// Relative rule: the disagreement (1 - agreement) may be at most this many times the median
+  /// of the last check_history accepted frames' (and at least check_min_disagreement): a pose
+  /// sliding away shows as a jump of the disagreement against the frames before it, whatever
+  /// the sensor's usual level (a real Kinect's differs from the simulator's). 0 = off.
+  double check_max_disagreement_ratio = 3.0;
+  double check_min_disagreement = 0.15;
+  int check_history = 30;
+
   // ---- backend ----
   /// Run the ICP reduction on the GPU (CUDA launcher of the same kernel). Needs a CUDA build
   /// and device; track() throws InputError otherwise. The photometric term has no CUDA launcher

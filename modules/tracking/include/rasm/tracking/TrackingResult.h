@@ -15,6 +15,9 @@ enum class TrackingStatus {
   TooFewInliers,  ///< too little overlap with the model (empty / unrelated model, fast motion)
   HighResidual,   ///< inliers found but the RMS point-to-plane residual is too high
   ExcessiveMotion,///< the result is too far from the initial guess (wrong local minimum)
+  Inconsistent,   ///< the aligned frame contradicts the model it was aligned to (pose check:
+                  ///< too few overlapping pixels agree, or too many see through mapped surfaces)
+  PriorConflict,  ///< the result is too many sigmas away from the motion prior (odometry)
   Diverged,       ///< the linear system could not be solved or produced non-finite poses
   NotInitialized  ///< track() before reset(): no pose to predict from
 };
@@ -69,6 +72,16 @@ struct TrackingResult {
   double correction_translation_m = 0.0;
   double correction_rotation_rad = 0.0;
   int iterations = 0;  ///< all levels together
+
+  // Pose check after alignment (kernels::PoseCheckKernel at TTrackingParams::check_level).
+  /// Fraction of the frame's valid pixels that land on the model's surface.
+  double check_overlap = 0.0;
+  /// Of those: fraction agreeing with the surface, fraction lying behind it.
+  double check_agreement = 0.0;
+  double check_behind = 0.0;
+  /// Motion prior: whether one was used, and the Mahalanobis distance of the result from it.
+  bool used_prior = false;
+  double prior_sigmas = 0.0;
   std::vector<TrackingLevelStats> levels;  ///< in the order run (coarsest first)
 };
 

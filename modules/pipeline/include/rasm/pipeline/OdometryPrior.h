@@ -1,0 +1,46 @@
+#pragma once
+// The odometry prior of tracking (issue 14, DESIGN.md "Stages, threads and the map they share"):
+// wheel odometry of the robot base (x, y, yaw in the odometry frame, RgbdFrame::odometry_xyyaw)
+// turned into a prediction of the camera pose through the camera's mounting pose, with the
+// odometry's noise, for IcpTracker::track's MotionPrior:
+//     T_world_cam(t) = T_world_cam(t-1) * T_cam_base * (T_odom_base(t-1)^-1 T_odom_base(t)) * T_base_cam
+// The increment is relative, so odometry drift never enters the map; its covariance is that of
+// one frame's increment (TRobotParams), along the base's axes at t-1.
+//
+// The optional planar constraint (TRobotParams::planar_motion) projects a pose onto the SE(2)
+// motion of the base on the floor of the first frame: height, roll and pitch of the mount fixed.
+
+#include <Eigen/Geometry>
+#include <optional>
+
+#include "rasm/pipeline/RunParams.h"
+#include "rasm/tracking/MotionPrior.h"
+
+namespace rasm::pipeline {
+
+class OdometryPrior {
+ public:
+  explicit OdometryPrior(const TRobotParams& params);
+
+  /// First frame: its pose defines the floor plane (the base under the camera at t = 0).
+  void start(const Eigen::Isometry3d& T_world_cam0, const std::optional<Eigen::Vector3d>& odometry);
+
+  /// The prior of a frame with odometry reading `odometry` (nullopt: none), given the pose of
+  /// the previous frame (estimated or propagated). nullopt when odometry is off or this or the
+  /// previous frame has no reading.
+  std::optional<tracking::MotionPrior> predict(const std::optional<Eigen::Vector3d>& odometry,
+                                               const Eigen::Isometry3d& T_world_cam_prev);
+
+  /// The pose moved onto the floor plane (SE(2) of the base at the mount's height and tilt).
+  Eigen::Isometry3d projectToFloor(const Eigen::Isometry3d& T_world_cam) const;
+
+  const Eigen::Isometry3d& T_base_cam() const { return m_T_base_cam; }
+
+ private:
+  TRobotParams m_params;
+  Eigen::Isometry3d m_T_base_cam;
+  Eigen::Isometry3d m_T_world_floor = Eigen::Isometry3d::Identity();
+  std::optional<Eigen::Vector3d> m_last;  ///< reading of the previous frame
+};
+
+}  // namespace rasm::pipeline

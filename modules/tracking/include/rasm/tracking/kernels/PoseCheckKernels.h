@@ -1,0 +1,89 @@
+#pragma once
+// Verification of an aligned pose against the data (issue 14, "failures are detected, not
+// fused"): after ICP, every frame pixel is moved by the estimated pose and projected into the
+// model (the map rendered at the reference pose, as for the association of II-C). Of the pixels
+// that land on the model's surface, a correct pose makes nearly all agree with it (same point
+// within the sensor noise, same orientation); a wrong one makes many of them fall in front of the
+// surface or, worse, behind it, where the map says space is occupied and the camera cannot see
+// through. Pixels that land where the model has nothing (new space) say nothing either way.
+// Plain header: only compute/, so a CUDA launcher can run the same body.
+
+#include "rasm/compute/ImageView.h"
+#include "rasm/compute/Types.h"
+#include "rasm/tracking/kernels/IcpKernels.h"
+
+namespace rasm::tracking::kernels {
+
+/// Counts of one pose check (PoseCheckKernel): pixels of the frame by what they meet in the model.
+struct PoseCheckCounts {
+  long long valid = 0;     ///< frame pixels with a vertex and a normal
+  long long agree = 0;     ///< on the model surface: within the gate, normals compatible
+  long long front = 0;     ///< on the model pixel but nearer the camera than its surface
+  long long behind = 0;    ///< behind the model surface: seeing through mapped space
+  long long misaligned = 0;///< at the model surface's depth but off the gate or normal test
+  long long overlap() const { return agree + front + behind + misaligned; }
+  RASM_HD_INLINE PoseCheckCounts& operator+=(const PoseCheckCounts& o) {
+    valid += o.valid;
+    agree += o.agree;
+    front += o.front;
+    behind += o.behind;
+    misaligned += o.misaligned;
+    return *this;
+  }
+};
+
+struct PoseCheckKernel {
+  ImageView<const Vec3f> frame_vertex;  ///< camera frame
+  ImageView<const Vec3f> frame_normal;  ///< camera frame
+  ImageView<const Vec3f> model_vertex;  ///< world frame
+  ImageView<const Vec3f> model_normal;  ///< world frame
+  PinholeF K_model;
+  RigidF T_world_cam;  ///< the pose under test
+  RigidF T_model_cam;  ///< T_world_model^-1 * T_world_cam
+  RigidF T_model_world;
+  /// Agreement gate: |p - q| <= base_gate_m + noise_sigmas * depthNoiseSigma(z).
+  float base_gate_m = 0.01f;
+  float noise_sigmas = 3.0f;
+  float min_normal_cos = 0.7f;
+  int stride = 1;
+
+  RASM_HD_INLINE int rows() const { return (frame_vertex.height + stride - 1) / stride; }
+
+  /// One row (y = i * stride) of the frame.
+  RASM_HD_INLINE void operator()(int i, PoseCheckCounts& c) const {
+    const int y = i * stride;
+    for (int x = 0; x < frame_vertex.width; x += stride) {
+      const Vec3f v = frame_vertex(x, y);
+      const Vec3f nc = frame_normal(x, y);
+      if (!(v.x() == v.x()) || !(nc.x() == nc.x())) continue;
+      ++c.valid;
+      const Vec3f pm = T_model_cam.apply(v);
+      if (!(pm.z() > 0.0f)) continue;
+      const float iz = 1.0f / pm.z();
+      const float u = K_model.fx * pm.x() * iz + K_model.cx;
+      const float vv = K_model.fy * pm.y() * iz + K_model.cy;
+      if (!(u > -0.5f && vv > -0.5f && u < float(model_vertex.width) - 0.5f &&
+            vv < float(model_vertex.height) - 0.5f))
+        continue;
+      const int ui = int(u + 0.5f), vi = int(vv + 0.5f);
+      const Vec3f q = model_vertex(ui, vi);
+      const Vec3f n = model_normal(ui, vi);
+      if (!(q.x() == q.x()) || !(n.x() == n.x())) continue;
+      const float gate = base_gate_m + noise_sigmas * depthNoiseSigma(pm.z());
+      const Vec3f p = T_world_cam.apply(v);
+      // Depth of the model surface along the model camera's ray through the moved point.
+      const Vec3f qm = T_model_world.apply(q);
+      const float dz = pm.z() - qm.z();  // > 0: the frame point is behind the model surface
+      if ((p - q).squaredNorm() <= gate * gate && T_world_cam.rotate(nc).dot(n) >= min_normal_cos)
+        ++c.agree;
+      else if (dz > gate)
+        ++c.behind;
+      else if (dz < -gate)
+        ++c.front;
+      else
+        ++c.misaligned;
+    }
+  }
+};
+
+}  // namespace rasm::tracking::kernels
