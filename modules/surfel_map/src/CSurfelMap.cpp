@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
@@ -193,7 +195,8 @@ CSurfelMap::CSurfelMap(const CSurfelMap& o)
       likelihoodOptions(o.likelihoodOptions),
       renderingOptions(o.renderingOptions),
       m_creation(o.m_creation),
-      m_store(o.m_store) {}
+      m_store(o.m_store),
+      m_keyframes(o.m_keyframes) {}
 
 CSurfelMap& CSurfelMap::operator=(const CSurfelMap& o) {
   if (this == &o) return *this;
@@ -203,6 +206,7 @@ CSurfelMap& CSurfelMap::operator=(const CSurfelMap& o) {
   renderingOptions = o.renderingOptions;
   m_creation = o.m_creation;
   m_store = o.m_store;
+  m_keyframes = o.m_keyframes;
   m_inserter.reset();
   return *this;
 }
@@ -217,14 +221,101 @@ void CSurfelMap::resetLayout(const TCreationOptions& creation) {
 
 void CSurfelMap::internal_clear() {
   m_store.clear();
+  m_keyframes.clear();
   m_inserter.reset();  // fusion state (renderer buffers) refers to the old map
 }
 
 // ---- serialization ----
 // Version 0: creation options, insertion keys, likelihood and rendering options, generic map
 // params, time origin, then every SoA array (little-endian floats / raw bytes).
+// Version 1: version 0, then the relocalisation keyframes (writeKeyframes). Version 0 files
+// still load (with no keyframes).
 
-uint8_t CSurfelMap::serializeGetVersion() const { return 0; }
+namespace {
+
+// Bounds on what a keyframe record may declare, so a corrupt file fails with a message instead
+// of a huge allocation.
+constexpr uint32_t kMaxKeyframeFeatures = 1u << 20;
+constexpr int32_t kMaxThumbnailSide = 4096;
+// The per-feature arrays are written as flat float buffers.
+static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float) && sizeof(Eigen::Vector2f) == 2 * sizeof(float));
+
+// Per keyframe: frame index, timestamp, T_world_cam (3x4, row-major doubles), intrinsics
+// (fx fy cx cy, width height), feature count n, 3n floats of points, 2n floats of keypoints,
+// 32n descriptor bytes, thumbnail width, height and bytes.
+void writeKeyframes(mrpt::serialization::CArchive& out, const std::vector<Keyframe>& kfs) {
+  out << uint32_t(kfs.size());
+  for (std::size_t k = 0; k < kfs.size(); ++k) {
+    const Keyframe& kf = kfs[k];
+    if (!kf.consistent())
+      throw std::logic_error("CSurfelMap::serializeTo: keyframe " + std::to_string(k) +
+                             " has per-feature arrays of different lengths");
+    out << uint64_t(kf.frame_index) << kf.timestamp_s;
+    const Eigen::Matrix4d& M = kf.T_world_cam.matrix();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) out << M(r, c);
+    out << kf.intrinsics.fx << kf.intrinsics.fy << kf.intrinsics.cx << kf.intrinsics.cy
+        << int32_t(kf.intrinsics.width) << int32_t(kf.intrinsics.height);
+    const std::size_t n = kf.numFeatures();
+    out << uint32_t(n);
+    if (n > 0) {
+      out.WriteBufferFixEndianness(kf.points_world.front().data(), 3 * n);
+      out.WriteBufferFixEndianness(kf.keypoints_px.front().data(), 2 * n);
+      out.WriteBuffer(kf.descriptors.data(), kf.descriptors.size());
+    }
+    out << int32_t(kf.thumb_width) << int32_t(kf.thumb_height);
+    if (!kf.thumbnail.empty()) out.WriteBuffer(kf.thumbnail.data(), kf.thumbnail.size());
+  }
+}
+
+void readKeyframes(mrpt::serialization::CArchive& in, std::vector<Keyframe>& kfs) {
+  uint32_t count;
+  in >> count;
+  kfs.clear();
+  kfs.reserve(std::min<uint32_t>(count, 1u << 16));
+  for (uint32_t k = 0; k < count; ++k) {
+    const std::string what = "CSurfelMap keyframe " + std::to_string(k);
+    Keyframe kf;
+    uint64_t index;
+    in >> index >> kf.timestamp_s;
+    kf.frame_index = index;
+    Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) in >> M(r, c);
+    kf.T_world_cam.matrix() = M;
+    int32_t w, h;
+    in >> kf.intrinsics.fx >> kf.intrinsics.fy >> kf.intrinsics.cx >> kf.intrinsics.cy >> w >> h;
+    kf.intrinsics.width = w;
+    kf.intrinsics.height = h;
+    uint32_t n;
+    in >> n;
+    if (n > kMaxKeyframeFeatures)
+      throwInputError(what, std::to_string(n) + " features (corrupt file?), expected at most " +
+                                std::to_string(kMaxKeyframeFeatures));
+    kf.points_world.resize(n);
+    kf.keypoints_px.resize(n);
+    kf.descriptors.resize(std::size_t(Keyframe::kDescriptorBytes) * n);
+    if (n > 0) {
+      in.ReadBufferFixEndianness(kf.points_world.front().data(), 3 * std::size_t(n));
+      in.ReadBufferFixEndianness(kf.keypoints_px.front().data(), 2 * std::size_t(n));
+      in.ReadBuffer(kf.descriptors.data(), kf.descriptors.size());
+    }
+    int32_t tw, th;
+    in >> tw >> th;
+    if (tw < 0 || th < 0 || tw > kMaxThumbnailSide || th > kMaxThumbnailSide)
+      throwInputError(what, "thumbnail size " + std::to_string(tw) + "x" + std::to_string(th) +
+                                " (corrupt file?)");
+    kf.thumb_width = tw;
+    kf.thumb_height = th;
+    kf.thumbnail.resize(std::size_t(tw) * std::size_t(th));
+    if (!kf.thumbnail.empty()) in.ReadBuffer(kf.thumbnail.data(), kf.thumbnail.size());
+    kfs.push_back(std::move(kf));
+  }
+}
+
+}  // namespace
+
+uint8_t CSurfelMap::serializeGetVersion() const { return 1; }
 
 void CSurfelMap::serializeTo(mrpt::serialization::CArchive& out) const {
   out << int32_t(m_creation.n_classes) << int32_t(m_creation.view_bins_azimuth)
@@ -241,21 +332,25 @@ void CSurfelMap::serializeTo(mrpt::serialization::CArchive& out) const {
   const SurfelArrays a = m_store.arrays();
   const std::size_t n = std::size_t(a.size);
   out << uint64_t(n);
-  out.WriteBufferFixEndianness(reinterpret_cast<const float*>(a.pos_conf), 4 * n);
-  out.WriteBufferFixEndianness(reinterpret_cast<const float*>(a.normal_radius), 4 * n);
-  out.WriteBufferFixEndianness(a.colour_flags, n);
-  out.WriteBufferFixEndianness(a.t_init, n);
-  out.WriteBufferFixEndianness(a.t_last, n);
-  out.WriteBufferFixEndianness(reinterpret_cast<const float*>(a.basis), 3 * n);
-  out.WriteBufferFixEndianness(a.segment, n);
-  out.WriteBufferFixEndianness(a.segment_w, n);
-  if (a.n_classes > 0) out.WriteBuffer(a.class_p, n * std::size_t(a.n_classes));
-  if (a.n_view_bins > 0) out.WriteBuffer(a.view_ic, n * std::size_t(a.n_view_bins));
+  if (n > 0) {  // (CArchive asserts on the null arrays of an empty store)
+    out.WriteBufferFixEndianness(reinterpret_cast<const float*>(a.pos_conf), 4 * n);
+    out.WriteBufferFixEndianness(reinterpret_cast<const float*>(a.normal_radius), 4 * n);
+    out.WriteBufferFixEndianness(a.colour_flags, n);
+    out.WriteBufferFixEndianness(a.t_init, n);
+    out.WriteBufferFixEndianness(a.t_last, n);
+    out.WriteBufferFixEndianness(reinterpret_cast<const float*>(a.basis), 3 * n);
+    out.WriteBufferFixEndianness(a.segment, n);
+    out.WriteBufferFixEndianness(a.segment_w, n);
+    if (a.n_classes > 0) out.WriteBuffer(a.class_p, n * std::size_t(a.n_classes));
+    if (a.n_view_bins > 0) out.WriteBuffer(a.view_ic, n * std::size_t(a.n_view_bins));
+  }
+  writeKeyframes(out, m_keyframes);  // version 1
 }
 
 void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
   switch (version) {
-    case 0: {
+    case 0:
+    case 1: {
       int32_t nc, az, el;
       TCreationOptions co;
       in >> nc >> az >> el >> co.block_size_m;
@@ -282,17 +377,23 @@ void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t versio
       in >> n;
       m_store.allocate(int(n));
       const SurfelArrays a = m_store.arrays();
-      in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.pos_conf), 4 * n);
-      in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.normal_radius), 4 * n);
-      in.ReadBufferFixEndianness(a.colour_flags, n);
-      in.ReadBufferFixEndianness(a.t_init, n);
-      in.ReadBufferFixEndianness(a.t_last, n);
-      in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.basis), 3 * n);
-      in.ReadBufferFixEndianness(a.segment, n);
-      in.ReadBufferFixEndianness(a.segment_w, n);
-      if (a.n_classes > 0) in.ReadBuffer(a.class_p, n * std::size_t(a.n_classes));
-      if (a.n_view_bins > 0) in.ReadBuffer(a.view_ic, n * std::size_t(a.n_view_bins));
+      if (n > 0) {
+        in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.pos_conf), 4 * n);
+        in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.normal_radius), 4 * n);
+        in.ReadBufferFixEndianness(a.colour_flags, n);
+        in.ReadBufferFixEndianness(a.t_init, n);
+        in.ReadBufferFixEndianness(a.t_last, n);
+        in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.basis), 3 * n);
+        in.ReadBufferFixEndianness(a.segment, n);
+        in.ReadBufferFixEndianness(a.segment_w, n);
+        if (a.n_classes > 0) in.ReadBuffer(a.class_p, n * std::size_t(a.n_classes));
+        if (a.n_view_bins > 0) in.ReadBuffer(a.view_ic, n * std::size_t(a.n_view_bins));
+      }
       m_store.rebuildIndex();
+      if (version >= 1)
+        readKeyframes(in, m_keyframes);
+      else
+        m_keyframes.clear();
     } break;
     default:
       MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);

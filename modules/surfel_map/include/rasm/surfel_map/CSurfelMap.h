@@ -14,7 +14,9 @@
 //    multimap.mapByClass<rasm::maps::CSurfelMap>();
 //  - visualizable (getVisualizationInto: coloured point cloud for SceneViewer3D / RawLogViewer);
 //  - insertObservation(CObservation3DRangeScan) fuses the frame at the given pose (no tracking)
-//    through the fusion module (SurfelFrameInserter.h; link rasm::fusion).
+//    through the fusion module (SurfelFrameInserter.h; link rasm::fusion);
+//  - holds the relocalisation keyframes (Keyframe.h; made and used by rasm::tracking::Relocaliser)
+//    and serializes them with the surfels, so a reloaded map can relocalise a camera.
 // Storage, rendering and fusion work on the MRPT-free SurfelStore returned by store().
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -25,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "rasm/surfel_map/Keyframe.h"
 #include "rasm/surfel_map/MapExport.h"
 #include "rasm/surfel_map/SurfelStore.h"
 
@@ -82,12 +85,12 @@ class CSurfelMap : public mrpt::maps::CMetricMap {
 
   CSurfelMap();
   explicit CSurfelMap(const TCreationOptions& creation);
-  CSurfelMap(const CSurfelMap& o);  ///< copies surfels and options, not the inserter
+  CSurfelMap(const CSurfelMap& o);  ///< copies surfels, keyframes and options, not the inserter
   CSurfelMap& operator=(const CSurfelMap& o);
   ~CSurfelMap() override;
 
   const TCreationOptions& creationOptions() const { return m_creation; }
-  /// Drops all surfels and changes the layout.
+  /// Drops all surfels and changes the layout (keyframes are kept: clear() drops them too).
   void resetLayout(const TCreationOptions& creation);
 
   TInsertionOptions insertionOptions;
@@ -104,6 +107,11 @@ class CSurfelMap : public mrpt::maps::CMetricMap {
   void remove(std::vector<int> surfels, std::vector<std::pair<int, int>>* moved = nullptr) {
     m_store.remove(std::move(surfels), moved);
   }
+
+  /// Relocalisation keyframes (rasm::tracking::Relocaliser::maybeAddKeyframe appends to it),
+  /// serialized with the map (version 1), emptied by clear().
+  std::vector<Keyframe>& keyframes() { return m_keyframes; }
+  const std::vector<Keyframe>& keyframes() const { return m_keyframes; }
 
   void saveToPly(const std::string& path, bool stable_only = false) const {
     writeSurfelPly(m_store, path, stable_only);
@@ -132,6 +140,7 @@ class CSurfelMap : public mrpt::maps::CMetricMap {
 
   TCreationOptions m_creation;
   SurfelStore m_store;
+  std::vector<Keyframe> m_keyframes;
   std::unique_ptr<SurfelFrameInserter> m_inserter;  ///< created on first insertion
   std::string m_inserter_ini;                       ///< the fusion INI text it was built from
 

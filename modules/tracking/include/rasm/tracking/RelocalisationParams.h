@@ -1,0 +1,91 @@
+#pragma once
+// Options of the relocaliser (rasm::tracking::Relocaliser, issue 14 item 5), INI section
+// [relocalisation]. Keys are the member names. Distances in metres, angles in degrees, image
+// quantities in pixels of the frame's full resolution.
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+
+namespace rasm::tracking {
+
+struct TRelocalisationParams : public mrpt::config::CLoadableOptions {
+  // ---- ORB features (cv::ORB, Rublee et al. 2011) ----
+  /// Features detected per frame, both for keyframes and at relocalisation.
+  int orb_features = 1000;
+  /// Pyramid levels and scale step of the ORB detector (OpenCV's defaults, as ORB-SLAM).
+  int orb_levels = 8;
+  double orb_scale_factor = 1.2;
+  /// FAST threshold (grey levels); lower finds more corners on weak texture. Leave-one-out on
+  /// TUM fr3_cabinet's 58 keyframes (Relocaliser_unittest): 20 (OpenCV's default) relocalised
+  /// 9, 10 27, 7 49 (with match_ratio 0.9; 5: 50, but 25% slower).
+  int orb_fast_threshold = 7;
+
+  // ---- keyframes (maybeAddKeyframe) ----
+  /// A frame becomes a keyframe when no existing keyframe is within BOTH this distance and
+  /// keyframe_rotation_deg of its pose (so a camera turning in place adds keyframes too). A zero
+  /// limit is never met: with both 0, every keyframe_min_interval_frames-th frame is a keyframe.
+  double keyframe_translation_m = 0.3;
+  double keyframe_rotation_deg = 20.0;
+  /// At least this many frames (RgbdFrame::index) between two keyframes, and between two
+  /// attempts on frames with too few features: bounds the ORB cost during fast motion.
+  int keyframe_min_interval_frames = 5;
+  /// Strongest features with valid depth kept per keyframe.
+  int keyframe_max_features = 500;
+  /// Frames with fewer depth-backed features (blank wall, covered lens) make no keyframe.
+  int keyframe_min_features = 50;
+  /// Database size bound: when full, a new keyframe replaces the most redundant one (the one
+  /// closest to another keyframe in the spacing metric), so coverage keeps growing.
+  int max_keyframes = 200;
+  /// Depth range (m) accepted at a keypoint, in keyframes and in the depth check.
+  double min_depth_m = 0.3;
+  double max_depth_m = 4.0;
+  /// A keypoint whose 3x3 depth neighbourhood spans more than this fraction of its depth sits
+  /// on a depth edge (its 3-D point is ambiguous) and is not used.
+  double max_depth_step_ratio = 0.03;
+  /// Width (px) of the grey thumbnail stored with each keyframe (height keeps the aspect);
+  /// 0 = none.
+  int thumbnail_width = 80;
+
+  // ---- relocalisation (relocalise) ----
+  /// Strongest frame features matched against every keyframe to rank them.
+  int ranking_features = 300;
+  /// Best-ranked keyframes whose matches go to PnP.
+  int candidate_keyframes = 3;
+  /// Lowe ratio test: best / second-best Hamming distance must be below this. On fr3_cabinet
+  /// 0.8 relocalised 35 of 58 keyframes, 0.85 45, 0.9 49, none of them grossly wrong: the
+  /// inlier and depth checks, not the ratio test, keep out false positives.
+  double match_ratio = 0.9;
+  /// Matches with a larger Hamming distance (bits of 256) are discarded.
+  int max_hamming_distance = 64;
+  /// Candidates with fewer ratio-test matches are not tried.
+  int min_matches = 15;
+  /// The matches of this many keyframes nearest (in pose) to a candidate join its verification:
+  /// a pose hypothesis from one keyframe is checked against all the map points it should see.
+  int neighbour_keyframes = 4;
+  /// RANSAC PnP (cv::solvePnPRansac, AP3P minimal solver, then Levenberg-Marquardt on the
+  /// inliers): iterations and inlier reprojection threshold (px).
+  int ransac_iterations = 300;
+  double ransac_reprojection_px = 4.0;
+  /// Accepting a pose: the RANSAC inliers form at least min_inlier_ratio of the candidate
+  /// keyframe's matches, and at least min_inliers frame keypoints reproject within
+  /// ransac_reprojection_px of a matched point of the candidate or its neighbour keyframes.
+  int min_inliers = 30;
+  double min_inlier_ratio = 0.3;
+  /// Depth check: the inliers' 3-D points from the FRAME's depth, moved by the pose, must land
+  /// within depth_check_tolerance_m + depth_check_relative * depth of their keyframe world points,
+  /// for at least min_depth_agreement of the inliers that have valid frame depth, and for at
+  /// least min_depth_agreeing of them. A pose that fits the 2-D keypoints but not the geometry
+  /// is rejected.
+  double depth_check_tolerance_m = 0.05;
+  double depth_check_relative = 0.02;
+  double min_depth_agreement = 0.7;
+  int min_depth_agreeing = 15;
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+  /// Throws InputError naming `section` and the offending key when a value is out of range.
+  void validate(const std::string& section = "relocalisation") const;
+};
+
+}  // namespace rasm::tracking
