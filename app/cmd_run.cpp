@@ -21,8 +21,9 @@ int runMain(const std::vector<std::string>& args) {
     if (a == "--set") overrides.push_back(value("section.key=value"));
     else if (a == "--out") overrides.push_back("output.dir=" + value("a folder"));
     else if (a == "--max-frames") overrides.push_back("source.max_frames=" + value("a number"));
+    else if (a == "--map") overrides.push_back("mapper.load_map=" + value("a .surfelmap file"));
     else if (a == "-h" || a == "--help") {
-      std::cout << "usage: rasm run [file.ini] [--set section.key=value ...] [--out DIR] [--max-frames N]\n"
+      std::cout << "usage: rasm run [file.ini] [--set section.key=value ...] [--out DIR] [--max-frames N] [--map map.surfelmap]\n"
                    "Without a file, runs the embedded default (the simulated office, ini/default.ini).\n";
       return 0;
     } else if (!a.empty() && a[0] == '-') rasm::throwInputError("option '" + a + "'", "unknown (see rasm run --help)");
@@ -34,8 +35,10 @@ int runMain(const std::vector<std::string>& args) {
   MappingRun run(cfg);
   const RunSummary s = run.run();
   const double lost_pct = s.frames ? 100.0 * double(s.lost) / double(s.frames) : 0.0;
-  std::printf("frames %zu (tracked %zu, lost %zu = %.1f%% in %zu intervals) in %.1f s = %.2f frames/s, %zu surfels\n",
-              s.frames, s.frames - s.lost, s.lost, lost_pct, s.lost_intervals, s.seconds, s.fps, s.surfels);
+  std::printf("frames %zu (tracked %zu, lost %zu = %.1f%% in %zu intervals, %zu relocalisations) in %.1f s = %.2f "
+              "frames/s, %zu surfels\n",
+              s.frames, s.frames - s.lost, s.lost, lost_pct, s.lost_intervals, s.relocalisations, s.seconds, s.fps,
+              s.surfels);
   if (s.ate_rmse_m) {
     char tracked[96] = "";
     if (s.ate_tracked_rmse_m && s.lost > 0)

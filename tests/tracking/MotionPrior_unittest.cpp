@@ -61,9 +61,19 @@ struct FloorAndWall {
 
 }  // namespace
 
+/// The mechanism: per direction, data where they constrain, prior where they do not. With the
+/// prior's data weighting at sensor-noise level (the defaults trade some weak constraints for
+/// robustness on robot paths, TrackingParams.h).
+TTrackingParams mechanismParams() {
+  TTrackingParams p;
+  p.prior_pixel_sigma_m = 0.01;
+  p.prior_min_eigenvalue = 1e-3;
+  return p;
+}
+
 TEST(MotionPrior, FloorAndFarWallSlideFollowsThePrior) {
   const FloorAndWall s;
-  IcpTracker tr;
+  IcpTracker tr(mechanismParams());
   // Without a prior the slide along the wall is unobservable: it stays at the guess (3 cm off).
   const TrackingResult none = tr.align(s.pyr_b, modelOf(*s.model, s.T_a), s.T_a);
   EXPECT_EQ(none.status, TrackingStatus::Degenerate);
@@ -95,18 +105,21 @@ TEST(MotionPrior, DataOverrulesAWrongPriorAndTheConflictIsReported) {
   // A prior 8 cm off with a 1 cm sigma (wheel slip): the room constrains every direction.
   const MotionPrior prior = MotionPrior::fromStdDevs(translated(T_b, {0.08, 0.0, 0.0}), Eigen::Matrix3d::Identity(),
                                                      Eigen::Vector3d::Constant(0.01), Eigen::Vector3d::Constant(kDeg));
-  IcpTracker tr;
+  TTrackingParams p = mechanismParams();
+  p.max_prior_sigmas = 0.0;
+  IcpTracker tr(p);
   const TrackingResult r = tr.align(pyr_b, modelOf(model, T_a), prior.T_world_cam, {}, &prior);
   EXPECT_TRUE(r.ok) << toString(r.status);
   EXPECT_LT(translationDistance(T_b, r.T_world_cam), 0.001);
   EXPECT_NEAR(r.prior_sigmas, 8.0, 0.5);
 
-  TTrackingParams strict;
-  strict.max_prior_sigmas = 5.0;
-  IcpTracker tr2(strict);
+  // The defaults (max_prior_sigmas = 6) refuse the frame: the data and the prior disagree by
+  // far more than the odometry's noise, so one of them is wrong and nothing is fused.
+  IcpTracker tr2;
   const TrackingResult r2 = tr2.align(pyr_b, modelOf(model, T_a), prior.T_world_cam, {}, &prior);
   EXPECT_FALSE(r2.ok);
   EXPECT_EQ(r2.status, TrackingStatus::PriorConflict);
+  EXPECT_GT(r2.prior_sigmas, 6.0);
 }
 
 TEST(PoseCheck, TellsTheRightPoseFromWrongOnes) {

@@ -1,5 +1,8 @@
 #include "rasm/pipeline/Mapper.h"
 
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/serialization/CArchive.h>
+
 #include <chrono>
 
 #include "rasm/compute/Parallel.h"
@@ -26,6 +29,7 @@ const char* toString(Stage s) {
     case Stage::Preprocess: return "preprocess";
     case Stage::RenderModel: return "render_model";
     case Stage::Track: return "track";
+    case Stage::Relocalise: return "relocalise";
     case Stage::Fuse: return "fuse";
     case Stage::Total: return "total";
     default: return "?";
@@ -37,6 +41,7 @@ const char* toString(PoseSource s) {
     case PoseSource::Tracked: return "tracked";
     case PoseSource::Odometry: return "odometry";
     case PoseSource::MotionModel: return "motion_model";
+    case PoseSource::Relocalised: return "relocalised";
   }
   return "?";
 }
@@ -46,7 +51,8 @@ Mapper::Mapper(const MapperParams& params)
       m_map(std::make_unique<maps::CSurfelMap>(params.map)),
       m_tracker(params.tracking),
       m_fusion(params.fusion),
-      m_odometry(params.robot) {
+      m_odometry(params.robot),
+      m_reloc(params.relocalisation) {
   if (m_params.tracking.numLevels() > m_params.mapper.pyramid_levels)
     throwInputError("[mapper] pyramid_levels",
                     "must be >= the number of [tracking] levels (" + std::to_string(m_params.tracking.numLevels()) + ")");
@@ -88,7 +94,14 @@ FrameResult Mapper::processFrame(const RgbdFrame& frame) {
   preprocess(frame);
   r.ms[int(Stage::Preprocess)] = msSince(t);
 
-  if (!m_tracker.initialized()) {
+  if (!m_tracker.initialized() && m_localise_in_map) {
+    // A loaded map: nothing is fused until the camera is found in it.
+    r.tracked = false;
+    r.pose_source = PoseSource::MotionModel;
+    r.tracking.status = tracking::TrackingStatus::NotInitialized;
+    relocalise(frame, r);
+    if (r.relocalised) m_odometry.start(r.T_world_cam, frame.odometry_xyyaw);
+  } else if (!m_tracker.initialized()) {
     const Eigen::Isometry3d T0 = (m_params.init_from_groundtruth && frame.gt_T_world_cam) ? *frame.gt_T_world_cam
                                                                                           : Eigen::Isometry3d::Identity();
     m_tracker.reset(T0);
@@ -130,18 +143,20 @@ FrameResult Mapper::processFrame(const RgbdFrame& frame) {
     } else {
       r.pose_source = prior ? PoseSource::Odometry : PoseSource::MotionModel;
       r.T_world_cam = prior ? prior->T_world_cam : r.tracking.T_world_cam_guess;
+      relocalise(frame, r);
     }
   }
   m_T_prev_frame = r.T_world_cam;
 
-  if (r.tracked) {
+  if (r.tracked && !r.relocalised) {
     t = Clock::now();
     fusion::FusionInput in = fusion::makeFusionInput(frame, m_pyramid[0].vertex, m_pyramid[0].normal, r.T_world_cam);
     in.timestamp_s = t_rel;
     r.fusion = m_fusion.fuse(m_map->store(), in);
     r.fused = true;
+    m_reloc.maybeAddKeyframe(frame, r.T_world_cam, m_map->keyframes());
     r.ms[int(Stage::Fuse)] = msSince(t);
-  } else {
+  } else if (!r.tracked) {
     ++m_lost;
   }
   ++m_frames;
@@ -178,6 +193,57 @@ void Mapper::renderModel(const RgbdFrame& frame, const Eigen::Isometry3d& T_mode
     r.model_valid_pixels = int(rs.pixels_drawn);
     r.model_all_surfels = true;
   }
+}
+
+void Mapper::relocalise(const RgbdFrame& frame, FrameResult& r) {
+  if (m_map->keyframes().empty()) return;
+  const auto t = Clock::now();
+  const std::optional<tracking::RelocalisationResult> cand = m_reloc.relocalise(frame, m_map->keyframes());
+  if (!cand) {
+    r.relocalisation_failure = m_reloc.lastStats().reason;
+  } else {
+    // Verify: ICP from the candidate against the map rendered there, every quality rule and
+    // the pose check applied (no prior: the candidate is independent of the lost estimate).
+    FrameResult probe;
+    renderModel(frame, cand->T_world_cam, probe);
+    const tracking::TTrackingParams& tp = m_params.tracking;
+    tracking::ModelMaps model;
+    model.vertex_world = m_model.vertex_world.cview();
+    model.normal_world = m_model.normal_world.cview();
+    model.K = frame.intrinsics.level(tp.model_level);
+    model.T_world_model = cand->T_world_cam;
+    if (tp.confidence_full > 0) model.confidence = m_model.confidence.cview();
+    const tracking::TrackingResult v = m_tracker.align(m_pyramid, model, cand->T_world_cam);
+    if (v.ok && v.check_overlap >= tp.check_min_overlap) {
+      m_tracker.reset(v.T_world_cam);
+      r.tracking = v;
+      r.tracked = true;
+      r.relocalised = true;
+      r.pose_source = PoseSource::Relocalised;
+      r.T_world_cam = v.T_world_cam;
+      r.model_valid_pixels = probe.model_valid_pixels;
+      ++m_relocalisations;
+    } else {
+      r.relocalisation_failure = std::string("rejected by ICP: ") + tracking::toString(v.status);
+    }
+  }
+  r.ms[int(Stage::Relocalise)] = msSince(t);
+}
+
+void Mapper::loadMap(const std::string& path) {
+  if (m_frames > 0) throwInputError("map '" + path + "'", "must be loaded before the first frame");
+  auto loaded = std::make_unique<maps::CSurfelMap>(m_params.map);
+  try {
+    mrpt::io::CFileGZInputStream f(path);
+    auto a = mrpt::serialization::archiveFrom(f);
+    a >> *loaded;
+  } catch (const std::exception& e) {
+    throwInputError("map '" + path + "'", std::string("cannot be read as a rasm surfel map (.surfelmap): ") + e.what());
+  }
+  if (loaded->keyframes().empty())
+    throwInputError("map '" + path + "'", "has no relocalisation keyframes: the camera cannot be localised in it");
+  m_map = std::move(loaded);
+  m_localise_in_map = true;
 }
 
 void Mapper::renderView(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K, maps::RenderedMaps& out) {

@@ -83,7 +83,7 @@ void writeFileAtomically(const std::string& path, const std::string& text) {
 }
 
 std::vector<std::string> MappingRun::knownSections() {
-  return {"source", "camera", "mapper", "tracking", "fusion", "map", "robot", "output", "sim"};
+  return {"source", "camera", "mapper", "tracking", "relocalisation", "fusion", "map", "robot", "output", "sim"};
 }
 
 MappingRun::MappingRun(const RunConfig& config) : m_config(config) {
@@ -98,6 +98,7 @@ MappingRun::MappingRun(const RunConfig& config) : m_config(config) {
   loadParamsStrict(ini, "fusion", m_mapper_params.fusion, src);
   loadParamsStrict(ini, "map", m_mapper_params.map, src);
   loadParamsStrict(ini, "robot", m_mapper_params.robot, src);
+  loadParamsStrict(ini, "relocalisation", m_mapper_params.relocalisation, src);
   m_mapper_params.tracking.validate("tracking");
   (void)m_camera.intrinsics();  // validates
   // [sim] belongs to the simulator; it is parsed strictly when the sim source is opened.
@@ -118,6 +119,7 @@ std::string MappingRun::effectiveConfig() const {
   m_mapper_params.fusion.saveToConfigFile(mem, "fusion");
   m_mapper_params.map.saveToConfigFile(mem, "map");
   m_mapper_params.robot.saveToConfigFile(mem, "robot");
+  m_mapper_params.relocalisation.saveToConfigFile(mem, "relocalisation");
   m_output.saveToConfigFile(mem, "output");
   std::string text;
   mem.getContent(text);
@@ -227,6 +229,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
     source = std::make_unique<io::PrefetchingFrameSource>(std::move(source), m_source.prefetch_frames);
   }
   m_mapper = std::make_unique<Mapper>(m_mapper_params);
+  if (!m_mapper_params.mapper.load_map.empty()) m_mapper->loadMap(m_mapper_params.mapper.load_map);
   std::fprintf(stderr, "rasm run: %s -> %s\n", source->describe().c_str(), m_output.dir.c_str());
 
   long long total = source->sizeHint();
@@ -258,7 +261,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   std::string frames_csv =
       "index,timestamp_s,tracked,status,inliers,inlier_fraction,rms_m,model_pixels,model_all_surfels,"
       "icp_iterations,icp_iterations_level0,valid_pixels,associated,added,removed_unstable,removed_carved,merged,"
-      "surfels,pose_source,check_overlap,check_agreement,check_behind,used_prior,prior_sigmas";
+      "surfels,pose_source,check_overlap,check_agreement,check_behind,used_prior,prior_sigmas,relocalisation_failure";
   for (int s = 0; s < int(Stage::Count); ++s) frames_csv += std::string(",ms_") + toString(Stage(s));
   frames_csv += "\n";
   long long read = 0;
@@ -271,6 +274,11 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
       if (!f) break;
       const long long idx = read++;
       if (idx < m_source.start_frame || (idx - m_source.start_frame) % m_source.frame_step != 0) continue;
+      if (m_source.dropped(idx)) continue;
+      if (m_source.blanked(idx)) {
+        f->depth_m.setTo(0.0f);
+        if (!f->colour.empty()) f->colour.setTo(Bgr8{});
+      }
       const FrameResult r = m_mapper->processFrame(*f);
       ++processed;
       last_K = f->intrinsics;
@@ -295,7 +303,8 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
           << r.fusion.removed_unstable << ',' << r.fusion.removed_carved << ',' << r.fusion.merged
           << ',' << r.fusion.map_size << ',' << toString(r.pose_source) << ',' << std::setprecision(4)
           << r.tracking.check_overlap << ',' << r.tracking.check_agreement << ',' << r.tracking.check_behind << ','
-          << int(r.tracking.used_prior) << ',' << r.tracking.prior_sigmas << std::setprecision(2);
+          << int(r.tracking.used_prior) << ',' << r.tracking.prior_sigmas << ',' << r.relocalisation_failure
+          << std::setprecision(2);
       for (int s = 0; s < int(Stage::Count); ++s) row << ',' << r.ms[s];
       frames_csv += row.str();
       frames_csv += "\n";
@@ -373,8 +382,11 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   rep["frames_tracked"] = processed - sum.lost;
   rep["tracked_fraction"] = processed > 0 ? double(processed - sum.lost) / double(processed) : 0.0;
   rep["lost_intervals"] = loss.intervals;
+  rep["relocalisations"] = m_mapper->relocalisations();
+  rep["keyframes"] = m_mapper->map().keyframes().size();
   rep["longest_lost_interval_frames"] = loss.longest;
   sum.lost_intervals = loss.intervals;
+  sum.relocalisations = m_mapper->relocalisations();
   // ATE over every frame (lost ones at their propagated pose) and over the tracked ones alone;
   // each states how many frames it covers.
   const io::AteOptions ao;

@@ -3,11 +3,49 @@
 #include <mrpt/config/CConfigFileBase.h>
 
 #include <cmath>
+#include <sstream>
+#include <utility>
+#include <vector>
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 
 namespace rasm::pipeline {
+
+namespace {
+/// Parses "a-b,c-d,e" (inclusive ranges of frame indices); throws naming [section] key.
+std::vector<std::pair<long long, long long>> parseRanges(const std::string& text, const std::string& section,
+                                                         const std::string& key) {
+  std::vector<std::pair<long long, long long>> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    if (item.find_first_not_of(" \t") == std::string::npos) continue;
+    long long a = -1, b = -1;
+    char dash = 0, rest = 0;
+    std::istringstream is(item);
+    is >> a;
+    if (is >> dash) {
+      if (dash != '-' || !(is >> b) || (is >> rest)) a = -1;
+    } else {
+      b = a;
+    }
+    if (a < 0 || b < a)
+      throwInputError("[" + section + "] " + key, "'" + item + "' is not a frame range 'a-b' with 0 <= a <= b");
+    out.emplace_back(a, b);
+  }
+  return out;
+}
+
+bool inRanges(const std::string& text, long long index) {
+  for (const auto& [a, b] : parseRanges(text, "source", "ranges"))
+    if (index >= a && index <= b) return true;
+  return false;
+}
+}  // namespace
+
+bool TSourceParams::dropped(long long index) const { return !drop_frames.empty() && inRanges(drop_frames, index); }
+bool TSourceParams::blanked(long long index) const { return !blank_frames.empty() && inRanges(blank_frames, index); }
 
 void TSourceParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
   MRPT_LOAD_CONFIG_VAR(type, string, c, s);
@@ -19,6 +57,10 @@ void TSourceParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   MRPT_LOAD_CONFIG_VAR(prefetch_frames, int, c, s);
   MRPT_LOAD_CONFIG_VAR(preload, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(preload_max_mib, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(drop_frames, string, c, s);
+  MRPT_LOAD_CONFIG_VAR(blank_frames, string, c, s);
+  (void)parseRanges(drop_frames, s, "drop_frames");
+  (void)parseRanges(blank_frames, s, "blank_frames");
   if (type != "sim" && type != "rawlog" && type != "tum" && type != "7scenes" && type != "auto")
     throwInputError("[" + s + "] type", "'" + type + "' is not one of sim, rawlog, tum, 7scenes, auto");
   if (type != "sim" && path.empty()) throwInputError("[" + s + "] path", "required for type = " + type);
@@ -39,6 +81,8 @@ void TSourceParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(prefetch_frames, c, s);
   MRPT_SAVE_CONFIG_VAR(preload, c, s);
   MRPT_SAVE_CONFIG_VAR(preload_max_mib, c, s);
+  MRPT_SAVE_CONFIG_VAR(drop_frames, c, s);
+  MRPT_SAVE_CONFIG_VAR(blank_frames, c, s);
 }
 
 void TMapperParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
@@ -49,6 +93,7 @@ void TMapperParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   MRPT_LOAD_CONFIG_VAR(bilateral_sigma_space_px, double, c, s);
   MRPT_LOAD_CONFIG_VAR(bilateral_sigma_depth_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(normal_max_jump_rel, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(load_map, string, c, s);
   requireInRange(pyramid_levels, 1, 6, s, "pyramid_levels");
   requireInRange(min_depth_m, 0.0, 100.0, s, "min_depth_m");
   requireInRange(max_depth_m, min_depth_m, 100.0, s, "max_depth_m");
@@ -65,6 +110,7 @@ void TMapperParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(bilateral_sigma_space_px, c, s);
   MRPT_SAVE_CONFIG_VAR(bilateral_sigma_depth_m, c, s);
   MRPT_SAVE_CONFIG_VAR(normal_max_jump_rel, c, s);
+  MRPT_SAVE_CONFIG_VAR(load_map, c, s);
 }
 
 Eigen::Isometry3d TRobotParams::T_base_cam() const {

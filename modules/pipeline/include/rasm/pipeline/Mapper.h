@@ -31,11 +31,12 @@
 #include "rasm/surfel_map/CSurfelMap.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
 #include "rasm/tracking/IcpTracker.h"
+#include "rasm/tracking/Relocaliser.h"
 
 namespace rasm::pipeline {
 
 /// Stages timed per frame (milliseconds), in pipeline order.
-enum class Stage : int { Preprocess = 0, RenderModel, Track, Fuse, Total, Count };
+enum class Stage : int { Preprocess = 0, RenderModel, Track, Relocalise, Fuse, Total, Count };
 const char* toString(Stage s);
 
 /// Where a frame's pose comes from.
@@ -43,6 +44,7 @@ enum class PoseSource : int {
   Tracked,      ///< ICP against the map (with the odometry prior when there is one)
   Odometry,     ///< lost: the odometry's prediction from the previous frame's pose
   MotionModel,  ///< lost: the tracker's motion-model guess (no odometry)
+  Relocalised,  ///< found again against the map's keyframes and verified by ICP (not fused)
 };
 const char* toString(PoseSource s);
 
@@ -52,6 +54,7 @@ struct MapperParams {
   fusion::TFusionParams fusion;
   maps::CSurfelMap::TCreationOptions map;
   TRobotParams robot;
+  tracking::TRelocalisationParams relocalisation;
   /// Start at the source's ground-truth pose when the first frame has one (keeps the map in the
   /// ground-truth/world frame; ATE aligns anyway). Otherwise the identity.
   bool init_from_groundtruth = true;
@@ -67,6 +70,10 @@ struct FrameResult {
   bool first = false;
   tracking::TrackingResult tracking;
   fusion::FusionStats fusion;
+  bool relocalised = false;    ///< pose_source == Relocalised
+  /// While lost: why relocalisation found nothing this frame (Relocaliser's reason, or
+  /// "rejected by ICP: <status>"); empty when it was not tried or succeeded.
+  std::string relocalisation_failure;
   int model_valid_pixels = 0;  ///< valid pixels of the rendered model ICP aligned to
   bool model_all_surfels = false;  ///< the stable-only model was too sparse: all surfels used
   std::array<double, int(Stage::Count)> ms{};
@@ -83,6 +90,11 @@ class Mapper {
   const MapperParams& params() const { return m_params; }
   std::size_t framesProcessed() const { return m_frames; }
   std::size_t framesLost() const { return m_lost; }
+  std::size_t relocalisations() const { return m_relocalisations; }
+  /// Replaces the map with one loaded from a .surfelmap file (a previous run's): the camera is
+  /// then localised in it by relocalisation against its keyframes before anything is fused.
+  /// Call before the first frame. Throws InputError when the file cannot be read.
+  void loadMap(const std::string& path);
   /// Last good camera pose.
   const Eigen::Isometry3d& pose() const { return m_tracker.lastGoodPose(); }
   /// Pose of the last frame processed (tracked or propagated while lost).
@@ -94,6 +106,9 @@ class Mapper {
   void preprocess(const RgbdFrame& frame);
   /// II-C: renders the tracking model at T_model (reliable surfels, all of them while too few).
   void renderModel(const RgbdFrame& frame, const Eigen::Isometry3d& T_model, FrameResult& r);
+  /// Issue 14 (5): while lost, the pose from the map's keyframes, verified by ICP against the map
+  /// rendered there; on success the tracker restarts from it (r becomes Relocalised).
+  void relocalise(const RgbdFrame& frame, FrameResult& r);
 
   MapperParams m_params;
   std::unique_ptr<maps::CSurfelMap> m_map;
@@ -102,10 +117,12 @@ class Mapper {
   maps::SurfelRenderer m_renderer;
   maps::RenderedMaps m_model;
   OdometryPrior m_odometry;
+  tracking::Relocaliser m_reloc;
+  bool m_localise_in_map = false;  ///< loadMap(): the first pose comes from relocalisation
   Eigen::Isometry3d m_T_prev_frame = Eigen::Isometry3d::Identity();
   Image<float> m_depth_filtered;
   std::vector<FrameLevel> m_pyramid;
-  std::size_t m_frames = 0, m_lost = 0;
+  std::size_t m_frames = 0, m_lost = 0, m_relocalisations = 0;
   double m_t0 = 0.0;  ///< timestamp of the first frame: surfel times are relative to it
 };
 

@@ -37,6 +37,7 @@ struct RunSummary {
   std::string out_dir;
   std::size_t frames = 0, lost = 0;
   std::size_t lost_intervals = 0;  ///< runs of consecutive lost frames
+  std::size_t relocalisations = 0;
   double seconds = 0.0, fps = 0.0;
   std::size_t surfels = 0;
   std::optional<double> ate_rmse_m;          ///< over every frame (lost ones at their propagated pose)

@@ -30,6 +30,16 @@ struct TSourceParams : mrpt::config::CLoadableOptions {
   bool preload = false;
   /// Upper bound of the preloaded frames' memory (MiB): a run over it stops before mapping.
   int preload_max_mib = 4096;
+  /// Fault injection for robustness tests (issue 14's kidnapping evaluation), as source frame
+  /// index ranges "a-b" (inclusive, comma-separated; empty = none): frames in drop_frames are
+  /// skipped (the camera jumps), frames in blank_frames get all-zero depth and black colour (a
+  /// covered lens). Indices count every frame of the source, before start_frame / frame_step.
+  std::string drop_frames;
+  std::string blank_frames;
+
+  /// Whether source frame `index` lies in the ranges of drop_frames / blank_frames.
+  bool dropped(long long index) const;
+  bool blanked(long long index) const;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -44,6 +54,9 @@ struct TMapperParams : mrpt::config::CLoadableOptions {
   double bilateral_sigma_space_px = 4.5;
   double bilateral_sigma_depth_m = 0.03;
   double normal_max_jump_rel = 0.05; ///< neighbour depth jump that invalidates a normal
+  /// A previous run's map.surfelmap to continue in (`rasm run --map`): the camera is localised
+  /// in it by relocalisation against its keyframes before anything is fused. Empty = new map.
+  std::string load_map;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;

@@ -1,0 +1,107 @@
+// The odometry prior of tracking (issue 14): exact odometry predicts the exact camera motion
+// through the mount, the covariance follows the base, and the planar constraint keeps poses a
+// ground robot can have.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "rasm/core/SE3.h"
+#include "rasm/pipeline/OdometryPrior.h"
+#if __has_include("rasm/sim/SimulatedDiffDriveRobot.h")
+#define RASM_TEST_HAVE_SIM 1
+#include "rasm/sim/SimulatedDiffDriveRobot.h"
+#endif
+
+using namespace rasm;
+using namespace rasm::pipeline;
+
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+
+Eigen::Isometry3d base(double x, double y, double yaw) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(x, y, 0);
+  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return T;
+}
+}  // namespace
+
+TEST(OdometryPrior, MountLooksForwardAndDown) {
+  const TRobotParams p;
+  const Eigen::Isometry3d T = p.T_base_cam();
+  EXPECT_NEAR(T.translation().x(), 0.10, 1e-12);
+  EXPECT_NEAR(T.translation().z(), 0.55, 1e-12);
+  // Optical z (viewing direction) points forward and 10 degrees down; optical x to the right.
+  const Eigen::Vector3d z = T.linear().col(2), x = T.linear().col(0);
+  EXPECT_NEAR(z.x(), std::cos(10 * kDeg), 1e-12);
+  EXPECT_NEAR(z.z(), -std::sin(10 * kDeg), 1e-12);
+  EXPECT_NEAR(x.y(), -1.0, 1e-12);
+#ifdef RASM_TEST_HAVE_SIM
+  // The simulated robot's mount is the default, so its rawlogs track without an INI.
+  const Eigen::Isometry3d T_sim = sim::TRobotParams().T_base_cam();
+  EXPECT_LT(translationDistance(T, T_sim), 1e-9);
+  EXPECT_LT(rotationAngle(T, T_sim), 1e-9);
+#endif
+}
+
+TEST(OdometryPrior, ExactOdometryPredictsTheCameraMotion) {
+  TRobotParams p;
+  p.camera_yaw_deg = 20;  // a mount not aligned with the base: the conjugation matters
+  p.camera_roll_deg = 3;
+  OdometryPrior op(p);
+  const Eigen::Isometry3d M = p.T_base_cam();
+  // The world frame is not the odometry frame: the first camera pose is arbitrary.
+  const Eigen::Isometry3d T_world_odom = Eigen::Translation3d(1, -2, 0.3) *
+                                         Eigen::AngleAxisd(0.4, Eigen::Vector3d(0.1, 0.2, 1).normalized());
+  const Eigen::Vector3d odo0(0.5, 0.2, 0.3), odo1(0.53, 0.215, 0.34);
+  const Eigen::Isometry3d cam0 = T_world_odom * base(odo0.x(), odo0.y(), odo0.z()) * M;
+  const Eigen::Isometry3d cam1 = T_world_odom * base(odo1.x(), odo1.y(), odo1.z()) * M;
+  op.start(cam0, odo0);
+  const auto prior = op.predict(odo1, cam0);
+  ASSERT_TRUE(prior.has_value());
+  EXPECT_LT(translationDistance(prior->T_world_cam, cam1), 1e-9);
+  EXPECT_LT(rotationAngle(prior->T_world_cam, cam1), 1e-9);
+  // Noise of a 3.4 cm, 2.3 deg increment: sigma_xy, sigma_yaw by the random-walk model.
+  const double d = std::hypot(0.03, 0.015), a = 0.04;
+  const double s_yaw = p.odometry_sigma_yaw_deg * kDeg + p.odometry_sigma_yaw_per_sqrt_rad * std::sqrt(a) +
+                       p.odometry_sigma_yaw_per_sqrt_m * std::sqrt(d);
+  // Rotation about the base's z (world: T_world_odom's z) has information 1 / s_yaw^2.
+  const Eigen::Vector3d up = T_world_odom.linear().col(2);
+  const double info_yaw = up.dot(prior->information.bottomRightCorner<3, 3>() * up);
+  EXPECT_NEAR(info_yaw, 1.0 / (s_yaw * s_yaw), 1e-6 / (s_yaw * s_yaw));
+  // Height: tight.
+  const double info_z = up.dot(prior->information.topLeftCorner<3, 3>() * up);
+  EXPECT_NEAR(info_z, 1.0 / (p.odometry_sigma_z_m * p.odometry_sigma_z_m), 1e-3 * info_z);
+
+  // No reading on this frame or the one before: no prior.
+  EXPECT_FALSE(op.predict(std::nullopt, cam1).has_value());
+  EXPECT_FALSE(op.predict(odo1, cam1).has_value());
+  TRobotParams off = p;
+  off.use_odometry = false;
+  OdometryPrior op2(off);
+  op2.start(cam0, odo0);
+  EXPECT_FALSE(op2.predict(odo1, cam0).has_value());
+}
+
+TEST(OdometryPrior, PlanarProjectionKeepsRobotPosesAndRemovesTilt) {
+  const TRobotParams p;
+  OdometryPrior op(p);
+  const Eigen::Isometry3d M = p.T_base_cam();
+  const Eigen::Isometry3d cam0 = base(1.2, 2.5, 0.0) * M;
+  op.start(cam0, std::nullopt);
+  // A pose the robot can have is unchanged.
+  const Eigen::Isometry3d cam = base(3.0, 1.0, 1.2) * M;
+  const Eigen::Isometry3d pc = op.projectToFloor(cam);
+  EXPECT_LT(translationDistance(pc, cam), 1e-9);
+  EXPECT_LT(rotationAngle(pc, cam), 1e-9);
+  // Height and tilt errors go; the camera's position in the plane and its heading stay.
+  const Eigen::Isometry3d bad = Eigen::Translation3d(0, 0, 0.02) * cam * Eigen::AngleAxisd(1.0 * kDeg, Eigen::Vector3d::UnitX()) *
+                                Eigen::AngleAxisd(-0.7 * kDeg, Eigen::Vector3d::UnitZ());
+  const Eigen::Isometry3d pb = op.projectToFloor(bad);
+  EXPECT_NEAR(pb.translation().z(), 0.55, 1e-9);
+  EXPECT_NEAR(pb.translation().x(), bad.translation().x(), 1e-9);
+  EXPECT_NEAR(pb.translation().y(), bad.translation().y(), 1e-9);
+  EXPECT_LT(rotationAngle(pb, cam), 1.3 * kDeg) << "only the tilt (and the heading error it implies) is removed";
+  const Eigen::Vector3d z_gt = cam.linear().col(2), z_pb = pb.linear().col(2);
+  EXPECT_NEAR(z_pb.z(), z_gt.z(), 1e-9) << "the viewing direction keeps the mount's pitch";
+}
