@@ -261,15 +261,16 @@ TrajectorySpec loadTrajectorySpecFromString(const std::string& text, const std::
   if (type == "handheld") {
     spec.kind = TrajectorySpec::Kind::Handheld;
     doc.allowKeys(
-        {"type", "description", "rate_hz", "duration_s", "keyframes", "jitter", "sensor"});
+        {"type", "description", "world", "rate_hz", "duration_s", "keyframes", "jitter", "sensor"});
   } else if (type == "robot") {
     spec.kind = TrajectorySpec::Kind::Robot;
-    doc.allowKeys({"type", "description", "rate_hz", "duration_s", "max_duration_s", "start",
-                   "waypoints", "loop", "laps", "controller", "control_substeps", "robot",
+    doc.allowKeys({"type", "description", "world", "rate_hz", "duration_s", "max_duration_s",
+                   "start", "waypoints", "loop", "laps", "controller", "control_substeps", "robot",
                    "sensor"});
   } else {
     doc["type"].fail("unknown trajectory type '" + type + "'; expected handheld or robot");
   }
+  if (auto w = doc.optional("world")) spec.world = w->asString();
   if (auto r = doc.optional("rate_hz")) spec.rate_hz = r->asDouble(0.1, 1000);
   if (auto d = doc.optional("duration_s")) spec.duration_s = d->asDouble(1e-3, 1e6);
   if (auto s = doc.optional("sensor")) spec.sensor_overrides = overrides(*s);
@@ -342,7 +343,10 @@ TrajectorySpec loadTrajectorySpec(const std::string& name) {
                         (fs::path(simDataDir()) / "trajectories").string() + ")");
   std::stringstream ss;
   ss << f.rdbuf();
-  return loadTrajectorySpecFromString(ss.str(), path);
+  TrajectorySpec spec = loadTrajectorySpecFromString(ss.str(), path);
+  if (!spec.world.empty() && fs::path(spec.world).is_relative())
+    spec.world = (fs::path(path).parent_path() / spec.world).lexically_normal().string();
+  return spec;
 }
 
 }  // namespace rasm::sim

@@ -91,7 +91,10 @@ class PurePursuit {
 struct TrajectorySpec {
   enum class Kind { Handheld, Robot };
   Kind kind = Kind::Handheld;
-  std::string source;     ///< file (for messages)
+  std::string source;  ///< file (for messages)
+  /// The world the spec was made for (optional `world:` key; a relative path is relative to the
+  /// spec file's folder). Informational: the recorder is always given its world.
+  std::string world;
   double rate_hz = 30.0;  ///< camera frame rate
   /// Recording length; handheld default: the last keyframe time; robot default: until the
   /// path is done, at most max_duration_s.
