@@ -6,6 +6,10 @@
 //                   [--seed N] [--noise on|off] [--camera preset]
 //   rasm sim info <world>
 //   rasm sim make-models [dir]
+//   rasm sim generate <out.yaml> --seed N [--size WxD] [--kind office|lab|mixed]
+//                     [--trajectories DIR_OR_PREFIX] [--fast]
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -21,7 +25,9 @@
 #include "rasm/sim/Recorder.h"
 #include "rasm/sim/RgbdSensor.h"
 #include "rasm/sim/SimClasses.h"
+#include "rasm/sim/TrajectoryGenerator.h"
 #include "rasm/sim/World.h"
+#include "rasm/sim/WorldGenerator.h"
 
 namespace {
 
@@ -37,17 +43,24 @@ const char* kUsage =
     "                  [--seed N] [--noise on|off] [--camera preset]\n"
     "  rasm sim info <world>\n"
     "  rasm sim make-models [dir]\n"
+    "  rasm sim generate <out.yaml> --seed N [--size WxD] [--kind office|lab|mixed]\n"
+    "                    [--trajectories DIR_OR_PREFIX] [--fast]\n"
     "<world> is a shipped world name (office, cluttered_lab, two_rooms) or a YAML file "
     "(docs/sim.md).\n";
 
-/// Splits positional arguments from --key value options (every option takes one value).
+/// Splits positional arguments from --key value options and --flag options (no value).
 struct Parsed {
   Args positional;
   std::map<std::string, std::string> options;
   std::vector<std::string> sets;  ///< every --set value, in order
+  std::vector<std::string> flags;
+  bool flag(const std::string& f) const {
+    return std::find(flags.begin(), flags.end(), f) != flags.end();
+  }
 };
 
-Parsed parse(const Args& args, std::initializer_list<const char*> known) {
+Parsed parse(const Args& args, std::initializer_list<const char*> known,
+             std::initializer_list<const char*> flags = {}) {
   Parsed p;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
@@ -56,6 +69,12 @@ Parsed parse(const Args& args, std::initializer_list<const char*> known) {
       continue;
     }
     const std::string key = a.substr(2);
+    bool is_flag = false;
+    for (const char* f : flags) is_flag = is_flag || key == f;
+    if (is_flag) {
+      p.flags.push_back(key);
+      continue;
+    }
     bool ok = false;
     for (const char* k : known) ok = ok || key == k;
     if (!ok) rasm::throwInputError("option " + a, "unknown option\n" + std::string(kUsage));
@@ -209,6 +228,35 @@ int cmdMakeModels(const Args& args) {
   return 0;
 }
 
+/// "7x5" or "7.5x4.2" (metres).
+void parseSize(const std::string& s, double& w, double& d) {
+  char x = 0;
+  std::istringstream in(s);
+  if (!(in >> w >> x >> d) || (x != 'x' && x != 'X') || !in.eof() || !std::isfinite(w) ||
+      !std::isfinite(d))
+    rasm::throwInputError("--size " + s, "expected WxD in metres, e.g. 7x5 or 6.5x4.8");
+}
+
+int cmdGenerate(const Args& args) {
+  const Parsed p = parse(args, {"seed", "size", "kind", "trajectories"}, {"fast"});
+  if (p.positional.size() != 1)
+    rasm::throwInputError("rasm sim generate", "expected one <out.yaml>\n" + std::string(kUsage));
+  if (!p.options.count("seed"))
+    rasm::throwInputError("rasm sim generate",
+                          "--seed N is required (the world is a function of it)");
+  rasm::sim::TWorldGenParams wp;
+  wp.seed = parseSeed(p);
+  if (p.options.count("size")) parseSize(p.options.at("size"), wp.width_m, wp.depth_m);
+  if (p.options.count("kind"))
+    wp.kind = rasm::sim::roomKindFromName(p.options.at("kind"), "--kind");
+  wp.validate();
+  const std::string traj = p.options.count("trajectories") ? p.options.at("trajectories") : "";
+  const rasm::sim::GenerateFilesResult r =
+      rasm::sim::generateWorldFiles(wp, p.positional[0], traj, p.flag("fast"));
+  for (const std::string& line : r.summary) std::cout << "wrote " << line << "\n";
+  return 0;
+}
+
 int cmdSim(const Args& args) {
   if (args.empty()) {
     std::cerr << kUsage;
@@ -219,6 +267,7 @@ int cmdSim(const Args& args) {
   if (args[0] == "render") return cmdRender(rest);
   if (args[0] == "info") return cmdInfo(rest);
   if (args[0] == "make-models") return cmdMakeModels(rest);
+  if (args[0] == "generate") return cmdGenerate(rest);
   if (args[0] == "help" || args[0] == "--help") {
     std::cout << kUsage;
     return 0;
@@ -227,6 +276,7 @@ int cmdSim(const Args& args) {
 }
 
 const rasm::app::Registrar kRegistrar{
-    "sim", "simulator: record rawlogs from worlds, render previews (rasm sim help)", &cmdSim};
+    "sim", "simulator: record rawlogs from worlds, render previews, generate rooms (rasm sim help)",
+    &cmdSim};
 
 }  // namespace

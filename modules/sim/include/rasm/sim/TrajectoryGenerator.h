@@ -1,0 +1,70 @@
+#pragma once
+// Random trajectory specs for a generated world (`rasm sim generate`, docs/sim.md):
+//  - hand-held: keyframes every 3-5 s at 1.2-1.7 m, each looking at furniture or objects 1-3 m
+//    away, 20-30 s; the fast variant adds swings about the camera's x, y and z axes with peaks
+//    of 120-150 deg/s;
+//  - robot: a loop through the world's free area with turns in place; the fast variant turns at
+//    90 deg/s and adds a spur with a 180 deg turn.
+// Every spec is checked before it is returned: the robot is driven through the world by the
+// recorder's own pure pursuit and collision raster (no collision, the loop completes), and the
+// camera's view is ray-cast at a low resolution along the path (enough of each image within
+// 0.4-4 m). Candidates that fail are redrawn from the same seeded stream, so the result stays
+// deterministic.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rasm/sim/WorldGenerator.h"
+
+namespace rasm::sim {
+
+struct World;
+
+struct TTrajectoryGenParams {
+  std::uint64_t seed = 0;
+  bool fast = false;
+  /// Written as the spec's `world:` (the path of the world file, relative to the spec's folder).
+  std::string world_ref;
+  double rate_hz = 30.0;
+  /// View check: the fraction of the pixels of every checked image with a depth in
+  /// [0.4, max_view_depth_m] (exact depth, the sensor's dropouts applied) is at least this. The
+  /// robot's camera (0.55 m, pitched 10 deg down) looking along a long room sees the floor to
+  /// about 3 m (beyond, the floor is at a grazing angle) and little else: about half the image.
+  double min_valid_handheld = 0.6;
+  double min_valid_robot = 0.5;
+  double max_view_depth_m = 4.0;
+};
+
+struct GeneratedTrajectory {
+  std::string yaml;
+  /// One line on what was generated and checked (duration, peaks, worst view fraction).
+  std::string summary;
+  double duration_s = 0.0;
+  /// Lowest view fraction over the checked images.
+  double min_valid_fraction = 0.0;
+  /// Peak angular speed about the camera's x, y, z axes (deg/s) of the smooth path.
+  Eigen::Vector3d peak_rate_degps = Eigen::Vector3d::Zero();
+};
+
+/// `world` is `gen` loaded (loadWorldFromString(gen.yaml, ...)).
+GeneratedTrajectory generateHandheldTrajectory(const GeneratedWorld& gen, const World& world,
+                                               const TTrajectoryGenParams& params);
+GeneratedTrajectory generateRobotTrajectory(const GeneratedWorld& gen, const World& world,
+                                            const TTrajectoryGenParams& params);
+
+/// `rasm sim generate`: writes the world to `out_yaml` and the trajectories next to it,
+/// <stem>_handheld.yaml and <stem>_robot.yaml (with `fast`, also _handheld_fast.yaml and
+/// _robot_fast.yaml). `trajectories`, when set, is a folder (existing, or ending in '/') for
+/// them, or a path prefix (<prefix>_handheld.yaml, ...). Files are written to "<path>.part"
+/// and renamed.
+struct GenerateFilesResult {
+  std::string world_path;
+  std::vector<std::string> trajectory_paths;
+  std::vector<std::string> summary;  ///< one line per file
+};
+GenerateFilesResult generateWorldFiles(const TWorldGenParams& world_params,
+                                       const std::string& out_yaml,
+                                       const std::string& trajectories = {}, bool fast = false);
+
+}  // namespace rasm::sim

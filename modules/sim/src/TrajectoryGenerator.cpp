@@ -1,0 +1,682 @@
+#include "rasm/sim/TrajectoryGenerator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+#include <optional>
+#include <sstream>
+
+#include "GenUtil.h"
+#include "rasm/core/Error.h"
+#include "rasm/sim/CameraPoses.h"
+#include "rasm/sim/RayScene.h"
+#include "rasm/sim/RgbdSensor.h"
+#include "rasm/sim/SimulatedDiffDriveRobot.h"
+#include "rasm/sim/SimulatedSequence.h"
+#include "rasm/sim/Trajectory.h"
+#include "rasm/sim/World.h"
+
+namespace fs = std::filesystem;
+
+namespace rasm::sim {
+namespace {
+
+using gen::num;
+using gen::Rng;
+using V3 = Eigen::Vector3d;
+
+constexpr double kDeg = M_PI / 180.0;
+
+/// Runs this thread's OpenMP regions on one thread while alive: the view check's 80 x 60 images
+/// are too small to share (on a busy machine, spinning worker threads made them 30x slower).
+class SerialOpenMp {
+ public:
+#ifdef _OPENMP
+  SerialOpenMp() : m_threads(omp_get_max_threads()) { omp_set_num_threads(1); }
+  ~SerialOpenMp() { omp_set_num_threads(m_threads); }
+
+ private:
+  int m_threads;
+#endif
+};
+
+/// Low-resolution renders (80 x 60, the Kinect's field of view) for the view check: the fraction
+/// of pixels with a depth in [0.4 m, max_depth_m] that survives the sensor's dropouts (a floor
+/// seen beyond about 3 m from the robot's camera is at a grazing angle and missing).
+class ViewCheck {
+ public:
+  ViewCheck(const RayScene& scene, double max_depth_m) {
+    TSensorParams p;
+    p.width = 80;
+    p.height = 60;
+    p.fx = p.fy = 525.0 / 8.0;
+    p.cx = 39.5;
+    p.cy = 29.5;
+    p.noise = false;  // exact depth, but the sensor's grazing-angle and shadow dropouts
+    p.labels = false;
+    p.max_depth_m = max_depth_m;
+    m_sensor = std::make_unique<RgbdSensor>(scene, p);
+  }
+  double fraction(const Eigen::Isometry3d& T_world_cam) {
+    m_sensor->render(T_world_cam, 0, 0, m_frame);
+    std::size_t valid = 0;
+    for (int y = 0; y < m_frame.depth_m.height(); ++y) {
+      const float* r = m_frame.depth_m.row(y);
+      for (int x = 0; x < m_frame.depth_m.width(); ++x) valid += r[x] > 0.f ? 1 : 0;
+    }
+    return double(valid) / double(m_frame.depth_m.width() * m_frame.depth_m.height());
+  }
+
+ private:
+  std::unique_ptr<RgbdSensor> m_sensor;
+  RgbdFrame m_frame;
+};
+
+GenRect inset(const GenRect& r, double m) { return {r.x0 + m, r.y0 + m, r.x1 - m, r.y1 - m}; }
+
+std::string vec(const V3& v) {
+  return "[" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + "]";
+}
+
+/// Body angular velocity (camera frame, rad/s) of a trajectory's smooth path at t.
+V3 bodyRate(const HandheldTrajectory& traj, double t, double h = 1.0 / 600.0) {
+  const Eigen::Matrix3d R0 = traj.smoothPose(t).linear(), R1 = traj.smoothPose(t + h).linear();
+  const Eigen::AngleAxisd aa(R0.transpose() * R1);
+  return aa.axis() * aa.angle() / h;
+}
+
+// ---- hand-held --------------------------------------------------------------------------------
+
+struct Key {
+  double t = 0.0;
+  V3 pos = V3::Zero();
+  bool look = true;  ///< look_at `target`, else yaw/pitch/roll
+  V3 target = V3::Zero();
+  double yaw = 0.0, pitch = 0.0, roll = 0.0;  ///< degrees
+  Eigen::Isometry3d pose() const {
+    return look ? cameraPoseLookingAt(pos, target) : cameraPoseFromHeading(pos, yaw, pitch, roll);
+  }
+};
+
+class HandheldDrafter {
+ public:
+  HandheldDrafter(const GeneratedWorld& g, const RayScene& scene, Rng& rng)
+      : m_scene(scene), m_rng(rng) {
+    // Where the person holding the camera may stand: the robot's free area widened by the
+    // robot's radius (still clearance_m from every footprint).
+    m_area = inset(g.free_area, -g.params.robot_radius_m);
+    for (const V3& p : g.view_targets)
+      if (p.z() > 0.2 && p.z() < 2.3) m_targets.push_back(p);
+    m_w = g.params.width_m;
+    m_d = g.params.depth_m;
+  }
+  const GenRect& area() const { return m_area; }
+
+  bool visible(const V3& eye, const V3& target) const {
+    const Eigen::Vector3f o = eye.cast<float>(), d = (target - eye).cast<float>();
+    const RayHit h = m_scene.castRay(o, d, 0.f, 1.f);
+    return !h.hit || h.t * d.norm() >= d.norm() - 0.2f;
+  }
+
+  /// A camera position in the area looking at `target` from 1-3 m (at least 0.6 m away
+  /// horizontally, so never straight down), unobstructed; the nearest of the candidates to `prev`
+  /// (within 2.5 m) when given.
+  std::optional<V3> standpoint(const V3& target, const std::optional<V3>& prev) {
+    std::optional<V3> best;
+    double best_score = 1e30;
+    for (int k = 0; k < 60; ++k) {
+      const double a = m_rng.uniform(-M_PI, M_PI), r = m_rng.uniform(0.6, 2.9);
+      const V3 c(target.x() + r * std::cos(a), target.y() + r * std::sin(a),
+                 m_rng.uniform(1.2, 1.7));
+      if (!m_area.contains(c.x(), c.y())) continue;
+      const double d = (c - target).norm();
+      if (d < 1.0 || d > 3.0 || !visible(c, target)) continue;
+      if (prev && (c - *prev).norm() > 2.5) continue;
+      const double score = prev ? (c - *prev).norm() : m_rng.uniform();
+      if (score < best_score) {
+        best_score = score;
+        best = c;
+      }
+    }
+    return best;
+  }
+
+  /// Position of a point along the room's perimeter (m, counter-clockwise from the south-west
+  /// corner), measured at its nearest wall.
+  double perimeterAt(const V3& p) const {
+    const double ds = p.y(), de = m_w - p.x(), dn = m_d - p.y(), dw = p.x();
+    const double m = std::min({ds, de, dn, dw});
+    if (m == ds) return std::clamp(p.x(), 0.0, m_w);
+    if (m == de) return m_w + std::clamp(p.y(), 0.0, m_d);
+    if (m == dn) return m_w + m_d + std::clamp(m_w - p.x(), 0.0, m_w);
+    return 2 * m_w + m_d + std::clamp(m_d - p.y(), 0.0, m_d);
+  }
+  double perimeter() const { return 2 * (m_w + m_d); }
+
+  /// A target near perimeter position `s`, random among the nearest few.
+  std::optional<V3> targetNear(double s) {
+    if (m_targets.empty()) return std::nullopt;
+    std::vector<std::pair<double, int>> by;
+    for (int i = 0; i < int(m_targets.size()); ++i)
+      by.emplace_back(
+          std::abs(std::remainder(perimeterAt(m_targets[std::size_t(i)]) - s, perimeter())), i);
+    std::sort(by.begin(), by.end());
+    const int n = std::min<int>(4, int(by.size()));
+    return m_targets[std::size_t(by[std::size_t(m_rng.index(n))].second)];
+  }
+
+  /// Keyframes every 3-5 s over 20-30 s, walking along the room's furniture, 1.2-2.2 m of
+  /// perimeter from one keyframe's target to the next.
+  std::vector<Key> normal() {
+    const double T = r1(m_rng.uniform(20.0, 30.0));
+    const int n = std::max(5, int(std::lround(T / m_rng.uniform(3.0, 5.0))) + 1);
+    const double s0 = m_rng.uniform(0.0, perimeter()), dir = m_rng.chance(0.5) ? 1.0 : -1.0;
+    const double step = std::min(m_rng.uniform(1.2, 2.2), 0.9 * perimeter() / (n - 1));
+    std::vector<Key> keys;
+    std::optional<V3> prev;
+    for (int k = 0; k < n; ++k) {
+      std::optional<V3> cam, target;
+      for (int t = 0; t < 8 && !cam; ++t) {
+        target = targetNear(s0 + dir * step * k);
+        if (target) cam = standpoint(*target, prev);
+      }
+      if (!cam) return {};
+      Key key;
+      key.t = T * k / (n - 1);
+      key.pos = round3(*cam);
+      key.target = round3(*target);
+      keys.push_back(key);
+      prev = key.pos;
+    }
+    return keys;
+  }
+
+  /// Hold-swing-hold: swings about the camera's x, y and z axes (tilt, pan, roll), each swing
+  /// timed (see tuneSwings) for a peak of 125-142 deg/s, slow holds in between; 20-30 s.
+  std::vector<Key> fast(std::vector<int>& swing_segments) {
+    const double T = m_rng.uniform(20.0, 30.0);
+    std::optional<V3> target = targetNear(m_rng.uniform(0.0, perimeter()));
+    std::optional<V3> cam = target ? standpoint(*target, std::nullopt) : std::nullopt;
+    if (!cam) return {};
+    Key k0;
+    k0.look = false;
+    k0.pos = round3(*cam);
+    headingTo(*target - k0.pos, k0.yaw, k0.pitch);
+    std::vector<Key> keys{k0};
+    int swings[3] = {0, 0, 0};
+    std::vector<int> cycle = {0, 1, 2};
+    std::size_t ci = cycle.size();
+    while (keys.back().t < T || std::min({swings[0], swings[1], swings[2]}) < 2) {
+      if (keys.size() > 80) return {};
+      // hold: a slow drift
+      Key h = keys.back();
+      h.t += m_rng.uniform(1.0, 1.8);
+      h.pos = drift(h.pos, m_rng.uniform(0.1, 0.3));
+      h.yaw += m_rng.uniform(-8.0, 8.0);
+      h.pitch = std::clamp(h.pitch + m_rng.uniform(-5.0, 5.0), -65.0, 10.0);
+      keys.push_back(h);
+      // swing
+      if (ci == cycle.size()) {
+        for (std::size_t i = cycle.size(); i > 1; --i)
+          std::swap(cycle[i - 1], cycle[std::size_t(m_rng.index(int(i)))]);
+        ci = 0;
+      }
+      const int axis = cycle[ci++];
+      Key s = h;
+      s.pos = drift(h.pos, 0.05);
+      double delta = 0.0;
+      if (axis == 0) {  // tilt (camera x): pitch up or down by 40-60 deg within [-70, 12]
+        const double d = m_rng.uniform(40.0, 60.0);
+        s.pitch = h.pitch - d >= -70.0 ? h.pitch - d : std::min(12.0, h.pitch + d);
+        if (h.pitch + d <= 12.0 && m_rng.chance(0.5)) s.pitch = h.pitch + d;
+        delta = std::abs(s.pitch - h.pitch);
+      } else if (axis == 1) {  // pan (camera y): to another target 60-110 deg away
+        std::vector<std::pair<double, double>> options;  // (yaw, pitch) of targets in reach
+        for (const V3& p : m_targets) {
+          double yaw, pitch;
+          headingTo(p - s.pos, yaw, pitch);
+          const double dy = std::abs(std::remainder(yaw - h.yaw, 360.0));
+          const double dist = (p - s.pos).norm();
+          if (dy >= 55.0 && dy <= 115.0 && dist >= 0.8 && dist <= 3.2 &&
+              (p - s.pos).head<2>().norm() > 0.5 && visible(s.pos, p))
+            options.emplace_back(h.yaw + std::remainder(yaw - h.yaw, 360.0), pitch);
+        }
+        if (!options.empty()) {
+          const auto [yaw, pitch] = m_rng.pick(options);
+          s.yaw = yaw;
+          s.pitch = std::clamp(pitch, -65.0, 10.0);
+        } else {
+          s.yaw = h.yaw + (m_rng.chance(0.5) ? 1 : -1) * m_rng.uniform(60.0, 100.0);
+        }
+        delta = std::abs(s.yaw - h.yaw);
+      } else {  // roll (camera z): across zero to the other side, 30-45 deg
+        const double r = m_rng.uniform(30.0, 45.0);
+        s.roll = h.roll > 0 ? -r : h.roll < 0 ? r : (m_rng.chance(0.5) ? r : -r);
+        delta = std::abs(s.roll - h.roll);
+      }
+      s.t = h.t + std::max(0.25, 1.5 * delta / 135.0);
+      swing_segments.push_back(int(keys.size()) - 1);  // segment from h to s
+      keys.push_back(s);
+      ++swings[axis];
+    }
+    Key last = keys.back();  // settle: roll back to level
+    last.t += m_rng.uniform(1.5, 2.0);
+    last.roll = 0.0;
+    last.pos = drift(last.pos, 0.15);
+    keys.push_back(last);
+    for (Key& k : keys) {
+      k.yaw = r1(k.yaw);
+      k.pitch = r1(k.pitch);
+      k.roll = r1(k.roll);
+    }
+    return keys;
+  }
+
+  static void headingTo(const V3& d, double& yaw_deg, double& pitch_deg) {
+    yaw_deg = std::atan2(d.y(), d.x()) / kDeg;
+    pitch_deg = std::atan2(d.z(), d.head<2>().norm()) / kDeg;
+  }
+  V3 drift(const V3& p, double dist) {
+    const double a = m_rng.uniform(-M_PI, M_PI);
+    V3 q = p + dist * V3(std::cos(a), std::sin(a), 0.0);
+    q.x() = std::clamp(q.x(), m_area.x0, m_area.x1);
+    q.y() = std::clamp(q.y(), m_area.y0, m_area.y1);
+    q.z() = std::clamp(q.z() + m_rng.uniform(-0.05, 0.05), 1.2, 1.7);
+    return round3(q);
+  }
+  static V3 round3(const V3& v) {
+    return V3(std::round(v.x() * 1000) / 1000, std::round(v.y() * 1000) / 1000,
+              std::round(v.z() * 1000) / 1000);
+  }
+  static double r1(double v) { return std::round(v * 10.0) / 10.0; }
+
+ private:
+  const RayScene& m_scene;
+  Rng& m_rng;
+  GenRect m_area;
+  std::vector<V3> m_targets;
+  double m_w = 0.0, m_d = 0.0;
+};
+
+HandheldTrajectory trajectoryOf(const std::vector<Key>& keys) {
+  std::vector<HandheldKeyframe> kf;
+  for (const Key& k : keys) kf.push_back({k.t, k.pose()});
+  HandJitter none;
+  none.translation_m = 0.0;
+  none.rotation_deg = 0.0;
+  return HandheldTrajectory(kf, none, 0);
+}
+
+/// Peak |rate| per camera axis (deg/s) over [t0, t1].
+V3 peakRates(const HandheldTrajectory& traj, double t0, double t1, double step = 1.0 / 240.0) {
+  V3 peak = V3::Zero();
+  for (double t = t0; t < t1; t += step) peak = peak.cwiseMax(bodyRate(traj, t).cwiseAbs() / kDeg);
+  return peak;
+}
+
+/// Re-times each swing so the peak rate about its dominant axis is its target (the spline's
+/// Catmull-Rom tangents couple neighbouring segments, hence the iterations).
+void tuneSwings(std::vector<Key>& keys, const std::vector<int>& swings,
+                const std::vector<double>& targets) {
+  std::vector<double> dt(keys.size() - 1);
+  for (std::size_t i = 0; i + 1 < keys.size(); ++i) dt[i] = keys[i + 1].t - keys[i].t;
+  for (int it = 0; it < 12; ++it) {
+    const HandheldTrajectory traj = trajectoryOf(keys);
+    bool converged = true;
+    for (std::size_t s = 0; s < swings.size(); ++s) {
+      const int i = swings[s];
+      const Eigen::Matrix3d R0 = keys[std::size_t(i)].pose().linear(),
+                            R1 = keys[std::size_t(i) + 1].pose().linear();
+      const Eigen::AngleAxisd aa(R0.transpose() * R1);
+      int axis = 0;
+      (aa.axis() * aa.angle()).cwiseAbs().maxCoeff(&axis);
+      const V3 peak = peakRates(traj, keys[std::size_t(i)].t, keys[std::size_t(i) + 1].t);
+      const double ratio = std::clamp(peak[axis] / targets[s], 0.5, 2.0);
+      if (std::abs(ratio - 1.0) > 0.005) converged = false;
+      dt[std::size_t(i)] *= ratio;
+    }
+    for (std::size_t i = 0; i + 1 < keys.size(); ++i)
+      keys[i + 1].t = std::round((keys[i].t + dt[i]) * 1000.0) / 1000.0;
+    if (converged) break;
+  }
+}
+
+/// The hand-held path's positions stay where a person can stand (area + 0.15 m, 1.0-1.9 m high)
+/// and its views see enough geometry; returns the worst view fraction (-1: leaves the area).
+double checkHandheld(const HandheldTrajectory& traj, const GenRect& area, ViewCheck& view,
+                     double step_s) {
+  const GenRect ok = inset(area, -0.15);
+  double worst = 1.0;
+  for (double t = traj.startTime(); t <= traj.endTime() + 1e-9; t += step_s) {
+    const Eigen::Isometry3d T = traj.smoothPose(t);
+    const V3 p = T.translation();
+    if (!ok.contains(p.x(), p.y()) || p.z() < 1.0 || p.z() > 1.9) return -1.0;
+    worst = std::min(worst, view.fraction(T));
+  }
+  return worst;
+}
+
+std::string handheldYaml(const std::vector<Key>& keys, const TTrajectoryGenParams& p,
+                         const GeneratedWorld& g, const std::string& comment) {
+  std::ostringstream o;
+  o << "# Random " << (p.fast ? "fast " : "") << "hand-held trajectory for the generated world "
+    << g.name << " (rasm sim generate --seed " << p.seed << (p.fast ? " --fast" : "")
+    << "; schema: docs/sim.md).\n"
+    << comment;
+  o << "type: handheld\n";
+  o << "description: " << (p.fast ? "fast " : "") << "hand-held sweep of " << g.name << "\n";
+  if (!p.world_ref.empty()) o << "world: " << p.world_ref << "\n";
+  o << "rate_hz: " << num(p.rate_hz) << "\n";
+  o << "jitter: {translation_m: 0.003, rotation_deg: " << (p.fast ? "0.3" : "0.4")
+    << ", frequency_hz: 1.5}\n";
+  o << "keyframes:\n";
+  for (const Key& k : keys) {
+    o << "  - {t: " << num(k.t) << ", position: " << vec(k.pos);
+    if (k.look)
+      o << ", look_at: " << vec(k.target) << "}\n";
+    else
+      o << ", yaw_deg: " << num(k.yaw, 1) << ", pitch_deg: " << num(k.pitch, 1)
+        << ", roll_deg: " << num(k.roll, 1) << "}\n";
+  }
+  return o.str();
+}
+
+// ---- robot --------------------------------------------------------------------------------------
+
+struct DriveCheck {
+  bool ok = false;
+  std::string why;
+  double time_s = 0.0, worst_view = 1.0, length_m = 0.0;
+};
+
+/// Drives the spec as SimulatedSequence does (pure pursuit at control_substeps x rate) without
+/// rendering, every substep checked for collisions, a low-resolution view every 3rd frame.
+DriveCheck drive(const RayScene& scene, const TrajectorySpec& spec, ViewCheck& view) {
+  DriveCheck r;
+  TRobotParams rp;
+  applyParamOverrides(rp, "sim_robot", spec.robot_overrides, spec.source + " robot:");
+  std::unique_ptr<SimulatedDiffDriveRobot> robot;
+  try {
+    robot = std::make_unique<SimulatedDiffDriveRobot>(scene, rp, spec.start_pose, 0);
+  } catch (const InputError&) {
+    r.why = "start pose collides";
+    return r;
+  }
+  std::vector<Eigen::Vector2d> path{spec.start_pose.head<2>()};
+  path.insert(path.end(), spec.waypoints.begin(), spec.waypoints.end());
+  PurePursuit pp(path, spec.controller, spec.loop, spec.laps);
+  r.length_m = pp.totalLength();
+  const double dt = 1.0 / spec.rate_hz;
+  const long long max_frames = (long long)(spec.max_duration_s * spec.rate_hz);
+  for (long long f = 0; f < max_frames; ++f) {
+    if (f % 3 == 0) r.worst_view = std::min(r.worst_view, view.fraction(robot->cameraPose()));
+    if (pp.done()) {
+      r.ok = true;
+      r.time_s = double(f) * dt;
+      return r;
+    }
+    for (int k = 0; k < spec.control_substeps; ++k) {
+      const Eigen::Vector2d cmd = pp.command(robot->pose());
+      robot->setVelocityCommand(cmd.x(), cmd.y());
+      robot->step(dt / spec.control_substeps);
+      if (robot->collided()) {
+        char b[96];
+        std::snprintf(b, sizeof(b), "collides at (%.2f, %.2f)", robot->pose().x(),
+                      robot->pose().y());
+        r.why = b;
+        return r;
+      }
+    }
+  }
+  r.why = "does not finish";
+  return r;
+}
+
+std::string robotYaml(const TTrajectoryGenParams& p, const GeneratedWorld& g, const V3& start,
+                      const std::vector<Eigen::Vector2d>& wps, const std::string& comment) {
+  std::ostringstream o;
+  o << "# Random " << (p.fast ? "fast " : "") << "robot loop for the generated world " << g.name
+    << " (rasm sim generate --seed " << p.seed << (p.fast ? " --fast" : "")
+    << "; schema: docs/sim.md).\n"
+    << comment;
+  o << "type: robot\n";
+  o << "description: " << (p.fast ? "robot loop with 90 deg/s turns in place" : "robot loop")
+    << " through the free area of " << g.name << "\n";
+  if (!p.world_ref.empty()) o << "world: " << p.world_ref << "\n";
+  o << "rate_hz: " << num(p.rate_hz) << "\n";
+  o << "start: {x: " << num(start.x()) << ", y: " << num(start.y())
+    << ", yaw_deg: " << num(start.z(), 1) << "}\n";
+  o << "waypoints: [";
+  for (std::size_t i = 0; i < wps.size(); ++i)
+    o << (i ? ", " : "") << "[" << num(wps[i].x()) << ", " << num(wps[i].y()) << "]";
+  o << "]\nloop: true\n";
+  if (p.fast)
+    o << "controller: {lookahead_m: 0.5, max_v_mps: 0.35, max_w_degps: 90, rotate_in_place_deg: "
+         "20}\n"
+      << "robot: {footprint_radius_m: " << num(g.params.robot_radius_m)
+      << ", camera_height_m: 0.55, camera_pitch_deg: -10, max_w_degps: 90}\n";
+  else
+    o << "controller: {lookahead_m: 0.5, max_v_mps: 0.35, max_w_degps: 45, rotate_in_place_deg: "
+         "30}\n"
+      << "robot: {footprint_radius_m: " << num(g.params.robot_radius_m)
+      << ", camera_height_m: 0.55, camera_pitch_deg: -10}\n";
+  return o.str();
+}
+
+}  // namespace
+
+GeneratedTrajectory generateHandheldTrajectory(const GeneratedWorld& g, const World& world,
+                                               const TTrajectoryGenParams& p) {
+  const SerialOpenMp serial;
+  const RayScene scene(world);
+  ViewCheck view(scene, p.max_view_depth_m);
+  Rng rng(p.seed ^ (p.fast ? 0xA4093822299F31D0ull : 0x13198A2E03707344ull));
+  HandheldDrafter drafter(g, scene, rng);
+  std::vector<Key> best;
+  double best_view = -2.0;
+  V3 best_peak = V3::Zero();
+  int attempts = 0;
+  for (; attempts < 30; ++attempts) {
+    std::vector<int> swings;
+    std::vector<Key> keys = p.fast ? drafter.fast(swings) : drafter.normal();
+    if (keys.size() < 2) continue;
+    V3 peak = V3::Zero();
+    if (p.fast) {
+      std::vector<double> targets;
+      for (std::size_t s = 0; s < swings.size(); ++s) targets.push_back(rng.uniform(125.0, 142.0));
+      tuneSwings(keys, swings, targets);
+    }
+    const HandheldTrajectory traj = trajectoryOf(keys);
+    peak = peakRates(traj, traj.startTime(), traj.endTime());
+    if (p.fast && (peak.minCoeff() < 120.0 || peak.maxCoeff() > 150.0)) continue;
+    const double v = checkHandheld(traj, drafter.area(), view, p.fast ? 1.0 / 30.0 : 0.1);
+    if (v > best_view) {
+      best_view = v;
+      best = keys;
+      best_peak = peak;
+    }
+    if (v >= p.min_valid_handheld) break;
+  }
+  if (best.empty())
+    throw std::runtime_error("generateHandheldTrajectory: no feasible keyframes for world " +
+                             g.name);
+  GeneratedTrajectory out;
+  out.duration_s = best.back().t - best.front().t;
+  out.min_valid_fraction = best_view;
+  out.peak_rate_degps = best_peak;
+  char line[256];
+  std::snprintf(line, sizeof(line),
+                "%.1f s, %zu keyframes, peak rates about camera x/y/z %.0f/%.0f/%.0f deg/s, worst "
+                "view %.0f%% of pixels within 0.4-%.0f m%s",
+                out.duration_s, best.size(), best_peak.x(), best_peak.y(), best_peak.z(),
+                100.0 * std::max(0.0, best_view), p.max_view_depth_m,
+                best_view >= p.min_valid_handheld ? "" : " (WARNING: below the check's bound)");
+  out.summary = line;
+  out.yaml = handheldYaml(best, p, g, "# Checked when generated: " + out.summary + ".\n");
+  return out;
+}
+
+GeneratedTrajectory generateRobotTrajectory(const GeneratedWorld& g, const World& world,
+                                            const TTrajectoryGenParams& p) {
+  const SerialOpenMp serial;
+  const RayScene scene(world);
+  ViewCheck view(scene, p.max_view_depth_m);
+  Rng rng(p.seed ^ (p.fast ? 0x082EFA98EC4E6C89ull : 0x452821E638D01377ull));
+  std::string best_yaml, best_summary;
+  DriveCheck best;
+  best.worst_view = -1.0;
+  bool have = false;
+  for (int attempt = 0; attempt < 12; ++attempt) {
+    const GenRect F = inset(g.free_area, 0.05 * (attempt / 2));
+    if (F.width() < 0.0 || F.depth() < 0.0) break;
+    const bool ccw = rng.chance(0.5);
+    // Corners counter-clockwise from the south-west; a degenerate side becomes a line.
+    std::vector<Eigen::Vector2d> c = {{F.x0, F.y0}, {F.x1, F.y0}, {F.x1, F.y1}, {F.x0, F.y1}};
+    if (!ccw) std::reverse(c.begin(), c.end());
+    const int leg = rng.index(4);  // start in the middle of this leg, heading along it
+    const Eigen::Vector2d a = c[std::size_t(leg)], b = c[std::size_t((leg + 1) % 4)];
+    const Eigen::Vector2d s = 0.5 * (a + b);
+    const V3 start(std::round(s.x() * 1000) / 1000, std::round(s.y() * 1000) / 1000,
+                   std::round(std::atan2(b.y() - a.y(), b.x() - a.x()) / kDeg * 10) / 10);
+    std::vector<Eigen::Vector2d> wps;
+    for (int k = 1; k <= 4; ++k) {
+      wps.push_back(c[std::size_t((leg + k) % 4)]);
+      if (p.fast && k == 2) {
+        // A spur from the middle of the opposite leg to the middle of the area and back: a
+        // 180 deg turn in place at its end.
+        const Eigen::Vector2d m =
+            0.5 * (c[std::size_t((leg + 2) % 4)] + c[std::size_t((leg + 3) % 4)]);
+        const Eigen::Vector2d centre(0.5 * (F.x0 + F.x1), 0.5 * (F.y0 + F.y1));
+        if ((m - centre).norm() > 0.4) {
+          wps.push_back(m);
+          wps.push_back(centre);
+          wps.push_back(m);
+        }
+      }
+    }
+    // Drop repeated points (a line-shaped area).
+    std::vector<Eigen::Vector2d> clean;
+    for (const auto& w : wps) {
+      const Eigen::Vector2d q(std::round(w.x() * 1000) / 1000, std::round(w.y() * 1000) / 1000);
+      const Eigen::Vector2d last = clean.empty() ? start.head<2>() : clean.back();
+      if ((q - last).norm() > 0.05) clean.push_back(q);
+    }
+    if (clean.empty()) continue;
+    const std::string draft = robotYaml(p, g, start, clean, "");
+    const TrajectorySpec spec = loadTrajectorySpecFromString(draft, "generated robot spec");
+    const DriveCheck d = drive(scene, spec, view);
+    char line[256];
+    if (d.ok)
+      std::snprintf(line, sizeof(line),
+                    "loop of %.1f m driven in %.1f s without a collision, worst view %.0f%% of "
+                    "pixels within 0.4-%.0f m%s",
+                    d.length_m, d.time_s, 100.0 * d.worst_view, p.max_view_depth_m,
+                    d.worst_view >= p.min_valid_robot ? "" : " (WARNING: below the check's bound)");
+    else
+      std::snprintf(line, sizeof(line), "WARNING: %s", d.why.c_str());
+    const bool better =
+        !have || (d.ok && !best.ok) || (d.ok == best.ok && d.worst_view > best.worst_view);
+    if (better) {
+      have = true;
+      best = d;
+      best_summary = line;
+      best_yaml =
+          robotYaml(p, g, start, clean, std::string("# Checked when generated: ") + line + ".\n");
+    }
+    if (d.ok && d.worst_view >= p.min_valid_robot) break;
+  }
+  if (!have) throw std::runtime_error("generateRobotTrajectory: no free area in world " + g.name);
+  GeneratedTrajectory out;
+  out.yaml = best_yaml;
+  out.summary = best_summary;
+  out.duration_s = best.time_s;
+  out.min_valid_fraction = best.worst_view;
+  return out;
+}
+
+namespace {
+
+void writeAtomically(const std::string& path, const std::string& text) {
+  const std::string part = path + ".part";
+  {
+    std::ofstream f(part, std::ios::binary);
+    if (!f) throwInputError(path, "cannot write (does the folder exist and is it writable?)");
+    f << text;
+    f.close();
+    if (!f) throwInputError(path, "write failed");
+  }
+  std::error_code ec;
+  fs::rename(part, path, ec);
+  if (ec) throwInputError(path, "cannot rename " + part + ": " + ec.message());
+}
+
+}  // namespace
+
+GenerateFilesResult generateWorldFiles(const TWorldGenParams& wp, const std::string& out_yaml,
+                                       const std::string& trajectories, bool fast) {
+  if (out_yaml.empty()) throwInputError("rasm sim generate", "expected <out.yaml>");
+  const fs::path out(out_yaml);
+  if (fs::is_directory(out))
+    throwInputError(out_yaml, "is a folder; expected the path of the world file to write");
+  const GeneratedWorld g = generateWorld(wp);
+  const fs::path out_dir = out.parent_path();
+  if (!out_dir.empty()) fs::create_directories(out_dir);
+  // Load it back as the recorder will (also resolves the meshes).
+  const World world = loadWorldFromString(g.yaml, out.string(), out_dir.string());
+
+  std::string prefix;
+  if (trajectories.empty()) {
+    prefix = (out_dir / out.stem()).string();
+  } else if (fs::is_directory(trajectories) || trajectories.back() == '/') {
+    fs::create_directories(trajectories);
+    prefix = (fs::path(trajectories) / out.stem()).string();
+  } else {
+    prefix = trajectories;
+    const fs::path pd = fs::path(prefix).parent_path();
+    if (!pd.empty()) fs::create_directories(pd);
+  }
+  GenerateFilesResult res;
+  writeAtomically(out.string(), g.yaml);
+  res.world_path = out.string();
+  std::size_t statics = 0;
+  for (const auto& o : world.objects) statics += o.is_static ? 1 : 0;
+  char line[256];
+  std::snprintf(line, sizeof(line),
+                "%s: %s room %s x %s m, %zu static + %zu objects, free area %s x %s m",
+                res.world_path.c_str(), roomKindName(g.params.kind), num(g.params.width_m).c_str(),
+                num(g.params.depth_m).c_str(), statics, world.objects.size() - statics,
+                num(g.free_area.width(), 2).c_str(), num(g.free_area.depth(), 2).c_str());
+  res.summary.push_back(line);
+
+  const fs::path traj_dir = fs::path(prefix).parent_path();
+  TTrajectoryGenParams tp;
+  tp.seed = wp.seed;
+  const fs::path abs_world = fs::absolute(out).lexically_normal();
+  const fs::path abs_dir =
+      fs::absolute(traj_dir.empty() ? fs::path(".") : traj_dir).lexically_normal();
+  tp.world_ref = abs_world.lexically_relative(abs_dir).string();
+  if (tp.world_ref.empty()) tp.world_ref = abs_world.string();
+  for (int f = 0; f < (fast ? 2 : 1); ++f) {
+    tp.fast = f == 1;
+    const std::string suffix = tp.fast ? "_fast.yaml" : ".yaml";
+    const GeneratedTrajectory h = generateHandheldTrajectory(g, world, tp);
+    const std::string hp = prefix + "_handheld" + suffix;
+    writeAtomically(hp, h.yaml);
+    res.trajectory_paths.push_back(hp);
+    res.summary.push_back(hp + ": " + h.summary);
+    const GeneratedTrajectory r = generateRobotTrajectory(g, world, tp);
+    const std::string rp = prefix + "_robot" + suffix;
+    writeAtomically(rp, r.yaml);
+    res.trajectory_paths.push_back(rp);
+    res.summary.push_back(rp + ": " + r.summary);
+  }
+  return res;
+}
+
+}  // namespace rasm::sim

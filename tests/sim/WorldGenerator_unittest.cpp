@@ -1,0 +1,418 @@
+// Generated worlds and trajectories (`rasm sim generate`): deterministic by seed, load with the
+// world loader, furniture footprints never overlap, objects rest on their surfaces, the free area
+// is free, the robot loop starts collision-free and drives without colliding while the camera
+// sees geometry, the hand-held keyframes look at things 1-3 m away, the fast variant peaks at
+// 120-150 deg/s about each camera axis, bad sizes and kinds fail naming the option.
+#include "rasm/sim/WorldGenerator.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+#include <yaml-cpp/yaml.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "rasm/core/Error.h"
+#include "rasm/sim/RayScene.h"
+#include "rasm/sim/SimClasses.h"
+#include "rasm/sim/SimulatedDiffDriveRobot.h"
+#include "rasm/sim/SimulatedSequence.h"
+#include "rasm/sim/Trajectory.h"
+#include "rasm/sim/TrajectoryGenerator.h"
+#include "rasm/sim/World.h"
+
+namespace fs = std::filesystem;
+using namespace rasm::sim;
+
+namespace {
+
+TWorldGenParams params(std::uint64_t seed, RoomKind kind = RoomKind::Mixed, double w = 0,
+                       double d = 0) {
+  TWorldGenParams p;
+  p.seed = seed;
+  p.kind = kind;
+  p.width_m = w;
+  p.depth_m = d;
+  return p;
+}
+
+std::string readFile(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& tag) {
+    path = fs::temp_directory_path() / ("rasm_gen_" + tag + "_" + std::to_string(::getpid()));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+/// The loaded world's object of a placement.
+const WorldObject& objectOf(const World& w, std::uint16_t id) {
+  const int i = w.indexOfInstance(id);
+  if (i < 0) throw std::runtime_error("no instance " + std::to_string(id));
+  return w.objects[std::size_t(i)];
+}
+
+/// Sensor overrides for a 160 x 120 camera with the Kinect's field of view.
+std::map<std::string, std::string> smallCamera() {
+  return {{"width", "160"}, {"height", "120"}, {"fx", "131.25"},   {"fy", "131.25"},
+          {"cx", "79.5"},   {"cy", "59.5"},    {"labels", "false"}};
+}
+
+/// Fraction of the pixels with a depth (> 0, the sensor's range is 0.4-4.5 m) up to max_m.
+double validFraction(const rasm::RgbdFrame& f, float max_m = 100.f) {
+  std::size_t n = 0;
+  for (int y = 0; y < f.depth_m.height(); ++y)
+    for (int x = 0; x < f.depth_m.width(); ++x) {
+      const float z = f.depth_m.row(y)[x];
+      n += z > 0.f && z <= max_m ? 1 : 0;
+    }
+  return double(n) / double(f.depth_m.width() * f.depth_m.height());
+}
+
+}  // namespace
+
+TEST(WorldGenerator, SameSeedSameTextOtherSeedsDiffer) {
+  for (RoomKind k : {RoomKind::Office, RoomKind::Lab, RoomKind::Mixed}) {
+    const GeneratedWorld a = generateWorld(params(7, k)), b = generateWorld(params(7, k));
+    EXPECT_EQ(a.yaml, b.yaml);
+    EXPECT_NE(a.yaml, generateWorld(params(8, k)).yaml);
+  }
+  // A drawn size, given explicitly, gives the same room.
+  const GeneratedWorld drawn = generateWorld(params(11));
+  const GeneratedWorld given =
+      generateWorld(params(11, RoomKind::Mixed, drawn.params.width_m, drawn.params.depth_m));
+  EXPECT_EQ(drawn.yaml, given.yaml);
+  EXPECT_GE(drawn.params.width_m, 5.5);
+  EXPECT_LE(drawn.params.width_m, 9.0);
+}
+
+TEST(WorldGenerator, FilesAreByteIdenticalForTheSameSeed) {
+  TempDir t1("det1"), t2("det2");
+  GenerateFilesResult r1 = generateWorldFiles(params(3, RoomKind::Office, 6, 5),
+                                              (t1.path / "room.yaml").string(), "", true);
+  GenerateFilesResult r2 = generateWorldFiles(params(3, RoomKind::Office, 6, 5),
+                                              (t2.path / "room.yaml").string(), "", true);
+  ASSERT_EQ(r1.trajectory_paths.size(), 4u);
+  EXPECT_EQ(readFile(r1.world_path), readFile(r2.world_path));
+  for (const char* f : {"room_handheld.yaml", "room_robot.yaml", "room_handheld_fast.yaml",
+                        "room_robot_fast.yaml"}) {
+    EXPECT_TRUE(fs::is_regular_file(t1.path / f)) << f;
+    EXPECT_EQ(readFile(t1.path / f), readFile(t2.path / f)) << f;
+    // The spec names its world by a path relative to itself, and loads.
+    const TrajectorySpec spec = loadTrajectorySpec((t1.path / f).string());
+    EXPECT_EQ(fs::path(spec.world), t1.path / "room.yaml") << f;
+  }
+  EXPECT_FALSE(fs::exists(t1.path / "room.yaml.part"));
+  // --trajectories as a folder and as a prefix.
+  generateWorldFiles(params(3, RoomKind::Office, 6, 5), (t1.path / "w2.yaml").string(),
+                     (t1.path / "specs/").string());
+  EXPECT_TRUE(fs::is_regular_file(t1.path / "specs/w2_robot.yaml"));
+  EXPECT_EQ(loadTrajectorySpec((t1.path / "specs/w2_robot.yaml").string()).world,
+            (t1.path / "specs/../w2.yaml").lexically_normal().string());
+  generateWorldFiles(params(3, RoomKind::Office, 6, 5), (t1.path / "w3.yaml").string(),
+                     (t1.path / "p/run").string());
+  EXPECT_TRUE(fs::is_regular_file(t1.path / "p/run_handheld.yaml"));
+}
+
+TEST(WorldGenerator, LoadsWithValidClassesAndUniqueIds) {
+  for (std::uint64_t seed : {1, 2, 3, 4}) {
+    for (RoomKind k : {RoomKind::Office, RoomKind::Lab, RoomKind::Mixed}) {
+      const GeneratedWorld g = generateWorld(params(seed, k));
+      World w;
+      ASSERT_NO_THROW(w = loadWorldFromString(g.yaml, g.name + ".yaml")) << g.name;
+      EXPECT_EQ(w.name, g.name);
+      ASSERT_EQ(w.objects.size(), g.placements.size());
+      int counts[5] = {0, 0, 0, 0, 0};
+      for (std::size_t i = 0; i < w.objects.size(); ++i) {
+        const GeneratedWorld::Placement& p = g.placements[i];
+        EXPECT_EQ(w.objects[i].instance_id, p.id);
+        EXPECT_EQ(int(w.objects[i].class_id), classIdFromName(p.class_name));
+        ++counts[int(p.rest)];
+      }
+      // Structure (floor, ceiling, four walls), furniture and things on surfaces.
+      EXPECT_EQ(counts[int(GeneratedWorld::Rest::Structure)], 6) << g.name;
+      EXPECT_GE(counts[int(GeneratedWorld::Rest::Floor)], 4) << g.name;
+      EXPECT_GE(counts[int(GeneratedWorld::Rest::Surface)], 8) << g.name;
+      for (const char* cls : {"floor", "wall", "ceiling", "door"}) {
+        bool found = false;
+        for (const auto& o : w.objects) found = found || o.class_id == classIdFromName(cls);
+        EXPECT_TRUE(found) << g.name << " has no " << cls;
+      }
+    }
+  }
+}
+
+TEST(WorldGenerator, FurnitureFootprintsDoNotOverlapAndTheFreeAreaIsFree) {
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    const RoomKind kind = RoomKind(seed % 3);
+    const GeneratedWorld g = generateWorld(params(seed, kind));
+    const World w = loadWorldFromString(g.yaml, g.name);
+    const double W = g.params.width_m, D = g.params.depth_m;
+    const double keep = g.params.robot_radius_m + g.params.clearance_m;
+    EXPECT_GE(g.free_area.width(), 1.0 - 1e-9) << g.name;
+    EXPECT_GE(g.free_area.depth(), 1.0 - 1e-9) << g.name;
+    std::vector<std::pair<std::string, Eigen::AlignedBox3f>> furniture;
+    for (const auto& p : g.placements) {
+      if (p.rest == GeneratedWorld::Rest::Structure) continue;
+      const Eigen::AlignedBox3f b = objectOf(w, p.id).worldMesh().bounds();
+      // Inside the room.
+      EXPECT_GE(b.min().x(), -1e-3) << p.name;
+      EXPECT_GE(b.min().y(), -1e-3) << p.name;
+      EXPECT_LE(b.max().x(), W + 1e-3) << p.name;
+      EXPECT_LE(b.max().y(), D + 1e-3) << p.name;
+      // Whatever reaches into the robot's height band keeps its distance from the free area.
+      if (b.min().z() < 0.6) {
+        const bool clear = b.max().x() <= g.free_area.x0 - keep + 1e-3 ||
+                           b.min().x() >= g.free_area.x1 + keep - 1e-3 ||
+                           b.max().y() <= g.free_area.y0 - keep + 1e-3 ||
+                           b.min().y() >= g.free_area.y1 + keep - 1e-3;
+        EXPECT_TRUE(clear) << g.name << ": " << p.id << " " << p.class_name << " " << p.name;
+      }
+      if (p.furniture) furniture.emplace_back(std::to_string(p.id) + " " + p.class_name, b);
+    }
+    EXPECT_GE(furniture.size(), 4u) << g.name;
+    for (std::size_t i = 0; i < furniture.size(); ++i)
+      for (std::size_t j = i + 1; j < furniture.size(); ++j) {
+        const auto &a = furniture[i].second, &b = furniture[j].second;
+        const bool overlap = a.min().x() < b.max().x() - 1e-3 && b.min().x() < a.max().x() - 1e-3 &&
+                             a.min().y() < b.max().y() - 1e-3 && b.min().y() < a.max().y() - 1e-3;
+        EXPECT_FALSE(overlap) << g.name << ": " << furniture[i].first << " and "
+                              << furniture[j].first;
+      }
+  }
+}
+
+TEST(WorldGenerator, ObjectsRestOnTheirSurfaces) {
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    const GeneratedWorld g = generateWorld(params(seed, RoomKind(seed % 3)));
+    const RayScene scene(loadWorldFromString(g.yaml, g.name));
+    const World& w = scene.world();
+    int on_surfaces = 0;
+    for (const auto& p : g.placements) {
+      const int i = w.indexOfInstance(p.id);
+      ASSERT_GE(i, 0);
+      const Eigen::AlignedBox3f b = scene.objectBounds(i);
+      if (p.rest == GeneratedWorld::Rest::Floor) {
+        EXPECT_NEAR(b.min().z(), 0.0, 0.01) << g.name << " " << p.id << " " << p.name;
+      } else if (p.rest == GeneratedWorld::Rest::Surface) {
+        ++on_surfaces;
+        EXPECT_NEAR(b.min().z(), p.surface_z_m, 0.01) << g.name << " " << p.id << " " << p.name;
+        // Straight below the object's middle, its support's surface is at that height.
+        const int s = w.indexOfInstance(p.support_id);
+        ASSERT_GE(s, 0);
+        const Eigen::Vector3f c = b.center();
+        const RayHit h = scene.castRayAlone(s, Eigen::Vector3f(c.x(), c.y(), b.min().z() + 0.005f),
+                                            Eigen::Vector3f(0, 0, -1));
+        ASSERT_TRUE(h.hit) << g.name << " " << p.id << " " << p.class_name << " on "
+                           << p.support_id;
+        EXPECT_NEAR(h.point.z(), b.min().z(), 0.01)
+            << g.name << " " << p.id << " " << p.class_name << " on " << p.support_id;
+      }
+    }
+    EXPECT_GT(on_surfaces, 8) << g.name;
+  }
+}
+
+TEST(WorldGenerator, BadSizeAndKindNameTheOption) {
+  auto error = [](const TWorldGenParams& p) {
+    try {
+      generateWorld(p);
+    } catch (const rasm::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  std::string e = error(params(1, RoomKind::Mixed, 1, 1));
+  EXPECT_NE(e.find("--size 1x1"), std::string::npos) << e;
+  EXPECT_NE(e.find("too small"), std::string::npos) << e;
+  e = error(params(1, RoomKind::Mixed, 30, 5));
+  EXPECT_NE(e.find("too large"), std::string::npos) << e;
+  e = error(params(1, RoomKind::Mixed, 5, -2));
+  EXPECT_NE(e.find("--size"), std::string::npos) << e;
+  try {
+    roomKindFromName("kitchen", "--kind");
+    ADD_FAILURE();
+  } catch (const rasm::InputError& ex) {
+    EXPECT_NE(std::string(ex.what()).find("--kind kitchen"), std::string::npos) << ex.what();
+    EXPECT_NE(std::string(ex.what()).find("office, lab or mixed"), std::string::npos);
+  }
+  // The smallest room still gets furniture and a free area.
+  const GeneratedWorld small = generateWorld(params(2, RoomKind::Office, 3, 3));
+  EXPECT_GE(small.free_area.width(), 1.0 - 1e-9);
+  EXPECT_NO_THROW(loadWorldFromString(small.yaml, "small"));
+}
+
+TEST(TrajectoryGenerator, HandheldLooksAtThingsFromChestHeight) {
+  for (std::uint64_t seed : {1, 5}) {
+    const GeneratedWorld g = generateWorld(params(seed));
+    const World w = loadWorldFromString(g.yaml, g.name);
+    TTrajectoryGenParams tp;
+    tp.seed = seed;
+    const GeneratedTrajectory h = generateHandheldTrajectory(g, w, tp);
+    const TrajectorySpec spec = loadTrajectorySpecFromString(h.yaml, "handheld");
+    EXPECT_GE(spec.keyframes.back().t_s, 20.0);
+    EXPECT_LE(spec.keyframes.back().t_s, 30.0);
+    for (std::size_t i = 1; i < spec.keyframes.size(); ++i) {
+      const double dt = spec.keyframes[i].t_s - spec.keyframes[i - 1].t_s;
+      EXPECT_GE(dt, 2.9);
+      EXPECT_LE(dt, 6.0);
+    }
+    const RayScene scene(w);
+    const YAML::Node doc = YAML::Load(h.yaml);
+    ASSERT_EQ(doc["keyframes"].size(), spec.keyframes.size());
+    for (std::size_t i = 0; i < spec.keyframes.size(); ++i) {
+      const Eigen::Isometry3d& T = spec.keyframes[i].T_world_cam;
+      const Eigen::Vector3d p = T.translation();
+      EXPECT_GE(p.z(), 1.2 - 1e-9);
+      EXPECT_LE(p.z(), 1.7 + 1e-9);
+      // It looks at a target 1-3 m away, in plain view.
+      const YAML::Node at = doc["keyframes"][i]["look_at"];
+      ASSERT_TRUE(at.IsSequence());
+      const Eigen::Vector3d target(at[0].as<double>(), at[1].as<double>(), at[2].as<double>());
+      EXPECT_GE((target - p).norm(), 1.0 - 1e-3);
+      EXPECT_LE((target - p).norm(), 3.0 + 1e-3);
+      const RayHit hit = scene.castRay(p.cast<float>(), (target - p).cast<float>(), 0.f, 1.f);
+      EXPECT_TRUE(!hit.hit || hit.t * (target - p).norm() > (target - p).norm() - 0.25);
+      // Along the optical axis, something within the sensor's range.
+      const RayHit axis = scene.castRay(p.cast<float>(), T.linear().col(2).cast<float>());
+      ASSERT_TRUE(axis.hit);
+      EXPECT_GE(axis.t, 0.5);
+      EXPECT_LE(axis.t, 4.5);
+    }
+    EXPECT_GE(h.min_valid_fraction, tp.min_valid_handheld) << h.summary;
+  }
+}
+
+TEST(TrajectoryGenerator, FastHandheldPeaksAt120To150DegPerSecondAboutEachAxis) {
+  const GeneratedWorld g = generateWorld(params(4, RoomKind::Office));
+  const World w = loadWorldFromString(g.yaml, g.name);
+  TTrajectoryGenParams tp;
+  tp.seed = 4;
+  tp.fast = true;
+  const GeneratedTrajectory h = generateHandheldTrajectory(g, w, tp);
+  const TrajectorySpec spec = loadTrajectorySpecFromString(h.yaml, "fast");
+  HandJitter none;
+  none.translation_m = none.rotation_deg = 0.0;
+  const HandheldTrajectory traj(spec.keyframes, none, 0);
+  // Peak body rates from the spec as loaded (finite differences at 600 Hz).
+  Eigen::Vector3d peak = Eigen::Vector3d::Zero();
+  for (double t = traj.startTime(); t < traj.endTime(); t += 1.0 / 600.0) {
+    const Eigen::AngleAxisd aa(traj.smoothPose(t).linear().transpose() *
+                               traj.smoothPose(t + 1.0 / 600.0).linear());
+    peak = peak.cwiseMax((aa.axis() * aa.angle() * 600.0 * 180.0 / M_PI).cwiseAbs());
+  }
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_GE(peak[a], 118.0) << "axis " << a << ": " << h.summary;
+    EXPECT_LE(peak[a], 152.0) << "axis " << a << ": " << h.summary;
+  }
+  EXPECT_GE(traj.endTime() - traj.startTime(), 20.0);
+}
+
+TEST(TrajectoryGenerator, RobotLoopStartsFreeAndDrivesWithoutCollisionSeeingGeometry) {
+  for (std::uint64_t seed : {1, 2, 3}) {
+    for (bool fast : {false, true}) {
+      const GeneratedWorld g = generateWorld(params(seed, RoomKind(seed % 3)));
+      const World w = loadWorldFromString(g.yaml, g.name);
+      TTrajectoryGenParams tp;
+      tp.seed = seed;
+      tp.fast = fast;
+      const GeneratedTrajectory r = generateRobotTrajectory(g, w, tp);
+      EXPECT_EQ(r.summary.find("WARNING"), std::string::npos) << r.summary;
+      const TrajectorySpec spec = loadTrajectorySpecFromString(r.yaml, "robot");
+      if (fast) {
+        EXPECT_EQ(spec.controller.max_w_degps, 90.0);
+        EXPECT_EQ(spec.robot_overrides.at("max_w_degps"), "90");
+      }
+      // The start pose is free.
+      const RayScene scene(w);
+      TRobotParams rp;
+      applyParamOverrides(rp, "sim_robot", spec.robot_overrides, "robot");
+      EXPECT_NO_THROW(SimulatedDiffDriveRobot(scene, rp, spec.start_pose, 1));
+      // 300 frames (10 s) as the recorder renders them, at 160 x 120.
+      SequenceOptions so;
+      so.seed = seed;
+      so.max_frames = 300;
+      so.sensor_overrides = smallCamera();
+      SimulatedSequence seq(w, spec, so);
+      rasm::RgbdFrame f;
+      double worst = 1.0;
+      int frames = 0;
+      while (seq.next(f)) {
+        ++frames;
+        EXPECT_FALSE(seq.robot()->collided()) << g.name << " frame " << frames;
+        worst = std::min(worst, validFraction(f));
+      }
+      EXPECT_FALSE(seq.robotStuck());
+      EXPECT_EQ(frames, 300);
+      EXPECT_GE(worst, 0.35) << g.name << (fast ? " fast" : "");
+    }
+  }
+}
+
+// Not part of the suite: over many seeds, records every generated trajectory as the recorder
+// would (160 x 120, full noise model) and prints, per world and trajectory, frames, collisions
+// and the valid-depth fraction of the worst frame (run with --gtest_also_run_disabled_tests;
+// RASM_GEN_SURVEY_SEEDS=N, default 20).
+TEST(TrajectoryGenerator, DISABLED_SurveyOverSeeds) {
+  const char* env = std::getenv("RASM_GEN_SURVEY_SEEDS");
+  const int seeds = env ? std::atoi(env) : 20;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const GeneratedWorld g = generateWorld(params(std::uint64_t(seed), RoomKind(seed % 3)));
+    const World w = loadWorldFromString(g.yaml, g.name);
+    for (int kind = 0; kind < 4; ++kind) {
+      TTrajectoryGenParams tp;
+      tp.seed = std::uint64_t(seed);
+      tp.fast = kind >= 2;
+      const GeneratedTrajectory gt =
+          kind % 2 == 0 ? generateHandheldTrajectory(g, w, tp) : generateRobotTrajectory(g, w, tp);
+      const double gen_s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const TrajectorySpec spec = loadTrajectorySpecFromString(gt.yaml, "survey");
+      SequenceOptions so;
+      so.seed = std::uint64_t(seed);
+      so.sensor_overrides = smallCamera();
+      SimulatedSequence seq(w, spec, so);
+      rasm::RgbdFrame f;
+      int frames = 0, collided = 0, below50 = 0;
+      double worst = 1.0, sum = 0.0, worst4 = 1.0;
+      while (seq.next(f)) {
+        ++frames;
+        if (seq.robot() && seq.robot()->collided()) ++collided;
+        const double v = validFraction(f), v4 = validFraction(f, 4.0f);
+        worst = std::min(worst, v);
+        worst4 = std::min(worst4, v4);
+        sum += v;
+        below50 += v4 < 0.5 ? 1 : 0;
+      }
+      std::printf(
+          "seed %2d %-28s %-14s frames %5d collided %d stuck %d valid depth: worst %.2f mean "
+          "%.2f, within 4 m: worst %.2f, frames below 50%% %d (gen %.1f s) | %s\n",
+          seed, g.name.c_str(),
+          kind == 0   ? "handheld"
+          : kind == 1 ? "robot"
+          : kind == 2 ? "handheld_fast"
+                      : "robot_fast",
+          frames, collided, int(seq.robotStuck()), worst, sum / std::max(1, frames), worst4,
+          below50, gen_s, gt.summary.c_str());
+      std::fflush(stdout);
+      EXPECT_EQ(collided, 0);
+      EXPECT_FALSE(seq.robotStuck());
+    }
+  }
+}
