@@ -12,6 +12,7 @@ PACKAGES=(
   nlohmann-json3-dev libyaml-cpp-dev         # JSON outputs, world files
   libgtest-dev libgmock-dev googletest
   xvfb xauth netpbm x11-apps xdotool         # optional: screenshots of RawLogViewer / SceneViewer3D
+  clang-format clang-tidy                    # scripts/format.sh, scripts/tidy.sh
 )
 
 SUDO=""
