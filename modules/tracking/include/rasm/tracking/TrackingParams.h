@@ -132,8 +132,11 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   /// the sensor noise (1.9 mm at 1 m) because neighbouring residuals are correlated (the model is
   /// one surface, not independent samples) and camera-fixed depth artefacts bias them; with
   /// tens of thousands of inliers the data still dominate every direction they constrain well.
-  /// Measured on simulated robot paths (docs/slam-eval.md, "robot"): 0.01 drifted 4-20 cm
-  /// along floors and corridors, 0.05 0.8-2.6 cm.
+  /// Measured on simulated robot paths (docs/slam-eval.md, "Robot, fast motion, ..."): 0.01
+  /// drifted 4-20 cm along floors and corridors; 0.05 gave 0.9-3.0 cm, 0.1 0.8-1.5 cm (four
+  /// paths, one of them in a generated world). 0.05 is kept because at 0.1 an 8 cm wheel slip
+  /// in a well-constrained room (prior sigma 3 mm) was followed and accepted, 7.6 cm off
+  /// (MotionPrior.DataOverrulesAWrongPriorAndTheConflictIsReported); at 0.05 it is refused.
   double prior_pixel_sigma_m = 0.05;
   /// With a prior, the data enter only along the directions whose eigenvalue (as
   /// min_eigenvalue) is at least this; the prior alone holds the others. Noisy normals of a
