@@ -86,7 +86,7 @@ TEST(SurfelFusion, FirstFrameInitializesOneSurfelPerValidPixel) {
       EXPECT_NEAR(a.radius(i), surfelRadius(3.0f, -1.0f, float(kK.fx)), 1e-6f);
       EXPECT_NEAR(a.basis[i].dot(a.normal(i)), 0.0f, 1e-5f);
       EXPECT_NEAR(a.basis[i].norm(), 1.0f, 1e-5f);
-      for (int c = 0; c < 3; ++c) EXPECT_EQ(a.classRow(i)[c], quantizeUnit(0.5f));
+      EXPECT_TRUE(classEvidenceEmpty(a.classEvidence(i)));  // every class at the 0.5 prior
       EXPECT_EQ(a.colour(i).r, 200);
       EXPECT_FALSE(a.stable(i));
       EXPECT_EQ(a.t_init[i], 0.0f);  // first frame is the time origin
@@ -436,6 +436,70 @@ TEST(SurfelFusion, ResortingTheStoreKeepsTheMapAndTheIndex) {
   ASSERT_EQ(never.size(), always.size());
   EXPECT_TRUE(never == always);
   EXPECT_GE(run(0.0f, true, nullptr), 10);
+}
+
+// Class evidence (IV) is per surfel: fusion's compaction (carving, pruning), re-sorting by block
+// and merging move it with its surfel. Each surfel of the first frame gets evidence derived from
+// a tag kept in its segment label (fusion leaves labels alone without a label image); after a
+// moving sequence in which the box disappears, every surviving tagged surfel still carries its
+// tag's evidence, and surfels created later carry none (unless a merge gave them a tagged
+// surfel's label and evidence together).
+TEST(SurfelFusion, ClassEvidenceTravelsWithItsSurfel) {
+  const Scene scene = wallAndBox();
+  TFusionParams p;
+  p.resort_unsorted_fraction = 0.0f;  // re-sort before every frame
+  p.merge_row_stride = 1;
+  p.stable_confidence = 3.0f;
+  SurfelFusion fusion(p);
+  SurfelStore map;  // the default layout: kDefaultNumClasses classes
+  ASSERT_EQ(map.options().n_classes, kDefaultNumClasses);
+  fusion.fuse(map, fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), 0.0).input());
+  const auto evidenceOf = [](std::uint32_t tag) {
+    ClassEvidence e;
+    classEvidenceAdd(e, 1 + int(tag % 96), 1 + int(tag % 5000));
+    classEvidenceAdd(e, 1 + int((tag / 96) % 96), -1 - int(tag % 3000));
+    return e;
+  };
+  {
+    const SurfelArrays a = map.arrays();
+    for (int i = 0; i < a.size; ++i) {
+      a.segment[i] = std::uint32_t(i + 1);
+      a.classEvidence(i) = evidenceOf(std::uint32_t(i + 1));
+    }
+  }
+  const int n0 = map.size();
+  int removed = 0, merged = 0, resorted = 0;
+  for (int k = 1; k < 12; ++k) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(0.02 * k, 0.01 * k, 0.005 * k);
+    T.linear() = Eigen::AngleAxisd(0.01 * k, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    const FusionStats st =
+        fusion.fuse(map, fusiontest::renderScene(k < 8 ? scene : Scene(), kK, T, k / 30.0).input());
+    removed += st.removed_carved + st.removed_unstable;
+    merged += st.merged;
+    resorted += st.resorted ? 1 : 0;
+  }
+  EXPECT_GT(removed, 100);
+  EXPECT_GT(merged, 0);
+  EXPECT_GE(resorted, 10);
+  const SurfelArrays a = map.arrays();
+  int tagged = 0;
+  for (int i = 0; i < a.size; ++i) {
+    const ClassEvidence& e = a.classEvidence(i);
+    const std::uint32_t tag = a.segment[i];
+    if (tag == 0) {
+      ASSERT_TRUE(classEvidenceEmpty(e)) << "surfel " << i;
+      continue;
+    }
+    ++tagged;
+    const ClassEvidence want = evidenceOf(tag);
+    for (int q = 0; q < kClassSlots; ++q) {
+      ASSERT_EQ(e.id[q], want.id[q]) << "surfel " << i << " tag " << tag;
+      ASSERT_EQ(e.logit[q], want.logit[q]) << "surfel " << i << " tag " << tag;
+    }
+  }
+  EXPECT_GT(tagged, n0 / 2);
+  EXPECT_LT(tagged, n0);
 }
 
 TEST(SurfelFusion, InputSizeMismatchIsAnInputError) {

@@ -85,6 +85,30 @@ TEST(SurfelMerge, MergeAveragesByConfidenceAndKeepsTheHistory) {
   EXPECT_EQ(s.viewRow(ia)[3], quantizeUnit(0.6f));
   EXPECT_NEAR(s.basis[ia].dot(s.normal(ia)), 0.0f, 1e-5f);
 
+  // Class evidence: the survivor keeps its own (both saw the same detections: no double count);
+  // a survivor without any takes the loser's.
+  {
+    SurfelStore cm(layout);
+    Surfel k = wallSurfel(Vec3f(0.1f, 0.2f, 3.0f), 6.0f, Bgr8{}, 0.0), l = k;
+    l.confidence = 2.0f;
+    classEvidenceUpdate(k.classes, 1, 0.8f);
+    classEvidenceUpdate(l.classes, 2, 0.9f);
+    classEvidenceUpdate(l.classes, 1, 0.3f);
+    const int k1 = cm.append(k), l1 = cm.append(l);
+    Surfel bare = k;
+    bare.classes = ClassEvidence{};
+    const int k2 = cm.append(bare), l2 = cm.append(l);
+    const SurfelArrays c = cm.arrays();
+    fusion::kernels::mergeSurfels(c, k1, l1, prm);
+    fusion::kernels::mergeSurfels(c, k2, l2, prm);
+    EXPECT_EQ(classLogitUnits(c.classEvidence(k1), 1), classLogitUnits(k.classes, 1));
+    EXPECT_EQ(classEvidenceSlot(c.classEvidence(k1), 2), -1);
+    for (int q = 0; q < kClassSlots; ++q) {
+      EXPECT_EQ(c.classEvidence(k2).id[q], l.classes.id[q]);
+      EXPECT_EQ(c.classEvidence(k2).logit[q], l.classes.logit[q]);
+    }
+  }
+
   // A capped confidence stays at the cap; a block crossing is reported.
   const int ic = map.append(wallSurfel(Vec3f(0.499f, 0.0f, 3.0f), 1.0f, Bgr8{}, 0.0));
   const int id = map.append(wallSurfel(Vec3f(0.503f, 0.0f, 3.0f), 3.0f, Bgr8{}, 0.0));

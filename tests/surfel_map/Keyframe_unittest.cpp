@@ -98,7 +98,7 @@ TEST(Keyframe, RoundTripThroughMapSerialization) {
   for (const Keyframe& kf : map.keyframes()) ASSERT_TRUE(kf.consistent());
 
   const std::vector<std::uint8_t> bytes = serialize(map);
-  EXPECT_EQ(bytes.at(versionOffset(bytes)), 1);
+  EXPECT_EQ(bytes.at(versionOffset(bytes)), 2);
   const CSurfelMap::Ptr copy = deserialize(bytes);
   ASSERT_TRUE(copy);
   EXPECT_EQ(copy->size(), 1);
@@ -119,8 +119,11 @@ TEST(Keyframe, MapWithoutSurfelsKeepsItsKeyframes) {
 
 TEST(Keyframe, Version0MapsStillLoad) {
   // A version-0 stream is a version-1 stream of a map without keyframes minus the keyframe
-  // count (uint32 0) before MRPT's one-byte end flag, with version byte 0.
-  CSurfelMap map;
+  // count (uint32 0) before MRPT's one-byte end flag, with version byte 0. Without classes a
+  // version-2 stream stores the surfels as version 1 did (only the class evidence changed).
+  CSurfelMap::TCreationOptions no_classes;
+  no_classes.n_classes = 0;
+  CSurfelMap map(no_classes);
   Surfel s;
   s.position = Vec3f(0.5f, -1, 2);
   s.normal = Vec3f(0, 1, 0);
@@ -131,7 +134,7 @@ TEST(Keyframe, Version0MapsStillLoad) {
   map.append(s);
   std::vector<std::uint8_t> bytes = serialize(map);
   const std::size_t v = versionOffset(bytes);
-  ASSERT_EQ(bytes.at(v), 1);
+  ASSERT_EQ(bytes.at(v), 2);
   const std::size_t count_at = bytes.size() - 1 - 4;
   for (std::size_t i = count_at; i < count_at + 4; ++i) ASSERT_EQ(bytes[i], 0) << "keyframe count";
   bytes[v] = 0;

@@ -27,7 +27,10 @@ Surfel randomSurfel(std::mt19937& rng, const SurfelStoreOptions& opt) {
   s.t_last_s = 101.0 + unit(rng);
   s.segment = rng() % 50;
   s.segment_weight = unit(rng);
-  for (int c = 0; c < opt.n_classes; ++c) s.class_p.push_back(unit(rng));
+  // A few detections of random classes (some negative): up to 6 updates into the 4 slots.
+  const int detections = opt.n_classes > 0 ? int(rng() % 7) : 0;
+  for (int k = 0; k < detections; ++k)
+    classEvidenceUpdate(s.classes, 1 + int(rng() % opt.n_classes), unit(rng));
   for (int v = 0; v < opt.nViewBins(); ++v) s.view_ic.push_back(unit(rng));
   return s;
 }
@@ -46,9 +49,10 @@ void expectSame(const Surfel& a, const Surfel& b) {
   EXPECT_EQ(a.segment_weight, b.segment_weight);
   EXPECT_NEAR(a.t_init_s, b.t_init_s, 1e-5);
   EXPECT_NEAR(a.t_last_s, b.t_last_s, 1e-5);
-  ASSERT_EQ(a.class_p.size(), b.class_p.size());
-  for (std::size_t c = 0; c < a.class_p.size(); ++c)
-    EXPECT_NEAR(a.class_p[c], b.class_p[c], 0.5 / 255.0 + 1e-6);
+  for (int k = 0; k < kClassSlots; ++k) {  // stored as is: exact
+    EXPECT_EQ(a.classes.id[k], b.classes.id[k]);
+    EXPECT_EQ(a.classes.logit[k], b.classes.logit[k]);
+  }
   ASSERT_EQ(a.view_ic.size(), b.view_ic.size());
   for (std::size_t v = 0; v < a.view_ic.size(); ++v)
     EXPECT_NEAR(a.view_ic[v], b.view_ic[v], 0.5 / 255.0 + 1e-6);
@@ -57,9 +61,12 @@ void expectSame(const Surfel& a, const Surfel& b) {
 }  // namespace
 
 TEST(SurfelStore, BytesPerSurfelMatchesTheBudget) {
-  // SurfelArrays.h: 56-byte geometric core + segment + segment weight = 64, then classes and bins.
+  // SurfelArrays.h: 56-byte geometric core + segment + segment weight = 64, then 12 bytes of
+  // class evidence for any number of classes, then the view bins.
   EXPECT_EQ(SurfelStore::bytesPerSurfel(0, 0), 64u);
-  EXPECT_EQ(SurfelStore::bytesPerSurfel(80, 16), 64u + 80u + 16u);
+  EXPECT_EQ(SurfelStore::bytesPerSurfel(1, 0), 64u + 12u);
+  EXPECT_EQ(SurfelStore::bytesPerSurfel(80, 16), 64u + 12u + 16u);
+  EXPECT_EQ(SurfelStore::bytesPerSurfel(kMaxClassId, 16), 64u + 12u + 16u);
 }
 
 TEST(SurfelStore, AppendGetRoundTripsEveryAttribute) {
@@ -88,7 +95,8 @@ TEST(SurfelStore, DefaultsOfAllocatedSurfels) {
   EXPECT_EQ(first, 0);
   const SurfelArrays a = store.arrays();
   for (int i = 0; i < 4; ++i) {
-    for (int c = 0; c < 3; ++c) EXPECT_EQ(a.classRow(i)[c], quantizeUnit(0.5f));  // II-B prior
+    EXPECT_TRUE(classEvidenceEmpty(a.classEvidence(i)));  // II-B: every class at the 0.5 prior
+    for (int c = 1; c <= 3; ++c) EXPECT_EQ(classProbability(a.classEvidence(i), c), 0.5f);
     for (int v = 0; v < a.n_view_bins; ++v) EXPECT_EQ(a.viewRow(i)[v], 0);
     EXPECT_EQ(a.segment[i], 0u);
   }

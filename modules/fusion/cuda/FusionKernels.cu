@@ -82,7 +82,7 @@ void associateUpdate(const kernels::AssociateKernel<kernels::Map4xCandidates>& a
   d_s.segment_w = segw.buf.ptr;
   d_s.view_ic = view.buf.ptr;
   d_s.t_init = nullptr;  // not read by the kernels
-  d_s.class_p = nullptr;
+  d_s.class_ev = nullptr;
   kernels::FrameView d_frame = a.frame;
   d_frame.colour = colour.device();
   d_frame.vertex_cam = vertex.device();

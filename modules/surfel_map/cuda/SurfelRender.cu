@@ -34,7 +34,8 @@ struct DeviceSurfels {
     arrays.basis = nullptr;
     arrays.segment = nullptr;
     arrays.segment_w = nullptr;
-    arrays.class_p = arrays.view_ic = nullptr;
+    arrays.class_ev = nullptr;
+    arrays.view_ic = nullptr;
   }
 };
 

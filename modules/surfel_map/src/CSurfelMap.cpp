@@ -13,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
@@ -71,7 +72,7 @@ void CSurfelMap::TCreationOptions::loadFromConfigFile(const mrpt::config::CConfi
   MRPT_LOAD_CONFIG_VAR(view_bins_azimuth, int, c, s);
   MRPT_LOAD_CONFIG_VAR(view_bins_elevation, int, c, s);
   MRPT_LOAD_CONFIG_VAR(block_size_m, double, c, s);
-  requireInRange(n_classes, 0, 4096, s, "n_classes");
+  requireInRange(n_classes, 0, kMaxClassId, s, "n_classes");
   requireInRange(view_bins_azimuth, 0, 256, s, "view_bins_azimuth");
   requireInRange(view_bins_elevation, 0, 64, s, "view_bins_elevation");
   requireInRange(block_size_m, 0.01, 100.0, s, "block_size_m");
@@ -228,8 +229,14 @@ void CSurfelMap::internal_clear() {
 // ---- serialization ----
 // Version 0: creation options, insertion keys, likelihood and rendering options, generic map
 // params, time origin, then every SoA array (little-endian floats / raw bytes).
-// Version 1: version 0, then the relocalisation keyframes (writeKeyframes). Version 0 files
-// still load (with no keyframes).
+// Version 1: version 0, then the relocalisation keyframes (writeKeyframes).
+// Version 2: version 1 with the class evidence as log-odds slots (ClassEvidence.h) instead of
+// n_classes u8 linear probabilities per surfel: per surfel 4 class ids (u8) then 4 log-odds
+// (int16 little-endian, 1/1024 nat), n_classes <= 255. Versions 0 and 1 still load: old class
+// index c becomes class id c + 1 (id 0 is "no class" now), each p != the stored 0.5 prior (u8
+// 128) becomes L = logit(p) clamped to +-7 nats, and the classes of highest rank (positive L
+// first, then |L|) fill the 4 slots (convertLinearClassRow): the best class is kept. A version-0
+// map has no keyframes.
 
 namespace {
 
@@ -313,9 +320,78 @@ void readKeyframes(mrpt::serialization::CArchive& in, std::vector<Keyframe>& kfs
   }
 }
 
+constexpr std::size_t kClassRecordBytes = kClassSlots * 3;  // 4 ids + 4 int16
+constexpr std::size_t kClassChunk = 1 << 16;                  // surfels per I/O chunk
+
+void writeClassEvidence(mrpt::serialization::CArchive& out, const ClassEvidence* ev,
+                        std::size_t n) {
+  std::vector<std::uint8_t> buf(kClassRecordBytes * std::min(n, kClassChunk));
+  for (std::size_t k = 0; k < n; k += kClassChunk) {
+    const std::size_t m = std::min(n - k, kClassChunk);
+    std::uint8_t* p = buf.data();
+    for (std::size_t j = 0; j < m; ++j) {
+      const ClassEvidence& e = ev[k + j];
+      for (int s = 0; s < kClassSlots; ++s) *p++ = e.id[s];
+      for (int s = 0; s < kClassSlots; ++s) {
+        const auto u = std::uint16_t(e.logit[s]);
+        *p++ = std::uint8_t(u & 0xff);
+        *p++ = std::uint8_t(u >> 8);
+      }
+    }
+    out.WriteBuffer(buf.data(), m * kClassRecordBytes);
+  }
+}
+
+void readClassEvidence(mrpt::serialization::CArchive& in, ClassEvidence* ev, std::size_t n,
+                       int n_classes) {
+  std::vector<std::uint8_t> buf(kClassRecordBytes * std::min(n, kClassChunk));
+  for (std::size_t k = 0; k < n; k += kClassChunk) {
+    const std::size_t m = std::min(n - k, kClassChunk);
+    in.ReadBuffer(buf.data(), m * kClassRecordBytes);
+    const std::uint8_t* p = buf.data();
+    for (std::size_t j = 0; j < m; ++j) {
+      ClassEvidence& e = ev[k + j];
+      for (int s = 0; s < kClassSlots; ++s) e.id[s] = *p++;
+      for (int s = 0; s < kClassSlots; ++s, p += 2)
+        e.logit[s] = std::int16_t(std::uint16_t(p[0] | (std::uint16_t(p[1]) << 8)));
+      if (!classEvidenceValid(e, n_classes))
+        throwInputError("CSurfelMap surfel " + std::to_string(k + j),
+                        "invalid class evidence for n_classes = " + std::to_string(n_classes) +
+                            " (corrupt file?)");
+    }
+  }
+}
+
 }  // namespace
 
-uint8_t CSurfelMap::serializeGetVersion() const { return 1; }
+ClassEvidence convertLinearClassRow(const std::uint8_t* row, int n_classes) {
+  constexpr std::uint8_t kOldPrior = 128;  // the old quantizeUnit(0.5f)
+  struct Item {
+    int id, units;
+  };
+  Item items[kMaxClassId];
+  int n = 0;
+  for (int c = 0; c < n_classes; ++c) {
+    if (row[c] == kOldPrior) continue;
+    const int units = quantizeClassLogit(probabilityLogit(float(row[c]) * (1.0f / 255.0f)));
+    if (units == 0) continue;
+    if (c + 1 > kMaxClassId)
+      throw std::invalid_argument("class index " + std::to_string(c) + " has evidence; at most " +
+                                  std::to_string(kMaxClassId) + " classes are kept");
+    items[n++] = Item{c + 1, units};
+  }
+  // Highest classEvidenceRank first (lower id on ties): the slot rule then keeps the
+  // kClassSlots highest-ranked, among them the best class.
+  std::sort(items, items + n, [](const Item& a, const Item& b) {
+    const int ra = classEvidenceRank(a.units), rb = classEvidenceRank(b.units);
+    return ra != rb ? ra > rb : a.id < b.id;
+  });
+  ClassEvidence e;
+  for (int k = 0; k < n; ++k) classEvidenceAdd(e, items[k].id, items[k].units);
+  return e;
+}
+
+uint8_t CSurfelMap::serializeGetVersion() const { return 2; }
 
 void CSurfelMap::serializeTo(mrpt::serialization::CArchive& out) const {
   out << int32_t(m_creation.n_classes) << int32_t(m_creation.view_bins_azimuth)
@@ -341,7 +417,7 @@ void CSurfelMap::serializeTo(mrpt::serialization::CArchive& out) const {
     out.WriteBufferFixEndianness(reinterpret_cast<const float*>(a.basis), 3 * n);
     out.WriteBufferFixEndianness(a.segment, n);
     out.WriteBufferFixEndianness(a.segment_w, n);
-    if (a.n_classes > 0) out.WriteBuffer(a.class_p, n * std::size_t(a.n_classes));
+    if (a.n_classes > 0) writeClassEvidence(out, a.class_ev, n);  // version 2
     if (a.n_view_bins > 0) out.WriteBuffer(a.view_ic, n * std::size_t(a.n_view_bins));
   }
   writeKeyframes(out, m_keyframes);  // version 1
@@ -350,11 +426,19 @@ void CSurfelMap::serializeTo(mrpt::serialization::CArchive& out) const {
 void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
   switch (version) {
     case 0:
-    case 1: {
+    case 1:
+    case 2: {
       int32_t nc, az, el;
       TCreationOptions co;
       in >> nc >> az >> el >> co.block_size_m;
-      co.n_classes = nc;
+      const std::string what = "CSurfelMap (serialization version " + std::to_string(version) + ")";
+      if (nc < 0 || nc > (version >= 2 ? kMaxClassId : 4096) || az < 0 || az > 256 || el < 0 ||
+          el > 64)
+        throwInputError(what, "layout n_classes = " + std::to_string(nc) + ", view bins " +
+                                  std::to_string(az) + " x " + std::to_string(el) +
+                                  " (corrupt file?)");
+      // Old maps with more than 255 classes keep 255 (evidence beyond them is an error below).
+      co.n_classes = std::min<int>(nc, kMaxClassId);
       co.view_bins_azimuth = az;
       co.view_bins_elevation = el;
       uint32_t nkeys;
@@ -386,7 +470,24 @@ void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t versio
         in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.basis), 3 * n);
         in.ReadBufferFixEndianness(a.segment, n);
         in.ReadBufferFixEndianness(a.segment_w, n);
-        if (a.n_classes > 0) in.ReadBuffer(a.class_p, n * std::size_t(a.n_classes));
+        if (version >= 2) {
+          if (a.n_classes > 0) readClassEvidence(in, a.class_ev, n, a.n_classes);
+        } else if (nc > 0) {
+          // Versions 0 and 1: n_classes linear u8 probabilities per surfel, converted.
+          const std::size_t chunk = std::max<std::size_t>(1, (std::size_t(1) << 24) / nc);
+          std::vector<std::uint8_t> rows(std::min<std::size_t>(n, chunk) * std::size_t(nc));
+          for (std::size_t k = 0; k < n; k += chunk) {
+            const std::size_t m = std::min<std::size_t>(n - k, chunk);
+            in.ReadBuffer(rows.data(), m * std::size_t(nc));
+            for (std::size_t j = 0; j < m; ++j) {
+              try {
+                a.class_ev[k + j] = convertLinearClassRow(rows.data() + j * nc, nc);
+              } catch (const std::invalid_argument& e) {
+                throwInputError(what + " surfel " + std::to_string(k + j), e.what());
+              }
+            }
+          }
+        }
         if (a.n_view_bins > 0) in.ReadBuffer(a.view_ic, n * std::size_t(a.n_view_bins));
       }
       m_store.rebuildIndex();

@@ -22,11 +22,12 @@ namespace {
 
 // Property list of the PLY (order, type, name) — the reader accepts exactly this layout.
 const char* const kPlyProperties[] = {
-    "float x",          "float y",      "float z",     "float nx",     "float ny",
-    "float nz",         "uchar red",    "uchar green", "uchar blue",   "float radius",
-    "float confidence", "uint segment", "int class",   "uchar stable",
+    "float x",          "float y",      "float z",           "float nx",
+    "float ny",         "float nz",     "uchar red",         "uchar green",
+    "uchar blue",       "float radius", "float confidence",  "uint segment",
+    "uchar class",      "float class_probability",           "uchar stable",
 };
-constexpr std::size_t kPlyRecordBytes = 6 * 4 + 3 + 4 + 4 + 4 + 4 + 1;
+constexpr std::size_t kPlyRecordBytes = 6 * 4 + 3 + 4 + 4 + 4 + 1 + 4 + 1;
 
 template <typename T>
 void put(char*& p, const T& v) {
@@ -49,8 +50,16 @@ Bgr8 visualColour(const SurfelArrays& a, int i, SurfelColouring mode, float max_
   switch (mode) {
     case SurfelColouring::Segment:
       return labelColour(a.segment[i]);
-    case SurfelColouring::Class:
-      return labelColour(argmaxClass(a, i) + 1);  // +1: class 0 must not map to "none" grey
+    case SurfelColouring::Class: {
+      // The class's colour, faded towards the "none" grey as p falls to the 0.5 prior.
+      const BestClass b = bestClass(a, i);
+      const Bgr8 c = labelColour(b.id), g = labelColour(0);
+      const float t = std::min(1.0f, std::max(0.0f, 2.0f * (b.probability - 0.5f)));
+      const auto mix = [t](std::uint8_t x, std::uint8_t y) {
+        return std::uint8_t(float(y) + t * (float(x) - float(y)) + 0.5f);
+      };
+      return Bgr8{mix(c.b, g.b), mix(c.g, g.g), mix(c.r, g.r)};
+    }
     case SurfelColouring::Confidence: {
       const float t = std::min(1.0f, a.confidence(i) / std::max(max_conf, 1e-6f));
       return Bgr8{std::uint8_t(255 * (1 - t)), 0, std::uint8_t(255 * t)};
@@ -65,17 +74,8 @@ Bgr8 visualColour(const SurfelArrays& a, int i, SurfelColouring mode, float max_
 
 }  // namespace
 
-int argmaxClass(const SurfelArrays& a, int i) {
-  if (a.n_classes <= 0) return -1;
-  const std::uint8_t* row = a.classRow(i);
-  int best = -1;
-  std::uint8_t best_q = quantizeUnit(0.5f);  // must rise above the prior
-  for (int c = 0; c < a.n_classes; ++c)
-    if (row[c] > best_q) {
-      best_q = row[c];
-      best = c;
-    }
-  return best;
+BestClass bestClass(const SurfelArrays& a, int i) {
+  return a.n_classes > 0 ? bestClass(a.classEvidence(i)) : BestClass{};
 }
 
 Bgr8 labelColour(long long label) {
@@ -154,7 +154,9 @@ void writeSurfelPly(const SurfelStore& map, const std::string& path, bool stable
       put(p, nr.w());
       put(p, pc.w());
       put(p, a.segment[i]);
-      put(p, std::int32_t(argmaxClass(a, i)));
+      const BestClass b = bestClass(a, i);
+      put(p, std::uint8_t(b.id));
+      put(p, b.probability);
       put(p, std::uint8_t(a.stable(i) ? 1 : 0));
     }
     f.write(buf.data(), std::streamsize(n * kPlyRecordBytes));
@@ -210,6 +212,7 @@ PlySurfels readSurfelPly(const std::string& path) {
   out.confidence.resize(n);
   out.segment.resize(n);
   out.class_id.resize(n);
+  out.class_probability.resize(n);
   out.stable.resize(n);
   const char* p = buf.data();
   for (std::size_t i = 0; i < n; ++i) {
@@ -222,7 +225,8 @@ PlySurfels readSurfelPly(const std::string& path) {
     out.radius[i] = get<float>(p);
     out.confidence[i] = get<float>(p);
     out.segment[i] = get<std::uint32_t>(p);
-    out.class_id[i] = get<std::int32_t>(p);
+    out.class_id[i] = get<std::uint8_t>(p);
+    out.class_probability[i] = get<float>(p);
     out.stable[i] = get<std::uint8_t>(p);
   }
   return out;

@@ -14,7 +14,7 @@ namespace rasm::maps {
 
 namespace {
 void checkOptions(const SurfelStoreOptions& o) {
-  if (o.n_classes < 0 || o.n_classes > 4096 || o.view_bins_azimuth < 0 ||
+  if (o.n_classes < 0 || o.n_classes > kMaxClassId || o.view_bins_azimuth < 0 ||
       o.view_bins_elevation < 0 || o.nViewBins() > 4096 || !(o.block_size_m > 0.0f)) {
     std::ostringstream s;
     s << "SurfelStoreOptions: invalid layout n_classes=" << o.n_classes
@@ -23,7 +23,6 @@ void checkOptions(const SurfelStoreOptions& o) {
     throw std::invalid_argument(s.str());
   }
 }
-constexpr std::uint8_t kPriorClassQ = 128;  // quantizeUnit(0.5f)
 }  // namespace
 
 SurfelStore::SurfelStore(const SurfelStoreOptions& opt) : opt_(opt), index_(opt.block_size_m) {
@@ -47,7 +46,7 @@ void SurfelStore::reset(const SurfelStoreOptions& opt) {
   basis_.clear();
   segment_.clear();
   segment_w_.clear();
-  class_p_.clear();
+  class_ev_.clear();
   view_ic_.clear();
   index_ = VoxelBlockIndex(opt.block_size_m);
 }
@@ -61,7 +60,7 @@ void SurfelStore::reserve(int n) {
   basis_.reserve(n);
   segment_.reserve(n);
   segment_w_.reserve(n);
-  class_p_.reserve(std::size_t(n) * opt_.n_classes);
+  if (opt_.n_classes > 0) class_ev_.reserve(std::size_t(n));
   view_ic_.reserve(std::size_t(n) * opt_.nViewBins());
 }
 
@@ -74,7 +73,7 @@ void SurfelStore::resizeArrays(int n) {
   basis_.resize(n, Vec3f::UnitX());
   segment_.resize(n, 0u);
   segment_w_.resize(n, 0.0f);
-  class_p_.resize(std::size_t(n) * opt_.n_classes, kPriorClassQ);
+  if (opt_.n_classes > 0) class_ev_.resize(std::size_t(n), ClassEvidence{});  // every class at 0.5
   view_ic_.resize(std::size_t(n) * opt_.nViewBins(), 0);
 }
 
@@ -94,7 +93,7 @@ SurfelArrays SurfelStore::arrays() const {
   a.basis = m.basis_.data();
   a.segment = m.segment_.data();
   a.segment_w = m.segment_w_.data();
-  a.class_p = m.class_p_.data();
+  a.class_ev = opt_.n_classes > 0 ? m.class_ev_.data() : nullptr;
   a.view_ic = m.view_ic_.data();
   a.size = size_;
   a.n_classes = opt_.n_classes;
@@ -161,6 +160,9 @@ void SurfelStore::rebuildIndex() {
 }
 
 int SurfelStore::append(const Surfel& s) {
+  if (!classEvidenceValid(s.classes, opt_.n_classes))  // (set() would leave the slot allocated)
+    throw std::invalid_argument("SurfelStore::append: class evidence invalid for n_classes = " +
+                                std::to_string(opt_.n_classes));
   if (!hasTimeOrigin()) setTimeOrigin(s.t_init_s);
   const int i = allocate(1);
   set(i, s);
@@ -170,10 +172,11 @@ int SurfelStore::append(const Surfel& s) {
 
 void SurfelStore::set(int i, const Surfel& s) {
   if (i < 0 || i >= size_) throw std::out_of_range("SurfelStore::set: index " + std::to_string(i));
-  if (!s.class_p.empty() && int(s.class_p.size()) != opt_.n_classes)
+  if (!classEvidenceValid(s.classes, opt_.n_classes))
     throw std::invalid_argument(
-        "SurfelStore::set: class_p has " + std::to_string(s.class_p.size()) +
-        " values, the map has n_classes = " + std::to_string(opt_.n_classes));
+        "SurfelStore::set: class evidence invalid for n_classes = " +
+        std::to_string(opt_.n_classes) +
+        " (ids 1..n_classes, unique, nonzero log-odds within the clamp, empty slots zero)");
   ++generation_.value;
   if (!s.view_ic.empty() && int(s.view_ic.size()) != opt_.nViewBins())
     throw std::invalid_argument("SurfelStore::set: view_ic has " +
@@ -187,9 +190,7 @@ void SurfelStore::set(int i, const Surfel& s) {
   basis_[i] = s.basis;
   segment_[i] = s.segment;
   segment_w_[i] = s.segment_weight;
-  std::uint8_t* cp = class_p_.data() + std::size_t(i) * opt_.n_classes;
-  for (int c = 0; c < opt_.n_classes; ++c)
-    cp[c] = s.class_p.empty() ? kPriorClassQ : quantizeUnit(s.class_p[c]);
+  if (opt_.n_classes > 0) class_ev_[i] = s.classes;
   std::uint8_t* vb = view_ic_.data() + std::size_t(i) * opt_.nViewBins();
   for (int v = 0; v < opt_.nViewBins(); ++v)
     vb[v] = s.view_ic.empty() ? 0 : quantizeUnit(s.view_ic[v]);
@@ -219,9 +220,7 @@ Surfel SurfelStore::get(int i) const {
   s.basis = basis_[i];
   s.segment = segment_[i];
   s.segment_weight = segment_w_[i];
-  s.class_p.resize(opt_.n_classes);
-  for (int c = 0; c < opt_.n_classes; ++c)
-    s.class_p[c] = dequantizeUnit(class_p_[std::size_t(i) * opt_.n_classes + c]);
+  if (opt_.n_classes > 0) s.classes = class_ev_[i];
   s.view_ic.resize(opt_.nViewBins());
   for (int v = 0; v < opt_.nViewBins(); ++v)
     s.view_ic[v] = dequantizeUnit(view_ic_[std::size_t(i) * opt_.nViewBins() + v]);
@@ -237,8 +236,8 @@ void SurfelStore::moveSurfel(int from, int to) {
   basis_[to] = basis_[from];
   segment_[to] = segment_[from];
   segment_w_[to] = segment_w_[from];
-  const std::size_t nc = opt_.n_classes, nv = opt_.nViewBins();
-  std::copy_n(class_p_.data() + from * nc, nc, class_p_.data() + to * nc);
+  const std::size_t nv = opt_.nViewBins();
+  if (opt_.n_classes > 0) class_ev_[to] = class_ev_[from];
   std::copy_n(view_ic_.data() + from * nv, nv, view_ic_.data() + to * nv);
   if (from < indexed_) index_.renumber(from, to);
 }
@@ -322,8 +321,9 @@ void SurfelStore::sortByBlock(std::vector<int>* new_of_old_out) {
   {
     // Transient memory, freed as soon as it is no longer needed: the largest array's size plus
     // 4 bytes per surfel (old_of_new) during the gathers, then 8 bytes per surfel.
-    const std::size_t nc = std::size_t(opt_.n_classes), nv = std::size_t(opt_.nViewBins());
-    const std::size_t scratch_bytes = std::size_t(size_) * std::max({sizeof(Vec4f), nc, nv});
+    const std::size_t nc = opt_.n_classes > 0 ? 1 : 0, nv = std::size_t(opt_.nViewBins());
+    const std::size_t scratch_bytes =
+        std::size_t(size_) * std::max({sizeof(Vec4f), sizeof(ClassEvidence), nv});
     const std::unique_ptr<unsigned char[]> scratch(new unsigned char[scratch_bytes]);
     gatherSurfels(pos_conf_, old_of_new, 1, scratch.get());
     gatherSurfels(normal_radius_, old_of_new, 1, scratch.get());
@@ -333,7 +333,7 @@ void SurfelStore::sortByBlock(std::vector<int>* new_of_old_out) {
     gatherSurfels(basis_, old_of_new, 1, scratch.get());
     gatherSurfels(segment_, old_of_new, 1, scratch.get());
     gatherSurfels(segment_w_, old_of_new, 1, scratch.get());
-    gatherSurfels(class_p_, old_of_new, nc, scratch.get());
+    gatherSurfels(class_ev_, old_of_new, nc, scratch.get());
     gatherSurfels(view_ic_, old_of_new, nv, scratch.get());
   }
   std::vector<int> new_of_old(static_cast<std::size_t>(size_));
@@ -346,14 +346,84 @@ void SurfelStore::sortByBlock(std::vector<int>* new_of_old_out) {
 
 std::size_t SurfelStore::bytesPerSurfel(int n_classes, int n_view_bins) {
   return 2 * sizeof(Vec4f) + sizeof(std::uint32_t) + 2 * sizeof(float) + sizeof(Vec3f) +
-         sizeof(std::uint32_t) + sizeof(float) + std::size_t(n_classes) + std::size_t(n_view_bins);
+         sizeof(std::uint32_t) + sizeof(float) + (n_classes > 0 ? sizeof(ClassEvidence) : 0) +
+         std::size_t(n_view_bins);
+}
+
+void SurfelStore::checkClassUpdate(int class_id, float p_detection, const char* who) const {
+  if (opt_.n_classes <= 0)
+    throw std::invalid_argument(std::string(who) + ": the map has no classes (n_classes = 0)");
+  if (class_id < 1 || class_id > opt_.n_classes)
+    throw std::invalid_argument(std::string(who) + ": class " + std::to_string(class_id) +
+                                " outside 1.." + std::to_string(opt_.n_classes));
+  if (!(p_detection >= 0.0f && p_detection <= 1.0f))
+    throw std::invalid_argument(std::string(who) + ": detection probability " +
+                                std::to_string(p_detection) + " outside [0, 1]");
+}
+
+namespace {
+void tally(SurfelStore::ClassUpdateStats& st, ClassEvidenceResult r) {
+  switch (r) {
+    case kClassUpdated:
+      ++st.updated;
+      break;
+    case kClassNewSlot:
+      ++st.new_slot;
+      break;
+    case kClassReplaced:
+      ++st.replaced;
+      break;
+    default:
+      ++st.dropped;
+  }
+}
+}  // namespace
+
+SurfelStore::ClassUpdateStats SurfelStore::addClassEvidence(const std::vector<int>& surfels,
+                                                            int class_id, float p_detection) {
+  checkClassUpdate(class_id, p_detection, "SurfelStore::addClassEvidence");
+  for (const int i : surfels)
+    if (i < 0 || i >= size_)
+      throw std::invalid_argument("SurfelStore::addClassEvidence: surfel index " +
+                                  std::to_string(i) + " outside 0.." + std::to_string(size_ - 1));
+  const int units = quantizeClassLogit(probabilityLogit(p_detection));
+  ClassUpdateStats st;
+  for (const int i : surfels) tally(st, classEvidenceAdd(class_ev_[i], class_id, units));
+  return st;
+}
+
+SurfelStore::ClassUpdateStats SurfelStore::addClassEvidenceToSegment(std::uint32_t segment,
+                                                                     int class_id,
+                                                                     float p_detection) {
+  checkClassUpdate(class_id, p_detection, "SurfelStore::addClassEvidenceToSegment");
+  if (segment == 0)
+    throw std::invalid_argument("SurfelStore::addClassEvidenceToSegment: segment 0 is 'none'");
+  const int units = quantizeClassLogit(probabilityLogit(p_detection));
+  constexpr int kChunk = 1 << 16;
+  const int chunks = (size_ + kChunk - 1) / kChunk;
+  std::vector<ClassUpdateStats> per(std::size_t(std::max(chunks, 0)));
+  const std::uint32_t* seg = segment_.data();
+  ClassEvidence* ev = class_ev_.data();
+  compute::forEach1D(chunks, [&](int c) {
+    const int i1 = std::min(size_, (c + 1) * kChunk);
+    for (int i = c * kChunk; i < i1; ++i)
+      if (seg[i] == segment) tally(per[std::size_t(c)], classEvidenceAdd(ev[i], class_id, units));
+  });
+  ClassUpdateStats st;
+  for (const ClassUpdateStats& p : per) {
+    st.updated += p.updated;
+    st.new_slot += p.new_slot;
+    st.replaced += p.replaced;
+    st.dropped += p.dropped;
+  }
+  return st;
 }
 
 std::size_t SurfelStore::memoryBytes() const {
   return pos_conf_.capacity() * sizeof(Vec4f) + normal_radius_.capacity() * sizeof(Vec4f) +
          colour_flags_.capacity() * 4 + t_init_.capacity() * 4 + t_last_.capacity() * 4 +
          basis_.capacity() * sizeof(Vec3f) + segment_.capacity() * 4 + segment_w_.capacity() * 4 +
-         class_p_.capacity() + view_ic_.capacity() + index_.memoryBytes();
+         class_ev_.capacity() * sizeof(ClassEvidence) + view_ic_.capacity() + index_.memoryBytes();
 }
 
 bool SurfelStore::checkConsistency(std::string* why) const {

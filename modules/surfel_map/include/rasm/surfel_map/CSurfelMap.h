@@ -41,7 +41,7 @@ class CSurfelMap : public mrpt::maps::CMetricMap {
  public:
   /// Layout of the storage, fixed at creation ([..._creationOpts]).
   struct TCreationOptions : public mrpt::config::CLoadableOptions {
-    int n_classes = 0;
+    int n_classes = kDefaultNumClasses;  ///< class ids 1..n_classes (<= 255; ClassEvidence.h)
     int view_bins_azimuth = 8;
     int view_bins_elevation = 2;
     double block_size_m = 0.5;
@@ -152,5 +152,13 @@ class CSurfelMap : public mrpt::maps::CMetricMap {
   TRenderingOptions renderOpts;
   MAP_DEFINITION_END(CSurfelMap)
 };
+
+/// The class evidence of one surfel of a serialization version 0/1 map, whose row held n_classes
+/// linear probabilities quantised to u8 (128 = the 0.5 prior): class index c becomes id c + 1,
+/// L = logit(p) clamped (ClassEvidence.h), the kClassSlots of highest classEvidenceRank kept (lower
+/// id on ties), so the old best class stays the best.
+/// Throws std::invalid_argument when a class index >= 255 holds evidence. (CSurfelMap reads old
+/// maps through it; public for tests and converters.)
+ClassEvidence convertLinearClassRow(const std::uint8_t* row, int n_classes);
 
 }  // namespace rasm::maps

@@ -10,8 +10,9 @@
 //   float radius           m
 //   float confidence       w
 //   uint  segment          l (0 = none)
-//   int   class            argmax class id of p_c, -1 when n_classes = 0 or no class rose above
-//                          the 0.5 prior (see argmaxClass)
+//   uchar class            best class id (ClassEvidence.h bestClass: 1..80 COCO, 81.. project),
+//                          0 when n_classes = 0 or no class rose above the 0.5 prior
+//   float class_probability  p of that class (0.5 when class = 0)
 //   uchar stable           0/1
 // MeshLab / CloudCompare / Open3D read it (radius, confidence, ... as scalar fields).
 
@@ -30,7 +31,7 @@ namespace rasm::maps {
 enum class SurfelColouring : int {
   Rgb = 0,         ///< measured colour
   Segment = 1,     ///< a distinct pseudo-colour per segment label (grey = none)
-  Class = 2,       ///< a distinct pseudo-colour per argmax class (grey = none)
+  Class = 2,       ///< a pseudo-colour per best class, faded to grey as p falls to 0.5 (none)
   Confidence = 3,  ///< blue (low) .. red (>= stable threshold reached: flag set)
   Stability = 4,   ///< green stable, red unstable
 };
@@ -42,9 +43,9 @@ struct SurfelVisualOptions {
   float min_confidence = 0.0f;
 };
 
-/// Argmax of the class probabilities of surfel i; -1 when there are no classes or the largest
-/// probability is not above the 0.5 prior (i.e. no detector ever raised it).
-int argmaxClass(const SurfelArrays& a, int i);
+/// Best class of surfel i and its probability (ClassEvidence.h bestClass); id 0, p 0.5 when the map
+/// has no classes or no class of the surfel is above the 0.5 prior.
+BestClass bestClass(const SurfelArrays& a, int i);
 
 /// Pseudo-colour for a label (segment or class id); grey for <= 0 (segment) / < 0 (class).
 Bgr8 labelColour(long long label);
@@ -58,7 +59,8 @@ struct PlySurfels {
   std::vector<Bgr8> colour;
   std::vector<float> radius, confidence;
   std::vector<std::uint32_t> segment;
-  std::vector<int> class_id;
+  std::vector<int> class_id;               ///< 0 = none
+  std::vector<float> class_probability;
   std::vector<std::uint8_t> stable;
   std::size_t size() const { return position.size(); }
 };

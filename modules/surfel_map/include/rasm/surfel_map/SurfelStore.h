@@ -4,8 +4,8 @@
 // classification (IV) and exploration (V-B) work on; rasm::maps::CSurfelMap wraps one and adds
 // the mrpt::maps::CMetricMap interface (serialization, INI creation, visualization).
 //
-// Layout and byte budget: see SurfelArrays.h (64 bytes + n_classes + n_view_bins per surfel) plus
-// 12 bytes per surfel for the spatial index (VoxelBlockIndex.h).
+// Layout and byte budget: see SurfelArrays.h (64 bytes + 12 of class evidence when n_classes > 0 +
+// n_view_bins per surfel) plus 12 bytes per surfel for the spatial index (VoxelBlockIndex.h).
 //
 // Index stability: surfel indices are positions in the arrays. append()/allocate() never change
 // existing indices. remove() compacts by moving surfels from the tail into the holes, so after it
@@ -34,7 +34,9 @@ namespace rasm::maps {
 
 /// Creation-time layout of a surfel store.
 struct SurfelStoreOptions {
-  int n_classes = 0;            ///< n_c of II-A (class probabilities per surfel, u8 each)
+  /// n_c of II-A: class ids 1..n_classes are valid (0..kMaxClassId = 255). The evidence costs
+  /// 12 bytes per surfel whatever the count (ClassEvidence.h); 0 = no class evidence at all.
+  int n_classes = kDefaultNumClasses;
   int view_bins_azimuth = 8;    ///< V-B view bins: azimuth sectors around the surfel normal
   int view_bins_elevation = 2;  ///< V-B view bins: elevation rings between the plane and normal
   float block_size_m = 0.5f;    ///< edge of the spatial index blocks
@@ -47,7 +49,8 @@ struct SurfelStoreOptions {
 };
 
 /// One surfel by value (host convenience for appends, tests and I/O; kernels use SurfelArrays).
-/// Probabilities and IC values are floats in [0,1] here and quantised to u8 in the store.
+/// IC values are floats in [0,1] here and quantised to u8 in the store; class evidence is the
+/// stored slots (ClassEvidence.h: classProbability, bestClass).
 struct Surfel {
   Vec3f position = Vec3f::Zero();  ///< p, world (m)
   Vec3f normal = Vec3f::UnitZ();   ///< n, world, unit
@@ -60,7 +63,7 @@ struct Surfel {
   double t_last_s = 0.0;           ///< last fusion, absolute seconds
   std::uint32_t segment = 0;       ///< l (0 = none)
   float segment_weight = 0.0f;     ///< w_l
-  std::vector<float> class_p;      ///< p_c, n_classes values (empty = all 0.5)
+  ClassEvidence classes;           ///< p_c as log-odds slots (default: every class at 0.5)
   std::vector<float> view_ic;      ///< b_v, n_view_bins values (empty = all 0)
 };
 
@@ -86,7 +89,7 @@ class SurfelStore {
 
   /// Appends one surfel and indexes it; returns its index. Sets the time origin if unset.
   int append(const Surfel& s);
-  /// Grows the arrays by `count` default surfels (zero geometry, class_p = 0.5, view_ic = 0,
+  /// Grows the arrays by `count` default surfels (zero geometry, no class evidence, view_ic = 0,
   /// segment 0) and returns the first new index. The new surfels are NOT in the spatial index until
   /// indexAppended() is called once the caller has written their positions (fusion kernels do).
   int allocate(int count);
@@ -126,7 +129,31 @@ class SurfelStore {
 
   /// Value accessors (slow path: tests, I/O, tools).
   Surfel get(int i) const;
-  void set(int i, const Surfel& s);  ///< re-bins i if its position changed
+  /// Re-bins i if its position changed. Throws std::invalid_argument (as append) when s.classes
+  /// is not classEvidenceValid for the map's n_classes.
+  void set(int i, const Surfel& s);
+
+  /// Counts of what a class-evidence update did (ClassEvidenceResult per surfel).
+  struct ClassUpdateStats {
+    int updated = 0;   ///< added to the class's slot
+    int new_slot = 0;  ///< the class took an empty slot
+    int replaced = 0;  ///< the class replaced a weaker class (which fell back to the prior)
+    int dropped = 0;   ///< all slots held stronger evidence: nothing recorded
+    int surfels() const { return updated + new_slot + replaced + dropped; }
+  };
+  /// The Bayes update of IV, p_c <- p_d p_c / (p_d p_c + (1 - p_d)(1 - p_c)), for class
+  /// `class_id` (1..n_classes) with detection probability `p_detection` (0..1) on the given
+  /// surfels, as L_c += logit(p_d) (classEvidenceUpdate, slot rule in ClassEvidence.h). Applied in
+  /// list order (a duplicate index is updated twice). Throws std::invalid_argument for a bad
+  /// class, probability or index (nothing changed then). Does not count as a modification for
+  /// generation(): it changes no attribute fusion caches, and a classification stage updating
+  /// every frame must not make fusion rebuild its pruning schedule. O(k).
+  ClassUpdateStats addClassEvidence(const std::vector<int>& surfels, int class_id,
+                                    float p_detection);
+  /// The same update on every surfel with segment label `segment` (> 0): one parallel pass over
+  /// the whole map, O(N) (a caller with the segment's member list passes it to the overload above).
+  ClassUpdateStats addClassEvidenceToSegment(std::uint32_t segment, int class_id,
+                                             float p_detection);
 
   const VoxelBlockIndex& spatialIndex() const { return index_; }
   /// Upper bound of the radius of every indexed surfel (grows with indexAppended / reindex / set;
@@ -141,15 +168,16 @@ class SurfelStore {
   float toMapTime(double t_s) const { return hasTimeOrigin() ? float(t_s - t0_s_) : 0.0f; }
   double fromMapTime(float t) const { return (hasTimeOrigin() ? t0_s_ : 0.0) + double(t); }
 
-  /// Bytes per surfel of the arrays (SurfelArrays.h budget) and of the spatial index.
+  /// Bytes per surfel of the arrays (SurfelArrays.h budget; n_classes only matters as 0 / > 0)
+  /// and of the spatial index.
   static std::size_t bytesPerSurfel(int n_classes, int n_view_bins);
   static constexpr std::size_t kIndexBytesPerSurfel = 12;
   /// Bytes held by arrays and index (capacity based).
   std::size_t memoryBytes() const;
 
   /// Bumped by every call that may modify surfels (append, allocate, set, remove, reset, and the
-  /// mutable arrays()): a consumer that caches per-surfel state (fusion's pruning schedule) tells
-  /// from it whether someone else changed the map since it last did.
+  /// mutable arrays()) except addClassEvidence*: a consumer that caches per-surfel state (fusion's
+  /// pruning schedule) tells from it whether someone else changed the map since it last did.
   std::uint64_t generation() const { return generation_.value; }
 
   /// Spatial index consistent with the positions and stable flags (tests).
@@ -157,6 +185,7 @@ class SurfelStore {
 
  private:
   void resizeArrays(int n);
+  void checkClassUpdate(int class_id, float p_detection, const char* who) const;
   void moveSurfel(int from, int to);
 
   SurfelStoreOptions opt_;
@@ -192,7 +221,7 @@ class SurfelStore {
   PodArray<Vec3f> basis_;
   PodArray<std::uint32_t> segment_;
   PodArray<float> segment_w_;
-  PodArray<std::uint8_t> class_p_;
+  PodArray<ClassEvidence> class_ev_;  ///< empty when n_classes = 0
   PodArray<std::uint8_t> view_ic_;
 
   VoxelBlockIndex index_;

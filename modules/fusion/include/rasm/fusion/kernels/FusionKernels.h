@@ -143,7 +143,9 @@ struct MergeTest {
 /// confidence (capped), the earlier t_init and later t_last, the element-wise max of the view
 /// bins (each bin holds the best IC seen from its direction), and the segment weight of the
 /// kept segment (+ the loser's when both carry the same label). Class evidence stays the kept
-/// surfel's. Returns true when the kept surfel's position crossed a spatial-index block border.
+/// surfel's unless it has none, then it takes the loser's: both surfels saw the same detections
+/// of their segment, so adding the two would count them twice. Returns true when the kept
+/// surfel's position crossed a spatial-index block border.
 RASM_HD_INLINE bool mergeSurfels(const maps::SurfelArrays& s, int keep, int loser,
                                  const FusionKernelParams& prm) {
   const Vec4f pk = s.pos_conf[keep], pl = s.pos_conf[loser];
@@ -176,6 +178,8 @@ RASM_HD_INLINE bool mergeSurfels(const maps::SurfelArrays& s, int keep, int lose
   } else if (s.segment[keep] == s.segment[loser]) {
     s.segment_w[keep] += s.segment_w[loser];
   }
+  if (s.n_classes > 0 && maps::classEvidenceEmpty(s.class_ev[keep]))
+    s.class_ev[keep] = s.class_ev[loser];
   if (s.n_view_bins > 0) {
     std::uint8_t* rk = s.viewRow(keep);
     const std::uint8_t* rl = s.viewRow(loser);
@@ -576,9 +580,9 @@ struct UpdateKernel {
 
 /// Writes the new surfels of row y (II-B) at indices row_first[y], row_first[y] + 1, ... in pixel
 /// order: position V, normal N (world), colour, r = z / (sqrt2 f n_z), w = exp(-gamma^2/2sigma^2),
-/// t_init = t_last = now, segment and segment weight from L^p (else 0 / 0), class probabilities
-/// left at the 0.5 prior by the allocator, basis any unit vector perpendicular to n, and the view
-/// bin of this view initialised with IC (V-B).
+/// t_init = t_last = now, segment and segment weight from L^p (else 0 / 0), class evidence left
+/// empty by the allocator (every p_c at the 0.5 prior), basis any unit vector perpendicular to
+/// n, and the view bin of this view initialised with IC (V-B).
 struct NewSurfelKernel {
   FrameView frame;
   FusionKernelParams prm;
