@@ -8,9 +8,15 @@
 //   rasm sim make-models [dir]
 //   rasm sim generate <out.yaml> --seed N [--size WxD] [--kind office|lab|mixed]
 //                     [--trajectories DIR_OR_PREFIX] [--fast]
+//   rasm sim check-map <world> <map.ply> [--max-dist-m 0.05] [--cap-m 0.5] [--stable-only]
+//                      [--json out.json]
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -25,9 +31,13 @@
 #include "rasm/sim/Recorder.h"
 #include "rasm/sim/RgbdSensor.h"
 #include "rasm/sim/SimClasses.h"
+#include "rasm/sim/SurfaceDistance.h"
 #include "rasm/sim/TrajectoryGenerator.h"
 #include "rasm/sim/World.h"
 #include "rasm/sim/WorldGenerator.h"
+#ifdef RASM_HAVE_MODULE_SURFEL_MAP
+#include "rasm/surfel_map/MapExport.h"
+#endif
 
 namespace {
 
@@ -45,6 +55,8 @@ const char* kUsage =
     "  rasm sim make-models [dir]\n"
     "  rasm sim generate <out.yaml> --seed N [--size WxD] [--kind office|lab|mixed]\n"
     "                    [--trajectories DIR_OR_PREFIX] [--fast]\n"
+    "  rasm sim check-map <world> <map.ply> [--max-dist-m 0.05] [--cap-m 0.5] [--stable-only]\n"
+    "                     [--json out.json]\n"
     "<world> is a shipped world name (office, cluttered_lab, two_rooms) or a YAML file "
     "(docs/sim.md).\n";
 
@@ -257,6 +269,75 @@ int cmdGenerate(const Args& args) {
   return 0;
 }
 
+/// `rasm sim check-map`: how many surfels of a map (PLY of `rasm run`) lie further than
+/// --max-dist-m from the world's ground-truth surface (SurfaceDistance.h: an upper bound of the
+/// distance by ray casts).
+int cmdCheckMap(const Args& args) {
+  const Parsed p = parse(args, {"max-dist-m", "cap-m", "json"}, {"stable-only"});
+  if (p.positional.size() != 2)
+    rasm::throwInputError("rasm sim check-map",
+                          "expected <world> <map.ply>\n" + std::string(kUsage));
+  const double max_dist = parseDouble(p, "max-dist-m", 0.05);
+  const double cap = parseDouble(p, "cap-m", 0.5);
+  if (!(max_dist >= 0.0) || !std::isfinite(max_dist))
+    rasm::throwInputError("--max-dist-m " + p.options.at("max-dist-m"), "expected a distance >= 0");
+  if (!(cap > 0.0) || !std::isfinite(cap))
+    rasm::throwInputError("--cap-m " + p.options.at("cap-m"), "expected a distance > 0");
+#ifdef RASM_HAVE_MODULE_SURFEL_MAP
+  const std::string& ply = p.positional[1];
+  const rasm::maps::PlySurfels map = rasm::maps::readSurfelPly(ply);
+  const bool stable_only = p.flag("stable-only");
+  std::vector<Eigen::Vector3f> positions, normals;
+  positions.reserve(map.size());
+  normals.reserve(map.size());
+  for (std::size_t i = 0; i < map.size(); ++i) {
+    if (stable_only && !map.stable[i]) continue;
+    positions.push_back(map.position[i]);
+    normals.push_back(map.normal[i]);
+  }
+  const rasm::sim::RayScene scene(rasm::sim::loadWorld(p.positional[0]));
+  const rasm::sim::SurfaceDistanceStats s =
+      rasm::sim::surfaceDistanceStats(scene, positions, normals, max_dist, cap);
+  std::printf(
+      "%s: %zu %ssurfels, %zu within %.3g m of the surface of world %s, %zu beyond (%.2f %%); "
+      "distance p50 %.4f p90 %.4f p95 %.4f p99 %.4f max %.4f m (capped at %.3g m)\n",
+      ply.c_str(), s.points, stable_only ? "stable " : "", s.within, max_dist,
+      scene.world().name.c_str(), s.beyond, 100.0 * s.fraction_beyond, s.p50_m, s.p90_m, s.p95_m,
+      s.p99_m, s.max_m, cap);
+  if (p.options.count("json")) {
+    const std::string out = p.options.at("json");
+    nlohmann::json j;
+    j["map"] = ply;
+    j["world"] = scene.world().name;
+    j["world_source"] = scene.world().source;
+    j["stable_only"] = stable_only;
+    j["surfels_in_file"] = map.size();
+    j["surfels"] = s.points;
+    j["within"] = s.within;
+    j["beyond"] = s.beyond;
+    j["fraction_beyond"] = s.fraction_beyond;
+    j["max_dist_m"] = s.max_dist_m;
+    j["cap_m"] = s.cap_m;
+    j["distance_m"] = {{"p50", s.p50_m}, {"p90", s.p90_m}, {"p95", s.p95_m},
+                       {"p99", s.p99_m}, {"max", s.max_m}, {"mean", s.mean_m}};
+    const std::string part = out + ".part";
+    {
+      std::ofstream f(part);
+      if (!f) rasm::throwInputError("--json " + out, "cannot open for writing");
+      f << j.dump(2) << "\n";
+      if (!f) rasm::throwInputError("--json " + out, "write failed");
+    }
+    std::error_code ec;
+    std::filesystem::rename(part, out, ec);
+    if (ec) rasm::throwInputError("--json " + out, "cannot rename " + part + ": " + ec.message());
+    std::cout << "wrote " << out << "\n";
+  }
+  return 0;
+#else
+  rasm::throwInputError("rasm sim check-map", "this build has no surfel_map module (PLY reader)");
+#endif
+}
+
 int cmdSim(const Args& args) {
   if (args.empty()) {
     std::cerr << kUsage;
@@ -268,6 +349,7 @@ int cmdSim(const Args& args) {
   if (args[0] == "info") return cmdInfo(rest);
   if (args[0] == "make-models") return cmdMakeModels(rest);
   if (args[0] == "generate") return cmdGenerate(rest);
+  if (args[0] == "check-map") return cmdCheckMap(rest);
   if (args[0] == "help" || args[0] == "--help") {
     std::cout << kUsage;
     return 0;
@@ -276,7 +358,9 @@ int cmdSim(const Args& args) {
 }
 
 const rasm::app::Registrar kRegistrar{
-    "sim", "simulator: record rawlogs from worlds, render previews, generate rooms (rasm sim help)",
+    "sim",
+    "simulator: record rawlogs from worlds, render previews, generate rooms, check maps against "
+    "the ground truth (rasm sim help)",
     &cmdSim};
 
 }  // namespace

@@ -1,8 +1,9 @@
 // Generated worlds and trajectories (`rasm sim generate`): deterministic by seed, load with the
 // world loader, furniture footprints never overlap, objects rest on their surfaces, the free area
 // is free, the robot loop starts collision-free and drives without colliding while the camera
-// sees geometry, the hand-held keyframes look at things 1-3 m away, the fast variant peaks at
-// 120-150 deg/s about each camera axis, bad sizes and kinds fail naming the option.
+// sees geometry, the hand-held keyframes look at things 1-3 m away and every hand-held frame sees
+// objects and furniture with normals in three directions, the fast variant peaks at 120-150
+// deg/s about each camera axis, bad sizes and kinds fail naming the option.
 #include "rasm/sim/WorldGenerator.h"
 
 #include <gtest/gtest.h>
@@ -18,11 +19,13 @@
 
 #include "rasm/core/Error.h"
 #include "rasm/sim/RayScene.h"
+#include "rasm/sim/RgbdSensor.h"
 #include "rasm/sim/SimClasses.h"
 #include "rasm/sim/SimulatedDiffDriveRobot.h"
 #include "rasm/sim/SimulatedSequence.h"
 #include "rasm/sim/Trajectory.h"
 #include "rasm/sim/TrajectoryGenerator.h"
+#include "rasm/sim/ViewStats.h"
 #include "rasm/sim/World.h"
 
 namespace fs = std::filesystem;
@@ -295,6 +298,55 @@ TEST(TrajectoryGenerator, HandheldLooksAtThingsFromChestHeight) {
       EXPECT_LE(axis.t, 4.5);
     }
     EXPECT_GE(h.min_valid_fraction, tp.min_valid_handheld) << h.summary;
+    EXPECT_GE(h.min_object_fraction, tp.min_object_fraction_handheld) << h.summary;
+    EXPECT_GE(h.min_normal_eig, tp.min_normal_eig_handheld) << h.summary;
+    EXPECT_EQ(h.summary.find("WARNING"), std::string::npos) << h.summary;
+  }
+}
+
+// Every frame of the hand-held specs (as written and loaded, at 30 Hz, without the recorder's
+// jitter) sees objects and furniture, with normals in three directions: the view rule at the
+// check's own resolution (80 x 60, exact depth), on the very frames the generator checked. Seed
+// 7's fast spec used to stare at the striped floor alone around t = 1.5 s.
+TEST(TrajectoryGenerator, HandheldFramesSeeObjectsAndThreeNormalDirections) {
+  for (std::uint64_t seed : {7}) {
+    const GeneratedWorld g = generateWorld(params(seed));
+    const World w = loadWorldFromString(g.yaml, g.name);
+    const RayScene scene(w);
+    TSensorParams sp;
+    sp.width = 80;
+    sp.height = 60;
+    sp.fx = sp.fy = 525.0 / 8.0;
+    sp.cx = 39.5;
+    sp.cy = 29.5;
+    sp.noise = false;
+    sp.max_depth_m = 4.0;
+    const RgbdSensor sensor(scene, sp);
+    for (bool fast : {false, true}) {
+      TTrajectoryGenParams tp;
+      tp.seed = seed;
+      tp.fast = fast;
+      const GeneratedTrajectory h = generateHandheldTrajectory(g, w, tp);
+      EXPECT_EQ(h.summary.find("WARNING"), std::string::npos) << h.summary;
+      const TrajectorySpec spec = loadTrajectorySpecFromString(h.yaml, "handheld");
+      HandJitter none;
+      none.translation_m = none.rotation_deg = 0.0;
+      const HandheldTrajectory traj(spec.keyframes, none, 0);
+      int frames = 0;
+      rasm::RgbdFrame f;
+      for (;; ++frames) {
+        const double t = traj.startTime() + frames / 30.0;
+        if (t > traj.endTime() + 1e-9) break;
+        sensor.render(traj.smoothPose(t), 0, 0, f);
+        const ViewStats v = viewStats(f, 4.0);
+        EXPECT_GE(v.valid_fraction, tp.min_valid_handheld) << g.name << " t " << t;
+        EXPECT_GE(v.object_fraction, tp.min_object_fraction_handheld)
+            << g.name << (fast ? " fast" : "") << " t " << t;
+        EXPECT_GE(v.normal_min_eig, tp.min_normal_eig_handheld)
+            << g.name << (fast ? " fast" : "") << " t " << t;
+      }
+      EXPECT_GT(frames, 600);
+    }
   }
 }
 
@@ -365,16 +417,27 @@ TEST(TrajectoryGenerator, RobotLoopStartsFreeAndDrivesWithoutCollisionSeeingGeom
 }
 
 // Not part of the suite: over many seeds, records every generated trajectory as the recorder
-// would (160 x 120, full noise model) and prints, per world and trajectory, frames, collisions
-// and the valid-depth fraction of the worst frame (run with --gtest_also_run_disabled_tests;
-// RASM_GEN_SURVEY_SEEDS=N, default 20).
+// would (160 x 120, full noise model) and prints, per world and trajectory, frames, collisions,
+// the valid-depth fraction of the worst frame and, per frame, what the hand-held view check
+// requires: the fraction of the valid pixels on objects and furniture (ViewStats) and the
+// smallest eigenvalue of the normals' scatter (from an exact-depth render of the same pose, as
+// noise scatters finite-difference normals). Run with --gtest_also_run_disabled_tests;
+// RASM_GEN_SURVEY_SEEDS=N (default 20), RASM_GEN_SURVEY_FIRST=N (default 1).
 TEST(TrajectoryGenerator, DISABLED_SurveyOverSeeds) {
   const char* env = std::getenv("RASM_GEN_SURVEY_SEEDS");
+  const char* first_env = std::getenv("RASM_GEN_SURVEY_FIRST");
+  const int first = first_env ? std::atoi(first_env) : 1;
   const int seeds = env ? std::atoi(env) : 20;
-  for (int seed = 1; seed <= seeds; ++seed) {
+  const char* kind_names[4] = {"handheld", "robot", "handheld_fast", "robot_fast"};
+  struct Worst {
+    double valid4 = 1.0, object = 1.0, eig = 1.0;
+    int frames_below_object = 0, frames = 0;
+  } worst_of_kind[4];
+  for (int seed = first; seed < first + seeds; ++seed) {
     const auto t0 = std::chrono::steady_clock::now();
     const GeneratedWorld g = generateWorld(params(std::uint64_t(seed), RoomKind(seed % 3)));
     const World w = loadWorldFromString(g.yaml, g.name);
+    const RayScene scene(w);
     for (int kind = 0; kind < 4; ++kind) {
       TTrajectoryGenParams tp;
       tp.seed = std::uint64_t(seed);
@@ -387,10 +450,22 @@ TEST(TrajectoryGenerator, DISABLED_SurveyOverSeeds) {
       SequenceOptions so;
       so.seed = std::uint64_t(seed);
       so.sensor_overrides = smallCamera();
+      so.sensor_overrides["labels"] = "true";
       SimulatedSequence seq(w, spec, so);
-      rasm::RgbdFrame f;
-      int frames = 0, collided = 0, below50 = 0;
-      double worst = 1.0, sum = 0.0, worst4 = 1.0;
+      TSensorParams exact;
+      exact.width = 160;
+      exact.height = 120;
+      exact.fx = exact.fy = 131.25;
+      exact.cx = 79.5;
+      exact.cy = 59.5;
+      exact.noise = false;
+      exact.labels = false;
+      exact.max_depth_m = 4.0;
+      RgbdSensor exact_sensor(scene, exact);
+      rasm::RgbdFrame f, fe;
+      int frames = 0, collided = 0, below50 = 0, below_object = 0, worst_frame = -1;
+      double worst = 1.0, sum = 0.0, worst4 = 1.0, worst_object = 1.0, worst_eig = 1.0,
+             worst_icp = 1.0;
       while (seq.next(f)) {
         ++frames;
         if (seq.robot() && seq.robot()->collided()) ++collided;
@@ -399,20 +474,42 @@ TEST(TrajectoryGenerator, DISABLED_SurveyOverSeeds) {
         worst4 = std::min(worst4, v4);
         sum += v;
         below50 += v4 < 0.5 ? 1 : 0;
+        const ViewStats vs = viewStats(f, 4.0);
+        exact_sensor.render(*f.gt_T_world_cam, 0, 0, fe);
+        const ViewStats ve = viewStats(fe, 4.0);
+        if (vs.object_fraction < worst_object) worst_frame = frames - 1;
+        worst_object = std::min(worst_object, vs.object_fraction);
+        worst_eig = std::min(worst_eig, ve.normal_min_eig);
+        worst_icp = std::min(worst_icp, ve.icp_min_eig);
+        below_object += vs.object_fraction < tp.min_object_fraction_handheld ||
+                                ve.normal_min_eig < tp.min_normal_eig_handheld
+                            ? 1
+                            : 0;
       }
+      Worst& wk = worst_of_kind[kind];
+      wk.valid4 = std::min(wk.valid4, worst4);
+      wk.object = std::min(wk.object, worst_object);
+      wk.eig = std::min(wk.eig, worst_eig);
+      wk.frames_below_object += below_object;
+      wk.frames += frames;
       std::printf(
           "seed %2d %-28s %-14s frames %5d collided %d stuck %d valid depth: worst %.2f mean "
-          "%.2f, within 4 m: worst %.2f, frames below 50%% %d (gen %.1f s) | %s\n",
-          seed, g.name.c_str(),
-          kind == 0   ? "handheld"
-          : kind == 1 ? "robot"
-          : kind == 2 ? "handheld_fast"
-                      : "robot_fast",
-          frames, collided, int(seq.robotStuck()), worst, sum / std::max(1, frames), worst4,
-          below50, gen_s, gt.summary.c_str());
+          "%.2f, within 4 m: worst %.2f, frames below 50%% %d; objects: worst %.2f (frame %d), "
+          "normal spread: worst %.4f (6-DoF %.4f), frames below the hand-held rule %d (gen %.1f "
+          "s) | %s\n",
+          seed, g.name.c_str(), kind_names[kind], frames, collided, int(seq.robotStuck()), worst,
+          sum / std::max(1, frames), worst4, below50, worst_object, worst_frame, worst_eig,
+          worst_icp, below_object, gen_s, gt.summary.c_str());
       std::fflush(stdout);
       EXPECT_EQ(collided, 0);
       EXPECT_FALSE(seq.robotStuck());
     }
   }
+  for (int kind = 0; kind < 4; ++kind)
+    std::printf(
+        "all seeds %-14s frames %6d: within 4 m worst %.2f; objects worst %.2f, normal spread "
+        "worst %.4f, frames below the hand-held rule %d\n",
+        kind_names[kind], worst_of_kind[kind].frames, worst_of_kind[kind].valid4,
+        worst_of_kind[kind].object, worst_of_kind[kind].eig,
+        worst_of_kind[kind].frames_below_object);
 }

@@ -17,9 +17,11 @@
 #include "rasm/sim/CameraPoses.h"
 #include "rasm/sim/RayScene.h"
 #include "rasm/sim/RgbdSensor.h"
+#include "rasm/sim/SimClasses.h"
 #include "rasm/sim/SimulatedDiffDriveRobot.h"
 #include "rasm/sim/SimulatedSequence.h"
 #include "rasm/sim/Trajectory.h"
+#include "rasm/sim/ViewStats.h"
 #include "rasm/sim/World.h"
 
 namespace fs = std::filesystem;
@@ -38,8 +40,12 @@ constexpr double kDeg = M_PI / 180.0;
 class SerialOpenMp {
  public:
 #ifdef _OPENMP
-  SerialOpenMp() : m_threads(omp_get_max_threads()) { omp_set_num_threads(1); }
-  ~SerialOpenMp() { omp_set_num_threads(m_threads); }
+  SerialOpenMp() : m_threads(omp_get_max_threads()) {
+    omp_set_num_threads(1);
+  }
+  ~SerialOpenMp() {
+    omp_set_num_threads(m_threads);
+  }
 
  private:
   int m_threads;
@@ -49,9 +55,12 @@ class SerialOpenMp {
 /// Low-resolution renders (80 x 60, the Kinect's field of view) for the view check: the fraction
 /// of pixels with a depth in [0.4 m, max_depth_m] that survives the sensor's dropouts (a floor
 /// seen beyond about 3 m from the robot's camera is at a grazing angle and missing).
+/// Low-resolution renders (80 x 60, the Kinect's field of view) for the view checks: exact depth
+/// in [0.4 m, max_depth_m] with the sensor's dropouts (a floor seen beyond about 3 m from the
+/// robot's camera is at a grazing angle and missing) and labels, summarised by viewStats.
 class ViewCheck {
  public:
-  ViewCheck(const RayScene& scene, double max_depth_m) {
+  ViewCheck(const RayScene& scene, double max_depth_m) : m_max_depth_m(max_depth_m) {
     TSensorParams p;
     p.width = 80;
     p.height = 60;
@@ -59,26 +68,52 @@ class ViewCheck {
     p.cx = 39.5;
     p.cy = 29.5;
     p.noise = false;  // exact depth, but the sensor's grazing-angle and shadow dropouts
-    p.labels = false;
+    p.labels = true;
     p.max_depth_m = max_depth_m;
     m_sensor = std::make_unique<RgbdSensor>(scene, p);
   }
-  double fraction(const Eigen::Isometry3d& T_world_cam) {
+  ViewStats stats(const Eigen::Isometry3d& T_world_cam) {
     m_sensor->render(T_world_cam, 0, 0, m_frame);
-    std::size_t valid = 0;
-    for (int y = 0; y < m_frame.depth_m.height(); ++y) {
-      const float* r = m_frame.depth_m.row(y);
-      for (int x = 0; x < m_frame.depth_m.width(); ++x) valid += r[x] > 0.f ? 1 : 0;
-    }
-    return double(valid) / double(m_frame.depth_m.width() * m_frame.depth_m.height());
+    return viewStats(m_frame, m_max_depth_m);
+  }
+  double fraction(const Eigen::Isometry3d& T_world_cam) {
+    return stats(T_world_cam).valid_fraction;
   }
 
  private:
+  double m_max_depth_m;
   std::unique_ptr<RgbdSensor> m_sensor;
   RgbdFrame m_frame;
 };
 
-GenRect inset(const GenRect& r, double m) { return {r.x0 + m, r.y0 + m, r.x1 - m, r.y1 - m}; }
+/// The hand-held view rule (TTrajectoryGenParams): enough valid pixels, enough of them on
+/// objects and furniture, normals spread over three directions. The margin of a view is its
+/// lowest ratio to the three bounds: >= 1 passes.
+struct ViewRule {
+  double min_valid = 0.6, min_object = 0.25, min_eig = 0.005;
+  double margin(const ViewStats& s) const {
+    return std::min(
+        {s.valid_fraction / min_valid, s.object_fraction / min_object, s.normal_min_eig / min_eig});
+  }
+};
+
+/// The worst views along a path: the lowest margin and the lowest value of each statistic.
+struct ViewWorst {
+  double margin = 1e30, valid = 1.0, object = 1.0, eig = 1.0;
+  double t_worst = 0.0;  ///< time of the view with the lowest margin
+  void add(const ViewStats& s, const ViewRule& r, double t) {
+    const double m = r.margin(s);
+    if (m < margin) t_worst = t;
+    margin = std::min(margin, m);
+    valid = std::min(valid, s.valid_fraction);
+    object = std::min(object, s.object_fraction);
+    eig = std::min(eig, s.normal_min_eig);
+  }
+};
+
+GenRect inset(const GenRect& r, double m) {
+  return {r.x0 + m, r.y0 + m, r.x1 - m, r.y1 - m};
+}
 
 std::string vec(const V3& v) {
   return "[" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + "]";
@@ -99,15 +134,98 @@ struct Key {
   bool look = true;  ///< look_at `target`, else yaw/pitch/roll
   V3 target = V3::Zero();
   double yaw = 0.0, pitch = 0.0, roll = 0.0;  ///< degrees
+  double dpitch = 0.0;  ///< fast: how far above `target` the keyframe aims (deg)
   Eigen::Isometry3d pose() const {
     return look ? cameraPoseLookingAt(pos, target) : cameraPoseFromHeading(pos, yaw, pitch, roll);
   }
 };
 
+HandheldTrajectory trajectoryOf(const std::vector<Key>& keys) {
+  std::vector<HandheldKeyframe> kf;
+  for (const Key& k : keys) kf.push_back({k.t, k.pose()});
+  HandJitter none;
+  none.translation_m = 0.0;
+  none.rotation_deg = 0.0;
+  return HandheldTrajectory(kf, none, 0);
+}
+
+/// Peak |rate| per camera axis (deg/s) over [t0, t1].
+V3 peakRates(const HandheldTrajectory& traj, double t0, double t1, double step = 1.0 / 240.0) {
+  V3 peak = V3::Zero();
+  for (double t = t0; t < t1; t += step) peak = peak.cwiseMax(bodyRate(traj, t).cwiseAbs() / kDeg);
+  return peak;
+}
+
+/// Re-times each swing so the peak rate about its dominant axis is its target (the spline's
+/// Catmull-Rom tangents couple neighbouring segments, hence the iterations).
+void tuneSwings(std::vector<Key>& keys, const std::vector<int>& swings,
+                const std::vector<double>& targets) {
+  std::vector<double> dt(keys.size() - 1);
+  for (std::size_t i = 0; i + 1 < keys.size(); ++i) dt[i] = keys[i + 1].t - keys[i].t;
+  for (int it = 0; it < 12; ++it) {
+    const HandheldTrajectory traj = trajectoryOf(keys);
+    bool converged = true;
+    for (std::size_t s = 0; s < swings.size(); ++s) {
+      const int i = swings[s];
+      const Eigen::Matrix3d R0 = keys[std::size_t(i)].pose().linear(),
+                            R1 = keys[std::size_t(i) + 1].pose().linear();
+      const Eigen::AngleAxisd aa(R0.transpose() * R1);
+      int axis = 0;
+      (aa.axis() * aa.angle()).cwiseAbs().maxCoeff(&axis);
+      const V3 peak = peakRates(traj, keys[std::size_t(i)].t, keys[std::size_t(i) + 1].t);
+      const double ratio = std::clamp(peak[axis] / targets[s], 0.5, 2.0);
+      if (std::abs(ratio - 1.0) > 0.005) converged = false;
+      dt[std::size_t(i)] *= ratio;
+    }
+    for (std::size_t i = 0; i + 1 < keys.size(); ++i)
+      keys[i + 1].t = std::round((keys[i].t + dt[i]) * 1000.0) / 1000.0;
+    if (converged) break;
+  }
+}
+
+/// Checks the smooth path of `keys` (>= 2) from keyframe `first` on: positions stay where a
+/// person can stand (area + 0.15 m, 1.0-1.9 m high) and every view sampled along it passes the
+/// rule. `frame_step_s` > 0 samples at the frame times t0 + k step (the final check);
+/// otherwise each segment is sampled `per_segment` times plus every `segment_step_s` (the
+/// drafter's checks of the segments a new keyframe changes). Returns the worst views; margin
+/// -1 when the path leaves the area.
+ViewWorst checkPath(const std::vector<Key>& keys, std::size_t first, const GenRect& area,
+                    ViewCheck& view, const ViewRule& rule, double frame_step_s,
+                    double segment_step_s = 0.1, int per_segment = 4) {
+  const HandheldTrajectory traj = trajectoryOf(keys);
+  const GenRect ok = inset(area, -0.15);
+  ViewWorst w;
+  auto sample = [&](double t) {
+    const Eigen::Isometry3d T = traj.smoothPose(t);
+    const V3 p = T.translation();
+    if (!ok.contains(p.x(), p.y()) || p.z() < 1.0 || p.z() > 1.9) return false;
+    w.add(view.stats(T), rule, t);
+    return true;
+  };
+  if (frame_step_s > 0.0) {
+    const double t0 = keys[first].t;
+    for (long long k = 0;; ++k) {
+      const double t = t0 + double(k) * frame_step_s;
+      if (t > traj.endTime() + 1e-9) break;
+      if (!sample(t)) return {-1.0, 0.0, 0.0, 0.0};
+    }
+    return w;
+  }
+  if (first == 0 && !sample(keys[0].t)) return {-1.0, 0.0, 0.0, 0.0};
+  for (std::size_t i = first; i + 1 < keys.size(); ++i) {
+    const double t0 = keys[i].t, dt = keys[i + 1].t - t0;
+    const int n = std::max(per_segment, int(std::ceil(dt / segment_step_s)));
+    for (int j = 1; j <= n; ++j)
+      if (!sample(t0 + dt * j / n)) return {-1.0, 0.0, 0.0, 0.0};
+  }
+  return w;
+}
+
 class HandheldDrafter {
  public:
-  HandheldDrafter(const GeneratedWorld& g, const RayScene& scene, Rng& rng)
-      : m_scene(scene), m_rng(rng) {
+  HandheldDrafter(const GeneratedWorld& g, const RayScene& scene, Rng& rng, ViewCheck& view,
+                  const ViewRule& rule)
+      : m_scene(scene), m_rng(rng), m_view(view), m_rule(rule) {
     // Where the person holding the camera may stand: the robot's free area widened by the
     // robot's radius (still clearance_m from every footprint).
     m_area = inset(g.free_area, -g.params.robot_radius_m);
@@ -172,110 +290,231 @@ class HandheldDrafter {
   }
 
   /// Keyframes every 3-5 s over 20-30 s, walking along the room's furniture, 1.2-2.2 m of
-  /// perimeter from one keyframe's target to the next.
+  /// perimeter from one keyframe's target to the next (0.6-1.6 times that for each candidate,
+  /// so bare stretches of wall can be skipped). Each keyframe is the first of up to 12
+  /// candidates (target, standpoint) whose path from the previous keyframes passes the view
+  /// rule; when none does, the previous keyframe is drawn again (up to 20 times), else the best
+  /// candidate is kept.
   std::vector<Key> normal() {
     const double T = r1(m_rng.uniform(20.0, 30.0));
     const int n = std::max(5, int(std::lround(T / m_rng.uniform(3.0, 5.0))) + 1);
     const double s0 = m_rng.uniform(0.0, perimeter()), dir = m_rng.chance(0.5) ? 1.0 : -1.0;
     const double step = std::min(m_rng.uniform(1.2, 2.2), 0.9 * perimeter() / (n - 1));
     std::vector<Key> keys;
-    std::optional<V3> prev;
-    for (int k = 0; k < n; ++k) {
-      std::optional<V3> cam, target;
-      for (int t = 0; t < 8 && !cam; ++t) {
-        target = targetNear(s0 + dir * step * k);
-        if (target) cam = standpoint(*target, prev);
+    int backtracks = 0;
+    while (int(keys.size()) < n) {
+      const int k = int(keys.size());
+      std::optional<V3> prev;
+      if (!keys.empty()) prev = keys.back().pos;
+      std::optional<Key> best;
+      double best_margin = -2.0;
+      for (int c = 0; c < 12 && best_margin < 1.0; ++c) {
+        const double s =
+            keys.empty() ? s0
+                         : perimeterAt(keys.back().target) + dir * step * m_rng.uniform(0.6, 1.6);
+        const std::optional<V3> target = targetNear(s);
+        const std::optional<V3> cam = target ? standpoint(*target, prev) : std::nullopt;
+        if (!cam) continue;
+        Key key;
+        key.t = T * k / (n - 1);
+        key.pos = round3(*cam);
+        key.target = round3(*target);
+        std::vector<Key> trial = keys;
+        trial.push_back(key);
+        const double m = checkSegments(trial, keys.size() >= 2 ? keys.size() - 2 : 0, 0.25);
+        if (m > best_margin) {
+          best_margin = m;
+          best = key;
+        }
       }
-      if (!cam) return {};
-      Key key;
-      key.t = T * k / (n - 1);
-      key.pos = round3(*cam);
-      key.target = round3(*target);
-      keys.push_back(key);
-      prev = key.pos;
+      if (best_margin < 1.0 && k > 0 && backtracks < 20) {
+        keys.pop_back();
+        ++backtracks;
+        continue;
+      }
+      if (!best) return {};
+      keys.push_back(*best);
     }
     return keys;
   }
 
   /// Hold-swing-hold: swings about the camera's x, y and z axes (tilt, pan, roll), each swing
-  /// timed (see tuneSwings) for a peak of 125-142 deg/s, slow holds in between; 20-30 s.
-  std::vector<Key> fast(std::vector<int>& swing_segments) {
+  /// timed for a peak of 125-142 deg/s about its axis (`peaks`, see tuneSwings), slow holds in
+  /// between; 20-30 s. The camera keeps an object or piece of furniture in view: every keyframe
+  /// aims at a target (a point on an object or furniture) with a small pitch offset. A hold
+  /// drifts the camera 0.1-0.3 m in 1-1.8 s while it keeps its target; a tilt (20-36 deg)
+  /// pivots about the target, from aiming above it to below it or back (the target stays in
+  /// the 43 deg vertical field of view), or swings to another target 20-40 deg higher or lower;
+  /// a pan (50-110 deg) swings to another target found by casting a ray that way (the first
+  /// surface hit, on an object or furniture 0.8-3.2 m away); a roll (to 30-45 deg across level)
+  /// keeps the target. Each hold + swing is the first of up to 12 candidates whose path passes
+  /// the view rule; when none does, the previous hold + swing is drawn again (up to 40 times),
+  /// else the best candidate is kept.
+  std::vector<Key> fast(std::vector<int>& swing_segments, std::vector<double>& peaks) {
     const double T = m_rng.uniform(20.0, 30.0);
-    std::optional<V3> target = targetNear(m_rng.uniform(0.0, perimeter()));
-    std::optional<V3> cam = target ? standpoint(*target, std::nullopt) : std::nullopt;
-    if (!cam) return {};
-    Key k0;
-    k0.look = false;
-    k0.pos = round3(*cam);
-    headingTo(*target - k0.pos, k0.yaw, k0.pitch);
-    std::vector<Key> keys{k0};
+    std::vector<Key> keys;
+    double best_margin = -2.0;
+    for (int c = 0; c < 12 && best_margin < 1.0; ++c) {
+      const std::optional<V3> target = targetNear(m_rng.uniform(0.0, perimeter()));
+      const std::optional<V3> cam = target ? standpoint(*target, std::nullopt) : std::nullopt;
+      if (!cam) continue;
+      const Key k0 = aimedAt(round3(*cam), round3(*target), 0.0, 0.0, 0.0);
+      const double m = m_rule.margin(m_view.stats(k0.pose()));
+      if (m > best_margin) {
+        best_margin = m;
+        keys = {k0};
+      }
+    }
+    if (keys.empty()) return {};
     int swings[3] = {0, 0, 0};
+    std::vector<int> axes;  // axis of each accepted swing
     std::vector<int> cycle = {0, 1, 2};
     std::size_t ci = cycle.size();
+    int backtracks = 0;
     while (keys.back().t < T || std::min({swings[0], swings[1], swings[2]}) < 2) {
       if (keys.size() > 80) return {};
-      // hold: a slow drift
-      Key h = keys.back();
-      h.t += m_rng.uniform(1.0, 1.8);
-      h.pos = drift(h.pos, m_rng.uniform(0.1, 0.3));
-      h.yaw += m_rng.uniform(-8.0, 8.0);
-      h.pitch = std::clamp(h.pitch + m_rng.uniform(-5.0, 5.0), -65.0, 10.0);
-      keys.push_back(h);
-      // swing
       if (ci == cycle.size()) {
         for (std::size_t i = cycle.size(); i > 1; --i)
           std::swap(cycle[i - 1], cycle[std::size_t(m_rng.index(int(i)))]);
         ci = 0;
       }
       const int axis = cycle[ci++];
-      Key s = h;
-      s.pos = drift(h.pos, 0.05);
-      double delta = 0.0;
-      if (axis == 0) {  // tilt (camera x): pitch up or down by 40-60 deg within [-70, 12]
-        const double d = m_rng.uniform(40.0, 60.0);
-        s.pitch = h.pitch - d >= -70.0 ? h.pitch - d : std::min(12.0, h.pitch + d);
-        if (h.pitch + d <= 12.0 && m_rng.chance(0.5)) s.pitch = h.pitch + d;
-        delta = std::abs(s.pitch - h.pitch);
-      } else if (axis == 1) {  // pan (camera y): to another target 60-110 deg away
-        std::vector<std::pair<double, double>> options;  // (yaw, pitch) of targets in reach
-        for (const V3& p : m_targets) {
-          double yaw, pitch;
-          headingTo(p - s.pos, yaw, pitch);
-          const double dy = std::abs(std::remainder(yaw - h.yaw, 360.0));
-          const double dist = (p - s.pos).norm();
-          if (dy >= 55.0 && dy <= 115.0 && dist >= 0.8 && dist <= 3.2 &&
-              (p - s.pos).head<2>().norm() > 0.5 && visible(s.pos, p))
-            options.emplace_back(h.yaw + std::remainder(yaw - h.yaw, 360.0), pitch);
+      const double peak = m_rng.uniform(125.0, 142.0);
+      std::vector<Key> best;
+      best_margin = -2.0;
+      for (int c = 0; c < 12 && best_margin < 1.0; ++c) {
+        const std::optional<std::pair<Key, Key>> hs = holdAndSwing(keys.back(), axis);
+        if (!hs) continue;
+        std::vector<Key> trial = keys;
+        trial.push_back(hs->first);
+        trial.push_back(hs->second);
+        tuneSwings(trial, {int(trial.size()) - 2}, {peak});
+        const double m = checkSegments(trial, keys.size() >= 2 ? keys.size() - 2 : 0);
+        if (m > best_margin) {
+          best_margin = m;
+          best = std::move(trial);
         }
-        if (!options.empty()) {
-          const auto [yaw, pitch] = m_rng.pick(options);
-          s.yaw = yaw;
-          s.pitch = std::clamp(pitch, -65.0, 10.0);
-        } else {
-          s.yaw = h.yaw + (m_rng.chance(0.5) ? 1 : -1) * m_rng.uniform(60.0, 100.0);
-        }
-        delta = std::abs(s.yaw - h.yaw);
-      } else {  // roll (camera z): across zero to the other side, 30-45 deg
-        const double r = m_rng.uniform(30.0, 45.0);
-        s.roll = h.roll > 0 ? -r : h.roll < 0 ? r : (m_rng.chance(0.5) ? r : -r);
-        delta = std::abs(s.roll - h.roll);
       }
-      s.t = h.t + std::max(0.25, 1.5 * delta / 135.0);
-      swing_segments.push_back(int(keys.size()) - 1);  // segment from h to s
-      keys.push_back(s);
+      if (best_margin < 1.0 && !axes.empty() && backtracks < 40) {
+        keys.resize(keys.size() - 2);
+        --swings[axes.back()];
+        axes.pop_back();
+        swing_segments.pop_back();
+        peaks.pop_back();
+        ++backtracks;
+        continue;
+      }
+      if (best.empty()) return {};
+      keys = std::move(best);
+      swing_segments.push_back(int(keys.size()) - 2);  // segment from the hold to the swing
+      peaks.push_back(peak);
+      axes.push_back(axis);
       ++swings[axis];
     }
-    Key last = keys.back();  // settle: roll back to level
-    last.t += m_rng.uniform(1.5, 2.0);
-    last.roll = 0.0;
-    last.pos = drift(last.pos, 0.15);
-    keys.push_back(last);
-    for (Key& k : keys) {
-      k.yaw = r1(k.yaw);
-      k.pitch = r1(k.pitch);
-      k.roll = r1(k.roll);
+    // Settle: roll back to level, still looking at the last target.
+    std::vector<Key> best;
+    best_margin = -2.0;
+    for (int c = 0; c < 6 && best_margin < 1.0; ++c) {
+      const Key& b = keys.back();
+      Key last = aimedAt(drift(b.pos, 0.15), b.target, 0.0, 0.0, b.yaw);
+      last.t = b.t + m_rng.uniform(1.5, 2.0);
+      std::vector<Key> trial = keys;
+      trial.push_back(last);
+      const double m = checkSegments(trial, keys.size() - 2);
+      if (m > best_margin) {
+        best_margin = m;
+        best = std::move(trial);
+      }
     }
-    return keys;
+    return best;
+  }
+
+ private:
+  /// Worst margin of the segments from keyframe `first` on (each sampled every `step_s`, at
+  /// least 4 times), or of the single keyframe's view. Appending a keyframe changes the last
+  /// segment before it (Catmull-Rom tangents): check from keys.size() - 2 of the old keys.
+  double checkSegments(const std::vector<Key>& keys, std::size_t first, double step_s = 0.1) {
+    if (keys.size() == 1) return m_rule.margin(m_view.stats(keys[0].pose()));
+    return checkPath(keys, first, m_area, m_view, m_rule, 0.0, step_s).margin;
+  }
+
+  /// A yaw/pitch/roll keyframe at `pos` aiming `dpitch` degrees above `target` (yaw unwrapped
+  /// next to `prev_yaw`, angles rounded to 0.1 deg as written).
+  static Key aimedAt(const V3& pos, const V3& target, double dpitch, double roll, double prev_yaw) {
+    Key k;
+    k.look = false;
+    k.pos = pos;
+    k.target = target;
+    k.dpitch = dpitch;
+    double yaw = 0.0, pitch = 0.0;
+    headingTo(target - pos, yaw, pitch);
+    k.yaw = r1(prev_yaw + std::remainder(yaw - prev_yaw, 360.0));
+    k.pitch = r1(pitch + dpitch);
+    k.roll = r1(roll);
+    return k;
+  }
+
+  /// The first surface along (yaw, pitch) from `eye` when it belongs to an object or piece of
+  /// furniture 0.8-3.2 m away and more than 0.5 m away horizontally (a look-at target).
+  std::optional<V3> rayTarget(const V3& eye, double yaw_deg, double pitch_deg) const {
+    const double y = yaw_deg * kDeg, p = pitch_deg * kDeg;
+    const V3 d(std::cos(p) * std::cos(y), std::cos(p) * std::sin(y), std::sin(p));
+    const RayHit h = m_scene.castRay(eye.cast<float>(), d.cast<float>(), 0.f, 3.2f);
+    if (!h.hit || h.object < 0 ||
+        isStructureClass(m_scene.world().objects[std::size_t(h.object)].class_id))
+      return std::nullopt;
+    const V3 q = h.point.cast<double>();
+    if ((q - eye).norm() < 0.8 || (q - eye).head<2>().norm() < 0.5) return std::nullopt;
+    return round3(q);
+  }
+
+  /// A slow hold after `prev` (1-1.8 s later, the camera drifted 0.1-0.3 m, still aiming at its
+  /// target, the pitch offset `dpitch`) and a swing from it about camera axis `axis` (0 tilt,
+  /// 1 pan, 2 roll), timed roughly (tuneSwings sets its peak); none when no target was found.
+  std::optional<std::pair<Key, Key>> holdAndSwing(const Key& prev, int axis) {
+    const V3 hold_pos = drift(prev.pos, m_rng.uniform(0.1, 0.3));
+    const double hold_t = prev.t + m_rng.uniform(1.0, 1.8);
+    const V3 pos = drift(hold_pos, 0.05);
+    auto hold = [&](double dpitch) {
+      Key h = aimedAt(hold_pos, prev.target, dpitch, prev.roll, prev.yaw);
+      h.t = hold_t;
+      return h;
+    };
+    std::optional<std::pair<Key, Key>> hs;
+    if (axis == 2) {  // roll (camera z): across level to the other side, 30-45 deg
+      const double r = m_rng.uniform(30.0, 45.0);
+      const double roll = prev.roll > 0 ? -r : prev.roll < 0 ? r : (m_rng.chance(0.5) ? r : -r);
+      const Key h = hold(prev.dpitch * 0.5);
+      hs = std::pair{h, aimedAt(pos, h.target, h.dpitch, roll, h.yaw)};
+    } else if (axis == 0 && m_rng.chance(0.5)) {  // tilt pivoting about the target
+      const double d = m_rng.uniform(20.0, 36.0), sign = m_rng.chance(0.5) ? 1.0 : -1.0;
+      const Key h = hold(sign * d / 2);
+      hs = std::pair{h, aimedAt(pos, h.target, -sign * d / 2, h.roll, h.yaw)};
+    } else {
+      const Key h = hold(0.0);
+      for (int k = 0; k < 6 && !hs; ++k) {
+        double yaw = h.yaw, pitch = h.pitch;
+        if (axis == 0) {  // tilt (camera x) to a target 20-40 deg above or below
+          pitch += (m_rng.chance(0.5) ? 1 : -1) * m_rng.uniform(20.0, 40.0);
+          yaw += m_rng.uniform(-10.0, 10.0);
+        } else {  // pan (camera y): to a target 50-110 deg to the side
+          yaw += (m_rng.chance(0.5) ? 1 : -1) * m_rng.uniform(50.0, 110.0);
+          pitch = std::clamp(h.pitch + m_rng.uniform(-15.0, 15.0), -60.0, 10.0);
+        }
+        const std::optional<V3> target = rayTarget(pos, yaw, pitch);
+        if (!target) continue;
+        const Key c = aimedAt(pos, *target, 0.0, h.roll, h.yaw);
+        const bool dominant =
+            axis == 0 ? std::abs(c.pitch - h.pitch) >= 15.0 : std::abs(c.yaw - h.yaw) >= 45.0;
+        if (dominant) hs = std::pair{h, c};
+      }
+    }
+    if (!hs) return std::nullopt;
+    const Key &h = hs->first, &s = hs->second;
+    if (h.pitch < -72.0 || h.pitch > 22.0 || s.pitch < -72.0 || s.pitch > 22.0) return std::nullopt;
+    const Eigen::AngleAxisd aa(h.pose().linear().transpose() * s.pose().linear());
+    hs->second.t = h.t + std::max(0.15, 1.5 * (aa.angle() / kDeg) / 135.0);
+    return hs;
   }
 
   static void headingTo(const V3& d, double& yaw_deg, double& pitch_deg) {
@@ -296,71 +535,14 @@ class HandheldDrafter {
   }
   static double r1(double v) { return std::round(v * 10.0) / 10.0; }
 
- private:
   const RayScene& m_scene;
   Rng& m_rng;
+  ViewCheck& m_view;
+  ViewRule m_rule;
   GenRect m_area;
   std::vector<V3> m_targets;
   double m_w = 0.0, m_d = 0.0;
 };
-
-HandheldTrajectory trajectoryOf(const std::vector<Key>& keys) {
-  std::vector<HandheldKeyframe> kf;
-  for (const Key& k : keys) kf.push_back({k.t, k.pose()});
-  HandJitter none;
-  none.translation_m = 0.0;
-  none.rotation_deg = 0.0;
-  return HandheldTrajectory(kf, none, 0);
-}
-
-/// Peak |rate| per camera axis (deg/s) over [t0, t1].
-V3 peakRates(const HandheldTrajectory& traj, double t0, double t1, double step = 1.0 / 240.0) {
-  V3 peak = V3::Zero();
-  for (double t = t0; t < t1; t += step) peak = peak.cwiseMax(bodyRate(traj, t).cwiseAbs() / kDeg);
-  return peak;
-}
-
-/// Re-times each swing so the peak rate about its dominant axis is its target (the spline's
-/// Catmull-Rom tangents couple neighbouring segments, hence the iterations).
-void tuneSwings(std::vector<Key>& keys, const std::vector<int>& swings,
-                const std::vector<double>& targets) {
-  std::vector<double> dt(keys.size() - 1);
-  for (std::size_t i = 0; i + 1 < keys.size(); ++i) dt[i] = keys[i + 1].t - keys[i].t;
-  for (int it = 0; it < 12; ++it) {
-    const HandheldTrajectory traj = trajectoryOf(keys);
-    bool converged = true;
-    for (std::size_t s = 0; s < swings.size(); ++s) {
-      const int i = swings[s];
-      const Eigen::Matrix3d R0 = keys[std::size_t(i)].pose().linear(),
-                            R1 = keys[std::size_t(i) + 1].pose().linear();
-      const Eigen::AngleAxisd aa(R0.transpose() * R1);
-      int axis = 0;
-      (aa.axis() * aa.angle()).cwiseAbs().maxCoeff(&axis);
-      const V3 peak = peakRates(traj, keys[std::size_t(i)].t, keys[std::size_t(i) + 1].t);
-      const double ratio = std::clamp(peak[axis] / targets[s], 0.5, 2.0);
-      if (std::abs(ratio - 1.0) > 0.005) converged = false;
-      dt[std::size_t(i)] *= ratio;
-    }
-    for (std::size_t i = 0; i + 1 < keys.size(); ++i)
-      keys[i + 1].t = std::round((keys[i].t + dt[i]) * 1000.0) / 1000.0;
-    if (converged) break;
-  }
-}
-
-/// The hand-held path's positions stay where a person can stand (area + 0.15 m, 1.0-1.9 m high)
-/// and its views see enough geometry; returns the worst view fraction (-1: leaves the area).
-double checkHandheld(const HandheldTrajectory& traj, const GenRect& area, ViewCheck& view,
-                     double step_s) {
-  const GenRect ok = inset(area, -0.15);
-  double worst = 1.0;
-  for (double t = traj.startTime(); t <= traj.endTime() + 1e-9; t += step_s) {
-    const Eigen::Isometry3d T = traj.smoothPose(t);
-    const V3 p = T.translation();
-    if (!ok.contains(p.x(), p.y()) || p.z() < 1.0 || p.z() > 1.9) return -1.0;
-    worst = std::min(worst, view.fraction(T));
-  }
-  return worst;
-}
 
 std::string handheldYaml(const std::vector<Key>& keys, const TTrajectoryGenParams& p,
                          const GeneratedWorld& g, const std::string& comment) {
@@ -476,47 +658,52 @@ GeneratedTrajectory generateHandheldTrajectory(const GeneratedWorld& g, const Wo
   const SerialOpenMp serial;
   const RayScene scene(world);
   ViewCheck view(scene, p.max_view_depth_m);
+  ViewRule rule;
+  rule.min_valid = p.min_valid_handheld;
+  rule.min_object = p.min_object_fraction_handheld;
+  rule.min_eig = p.min_normal_eig_handheld;
   Rng rng(p.seed ^ (p.fast ? 0xA4093822299F31D0ull : 0x13198A2E03707344ull));
-  HandheldDrafter drafter(g, scene, rng);
+  HandheldDrafter drafter(g, scene, rng, view, rule);
   std::vector<Key> best;
-  double best_view = -2.0;
+  ViewWorst best_view;
+  best_view.margin = -2.0;
   V3 best_peak = V3::Zero();
   int attempts = 0;
   for (; attempts < 30; ++attempts) {
     std::vector<int> swings;
-    std::vector<Key> keys = p.fast ? drafter.fast(swings) : drafter.normal();
+    std::vector<double> peaks;
+    std::vector<Key> keys = p.fast ? drafter.fast(swings, peaks) : drafter.normal();
     if (keys.size() < 2) continue;
-    V3 peak = V3::Zero();
-    if (p.fast) {
-      std::vector<double> targets;
-      for (std::size_t s = 0; s < swings.size(); ++s) targets.push_back(rng.uniform(125.0, 142.0));
-      tuneSwings(keys, swings, targets);
-    }
+    if (p.fast) tuneSwings(keys, swings, peaks);
     const HandheldTrajectory traj = trajectoryOf(keys);
-    peak = peakRates(traj, traj.startTime(), traj.endTime());
+    const V3 peak = peakRates(traj, traj.startTime(), traj.endTime());
     if (p.fast && (peak.minCoeff() < 120.0 || peak.maxCoeff() > 150.0)) continue;
-    const double v = checkHandheld(traj, drafter.area(), view, p.fast ? 1.0 / 30.0 : 0.1);
-    if (v > best_view) {
+    const ViewWorst v = checkPath(keys, 0, drafter.area(), view, rule, 1.0 / p.rate_hz);
+    if (v.margin > best_view.margin) {
       best_view = v;
       best = keys;
       best_peak = peak;
     }
-    if (v >= p.min_valid_handheld) break;
+    if (v.margin >= 1.0) break;
   }
   if (best.empty())
     throw std::runtime_error("generateHandheldTrajectory: no feasible keyframes for world " +
                              g.name);
   GeneratedTrajectory out;
   out.duration_s = best.back().t - best.front().t;
-  out.min_valid_fraction = best_view;
+  out.min_valid_fraction = std::max(0.0, best_view.valid);
+  out.min_object_fraction = std::max(0.0, best_view.object);
+  out.min_normal_eig = std::max(0.0, best_view.eig);
   out.peak_rate_degps = best_peak;
-  char line[256];
+  char line[320];
   std::snprintf(line, sizeof(line),
                 "%.1f s, %zu keyframes, peak rates about camera x/y/z %.0f/%.0f/%.0f deg/s, worst "
-                "view %.0f%% of pixels within 0.4-%.0f m%s",
+                "view %.0f%% of pixels within 0.4-%.0f m, %.0f%% of them on objects, normal "
+                "spread %.3f%s",
                 out.duration_s, best.size(), best_peak.x(), best_peak.y(), best_peak.z(),
-                100.0 * std::max(0.0, best_view), p.max_view_depth_m,
-                best_view >= p.min_valid_handheld ? "" : " (WARNING: below the check's bound)");
+                100.0 * out.min_valid_fraction, p.max_view_depth_m, 100.0 * out.min_object_fraction,
+                out.min_normal_eig,
+                best_view.margin >= 1.0 ? "" : " (WARNING: below the check's bounds)");
   out.summary = line;
   out.yaml = handheldYaml(best, p, g, "# Checked when generated: " + out.summary + ".\n");
   return out;

@@ -1,15 +1,16 @@
 #pragma once
 // Random trajectory specs for a generated world (`rasm sim generate`, docs/sim.md):
 //  - hand-held: keyframes every 3-5 s at 1.2-1.7 m, each looking at furniture or objects 1-3 m
-//    away, 20-30 s; the fast variant adds swings about the camera's x, y and z axes with peaks
-//    of 120-150 deg/s;
+//    away, 20-30 s; the fast variant holds and swings about the camera's x, y and z axes with
+//    peaks of 120-150 deg/s, pivoting around look-at targets on objects and furniture;
 //  - robot: a loop through the world's free area with turns in place; the fast variant turns at
 //    90 deg/s and adds a spur with a 180 deg turn.
 // Every spec is checked before it is returned: the robot is driven through the world by the
 // recorder's own pure pursuit and collision raster (no collision, the loop completes), and the
 // camera's view is ray-cast at a low resolution along the path (enough of each image within
-// 0.4-4 m). Candidates that fail are redrawn from the same seeded stream, so the result stays
-// deterministic.
+// 0.4-4 m; hand-held, also enough of it on objects and furniture and normals in three
+// directions: ViewStats.h). Candidates that fail are redrawn from the same seeded stream, so the
+// result stays deterministic.
 
 #include <cstdint>
 #include <string>
@@ -33,6 +34,13 @@ struct TTrajectoryGenParams {
   /// about 3 m (beyond, the floor is at a grazing angle) and little else: about half the image.
   double min_valid_handheld = 0.6;
   double min_valid_robot = 0.5;
+  /// Hand-held view check, besides min_valid_handheld: of the valid pixels of every checked
+  /// image, at least this fraction on objects and furniture (ViewStats::object_fraction: not
+  /// floor, wall, ceiling, door), and normals spread over three directions
+  /// (ViewStats::normal_min_eig at least min_normal_eig_handheld), so that a depth-only ICP is
+  /// constrained in all six directions (a view of the floor alone constrains three).
+  double min_object_fraction_handheld = 0.25;
+  double min_normal_eig_handheld = 0.005;
   double max_view_depth_m = 4.0;
 };
 
@@ -43,6 +51,10 @@ struct GeneratedTrajectory {
   double duration_s = 0.0;
   /// Lowest view fraction over the checked images.
   double min_valid_fraction = 0.0;
+  /// Hand-held: lowest object fraction and normal spread over the checked images (each its own
+  /// minimum; ViewStats).
+  double min_object_fraction = 0.0;
+  double min_normal_eig = 0.0;
   /// Peak angular speed about the camera's x, y, z axes (deg/s) of the smooth path.
   Eigen::Vector3d peak_rate_degps = Eigen::Vector3d::Zero();
 };
