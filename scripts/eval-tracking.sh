@@ -54,9 +54,10 @@ def load(p):
     return poses
 gt, est = load(d + "/groundtruth.txt"), load(d + "/trajectory.txt")
 rows = list(csv.DictReader(open(d + "/frames.csv")))
-# Per-frame error after the run's own ATE alignment (report.json ate.alignment.T_gt_est): a
-# tracked frame more than 5 cm off is a SILENT failure; unaligned drift is reported beside it.
-A = rep.get("ate", {}).get("alignment", {}).get("T_gt_est")
+# Per-frame error after the run's own ATE alignment of the tracked frames (report.json
+# ate_tracked, or ate when nothing was lost: alignment.T_gt_est): a tracked frame more than 5 cm
+# off is a SILENT failure; unaligned drift is reported beside it.
+A = rep.get("ate_tracked", rep.get("ate", {})).get("alignment", {}).get("T_gt_est")
 def aligned(p):
     if not A: return p
     return [sum(A[i][k] * p[k] for k in range(3)) + A[i][3] for i in range(3)]
