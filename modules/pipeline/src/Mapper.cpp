@@ -117,19 +117,11 @@ FrameResult Mapper::processFrame(const RgbdFrame& frame) {
     // The model is rendered where the guess starts from: the previous frame's pose when odometry
     // carries the estimate on (also through lost frames), else the last good pose.
     t = Clock::now();
-    renderModel(frame, prior ? m_T_prev_frame : m_tracker.lastGoodPose(), r);
+    const tracking::ModelMaps model = renderModel(frame, prior ? m_T_prev_frame : m_tracker.lastGoodPose(), r);
     r.ms[int(Stage::RenderModel)] = msSince(t);
 
     t = Clock::now();
-    const tracking::TTrackingParams& tp = m_params.tracking;
-    const bool photometric = tp.photometric_weight > 0 && !frame.colour.empty();
-    tracking::ModelMaps model;
-    model.vertex_world = m_model.vertex_world.cview();
-    model.normal_world = m_model.normal_world.cview();
-    model.K = frame.intrinsics.level(tp.model_level);
-    model.T_world_model = prior ? m_T_prev_frame : m_tracker.lastGoodPose();
-    if (photometric) model.colour = m_model.colour.cview();
-    if (tp.confidence_full > 0) model.confidence = m_model.confidence.cview();
+    const bool photometric = m_params.tracking.photometric_weight > 0 && !frame.colour.empty();
     r.tracking = m_tracker.track(m_pyramid, model, photometric ? frame.colour.cview() : ImageView<const Bgr8>(),
                                  prior ? &*prior : nullptr);
     r.ms[int(Stage::Track)] = msSince(t);
@@ -164,7 +156,7 @@ FrameResult Mapper::processFrame(const RgbdFrame& frame) {
   return r;
 }
 
-void Mapper::renderModel(const RgbdFrame& frame, const Eigen::Isometry3d& T_model, FrameResult& r) {
+tracking::ModelMaps Mapper::renderModel(const RgbdFrame& frame, const Eigen::Isometry3d& T_model, FrameResult& r) {
   // II-C: model = the map rendered at the previous pose from its reliable surfels: those with
   // confidence >= [tracking] model_min_confidence, or the ones fusion flagged stable when that is
   // 0. Until enough of them exist (the first frames of a run, or a newly seen area), that model
@@ -193,6 +185,14 @@ void Mapper::renderModel(const RgbdFrame& frame, const Eigen::Isometry3d& T_mode
     r.model_valid_pixels = int(rs.pixels_drawn);
     r.model_all_surfels = true;
   }
+  tracking::ModelMaps model;
+  model.vertex_world = m_model.vertex_world.cview();
+  model.normal_world = m_model.normal_world.cview();
+  model.K = K_model;
+  model.T_world_model = T_model;
+  if (ro.outputs & maps::kRenderColour) model.colour = m_model.colour.cview();
+  if (ro.outputs & maps::kRenderConfidence) model.confidence = m_model.confidence.cview();
+  return model;
 }
 
 void Mapper::relocalise(const RgbdFrame& frame, FrameResult& r) {
@@ -205,16 +205,9 @@ void Mapper::relocalise(const RgbdFrame& frame, FrameResult& r) {
     // Verify: ICP from the candidate against the map rendered there, every quality rule and
     // the pose check applied (no prior: the candidate is independent of the lost estimate).
     FrameResult probe;
-    renderModel(frame, cand->T_world_cam, probe);
-    const tracking::TTrackingParams& tp = m_params.tracking;
-    tracking::ModelMaps model;
-    model.vertex_world = m_model.vertex_world.cview();
-    model.normal_world = m_model.normal_world.cview();
-    model.K = frame.intrinsics.level(tp.model_level);
-    model.T_world_model = cand->T_world_cam;
-    if (tp.confidence_full > 0) model.confidence = m_model.confidence.cview();
+    const tracking::ModelMaps model = renderModel(frame, cand->T_world_cam, probe);
     const tracking::TrackingResult v = m_tracker.align(m_pyramid, model, cand->T_world_cam);
-    if (v.ok && v.check_overlap >= tp.check_min_overlap) {
+    if (v.ok && v.check_overlap >= m_params.tracking.check_min_overlap) {
       m_tracker.reset(v.T_world_cam);
       r.tracking = v;
       r.tracked = true;

@@ -104,8 +104,9 @@ class Mapper {
 
  private:
   void preprocess(const RgbdFrame& frame);
-  /// II-C: renders the tracking model at T_model (reliable surfels, all of them while too few).
-  void renderModel(const RgbdFrame& frame, const Eigen::Isometry3d& T_model, FrameResult& r);
+  /// II-C: renders the tracking model at T_model (reliable surfels, all of them while too few)
+  /// and returns the tracker's view of it (valid until the next render).
+  tracking::ModelMaps renderModel(const RgbdFrame& frame, const Eigen::Isometry3d& T_model, FrameResult& r);
   /// Issue 14 (5): while lost, the pose from the map's keyframes, verified by ICP against the map
   /// rendered there; on success the tracker restarts from it (r becomes Relocalised).
   void relocalise(const RgbdFrame& frame, FrameResult& r);
