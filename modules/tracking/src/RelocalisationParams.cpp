@@ -6,16 +6,12 @@
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
+#include "ParamsPut.h"
 
 namespace rasm::tracking {
 
 namespace {
-/// Writes key = value // comment (no name padding: rasm::knownKeys reads the names back).
-template <typename T>
-void put(mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& key, const T& value,
-         const std::string& comment) {
-  c.write(s, key, value, -1, -1, comment);
-}
+using detail::put;
 }  // namespace
 
 void TRelocalisationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {

@@ -6,17 +6,12 @@
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
+#include "ParamsPut.h"
 
 namespace rasm::tracking {
 
 namespace {
-/// Writes key = value // comment. No name padding: padded names would become part of the key
-/// that rasm::knownKeys reads back.
-template <typename T>
-void put(mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& key, const T& value,
-         const std::string& comment) {
-  c.write(s, key, value, -1, -1, comment);
-}
+using detail::put;
 std::string levelKey(const char* base, int level) { return std::string(base) + "_level" + std::to_string(level); }
 }  // namespace
 
