@@ -20,6 +20,9 @@
 #include "rasm/core/FrameProcessing.h"
 #include "rasm/io/SevenScenesFrameSource.h"
 #include "rasm/pipeline/Mapper.h"
+#include "rasm/pipeline/stages/FusionStages.h"
+#include "rasm/pipeline/stages/PreprocessStage.h"
+#include "rasm/pipeline/stages/TrackingStage.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
 
 using namespace rasm;
@@ -57,33 +60,6 @@ int countValid(const Image<Vec3f>& v) {
   return n;
 }
 
-/// The Mapper's preprocessing (pipeline::Mapper::preprocess): bilateral filter, pyramid.
-void preprocess(const pipeline::TMapperParams& p, const RgbdFrame& f, Image<float>& filtered,
-                std::vector<FrameLevel>& pyr) {
-  const Image<float>* depth = &f.depth_m;
-  if (p.bilateral_filter) {
-    bilateralFilterDepth(f.depth_m, filtered, 2, float(p.bilateral_sigma_space_px),
-                         float(p.bilateral_sigma_depth_m));
-    depth = &filtered;
-  } else {
-    filtered = f.depth_m;
-  }
-  VertexMapOptions vo;
-  vo.min_depth_m = float(p.min_depth_m);
-  vo.max_depth_m = float(p.max_depth_m);
-  pyr.resize(p.pyramid_levels);
-  for (int l = 0; l < p.pyramid_levels; ++l) {
-    FrameLevel& L = pyr[l];
-    L.K = f.intrinsics.level(l);
-    if (l == 0)
-      L.depth_m = *depth;
-    else
-      downsampleDepth(pyr[l - 1].depth_m, L.depth_m);
-    computeVertexMap(L.depth_m, L.K, L.vertex, vo);
-    computeNormalMap(L.vertex, L.normal, float(p.normal_max_jump_rel));
-  }
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -113,10 +89,10 @@ int main(int argc, char** argv) {
   try {
     std::filesystem::create_directories(out);
     io::SevenScenesFrameSource src(folder);
-    pipeline::MapperParams P;  // defaults = ini/7scenes_redkitchen.ini ([mapper] max_depth_m 4)
-    pipeline::Mapper mapper(P);
-    const tracking::TTrackingParams& tp = P.tracking;
-    const fusion::TFusionParams& fp = P.fusion;
+    pipeline::Mapper mapper;  // defaults = ini/7scenes_redkitchen.ini ([mapper] max_depth_m 4)
+    const pipeline::TMapperParams& mp = mapper.mapperParams();
+    const tracking::TTrackingParams& tp = mapper.stage<pipeline::TrackingStage>().params();
+    const fusion::TFusionParams& fp = mapper.stage<pipeline::FusionStage>().params();
 
     std::optional<RgbdFrame> f;
     double t_first = 0.0;  // the Mapper's surfel times are relative to the first frame
@@ -136,15 +112,19 @@ int main(int argc, char** argv) {
 
     // ---- what the Mapper's tracking of frame N sees (Mapper::processFrame / renderModel) ----
     const Eigen::Isometry3d T_model = mapper.pose();  // no odometry: the last good pose
-    const Eigen::Isometry3d T_guess = mapper.tracker().predictPose();
-    Image<float> filtered;
-    std::vector<FrameLevel> pyr;
-    preprocess(P.mapper, frame, filtered, pyr);
+    const Eigen::Isometry3d T_guess = mapper.stage<pipeline::TrackingStage>().tracker().predictPose();
     const maps::SurfelStore before = mapper.map().store();  // the map before frame N is fused
+
+    // ---- the product's frame N: pose, fusion counts (CPU reference) and its preprocessing ----
+    const pipeline::FrameResult r = mapper.processFrame(frame);
+    if (!r.tracked || !r.fused) throw std::runtime_error("frame N was not tracked and fused");
+    const std::vector<FrameLevel> pyr = mapper.lastContext().pyramid;
+    const Image<float>& filtered = pyr[0].depth_m;  // level 0 holds the filtered depth
+
     maps::SurfelRenderer renderer;
     maps::RenderOptions ro;
-    ro.min_depth_m = float(P.mapper.min_depth_m);
-    ro.max_depth_m = float(P.mapper.max_depth_m) * 1.5f;
+    ro.min_depth_m = float(mp.min_depth_m);
+    ro.max_depth_m = float(mp.max_depth_m) * 1.5f;
     ro.stable_only = tp.model_min_confidence <= 0;
     ro.min_confidence = float(tp.model_min_confidence);
     ro.outputs = maps::kRenderVertex | maps::kRenderNormal | maps::kRenderDepth;
@@ -162,9 +142,6 @@ int main(int argc, char** argv) {
     std::vector<int> model_visible;
     renderer.collectVisible(before, T_model, K_model, ro, ro.max_splat_radius_px, model_visible);
 
-    // ---- the product's frame N: pose and fusion counts (CPU reference) ----
-    const pipeline::FrameResult r = mapper.processFrame(frame);
-    if (!r.tracked || !r.fused) throw std::runtime_error("frame N was not tracked and fused");
     if (r.model_valid_pixels != int(rs.pixels_drawn))
       throw std::runtime_error("the dumped model differs from the Mapper's (" +
                                std::to_string(rs.pixels_drawn) + " vs " +
@@ -182,15 +159,17 @@ int main(int argc, char** argv) {
 
     // ---- extra frames: more depth images for the per-pixel kernels ----
     std::vector<Image<float>> extra_depth;
+    pipeline::PreprocessStage pre;  // the Mapper's preprocessing, alone
+    pre.configure(mp);
     for (int k = 1; k <= extra; ++k) {
       std::optional<RgbdFrame> g;
       for (int s = 0; s < step && (g = src.next()); ++s) {
       }
       if (!g) break;
-      Image<float> fd;
-      std::vector<FrameLevel> tmp;
-      preprocess(P.mapper, *g, fd, tmp);
-      extra_depth.push_back(fd);
+      pipeline::FrameContext c;
+      c.frame = &*g;
+      pre.process(c, mapper.map());
+      extra_depth.push_back(c.pyramid[0].depth_m);
     }
 
     // ---- write ----
@@ -230,13 +209,13 @@ int main(int argc, char** argv) {
     setPose(m, "T_world_cam_guess", T_guess);
     setPose(m, "T_world_cam", T_wc);
     // [mapper]
-    m.set("mapper.min_depth_m", P.mapper.min_depth_m);
-    m.set("mapper.max_depth_m", P.mapper.max_depth_m);
-    m.set("mapper.normal_max_jump_rel", P.mapper.normal_max_jump_rel);
-    m.set("mapper.pyramid_levels", double(P.mapper.pyramid_levels));
-    m.set("mapper.bilateral_filter", double(P.mapper.bilateral_filter));
-    m.set("mapper.bilateral_sigma_space_px", P.mapper.bilateral_sigma_space_px);
-    m.set("mapper.bilateral_sigma_depth_m", P.mapper.bilateral_sigma_depth_m);
+    m.set("mapper.min_depth_m", mp.min_depth_m);
+    m.set("mapper.max_depth_m", mp.max_depth_m);
+    m.set("mapper.normal_max_jump_rel", mp.normal_max_jump_rel);
+    m.set("mapper.pyramid_levels", double(mp.pyramid_levels));
+    m.set("mapper.bilateral_filter", double(mp.bilateral_filter));
+    m.set("mapper.bilateral_sigma_space_px", mp.bilateral_sigma_space_px);
+    m.set("mapper.bilateral_sigma_depth_m", mp.bilateral_sigma_depth_m);
     // [tracking]
     m.set("tracking.num_levels", double(tp.num_levels));
     {

@@ -169,6 +169,52 @@ TEST(SurfelFusion, SmallMotionsFuseIntoTheSameSurfels) {
   for (int i = 0; i < a.size; ++i) ASSERT_NEAR(a.position(i).z(), 3.0f, 1e-3f);
 }
 
+TEST(SurfelFusion, PublicPassesAreFuseAndTheIndexMapShowsTheMapAtTheFramePose) {
+  // The four passes run one by one give the map fuse() gives; between pass 1 and 2 the index map
+  // holds, for a pixel on the box, candidates at the box's depth (label propagation reads it).
+  const Scene scene = wallAndBox();
+  TFusionParams p;
+  SurfelFusion whole(p), passes(p);
+  SurfelStore a, b;
+  for (int k = 0; k < 4; ++k) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(0.003 * k, 0.0, 0.0);
+    const auto f = fusiontest::renderScene(scene, kK, T, k / 30.0);
+    const FusionStats sw = whole.fuse(a, f.input());
+    FusionStats sp;
+    const IndexMapView view = passes.renderIndexMap(b, f.input(), sp);
+    ASSERT_TRUE(view.valid());
+    ASSERT_EQ(view.width(), kK.width);
+    if (k > 0) {
+      // Pixel (80, 60) looks at the box front (z = 1.5 - 0.003 * 0: the camera moves in x only).
+      int n = 0;
+      view.forEachCandidate(80, 60, [&](int i, float z) {
+        EXPECT_GE(i, 0);
+        EXPECT_LT(i, b.size());
+        EXPECT_NEAR(z, 1.5f, 0.01f);
+        ++n;
+      });
+      EXPECT_GT(n, 0);
+    }
+    passes.updateSurfels(b, f.input(), sp);
+    passes.addSurfels(b, f.input(), sp);
+    passes.cleanup(b, f.input(), sp);
+    EXPECT_FALSE(passes.indexMap().valid()) << "the cleanup moved surfels: the view ends with it";
+    EXPECT_EQ(sp.associated, sw.associated);
+    EXPECT_EQ(sp.added, sw.added);
+    EXPECT_EQ(sp.map_size, sw.map_size);
+  }
+  ASSERT_EQ(a.size(), b.size());
+  const SurfelArrays aa = a.arrays(), ba = b.arrays();
+  for (int i = 0; i < aa.size; ++i) ASSERT_EQ(aa.position(i), ba.position(i)) << i;
+  // Out of order is a programming error, not a silent half-update.
+  const auto f = fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), 1.0);
+  FusionStats st;
+  EXPECT_THROW(passes.updateSurfels(b, f.input(), st), std::logic_error);
+  passes.renderIndexMap(b, f.input(), st);
+  EXPECT_THROW(passes.addSurfels(b, f.input(), st), std::logic_error);
+}
+
 TEST(SurfelFusion, MovedObjectIsCarvedAway) {
   TFusionParams p;
   SurfelFusion fusion(p);

@@ -3,6 +3,7 @@
 #include "rasm/core/Error.h"
 #include "rasm/pipeline/MappingRun.h"
 #include "rasm/pipeline/RunConfig.h"
+#include "rasm/pipeline/stages/FusionStages.h"
 
 using namespace rasm;
 using namespace rasm::pipeline;
@@ -22,8 +23,8 @@ TEST(RunConfig, EmbeddedDefaultLoadsStrictly) {
   const RunConfig cfg = RunConfig::embeddedDefault();
   MappingRun run(cfg);
   EXPECT_EQ(run.sourceParams().type, "sim");
-  EXPECT_NEAR(run.mapperParams().fusion.confidence_sigma, 0.6f, 1e-7);
-  EXPECT_EQ(run.mapperParams().mapper.pyramid_levels, 3);
+  EXPECT_NEAR(run.mapper().stage<FusionStage>().params().confidence_sigma, 0.6f, 1e-7);
+  EXPECT_EQ(run.mapper().mapperParams().pyramid_levels, 3);
 }
 
 TEST(RunConfig, UnknownSectionKeyAndBadValueAreNamed) {
@@ -51,7 +52,7 @@ TEST(RunConfig, OverridesReplaceKeys) {
   cfg.applyOverride("source.type=rawlog");
   cfg.applyOverride("source.path=/usr/share/mrpt/datasets/tests_rgbd.rawlog");
   MappingRun run(cfg);
-  EXPECT_DOUBLE_EQ(run.mapperParams().mapper.max_depth_m, 3.5);
+  EXPECT_DOUBLE_EQ(run.mapper().mapperParams().max_depth_m, 3.5);
   EXPECT_EQ(run.sourceParams().type, "rawlog");
   EXPECT_THROW(cfg.applyOverride("nodot=1"), InputError);
   EXPECT_THROW(cfg.applyOverride("a.b"), InputError);

@@ -169,36 +169,25 @@ void SurfelFusion::scheduleSeen(const maps::SurfelStore& map) {
 }
 
 FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& in) {
-  if (!in.K.valid()) throwInputError("SurfelFusion input", "invalid intrinsics " + in.K.toString());
-  checkSize(in.depth_m, in.K, "depth image", false);
-  checkSize(in.vertex_cam, in.K, "vertex map", false);
-  checkSize(in.normal_cam, in.K, "normal map", false);
-  checkSize(in.colour, in.K, "colour image", true);
-  checkSize(in.labels, in.K, "label image L^p", true);
-
   FusionStats st;
-  const int w = in.K.width, h = in.K.height;
-  if (!map.hasTimeOrigin()) map.setTimeOrigin(in.timestamp_s);
-  const float now = map.toMapTime(in.timestamp_s);
-  const maps::SurfelStore& cmap = map;  // read access that does not count as a modification
-  if (!scheduleValid(map))
-    m_schedule.rebuild(cmap.arrays(), now, float(m_params.unstable_max_age_s),
-                       float(m_params.unstable_max_idle_s));
-  if (m_params.resort_unsorted_fraction < 1.0f && map.allIndexed() &&
-      map.unsortedFraction() > m_params.resort_unsorted_fraction) {
-    // Nothing of this frame holds surfel indices yet; the pruning schedule follows the sort.
-    const auto t0 = std::chrono::steady_clock::now();
-    std::vector<int> new_of_old;  // (freed at once: 4 bytes per surfel at the sort's peak)
-    map.sortByBlock(&new_of_old);
-    m_schedule.permute(new_of_old);
-    scheduleSeen(map);
-    st.resorted = true;
-    st.ms_resort = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  }
-  m_due_now.clear();
+  renderIndexMap(map, in, st);
+  updateSurfels(map, in, st);
+  addSurfels(map, in, st);
+  return st;
+}
 
-  const kernels::FusionKernelParams prm = plainParams(m_params, map.options());
-  kernels::FrameView fv = frameView(in);
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+}  // namespace
+
+SurfelFusion::FrameSetup SurfelFusion::setUpFrame(const maps::SurfelStore& map, const FusionInput& in) {
+  FrameSetup f;
+  f.prm = plainParams(m_params, map.options());
+  f.fv = frameView(in);
+  const int w = in.K.width, h = in.K.height;
   if (!(m_weight_K == in.K) || m_weight_sigma != m_params.confidence_sigma) {
     // w = exp(-gamma^2 / (2 sigma^2)) (II-B) depends only on the pixel: tabulate it once.
     m_weight.resize(w, h);
@@ -210,14 +199,57 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
     m_weight_K = in.K;
     m_weight_sigma = sigma;
   }
-  fv.weight = m_weight.cview();
-  const RigidF T_wc = toRigid(in.T_world_cam), T_cw = toRigid(in.T_world_cam.inverse());
+  f.fv.weight = m_weight.cview();
+  f.T_wc = toRigid(in.T_world_cam);
+  f.T_cw = toRigid(in.T_world_cam.inverse());
+  f.now = map.toMapTime(in.timestamp_s);
+  return f;
+}
 
-  using Clock = std::chrono::steady_clock;
-  const auto ms = [](Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-  };
-  auto t0 = Clock::now();
+void SurfelFusion::requirePass(Pass expected, const char* pass) const {
+  if (m_pass != expected)
+    throw std::logic_error(std::string("SurfelFusion::") + pass +
+                           ": the passes of one frame run in order (renderIndexMap, updateSurfels, "
+                           "addSurfels, cleanup)");
+}
+
+IndexMapView SurfelFusion::indexMap() const {
+  IndexMapView v;
+  if (!m_index_fresh) return v;
+  if (cpu())
+    v.lists = &m_candidates;
+  else
+    v.packed = &m_index4x;
+  return v;
+}
+
+IndexMapView SurfelFusion::renderIndexMap(maps::SurfelStore& map, const FusionInput& in, FusionStats& st) {
+  if (!in.K.valid()) throwInputError("SurfelFusion input", "invalid intrinsics " + in.K.toString());
+  checkSize(in.depth_m, in.K, "depth image", false);
+  checkSize(in.vertex_cam, in.K, "vertex map", false);
+  checkSize(in.normal_cam, in.K, "normal map", false);
+  checkSize(in.colour, in.K, "colour image", true);
+  checkSize(in.labels, in.K, "label image L^p", true);
+
+  if (!map.hasTimeOrigin()) map.setTimeOrigin(in.timestamp_s);
+  const float now = map.toMapTime(in.timestamp_s);
+  const maps::SurfelStore& cmap = map;  // read access that does not count as a modification
+  if (!scheduleValid(map))
+    m_schedule.rebuild(cmap.arrays(), now, float(m_params.unstable_max_age_s),
+                       float(m_params.unstable_max_idle_s));
+  if (m_params.resort_unsorted_fraction < 1.0f && map.allIndexed() &&
+      map.unsortedFraction() > m_params.resort_unsorted_fraction) {
+    // Nothing of this frame holds surfel indices yet; the pruning schedule follows the sort.
+    const auto t_sort = Clock::now();
+    std::vector<int> new_of_old;  // (freed at once: 4 bytes per surfel at the sort's peak)
+    map.sortByBlock(&new_of_old);
+    m_schedule.permute(new_of_old);
+    scheduleSeen(map);
+    st.resorted = true;
+    st.ms_resort = msSince(t_sort);
+  }
+  m_due_now.clear();
+  const auto t0 = Clock::now();
 
   // 1. 4x point index map of every surfel in view (II-D).
   maps::RenderOptions& ro = m_index_options;
@@ -232,8 +264,20 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   else
     m_renderer.renderIndexMap4x(map, in.T_world_cam, in.K, ro, m_index4x, &st.render);
   m_index_fresh = true;
-  st.ms_index_map = ms(t0);
-  t0 = Clock::now();
+  m_pass = Pass::Rendered;
+  st.ms_index_map = msSince(t0);
+  return indexMap();
+}
+
+void SurfelFusion::updateSurfels(maps::SurfelStore& map, const FusionInput& in, FusionStats& st) {
+  requirePass(Pass::Rendered, "updateSurfels");
+  const auto t0 = Clock::now();
+  const FrameSetup fs = setUpFrame(map, in);
+  const kernels::FusionKernelParams& prm = fs.prm;
+  const kernels::FrameView& fv = fs.fv;
+  const RigidF &T_wc = fs.T_wc, &T_cw = fs.T_cw;
+  const float now = fs.now;
+  const int w = in.K.width, h = in.K.height;
 
   // 2. association (read-only, every pixel), then the update of the chosen surfels.
   m_pixel_surfel.resize(w, h);
@@ -261,11 +305,11 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   for (auto& l : m_thread_lists) l.clear();
   m_stable_lists.resize(nt);
   for (auto& l : m_stable_lists) l.clear();
-  std::vector<std::array<int, 6>> counts(nt, std::array<int, 6>{});
+  m_counts.assign(nt, std::array<int, 6>{});
   m_row_offset.assign(h + 1, 0);
   const auto tallyRow = [&](int y) {
     const int t = threadId();
-    std::array<int, 6>& c = counts[t];
+    std::array<int, 6>& c = m_counts[t];
     const std::uint16_t* f = m_flags.row(y);
     const std::int32_t* ps = m_pixel_surfel.row(y);
     int fresh = 0;
@@ -385,8 +429,16 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
 #pragma omp parallel for schedule(static) num_threads(nt)
     for (int y = 0; y < h; ++y) tallyRow(y);
   }
-  st.ms_update = ms(t0);
-  t0 = Clock::now();
+  st.ms_update = msSince(t0);
+  m_pass = Pass::Updated;
+}
+
+void SurfelFusion::addSurfels(maps::SurfelStore& map, const FusionInput& in, FusionStats& st) {
+  requirePass(Pass::Updated, "addSurfels");
+  const auto t0 = Clock::now();
+  const FrameSetup fs = setUpFrame(map, in);
+  const int h = in.K.height;
+  const int nt = int(m_counts.size());
 
   // 3. new surfels: per-row counts (tallyRow), exclusive prefix sum, row-parallel writes in
   // pixel order.
@@ -395,11 +447,11 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   const int first = map.allocate(added);
   for (int y = 0; y <= h; ++y) m_row_offset[y] += first;
   kernels::NewSurfelKernel nk;
-  nk.frame = fv;
-  nk.prm = prm;
+  nk.frame = fs.fv;
+  nk.prm = fs.prm;
   nk.s = map.arrays();  // after allocate(): the arrays may have moved
-  nk.T_world_cam = T_wc;
-  nk.now = now;
+  nk.T_world_cam = fs.T_wc;
+  nk.now = fs.now;
   nk.flags = m_flags.cview();
   nk.row_first = m_row_offset.data();
   nk.pixel_surfel = m_pixel_surfel.view();
@@ -409,12 +461,12 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   std::vector<int>& movers = m_removed;
   movers.clear();
   for (int t = 0; t < nt; ++t) {
-    st.valid_pixels += counts[t][0];
-    st.associated += counts[t][1];
-    st.fused += counts[t][2];
-    st.became_stable += counts[t][3];
-    st.relabelled += counts[t][4];
-    st.covered += counts[t][5];
+    st.valid_pixels += m_counts[t][0];
+    st.associated += m_counts[t][1];
+    st.fused += m_counts[t][2];
+    st.became_stable += m_counts[t][3];
+    st.relabelled += m_counts[t][4];
+    st.covered += m_counts[t][5];
     movers.insert(movers.end(), m_thread_lists[t].begin(), m_thread_lists[t].end());
   }
   // In surfel order, not the thread schedule's: the order of the index's member lists (and with
@@ -429,16 +481,16 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
 
   // New surfels enter the pruning schedule.
   m_schedule.grow(map.size());
-  const maps::SurfelArrays a = cmap.arrays();
+  const maps::SurfelArrays a = static_cast<const maps::SurfelStore&>(map).arrays();
   for (int i = first; i < first + added; ++i)
-    if (!(a.colour_flags[i] & maps::kSurfelStable) && m_schedule.file(a, i, now))
+    if (!(a.colour_flags[i] & maps::kSurfelStable) && m_schedule.file(a, i, fs.now))
       m_due_now.push_back(i);
   scheduleSeen(map);
 
-  st.ms_add = ms(t0);
+  st.ms_add = msSince(t0);
   st.added = added;
   st.map_size = map.size();
-  return st;
+  m_pass = Pass::Added;
 }
 
 void SurfelFusion::mergeCpu(maps::SurfelStore& map, std::vector<int>& removed) {
@@ -640,8 +692,9 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start)
             .count();
   };
-  const bool index_fresh = m_index_fresh;
+  const bool index_fresh = m_index_fresh && m_pass == Pass::Added;
   m_index_fresh = false;  // the view refers to indices that the removal below invalidates
+  m_pass = Pass::None;
   const float now = map.toMapTime(in.timestamp_s);
   const maps::SurfelStore& cmap = map;
   if (!scheduleValid(map)) {

@@ -3,38 +3,21 @@
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <algorithm>
 #include <chrono>
 
-#include "rasm/compute/Parallel.h"
 #include "rasm/core/Error.h"
-#include "rasm/core/kernels/FrameKernels.h"
+#include "rasm/core/Params.h"
+#include "rasm/pipeline/stages/FusionStages.h"
+#include "rasm/pipeline/stages/PreprocessStage.h"
+#include "rasm/pipeline/stages/TrackingStage.h"
 
 namespace rasm::pipeline {
 
 namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-int countValid(const Image<Vec3f>& v) {
-  const int w = v.width();
-  return compute::reduce1D<int>(v.height(), [&](int y, int& n) {
-    const Vec3f* r = v.row(y);
-    for (int x = 0; x < w; ++x) n += kernels::validVec(r[x]) ? 1 : 0;
-  });
-}
 }  // namespace
-
-const char* toString(Stage s) {
-  switch (s) {
-    case Stage::Preprocess: return "preprocess";
-    case Stage::RenderModel: return "render_model";
-    case Stage::Track: return "track";
-    case Stage::Relocalise: return "relocalise";
-    case Stage::Fuse: return "fuse";
-    case Stage::Total: return "total";
-    default: return "?";
-  }
-}
 
 const char* toString(PoseSource s) {
   switch (s) {
@@ -46,186 +29,129 @@ const char* toString(PoseSource s) {
   return "?";
 }
 
-Mapper::Mapper(const MapperParams& params)
-    : m_params(params),
-      m_map(std::make_unique<maps::CSurfelMap>(params.map)),
-      m_tracker(params.tracking),
-      m_fusion(params.fusion),
-      m_odometry(params.robot),
-      m_reloc(params.relocalisation) {
-  if (m_params.tracking.numLevels() > m_params.mapper.pyramid_levels)
-    throwInputError("[mapper] pyramid_levels",
-                    "must be >= the number of [tracking] levels (" + std::to_string(m_params.tracking.numLevels()) + ")");
+void Mapper::assemble() {
+  m_stages.push_back(std::make_unique<PreprocessStage>());
+  auto tracking = std::make_unique<TrackingStage>();
+  m_tracking = tracking.get();
+  m_stages.push_back(std::move(tracking));
+  auto fuse = std::make_unique<FusionStage>();
+  m_stages.push_back(std::make_unique<IndexMapStage>(*fuse));
+  m_stages.push_back(std::move(fuse));
+  indexTimers();
 }
 
-void Mapper::preprocess(const RgbdFrame& frame) {
-  const TMapperParams& p = m_params.mapper;
-  const Image<float>* depth = &frame.depth_m;
-  if (p.bilateral_filter) {
-    bilateralFilterDepth(frame.depth_m, m_depth_filtered, 2, float(p.bilateral_sigma_space_px),
-                         float(p.bilateral_sigma_depth_m));
-    depth = &m_depth_filtered;
+void Mapper::indexTimers() {
+  m_timers.clear();
+  for (const auto& s : m_stages) {
+    s->m_timer = int(m_timers.size());
+    m_timers.push_back(s->name());
+    m_timers.insert(m_timers.end(), s->parts().begin(), s->parts().end());
   }
-  VertexMapOptions vo;
-  vo.min_depth_m = float(p.min_depth_m);
-  vo.max_depth_m = float(p.max_depth_m);
-  m_pyramid.resize(p.pyramid_levels);
-  for (int l = 0; l < p.pyramid_levels; ++l) {
-    FrameLevel& L = m_pyramid[l];
-    L.K = frame.intrinsics.level(l);
-    if (l == 0)
-      L.depth_m = *depth;
-    else
-      downsampleDepth(m_pyramid[l - 1].depth_m, L.depth_m);
-    computeVertexMap(L.depth_m, L.K, L.vertex, vo);
-    computeNormalMap(L.vertex, L.normal, float(p.normal_max_jump_rel));
+  m_timers.push_back("total");
+}
+
+void Mapper::addStage(std::unique_ptr<MapperStage> stage, const std::string& before) {
+  if (m_frames > 0) throw std::logic_error("Mapper::addStage: before the first frame");
+  auto at = m_stages.end();
+  if (!before.empty()) {
+    at = std::find_if(m_stages.begin(), m_stages.end(), [&](const auto& s) { return s->name() == before; });
+    if (at == m_stages.end()) throw std::logic_error("Mapper::addStage: no stage '" + before + "'");
   }
+  stage->configure(m_mapper);
+  m_stages.insert(at, std::move(stage));
+  indexTimers();
+}
+
+Mapper::Mapper() {
+  assemble();
+  configure();
+}
+
+Mapper::Mapper(const mrpt::config::CConfigFileBase& ini, const std::string& source) {
+  assemble();
+  for (const ParamsSection& s : sections()) loadParamsStrict(ini, s.name, *s.params, source);
+  configure();
+}
+
+Mapper::~Mapper() = default;
+
+void Mapper::configure() {
+  for (const auto& s : m_stages) s->configure(m_mapper);
+  m_map = std::make_unique<maps::CSurfelMap>(m_map_options);
+}
+
+std::vector<ParamsSection> Mapper::sections() {
+  std::vector<ParamsSection> out = {{"mapper", &m_mapper}, {"map", &m_map_options}};
+  for (const auto& s : m_stages)
+    for (const ParamsSection& p : s->sections()) out.push_back(p);
+  return out;
+}
+
+std::vector<std::string> Mapper::sectionNames() const {
+  std::vector<std::string> names;
+  for (const ParamsSection& s : const_cast<Mapper*>(this)->sections()) names.push_back(s.name);
+  return names;
+}
+
+void Mapper::saveParams(mrpt::config::CConfigFileBase& out) const {
+  for (const ParamsSection& s : const_cast<Mapper*>(this)->sections()) s.params->saveToConfigFile(out, s.name);
 }
 
 FrameResult Mapper::processFrame(const RgbdFrame& frame) {
   const auto t_start = Clock::now();
-  FrameResult r;
-  r.index = frame.index;
-  r.timestamp_s = frame.timestamp_s;
   if (m_frames == 0) m_t0 = frame.timestamp_s;
-  const double t_rel = frame.timestamp_s - m_t0;
-
-  auto t = Clock::now();
-  preprocess(frame);
-  r.ms[int(Stage::Preprocess)] = msSince(t);
-
-  if (!m_tracker.initialized() && m_localise_in_map) {
-    // A loaded map: nothing is fused until the camera is found in it.
-    r.tracked = false;
-    r.pose_source = PoseSource::MotionModel;
-    r.tracking.status = tracking::TrackingStatus::NotInitialized;
-    relocalise(frame, r);
-    if (r.relocalised) m_odometry.start(r.T_world_cam, frame.odometry_xyyaw);
-  } else if (!m_tracker.initialized()) {
-    const Eigen::Isometry3d T0 = (m_params.init_from_groundtruth && frame.gt_T_world_cam) ? *frame.gt_T_world_cam
-                                                                                          : Eigen::Isometry3d::Identity();
-    m_tracker.reset(T0);
-    m_odometry.start(T0, frame.odometry_xyyaw);
-    r.first = true;
-    r.tracked = true;
-    r.T_world_cam = T0;
-    r.tracking.ok = true;
-    r.tracking.status = tracking::TrackingStatus::Ok;
-    r.tracking.T_world_cam = T0;
-  } else {
-    const std::optional<tracking::MotionPrior> prior = m_odometry.predict(frame.odometry_xyyaw, m_T_prev_frame);
-    // The model is rendered where the guess starts from: the previous frame's pose when odometry
-    // carries the estimate on (also through lost frames), else the last good pose.
-    t = Clock::now();
-    const tracking::ModelMaps model = renderModel(frame, prior ? m_T_prev_frame : m_tracker.lastGoodPose(), r);
-    r.ms[int(Stage::RenderModel)] = msSince(t);
-
-    t = Clock::now();
-    const bool photometric = m_params.tracking.photometric_weight > 0 && !frame.colour.empty();
-    r.tracking = m_tracker.track(m_pyramid, model, photometric ? frame.colour.cview() : ImageView<const Bgr8>(),
-                                 prior ? &*prior : nullptr);
-    r.ms[int(Stage::Track)] = msSince(t);
-    r.tracked = r.tracking.ok;
-    if (r.tracked) {
-      r.T_world_cam = r.tracking.T_world_cam;
-      if (m_params.robot.planar_motion) {
-        r.T_world_cam = m_odometry.projectToFloor(r.T_world_cam);
-        m_tracker.correctLastPose(r.T_world_cam);
-      }
-    } else {
-      r.pose_source = prior ? PoseSource::Odometry : PoseSource::MotionModel;
-      r.T_world_cam = prior ? prior->T_world_cam : r.tracking.T_world_cam_guess;
-      relocalise(frame, r);
-    }
+  FrameContext& ctx = m_ctx;
+  ctx.frame = &frame;
+  ctx.t_rel_s = frame.timestamp_s - m_t0;
+  ctx.index_map = {};
+  ctx.labels.resize(0, 0);
+  ctx.result = FrameResult();
+  ctx.result.index = frame.index;
+  ctx.result.timestamp_s = frame.timestamp_s;
+  ctx.result.ms.assign(m_timers.size(), 0.0);
+  for (const auto& s : m_stages) {
+    const auto t = Clock::now();
+    s->process(ctx, *m_map);
+    ctx.result.ms[s->m_timer] += msSince(t);
   }
-  m_T_prev_frame = r.T_world_cam;
-
-  if (r.tracked && !r.relocalised) {
-    t = Clock::now();
-    fusion::FusionInput in = fusion::makeFusionInput(frame, m_pyramid[0].vertex, m_pyramid[0].normal, r.T_world_cam);
-    in.timestamp_s = t_rel;
-    r.fusion = m_fusion.fuse(m_map->store(), in);
-    r.fused = true;
-    m_reloc.maybeAddKeyframe(frame, r.T_world_cam, m_map->keyframes());
-    r.ms[int(Stage::Fuse)] = msSince(t);
-  } else if (!r.tracked) {
-    ++m_lost;
-  }
+  for (const auto& s : m_stages) s->finishFrame(ctx, *m_map);
+  if (!ctx.result.tracked) ++m_lost;
   ++m_frames;
-  r.ms[int(Stage::Total)] = msSince(t_start);
-  return r;
+  ctx.result.ms.back() = msSince(t_start);
+  ctx.frame = nullptr;  // the caller's frame is not kept
+  return ctx.result;
 }
 
-tracking::ModelMaps Mapper::renderModel(const RgbdFrame& frame, const Eigen::Isometry3d& T_model, FrameResult& r) {
-  // II-C: model = the map rendered at the previous pose from its reliable surfels: those with
-  // confidence >= [tracking] model_min_confidence, or the ones fusion flagged stable when that is
-  // 0. Until enough of them exist (the first frames of a run, or a newly seen area), that model
-  // is too sparse to constrain ICP; then all surfels are used.
-  const tracking::TTrackingParams& tp = m_params.tracking;
-  maps::RenderOptions ro;
-  ro.min_depth_m = float(m_params.mapper.min_depth_m);
-  ro.max_depth_m = float(m_params.mapper.max_depth_m) * 1.5f;
-  ro.stable_only = tp.model_min_confidence <= 0;
-  ro.min_confidence = float(tp.model_min_confidence);
-  ro.outputs = maps::kRenderVertex | maps::kRenderNormal;
-  // Optional inputs of the tracker: colour for its photometric term, surfel confidence weights.
-  if (tp.photometric_weight > 0 && !frame.colour.empty()) ro.outputs |= maps::kRenderColour;
-  if (tp.confidence_full > 0) ro.outputs |= maps::kRenderConfidence;
-  // Rendered at pyramid level [tracking] model_level (intrinsics of that level); a pixel a
-  // surfel won has that surfel's normal: the render counts the valid model pixels.
-  const CameraIntrinsics K_model = frame.intrinsics.level(tp.model_level);
-  maps::RenderStats rs;
-  m_renderer.render(m_map->store(), T_model, K_model, ro, m_model, &rs);
-  r.model_valid_pixels = int(rs.pixels_drawn);
-  const int frame_valid = countValid(m_pyramid[tp.model_level].normal);
-  if (r.model_valid_pixels < 0.3 * frame_valid) {
-    ro.stable_only = false;
-    ro.min_confidence = 0.0f;
-    m_renderer.render(m_map->store(), T_model, K_model, ro, m_model, &rs);
-    r.model_valid_pixels = int(rs.pixels_drawn);
-    r.model_all_surfels = true;
-  }
-  tracking::ModelMaps model;
-  model.vertex_world = m_model.vertex_world.cview();
-  model.normal_world = m_model.normal_world.cview();
-  model.K = K_model;
-  model.T_world_model = T_model;
-  if (ro.outputs & maps::kRenderColour) model.colour = m_model.colour.cview();
-  if (ro.outputs & maps::kRenderConfidence) model.confidence = m_model.confidence.cview();
-  return model;
+std::string Mapper::csvHeader() const {
+  std::string h = "index,timestamp_s,tracked";
+  std::vector<std::string> cols;
+  for (const auto& s : m_stages) s->csvColumns(cols);
+  for (const auto& c : cols) h += "," + c;
+  for (const auto& t : m_timers) h += ",ms_" + t;
+  return h;
 }
 
-void Mapper::relocalise(const RgbdFrame& frame, FrameResult& r) {
-  if (m_map->keyframes().empty()) return;
-  const auto t = Clock::now();
-  const std::optional<tracking::RelocalisationResult> cand = m_reloc.relocalise(frame, m_map->keyframes());
-  if (!cand) {
-    r.relocalisation_failure = m_reloc.lastStats().reason;
-  } else {
-    // Verify: ICP from the candidate against the map rendered there, every quality rule and
-    // the pose check applied (no prior: the candidate is independent of the lost estimate).
-    FrameResult probe;
-    const tracking::ModelMaps model = renderModel(frame, cand->T_world_cam, probe);
-    const tracking::TrackingResult v = m_tracker.align(m_pyramid, model, cand->T_world_cam);
-    if (v.ok && v.check_overlap >= m_params.tracking.check_min_overlap) {
-      m_tracker.reset(v.T_world_cam);
-      r.tracking = v;
-      r.tracked = true;
-      r.relocalised = true;
-      r.pose_source = PoseSource::Relocalised;
-      r.T_world_cam = v.T_world_cam;
-      r.model_valid_pixels = probe.model_valid_pixels;
-      ++m_relocalisations;
-    } else {
-      r.relocalisation_failure = std::string("rejected by ICP: ") + tracking::toString(v.status);
-    }
-  }
-  r.ms[int(Stage::Relocalise)] = msSince(t);
+std::string Mapper::csvRow() const {
+  CsvRow row;
+  const FrameResult& r = m_ctx.result;
+  row.add(r.index).add(r.timestamp_s, 6).add(r.tracked);
+  for (const auto& s : m_stages) s->csvValues(m_ctx, row);
+  for (double ms : r.ms) row.add(ms, 2);
+  return row.text();
 }
+
+void Mapper::report(nlohmann::json& rep) const {
+  for (const auto& s : m_stages) s->report(rep);
+  rep["keyframes"] = m_map->keyframes().size();
+}
+
+std::size_t Mapper::relocalisations() const { return m_tracking->relocalisations(); }
+const Eigen::Isometry3d& Mapper::pose() const { return m_tracking->tracker().lastGoodPose(); }
+const Eigen::Isometry3d& Mapper::lastFramePose() const { return m_tracking->lastFramePose(); }
 
 void Mapper::loadMap(const std::string& path) {
   if (m_frames > 0) throwInputError("map '" + path + "'", "must be loaded before the first frame");
-  auto loaded = std::make_unique<maps::CSurfelMap>(m_params.map);
+  auto loaded = std::make_unique<maps::CSurfelMap>(m_map_options);
   try {
     mrpt::io::CFileGZInputStream f(path);
     auto a = mrpt::serialization::archiveFrom(f);
@@ -236,7 +162,7 @@ void Mapper::loadMap(const std::string& path) {
   if (loaded->keyframes().empty())
     throwInputError("map '" + path + "'", "has no relocalisation keyframes: the camera cannot be localised in it");
   m_map = std::move(loaded);
-  m_localise_in_map = true;
+  m_tracking->localiseInLoadedMap();
 }
 
 void Mapper::renderView(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K, maps::RenderedMaps& out) {

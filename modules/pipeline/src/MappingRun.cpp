@@ -82,24 +82,23 @@ void writeFileAtomically(const std::string& path, const std::string& text) {
   fs::rename(tmp, path);
 }
 
-std::vector<std::string> MappingRun::knownSections() {
-  return {"source", "camera", "mapper", "tracking", "relocalisation", "fusion", "map", "robot", "output", "sim"};
+std::vector<std::string> MappingRun::knownSections() const {
+  std::vector<std::string> known = {"source", "camera"};
+  for (const std::string& s : m_mapper->sectionNames()) known.push_back(s);
+  known.insert(known.end(), {"output", "sim"});
+  return known;
 }
 
 MappingRun::MappingRun(const RunConfig& config) : m_config(config) {
-  m_config.checkSections(knownSections());
   const auto& ini = m_config.ini();
   const std::string& src = m_config.source();
+  // The Mapper loads its own sections and its stages' (strictly); unknown sections are checked
+  // against the list it derives.
+  m_mapper = std::make_unique<Mapper>(ini, src);
+  m_config.checkSections(knownSections());
   loadParamsStrict(ini, "source", m_source, src);
   loadParamsStrict(ini, "camera", m_camera, src);
   loadParamsStrict(ini, "output", m_output, src);
-  loadParamsStrict(ini, "mapper", m_mapper_params.mapper, src);
-  loadParamsStrict(ini, "tracking", m_mapper_params.tracking, src);
-  loadParamsStrict(ini, "fusion", m_mapper_params.fusion, src);
-  loadParamsStrict(ini, "map", m_mapper_params.map, src);
-  loadParamsStrict(ini, "robot", m_mapper_params.robot, src);
-  loadParamsStrict(ini, "relocalisation", m_mapper_params.relocalisation, src);
-  m_mapper_params.tracking.validate("tracking");
   (void)m_camera.intrinsics();  // validates
   // [sim] belongs to the simulator; it is parsed strictly when the sim source is opened.
   std::vector<std::string> keys;
@@ -114,18 +113,12 @@ std::string MappingRun::effectiveConfig() const {
   mrpt::config::CConfigFileMemory mem;
   m_source.saveToConfigFile(mem, "source");
   m_camera.saveToConfigFile(mem, "camera");
-  m_mapper_params.mapper.saveToConfigFile(mem, "mapper");
-  m_mapper_params.tracking.saveToConfigFile(mem, "tracking");
-  m_mapper_params.fusion.saveToConfigFile(mem, "fusion");
-  m_mapper_params.map.saveToConfigFile(mem, "map");
-  m_mapper_params.robot.saveToConfigFile(mem, "robot");
-  m_mapper_params.relocalisation.saveToConfigFile(mem, "relocalisation");
+  m_mapper->saveParams(mem);
   m_output.saveToConfigFile(mem, "output");
   std::string text;
   mem.getContent(text);
-  std::string sim = m_sim_ini;
   return "; effective configuration of a rasm run (every key, defaults included), from " + m_config.source() +
-         "\n" + text + "\n" + sim;
+         "\n" + text + "\n" + m_sim_ini;
 }
 
 std::unique_ptr<io::FrameSource> MappingRun::openSource() const {
@@ -198,41 +191,51 @@ void MappingRun::writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, con
   w.writeObject(im);
 }
 
-RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_frame) {
-  auto t_start = std::chrono::steady_clock::now();
-  double cpu_start_s = processCpuSeconds();
-  RunSummary sum;
-  sum.out_dir = m_output.dir;
+/// What the frame loop gathers for the outputs.
+struct MappingRun::Accumulated {
+  io::Trajectory estimate, estimate_tracked, groundtruth;
+  LossIntervals loss;
+  std::vector<double> ms_sum, ms_max;  ///< per Mapper timer
+  std::string frames_csv;              ///< frames.csv: one row per processed frame
+  std::string error;                   ///< what ended the loop early, empty = the source ended
+  std::size_t processed = 0;
+  CameraIntrinsics last_K;
+  bool have_K = false;
+  std::chrono::steady_clock::time_point t_start;
+  double cpu_start_s = 0.0, preload_s = 0.0;
+  double cpu_s = 0.0;  ///< CPU seconds of the frame loop
+};
+
+void MappingRun::prepareOutputFolder() const {
   std::error_code ec;
   fs::create_directories(m_output.dir, ec);
   if (ec) throwInputError("[output] dir '" + m_output.dir + "'", "cannot be created: " + ec.message());
   if (!m_output.overwrite && !fs::is_empty(m_output.dir))
     throwInputError("[output] dir '" + m_output.dir + "'", "is not empty and [output] overwrite = false");
   writeFileAtomically(m_output.dir + "/config.ini", effectiveConfig());
+}
 
+std::unique_ptr<io::FrameSource> MappingRun::openWrappedSource(double& preload_s) const {
   std::unique_ptr<io::FrameSource> source = openSource();
-  double preload_s = 0.0;
+  preload_s = 0.0;
   if (m_source.preload) {
-    // Frame rate and CPU time then count the mapping only (the clocks restart below).
+    const auto t0 = std::chrono::steady_clock::now();
     long long limit = 0;
-    if (m_source.max_frames > 0)
-      limit = m_source.start_frame + (long long)m_source.max_frames * m_source.frame_step;
+    if (m_source.max_frames > 0) limit = m_source.start_frame + (long long)m_source.max_frames * m_source.frame_step;
     Progress reading("frames read", limit > 0 ? limit : source->sizeHint());
     source = std::make_unique<io::PreloadedFrameSource>(
-        std::move(source), limit, [&](long long n) { reading.update(n); },
-        std::size_t(m_source.preload_max_mib) << 20);
+        std::move(source), limit, [&](long long n) { reading.update(n); }, std::size_t(m_source.preload_max_mib) << 20);
     reading.finish(source->sizeHint(), "in memory");
-    preload_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-    t_start = std::chrono::steady_clock::now();
-    cpu_start_s = processCpuSeconds();
+    preload_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   } else if (m_source.prefetch_frames > 0) {
     source = std::make_unique<io::PrefetchingFrameSource>(std::move(source), m_source.prefetch_frames);
   }
-  m_mapper = std::make_unique<Mapper>(m_mapper_params);
-  if (!m_mapper_params.mapper.load_map.empty()) m_mapper->loadMap(m_mapper_params.mapper.load_map);
-  std::fprintf(stderr, "rasm run: %s -> %s\n", source->describe().c_str(), m_output.dir.c_str());
+  return source;
+}
 
-  long long total = source->sizeHint();
+void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc,
+                           const std::function<void(const FrameResult&)>& on_frame) {
+  long long total = source.sizeHint();
   if (total > 0) {
     total = std::max<long long>(0, total - m_source.start_frame);
     total = (total + m_source.frame_step - 1) / m_source.frame_step;
@@ -241,7 +244,6 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
     total = m_source.max_frames;
   }
   Progress progress("frames", total);
-
   // annotated.rawlog: each input observation with the ESTIMATED camera pose as sensorPose (MRPT
   // sensor frame), followed by a CObservationImage "MAP_VIEW" of the map rendered from that pose.
   std::unique_ptr<io::RawlogWriter> annotated;
@@ -251,26 +253,14 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
     wo.sensor_pose_from_ground_truth = false;
     annotated = std::make_unique<io::RawlogWriter>(m_output.dir + "/annotated.rawlog", wo);
   }
-
-  io::Trajectory estimate, estimate_tracked, groundtruth;
-  LossIntervals loss;
-  std::array<double, int(Stage::Count)> ms_sum{};
-  std::array<double, int(Stage::Count)> ms_max{};
-  std::string error;
-  // frames.csv: one row per processed frame (tracking quality, fusion counts, stage times).
-  std::string frames_csv =
-      "index,timestamp_s,tracked,status,inliers,inlier_fraction,rms_m,model_pixels,model_all_surfels,"
-      "icp_iterations,icp_iterations_level0,valid_pixels,associated,added,removed_unstable,removed_carved,merged,"
-      "surfels,pose_source,check_overlap,check_agreement,check_behind,used_prior,prior_sigmas,relocalisation_failure";
-  for (int s = 0; s < int(Stage::Count); ++s) frames_csv += std::string(",ms_") + toString(Stage(s));
-  frames_csv += "\n";
+  const std::size_t n_timers = m_mapper->timerNames().size();
+  acc.ms_sum.assign(n_timers, 0.0);
+  acc.ms_max.assign(n_timers, 0.0);
+  acc.frames_csv = m_mapper->csvHeader() + "\n";
   long long read = 0;
-  std::size_t processed = 0;
-  CameraIntrinsics last_K;
-  bool have_K = false;
   try {
-    while (m_source.max_frames == 0 || processed < std::size_t(m_source.max_frames)) {
-      std::optional<RgbdFrame> f = source->next();
+    while (m_source.max_frames == 0 || acc.processed < std::size_t(m_source.max_frames)) {
+      std::optional<RgbdFrame> f = source.next();
       if (!f) break;
       const long long idx = read++;
       if (idx < m_source.start_frame || (idx - m_source.start_frame) % m_source.frame_step != 0) continue;
@@ -280,56 +270,40 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
         if (!f->colour.empty()) f->colour.setTo(Bgr8{});
       }
       const FrameResult r = m_mapper->processFrame(*f);
-      ++processed;
-      last_K = f->intrinsics;
-      have_K = true;
+      ++acc.processed;
+      acc.last_K = f->intrinsics;
+      acc.have_K = true;
       // Every frame has a pose (propagated while lost: pose_source in frames.csv).
-      estimate.push_back({r.timestamp_s, r.T_world_cam});
-      if (r.tracked) estimate_tracked.push_back({r.timestamp_s, r.T_world_cam});
-      loss.add(r.tracked);
-      if (f->gt_T_world_cam) groundtruth.push_back({f->timestamp_s, *f->gt_T_world_cam});
-      for (int s = 0; s < int(Stage::Count); ++s) {
-        ms_sum[s] += r.ms[s];
-        ms_max[s] = std::max(ms_max[s], r.ms[s]);
+      acc.estimate.push_back({r.timestamp_s, r.T_world_cam});
+      if (r.tracked) acc.estimate_tracked.push_back({r.timestamp_s, r.T_world_cam});
+      acc.loss.add(r.tracked);
+      if (f->gt_T_world_cam) acc.groundtruth.push_back({f->timestamp_s, *f->gt_T_world_cam});
+      for (std::size_t s = 0; s < n_timers; ++s) {
+        acc.ms_sum[s] += r.ms[s];
+        acc.ms_max[s] = std::max(acc.ms_max[s], r.ms[s]);
       }
       if (on_frame) on_frame(r);
       if (annotated) writeAnnotated(*annotated, *f, r);
-      std::ostringstream row;
-      row << r.index << ',' << std::fixed << std::setprecision(6) << r.timestamp_s << ',' << int(r.tracked) << ','
-          << tracking::toString(r.tracking.status) << ',' << r.tracking.inliers << ',' << r.tracking.inlier_fraction
-          << ',' << r.tracking.rms_m << ',' << r.model_valid_pixels << ',' << int(r.model_all_surfels) << ','
-          << r.tracking.iterations << ',' << (r.tracking.levels.empty() ? 0 : r.tracking.levels.back().iterations)
-          << ',' << r.fusion.valid_pixels << ',' << r.fusion.associated << ',' << r.fusion.added << ','
-          << r.fusion.removed_unstable << ',' << r.fusion.removed_carved << ',' << r.fusion.merged
-          << ',' << r.fusion.map_size << ',' << toString(r.pose_source) << ',' << std::setprecision(4)
-          << r.tracking.check_overlap << ',' << r.tracking.check_agreement << ',' << r.tracking.check_behind << ','
-          << int(r.tracking.used_prior) << ',' << r.tracking.prior_sigmas << ',' << r.relocalisation_failure
-          << std::setprecision(2);
-      for (int s = 0; s < int(Stage::Count); ++s) row << ',' << r.ms[s];
-      frames_csv += row.str();
-      frames_csv += "\n";
+      acc.frames_csv += m_mapper->csvRow();
+      acc.frames_csv += "\n";
       char extra[160];
       std::snprintf(extra, sizeof extra, "surfels %d lost %zu %s", m_mapper->map().size(), m_mapper->framesLost(),
                     r.tracked ? "" : tracking::toString(r.tracking.status));
-      progress.update(static_cast<long long>(processed), extra);
+      progress.update(static_cast<long long>(acc.processed), extra);
     }
   } catch (const std::exception& e) {
-    error = e.what();
+    acc.error = e.what();
   }
-  progress.finish(static_cast<long long>(processed), "done");
+  progress.finish(static_cast<long long>(acc.processed), "done");
   if (annotated) annotated->close();
+}
 
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  const double cpu_seconds = processCpuSeconds() - cpu_start_s;
-  sum.frames = processed;
-  sum.lost = m_mapper->framesLost();
-  sum.surfels = std::size_t(m_mapper->map().size());
-
-  // ---- outputs ----
+void MappingRun::writeOutputs(const Accumulated& acc) {
   const std::string dir = m_output.dir;
-  writeFileAtomically(dir + "/frames.csv", frames_csv);
-  io::writeTumTrajectory(dir + "/trajectory.txt", estimate, "rasm estimate (T_world_cam, optical frame)");
-  if (!groundtruth.empty()) io::writeTumTrajectory(dir + "/groundtruth.txt", groundtruth, "ground truth of the source");
+  writeFileAtomically(dir + "/frames.csv", acc.frames_csv);
+  io::writeTumTrajectory(dir + "/trajectory.txt", acc.estimate, "rasm estimate (T_world_cam, optical frame)");
+  if (!acc.groundtruth.empty())
+    io::writeTumTrajectory(dir + "/groundtruth.txt", acc.groundtruth, "ground truth of the source");
   if (m_output.write_ply) m_mapper->map().saveToPly(dir + "/map.ply");
   if (m_output.write_3dscene) m_mapper->map().saveTo3DScene(dir + "/map.3Dscene");
   if (m_output.save_map) {
@@ -341,36 +315,48 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
     }
     fs::rename(p + ".part", p);
   }
-  if (m_output.preview_png && have_K && processed > 0) {
+  if (m_output.preview_png && acc.have_K && acc.processed > 0) {
     maps::RenderedMaps view;
-    m_mapper->renderView(m_mapper->pose(), last_K, view);
+    m_mapper->renderView(m_mapper->pose(), acc.last_K, view);
     cv::Mat img(view.colour.height(), view.colour.width(), CV_8UC3, view.colour.data(), view.colour.pitchBytes());
     cv::imwrite(dir + "/preview.png", img);
   }
+}
 
+void MappingRun::writeReport(const io::FrameSource& source, Accumulated& acc, RunSummary& sum) {
+  const std::size_t processed = acc.processed;
   nlohmann::json rep;
-  rep["status"] = error.empty() ? "ok" : "failed";
-  if (!error.empty()) rep["error"] = error;
+  rep["status"] = acc.error.empty() ? "ok" : "failed";
+  if (!acc.error.empty()) rep["error"] = acc.error;
   rep["config_source"] = m_config.source();
-  rep["source"] = source->describe();
+  rep["source"] = source.describe();
   rep["frames"] = processed;
   rep["frames_lost"] = sum.lost;
-  rep["seconds"] = seconds;
+  rep["seconds"] = sum.seconds;
   // With [source] preload the frames were decoded before the clock started (preload_seconds).
   rep["preloaded"] = m_source.preload;
-  if (m_source.preload) rep["preload_seconds"] = preload_s;
-  rep["fps"] = processed > 0 ? processed / seconds : 0.0;
+  if (m_source.preload) rep["preload_seconds"] = acc.preload_s;
+  rep["fps"] = sum.fps;
   // CPU time of the whole process (all threads, the reader included) per frame: on a shared
   // machine a steadier measure of the work than frames/s.
-  rep["cpu_ms_per_frame"] = processed > 0 ? 1e3 * cpu_seconds / double(processed) : 0.0;
+  rep["cpu_ms_per_frame"] =
+      processed > 0 ? 1e3 * acc.cpu_s / double(processed) : 0.0;
   rep["surfels"] = sum.surfels;
   rep["map_memory_bytes"] = m_mapper->map().store().memoryBytes();
   rep["peak_rss_mb"] = peakRssMb();
   nlohmann::json st;
-  for (int s = 0; s < int(Stage::Count); ++s)
-    st[toString(Stage(s))] = {{"mean_ms", processed ? ms_sum[s] / processed : 0.0}, {"max_ms", ms_max[s]}};
+  const std::vector<std::string>& timers = m_mapper->timerNames();
+  for (std::size_t s = 0; s < timers.size(); ++s)
+    st[timers[s]] = {{"mean_ms", processed ? acc.ms_sum[s] / double(processed) : 0.0}, {"max_ms", acc.ms_max[s]}};
   rep["stages"] = st;
   if (processed > 0) rep["final_pose"] = poseJson(m_mapper->pose());
+  rep["frames_tracked"] = processed - sum.lost;
+  rep["tracked_fraction"] = processed > 0 ? double(processed - sum.lost) / double(processed) : 0.0;
+  rep["lost_intervals"] = acc.loss.intervals;
+  rep["longest_lost_interval_frames"] = acc.loss.longest;
+  m_mapper->report(rep);  // the stages' fields (relocalisations, keyframes, ...)
+
+  io::Trajectory groundtruth = acc.groundtruth;
   if (!m_source.groundtruth.empty()) {
     try {
       groundtruth = io::readTumTrajectory(m_source.groundtruth);
@@ -379,14 +365,6 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
       groundtruth.clear();
     }
   }
-  rep["frames_tracked"] = processed - sum.lost;
-  rep["tracked_fraction"] = processed > 0 ? double(processed - sum.lost) / double(processed) : 0.0;
-  rep["lost_intervals"] = loss.intervals;
-  rep["relocalisations"] = m_mapper->relocalisations();
-  rep["keyframes"] = m_mapper->map().keyframes().size();
-  rep["longest_lost_interval_frames"] = loss.longest;
-  sum.lost_intervals = loss.intervals;
-  sum.relocalisations = m_mapper->relocalisations();
   // ATE over every frame (lost ones at their propagated pose) and over the tracked ones alone;
   // each states how many frames it covers.
   const io::AteOptions ao;
@@ -401,14 +379,40 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
       return std::nullopt;
     }
   };
-  sum.ate_rmse_m = ate(estimate, "ate");
-  sum.ate_tracked_rmse_m = ate(estimate_tracked, "ate_tracked");
-  sum.seconds = seconds;
-  sum.fps = processed > 0 ? processed / seconds : 0.0;
+  sum.ate_rmse_m = ate(acc.estimate, "ate");
+  sum.ate_tracked_rmse_m = ate(acc.estimate_tracked, "ate_tracked");
   sum.report = rep;
-  writeFileAtomically(dir + "/report.json", rep.dump(2) + "\n");
-  if (!error.empty()) throw InputError(error + " (outputs of the " + std::to_string(processed) +
-                                       " frames before it were written to " + dir + ")");
+  writeFileAtomically(m_output.dir + "/report.json", rep.dump(2) + "\n");
+}
+
+RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_frame) {
+  if (m_mapper->framesProcessed() > 0) throw std::logic_error("MappingRun::run: once per MappingRun");
+  Accumulated acc;
+  prepareOutputFolder();
+  std::unique_ptr<io::FrameSource> source = openWrappedSource(acc.preload_s);
+  // Frame rate and CPU time count the mapping (not a preload before it).
+  acc.t_start = std::chrono::steady_clock::now();
+  acc.cpu_start_s = processCpuSeconds();
+  if (!m_mapper->mapperParams().load_map.empty()) m_mapper->loadMap(m_mapper->mapperParams().load_map);
+  std::fprintf(stderr, "rasm run: %s -> %s\n", source->describe().c_str(), m_output.dir.c_str());
+
+  frameLoop(*source, acc, on_frame);
+
+  acc.cpu_s = processCpuSeconds() - acc.cpu_start_s;
+  RunSummary sum;
+  sum.out_dir = m_output.dir;
+  sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - acc.t_start).count();
+  sum.frames = acc.processed;
+  sum.fps = acc.processed > 0 ? double(acc.processed) / sum.seconds : 0.0;
+  sum.lost = m_mapper->framesLost();
+  sum.lost_intervals = acc.loss.intervals;
+  sum.relocalisations = m_mapper->relocalisations();
+  sum.surfels = std::size_t(m_mapper->map().size());
+  writeOutputs(acc);
+  writeReport(*source, acc, sum);
+  if (!acc.error.empty())
+    throw InputError(acc.error + " (outputs of the " + std::to_string(acc.processed) + " frames before it were written to " +
+                     m_output.dir + ")");
   return sum;
 }
 

@@ -1,15 +1,17 @@
 #pragma once
 // Surfel map fusion of one RGB-D frame at a known pose (II-B, II-D, with the segment weights of
-// III and the view-information bins / basis of V-B):
-//   1. render the 4x point index map of the map at T_world_cam (SurfelRenderer, II-D; on the CPU
+// III and the view-information bins / basis of V-B), in four public passes that run in this order
+// for a frame (fuse() runs them all; the Mapper runs 1 in one stage, the rest in a later one, so
+// label propagation (III) reads the index map at T_t before the surfels are updated):
+//   1. renderIndexMap: the 4x point index map of the map at T_world_cam (SurfelRenderer, II-D; on the CPU
 //      as compact per-pixel candidate lists, renderCandidates4x);
-//   2. per pixel (parallel), pick the most similar candidate in the pixel's 4x4 sub-pixel block
+//   2. updateSurfels: per pixel (parallel), pick the most similar candidate in the pixel's 4x4 sub-pixel block
 //      (depth along the ray and normal angle gate it; cost = normalised ray distance + normal
 //      angle + radius ratio); then, in a second pass (race-free: each surfel is a candidate of one
 //      pixel only), update it by confidence-weighted averaging (Keller et al. 2013), accumulate w,
 //      update t_last, the stability flag, the segment weight (L^p), the basis b <- -n x (n x b)
 //      and the view bins;
-//   3. pixels without a match become new surfels (II-B), appended in row-major pixel order through
+//   3. addSurfels: pixels without a match become new surfels (II-B), appended in row-major pixel order through
 //      a per-row count + prefix sum (deterministic);
 //   4. cleanup: merge redundant surfels of the view (Keller et al. 2013), carve free space,
 //      remove unstable surfels past their age / idle limits.
@@ -18,6 +20,7 @@
 // Works on the MRPT-free SurfelStore; CSurfelMap::store() gives it.
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -30,6 +33,7 @@
 #include "rasm/fusion/PruneSchedule.h"
 #include "rasm/fusion/ViewInfoThresholds.h"
 #include "rasm/fusion/TFusionParams.h"
+#include "rasm/fusion/kernels/FusionKernels.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
 #include "rasm/surfel_map/SurfelStore.h"
 
@@ -78,6 +82,35 @@ struct FusionStats {
   double ms_cleanup = 0;    ///< carving + pruning + compaction
 };
 
+/// The 4x point index map of II-D at the frame's pose, as either backend keeps it (one view for
+/// both): the candidates of frame pixel (x, y) are the surfels whose projection rounds to it (the
+/// nearest of each of its 4x4 sub-pixels), with their depth along the camera's z axis. Valid from
+/// SurfelFusion::renderIndexMap until that frame's cleanup (or any other change of the map).
+struct IndexMapView {
+  const maps::PointCandidates4x* lists = nullptr;  ///< CPU backend: compact per-pixel lists
+  const maps::IndexMap4x* packed = nullptr;        ///< CUDA backend: the packed 4x map
+
+  bool valid() const { return lists || packed; }
+  int width() const { return lists ? lists->width : packed ? packed->width : 0; }
+  int height() const { return lists ? lists->height : packed ? packed->height : 0; }
+  /// Calls f(surfel index, depth z in m) for each candidate of frame pixel (x, y).
+  template <typename F>
+  void forEachCandidate(int x, int y, F&& f) const {
+    if (lists) {
+      const std::size_t p = std::size_t(y) * std::size_t(lists->width) + std::size_t(x);
+      const maps::kernels::CameraPoint* e = lists->entries.data() + lists->first[p];
+      for (int k = 0, n = lists->count[p]; k < n; ++k) f(int(e[k].index), e[k].pc.z());
+    } else if (packed) {
+      for (int sy = 4 * y; sy < 4 * y + 4; ++sy)
+        for (int sx = 4 * x; sx < 4 * x + 4; ++sx) {
+          const std::uint64_t v = packed->packed(sx, sy);
+          const int i = maps::kernels::unpackIndex(v);
+          if (i >= 0) f(i, maps::kernels::unpackDepth(v));
+        }
+    }
+  }
+};
+
 class SurfelFusion {
  public:
   explicit SurfelFusion(const TFusionParams& params = {},
@@ -92,10 +125,22 @@ class SurfelFusion {
   /// match the intrinsics.
   FusionStats fuse(maps::SurfelStore& map, const FusionInput& in);
 
-  /// Steps 1-3 only.
+  /// Passes 1-3 only.
   FusionStats integrate(maps::SurfelStore& map, const FusionInput& in);
-  /// Step 4 only, at the pose/time of `in` (carving uses its depth); adds to `stats`. Carving
-  /// needs the view of the integrate() call just before it; without one only pruning runs.
+
+  /// Pass 1: validates `in` (InputError on sizes that do not match the intrinsics), re-sorts the
+  /// store when due, renders the 4x point index map at in.T_world_cam and returns it.
+  IndexMapView renderIndexMap(maps::SurfelStore& map, const FusionInput& in, FusionStats& stats);
+  /// Pass 2: association and update of the matched surfels (confidence, geometry, segment weight
+  /// with in.labels, view bins). Needs pass 1 of the same frame just before (std::logic_error
+  /// otherwise); in may differ from pass 1's in its labels only.
+  void updateSurfels(maps::SurfelStore& map, const FusionInput& in, FusionStats& stats);
+  /// Pass 3: the unmatched pixels become new surfels; spatial index and pruning schedule upkeep.
+  void addSurfels(maps::SurfelStore& map, const FusionInput& in, FusionStats& stats);
+  /// The index map of the current frame (invalid view outside passes 1-3).
+  IndexMapView indexMap() const;
+  /// Pass 4, at the pose/time of `in` (carving uses its depth); adds to `stats`. Carving and
+  /// merging need passes 1-3 of the same frame just before; without them only pruning runs.
   void cleanup(maps::SurfelStore& map, const FusionInput& in, FusionStats& stats);
 
   /// Surfel that pixel (x, y) of the last frame updated or created, -1 none. Kept valid across
@@ -109,6 +154,16 @@ class SurfelFusion {
 
  private:
   bool cpu() const { return m_backend == compute::Backend::Cpu; }
+  /// What passes 2 and 3 derive from the params and the frame.
+  struct FrameSetup {
+    kernels::FusionKernelParams prm;
+    kernels::FrameView fv;
+    RigidF T_wc, T_cw;
+    float now = 0.0f;  ///< map time of the frame
+  };
+  FrameSetup setUpFrame(const maps::SurfelStore& map, const FusionInput& in);
+  enum class Pass { None, Rendered, Updated, Added };
+  void requirePass(Pass expected, const char* pass) const;
   /// Whether m_schedule describes `map` (only fusion changed it since fusion last looked).
   bool scheduleValid(const maps::SurfelStore& map) const;
   void scheduleSeen(const maps::SurfelStore& map);
@@ -133,7 +188,9 @@ class SurfelFusion {
   float m_weight_sigma = -1.0f;
   ViewInfoThresholds m_ic;  ///< the CPU update's view-bin skip for the current IC parameters
   bool m_index_fresh = false;  ///< the last index map matches the map (integrate, no removal since)
+  Pass m_pass = Pass::None;  ///< the last pass of the current frame
   std::vector<int> m_row_offset;
+  std::vector<std::array<int, 6>> m_counts;  ///< per thread: pass 2's pixel counts for pass 3
   std::vector<std::vector<int>> m_thread_lists;
   std::vector<int> m_removed, m_demoted;
   std::vector<std::pair<int, int>> m_moved;

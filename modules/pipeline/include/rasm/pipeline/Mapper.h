@@ -1,129 +1,110 @@
 #pragma once
-// The mapping front end of one frame (section II): preprocess (II-A), track against the map
-// rendered at the last good pose, stable surfels only (II-C), fuse and clean up (II-B, II-D).
-// Later stages (segmentation, classification) hook in between tracking and fusion.
+// The mapping front end of one frame (section II, III-V as they are added): an ordered list of
+// stages (MapperStage.h) run over one FrameContext per frame. assemble() builds the list:
+//   preprocess (II-A) -> tracking (II-C, odometry prior, relocalisation) -> index_map (II-D,
+//   the map's 4x index map at T_t) -> fuse (II-B, II-D: update, add, carve, prune, merge)
+// The known INI sections, config.ini, the timing table and the frames.csv columns come from the
+// list. The Mapper owns the surfel map and its own sections [mapper] (preprocessing and depth
+// range, shared by the stages) and [map] (the map's creation options).
 //
-//   Mapper mapper(params);
+//   Mapper mapper;                                 // defaults, or Mapper(ini, "my.ini")
 //   for (frame : source) { FrameResult r = mapper.processFrame(frame); ... }
 //   mapper.map().saveToPly("map.ply");
-//
-// Motion prior: a frame with odometry (RgbdFrame::odometry_xyyaw, the robot's wheels) is tracked
-// from the odometry's prediction through the camera mount, and ICP weighs the data against it
-// (OdometryPrior.h, [robot]); without odometry the tracker's motion model gives the guess.
-//
-// Lost track: a frame whose TrackingResult is not ok is not fused. It still gets a pose, flagged
-// by FrameResult::pose_source: the odometry's prediction when there is one (the model is then
-// rendered from that propagated pose, so tracking resumes as soon as the view agrees again), the
-// motion model's guess otherwise (the model stays rendered from the last good pose, so tracking
-// resumes when the camera comes back near it, IcpTracker.h).
+
+#include <mrpt/config/CConfigFileBase.h>
 
 #include <Eigen/Geometry>
-#include <array>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "rasm/core/FrameProcessing.h"
 #include "rasm/core/RgbdFrame.h"
-#include "rasm/fusion/SurfelFusion.h"
-#include "rasm/pipeline/OdometryPrior.h"
+#include "rasm/pipeline/FrameContext.h"
+#include "rasm/pipeline/MapperStage.h"
 #include "rasm/pipeline/RunParams.h"
 #include "rasm/surfel_map/CSurfelMap.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
-#include "rasm/tracking/IcpTracker.h"
-#include "rasm/tracking/Relocaliser.h"
 
 namespace rasm::pipeline {
 
-/// Stages timed per frame (milliseconds), in pipeline order.
-enum class Stage : int { Preprocess = 0, RenderModel, Track, Relocalise, Fuse, Total, Count };
-const char* toString(Stage s);
-
-/// Where a frame's pose comes from.
-enum class PoseSource : int {
-  Tracked,      ///< ICP against the map (with the odometry prior when there is one)
-  Odometry,     ///< lost: the odometry's prediction from the previous frame's pose
-  MotionModel,  ///< lost: the tracker's motion-model guess (no odometry)
-  Relocalised,  ///< found again against the map's keyframes and verified by ICP (not fused)
-};
-const char* toString(PoseSource s);
-
-struct MapperParams {
-  TMapperParams mapper;
-  tracking::TTrackingParams tracking;
-  fusion::TFusionParams fusion;
-  maps::CSurfelMap::TCreationOptions map;
-  TRobotParams robot;
-  tracking::TRelocalisationParams relocalisation;
-  /// Start at the source's ground-truth pose when the first frame has one (keeps the map in the
-  /// ground-truth/world frame; ATE aligns anyway). Otherwise the identity.
-  bool init_from_groundtruth = true;
-};
-
-struct FrameResult {
-  std::size_t index = 0;
-  double timestamp_s = 0.0;
-  Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
-  bool tracked = false;  ///< false while lost (the pose is then propagated: pose_source)
-  PoseSource pose_source = PoseSource::Tracked;
-  bool fused = false;
-  bool first = false;
-  tracking::TrackingResult tracking;
-  fusion::FusionStats fusion;
-  bool relocalised = false;    ///< pose_source == Relocalised
-  /// While lost: why relocalisation found nothing this frame (Relocaliser's reason, or
-  /// "rejected by ICP: <status>"); empty when it was not tried or succeeded.
-  std::string relocalisation_failure;
-  int model_valid_pixels = 0;  ///< valid pixels of the rendered model ICP aligned to
-  bool model_all_surfels = false;  ///< the stable-only model was too sparse: all surfels used
-  std::array<double, int(Stage::Count)> ms{};
-};
+class TrackingStage;
 
 class Mapper {
  public:
-  explicit Mapper(const MapperParams& params);
+  /// Every section at its defaults.
+  Mapper();
+  /// Every section of the Mapper and its stages loaded strictly from `ini` (InputError names
+  /// `source`, the section and the key); other sections of `ini` are not looked at.
+  Mapper(const mrpt::config::CConfigFileBase& ini, const std::string& source);
+  ~Mapper();
+
   FrameResult processFrame(const RgbdFrame& frame);
 
+  /// Inserts a stage before the stage named `before` (at the end when empty), at its params'
+  /// defaults, configured at once: stages from outside the library (tests, experiments). Before
+  /// the first frame; std::logic_error otherwise or when `before` is unknown. A stage of the
+  /// product is added in assemble() instead.
+  void addStage(std::unique_ptr<MapperStage> stage, const std::string& before = "");
+
+  /// The INI sections of the Mapper ([mapper], [map]) and of its stages, in pipeline order.
+  std::vector<ParamsSection> sections();
+  std::vector<std::string> sectionNames() const;
+  /// Every key of every section with its effective value, as INI sections.
+  void saveParams(mrpt::config::CConfigFileBase& out) const;
+  /// Timer names in FrameResult::ms order: each stage, its parts, then "total".
+  const std::vector<std::string>& timerNames() const { return m_timers; }
+  /// frames.csv: the columns of the stages (index and timestamp first, timers last) and the row
+  /// of the last frame processed.
+  std::string csvHeader() const;
+  std::string csvRow() const;
+  /// Fields of the stages for report.json.
+  void report(nlohmann::json& rep) const;
+
+  /// The stage of type S (std::logic_error when the pipeline has none).
+  template <typename S>
+  S& stage() const {
+    for (const auto& s : m_stages)
+      if (auto* p = dynamic_cast<S*>(s.get())) return *p;
+    throw std::logic_error("the Mapper has no such stage");
+  }
+  const std::vector<std::unique_ptr<MapperStage>>& stages() const { return m_stages; }
+
+  const TMapperParams& mapperParams() const { return m_mapper; }
   maps::CSurfelMap& map() { return *m_map; }
   const maps::CSurfelMap& map() const { return *m_map; }
-  const tracking::IcpTracker& tracker() const { return m_tracker; }
-  const MapperParams& params() const { return m_params; }
+  /// The context of the last frame processed (its pyramid, index map, labels ...).
+  const FrameContext& lastContext() const { return m_ctx; }
   std::size_t framesProcessed() const { return m_frames; }
   std::size_t framesLost() const { return m_lost; }
-  std::size_t relocalisations() const { return m_relocalisations; }
+  std::size_t relocalisations() const;
   /// Replaces the map with one loaded from a .surfelmap file (a previous run's): the camera is
   /// then localised in it by relocalisation against its keyframes before anything is fused.
   /// Call before the first frame. Throws InputError when the file cannot be read.
   void loadMap(const std::string& path);
   /// Last good camera pose.
-  const Eigen::Isometry3d& pose() const { return m_tracker.lastGoodPose(); }
+  const Eigen::Isometry3d& pose() const;
   /// Pose of the last frame processed (tracked or propagated while lost).
-  const Eigen::Isometry3d& lastFramePose() const { return m_T_prev_frame; }
+  const Eigen::Isometry3d& lastFramePose() const;
   /// Renders the map's colour / segment view at a pose (previews, annotated rawlogs).
   void renderView(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K, maps::RenderedMaps& out);
 
  private:
-  void preprocess(const RgbdFrame& frame);
-  /// II-C: renders the tracking model at T_model (reliable surfels, all of them while too few)
-  /// and returns the tracker's view of it (valid until the next render).
-  tracking::ModelMaps renderModel(const RgbdFrame& frame, const Eigen::Isometry3d& T_model, FrameResult& r);
-  /// Issue 14 (5): while lost, the pose from the map's keyframes, verified by ICP against the map
-  /// rendered there; on success the tracker restarts from it (r becomes Relocalised).
-  void relocalise(const RgbdFrame& frame, FrameResult& r);
+  /// Builds the stage list: the one place a new stage is added.
+  void assemble();
+  /// Timer slots of the stages (after any change of the list).
+  void indexTimers();
+  /// Checks the sections together, configures every stage and creates the map.
+  void configure();
 
-  MapperParams m_params;
+  TMapperParams m_mapper;
+  maps::CSurfelMap::TCreationOptions m_map_options;
+  std::vector<std::unique_ptr<MapperStage>> m_stages;
+  TrackingStage* m_tracking = nullptr;
+  std::vector<std::string> m_timers;
   std::unique_ptr<maps::CSurfelMap> m_map;
-  tracking::IcpTracker m_tracker;
-  fusion::SurfelFusion m_fusion;
   maps::SurfelRenderer m_renderer;
-  maps::RenderedMaps m_model;
-  OdometryPrior m_odometry;
-  tracking::Relocaliser m_reloc;
-  bool m_localise_in_map = false;  ///< loadMap(): the first pose comes from relocalisation
-  Eigen::Isometry3d m_T_prev_frame = Eigen::Isometry3d::Identity();
-  Image<float> m_depth_filtered;
-  std::vector<FrameLevel> m_pyramid;
-  std::size_t m_frames = 0, m_lost = 0, m_relocalisations = 0;
+  FrameContext m_ctx;
+  std::size_t m_frames = 0, m_lost = 0;
   double m_t0 = 0.0;  ///< timestamp of the first frame: surfel times are relative to it
 };
 

@@ -51,18 +51,20 @@ class MappingRun {
   explicit MappingRun(const RunConfig& config);
   ~MappingRun();
 
-  /// Sections this build understands.
-  static std::vector<std::string> knownSections();
+  /// Sections this build understands: the run's own ([source] [camera] [output] [sim]) and the
+  /// Mapper's and its stages' (Mapper::sectionNames).
+  std::vector<std::string> knownSections() const;
 
-  /// Runs to the end of the source (or [source] max_frames) and writes the output folder.
-  /// `on_frame` (optional) sees every result, e.g. for tests.
+  /// Runs to the end of the source (or [source] max_frames) and writes the output folder. Once
+  /// per MappingRun (the Mapper and its map are the run's). `on_frame` (optional) sees every
+  /// result, e.g. for tests.
   RunSummary run(const std::function<void(const FrameResult&)>& on_frame = {});
 
-  const MapperParams& mapperParams() const { return m_mapper_params; }
   const TSourceParams& sourceParams() const { return m_source; }
   const TOutputParams& outputParams() const { return m_output; }
-  /// Available after run().
-  const Mapper* mapper() const { return m_mapper.get(); }
+  /// The configured Mapper (its stages' params: mapper().stage<FusionStage>().params()); after
+  /// run(), with the map of the run.
+  const Mapper& mapper() const { return *m_mapper; }
 
   /// Every key of every section with its effective value (defaults included), as INI text.
   std::string effectiveConfig() const;
@@ -71,13 +73,25 @@ class MappingRun {
   std::unique_ptr<io::FrameSource> openSource() const;
 
  private:
+  struct Accumulated;  // what the frame loop gathers for the outputs
+  /// Creates the output folder and writes config.ini (InputError when it cannot be used).
+  void prepareOutputFolder() const;
+  /// The configured source with its read-ahead / preload wrapper; `preload_s` = seconds spent
+  /// preloading.
+  std::unique_ptr<io::FrameSource> openWrappedSource(double& preload_s) const;
+  /// Maps frames until the source or [source] max_frames ends; an exception of a frame ends the
+  /// loop and is kept in acc.error.
+  void frameLoop(io::FrameSource& source, Accumulated& acc, const std::function<void(const FrameResult&)>& on_frame);
   void writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, const FrameResult& r);
+  /// frames.csv, trajectory, ground truth, map files, preview.
+  void writeOutputs(const Accumulated& acc);
+  /// report.json (and the summary's ATE), written last.
+  void writeReport(const io::FrameSource& source, Accumulated& acc, RunSummary& sum);
 
   RunConfig m_config;
   TSourceParams m_source;
   TCameraParams m_camera;
   TOutputParams m_output;
-  MapperParams m_mapper_params;
   std::string m_sim_ini;  ///< [sim] section text, handed to the simulator source
   std::unique_ptr<Mapper> m_mapper;
 };

@@ -1,0 +1,81 @@
+#pragma once
+// II-C: the camera pose of the frame by coarse-to-fine ICP against the map rendered at the
+// previous pose (reliable surfels), with the wheel odometry as a prior when the source has it;
+// relocalisation against the map's keyframes while lost (issue 14). Sections [tracking],
+// [robot] (camera mount, odometry noise) and [relocalisation].
+//
+// Motion prior: a frame with odometry (RgbdFrame::odometry_xyyaw) is tracked from the odometry's
+// prediction through the camera mount, and ICP weighs the data against it (OdometryPrior.h);
+// without odometry the tracker's motion model gives the guess.
+//
+// Lost track: a frame whose TrackingResult is not ok is not fused. It still gets a pose, flagged
+// by FrameResult::pose_source: the odometry's prediction when there is one (the model is then
+// rendered from that propagated pose, so tracking resumes as soon as the view agrees again), the
+// motion model's guess otherwise (the model stays rendered from the last good pose, so tracking
+// resumes when the camera comes back near it, IcpTracker.h). Each lost frame tries to relocalise;
+// a candidate is verified by ICP plus the pose check before tracking restarts from it.
+//
+// Keyframes: fused frames become relocalisation keyframes of the map by the spacing rules of
+// [relocalisation] (finishFrame).
+
+#include <memory>
+
+#include "rasm/pipeline/MapperStage.h"
+#include "rasm/pipeline/OdometryPrior.h"
+#include "rasm/surfel_map/SurfelRenderer.h"
+#include "rasm/tracking/IcpTracker.h"
+#include "rasm/tracking/Relocaliser.h"
+
+namespace rasm::pipeline {
+
+class TrackingStage : public MapperStage {
+ public:
+  enum Part { kRenderModel = 0, kIcp, kRelocalise };
+  TrackingStage();
+  ~TrackingStage() override;
+
+  std::vector<ParamsSection> sections() override;
+  void configure(const TMapperParams& mapper) override;
+  void process(FrameContext& ctx, maps::CSurfelMap& map) override;
+  void finishFrame(FrameContext& ctx, maps::CSurfelMap& map) override;
+  void csvColumns(std::vector<std::string>& columns) const override;
+  void csvValues(const FrameContext& ctx, CsvRow& row) const override;
+  void report(nlohmann::json& rep) const override;
+
+  /// The map was loaded from a file: the first pose comes from relocalisation in it.
+  void localiseInLoadedMap() { m_localise_in_map = true; }
+
+  const tracking::TTrackingParams& params() const { return m_tracking; }
+  const TRobotParams& robotParams() const { return m_robot; }
+  const tracking::TRelocalisationParams& relocalisationParams() const { return m_relocalisation; }
+  const tracking::IcpTracker& tracker() const { return m_tracker; }
+  std::size_t relocalisations() const { return m_relocalisations; }
+  /// Pose of the last frame processed (tracked or propagated while lost).
+  const Eigen::Isometry3d& lastFramePose() const { return m_T_prev_frame; }
+
+ private:
+  void initialise(FrameContext& ctx);
+  void track(FrameContext& ctx, const maps::CSurfelMap& map);
+  /// The tracking model: the map rendered at T_model (reliable surfels, all of them while too
+  /// few), as the tracker sees it (valid until the next render).
+  tracking::ModelMaps renderModel(FrameContext& ctx, const maps::CSurfelMap& map,
+                                  const Eigen::Isometry3d& T_model, FrameResult& r);
+  /// While lost: the pose from the map's keyframes, verified by ICP against the map rendered
+  /// there; on success the tracker restarts from it (the frame becomes Relocalised).
+  void relocalise(FrameContext& ctx, const maps::CSurfelMap& map);
+
+  tracking::TTrackingParams m_tracking;
+  TRobotParams m_robot;
+  tracking::TRelocalisationParams m_relocalisation;
+  TMapperParams m_mapper;
+  tracking::IcpTracker m_tracker;
+  OdometryPrior m_odometry;
+  tracking::Relocaliser m_reloc;
+  maps::SurfelRenderer m_renderer;
+  maps::RenderedMaps m_model;
+  bool m_localise_in_map = false;
+  Eigen::Isometry3d m_T_prev_frame = Eigen::Isometry3d::Identity();
+  std::size_t m_relocalisations = 0;
+};
+
+}  // namespace rasm::pipeline

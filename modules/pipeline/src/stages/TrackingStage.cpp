@@ -1,0 +1,198 @@
+#include "rasm/pipeline/stages/TrackingStage.h"
+
+#include <chrono>
+
+#include "rasm/compute/Parallel.h"
+#include "rasm/core/Error.h"
+#include "rasm/core/kernels/FrameKernels.h"
+
+namespace rasm::pipeline {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+int countValid(const Image<Vec3f>& v) {
+  const int w = v.width();
+  return compute::reduce1D<int>(v.height(), [&](int y, int& n) {
+    const Vec3f* r = v.row(y);
+    for (int x = 0; x < w; ++x) n += kernels::validVec(r[x]) ? 1 : 0;
+  });
+}
+}  // namespace
+
+TrackingStage::TrackingStage()
+    : MapperStage("tracking", {"render_model", "icp", "relocalise"}), m_odometry(m_robot) {}
+
+TrackingStage::~TrackingStage() = default;
+
+std::vector<ParamsSection> TrackingStage::sections() {
+  return {{"tracking", &m_tracking}, {"robot", &m_robot}, {"relocalisation", &m_relocalisation}};
+}
+
+void TrackingStage::configure(const TMapperParams& mapper) {
+  m_tracking.validate("tracking");
+  if (m_tracking.numLevels() > mapper.pyramid_levels)
+    throwInputError("[mapper] pyramid_levels",
+                    "must be >= the number of [tracking] levels (" + std::to_string(m_tracking.numLevels()) + ")");
+  m_mapper = mapper;
+  m_tracker = tracking::IcpTracker(m_tracking);
+  m_odometry = OdometryPrior(m_robot);
+  m_reloc = tracking::Relocaliser(m_relocalisation);
+}
+
+void TrackingStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
+  FrameResult& r = ctx.result;
+  if (!m_tracker.initialized() && m_localise_in_map) {
+    // A loaded map: nothing is fused until the camera is found in it.
+    r.tracked = false;
+    r.pose_source = PoseSource::MotionModel;
+    r.tracking.status = tracking::TrackingStatus::NotInitialized;
+    relocalise(ctx, map);
+    if (r.relocalised) m_odometry.start(r.T_world_cam, ctx.frame->odometry_xyyaw);
+  } else if (!m_tracker.initialized()) {
+    initialise(ctx);
+  } else {
+    track(ctx, map);
+  }
+  m_T_prev_frame = r.T_world_cam;
+}
+
+void TrackingStage::initialise(FrameContext& ctx) {
+  const RgbdFrame& frame = *ctx.frame;
+  FrameResult& r = ctx.result;
+  // The map starts in the source's ground-truth frame when the first frame has a pose (ATE
+  // aligns anyway), else at the identity.
+  const Eigen::Isometry3d T0 = frame.gt_T_world_cam ? *frame.gt_T_world_cam : Eigen::Isometry3d::Identity();
+  m_tracker.reset(T0);
+  m_odometry.start(T0, frame.odometry_xyyaw);
+  r.first = true;
+  r.tracked = true;
+  r.T_world_cam = T0;
+  r.tracking.ok = true;
+  r.tracking.status = tracking::TrackingStatus::Ok;
+  r.tracking.T_world_cam = T0;
+}
+
+void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
+  const RgbdFrame& frame = *ctx.frame;
+  FrameResult& r = ctx.result;
+  const std::optional<tracking::MotionPrior> prior = m_odometry.predict(frame.odometry_xyyaw, m_T_prev_frame);
+  // The model is rendered where the guess starts from: the previous frame's pose when odometry
+  // carries the estimate on (also through lost frames), else the last good pose.
+  auto t = Clock::now();
+  const tracking::ModelMaps model = renderModel(ctx, map, prior ? m_T_prev_frame : m_tracker.lastGoodPose(), r);
+  recordMs(ctx, kRenderModel, msSince(t));
+
+  t = Clock::now();
+  const bool photometric = m_tracking.photometric_weight > 0 && !frame.colour.empty();
+  r.tracking = m_tracker.track(ctx.pyramid, model, photometric ? frame.colour.cview() : ImageView<const Bgr8>(),
+                               prior ? &*prior : nullptr);
+  recordMs(ctx, kIcp, msSince(t));
+  r.tracked = r.tracking.ok;
+  if (r.tracked) {
+    r.T_world_cam = r.tracking.T_world_cam;
+    if (m_robot.planar_motion) {
+      r.T_world_cam = m_odometry.projectToFloor(r.T_world_cam);
+      m_tracker.correctLastPose(r.T_world_cam);
+    }
+  } else {
+    r.pose_source = prior ? PoseSource::Odometry : PoseSource::MotionModel;
+    r.T_world_cam = prior ? prior->T_world_cam : r.tracking.T_world_cam_guess;
+    relocalise(ctx, map);
+  }
+}
+
+tracking::ModelMaps TrackingStage::renderModel(FrameContext& ctx, const maps::CSurfelMap& map,
+                                               const Eigen::Isometry3d& T_model, FrameResult& r) {
+  // II-C: model = the map rendered at the previous pose from its reliable surfels: those with
+  // confidence >= [tracking] model_min_confidence, or the ones fusion flagged stable when that is
+  // 0. Until enough of them exist (the first frames of a run, or a newly seen area), that model
+  // is too sparse to constrain ICP; then all surfels are used.
+  const RgbdFrame& frame = *ctx.frame;
+  const tracking::TTrackingParams& tp = m_tracking;
+  maps::RenderOptions ro;
+  ro.min_depth_m = float(m_mapper.min_depth_m);
+  ro.max_depth_m = float(m_mapper.max_depth_m) * 1.5f;
+  ro.stable_only = tp.model_min_confidence <= 0;
+  ro.min_confidence = float(tp.model_min_confidence);
+  ro.outputs = maps::kRenderVertex | maps::kRenderNormal;
+  // Optional inputs of the tracker: colour for its photometric term, surfel confidence weights.
+  if (tp.photometric_weight > 0 && !frame.colour.empty()) ro.outputs |= maps::kRenderColour;
+  if (tp.confidence_full > 0) ro.outputs |= maps::kRenderConfidence;
+  // Rendered at pyramid level [tracking] model_level (intrinsics of that level); a pixel a
+  // surfel won has that surfel's normal: the render counts the valid model pixels.
+  const CameraIntrinsics K_model = frame.intrinsics.level(tp.model_level);
+  maps::RenderStats rs;
+  m_renderer.render(map.store(), T_model, K_model, ro, m_model, &rs);
+  r.model_valid_pixels = int(rs.pixels_drawn);
+  const int frame_valid = countValid(ctx.pyramid[tp.model_level].normal);
+  if (r.model_valid_pixels < 0.3 * frame_valid) {
+    ro.stable_only = false;
+    ro.min_confidence = 0.0f;
+    m_renderer.render(map.store(), T_model, K_model, ro, m_model, &rs);
+    r.model_valid_pixels = int(rs.pixels_drawn);
+    r.model_all_surfels = true;
+  }
+  tracking::ModelMaps model;
+  model.vertex_world = m_model.vertex_world.cview();
+  model.normal_world = m_model.normal_world.cview();
+  model.K = K_model;
+  model.T_world_model = T_model;
+  if (ro.outputs & maps::kRenderColour) model.colour = m_model.colour.cview();
+  if (ro.outputs & maps::kRenderConfidence) model.confidence = m_model.confidence.cview();
+  return model;
+}
+
+void TrackingStage::relocalise(FrameContext& ctx, const maps::CSurfelMap& map) {
+  if (map.keyframes().empty()) return;
+  FrameResult& r = ctx.result;
+  const auto t = Clock::now();
+  const std::optional<tracking::RelocalisationResult> cand = m_reloc.relocalise(*ctx.frame, map.keyframes());
+  if (!cand) {
+    r.relocalisation_failure = m_reloc.lastStats().reason;
+  } else {
+    // Verify: ICP from the candidate against the map rendered there, every quality rule and
+    // the pose check applied (no prior: the candidate is independent of the lost estimate).
+    FrameResult probe;
+    const tracking::ModelMaps model = renderModel(ctx, map, cand->T_world_cam, probe);
+    const tracking::TrackingResult v = m_tracker.align(ctx.pyramid, model, cand->T_world_cam);
+    if (v.ok && v.check_overlap >= m_tracking.check_min_overlap) {
+      m_tracker.reset(v.T_world_cam);
+      r.tracking = v;
+      r.tracked = true;
+      r.relocalised = true;
+      r.pose_source = PoseSource::Relocalised;
+      r.T_world_cam = v.T_world_cam;
+      r.model_valid_pixels = probe.model_valid_pixels;
+      ++m_relocalisations;
+    } else {
+      r.relocalisation_failure = std::string("rejected by ICP: ") + tracking::toString(v.status);
+    }
+  }
+  recordMs(ctx, kRelocalise, msSince(t));
+}
+
+void TrackingStage::finishFrame(FrameContext& ctx, maps::CSurfelMap& map) {
+  if (ctx.result.fused) m_reloc.maybeAddKeyframe(*ctx.frame, ctx.result.T_world_cam, map.keyframes());
+}
+
+void TrackingStage::csvColumns(std::vector<std::string>& c) const {
+  c.insert(c.end(), {"status", "inliers", "inlier_fraction", "rms_m", "model_pixels", "model_all_surfels",
+                     "icp_iterations", "icp_iterations_level0", "pose_source", "check_overlap", "check_agreement",
+                     "check_behind", "used_prior", "prior_sigmas", "relocalisation_failure"});
+}
+
+void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
+  const FrameResult& r = ctx.result;
+  const tracking::TrackingResult& t = r.tracking;
+  row.add(tracking::toString(t.status)).add(t.inliers).add(t.inlier_fraction, 6).add(t.rms_m, 6);
+  row.add(r.model_valid_pixels).add(r.model_all_surfels).add(t.iterations);
+  row.add(t.levels.empty() ? 0 : t.levels.back().iterations).add(toString(r.pose_source));
+  row.add(t.check_overlap, 4).add(t.check_agreement, 4).add(t.check_behind, 4).add(t.used_prior);
+  row.add(t.prior_sigmas, 4).add(r.relocalisation_failure);
+}
+
+void TrackingStage::report(nlohmann::json& rep) const { rep["relocalisations"] = m_relocalisations; }
+
+}  // namespace rasm::pipeline
