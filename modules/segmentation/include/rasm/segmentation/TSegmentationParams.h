@@ -1,0 +1,62 @@
+#pragma once
+// [segmentation]: the incremental geometric segmentation of section III (Tateno, Tombari & Navab,
+// IROS 2015, with the paper's three changes). Defaults and how they were measured:
+// docs/segmentation.md.
+
+#include <mrpt/config/CLoadableOptions.h>
+
+namespace rasm::segmentation {
+
+struct TSegmentationParams : mrpt::config::CLoadableOptions {
+  bool enabled = true;  ///< false: no segmentation stage work (surfels keep segment 0)
+
+  // ---- edge map E_t (III): E = Phi < delta_Phi || Gamma > delta_Gamma ----
+  /// delta_Phi: concavity threshold on n_i . n (cos of the largest concave fold angle that still
+  /// joins two surfaces; 0.95 ~ 18 deg).
+  double concavity_threshold = 0.95;
+  /// delta_Gamma(z) = depth_jump_m + depth_jump_per_z2 * z^2 (m): the largest point-to-plane
+  /// distance to a neighbour that is not a depth edge; the z^2 term follows the depth noise of a
+  /// Kinect-class sensor.
+  double depth_jump_m = 0.01;
+  double depth_jump_per_z2 = 0.01;
+  /// The neighbourhood: the 8 pixels around, plus the first valid pixel in each cardinal direction
+  /// up to this many pixels away (the paper's extension over holes).
+  int neighbour_reach_px = 4;
+  /// Bilateral filter of the normal map before the edge test (OpenCV bilateralFilter; the paper's
+  /// first change): window diameter (px, 0 = off), range sigma (on normal components) and space
+  /// sigma (px).
+  int normal_filter_diameter_px = 5;
+  double normal_filter_sigma = 0.2;
+  double normal_filter_sigma_space_px = 2.0;
+  /// Morphological opening then closing of the edge map (3x3 cross; 0 = off).
+  int morphology_iterations = 1;
+
+  // ---- connected components -> L_t ----
+  /// Components smaller than this (pixels at 640x480; scaled with the image area) get label 0.
+  int min_component_px = 200;
+
+  // ---- label propagation -> L^p (III) ----
+  /// A current segment takes the map label that covers the largest fraction of its pixels that
+  /// have a map label, when that fraction is at least this and at least min_overlap_px pixels
+  /// overlap; otherwise it gets a new label.
+  double propagation_min_overlap = 0.3;
+  int propagation_min_overlap_px = 50;
+  /// A rendered surfel counts for a pixel when its depth is within this of the measurement
+  /// (m, plus the relative part times z): the surfel fusion would associate.
+  double render_depth_gate_m = 0.05;
+  double render_depth_gate_rel = 0.03;
+
+  // ---- merging with Psi (III) ----
+  /// Map labels that fall into one current segment, each with at least this fraction of its
+  /// labelled pixels, gain merge confidence.
+  double merge_min_fraction = 0.15;
+  /// Merge when Psi exceeds this (frames of evidence, net of the frames that contradict it).
+  int merge_threshold = 8;
+  /// Remap labels to fill unused ids (and refresh the segment statistics) every n frames.
+  int remap_every_n_frames = 30;
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+}  // namespace rasm::segmentation
