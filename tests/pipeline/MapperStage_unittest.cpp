@@ -61,7 +61,7 @@ TEST(MapperStage, AStagePlugsInWithOneCallAndItsLabelsReachTheMap) {
   const auto& timers = mapper.timerNames();
   const auto at = std::find(timers.begin(), timers.end(), "constant_label");
   ASSERT_NE(at, timers.end());
-  EXPECT_EQ(*(at - 1), "index_map");
+  EXPECT_LT(std::find(timers.begin(), timers.end(), "index_map"), at);
   EXPECT_EQ(*(at + 1), "fuse");
   EXPECT_NE(mapper.csvHeader().find("constant_label_frames"), std::string::npos);
   mrpt::config::CConfigFileMemory saved;

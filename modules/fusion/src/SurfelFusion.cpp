@@ -305,11 +305,11 @@ void SurfelFusion::updateSurfels(maps::SurfelStore& map, const FusionInput& in, 
   for (auto& l : m_thread_lists) l.clear();
   m_stable_lists.resize(nt);
   for (auto& l : m_stable_lists) l.clear();
-  m_counts.assign(nt, std::array<int, 6>{});
+  m_counts.assign(nt, std::array<int, 7>{});
   m_row_offset.assign(h + 1, 0);
   const auto tallyRow = [&](int y) {
     const int t = threadId();
-    std::array<int, 6>& c = m_counts[t];
+    std::array<int, 7>& c = m_counts[t];
     const std::uint16_t* f = m_flags.row(y);
     const std::int32_t* ps = m_pixel_surfel.row(y);
     int fresh = 0;
@@ -320,7 +320,10 @@ void SurfelFusion::updateSurfels(maps::SurfelStore& map, const FusionInput& in, 
       c[1] += (b & kernels::kPixAssociated) != 0;
       c[2] += (b & kernels::kPixFused) != 0;
       c[3] += (b & kernels::kPixBecameStable) != 0;
-      c[4] += (b & kernels::kPixRelabelled) != 0;
+      if (b & kernels::kPixRelabelled) {
+        ++c[4];
+        c[6] += (arr.colour_flags[ps[x]] & maps::kSurfelStable) != 0;
+      }
       c[5] += (b & kernels::kPixCovered) != 0;
       fresh += (b & kernels::kPixNew) != 0;
       if (b & kernels::kPixCrossedBlock) m_thread_lists[t].push_back(ps[x]);
@@ -466,6 +469,7 @@ void SurfelFusion::addSurfels(maps::SurfelStore& map, const FusionInput& in, Fus
     st.fused += m_counts[t][2];
     st.became_stable += m_counts[t][3];
     st.relabelled += m_counts[t][4];
+    st.relabelled_stable += m_counts[t][6];
     st.covered += m_counts[t][5];
     movers.insert(movers.end(), m_thread_lists[t].begin(), m_thread_lists[t].end());
   }

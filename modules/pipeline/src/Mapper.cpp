@@ -10,6 +10,7 @@
 #include "rasm/core/Params.h"
 #include "rasm/pipeline/stages/FusionStages.h"
 #include "rasm/pipeline/stages/PreprocessStage.h"
+#include "rasm/pipeline/stages/SegmentationStage.h"
 #include "rasm/pipeline/stages/TrackingStage.h"
 
 namespace rasm::pipeline {
@@ -36,6 +37,7 @@ void Mapper::assemble() {
   m_stages.push_back(std::move(tracking));
   auto fuse = std::make_unique<FusionStage>();
   m_stages.push_back(std::make_unique<IndexMapStage>(*fuse));
+  m_stages.push_back(std::make_unique<SegmentationStage>());
   m_stages.push_back(std::move(fuse));
   indexTimers();
 }
@@ -143,6 +145,10 @@ std::string Mapper::csvRow() const {
 void Mapper::report(nlohmann::json& rep) const {
   for (const auto& s : m_stages) s->report(rep);
   rep["keyframes"] = m_map->keyframes().size();
+}
+
+void Mapper::writeOutputs(const std::string& dir) {
+  for (const auto& s : m_stages) s->writeOutputs(dir, *m_map);
 }
 
 std::size_t Mapper::relocalisations() const { return m_tracking->relocalisations(); }

@@ -71,17 +71,6 @@ void TCameraParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
 }
 
 // ---------------------------------------------------------------------------------------------
-void writeFileAtomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".part";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    if (!f) throwInputError("output file '" + path + "'", "cannot be created");
-    f << text;
-    if (!f) throwInputError("output file '" + path + "'", "write failed");
-  }
-  fs::rename(tmp, path);
-}
-
 std::vector<std::string> MappingRun::knownSections() const {
   std::vector<std::string> known = {"source", "camera"};
   for (const std::string& s : m_mapper->sectionNames()) known.push_back(s);
@@ -315,6 +304,7 @@ void MappingRun::writeOutputs(const Accumulated& acc) {
     }
     fs::rename(p + ".part", p);
   }
+  m_mapper->writeOutputs(dir);
   if (m_output.preview_png && acc.have_K && acc.processed > 0) {
     maps::RenderedMaps view;
     m_mapper->renderView(m_mapper->pose(), acc.last_K, view);

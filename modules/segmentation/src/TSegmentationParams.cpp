@@ -8,14 +8,18 @@ namespace rasm::segmentation {
 
 void TSegmentationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
   MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(level, int, c, s);
   MRPT_LOAD_CONFIG_VAR(concavity_threshold, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(concave_margin_per_z2, double, c, s);
   MRPT_LOAD_CONFIG_VAR(depth_jump_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(depth_jump_per_z2, double, c, s);
   MRPT_LOAD_CONFIG_VAR(neighbour_reach_px, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(neighbour_step_px, int, c, s);
   MRPT_LOAD_CONFIG_VAR(normal_filter_diameter_px, int, c, s);
   MRPT_LOAD_CONFIG_VAR(normal_filter_sigma, double, c, s);
   MRPT_LOAD_CONFIG_VAR(normal_filter_sigma_space_px, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(morphology_iterations, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(morphology_close_iterations, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(morphology_open_iterations, int, c, s);
   MRPT_LOAD_CONFIG_VAR(min_component_px, int, c, s);
   MRPT_LOAD_CONFIG_VAR(propagation_min_overlap, double, c, s);
   MRPT_LOAD_CONFIG_VAR(propagation_min_overlap_px, int, c, s);
@@ -24,14 +28,18 @@ void TSegmentationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
   MRPT_LOAD_CONFIG_VAR(merge_min_fraction, double, c, s);
   MRPT_LOAD_CONFIG_VAR(merge_threshold, int, c, s);
   MRPT_LOAD_CONFIG_VAR(remap_every_n_frames, int, c, s);
+  requireInRange(level, 0, 3, s, "level");
   requireInRange(concavity_threshold, -1.0, 1.0, s, "concavity_threshold");
+  requireInRange(concave_margin_per_z2, 0.0, 1.0, s, "concave_margin_per_z2");
   requireInRange(depth_jump_m, 0.0, 1.0, s, "depth_jump_m");
   requireInRange(depth_jump_per_z2, 0.0, 1.0, s, "depth_jump_per_z2");
   requireInRange(neighbour_reach_px, 1, 64, s, "neighbour_reach_px");
+  requireInRange(neighbour_step_px, 1, 8, s, "neighbour_step_px");
   requireInRange(normal_filter_diameter_px, 0, 31, s, "normal_filter_diameter_px");
   requireInRange(normal_filter_sigma, 1e-3, 10.0, s, "normal_filter_sigma");
   requireInRange(normal_filter_sigma_space_px, 0.1, 50.0, s, "normal_filter_sigma_space_px");
-  requireInRange(morphology_iterations, 0, 10, s, "morphology_iterations");
+  requireInRange(morphology_close_iterations, 0, 10, s, "morphology_close_iterations");
+  requireInRange(morphology_open_iterations, 0, 10, s, "morphology_open_iterations");
   requireInRange(min_component_px, 1, 1e7, s, "min_component_px");
   requireInRange(propagation_min_overlap, 0.0, 1.0, s, "propagation_min_overlap");
   requireInRange(propagation_min_overlap_px, 1, 1e7, s, "propagation_min_overlap_px");
@@ -44,14 +52,18 @@ void TSegmentationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
 
 void TSegmentationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
   MRPT_SAVE_CONFIG_VAR(enabled, c, s);
+  MRPT_SAVE_CONFIG_VAR(level, c, s);
   MRPT_SAVE_CONFIG_VAR(concavity_threshold, c, s);
+  MRPT_SAVE_CONFIG_VAR(concave_margin_per_z2, c, s);
   MRPT_SAVE_CONFIG_VAR(depth_jump_m, c, s);
   MRPT_SAVE_CONFIG_VAR(depth_jump_per_z2, c, s);
   MRPT_SAVE_CONFIG_VAR(neighbour_reach_px, c, s);
+  MRPT_SAVE_CONFIG_VAR(neighbour_step_px, c, s);
   MRPT_SAVE_CONFIG_VAR(normal_filter_diameter_px, c, s);
   MRPT_SAVE_CONFIG_VAR(normal_filter_sigma, c, s);
   MRPT_SAVE_CONFIG_VAR(normal_filter_sigma_space_px, c, s);
-  MRPT_SAVE_CONFIG_VAR(morphology_iterations, c, s);
+  MRPT_SAVE_CONFIG_VAR(morphology_close_iterations, c, s);
+  MRPT_SAVE_CONFIG_VAR(morphology_open_iterations, c, s);
   MRPT_SAVE_CONFIG_VAR(min_component_px, c, s);
   MRPT_SAVE_CONFIG_VAR(propagation_min_overlap, c, s);
   MRPT_SAVE_CONFIG_VAR(propagation_min_overlap_px, c, s);

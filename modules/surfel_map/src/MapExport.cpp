@@ -119,7 +119,7 @@ Bgr8 labelColour(long long label) {
   return Bgr8{std::uint8_t(255 * b), std::uint8_t(255 * g), std::uint8_t(255 * r)};
 }
 
-void writeSurfelPly(const SurfelStore& map, const std::string& path, bool stable_only) {
+void writeSurfelPly(const SurfelStore& map, const std::string& path, bool stable_only, SurfelColouring colouring) {
   const SurfelArrays a = map.arrays();
   std::vector<int> ids;
   ids.reserve(a.size);
@@ -133,6 +133,9 @@ void writeSurfelPly(const SurfelStore& map, const std::string& path, bool stable
   for (const char* p : kPlyProperties) f << "property " << p << "\n";
   f << "end_header\n";
 
+  float max_conf = 0.0f;  // (visualColour's scale for the confidence colouring)
+  if (colouring == SurfelColouring::Confidence)
+    for (int i : ids) max_conf = std::max(max_conf, a.confidence(i));
   std::vector<char> buf(kPlyRecordBytes * std::min<std::size_t>(ids.size(), 65536));
   std::size_t k = 0;
   while (k < ids.size()) {
@@ -141,7 +144,7 @@ void writeSurfelPly(const SurfelStore& map, const std::string& path, bool stable
     for (std::size_t j = 0; j < n; ++j) {
       const int i = ids[k + j];
       const Vec4f pc = a.pos_conf[i], nr = a.normal_radius[i];
-      const Bgr8 c = a.colour(i);
+      const Bgr8 c = colouring == SurfelColouring::Rgb ? a.colour(i) : visualColour(a, i, colouring, max_conf);
       put(p, pc.x());
       put(p, pc.y());
       put(p, pc.z());

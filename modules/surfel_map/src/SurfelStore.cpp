@@ -419,6 +419,27 @@ SurfelStore::ClassUpdateStats SurfelStore::addClassEvidenceToSegment(std::uint32
   return st;
 }
 
+int SurfelStore::relabelSegments(const std::vector<std::uint32_t>& table) {
+  constexpr int kChunk = 1 << 16;
+  const int chunks = (size_ + kChunk - 1) / kChunk;
+  std::vector<int> changed(std::size_t(std::max(chunks, 0)), 0);
+  std::uint32_t* seg = segment_.data();
+  const std::size_t n = table.size();
+  compute::forEach1D(chunks, [&](int c) {
+    const int i1 = std::min(size_, (c + 1) * kChunk);
+    int k = 0;
+    for (int i = c * kChunk; i < i1; ++i)
+      if (seg[i] < n && table[seg[i]] != seg[i]) {
+        seg[i] = table[seg[i]];
+        ++k;
+      }
+    changed[std::size_t(c)] = k;
+  });
+  int total = 0;
+  for (int k : changed) total += k;
+  return total;
+}
+
 std::size_t SurfelStore::memoryBytes() const {
   return pos_conf_.capacity() * sizeof(Vec4f) + normal_radius_.capacity() * sizeof(Vec4f) +
          colour_flags_.capacity() * 4 + t_init_.capacity() * 4 + t_last_.capacity() * 4 +

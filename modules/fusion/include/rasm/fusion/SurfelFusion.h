@@ -66,7 +66,8 @@ struct FusionStats {
   int added = 0;         ///< new surfels (II-B)
   int covered = 0;       ///< no own candidate, a neighbour's surfel covers its ray: not added
   int became_stable = 0;
-  int relabelled = 0;        ///< surfels whose segment changed (III)
+  int relabelled = 0;        ///< surfels whose segment changed from one label to another (III)
+  int relabelled_stable = 0;  ///< of those, stable surfels (label stability of III)
   int removed_unstable = 0;  ///< old unstable surfels removed
   int removed_carved = 0;    ///< free-space violators removed
   int demoted_carved = 0;    ///< stable free-space violators that lost confidence
@@ -190,7 +191,7 @@ class SurfelFusion {
   bool m_index_fresh = false;  ///< the last index map matches the map (integrate, no removal since)
   Pass m_pass = Pass::None;  ///< the last pass of the current frame
   std::vector<int> m_row_offset;
-  std::vector<std::array<int, 6>> m_counts;  ///< per thread: pass 2's pixel counts for pass 3
+  std::vector<std::array<int, 7>> m_counts;  ///< per thread: pass 2's pixel counts for pass 3
   std::vector<std::vector<int>> m_thread_lists;
   std::vector<int> m_removed, m_demoted;
   std::vector<std::pair<int, int>> m_moved;

@@ -59,6 +59,8 @@ class Mapper {
   std::string csvRow() const;
   /// Fields of the stages for report.json.
   void report(nlohmann::json& rep) const;
+  /// The stages' own output files in `dir`.
+  void writeOutputs(const std::string& dir);
 
   /// The stage of type S (std::logic_error when the pipeline has none).
   template <typename S>

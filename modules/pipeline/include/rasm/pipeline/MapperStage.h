@@ -78,6 +78,9 @@ class MapperStage {
   virtual void csvValues(const FrameContext& /*ctx*/, CsvRow& /*row*/) const {}
   /// report.json: fields of the whole run (counts, rates); called once at the end.
   virtual void report(nlohmann::json& /*rep*/) const {}
+  /// The stage's own files in the run's output folder (e.g. segments.json), at the end of a run
+  /// and after report(); written through writeFileAtomically (OutputFiles.h) or a temporary name.
+  virtual void writeOutputs(const std::string& /*dir*/, const maps::CSurfelMap& /*map*/) {}
 
  protected:
   /// Records part `part` (index into parts()) of this frame's time.

@@ -18,6 +18,7 @@
 #include "rasm/io/RawlogWriter.h"
 #include "rasm/io/Trajectory.h"
 #include "rasm/pipeline/Mapper.h"
+#include "rasm/pipeline/OutputFiles.h"
 #include "rasm/pipeline/RunConfig.h"
 
 namespace rasm::pipeline {
@@ -96,7 +97,5 @@ class MappingRun {
   std::unique_ptr<Mapper> m_mapper;
 };
 
-/// Writes `text` to `path` through "<path>.part" + rename.
-void writeFileAtomically(const std::string& path, const std::string& text);
 
 }  // namespace rasm::pipeline

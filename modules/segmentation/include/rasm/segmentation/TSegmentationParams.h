@@ -10,10 +10,19 @@ namespace rasm::segmentation {
 struct TSegmentationParams : mrpt::config::CLoadableOptions {
   bool enabled = true;  ///< false: no segmentation stage work (surfels keep segment 0)
 
+  /// Pyramid level the edge map and components are computed at (0 = full resolution, 1 = half):
+  /// at level 1 the averaged depth gives normals quiet enough for the concavity test on
+  /// Kinect-class noise, and it costs a quarter. L_t is upsampled to full resolution for label
+  /// propagation and fusion.
+  int level = 1;
+
   // ---- edge map E_t (III): E = Phi < delta_Phi || Gamma > delta_Gamma ----
   /// delta_Phi: concavity threshold on n_i . n (cos of the largest concave fold angle that still
   /// joins two surfaces; 0.95 ~ 18 deg).
   double concavity_threshold = 0.95;
+  /// A neighbour is concave only when it lies in front of the tangent plane by more than
+  /// concave_margin_per_z2 * z^2 (m; the depth noise scale), else it counts as convex.
+  double concave_margin_per_z2 = 0.003;
   /// delta_Gamma(z) = depth_jump_m + depth_jump_per_z2 * z^2 (m): the largest point-to-plane
   /// distance to a neighbour that is not a depth edge; the z^2 term follows the depth noise of a
   /// Kinect-class sensor.
@@ -22,17 +31,24 @@ struct TSegmentationParams : mrpt::config::CLoadableOptions {
   /// The neighbourhood: the 8 pixels around, plus the first valid pixel in each cardinal direction
   /// up to this many pixels away (the paper's extension over holes).
   int neighbour_reach_px = 4;
+  /// Distance of the 8 neighbours (px at the segmentation level; 1 = adjacent, Tateno's): a fold
+  /// measured over 2 px stands out of the depth noise twice as far.
+  int neighbour_step_px = 3;
   /// Bilateral filter of the normal map before the edge test (OpenCV bilateralFilter; the paper's
   /// first change): window diameter (px, 0 = off), range sigma (on normal components) and space
   /// sigma (px).
   int normal_filter_diameter_px = 5;
   double normal_filter_sigma = 0.2;
   double normal_filter_sigma_space_px = 2.0;
-  /// Morphological opening then closing of the edge map (3x3 cross; 0 = off).
-  int morphology_iterations = 1;
+  /// Morphology of the edge map (3x3 cross; iterations, 0 = off), the paper's third change:
+  /// closing bridges gaps in edge lines; opening removes speckle but also edges thinner than the
+  /// element (which then no longer separate segments), so it is off by default.
+  int morphology_close_iterations = 1;
+  int morphology_open_iterations = 0;
 
   // ---- connected components -> L_t ----
-  /// Components smaller than this (pixels at 640x480; scaled with the image area) get label 0.
+  /// Components smaller than this (pixels at 640x480, whatever the level; scaled with the image
+  /// area) get label 0.
   int min_component_px = 200;
 
   // ---- label propagation -> L^p (III) ----

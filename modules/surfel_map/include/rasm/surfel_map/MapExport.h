@@ -50,8 +50,11 @@ BestClass bestClass(const SurfelArrays& a, int i);
 /// Pseudo-colour for a label (segment or class id); grey for <= 0 (segment) / < 0 (class).
 Bgr8 labelColour(long long label);
 
-/// Writes the PLY described above. Throws InputError naming the path when it cannot be written.
-void writeSurfelPly(const SurfelStore& map, const std::string& path, bool stable_only = false);
+/// Writes the PLY described above; red/green/blue hold the measured colour, or with `colouring`
+/// a visualization colour (e.g. Segment: one pseudo-colour per segment, map_segments.ply). Throws
+/// InputError naming the path when it cannot be written.
+void writeSurfelPly(const SurfelStore& map, const std::string& path, bool stable_only = false,
+                    SurfelColouring colouring = SurfelColouring::Rgb);
 
 /// What a PLY written by writeSurfelPly holds, per surfel (for tests and tools).
 struct PlySurfels {

@@ -155,6 +155,12 @@ class SurfelStore {
   ClassUpdateStats addClassEvidenceToSegment(std::uint32_t segment, int class_id,
                                              float p_detection);
 
+  /// Segment relabelling of III (merges, filling unused ids): every surfel with segment l <
+  /// table.size() gets table[l] (0 = none); labels >= table.size() are left alone. Like
+  /// addClassEvidence it does not count as a modification for generation() (no attribute fusion
+  /// caches changes). One parallel pass, O(N). Returns the surfels whose label changed.
+  int relabelSegments(const std::vector<std::uint32_t>& table);
+
   const VoxelBlockIndex& spatialIndex() const { return index_; }
   /// Upper bound of the radius of every indexed surfel (grows with indexAppended / reindex / set;
   /// exact after rebuildIndex). The renderer grows its frustum culling by it.

@@ -22,7 +22,7 @@ enum PixelFlag : std::uint16_t {
   kPixFused = 4,          ///< geometry averaged (radius rule passed)
   kPixNew = 8,            ///< no match: becomes a new surfel
   kPixBecameStable = 16,  ///< the matched surfel crossed the stability threshold
-  kPixRelabelled = 32,    ///< the matched surfel changed segment (III)
+  kPixRelabelled = 32,    ///< the matched surfel changed from one segment to another (III)
   kPixCovered = 64,       ///< no candidate of its own, but a neighbour's surfel covers it
   kPixCrossedBlock = 128, ///< the update moved the surfel into another spatial-index block
   /// Bits 8-9: free-space carving verdict on the updated surfel (CarveTest::Action), evaluated on
@@ -561,9 +561,9 @@ struct UpdateKernel {
         if (s.segment[i] == l) {
           s.segment_w[i] += w;
         } else if (s.segment[i] == 0u || s.segment_w[i] - w <= 0.0f) {
+          if (s.segment[i] != 0u) f |= kPixRelabelled;  // a change, not a first label
           s.segment[i] = l;
           s.segment_w[i] = w;
-          f |= kPixRelabelled;
         } else {
           s.segment_w[i] -= w;
         }

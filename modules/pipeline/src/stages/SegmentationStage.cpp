@@ -1,0 +1,150 @@
+#include "rasm/pipeline/stages/SegmentationStage.h"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <numeric>
+
+#include "rasm/pipeline/OutputFiles.h"
+#include "rasm/surfel_map/MapExport.h"
+
+namespace rasm::pipeline {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+}  // namespace
+
+void SegmentationStage::configure(const TMapperParams& /*mapper*/) { m_segmenter.setParams(m_params); }
+
+void SegmentationStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
+  m_ran = false;
+  m_frame_merges = 0;
+  if (!m_params.enabled || !ctx.result.fusable()) return;
+  const FrameLevel& L0 = ctx.pyramid[0];
+  const FrameLevel& Ls = ctx.pyramid[std::min<std::size_t>(std::size_t(m_params.level), ctx.pyramid.size() - 1)];
+  const segmentation::FrameSegments& seg = m_segmenter.segment(Ls.vertex, Ls.normal, L0.K.width, L0.K.height);
+  recordMs(ctx, kEdges, seg.ms_normals + seg.ms_edges);
+  recordMs(ctx, kComponents, seg.ms_components);
+  const auto t = Clock::now();
+  const maps::CSurfelMap& cmap = map;
+  segmentation::propagateLabels(seg, L0.vertex, ctx.index_map, cmap.store().arrays(), m_params, m_next_label, m_prop);
+  ctx.labels = m_prop.propagated;
+  recordMs(ctx, kPropagation, msSince(t));
+  m_ran = true;
+}
+
+void SegmentationStage::finishFrame(FrameContext& ctx, maps::CSurfelMap& map) {
+  if (!m_ran) return;
+  const auto t = Clock::now();
+  m_label_changes_stable += std::size_t(ctx.result.fusion.relabelled_stable);
+  const auto due = m_psi.update(m_prop.cosegmented, m_prop.visible, m_params.merge_threshold);
+  m_psi_max = std::max(m_psi_max, m_psi.size());
+  if (!due.empty()) m_frame_merges = merge(map, due);
+  m_merges += std::size_t(m_frame_merges);
+  if (++m_frames % std::uint64_t(m_params.remap_every_n_frames) == 0) refreshTable(map);
+  recordMs(ctx, kMerge, msSince(t));
+}
+
+int SegmentationStage::merge(maps::CSurfelMap& map, const std::vector<segmentation::MergeConfidence::Pair>& due) {
+  // Union-find over the labels involved; each set goes to its smallest label (III).
+  std::uint32_t top = 0;
+  for (const auto& [a, b] : due) top = std::max({top, a, b});
+  std::vector<std::uint32_t> parent(std::size_t(top) + 1);
+  std::iota(parent.begin(), parent.end(), 0u);
+  const auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  int merges = 0;
+  for (const auto& [a, b] : due) {
+    const std::uint32_t ra = find(a), rb = find(b);
+    if (ra == rb) continue;
+    parent[std::max(ra, rb)] = std::min(ra, rb);
+    ++merges;
+  }
+  std::vector<std::uint32_t> table(parent.size());
+  for (std::uint32_t l = 0; l < table.size(); ++l) table[l] = find(l);
+  applyRelabelling(map, table);
+  return merges;
+}
+
+void SegmentationStage::applyRelabelling(maps::CSurfelMap& map, const std::vector<std::uint32_t>& table) {
+  map.store().relabelSegments(table);
+  m_psi.remap(table);
+  m_last_relabelling = table;
+  ++m_relabel_generation;
+}
+
+void SegmentationStage::refreshTable(maps::CSurfelMap& map) {
+  const maps::CSurfelMap& cmap = map;
+  m_table.compute(cmap.store().arrays());
+  // Labels are remapped to fill unused ids (III); the table follows.
+  const std::vector<std::uint32_t> dense = segmentation::denseRelabelling(m_table);
+  bool identity = true;
+  for (std::uint32_t l = 1; l < dense.size() && identity; ++l) identity = dense[l] == l;
+  if (!identity) {
+    applyRelabelling(map, dense);
+    m_table.renumber(dense);
+  }
+  m_next_label = m_table.maxLabel() + 1;
+}
+
+void SegmentationStage::csvColumns(std::vector<std::string>& c) const {
+  c.insert(c.end(), {"seg_frame_segments", "seg_matched", "seg_created", "seg_merged", "seg_psi_pairs"});
+}
+
+void SegmentationStage::csvValues(const FrameContext& /*ctx*/, CsvRow& row) const {
+  if (!m_ran) {
+    row.add(0).add(0).add(0).add(0).add(m_psi.size());
+    return;
+  }
+  row.add(m_segmenter.last().count).add(m_prop.matched).add(m_prop.created).add(m_frame_merges).add(m_psi.size());
+}
+
+void SegmentationStage::report(nlohmann::json& rep) const {
+  nlohmann::json j;
+  j["enabled"] = m_params.enabled;
+  j["frames_segmented"] = m_frames;
+  j["merges"] = m_merges;
+  j["psi_pairs_max"] = m_psi_max;
+  // Label stability: how often a stable surfel's segment changed (fusion's relabelled_stable).
+  j["label_changes_stable"] = m_label_changes_stable;
+  rep["segmentation"] = j;
+}
+
+void SegmentationStage::writeOutputs(const std::string& dir, const maps::CSurfelMap& map) {
+  if (!m_params.enabled) return;
+  m_table.compute(map.store().arrays());  // the final map (no renumbering: the map is const here)
+  const maps::SurfelArrays a = map.store().arrays();
+  std::size_t stable = 0;
+  for (int i = 0; i < a.size; ++i) stable += a.alive(i) && a.stable(i);
+  nlohmann::json segs = nlohmann::json::array();
+  const auto vec = [](const Eigen::Vector3d& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
+  for (const segmentation::SegmentStats& s : m_table.segments()) {
+    nlohmann::json axes = nlohmann::json::array();
+    for (int k = 0; k < 3; ++k) axes.push_back(vec(s.axes.col(k)));
+    segs.push_back({{"id", s.id},
+                    {"surfels", s.surfels},
+                    {"stable_surfels", s.stable_surfels},
+                    {"centroid", vec(s.centroid)},
+                    {"axes", axes},
+                    {"extents_m", vec(s.extents)},
+                    {"bbox_min", vec(s.bbox_min)},
+                    {"bbox_max", vec(s.bbox_max)},
+                    {"last_seen_s", s.last_seen}});
+  }
+  nlohmann::json out;
+  out["comment"] =
+      "rasm segment table (section III): world frame, metres; axes are the PCA directions (unit, by "
+      "decreasing variance), extents the spread of the surfel centres along them; last_seen_s is map time";
+  out["segments"] = segs;
+  out["stable_surfels"] = stable;
+  out["label_changes_stable"] = m_label_changes_stable;
+  writeFileAtomically(dir + "/segments.json", out.dump(1) + "\n");
+  const std::string ply = dir + "/map_segments.ply";
+  maps::writeSurfelPly(map.store(), ply + ".part", false, maps::SurfelColouring::Segment);
+  std::filesystem::rename(ply + ".part", ply);
+}
+
+}  // namespace rasm::pipeline

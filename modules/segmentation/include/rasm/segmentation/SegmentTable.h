@@ -1,0 +1,54 @@
+#pragma once
+// Per-segment statistics of the map (III; read by classification, IV, and exploration, V-B):
+// surfel counts, centroid, PCA axes and extents, axis-aligned bounding box, last-seen time.
+//
+// Identity: statistics are computed from the surfel arrays by segment label, so they survive
+// fusion's compaction and re-sorting (which move surfels, not their labels); labels change only
+// by merging and remapping, which the segmentation stage applies and publishes (its remap
+// table). compute() is two parallel passes over the map (O(N)); the stage runs it every
+// remap_every_n_frames frames and at the end of a run.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "rasm/surfel_map/SurfelArrays.h"
+
+namespace rasm::segmentation {
+
+struct SegmentStats {
+  std::uint32_t id = 0;
+  int surfels = 0;
+  int stable_surfels = 0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  /// Principal axes (columns, unit), by decreasing variance; right-handed.
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+  /// Extent of the surfel centres along each axis (max - min, m).
+  Eigen::Vector3d extents = Eigen::Vector3d::Zero();
+  Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero(), bbox_max = Eigen::Vector3d::Zero();
+  float last_seen = 0.0f;  ///< latest t_last of its surfels (map time, s)
+};
+
+class SegmentTable {
+ public:
+  /// Recomputes every segment with at least one live surfel.
+  void compute(const maps::SurfelArrays& surfels);
+  /// Sorted by id.
+  const std::vector<SegmentStats>& segments() const { return m_segments; }
+  const SegmentStats* find(std::uint32_t id) const;
+  /// Renames the segments after a relabelling of the map (new = table[old]; 0 or out of range:
+  /// dropped). Merged labels are not combined: compute() again after merges.
+  void renumber(const std::vector<std::uint32_t>& table);
+  /// Largest label in the map at the last compute().
+  std::uint32_t maxLabel() const { return m_max_label; }
+
+ private:
+  std::vector<SegmentStats> m_segments;
+  std::uint32_t m_max_label = 0;
+};
+
+/// The table that renumbers the labels in use (surfel count > 0) to 1..K in increasing order
+/// (new = table[old], 0 for unused labels), for SurfelStore::relabelSegments.
+std::vector<std::uint32_t> denseRelabelling(const SegmentTable& table);
+
+}  // namespace rasm::segmentation

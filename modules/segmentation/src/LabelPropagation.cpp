@@ -1,0 +1,121 @@
+#include "rasm/segmentation/LabelPropagation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "rasm/compute/Parallel.h"
+
+namespace rasm::segmentation {
+
+namespace {
+
+/// Pi restricted to one current label: a few (map label, pixels) pairs.
+struct Overlaps {
+  std::vector<std::pair<std::uint32_t, int>> counts;
+  int labelled = 0;  ///< pixels with a map label
+  void add(std::uint32_t r) {
+    ++labelled;
+    for (auto& c : counts)
+      if (c.first == r) {
+        ++c.second;
+        return;
+      }
+    counts.emplace_back(r, 1);
+  }
+};
+
+/// L^r over the frame: the label of the candidate nearest to the measured depth within the gate.
+void renderLabels(const Image<Vec3f>& vertex_cam, const fusion::IndexMapView& view, const maps::SurfelArrays& s,
+                  const TSegmentationParams& p, Image<std::uint32_t>& out) {
+  const int w = vertex_cam.width(), h = vertex_cam.height();
+  out.resize(w, h);
+  const bool have = view.valid() && view.width() == w && view.height() == h;
+  const float gate_abs = float(p.render_depth_gate_m), gate_rel = float(p.render_depth_gate_rel);
+  compute::forEach1D(h, [&](int y) {
+    std::uint32_t* o = out.row(y);
+    const Vec3f* v = vertex_cam.row(y);
+    for (int x = 0; x < w; ++x) {
+      o[x] = 0u;
+      if (!have || std::isnan(v[x].x())) continue;
+      const float z = v[x].z(), gate = gate_abs + gate_rel * z;
+      float best = gate;
+      int bi = -1;
+      view.forEachCandidate(x, y, [&](int i, float zc) {
+        const float d = std::fabs(zc - z);
+        if (d <= best) {
+          best = d;
+          bi = i;
+        }
+      });
+      if (bi >= 0) o[x] = s.segment[bi];
+    }
+  });
+}
+
+}  // namespace
+
+void propagateLabels(const FrameSegments& seg, const Image<Vec3f>& vertex_cam, const fusion::IndexMapView& view,
+                     const maps::SurfelArrays& surfels, const TSegmentationParams& p, std::uint32_t& next_label,
+                     Propagation& out) {
+  const int w = seg.labels.width(), h = seg.labels.height();
+  renderLabels(vertex_cam, view, surfels, p, out.rendered);
+
+  // Pi: per current label, the map labels under it (serial: a few hundred thousand increments on
+  // short lists).
+  std::vector<Overlaps> pi(std::size_t(seg.count) + 1);
+  for (int y = 0; y < h; ++y) {
+    const std::uint32_t* l = seg.labels.row(y);
+    const std::uint32_t* r = out.rendered.row(y);
+    for (int x = 0; x < w; ++x)
+      if (l[x] && r[x]) pi[l[x]].add(r[x]);
+  }
+  out.label_of.assign(std::size_t(seg.count) + 1, 0u);
+  out.matched = out.created = 0;
+  out.cosegmented.clear();
+  std::vector<std::pair<std::uint32_t, int>> visible_px;
+  for (int l = 1; l <= seg.count; ++l) {
+    const Overlaps& o = pi[l];
+    std::uint32_t best = 0;
+    int best_n = 0;
+    std::vector<std::uint32_t> shared;
+    for (const auto& [r, n] : o.counts) {
+      visible_px.emplace_back(r, n);
+      if (n > best_n) {
+        best_n = n;
+        best = r;
+      }
+      if (n >= p.propagation_min_overlap_px && n >= p.merge_min_fraction * o.labelled) shared.push_back(r);
+    }
+    if (best && best_n >= p.propagation_min_overlap_px && best_n >= p.propagation_min_overlap * o.labelled) {
+      out.label_of[l] = best;
+      ++out.matched;
+    } else {
+      out.label_of[l] = next_label++;
+      ++out.created;
+    }
+    std::sort(shared.begin(), shared.end());
+    for (std::size_t a = 0; a < shared.size(); ++a)
+      for (std::size_t b = a + 1; b < shared.size(); ++b) out.cosegmented.emplace_back(shared[a], shared[b]);
+  }
+  std::sort(out.cosegmented.begin(), out.cosegmented.end());
+  out.cosegmented.erase(std::unique(out.cosegmented.begin(), out.cosegmented.end()), out.cosegmented.end());
+  // Map labels in view: pixels summed over the current segments.
+  std::sort(visible_px.begin(), visible_px.end());
+  out.visible.clear();
+  for (std::size_t i = 0; i < visible_px.size();) {
+    std::size_t j = i;
+    int n = 0;
+    while (j < visible_px.size() && visible_px[j].first == visible_px[i].first) n += visible_px[j++].second;
+    if (n >= p.propagation_min_overlap_px) out.visible.push_back(visible_px[i].first);
+    i = j;
+  }
+
+  out.propagated.resize(w, h);
+  compute::forEach1D(h, [&](int y) {
+    const std::uint32_t* l = seg.labels.row(y);
+    std::uint32_t* o = out.propagated.row(y);
+    for (int x = 0; x < w; ++x) o[x] = out.label_of[l[x]];
+  });
+}
+
+}  // namespace rasm::segmentation
