@@ -1,12 +1,30 @@
 // `rasm eval ate|rpe`: TUM benchmark trajectory metrics (rasm::io::TrajectoryEvaluator).
+// `rasm eval segmentation`: a run's segmented map against the simulator's ground truth
+// (rasm::segmentation::computeSegmentationMetrics, rasm::sim::SurfaceInstanceQuery;
+// docs/segmentation.md "Evaluation").
+#include <mrpt/config/CConfigFile.h>
+
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 #include "Command.h"
 #include "rasm/core/Error.h"
 #include "rasm/io/EvaluationJson.h"
 #include "rasm/io/TrajectoryEvaluator.h"
+#if defined(RASM_HAVE_MODULE_SIM) && defined(RASM_HAVE_MODULE_SEGMENTATION) && \
+    defined(RASM_HAVE_MODULE_SURFEL_MAP)
+#define RASM_EVAL_SEGMENTATION 1
+#include "rasm/segmentation/SegmentationMetrics.h"
+#include "rasm/sim/RayScene.h"
+#include "rasm/sim/SurfaceInstance.h"
+#include "rasm/sim/World.h"
+#include "rasm/surfel_map/MapExport.h"
+#endif
 
 namespace {
 
@@ -15,10 +33,18 @@ const char* kUsage =
     "                     [--offset S] [--json out.json]\n"
     "       rasm eval rpe <groundtruth.txt> <estimate.txt> [--delta D] [--frames] [--offset S]\n"
     "                     [--json out.json]\n"
+    "       rasm eval segmentation <run folder> [--world NAME|YAML] [--json out.json]\n"
+    "                     [--max-dist-m 0.05] [--min-size-m 0.10] [--min-surfels 50] "
+    "[--stable-only]\n"
     "Trajectories in TUM format (timestamp tx ty tz qx qy qz qw). ATE aligns the estimate to the\n"
     "ground truth (Horn/Umeyama, SE(3); --scale: Sim(3)); RPE uses intervals of D s (default 1) "
     "or\n"
-    "D frames (--frames).\n";
+    "D frames (--frames).\n"
+    "Segmentation: <run folder>/map.ply of `rasm run` against the simulator world of its "
+    "config.ini\n"
+    "([sim] world; --world for runs of a rawlog recorded in the simulator): each surfel takes "
+    "the\n"
+    "instance of the nearest world surface (none beyond --max-dist-m); docs/segmentation.md.\n";
 
 double parseNumber(const std::string& opt, const std::string& text) {
   try {
@@ -44,10 +70,339 @@ void writeJson(const std::string& path, const nlohmann::json& j) {
   std::cout << "wrote " << path << "\n";
 }
 
+#ifdef RASM_EVAL_SEGMENTATION
+
+namespace fs = std::filesystem;
+
+/// Finite numbers as numbers, NaN (undefined) as null.
+nlohmann::json num(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+}
+
+std::string fmt(double v, const char* f = "%.3f") {
+  if (!std::isfinite(v)) return "n/a";
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+void writeJsonAtomically(const std::string& out, const nlohmann::json& j) {
+  const std::string part = out + ".part";
+  {
+    std::ofstream f(part);
+    if (!f) rasm::throwInputError("--json " + out, "cannot open for writing");
+    f << j.dump(2) << "\n";
+    if (!f) rasm::throwInputError("--json " + out, "write failed");
+  }
+  std::error_code ec;
+  fs::rename(part, out, ec);
+  if (ec) rasm::throwInputError("--json " + out, "cannot rename " + part + ": " + ec.message());
+  std::cout << "wrote " << out << "\n";
+}
+
+/// The world a run was made in: --world, else [sim] world of <run>/config.ini when [source]
+/// type = sim. A relative world path that does not resolve from here is tried from the run folder.
+std::string runWorld(const std::string& run, const std::string& world_opt) {
+  const auto resolve = [&](const std::string& w, const std::string& what) {
+    try {
+      return rasm::sim::resolveWorldPath(w);
+    } catch (const rasm::InputError& e) {
+      const fs::path rel = fs::path(run) / w;
+      if (fs::path(w).is_relative() && fs::is_regular_file(rel)) return rel.string();
+      rasm::throwInputError(what, e.what());
+    }
+  };
+  if (!world_opt.empty()) return resolve(world_opt, "--world " + world_opt);
+  const std::string ini = (fs::path(run) / "config.ini").string();
+  if (!fs::is_regular_file(ini))
+    rasm::throwInputError(ini,
+                          "missing; expected the config.ini that `rasm run` writes (its [sim] "
+                          "world names the world), or pass --world <name or yaml>");
+  const mrpt::config::CConfigFile cfg(ini);
+  const std::string type = cfg.read_string("source", "type", "sim");
+  if (type != "sim") {
+    const std::string path = cfg.read_string("source", "path", "");
+    rasm::throwInputError(
+        ini, "[source] type = " + type + (path.empty() ? "" : " (path " + path + ")") +
+                 ": the run did not render a simulator world, so config.ini does not say which "
+                 "world is the ground truth; pass --world <name or yaml> (the world the rawlog "
+                 "was recorded in with `rasm sim record`)");
+  }
+  const std::string w = cfg.read_string("sim", "world", "");
+  if (w.empty())
+    rasm::throwInputError(ini,
+                          "[sim] world is missing or empty; expected a world name or YAML "
+                          "file, or pass --world");
+  return resolve(w, ini + " [sim] world = " + w);
+}
+
+struct Target {
+  double recovered, pq;
+};
+/// Issue 16's targets for the shipped worlds that have them.
+std::optional<Target> targetsOf(const std::string& world) {
+  if (world == "office") return Target{0.85, 0.6};
+  if (world == "cluttered_lab") return Target{0.70, 0.5};
+  return std::nullopt;
+}
+
+/// Label-stability counters of <run>/report.json "segmentation" (absent: nullopt).
+std::optional<std::pair<std::uint64_t, std::uint64_t>> labelCounters(const std::string& run) {
+  const std::string path = (fs::path(run) / "report.json").string();
+  if (!fs::is_regular_file(path)) return std::nullopt;
+  std::ifstream f(path);
+  nlohmann::json j;
+  try {
+    f >> j;
+  } catch (const std::exception& e) {
+    rasm::throwInputError(path, std::string("not valid JSON (") + e.what() + ")");
+  }
+  if (!j.is_object() || !j.contains("segmentation") || !j["segmentation"].is_object())
+    return std::nullopt;
+  const nlohmann::json& s = j["segmentation"];
+  const auto count = [&](const char* key) -> std::optional<std::uint64_t> {
+    if (!s.contains(key)) return std::nullopt;
+    if (!s[key].is_number_integer() || s[key].get<long long>() < 0)
+      rasm::throwInputError(
+          path, std::string("segmentation.") + key + ": expected a non-negative integer");
+    return s[key].get<std::uint64_t>();
+  };
+  const auto changes = count("label_changes_stable"), stable = count("stable_surfels");
+  if (!changes || !stable) return std::nullopt;
+  return std::make_pair(*changes, *stable);
+}
+
+int evalSegmentation(const std::vector<std::string>& args) {
+  std::vector<std::string> pos;
+  std::string json, world_opt;
+  double max_dist = 0.05;
+  rasm::segmentation::SegmentationMetricsParams mp;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) rasm::throwInputError(a, "needs a value\n" + std::string(kUsage));
+      return args[++i];
+    };
+    if (a == "--json")
+      json = value();
+    else if (a == "--world")
+      world_opt = value();
+    else if (a == "--max-dist-m")
+      max_dist = parseNumber(a, value());
+    else if (a == "--min-size-m")
+      mp.min_object_size_m = parseNumber(a, value());
+    else if (a == "--min-surfels") {
+      const double v = parseNumber(a, value());
+      if (!(v >= 0.0) || v != std::floor(v))
+        rasm::throwInputError(a, "expected a non-negative integer");
+      mp.min_object_surfels = std::size_t(v);
+    } else if (a == "--stable-only")
+      mp.stable_only = true;
+    else if (a.rfind("--", 0) == 0)
+      throw rasm::InputError("unknown option '" + a + "'\n" + std::string(kUsage));
+    else
+      pos.push_back(a);
+  }
+  if (pos.size() != 1)
+    throw rasm::InputError("expected segmentation <run folder>\n" + std::string(kUsage));
+  if (!(max_dist > 0.0) || !std::isfinite(max_dist))
+    rasm::throwInputError("--max-dist-m", "expected a distance > 0");
+  if (!(mp.min_object_size_m >= 0.0) || !std::isfinite(mp.min_object_size_m))
+    rasm::throwInputError("--min-size-m", "expected a size >= 0");
+  const std::string run = pos[0];
+  if (!fs::is_directory(run))
+    rasm::throwInputError(run,
+                          "no such folder; expected the output folder of `rasm run` (with "
+                          "map.ply and config.ini)");
+  const std::string ply = (fs::path(run) / "map.ply").string();
+  if (!fs::is_regular_file(ply))
+    rasm::throwInputError(ply, "missing; expected the surfel PLY that `rasm run` writes");
+  const std::string world_path = runWorld(run, world_opt);
+
+  const rasm::maps::PlySurfels map = rasm::maps::readSurfelPly(ply);
+  if (map.size() == 0) rasm::throwInputError(ply, "no surfels; nothing to evaluate");
+  if (mp.stable_only &&
+      std::none_of(map.stable.begin(), map.stable.end(), [](std::uint8_t s) { return s != 0; }))
+    rasm::throwInputError(ply, "no stable surfels (--stable-only)");
+  const rasm::sim::RayScene scene(rasm::sim::loadWorld(world_path));
+  const rasm::sim::World& world = scene.world();
+  const rasm::sim::SurfaceInstanceQuery query(scene);
+
+  std::vector<Eigen::Vector3f> positions(map.size());
+  for (std::size_t i = 0; i < map.size(); ++i) positions[i] = map.position[i];
+  const std::vector<rasm::sim::NearestSurface> nearest = query.nearest(positions, float(max_dist));
+  std::vector<std::uint32_t> instance(map.size());
+  std::size_t unassigned = 0;
+  for (std::size_t i = 0; i < map.size(); ++i) {
+    instance[i] = nearest[i].instance_id;
+    if (instance[i] == 0 && (!mp.stable_only || map.stable[i])) ++unassigned;
+  }
+
+  std::vector<rasm::segmentation::GtObject> objects;
+  std::size_t structure = 0;
+  for (const rasm::sim::WorldInstanceInfo& w : rasm::sim::worldInstances(world)) {
+    if (w.is_structure) {
+      ++structure;
+      continue;
+    }
+    rasm::segmentation::GtObject o;
+    o.instance_id = w.instance_id;
+    o.class_id = w.class_id;
+    o.class_name = w.class_name;
+    o.name = w.name;
+    o.size_m = w.size_m;
+    o.is_static = w.is_static;
+    objects.push_back(std::move(o));
+  }
+  const rasm::segmentation::SegmentationMetrics m = rasm::segmentation::computeSegmentationMetrics(
+      map.segment, instance, map.stable, objects, mp);
+  const auto counters = labelCounters(run);
+  const double lcps =
+      counters ? rasm::segmentation::labelChangesPerStableSurfel(counters->first, counters->second)
+               : std::nan("");
+
+  // ---- summary ----
+  std::printf("segmentation of %s against world %s (%s)\n", ply.c_str(), world.name.c_str(),
+              world.source.c_str());
+  std::printf(
+      "  covers: %zu %ssurfels, %zu objects > %.2f m evaluated, %zu surfels unassigned "
+      "(> %.3g m from any surface)\n",
+      m.surfels, mp.stable_only ? "stable " : "", m.objects_evaluated, mp.min_object_size_m,
+      unassigned, max_dist);
+  std::printf(
+      "  world: %zu instances: %zu structure (floor/wall/ceiling/door), %zu objects, %zu of "
+      "them > %.2f m, %zu of those with < %zu surfels in the map (not evaluated)\n",
+      world.objects.size(), structure, m.objects_listed, m.objects_over_size, mp.min_object_size_m,
+      m.objects_unseen, mp.min_object_surfels);
+  std::printf("  map: %zu segments, %zu surfels with a segment (%.1f %%)\n", m.segments,
+              m.segmented_surfels, 100.0 * double(m.segmented_surfels) / double(m.surfels));
+  std::printf("  objects recovered (IoU > %.2f)   %zu / %zu = %s\n", mp.iou_threshold, m.recovered,
+              m.objects_evaluated, fmt(m.objects_recovered_fraction).c_str());
+  std::printf("  PQ %s = SQ %s x RQ %s   (TP %zu, FP %zu, FN %zu)\n", fmt(m.pq).c_str(),
+              fmt(m.sq).c_str(), fmt(m.rq).c_str(), m.tp, m.fp, m.fn);
+  std::printf("  segments per object              %s   (%zu objects own no segment)\n",
+              fmt(m.segments_per_object, "%.2f").c_str(), m.objects_without_segment);
+  std::printf("  under-segmented objects          %zu / %zu\n", m.undersegmented_objects,
+              m.objects_evaluated);
+  if (counters)
+    std::printf("  label changes per stable surfel  %s   (%llu changes, %llu stable surfels)\n",
+                fmt(lcps, "%.4f").c_str(), (unsigned long long)counters->first,
+                (unsigned long long)counters->second);
+  else
+    std::printf(
+        "  label changes per stable surfel  n/a (%s/report.json has no segmentation "
+        "counters)\n",
+        run.c_str());
+  const std::optional<Target> target = targetsOf(world.name);
+  const auto pass = [](double v, double t) { return std::isfinite(v) && v >= t; };
+  if (target) {
+    std::printf("  targets (%s): recovered >= %.2f %s (%s), PQ >= %.2f %s (%s)\n",
+                world.name.c_str(), target->recovered,
+                pass(m.objects_recovered_fraction, target->recovered) ? "PASS" : "MISS",
+                fmt(m.objects_recovered_fraction).c_str(), target->pq,
+                pass(m.pq, target->pq) ? "PASS" : "MISS", fmt(m.pq).c_str());
+  } else {
+    std::printf("  targets: none for world %s (office, cluttered_lab have them)\n",
+                world.name.c_str());
+  }
+  std::printf("  %8s %-18s %-16s %8s %7s %6s %5s %5s %s\n", "instance", "class", "name", "surfels",
+              "best", "IoU", "segs", "under", "");
+  for (const rasm::segmentation::ObjectResult& r : m.per_object) {
+    if (!r.evaluated) continue;
+    std::string note = r.recovered ? "recovered" : "";
+    if (r.undersegmented)
+      note += std::string(note.empty() ? "" : ", ") + "with " + std::to_string(r.merged_with);
+    std::printf("  %8u %-18s %-16s %8zu %7u %6.3f %5zu %5s %s\n", r.object.instance_id,
+                r.object.class_name.c_str(), r.object.name.c_str(), r.surfels, r.best_segment,
+                r.iou, r.owned_segments, r.undersegmented ? "yes" : "no", note.c_str());
+  }
+
+  if (!json.empty()) {
+    nlohmann::json j;
+    j["run"] = run;
+    j["map"] = ply;
+    j["world"] = world.name;
+    j["world_source"] = world.source;
+    j["surfels_in_file"] = map.size();
+    j["surfels"] = m.surfels;
+    j["stable_only"] = mp.stable_only;
+    j["surfels_unassigned"] = unassigned;
+    j["max_dist_m"] = max_dist;
+    j["segments"] = m.segments;
+    j["segmented_surfels"] = m.segmented_surfels;
+    j["iou_threshold"] = mp.iou_threshold;
+    j["min_object_size_m"] = mp.min_object_size_m;
+    j["min_object_surfels"] = mp.min_object_surfels;
+    j["instances_in_world"] = world.objects.size();
+    j["structure_instances"] = structure;
+    j["objects_in_world"] = m.objects_listed;
+    j["objects_over_min_size"] = m.objects_over_size;
+    j["objects_not_evaluated"] = m.objects_unseen;
+    j["objects_evaluated"] = m.objects_evaluated;
+    j["objects_recovered"] = m.recovered;
+    j["objects_recovered_fraction"] = num(m.objects_recovered_fraction);
+    j["pq"] = num(m.pq);
+    j["sq"] = num(m.sq);
+    j["rq"] = num(m.rq);
+    j["tp"] = m.tp;
+    j["fp"] = m.fp;
+    j["fn"] = m.fn;
+    j["segments_per_object"] = num(m.segments_per_object);
+    j["objects_without_segment"] = m.objects_without_segment;
+    j["undersegmented_objects"] = m.undersegmented_objects;
+    j["undersegmented_fraction"] = num(m.undersegmented_fraction);
+    j["label_changes_stable"] = counters ? nlohmann::json(counters->first) : nlohmann::json();
+    j["stable_surfels"] = counters ? nlohmann::json(counters->second) : nlohmann::json();
+    j["label_changes_per_stable_surfel"] = num(lcps);
+    if (target) {
+      j["targets"] = {
+          {"objects_recovered_fraction",
+           {{"target", target->recovered},
+            {"value", num(m.objects_recovered_fraction)},
+            {"pass", pass(m.objects_recovered_fraction, target->recovered)}}},
+          {"pq", {{"target", target->pq}, {"value", num(m.pq)}, {"pass", pass(m.pq, target->pq)}}}};
+    } else {
+      j["targets"] = nullptr;
+    }
+    nlohmann::json rows = nlohmann::json::array();
+    for (const rasm::segmentation::ObjectResult& r : m.per_object) {
+      rows.push_back({{"instance", r.object.instance_id},
+                      {"class_id", r.object.class_id},
+                      {"class", r.object.class_name},
+                      {"name", r.object.name},
+                      {"static", r.object.is_static},
+                      {"size_m", r.object.size_m},
+                      {"surfels", r.surfels},
+                      {"unsegmented_surfels", r.unsegmented},
+                      {"evaluated", r.evaluated},
+                      {"best_segment", r.best_segment},
+                      {"iou", r.iou},
+                      {"recovered", r.recovered},
+                      {"dominant_segment", r.dominant_segment},
+                      {"segments", r.owned_segments},
+                      {"undersegmented", r.undersegmented},
+                      {"merged_with", r.merged_with}});
+    }
+    j["objects"] = std::move(rows);
+    writeJsonAtomically(json, j);
+  }
+  return 0;
+}
+
+#endif  // RASM_EVAL_SEGMENTATION
+
 int eval(const std::vector<std::string>& args) {
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
     std::cout << kUsage;
     return args.empty() ? 1 : 0;
+  }
+  if (args[0] == "segmentation") {
+#ifdef RASM_EVAL_SEGMENTATION
+    return evalSegmentation(std::vector<std::string>(args.begin() + 1, args.end()));
+#else
+    rasm::throwInputError("rasm eval segmentation",
+                          "this build lacks the sim, segmentation or surfel_map module");
+#endif
   }
   std::vector<std::string> pos;
   rasm::io::AteOptions ate;
@@ -103,12 +458,15 @@ int eval(const std::vector<std::string>& args) {
     printStats("rotation", "[deg]", r.rotation_deg);
     if (!json.empty()) writeJson(json, rasm::io::toJson(r, rpe));
   } else {
-    throw rasm::InputError("unknown metric '" + pos[0] + "' (expected ate or rpe)\n" + kUsage);
+    throw rasm::InputError("unknown metric '" + pos[0] + "' (expected ate, rpe or segmentation)\n" +
+                           kUsage);
   }
   return 0;
 }
 
 const rasm::app::Registrar reg{
-    "eval", "trajectory metrics: ate | rpe <groundtruth.txt> <estimate.txt>", &eval};
+    "eval",
+    "trajectory metrics: ate | rpe <groundtruth.txt> <estimate.txt>; segmentation <run folder>",
+    &eval};
 
 }  // namespace
