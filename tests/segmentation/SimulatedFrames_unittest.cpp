@@ -129,7 +129,7 @@ void scoreSequence(const char* world_name, const char* trajectory, int step, int
 
 }  // namespace
 
-TEST(SimulatedFrames, OfficeObjectsAreSegments) { scoreSequence("office", "office_handheld", 40, 5, 0.6); }
+TEST(SimulatedFrames, OfficeObjectsAreSegments) { scoreSequence("office", "office_handheld", 40, 5, 0.7); }
 TEST(SimulatedFrames, ClutteredLabObjectsAreSegments) {
-  scoreSequence("cluttered_lab", "cluttered_lab_handheld", 40, 5, 0.5);
+  scoreSequence("cluttered_lab", "cluttered_lab_handheld", 40, 5, 0.7);
 }

@@ -28,6 +28,7 @@
 #include "rasm/io/EvaluationJson.h"
 #include "rasm/pipeline/Progress.h"
 #include "rasm/pipeline/SimSource.h"
+#include "rasm/surfel_map/MapExport.h"
 
 namespace fs = std::filesystem;
 
@@ -310,6 +311,18 @@ void MappingRun::writeOutputs(const Accumulated& acc) {
     m_mapper->renderView(m_mapper->pose(), acc.last_K, view);
     cv::Mat img(view.colour.height(), view.colour.width(), CV_8UC3, view.colour.data(), view.colour.pitchBytes());
     cv::imwrite(dir + "/preview.png", img);
+    // The same view coloured by segment (III), when the map has segments.
+    bool any = false;
+    cv::Mat seg(img.rows, img.cols, CV_8UC3, cv::Scalar(0, 0, 0));
+    for (int y = 0; y < view.segment.height(); ++y)
+      for (int x = 0; x < view.segment.width(); ++x) {
+        if (view.index(x, y) < 0) continue;
+        const std::uint32_t l = view.segment(x, y);
+        any = any || l != 0;
+        const Bgr8 c = maps::labelColour(l);
+        seg.at<cv::Vec3b>(y, x) = cv::Vec3b(c.b, c.g, c.r);
+      }
+    if (any) cv::imwrite(dir + "/preview_segments.png", seg);
   }
 }
 

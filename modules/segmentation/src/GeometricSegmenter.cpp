@@ -45,6 +45,47 @@ void filterNormals(const Image<Vec3f>& in, Image<Vec3f>& out, const TSegmentatio
     }
   });
 }
+/// Valid edge pixels take the label of the adjacent labelled pixel nearest in depth (within the
+/// depth-jump gate), edge_fill_iterations times: surfels on an object's border then belong to it
+/// rather than to no segment, and a depth edge's far side never takes the near side's label.
+void fillEdges(cv::Mat& labels, const Image<Vec3f>& vertex, const TSegmentationParams& p) {
+  const int w = labels.cols, h = labels.rows;
+  cv::Mat next;
+  for (int it = 0; it < p.edge_fill_iterations; ++it) {
+    labels.copyTo(next);
+    int filled = 0;
+    for (int y = 0; y < h; ++y) {
+      const Vec3f* v = vertex.row(y);
+      int* out = next.ptr<int>(y);
+      for (int x = 0; x < w; ++x) {
+        if (out[x] != 0 || std::isnan(v[x].x())) continue;
+        const float z = v[x].z();
+        const float gate = float(p.depth_jump_m + p.depth_jump_per_z2 * z * z);
+        float best = gate;
+        int label = 0;
+        const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+        for (int k = 0; k < 4; ++k) {
+          const int xi = x + dx[k], yi = y + dy[k];
+          if (xi < 0 || yi < 0 || xi >= w || yi >= h) continue;
+          const int l = labels.ptr<int>(yi)[xi];
+          if (!l) continue;
+          const float d = std::fabs(vertex(xi, yi).z() - z);
+          if (d < best) {
+            best = d;
+            label = l;
+          }
+        }
+        if (label) {
+          out[x] = label;
+          ++filled;
+        }
+      }
+    }
+    std::swap(labels, next);
+    if (!filled) break;
+  }
+}
+
 }  // namespace
 
 const FrameSegments& GeometricSegmenter::segment(const Image<Vec3f>& vertex_cam, const Image<Vec3f>& normal_cam,
@@ -102,7 +143,6 @@ const FrameSegments& GeometricSegmenter::segment(const Image<Vec3f>& vertex_cam,
   const int min_px = std::max(1, int(std::lround(m_params.min_component_px * (double(w) * h) / (640.0 * 480.0))));
   const int area_scale = scale * scale;
   std::vector<std::uint32_t> relabel(std::size_t(std::max(n, 1)), 0u);
-  o.pixels.assign(1, 0);
   o.dropped_components = 0;
   std::uint32_t next = 1;
   for (int c = 1; c < n; ++c) {
@@ -112,15 +152,25 @@ const FrameSegments& GeometricSegmenter::segment(const Image<Vec3f>& vertex_cam,
       continue;
     }
     relabel[c] = next++;
-    o.pixels.push_back(area * area_scale);
   }
   o.count = int(next) - 1;
+  for (int y = 0; y < h; ++y) {
+    int* a = cc_labels.ptr<int>(y);
+    for (int x = 0; x < w; ++x) a[x] = int(relabel[a[x]]);
+  }
+  fillEdges(cc_labels, vertex_cam, m_params);
   o.labels.resize(ow, oh);
   compute::forEach1D(oh, [&](int y) {
     const int* a = cc_labels.ptr<int>(y / scale);
     std::uint32_t* b = o.labels.row(y);
-    for (int x = 0; x < ow; ++x) b[x] = relabel[a[x / scale]];
+    for (int x = 0; x < ow; ++x) b[x] = std::uint32_t(a[x / scale]);
   });
+  o.pixels.assign(std::size_t(o.count) + 1, 0);
+  for (int y = 0; y < h; ++y) {
+    const int* a = cc_labels.ptr<int>(y);
+    for (int x = 0; x < w; ++x) o.pixels[std::size_t(a[x])] += area_scale;
+  }
+  o.pixels[0] = 0;
   o.ms_components = msSince(t);
   return o;
 }

@@ -21,6 +21,7 @@ void TSegmentationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
   MRPT_LOAD_CONFIG_VAR(morphology_close_iterations, int, c, s);
   MRPT_LOAD_CONFIG_VAR(morphology_open_iterations, int, c, s);
   MRPT_LOAD_CONFIG_VAR(min_component_px, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(edge_fill_iterations, int, c, s);
   MRPT_LOAD_CONFIG_VAR(propagation_min_overlap, double, c, s);
   MRPT_LOAD_CONFIG_VAR(propagation_min_overlap_px, int, c, s);
   MRPT_LOAD_CONFIG_VAR(render_depth_gate_m, double, c, s);
@@ -41,6 +42,7 @@ void TSegmentationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
   requireInRange(morphology_close_iterations, 0, 10, s, "morphology_close_iterations");
   requireInRange(morphology_open_iterations, 0, 10, s, "morphology_open_iterations");
   requireInRange(min_component_px, 1, 1e7, s, "min_component_px");
+  requireInRange(edge_fill_iterations, 0, 32, s, "edge_fill_iterations");
   requireInRange(propagation_min_overlap, 0.0, 1.0, s, "propagation_min_overlap");
   requireInRange(propagation_min_overlap_px, 1, 1e7, s, "propagation_min_overlap_px");
   requireInRange(render_depth_gate_m, 0.0, 1.0, s, "render_depth_gate_m");
@@ -65,6 +67,7 @@ void TSegmentationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, con
   MRPT_SAVE_CONFIG_VAR(morphology_close_iterations, c, s);
   MRPT_SAVE_CONFIG_VAR(morphology_open_iterations, c, s);
   MRPT_SAVE_CONFIG_VAR(min_component_px, c, s);
+  MRPT_SAVE_CONFIG_VAR(edge_fill_iterations, c, s);
   MRPT_SAVE_CONFIG_VAR(propagation_min_overlap, c, s);
   MRPT_SAVE_CONFIG_VAR(propagation_min_overlap_px, c, s);
   MRPT_SAVE_CONFIG_VAR(render_depth_gate_m, c, s);

@@ -110,6 +110,10 @@ void SegmentationStage::report(nlohmann::json& rep) const {
   j["psi_pairs_max"] = m_psi_max;
   // Label stability: how often a stable surfel's segment changed (fusion's relabelled_stable).
   j["label_changes_stable"] = m_label_changes_stable;
+  if (m_stable_final >= 0) {
+    j["stable_surfels"] = m_stable_final;
+    j["segments"] = m_table.segments().size();
+  }
   rep["segmentation"] = j;
 }
 
@@ -119,6 +123,7 @@ void SegmentationStage::writeOutputs(const std::string& dir, const maps::CSurfel
   const maps::SurfelArrays a = map.store().arrays();
   std::size_t stable = 0;
   for (int i = 0; i < a.size; ++i) stable += a.alive(i) && a.stable(i);
+  m_stable_final = (long long)stable;
   nlohmann::json segs = nlohmann::json::array();
   const auto vec = [](const Eigen::Vector3d& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
   for (const segmentation::SegmentStats& s : m_table.segments()) {

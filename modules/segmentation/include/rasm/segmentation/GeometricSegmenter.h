@@ -19,8 +19,9 @@ namespace rasm::segmentation {
 struct FrameSegments {
   Image<std::uint8_t> edges;     ///< E_t after the morphology (kernels::kInterior/kEdge/kInvalid),
                                  ///< at the resolution of the input maps
-  Image<std::uint32_t> labels;   ///< L_t at the output resolution: 1..count, 0 = edge, invalid or
-                                 ///< too small a component
+  Image<std::uint32_t> labels;   ///< L_t at the output resolution: 1..count (edge pixels filled
+                                 ///< from the adjacent segment nearest in depth), 0 = invalid,
+                                 ///< unfilled edge or too small a component
   int count = 0;                 ///< segments in L_t
   std::vector<int> pixels;       ///< pixels per label in `labels` (index = label; [0] unused)
   int dropped_components = 0;    ///< components below min_component_px

@@ -50,6 +50,10 @@ struct TSegmentationParams : mrpt::config::CLoadableOptions {
   /// Components smaller than this (pixels at 640x480, whatever the level; scaled with the image
   /// area) get label 0.
   int min_component_px = 200;
+  /// Edge pixels with depth take the label of the adjacent segment nearest in depth (within
+  /// delta_Gamma), this many pixel rings deep (at the segmentation level; 0 = edges stay 0): an
+  /// object's border surfels then belong to it.
+  int edge_fill_iterations = 3;
 
   // ---- label propagation -> L^p (III) ----
   /// A current segment takes the map label that covers the largest fraction of its pixels that

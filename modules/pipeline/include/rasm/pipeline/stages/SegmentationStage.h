@@ -64,6 +64,7 @@ class SegmentationStage : public MapperStage {
   // Per frame (frames.csv) and run totals (report.json).
   int m_frame_merges = 0;
   std::size_t m_merges = 0, m_label_changes_stable = 0, m_psi_max = 0;
+  long long m_stable_final = -1;  ///< stable surfels of the final map (writeOutputs), -1 unknown
 };
 
 }  // namespace rasm::pipeline
