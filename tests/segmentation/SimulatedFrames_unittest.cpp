@@ -117,8 +117,10 @@ void scoreSequence(const char* world_name, const char* trajectory, int step, int
     computeNormalMap(vertex, normal, 0.05f);
     const FrameSegments& s = seg.segment(vertex, normal, f.intrinsics.width, f.intrinsics.height);
     const FrameScore sc = score(s, f, world, 1500);
-    std::printf("%s frame %d: %d / %d objects one segment, %.0f%% of valid pixels in segments, %d segments\n",
-                trajectory, k - 1, sc.recovered, sc.objects, 100 * sc.interior_fraction, s.count);
+    std::printf("%s frame %d: %d / %d objects one segment, %.0f%% of valid pixels in segments, %d segments "
+                "(ms: normals %.2f edges %.2f components %.2f)\n",
+                trajectory, k - 1, sc.recovered, sc.objects, 100 * sc.interior_fraction, s.count, s.ms_normals,
+                s.ms_edges, s.ms_components);
     objects += sc.objects;
     recovered += sc.recovered;
     if (debug) writeDebug(std::string(debug) + "/" + trajectory + "_" + std::to_string(k - 1), s, f);

@@ -24,18 +24,22 @@ struct Overlaps {
   }
 };
 
-/// L^r over the frame: the label of the candidate nearest to the measured depth within the gate.
+/// L^r on the grid of every `step`-th pixel (in x and y) of the frame: the label of the candidate
+/// nearest to the measured depth within the gate.
 void renderLabels(const Image<Vec3f>& vertex_cam, const fusion::IndexMapView& view, const maps::SurfelArrays& s,
-                  const TSegmentationParams& p, Image<std::uint32_t>& out) {
+                  const TSegmentationParams& p, int step, Image<std::uint32_t>& out) {
   const int w = vertex_cam.width(), h = vertex_cam.height();
-  out.resize(w, h);
+  const int gw = (w + step - 1) / step, gh = (h + step - 1) / step;
+  out.resize(gw, gh);
   const bool have = view.valid() && view.width() == w && view.height() == h;
   const float gate_abs = float(p.render_depth_gate_m), gate_rel = float(p.render_depth_gate_rel);
-  compute::forEach1D(h, [&](int y) {
-    std::uint32_t* o = out.row(y);
+  compute::forEach1D(gh, [&](int gy) {
+    std::uint32_t* o = out.row(gy);
+    const int y = gy * step;
     const Vec3f* v = vertex_cam.row(y);
-    for (int x = 0; x < w; ++x) {
-      o[x] = 0u;
+    for (int gx = 0; gx < gw; ++gx) {
+      const int x = gx * step;
+      o[gx] = 0u;
       if (!have || std::isnan(v[x].x())) continue;
       const float z = v[x].z(), gate = gate_abs + gate_rel * z;
       float best = gate;
@@ -47,7 +51,7 @@ void renderLabels(const Image<Vec3f>& vertex_cam, const fusion::IndexMapView& vi
           bi = i;
         }
       });
-      if (bi >= 0) o[x] = s.segment[bi];
+      if (bi >= 0) o[gx] = s.segment[bi];
     }
   });
 }
@@ -58,17 +62,22 @@ void propagateLabels(const FrameSegments& seg, const Image<Vec3f>& vertex_cam, c
                      const maps::SurfelArrays& surfels, const TSegmentationParams& p, std::uint32_t& next_label,
                      Propagation& out) {
   const int w = seg.labels.width(), h = seg.labels.height();
-  renderLabels(vertex_cam, view, surfels, p, out.rendered);
+  // Pi is counted on every `step`-th pixel (L_t comes from the segmentation level, so a finer
+  // count adds nothing); pixel thresholds are scaled to full-resolution pixels.
+  const int step = std::max(1, p.propagation_step_px);
+  renderLabels(vertex_cam, view, surfels, p, step, out.rendered);
 
-  // Pi: per current label, the map labels under it (serial: a few hundred thousand increments on
-  // short lists).
+  // Pi: per current label, the map labels under it (serial: increments on short lists).
   std::vector<Overlaps> pi(std::size_t(seg.count) + 1);
-  for (int y = 0; y < h; ++y) {
-    const std::uint32_t* l = seg.labels.row(y);
-    const std::uint32_t* r = out.rendered.row(y);
-    for (int x = 0; x < w; ++x)
-      if (l[x] && r[x]) pi[l[x]].add(r[x]);
+  for (int gy = 0; gy < out.rendered.height(); ++gy) {
+    const std::uint32_t* l = seg.labels.row(gy * step);
+    const std::uint32_t* r = out.rendered.row(gy);
+    for (int gx = 0; gx < out.rendered.width(); ++gx) {
+      const std::uint32_t lx = l[gx * step];
+      if (lx && r[gx]) pi[lx].add(r[gx]);
+    }
   }
+  const int area = step * step;
   out.label_of.assign(std::size_t(seg.count) + 1, 0u);
   out.matched = out.created = 0;
   out.cosegmented.clear();
@@ -78,15 +87,16 @@ void propagateLabels(const FrameSegments& seg, const Image<Vec3f>& vertex_cam, c
     std::uint32_t best = 0;
     int best_n = 0;
     std::vector<std::uint32_t> shared;
-    for (const auto& [r, n] : o.counts) {
+    for (auto [r, n] : o.counts) {
+      n *= area;
       visible_px.emplace_back(r, n);
       if (n > best_n) {
         best_n = n;
         best = r;
       }
-      if (n >= p.propagation_min_overlap_px && n >= p.merge_min_fraction * o.labelled) shared.push_back(r);
+      if (n >= p.propagation_min_overlap_px && n >= p.merge_min_fraction * o.labelled * area) shared.push_back(r);
     }
-    if (best && best_n >= p.propagation_min_overlap_px && best_n >= p.propagation_min_overlap * o.labelled) {
+    if (best && best_n >= p.propagation_min_overlap_px && best_n >= p.propagation_min_overlap * o.labelled * area) {
       out.label_of[l] = best;
       ++out.matched;
     } else {

@@ -25,6 +25,7 @@ void TSegmentationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
   MRPT_LOAD_CONFIG_VAR(propagation_min_overlap, double, c, s);
   MRPT_LOAD_CONFIG_VAR(propagation_min_overlap_px, int, c, s);
   MRPT_LOAD_CONFIG_VAR(render_depth_gate_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(propagation_step_px, int, c, s);
   MRPT_LOAD_CONFIG_VAR(render_depth_gate_rel, double, c, s);
   MRPT_LOAD_CONFIG_VAR(merge_min_fraction, double, c, s);
   MRPT_LOAD_CONFIG_VAR(merge_threshold, int, c, s);
@@ -46,6 +47,7 @@ void TSegmentationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
   requireInRange(propagation_min_overlap, 0.0, 1.0, s, "propagation_min_overlap");
   requireInRange(propagation_min_overlap_px, 1, 1e7, s, "propagation_min_overlap_px");
   requireInRange(render_depth_gate_m, 0.0, 1.0, s, "render_depth_gate_m");
+  requireInRange(propagation_step_px, 1, 8, s, "propagation_step_px");
   requireInRange(render_depth_gate_rel, 0.0, 1.0, s, "render_depth_gate_rel");
   requireInRange(merge_min_fraction, 0.0, 1.0, s, "merge_min_fraction");
   requireInRange(merge_threshold, 1, 1e6, s, "merge_threshold");
@@ -71,6 +73,7 @@ void TSegmentationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, con
   MRPT_SAVE_CONFIG_VAR(propagation_min_overlap, c, s);
   MRPT_SAVE_CONFIG_VAR(propagation_min_overlap_px, c, s);
   MRPT_SAVE_CONFIG_VAR(render_depth_gate_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(propagation_step_px, c, s);
   MRPT_SAVE_CONFIG_VAR(render_depth_gate_rel, c, s);
   MRPT_SAVE_CONFIG_VAR(merge_min_fraction, c, s);
   MRPT_SAVE_CONFIG_VAR(merge_threshold, c, s);

@@ -23,7 +23,7 @@
 namespace rasm::segmentation {
 
 struct Propagation {
-  Image<std::uint32_t> rendered;    ///< L^r
+  Image<std::uint32_t> rendered;    ///< L^r on every propagation_step_px-th pixel
   Image<std::uint32_t> propagated;  ///< L^p (0 where L_t is 0)
   /// Per current label l (index, [0] unused): its map label, new ones included.
   std::vector<std::uint32_t> label_of;

@@ -64,6 +64,9 @@ struct TSegmentationParams : mrpt::config::CLoadableOptions {
   /// A rendered surfel counts for a pixel when its depth is within this of the measurement
   /// (m, plus the relative part times z): the surfel fusion would associate.
   double render_depth_gate_m = 0.05;
+  /// L^r and Pi are evaluated on every n-th pixel in x and y (2: a quarter of the pixels, as
+  /// fine as L_t at level 1); pixel thresholds stay in full-resolution pixels.
+  int propagation_step_px = 2;
   double render_depth_gate_rel = 0.03;
 
   // ---- merging with Psi (III) ----

@@ -70,23 +70,24 @@ struct EdgeKernel {
     }
     float g = 0.0f, p = 1.0f;
     const float margin = prm.concave_margin_per_z2 * v.z() * v.z();
-    // The 8 neighbours at distance step.
-    const int st = prm.step;
+    // The 8 neighbours at distance step; away from the border no bounds checks.
+    const int st = prm.step, far = st > prm.reach ? st : prm.reach;
+    const bool inner = x >= far && y >= far && x < vertex.width - far && y < vertex.height - far;
     for (int dy = -st; dy <= st; dy += st)
       for (int dx = -st; dx <= st; dx += st) {
         if (dx == 0 && dy == 0) continue;
         const int xi = x + dx, yi = y + dy;
-        if (!vertex.inside(xi, yi)) continue;
+        if (!inner && !vertex.inside(xi, yi)) continue;
         if (valid(vertex(xi, yi)) && valid(normal(xi, yi))) accumulate(v, n, xi, yi, margin, g, p);
       }
     // Cardinal directions: the first valid pixel beyond an invalid adjacent one.
     const int cdx[4] = {1, -1, 0, 0}, cdy[4] = {0, 0, 1, -1};
     for (int k = 0; k < 4; ++k) {
       const int ax = x + st * cdx[k], ay = y + st * cdy[k];
-      if (!vertex.inside(ax, ay) || (valid(vertex(ax, ay)) && valid(normal(ax, ay)))) continue;
+      if ((!inner && !vertex.inside(ax, ay)) || (valid(vertex(ax, ay)) && valid(normal(ax, ay)))) continue;
       for (int r = st + 1; r <= prm.reach; ++r) {
         const int xi = x + r * cdx[k], yi = y + r * cdy[k];
-        if (!vertex.inside(xi, yi)) break;
+        if (!inner && !vertex.inside(xi, yi)) break;
         if (valid(vertex(xi, yi)) && valid(normal(xi, yi))) {
           accumulate(v, n, xi, yi, margin, g, p);
           break;
