@@ -39,7 +39,10 @@ int runMain(const std::vector<std::string>& args) {
               "frames/s, %zu surfels\n",
               s.frames, s.frames - s.lost, s.lost, lost_pct, s.lost_intervals, s.relocalisations, s.seconds, s.fps,
               s.surfels);
-  if (s.ate_rmse_m) {
+  const bool gt_poses = run.mapper().mapperParams().poses == "groundtruth";
+  if (gt_poses) {
+    std::printf("poses: the source's ground truth ([mapper] poses = groundtruth), not tracked: no ATE\n");
+  } else if (s.ate_rmse_m) {
     char tracked[96] = "";
     if (s.ate_tracked_rmse_m && s.lost > 0)
       std::snprintf(tracked, sizeof tracked, ", %.4f m over the %zu tracked", *s.ate_tracked_rmse_m, s.frames - s.lost);
@@ -47,6 +50,9 @@ int runMain(const std::vector<std::string>& args) {
                 s.frames, tracked);
   }
   std::printf("outputs in %s\n", s.out_dir.c_str());
+  if (const auto seg = s.report.find("segmentation"); seg != s.report.end() && seg->contains("segments"))
+    std::printf("segments: %d (segments.json, map_segments.ply, preview_segments.png)\n",
+                (*seg)["segments"].get<int>());
   if (lost_pct > 5.0)
     std::printf("WARNING: tracking lost %.1f%% of the frames (%zu of %zu, frames.csv: tracked = 0); the map holds only "
                 "the tracked ones\n",

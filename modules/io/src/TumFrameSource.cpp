@@ -44,6 +44,7 @@ struct TumFrameSource::Impl {
   };
   std::vector<Pair> pairs;
   Trajectory groundtruth;
+  Trajectory groundtruth_by_index;  ///< truth_cam_poses.txt: row k = frame k
   std::size_t next = 0;
 };
 
@@ -94,7 +95,18 @@ TumFrameSource::TumFrameSource(const std::string& folder, const TumSourceOptions
                         std::to_string(depth.size()) + ")");
 
   const fs::path gt = fs::path(folder) / "groundtruth.txt";
-  if (fs::is_regular_file(gt)) m.groundtruth = readTumTrajectory(gt.string());
+  const fs::path by_index = fs::path(folder) / "truth_cam_poses.txt";
+  if (fs::is_regular_file(gt)) {
+    m.groundtruth = readTumTrajectory(gt.string());
+  } else if (fs::is_regular_file(by_index)) {
+    // Keyframe sets (e.g. the cuboid-SLAM fr3_cabinet keyframes): row k is the pose of frame k
+    // (its own timestamp is the original one, the image lists count 0..n-1).
+    m.groundtruth_by_index = readTumTrajectory(by_index.string());
+    if (m.groundtruth_by_index.size() != m.pairs.size())
+      throwInputError(by_index.string(), std::to_string(m.groundtruth_by_index.size()) + " poses for " +
+                                             std::to_string(m.pairs.size()) +
+                                             " frames (expected one row per frame, row k = frame k)");
+  }
 
   m.K = opt.intrinsics_override ? *opt.intrinsics_override : intrinsicsForFolderName(folder);
   if (m.K.fx <= 0 || m.K.fy == 0)
@@ -143,7 +155,10 @@ std::optional<RgbdFrame> TumFrameSource::next() {
     detail::flipRows(f.depth_m);
     detail::flipRows(f.colour);
   }
-  f.gt_T_world_cam = interpolatePose(m.groundtruth, f.timestamp_s, m.opt.max_groundtruth_dt_s);
+  if (!m.groundtruth_by_index.empty())
+    f.gt_T_world_cam = m.groundtruth_by_index[idx].T_world_cam;
+  else
+    f.gt_T_world_cam = interpolatePose(m.groundtruth, f.timestamp_s, m.opt.max_groundtruth_dt_s);
   f.validate(ctx);
   return f;
 }

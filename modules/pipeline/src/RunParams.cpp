@@ -94,6 +94,9 @@ void TMapperParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   MRPT_LOAD_CONFIG_VAR(bilateral_sigma_depth_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(normal_max_jump_rel, double, c, s);
   MRPT_LOAD_CONFIG_VAR(load_map, string, c, s);
+  MRPT_LOAD_CONFIG_VAR(poses, string, c, s);
+  if (poses != "tracked" && poses != "groundtruth")
+    throwInputError("[" + s + "] poses", "'" + poses + "' is not one of tracked, groundtruth");
   requireInRange(pyramid_levels, 1, 6, s, "pyramid_levels");
   requireInRange(min_depth_m, 0.0, 100.0, s, "min_depth_m");
   requireInRange(max_depth_m, min_depth_m, 100.0, s, "max_depth_m");
@@ -111,6 +114,7 @@ void TMapperParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(bilateral_sigma_depth_m, c, s);
   MRPT_SAVE_CONFIG_VAR(normal_max_jump_rel, c, s);
   MRPT_SAVE_CONFIG_VAR(load_map, c, s);
+  MRPT_SAVE_CONFIG_VAR(poses, c, s);
 }
 
 Eigen::Isometry3d TRobotParams::T_base_cam() const {

@@ -74,36 +74,75 @@ void SegmentTable::compute(const maps::SurfelArrays& s) {
     // Eigen sorts eigenvalues increasingly: reverse to decreasing variance.
     for (int k = 0; k < 3; ++k) st.axes.col(k) = es.eigenvectors().col(2 - k);
     if (st.axes.determinant() < 0) st.axes.col(2) = -st.axes.col(2);
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eh(cov.topLeftCorner<2, 2>());
+    const Eigen::Vector2d h0 = eh.eigenvectors().col(1);
+    st.upright_axes.col(0) = Eigen::Vector3d(h0.x(), h0.y(), 0.0);
+    st.upright_axes.col(1) = Eigen::Vector3d(-h0.y(), h0.x(), 0.0);
+    st.upright_axes.col(2) = Eigen::Vector3d::UnitZ();
     st.bbox_min = m.lo;
     st.bbox_max = m.hi;
     st.last_seen = m.last;
     slot[l] = int(m_segments.size());
     m_segments.push_back(st);
   }
-  // Pass 2: extents along the axes.
-  std::vector<std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>> ext(std::size_t(std::max(chunks, 0)));
-  const double inf = std::numeric_limits<double>::infinity();
-  compute::forEach1D(chunks, [&](int c) {
-    auto& e = ext[std::size_t(c)];
-    e.assign(m_segments.size(), {Eigen::Vector3d::Constant(inf), Eigen::Vector3d::Constant(-inf)});
-    const int i1 = std::min(s.size, (c + 1) * kChunk);
-    for (int i = c * kChunk; i < i1; ++i) {
-      const std::uint32_t l = s.segment[i];
-      if (!l || !s.alive(i)) continue;
-      const SegmentStats& st = m_segments[std::size_t(slot[l])];
-      const Eigen::Vector3d q = st.axes.transpose() * (s.position(i).cast<double>() - st.centroid);
-      auto& [lo, hi] = e[std::size_t(slot[l])];
-      lo = lo.cwiseMin(q);
-      hi = hi.cwiseMax(q);
-    }
-  });
+  // Pass 2: extents along the axes, between the 1st and 99th percentile of the surfel centres
+  // projected (a few stray surfels do not stretch an object), from 256-bin histograms over the
+  // projection of the bounding box. Serial: O(N) every few frames.
+  constexpr int kBins = 256;
+  struct Hist {
+    double lo[6], width[6];  // PCA axes 0-2, upright axes 3-5
+    std::vector<int> bins;
+  };
+  const auto axis = [](const SegmentStats& st, int ax) -> Eigen::Vector3d {
+    return ax < 3 ? Eigen::Vector3d(st.axes.col(ax)) : Eigen::Vector3d(st.upright_axes.col(ax - 3));
+  };
+  std::vector<Hist> hist(m_segments.size());
   for (std::size_t k = 0; k < m_segments.size(); ++k) {
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(inf), hi = Eigen::Vector3d::Constant(-inf);
-    for (const auto& e : ext) {
-      lo = lo.cwiseMin(e[k].first);
-      hi = hi.cwiseMax(e[k].second);
+    const SegmentStats& st = m_segments[k];
+    Hist& h = hist[k];
+    h.bins.assign(6 * kBins, 0);
+    for (int ax = 0; ax < 6; ++ax) {
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (int c = 0; c < 8; ++c) {
+        const Eigen::Vector3d corner((c & 1) ? st.bbox_max.x() : st.bbox_min.x(), (c & 2) ? st.bbox_max.y() : st.bbox_min.y(),
+                                     (c & 4) ? st.bbox_max.z() : st.bbox_min.z());
+        const double q = axis(st, ax).dot(corner - st.centroid);
+        lo = std::min(lo, q);
+        hi = std::max(hi, q);
+      }
+      h.lo[ax] = lo;
+      h.width[ax] = std::max(hi - lo, 1e-9) / kBins;
     }
-    m_segments[k].extents = hi - lo;
+  }
+  for (int i = 0; i < s.size; ++i) {
+    const std::uint32_t l = s.segment[i];
+    if (!l || !s.alive(i)) continue;
+    const int k = slot[l];
+    const SegmentStats& st = m_segments[std::size_t(k)];
+    Hist& h = hist[std::size_t(k)];
+    const Eigen::Vector3d d = s.position(i).cast<double>() - st.centroid;
+    for (int ax = 0; ax < 6; ++ax) {
+      const double q = axis(st, ax).dot(d);
+      const int b = std::min(kBins - 1, std::max(0, int((q - h.lo[ax]) / h.width[ax])));
+      ++h.bins[std::size_t(ax * kBins + b)];
+    }
+  }
+  for (std::size_t k = 0; k < m_segments.size(); ++k) {
+    SegmentStats& st = m_segments[k];
+    const Hist& h = hist[k];
+    for (int ax = 0; ax < 6; ++ax) {
+      const int* b = h.bins.data() + ax * kBins;
+      const double n = st.surfels, lo_q = 0.01 * n, hi_q = 0.99 * n;
+      double acc = 0;
+      int b_lo = 0, b_hi = kBins - 1;
+      for (int j = 0; j < kBins; ++j) {
+        if (acc <= lo_q) b_lo = j;
+        acc += b[j];
+        if (acc < hi_q) b_hi = j + 1;
+      }
+      b_hi = std::min(b_hi, kBins - 1);
+      (ax < 3 ? st.extents[ax] : st.upright_extents[ax - 3]) = std::max(0.0, (b_hi + 1 - b_lo) * h.width[ax]);
+    }
   }
 }
 

@@ -127,14 +127,17 @@ void SegmentationStage::writeOutputs(const std::string& dir, const maps::CSurfel
   nlohmann::json segs = nlohmann::json::array();
   const auto vec = [](const Eigen::Vector3d& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
   for (const segmentation::SegmentStats& s : m_table.segments()) {
-    nlohmann::json axes = nlohmann::json::array();
+    nlohmann::json axes = nlohmann::json::array(), upright = nlohmann::json::array();
     for (int k = 0; k < 3; ++k) axes.push_back(vec(s.axes.col(k)));
+    for (int k = 0; k < 2; ++k) upright.push_back(vec(s.upright_axes.col(k)));
     segs.push_back({{"id", s.id},
                     {"surfels", s.surfels},
                     {"stable_surfels", s.stable_surfels},
                     {"centroid", vec(s.centroid)},
                     {"axes", axes},
                     {"extents_m", vec(s.extents)},
+                    {"upright_axes", upright},
+                    {"upright_extents_m", vec(s.upright_extents)},
                     {"bbox_min", vec(s.bbox_min)},
                     {"bbox_max", vec(s.bbox_max)},
                     {"last_seen_s", s.last_seen}});
@@ -142,7 +145,8 @@ void SegmentationStage::writeOutputs(const std::string& dir, const maps::CSurfel
   nlohmann::json out;
   out["comment"] =
       "rasm segment table (section III): world frame, metres; axes are the PCA directions (unit, by "
-      "decreasing variance), extents the spread of the surfel centres along them; last_seen_s is map time";
+      "decreasing variance), extents the spread of the surfel centres along them (1st-99th percentile); "
+      "upright_axes / upright_extents_m: the two horizontal principal directions and z (z up); last_seen_s is map time";
   out["segments"] = segs;
   out["stable_surfels"] = stable;
   out["label_changes_stable"] = m_label_changes_stable;

@@ -43,7 +43,18 @@ void TrackingStage::configure(const TMapperParams& mapper) {
 
 void TrackingStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
   FrameResult& r = ctx.result;
-  if (!m_tracker.initialized() && m_localise_in_map) {
+  if (m_mapper.poses == "groundtruth") {
+    if (!ctx.frame->gt_T_world_cam)
+      throwInputError("frame " + std::to_string(ctx.frame->index),
+                      "has no ground-truth pose ([mapper] poses = groundtruth needs one for every frame)");
+    if (!m_tracker.initialized()) r.first = true;
+    m_tracker.reset(*ctx.frame->gt_T_world_cam);
+    r.tracked = true;
+    r.T_world_cam = *ctx.frame->gt_T_world_cam;
+    r.tracking.ok = true;
+    r.tracking.status = tracking::TrackingStatus::Ok;
+    r.tracking.T_world_cam = r.T_world_cam;
+  } else if (!m_tracker.initialized() && m_localise_in_map) {
     // A loaded map: nothing is fused until the camera is found in it.
     r.tracked = false;
     r.pose_source = PoseSource::MotionModel;

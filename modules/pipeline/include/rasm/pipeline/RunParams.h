@@ -54,6 +54,10 @@ struct TMapperParams : mrpt::config::CLoadableOptions {
   double bilateral_sigma_space_px = 4.5;
   double bilateral_sigma_depth_m = 0.03;
   double normal_max_jump_rel = 0.05; ///< neighbour depth jump that invalidates a normal
+  /// Where poses come from: "tracked" (ICP, II-C) or "groundtruth" (the source's ground-truth
+  /// pose of every frame, for evaluating the later stages apart from tracking; a frame without
+  /// one is an error).
+  std::string poses = "tracked";
   /// A previous run's map.surfelmap to continue in (`rasm run --map`): the camera is localised
   /// in it by relocalisation against its keyframes before anything is fused. Empty = new map.
   std::string load_map;

@@ -5,7 +5,7 @@
 // Identity: statistics are computed from the surfel arrays by segment label, so they survive
 // fusion's compaction and re-sorting (which move surfels, not their labels); labels change only
 // by merging and remapping, which the segmentation stage applies and publishes (its remap
-// table). compute() is two parallel passes over the map (O(N)); the stage runs it every
+// table). compute() is two passes over the map (O(N), the first parallel); the stage runs it every
 // remap_every_n_frames frames and at the end of a run.
 
 #include <Eigen/Core>
@@ -23,8 +23,15 @@ struct SegmentStats {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   /// Principal axes (columns, unit), by decreasing variance; right-handed.
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
-  /// Extent of the surfel centres along each axis (max - min, m).
+  /// Extent of the surfel centres along each axis (m): between the 1st and 99th percentile of
+  /// their projections (256-bin histograms; a few stray surfels do not stretch it).
   Eigen::Vector3d extents = Eigen::Vector3d::Zero();
+  /// The upright box of a ground robot's world (z up): the principal directions of the
+  /// horizontal spread (columns 0, 1, unit, horizontal, by decreasing variance) and +z, with the
+  /// extents along them (same percentiles). PCA of the faces a camera saw tilts `axes` off an
+  /// upright object's sides; these follow them.
+  Eigen::Matrix3d upright_axes = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d upright_extents = Eigen::Vector3d::Zero();
   Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero(), bbox_max = Eigen::Vector3d::Zero();
   float last_seen = 0.0f;  ///< latest t_last of its surfels (map time, s)
 };
