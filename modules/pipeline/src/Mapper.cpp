@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <mutex>
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
@@ -49,6 +50,8 @@ void Mapper::indexTimers() {
     m_timers.push_back(s->name());
     m_timers.insert(m_timers.end(), s->parts().begin(), s->parts().end());
   }
+  m_lock_timer = int(m_timers.size());
+  m_timers.push_back("map_lock_wait");
   m_timers.push_back("total");
 }
 
@@ -111,14 +114,29 @@ FrameResult Mapper::processFrame(const RgbdFrame& frame) {
   ctx.result.index = frame.index;
   ctx.result.timestamp_s = frame.timestamp_s;
   ctx.result.ms.assign(m_timers.size(), 0.0);
+  std::unique_lock<std::shared_mutex> writing(m_map_mutex, std::defer_lock);
+  const auto lockForWriting = [&] {
+    if (writing.owns_lock()) return;
+    const auto t = Clock::now();
+    writing.lock();
+    ctx.result.ms[std::size_t(m_lock_timer)] = msSince(t);
+  };
   for (const auto& s : m_stages) {
+    if (s->writesMap()) lockForWriting();
     const auto t = Clock::now();
     s->process(ctx, *m_map);
     ctx.result.ms[s->m_timer] += msSince(t);
   }
+  lockForWriting();
   for (const auto& s : m_stages) s->finishFrame(ctx, *m_map);
   if (!ctx.result.tracked) ++m_lost;
   ++m_frames;
+  writing.unlock();
+  {
+    std::lock_guard<std::mutex> lk(m_phase_mutex);
+    ++m_write_phases;
+  }
+  m_phase_cv.notify_all();
   ctx.result.ms.back() = msSince(t_start);
   ctx.frame = nullptr;  // the caller's frame is not kept
   return ctx.result;
@@ -148,12 +166,44 @@ void Mapper::report(nlohmann::json& rep) const {
 }
 
 void Mapper::writeOutputs(const std::string& dir) {
+  std::unique_lock<std::shared_mutex> writing(m_map_mutex);  // stages may refresh their tables
   for (const auto& s : m_stages) s->writeOutputs(dir, *m_map);
 }
 
 std::size_t Mapper::relocalisations() const { return m_tracking->relocalisations(); }
 const Eigen::Isometry3d& Mapper::pose() const { return m_tracking->tracker().lastGoodPose(); }
 const Eigen::Isometry3d& Mapper::lastFramePose() const { return m_tracking->lastFramePose(); }
+
+std::shared_ptr<const MapSnapshot> Mapper::snapshot() const {
+  auto snap = std::make_shared<MapSnapshot>();
+  snapshotInto(*snap);
+  return snap;
+}
+
+void Mapper::snapshotInto(MapSnapshot& snap) const {
+  {
+    std::unique_lock<std::mutex> lk(m_phase_mutex);
+    const std::uint64_t seen = m_write_phases;
+    m_phase_cv.wait_for(lk, std::chrono::milliseconds(200), [&] { return m_write_phases != seen; });
+  }
+  {
+    std::shared_lock<std::shared_mutex> reading(m_map_mutex);
+    const auto t = Clock::now();
+    snap.store.copySurfelsFrom(m_map->store());
+    snap.segments.clear();
+    snap.relabel_generation = 0;
+    for (const auto& s : m_stages)
+      if (const auto* seg = dynamic_cast<const SegmentationStage*>(s.get())) {
+        snap.segments = seg->table().segments();
+        snap.relabel_generation = seg->relabelGeneration();
+      }
+    snap.frames = m_frames;
+    snap.copy_ms = msSince(t);
+  }
+  const auto t = Clock::now();
+  snap.store.rebuildIndex();
+  snap.index_ms = msSince(t);
+}
 
 void Mapper::loadMap(const std::string& path) {
   if (m_frames > 0) throwInputError("map '" + path + "'", "must be loaded before the first frame");
@@ -167,6 +217,7 @@ void Mapper::loadMap(const std::string& path) {
   }
   if (loaded->keyframes().empty())
     throwInputError("map '" + path + "'", "has no relocalisation keyframes: the camera cannot be localised in it");
+  std::unique_lock<std::shared_mutex> writing(m_map_mutex);
   m_map = std::move(loaded);
   m_tracking->localiseInLoadedMap();
 }

@@ -159,6 +159,27 @@ void SurfelStore::rebuildIndex() {
   indexAppended();
 }
 
+void SurfelStore::copySurfelsFrom(const SurfelStore& o) {
+  opt_ = o.opt_;
+  size_ = o.size_;
+  t0_s_ = o.t0_s_;
+  unsorted_ = o.unsorted_;
+  pos_conf_ = o.pos_conf_;
+  normal_radius_ = o.normal_radius_;
+  colour_flags_ = o.colour_flags_;
+  t_init_ = o.t_init_;
+  t_last_ = o.t_last_;
+  basis_ = o.basis_;
+  segment_ = o.segment_;
+  segment_w_ = o.segment_w_;
+  class_ev_ = o.class_ev_;
+  view_ic_ = o.view_ic_;
+  index_.clear();
+  indexed_ = 0;
+  radius_bound_ = 0.0f;
+  generation_.value = Generation::next();
+}
+
 int SurfelStore::append(const Surfel& s) {
   if (!classEvidenceValid(s.classes, opt_.n_classes))  // (set() would leave the slot allocated)
     throw std::invalid_argument("SurfelStore::append: class evidence invalid for n_classes = " +

@@ -15,6 +15,9 @@
 
 #include <Eigen/Geometry>
 #include <memory>
+#include <condition_variable>
+#include <mutex>
+#include <shared_mutex>
 #include <string>
 #include <vector>
 
@@ -22,12 +25,25 @@
 #include "rasm/pipeline/FrameContext.h"
 #include "rasm/pipeline/MapperStage.h"
 #include "rasm/pipeline/RunParams.h"
+#include "rasm/segmentation/SegmentTable.h"
 #include "rasm/surfel_map/CSurfelMap.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
 
 namespace rasm::pipeline {
 
 class TrackingStage;
+
+/// A consistent read-only copy of the map for other threads (exploration, V): the surfel store
+/// (arrays and spatial index: SurfelRenderer renders from it) and the segment table, as they were
+/// between two frames' map writes.
+struct MapSnapshot {
+  maps::SurfelStore store;
+  std::vector<segmentation::SegmentStats> segments;  ///< as of the last table refresh
+  std::uint64_t relabel_generation = 0;  ///< SegmentationStage::relabelGeneration()
+  std::size_t frames = 0;                ///< frames processed when it was taken
+  double copy_ms = 0.0;                  ///< time the copy held the map lock
+  double index_ms = 0.0;                 ///< rebuilding the spatial index afterwards (no lock)
+};
 
 class Mapper {
  public:
@@ -87,6 +103,18 @@ class Mapper {
   const Eigen::Isometry3d& pose() const;
   /// Pose of the last frame processed (tracked or propagated while lost).
   const Eigen::Isometry3d& lastFramePose() const;
+  /// A snapshot of the map, from any thread: copied under the map lock in shared mode, which the
+  /// mapping thread holds exclusively only while stages write (writesMap(): index map, fusion,
+  /// segmentation and every finishFrame); preprocessing and tracking read alongside the copy.
+  /// The copy starts when the next write phase ends (or after 200 ms without one: the mapper is
+  /// idle), so it runs during the mapping thread's read phase; the mapping thread waits only when
+  /// a copy outlasts that phase (FrameResult::ms of timer "map_lock_wait"). Cost: docs/architecture.md.
+  std::shared_ptr<const MapSnapshot> snapshot() const;
+  /// The same into `out`, reusing its memory (a reader taking snapshots repeatedly saves the
+  /// page faults of a fresh copy). Only the surfel arrays are copied under the lock; the spatial
+  /// index is rebuilt after it is released, on the calling thread.
+  void snapshotInto(MapSnapshot& out) const;
+
   /// Renders the map's colour / segment view at a pose (previews, annotated rawlogs).
   void renderView(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K, maps::RenderedMaps& out);
 
@@ -98,6 +126,13 @@ class Mapper {
   /// Checks the sections together, configures every stage and creates the map.
   void configure();
 
+  mutable std::shared_mutex m_map_mutex;  ///< exclusive while stages write the map
+  // Write phases ended so far: snapshot() starts its copy right after one, at the start of the
+  // mapping thread's read-only phase (preprocessing, tracking), so the copy rarely delays it.
+  mutable std::mutex m_phase_mutex;
+  mutable std::condition_variable m_phase_cv;
+  std::uint64_t m_write_phases = 0;
+  int m_lock_timer = 0;                     ///< index of "map_lock_wait" in FrameResult::ms
   TMapperParams m_mapper;
   maps::CSurfelMap::TCreationOptions m_map_options;
   std::vector<std::unique_ptr<MapperStage>> m_stages;

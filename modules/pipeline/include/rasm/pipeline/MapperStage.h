@@ -68,6 +68,10 @@ class MapperStage {
   /// Called once the sections are loaded and after any later change of them: validate across
   /// sections, size internals. `mapper` holds the Mapper's own [mapper] params.
   virtual void configure(const TMapperParams& /*mapper*/) {}
+  /// Whether process() changes the map. The Mapper holds its map lock exclusively from the first
+  /// such stage to the end of the frame (every finishFrame() runs under it), so other threads
+  /// can copy the map (Mapper::snapshot) while the stages before it only read.
+  virtual bool writesMap() const { return false; }
   /// The stage's work on one frame.
   virtual void process(FrameContext& ctx, maps::CSurfelMap& map) = 0;
   /// After every stage processed the frame (e.g. keyframes of fused frames).

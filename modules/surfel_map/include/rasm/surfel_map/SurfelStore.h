@@ -100,6 +100,10 @@ class SurfelStore {
   int reindex(const std::vector<int>& surfels);
   /// Re-bins every surfel (after bulk edits through arrays()).
   void rebuildIndex();
+  /// Becomes a copy of `o`'s surfels (arrays, options, time origin) without its spatial index,
+  /// reusing this store's memory where it is large enough: the part of a snapshot taken under
+  /// the map lock (memcpy); the taker then calls rebuildIndex() on its own thread.
+  void copySurfelsFrom(const SurfelStore& o);
   /// The spatial index keeps each block's stable surfels first (VoxelBlockIndex.h): code that
   /// sets or clears kSurfelStable through arrays() reports those surfels here (fusion does), or
   /// calls rebuildIndex(). A stable surfel the index does not know as stable is missed by

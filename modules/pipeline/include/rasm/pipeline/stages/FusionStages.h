@@ -17,6 +17,7 @@ class FusionStage : public MapperStage {
   FusionStage() : MapperStage("fuse") {}
   std::vector<ParamsSection> sections() override { return {{"fusion", &m_params}}; }
   void configure(const TMapperParams& mapper) override;
+  bool writesMap() const override { return true; }
   void process(FrameContext& ctx, maps::CSurfelMap& map) override;
   void csvColumns(std::vector<std::string>& columns) const override;
   void csvValues(const FrameContext& ctx, CsvRow& row) const override;
@@ -32,6 +33,7 @@ class FusionStage : public MapperStage {
 class IndexMapStage : public MapperStage {
  public:
   explicit IndexMapStage(FusionStage& fusion) : MapperStage("index_map"), m_fusion(fusion) {}
+  bool writesMap() const override { return true; }  ///< the render may re-sort the store
   void process(FrameContext& ctx, maps::CSurfelMap& map) override;
 
  private:

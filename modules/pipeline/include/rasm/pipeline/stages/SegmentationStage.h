@@ -27,6 +27,7 @@ class SegmentationStage : public MapperStage {
 
   std::vector<ParamsSection> sections() override { return {{"segmentation", &m_params}}; }
   void configure(const TMapperParams& mapper) override;
+  bool writesMap() const override { return true; }  ///< merges relabel surfels (finishFrame)
   void process(FrameContext& ctx, maps::CSurfelMap& map) override;
   void finishFrame(FrameContext& ctx, maps::CSurfelMap& map) override;
   void csvColumns(std::vector<std::string>& columns) const override;

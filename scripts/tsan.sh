@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# ThreadSanitizer run of the tests that share the map between threads (issue 13, 3): builds
+# build-tsan/ (RelWithDebInfo, -fsanitize=thread, no CUDA, no benchmarks) and runs the snapshot
+# test with one OpenMP thread (libgomp is not instrumented: its own barriers would be reported).
+#   scripts/tsan.sh [gtest filter, default MapSnapshot.*]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD_DIR=${RASM_TSAN_BUILD_DIR:-build-tsan}
+FILTER=${1:-MapSnapshot.*}
+GEN=()
+command -v ninja >/dev/null && GEN=(-G Ninja)
+if [[ ! -f "$BUILD_DIR/CMakeCache.txt" ]]; then
+  cmake -S . -B "$BUILD_DIR" "${GEN[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRASM_WITH_CUDA=OFF \
+    -DRASM_BUILD_BENCH=OFF -DCMAKE_CXX_FLAGS="-fsanitize=thread" \
+    -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=thread"
+fi
+cmake --build "$BUILD_DIR" -j "${RASM_JOBS:-$(nproc)}" --target test_pipeline
+OMP_NUM_THREADS=1 TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
+  "$BUILD_DIR/tests/test_pipeline" --gtest_filter="$FILTER"
