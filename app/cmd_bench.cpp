@@ -23,11 +23,16 @@ int benchMain(const std::vector<std::string>& args) {
       if (i + 1 >= args.size()) rasm::throwInputError(a, std::string("expects ") + what);
       return args[++i];
     };
-    if (a == "--frames") overrides.push_back("source.max_frames=" + value("a number"));
-    else if (a == "--preload") overrides.push_back("source.preload=true");
-    else if (a == "--set") overrides.push_back(value("section.key=value"));
-    else if (!a.empty() && a[0] == '-') rasm::throwInputError("option '" + a + "'", "unknown");
-    else input = a;
+    if (a == "--frames")
+      overrides.push_back("source.max_frames=" + value("a number"));
+    else if (a == "--preload")
+      overrides.push_back("source.preload=true");
+    else if (a == "--set")
+      overrides.push_back(value("section.key=value"));
+    else if (!a.empty() && a[0] == '-')
+      rasm::throwInputError("option '" + a + "'", "unknown");
+    else
+      input = a;
   }
   RunConfig cfg = RunConfig::embeddedDefault();
   if (!input.empty()) {
@@ -40,7 +45,8 @@ int benchMain(const std::vector<std::string>& args) {
   }
   const std::string out = (std::filesystem::temp_directory_path() / "rasm_bench").string();
   cfg.set("output", "dir", out);
-  for (const char* k : {"write_ply", "write_3dscene", "save_map", "preview_png"}) cfg.set("output", k, "false");
+  for (const char* k : {"write_ply", "write_3dscene", "save_map", "preview_png"})
+    cfg.set("output", k, "false");
   for (const auto& o : overrides) cfg.applyOverride(o);
   MappingRun run(cfg);
   const RunSummary s = run.run();
@@ -51,6 +57,9 @@ int benchMain(const std::vector<std::string>& args) {
   return 0;
 }
 
-const rasm::app::Registrar reg("bench", "frame rate and per-stage ms as JSON: rasm bench <ini|rawlog|folder> [--frames N] [--preload]", benchMain);
+const rasm::app::Registrar reg(
+    "bench",
+    "frame rate and per-stage ms as JSON: rasm bench <ini|rawlog|folder> [--frames N] [--preload]",
+    benchMain);
 
 }  // namespace

@@ -14,9 +14,12 @@ int configMain(const std::vector<std::string>& args) {
   std::string ini_path;
   std::vector<std::string> overrides;
   for (std::size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--set" && i + 1 < args.size()) overrides.push_back(args[++i]);
-    else if (!args[i].empty() && args[i][0] == '-') rasm::throwInputError("option '" + args[i] + "'", "unknown");
-    else ini_path = args[i];
+    if (args[i] == "--set" && i + 1 < args.size())
+      overrides.push_back(args[++i]);
+    else if (!args[i].empty() && args[i][0] == '-')
+      rasm::throwInputError("option '" + args[i] + "'", "unknown");
+    else
+      ini_path = args[i];
   }
   RunConfig cfg = ini_path.empty() ? RunConfig::embeddedDefault() : RunConfig::fromFile(ini_path);
   for (const auto& o : overrides) cfg.applyOverride(o);
@@ -25,7 +28,8 @@ int configMain(const std::vector<std::string>& args) {
   return 0;
 }
 
-const rasm::app::Registrar reg("config", "print the effective configuration: rasm config [file.ini] [--set s.k=v]",
-                               configMain);
+const rasm::app::Registrar reg(
+    "config", "print the effective configuration: rasm config [file.ini] [--set s.k=v]",
+    configMain);
 
 }  // namespace

@@ -18,48 +18,66 @@ int runMain(const std::vector<std::string>& args) {
       if (i + 1 >= args.size()) rasm::throwInputError(a, std::string("expects ") + what);
       return args[++i];
     };
-    if (a == "--set") overrides.push_back(value("section.key=value"));
-    else if (a == "--out") overrides.push_back("output.dir=" + value("a folder"));
-    else if (a == "--max-frames") overrides.push_back("source.max_frames=" + value("a number"));
-    else if (a == "--map") overrides.push_back("mapper.load_map=" + value("a .surfelmap file"));
+    if (a == "--set")
+      overrides.push_back(value("section.key=value"));
+    else if (a == "--out")
+      overrides.push_back("output.dir=" + value("a folder"));
+    else if (a == "--max-frames")
+      overrides.push_back("source.max_frames=" + value("a number"));
+    else if (a == "--map")
+      overrides.push_back("mapper.load_map=" + value("a .surfelmap file"));
     else if (a == "-h" || a == "--help") {
-      std::cout << "usage: rasm run [file.ini] [--set section.key=value ...] [--out DIR] [--max-frames N] [--map map.surfelmap]\n"
-                   "Without a file, runs the embedded default (the simulated office, ini/default.ini).\n";
+      std::cout
+          << "usage: rasm run [file.ini] [--set section.key=value ...] [--out DIR] [--max-frames "
+             "N] [--map map.surfelmap]\n"
+             "Without a file, runs the embedded default (the simulated office, ini/default.ini).\n";
       return 0;
-    } else if (!a.empty() && a[0] == '-') rasm::throwInputError("option '" + a + "'", "unknown (see rasm run --help)");
-    else if (ini_path.empty()) ini_path = a;
-    else rasm::throwInputError("argument '" + a + "'", "unexpected: only one INI file is accepted");
+    } else if (!a.empty() && a[0] == '-')
+      rasm::throwInputError("option '" + a + "'", "unknown (see rasm run --help)");
+    else if (ini_path.empty())
+      ini_path = a;
+    else
+      rasm::throwInputError("argument '" + a + "'", "unexpected: only one INI file is accepted");
   }
   RunConfig cfg = ini_path.empty() ? RunConfig::embeddedDefault() : RunConfig::fromFile(ini_path);
   for (const auto& o : overrides) cfg.applyOverride(o);
   MappingRun run(cfg);
   const RunSummary s = run.run();
   const double lost_pct = s.frames ? 100.0 * double(s.lost) / double(s.frames) : 0.0;
-  std::printf("frames %zu (tracked %zu, lost %zu = %.1f%% in %zu intervals, %zu relocalisations) in %.1f s = %.2f "
-              "frames/s, %zu surfels\n",
-              s.frames, s.frames - s.lost, s.lost, lost_pct, s.lost_intervals, s.relocalisations, s.seconds, s.fps,
-              s.surfels);
+  std::printf(
+      "frames %zu (tracked %zu, lost %zu = %.1f%% in %zu intervals, %zu relocalisations) in %.1f s "
+      "= %.2f "
+      "frames/s, %zu surfels\n",
+      s.frames, s.frames - s.lost, s.lost, lost_pct, s.lost_intervals, s.relocalisations, s.seconds,
+      s.fps, s.surfels);
   const bool gt_poses = run.mapper().mapperParams().poses == "groundtruth";
   if (gt_poses) {
-    std::printf("poses: the source's ground truth ([mapper] poses = groundtruth), not tracked: no ATE\n");
+    std::printf(
+        "poses: the source's ground truth ([mapper] poses = groundtruth), not tracked: no ATE\n");
   } else if (s.ate_rmse_m) {
     char tracked[96] = "";
     if (s.ate_tracked_rmse_m && s.lost > 0)
-      std::snprintf(tracked, sizeof tracked, ", %.4f m over the %zu tracked", *s.ate_tracked_rmse_m, s.frames - s.lost);
-    std::printf("ATE RMSE %.4f m over all %zu frames (lost ones at their propagated pose)%s\n", *s.ate_rmse_m,
-                s.frames, tracked);
+      std::snprintf(tracked, sizeof tracked, ", %.4f m over the %zu tracked", *s.ate_tracked_rmse_m,
+                    s.frames - s.lost);
+    std::printf("ATE RMSE %.4f m over all %zu frames (lost ones at their propagated pose)%s\n",
+                *s.ate_rmse_m, s.frames, tracked);
   }
   std::printf("outputs in %s\n", s.out_dir.c_str());
-  if (const auto seg = s.report.find("segmentation"); seg != s.report.end() && seg->contains("segments"))
+  if (const auto seg = s.report.find("segmentation");
+      seg != s.report.end() && seg->contains("segments"))
     std::printf("segments: %d (segments.json, map_segments.ply, preview_segments.png)\n",
                 (*seg)["segments"].get<int>());
   if (lost_pct > 5.0)
-    std::printf("WARNING: tracking lost %.1f%% of the frames (%zu of %zu, frames.csv: tracked = 0); the map holds only "
-                "the tracked ones\n",
-                lost_pct, s.lost, s.frames);
+    std::printf(
+        "WARNING: tracking lost %.1f%% of the frames (%zu of %zu, frames.csv: tracked = 0); the "
+        "map holds only "
+        "the tracked ones\n",
+        lost_pct, s.lost, s.frames);
   return 0;
 }
 
-const rasm::app::Registrar reg("run", "map a sequence: rasm run [file.ini] [--set s.k=v] [--out DIR]", runMain);
+const rasm::app::Registrar reg("run",
+                               "map a sequence: rasm run [file.ini] [--set s.k=v] [--out DIR]",
+                               runMain);
 
 }  // namespace

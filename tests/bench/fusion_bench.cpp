@@ -28,7 +28,9 @@ double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 /// Process CPU time (all threads), ms (see surfel_render_bench.cpp).
-double cpuMs() { return 1000.0 * double(std::clock()) / CLOCKS_PER_SEC; }
+double cpuMs() {
+  return 1000.0 * double(std::clock()) / CLOCKS_PER_SEC;
+}
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v[v.size() / 2];

@@ -232,8 +232,8 @@ int main(int argc, char** argv) {
     const auto t0 = Clock::now();
     map.sortByBlock();
     char buf[128];
-    std::snprintf(buf, sizeof buf, ",\"sort_by_block\":{\"unsorted_fraction\":%.3f,\"ms\":%.2f}", unsorted,
-                  msSince(t0));
+    std::snprintf(buf, sizeof buf, ",\"sort_by_block\":{\"unsorted_fraction\":%.3f,\"ms\":%.2f}",
+                  unsorted, msSince(t0));
     repeats += buf;
     repeat("repeat_render_sorted");
   }

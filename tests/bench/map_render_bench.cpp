@@ -46,19 +46,32 @@ int main(int argc, char** argv) {
   double fx = 585, fy = 585, cx = 320, cy = 240, min_conf = 3, max_depth = 6;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
-    if (k == "--map") map_path = v;
-    else if (k == "--poses") poses_path = v;
-    else if (k == "--pose_index") pose_index = std::stoi(v);
-    else if (k == "--repeats") repeats = std::stoi(v);
-    else if (k == "--threads") threads = std::stoi(v);
-    else if (k == "--width") width = std::stoi(v);
-    else if (k == "--height") height = std::stoi(v);
-    else if (k == "--fx") fx = std::stod(v);
-    else if (k == "--fy") fy = std::stod(v);
-    else if (k == "--cx") cx = std::stod(v);
-    else if (k == "--cy") cy = std::stod(v);
-    else if (k == "--min_conf") min_conf = std::stod(v);
-    else if (k == "--max_depth") max_depth = std::stod(v);
+    if (k == "--map")
+      map_path = v;
+    else if (k == "--poses")
+      poses_path = v;
+    else if (k == "--pose_index")
+      pose_index = std::stoi(v);
+    else if (k == "--repeats")
+      repeats = std::stoi(v);
+    else if (k == "--threads")
+      threads = std::stoi(v);
+    else if (k == "--width")
+      width = std::stoi(v);
+    else if (k == "--height")
+      height = std::stoi(v);
+    else if (k == "--fx")
+      fx = std::stod(v);
+    else if (k == "--fy")
+      fy = std::stod(v);
+    else if (k == "--cx")
+      cx = std::stod(v);
+    else if (k == "--cy")
+      cy = std::stod(v);
+    else if (k == "--min_conf")
+      min_conf = std::stod(v);
+    else if (k == "--max_depth")
+      max_depth = std::stod(v);
     else {
       std::fprintf(stderr, "unknown option %s\n", k.c_str());
       return 2;
@@ -78,18 +91,26 @@ int main(int argc, char** argv) {
     a >> map;
     poses = io::readTumTrajectory(poses_path);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_map_render: %s (expected --map a rasm run's map.surfelmap, "
-                         "--poses its trajectory.txt)\n", e.what());
+    std::fprintf(stderr,
+                 "bench_map_render: %s (expected --map a rasm run's map.surfelmap, "
+                 "--poses its trajectory.txt)\n",
+                 e.what());
     return 2;
   }
   if (poses.empty()) {
     std::fprintf(stderr, "%s holds no pose\n", poses_path.c_str());
     return 2;
   }
-  const int pi = pose_index < 0 ? int(poses.size()) - 1 : std::min(pose_index, int(poses.size()) - 1);
+  const int pi =
+      pose_index < 0 ? int(poses.size()) - 1 : std::min(pose_index, int(poses.size()) - 1);
   const Eigen::Isometry3d T = poses[pi].T_world_cam;
   CameraIntrinsics K;
-  K.fx = fx; K.fy = fy; K.cx = cx; K.cy = cy; K.width = width; K.height = height;
+  K.fx = fx;
+  K.fy = fy;
+  K.cx = cx;
+  K.cy = cy;
+  K.width = width;
+  K.height = height;
 
   maps::SurfelRenderer renderer;
   maps::RenderOptions model_opt;  // as pipeline::Mapper
@@ -136,10 +157,14 @@ int main(int argc, char** argv) {
   long long box_pixels = 0, larger_pixels = 0;  // pixels the depth test visits (bounding boxes)
   {
     Image<std::uint64_t> scratch(width, height);
-    const maps::kernels::SplatKernel k{map.store().arrays(), nullptr,
+    const maps::kernels::SplatKernel k{map.store().arrays(),
+                                       nullptr,
                                        RigidF::fromMatrix(T.inverse().matrix().cast<float>()),
-                                       K.plain(), model_opt.min_depth_m, model_opt.max_depth_m,
-                                       model_opt.max_splat_radius_px, scratch.view()};
+                                       K.plain(),
+                                       model_opt.min_depth_m,
+                                       model_opt.max_depth_m,
+                                       model_opt.max_splat_radius_px,
+                                       scratch.view()};
     const maps::SurfelArrays a = map.store().arrays();
     for (int i = 0; i < map.size(); ++i) {
       if (a.pos_conf[i].w() < model_opt.min_confidence) continue;
@@ -193,7 +218,8 @@ int main(int argc, char** argv) {
   std::printf(
       "{\"bench\":\"map_render\",\"surfels\":%d,\"pose_index\":%d,\"threads\":%d,"
       "\"model_ms\":%.3f,\"model_cpu_ms\":%.3f,\"model_tested\":%lld,\"model_drawn\":%lld,"
-      "\"model_valid_pixels\":%lld,\"model_winning_surfels\":%lld,\"candidates_ms\":%.3f,\"candidates_cpu_ms\":%.3f,"
+      "\"model_valid_pixels\":%lld,\"model_winning_surfels\":%lld,\"candidates_ms\":%.3f,"
+      "\"candidates_cpu_ms\":%.3f,"
       "\"candidates_in_view\":%lld,\"surfels_below_min_conf\":%lld,"
       "\"footprints_1x1\":%lld,\"footprints_2x1\":%lld,\"footprints_1x2\":%lld,"
       "\"footprints_2x2\":%lld,\"footprints_larger\":%lld,\"footprint_box_pixels\":%lld,"
@@ -202,7 +228,7 @@ int main(int argc, char** argv) {
       map.size(), pi, threads, median(model_ms), median(model_cpu), model_stats.surfels_tested,
       model_stats.surfels_drawn, model_valid, model_winners, median(cand_ms), median(cand_cpu),
       cand_stats.surfels_drawn, below_min_conf, fp[1][1], fp[2][1], fp[1][2], fp[2][2],
-      fp[3][1] + fp[3][2] + fp[3][3] + fp[1][3] + fp[2][3], box_pixels, larger_pixels,
-      behind[0], behind[1], behind[2], behind[3], behind[4], (unsigned long long)hash);
+      fp[3][1] + fp[3][2] + fp[3][3] + fp[1][3] + fp[2][3], box_pixels, larger_pixels, behind[0],
+      behind[1], behind[2], behind[3], behind[4], (unsigned long long)hash);
   return 0;
 }

@@ -44,9 +44,12 @@ int main(int argc, char** argv) {
   int frames = 150, warmup = 10;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
-    if (a == "--source") source = argv[i + 1];
-    else if (a == "--frames") frames = std::atoi(argv[i + 1]);
-    else if (a == "--warmup") warmup = std::atoi(argv[i + 1]);
+    if (a == "--source")
+      source = argv[i + 1];
+    else if (a == "--frames")
+      frames = std::atoi(argv[i + 1]);
+    else if (a == "--warmup")
+      warmup = std::atoi(argv[i + 1]);
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;
@@ -82,17 +85,22 @@ int main(int argc, char** argv) {
       cpu_on.push_back(c1 - c0);
       cpu_off.push_back(c2 - c1);
     }
-    std::printf("{\"bench\":\"segmentation\",\"source\":\"%s\",\"frames\":%d,\"measured\":%zu,"
-                "\"tracked_with\":%d,\"tracked_without\":%d,\"steps_ms\":{",
-                source.c_str(), n, total_on.size(), tracked_on, tracked_off);
+    std::printf(
+        "{\"bench\":\"segmentation\",\"source\":\"%s\",\"frames\":%d,\"measured\":%zu,"
+        "\"tracked_with\":%d,\"tracked_without\":%d,\"steps_ms\":{",
+        source.c_str(), n, total_on.size(), tracked_on, tracked_off);
     bool first = true;
-    for (const char* k : {"segmentation", "seg_edges", "seg_components", "seg_propagation", "seg_merge"}) {
-      std::printf("%s\"%s\":{\"mean\":%.3f,\"median\":%.3f}", first ? "" : ",", k, mean(ms[k]), median(ms[k]));
+    for (const char* k :
+         {"segmentation", "seg_edges", "seg_components", "seg_propagation", "seg_merge"}) {
+      std::printf("%s\"%s\":{\"mean\":%.3f,\"median\":%.3f}", first ? "" : ",", k, mean(ms[k]),
+                  median(ms[k]));
       first = false;
     }
-    std::printf("},\"frame_ms_median_with\":%.2f,\"frame_ms_median_without\":%.2f,"
-                "\"cpu_ms_per_frame_with\":%.2f,\"cpu_ms_per_frame_without\":%.2f,\"cpu_ms_added\":%.2f}\n",
-                median(total_on), median(total_off), mean(cpu_on), mean(cpu_off), mean(cpu_on) - mean(cpu_off));
+    std::printf(
+        "},\"frame_ms_median_with\":%.2f,\"frame_ms_median_without\":%.2f,"
+        "\"cpu_ms_per_frame_with\":%.2f,\"cpu_ms_per_frame_without\":%.2f,\"cpu_ms_added\":%.2f}\n",
+        median(total_on), median(total_off), mean(cpu_on), mean(cpu_off),
+        mean(cpu_on) - mean(cpu_off));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_segmentation: %s\n", e.what());
     return 3;

@@ -33,7 +33,8 @@ int main() {
     std::vector<double> full, arrays, index;
     maps::SurfelStore reused;
     const auto ms = [](auto t0) {
-      return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+          .count();
     };
     for (int k = 0; k < 5; ++k) {
       auto t0 = std::chrono::steady_clock::now();
@@ -51,9 +52,10 @@ int main() {
     }
     for (auto* v : {&full, &arrays, &index}) std::sort(v->begin(), v->end());
     const double bytes = double(store.memoryBytes());
-    std::printf("%s{\"surfels\":%d,\"bytes\":%.0f,\"full_copy_ms\":%.2f,\"arrays_into_reused_ms\":%.2f,"
-                "\"index_rebuild_ms\":%.2f}",
-                first ? "" : ",", n, bytes, full[2], arrays[2], index[2]);
+    std::printf(
+        "%s{\"surfels\":%d,\"bytes\":%.0f,\"full_copy_ms\":%.2f,\"arrays_into_reused_ms\":%.2f,"
+        "\"index_rebuild_ms\":%.2f}",
+        first ? "" : ",", n, bytes, full[2], arrays[2], index[2]);
     first = false;
   }
   std::printf("]}\n");

@@ -28,7 +28,9 @@ double msSince(Clock::time_point t0) {
 }
 /// Process CPU time (all threads), ms: with --threads 1 it is the single-core cost even when the
 /// machine is shared (wall time then includes waiting for a core).
-double cpuMs() { return 1000.0 * double(std::clock()) / CLOCKS_PER_SEC; }
+double cpuMs() {
+  return 1000.0 * double(std::clock()) / CLOCKS_PER_SEC;
+}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());

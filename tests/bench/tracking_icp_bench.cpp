@@ -33,8 +33,8 @@ static double msSince(Clock::time_point t0) {
 
 /// Depth and ground truth of a sequence folder (TUM-format or 7-Scenes) through the product's
 /// reader (io::openFrameSource, as `rasm run`); K from the source. False when unreadable.
-static bool loadSequence(const std::string& dir, CameraIntrinsics& K, std::vector<Image<float>>& depth,
-                         std::vector<Eigen::Isometry3d>& gt) {
+static bool loadSequence(const std::string& dir, CameraIntrinsics& K,
+                         std::vector<Image<float>>& depth, std::vector<Eigen::Isometry3d>& gt) {
   try {
     const std::unique_ptr<io::FrameSource> src = io::openFrameSource(dir);
     while (std::optional<RgbdFrame> f = src->next()) {
@@ -57,13 +57,20 @@ int main(int argc, char** argv) {
   std::string tum;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
-    if (k == "--threads") threads = std::stoi(v);
-    else if (k == "--frames") frames = std::stoi(v);
-    else if (k == "--repeats") repeats = std::stoi(v);
-    else if (k == "--stride") stride = std::stoi(v);
-    else if (k == "--noise_mm") noise_mm = std::stod(v);
-    else if (k == "--cuda") use_cuda = v == "on";
-    else if (k == "--tum") tum = v;
+    if (k == "--threads")
+      threads = std::stoi(v);
+    else if (k == "--frames")
+      frames = std::stoi(v);
+    else if (k == "--repeats")
+      repeats = std::stoi(v);
+    else if (k == "--stride")
+      stride = std::stoi(v);
+    else if (k == "--noise_mm")
+      noise_mm = std::stod(v);
+    else if (k == "--cuda")
+      use_cuda = v == "on";
+    else if (k == "--tum")
+      tum = v;
     else {
       std::fprintf(stderr, "unknown option %s\n", k.c_str());
       return 2;
@@ -82,8 +89,10 @@ int main(int argc, char** argv) {
     // Camera path: 1 cm and 0.5 deg per frame (a robot at 0.3 m/s, 30 Hz).
     const test::Scene scene = test::Scene::room();
     gt.push_back(test::lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5}));
-    for (int i = 1; i <= frames; ++i) gt.push_back(gt.back() * test::motion({0.01, 0.0, 0.004}, {0.1, 1, 0}, 0.5));
-    for (std::size_t i = 0; i < gt.size(); ++i) depth.push_back(scene.render(K, gt[i], noise_mm * 1e-3, unsigned(i + 1)));
+    for (int i = 1; i <= frames; ++i)
+      gt.push_back(gt.back() * test::motion({0.01, 0.0, 0.004}, {0.1, 1, 0}, 0.5));
+    for (std::size_t i = 0; i < gt.size(); ++i)
+      depth.push_back(scene.render(K, gt[i], noise_mm * 1e-3, unsigned(i + 1)));
   }
   std::vector<std::vector<FrameLevel>> pyr(gt.size());
   std::vector<double> pyr_ms;
@@ -124,14 +133,18 @@ int main(int argc, char** argv) {
     return v[v.size() / 2];
   };
   std::printf(
-      "{\"bench\":\"tracking_icp\",\"data\":\"%s\",\"width\":%d,\"height\":%d,\"threads\":%d,\"levels\":%d,"
-      "\"iterations\":[%d,%d,%d],\"level0_pixel_stride\":%d,\"noise_mm\":%.2f,\"cuda\":%s,\"calls\":%d,"
+      "{\"bench\":\"tracking_icp\",\"data\":\"%s\",\"width\":%d,\"height\":%d,\"threads\":%d,"
+      "\"levels\":%d,"
+      "\"iterations\":[%d,%d,%d],\"level0_pixel_stride\":%d,\"noise_mm\":%.2f,\"cuda\":%s,"
+      "\"calls\":%d,"
       "\"ms_per_track_median\":%.3f,\"ms_per_track_mean\":%.3f,\"ms_per_track_min\":%.3f,"
       "\"ms_frame_pyramid_median\":%.3f,\"iterations_mean\":%.2f,\"ok_fraction\":%.3f,"
       "\"max_error_mm\":%.3f,\"max_error_deg\":%.4f}\n",
-      tum.empty() ? "synthetic_room" : "tum", K.width, K.height, threads, P.num_levels, P.iterations[0], P.iterations[1], P.iterations[2], stride, noise_mm,
-      use_cuda ? "true" : "false", calls, median(ms), std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size(),
-      *std::min_element(ms.begin(), ms.end()), median(pyr_ms), iterations / calls, double(ok) / calls, err_t * 1e3,
-      err_r * 180.0 / M_PI);
+      tum.empty() ? "synthetic_room" : "tum", K.width, K.height, threads, P.num_levels,
+      P.iterations[0], P.iterations[1], P.iterations[2], stride, noise_mm,
+      use_cuda ? "true" : "false", calls, median(ms),
+      std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size(),
+      *std::min_element(ms.begin(), ms.end()), median(pyr_ms), iterations / calls,
+      double(ok) / calls, err_t * 1e3, err_r * 180.0 / M_PI);
   return 0;
 }

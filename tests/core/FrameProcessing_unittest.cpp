@@ -1,9 +1,9 @@
 // Vertex/normal maps (II-A) and the depth pyramid on analytic scenes.
 #include <gtest/gtest.h>
 
+#include <omp.h>
 #include <cmath>
 #include <cstring>
-#include <omp.h>
 
 #include "rasm/compute/Device.h"
 #include "rasm/core/FrameProcessing.h"
@@ -30,8 +30,8 @@ Image<float> planeDepth(const Eigen::Vector3d& n, double d, const CameraIntrinsi
 
 TEST(VertexMap, BackProjectionMatchesPinhole) {
   Image<float> depth(kK.width, kK.height, 2.0f);
-  depth(10, 20) = 0.0f;    // invalid
-  depth(11, 20) = 50.0f;   // beyond max range
+  depth(10, 20) = 0.0f;   // invalid
+  depth(11, 20) = 50.0f;  // beyond max range
   Image<Vec3f> v;
   computeVertexMap(depth, kK, v);
   const Vec3f p = v(100, 200);
@@ -83,7 +83,8 @@ TEST(NormalMap, SphereNormalsAreRadial) {
   Image<float> depth(kK.width, kK.height, 0.0f);
   for (int y = 0; y < kK.height; ++y)
     for (int x = 0; x < kK.width; ++x) {
-      const Eigen::Vector3d r = Eigen::Vector3d((x - kK.cx) / kK.fx, (y - kK.cy) / kK.fy, 1.0).normalized();
+      const Eigen::Vector3d r =
+          Eigen::Vector3d((x - kK.cx) / kK.fx, (y - kK.cy) / kK.fy, 1.0).normalized();
       const double b = r.dot(c), disc = b * b - (c.squaredNorm() - R * R);
       if (disc < 0) continue;
       const double t = b - std::sqrt(disc);
@@ -156,7 +157,8 @@ TEST(Pyramid, LevelIntrinsicsKeepGeometry) {
   EXPECT_NEAR(pyr[2].K.fx, 525.0 / 4, 1e-9);
   // Pixel (x,y) at level 2 covers level-0 pixels 4x..4x+3: its centre is 4x + 1.5.
   const Vec3f p2 = pyr[2].vertex(10, 20);
-  const Vec3f p0 = Eigen::Vector3f((4 * 10 + 1.5f - 319.5f) / 525.0f * 2.0f, (4 * 20 + 1.5f - 239.5f) / 525.0f * 2.0f, 2.0f);
+  const Vec3f p0 = Eigen::Vector3f((4 * 10 + 1.5f - 319.5f) / 525.0f * 2.0f,
+                                   (4 * 20 + 1.5f - 239.5f) / 525.0f * 2.0f, 2.0f);
   EXPECT_LT((p2 - p0).norm(), 1e-5);
 }
 
@@ -195,14 +197,15 @@ TEST(Bilateral, SmoothsNoiseKeepsEdgesAndInvalid) {
   // Two fronto-parallel planes (1.0 m | 2.0 m) with +-2 mm alternating noise and a hole.
   Image<float> d(64, 48);
   for (int y = 0; y < 48; ++y)
-    for (int x = 0; x < 64; ++x) d(x, y) = (x < 32 ? 1.0f : 2.0f) + (((x + y) % 2) ? 0.002f : -0.002f);
+    for (int x = 0; x < 64; ++x)
+      d(x, y) = (x < 32 ? 1.0f : 2.0f) + (((x + y) % 2) ? 0.002f : -0.002f);
   d(10, 10) = 0.0f;
   Image<float> f;
   bilateralFilterDepth(d, f, 2, 4.5f, 0.03f);
-  EXPECT_EQ(f(10, 10), 0.0f);                  // invalid stays invalid
-  EXPECT_NEAR(f(11, 10), 1.0f, 0.0015f);       // a hole does not pull depth towards 0
-  EXPECT_NEAR(f(20, 20), 1.0f, 0.0008f);       // noise averaged down (5x5 of +-2 mm)
-  EXPECT_NEAR(f(31, 20), 1.0f, 0.0015f);       // the 1 m edge is not blended with 2 m
+  EXPECT_EQ(f(10, 10), 0.0f);             // invalid stays invalid
+  EXPECT_NEAR(f(11, 10), 1.0f, 0.0015f);  // a hole does not pull depth towards 0
+  EXPECT_NEAR(f(20, 20), 1.0f, 0.0008f);  // noise averaged down (5x5 of +-2 mm)
+  EXPECT_NEAR(f(31, 20), 1.0f, 0.0015f);  // the 1 m edge is not blended with 2 m
   EXPECT_NEAR(f(32, 20), 2.0f, 0.0015f);
 }
 
@@ -257,15 +260,19 @@ TEST(VertexMap, CpuLauncherBitIdenticalToTheKernel) {
     for (int x = 0; x < w; ++x) {
       s = s * 1664525u + 1013904223u;
       const int kind = int((s >> 20) % 10);
-      d(x, y) = kind == 0 ? 0.0f : kind == 1 ? std::nanf("") : kind == 2 ? 0.05f : kind == 3 ? 12.0f
-                                                                     : 0.3f + float(s >> 8) / float(1u << 24) * 5.0f;
+      d(x, y) = kind == 0   ? 0.0f
+                : kind == 1 ? std::nanf("")
+                : kind == 2 ? 0.05f
+                : kind == 3 ? 12.0f
+                            : 0.3f + float(s >> 8) / float(1u << 24) * 5.0f;
     }
   VertexMapOptions opt;
   opt.min_depth_m = 0.1f;
   opt.max_depth_m = 8.0f;
   Image<Vec3f> cpu, ref(w, h);
   computeVertexMap(d, K, cpu, opt, compute::Backend::Cpu);
-  const kernels::VertexMapKernel k{d.cview(), ref.view(), K.plain(), opt.min_depth_m, opt.max_depth_m};
+  const kernels::VertexMapKernel k{d.cview(), ref.view(), K.plain(), opt.min_depth_m,
+                                   opt.max_depth_m};
   int valid = 0;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {

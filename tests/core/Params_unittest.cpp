@@ -1,12 +1,12 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <mrpt/img/TCamera.h>
+#include <limits>
 #include "rasm/core/CameraIntrinsics.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 #include "rasm/core/RgbdFrame.h"
-#include <mrpt/img/TCamera.h>
-#include <limits>
 
 using namespace rasm;
 

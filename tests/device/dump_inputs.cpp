@@ -112,7 +112,8 @@ int main(int argc, char** argv) {
 
     // ---- what the Mapper's tracking of frame N sees (Mapper::processFrame / renderModel) ----
     const Eigen::Isometry3d T_model = mapper.pose();  // no odometry: the last good pose
-    const Eigen::Isometry3d T_guess = mapper.stage<pipeline::TrackingStage>().tracker().predictPose();
+    const Eigen::Isometry3d T_guess =
+        mapper.stage<pipeline::TrackingStage>().tracker().predictPose();
     const maps::SurfelStore before = mapper.map().store();  // the map before frame N is fused
 
     // ---- the product's frame N: pose, fusion counts (CPU reference) and its preprocessing ----

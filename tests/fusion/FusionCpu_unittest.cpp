@@ -99,13 +99,15 @@ TEST(UpdateCpu, BitIdenticalToTheKernel) {
       const Vec3f v((float(x) - K.cx) / K.fx * z, (float(y) - K.cy) / K.fy * z, z);
       vertex(x, y) = v;
       normal(x, y) = (-v.normalized() + 0.3f * Vec3f(u(rng), u(rng), u(rng))).normalized();
-      colour(x, y) = Bgr8{std::uint8_t(rng() & 255), std::uint8_t(rng() & 255), std::uint8_t(rng() & 255)};
-      labels(x, y) = rng() % 4;  // 0 = none
+      colour(x, y) =
+          Bgr8{std::uint8_t(rng() & 255), std::uint8_t(rng() & 255), std::uint8_t(rng() & 255)};
+      labels(x, y) = rng() % 4;                      // 0 = none
       depth(x, y) = u01(rng) < 0.2f ? z + 0.5f : z;  // some measurements far behind the surfels
     }
 
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 1.0, 0.1).normalized()).toRotationMatrix();
+  T.linear() =
+      Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 1.0, 0.1).normalized()).toRotationMatrix();
   T.translation() = Eigen::Vector3d(0.1, -0.2, 0.05);
   const RigidF T_wc = RigidF::fromMatrix(T.matrix().cast<float>());
 
@@ -122,7 +124,8 @@ TEST(UpdateCpu, BitIdenticalToTheKernel) {
       const bool take = u01(rng) < 0.8f;
       pixel_surfel(x, y) = take ? order[next++] : -1;
       associated += take;
-      flags_ref(x, y) = flags_sse(x, y) = take ? std::uint16_t(kernels::kPixValid | kernels::kPixAssociated) : 0;
+      flags_ref(x, y) = flags_sse(x, y) =
+          take ? std::uint16_t(kernels::kPixValid | kernels::kPixAssociated) : 0;
       // On the pixel's ray, from well in front of the measurement to just behind it.
       if (take) near[pixel_surfel(x, y)] = vertex(x, y) * (0.6f + 0.45f * u01(rng));
     }
@@ -149,7 +152,8 @@ TEST(UpdateCpu, BitIdenticalToTheKernel) {
       a.t_last[i] = 0.1f;
       a.segment[i] = rng() % 4;
       a.segment_w[i] = 3.0f * u01(rng);
-      for (int b = 0; b < a.n_view_bins; ++b) a.viewRow(i)[b] = std::uint8_t(rng() % 3 == 0 ? 255 : rng() & 255);
+      for (int b = 0; b < a.n_view_bins; ++b)
+        a.viewRow(i)[b] = std::uint8_t(rng() % 3 == 0 ? 255 : rng() & 255);
     }
   }
 
@@ -254,8 +258,9 @@ TEST(AssociateCpu, BitIdenticalToTheKernel) {
       const Vec3f v((float(x) - K.cx) / K.fx * z, (float(y) - K.cy) / K.fy * z, z);
       vertex(x, y) = u01(rng) < 0.05f ? Vec3f(nan, nan, nan) : v;
       const float tilt = u01(rng) < 0.15f ? 3.0f : 0.3f;  // some grazing
-      normal(x, y) = u01(rng) < 0.05f ? Vec3f(nan, nan, nan)
-                                      : (-v.normalized() + tilt * Vec3f(u(rng), u(rng), u(rng))).normalized();
+      normal(x, y) = u01(rng) < 0.05f
+                         ? Vec3f(nan, nan, nan)
+                         : (-v.normalized() + tilt * Vec3f(u(rng), u(rng), u(rng))).normalized();
       weight(x, y) = u01(rng);
     }
   vertex(W - 1, H - 1) = Vec3f(0.1f, 0.05f, 1.0f);  // the last element is measured
@@ -285,7 +290,8 @@ TEST(AssociateCpu, BitIdenticalToTheKernel) {
       listAssociateKernel(vertex, normal, weight, K, lists, store);
   k.prm.min_cos_normal = 0.9f;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d(1.0, 0.3, 0.0).normalized()).toRotationMatrix();
+  T.linear() =
+      Eigen::AngleAxisd(0.2, Eigen::Vector3d(1.0, 0.3, 0.0).normalized()).toRotationMatrix();
   k.T_world_cam = RigidF::fromMatrix(T.matrix().cast<float>());  // (normals compared in this frame)
 
   Image<std::int32_t> ps_ref(W, H), ps_sse(W, H);
@@ -333,7 +339,9 @@ TEST(AssociateCpu, MeasurementsBitIdenticalToTheKernel) {
       const float z = 0.05f + 6.0f * u01(rng);
       const Vec3f v((float(x) - K.cx) / K.fx * z, (float(y) - K.cy) / K.fy * z, z);
       vertex(x, y) = u01(rng) < 0.05f ? Vec3f(std::nanf(""), 0, 0) : v;
-      normal(x, y) = (-v.normalized() + (u01(rng) < 0.2f ? 3.0f : 0.4f) * Vec3f(u(rng), u(rng), u(rng))).normalized();
+      normal(x, y) =
+          (-v.normalized() + (u01(rng) < 0.2f ? 3.0f : 0.4f) * Vec3f(u(rng), u(rng), u(rng)))
+              .normalized();
       weight(x, y) = u01(rng);
     }
   vertex(W - 1, H - 1) = Vec3f(0.1f, 0.05f, 1.0f);
@@ -347,7 +355,8 @@ TEST(AssociateCpu, MeasurementsBitIdenticalToTheKernel) {
   kernels::FusionKernelParams prm;
   prm.assoc_dz_rel = 0.012f;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, 1.0, 0.2).normalized()).toRotationMatrix();
+  T.linear() =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, 1.0, 0.2).normalized()).toRotationMatrix();
   const RigidF R = RigidF::fromMatrix(T.matrix().cast<float>());
   int valid = 0, invalid = 0;
   for (int y = 0; y < H; ++y)
@@ -393,7 +402,8 @@ TEST(CarveTest, UpdatedSurfelSkipNeverHidesAViolation) {
   const float gate_abs = 0.03f, gate_rel = 0.01f;  // TFusionParams' association gate
   int violations = 0, skipped = 0;
   for (int k = 0; k < 200000; ++k) {
-    const int x = 1 + int(uni(rng) * float(K.width - 2)), y = 1 + int(uni(rng) * float(K.height - 2));
+    const int x = 1 + int(uni(rng) * float(K.width - 2)),
+              y = 1 + int(uni(rng) * float(K.height - 2));
     const float z = raw(x, y) + (uni(rng) - 0.5f) * 0.3f;
     const float dz = std::max(gate_abs, gate_rel * z);
     const float z_old = z + (2.0f * uni(rng) - 1.0f) * dz;
@@ -410,8 +420,8 @@ TEST(CarveTest, UpdatedSurfelSkipNeverHidesAViolation) {
       ASSERT_TRUE(may) << x << "," << y << " z " << z << " z_old " << z_old;
     }
   }
-  EXPECT_GT(violations, 100);   // the case the skip must not hide occurs
-  EXPECT_GT(skipped, 100000);   // and the skip is taken where the depths agree
+  EXPECT_GT(violations, 100);  // the case the skip must not hide occurs
+  EXPECT_GT(skipped, 100000);  // and the skip is taken where the depths agree
 }
 
 TEST(CoverCpu, BitIdenticalToTheKernel) {

@@ -460,8 +460,8 @@ TEST(SurfelFusion, ResortingTheStoreKeepsTheMapAndTheIndex) {
       Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
       T.translation() = Eigen::Vector3d(0.02 * k, 0.01 * k, 0.005 * k);
       T.linear() = Eigen::AngleAxisd(0.01 * k, Eigen::Vector3d::UnitY()).toRotationMatrix();
-      const FusionStats st =
-          fusion.fuse(map, fusiontest::renderScene(k < 8 ? scene : Scene(), kK, T, k / 30.0).input());
+      const FusionStats st = fusion.fuse(
+          map, fusiontest::renderScene(k < 8 ? scene : Scene(), kK, T, k / 30.0).input());
       resorted += st.resorted ? 1 : 0;
       std::string why;
       EXPECT_TRUE(map.checkConsistency(&why)) << "frame " << k << ": " << why;
@@ -469,9 +469,9 @@ TEST(SurfelFusion, ResortingTheStoreKeepsTheMapAndTheIndex) {
     if (keys) {
       const SurfelArrays a = map.arrays();
       for (int i = 0; i < a.size; ++i)
-        keys->emplace_back(a.pos_conf[i].x(), a.pos_conf[i].y(), a.pos_conf[i].z(), a.pos_conf[i].w(),
-                           a.normal_radius[i].x(), a.normal_radius[i].y(), a.normal_radius[i].z(),
-                           a.normal_radius[i].w(), a.colour_flags[i]);
+        keys->emplace_back(a.pos_conf[i].x(), a.pos_conf[i].y(), a.pos_conf[i].z(),
+                           a.pos_conf[i].w(), a.normal_radius[i].x(), a.normal_radius[i].y(),
+                           a.normal_radius[i].z(), a.normal_radius[i].w(), a.colour_flags[i]);
       std::sort(keys->begin(), keys->end());
     }
     return resorted;

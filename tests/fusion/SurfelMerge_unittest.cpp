@@ -1,6 +1,6 @@
 // Redundant-surfel merging (Keller et al. 2013 sec. 4.3; TFusionParams::merge_redundant): the
-// merge of two surfels (fusion::kernels::mergeSurfels), and SurfelFusion merging planted duplicates of a
-// wall while leaving surfels that differ in depth or normal alone.
+// merge of two surfels (fusion::kernels::mergeSurfels), and SurfelFusion merging planted duplicates
+// of a wall while leaving surfels that differ in depth or normal alone.
 
 #include <gtest/gtest.h>
 #include <omp.h>
@@ -206,7 +206,8 @@ TEST_P(PlantedDuplicates, AreMergedAndOthersKept) {
   SurfelFusion fusion(p);
   PlantedMap pm;
   plant(fusion, pm, f0, dup_confidence);
-  ASSERT_EQ(pm.n_first, (kK.width - 2) * (kK.height - 2));  // the wall fills the view (no normals on the border)
+  ASSERT_EQ(pm.n_first, (kK.width - 2) *
+                            (kK.height - 2));  // the wall fills the view (no normals on the border)
   ASSERT_GT(pm.n_dups, 1000);
   ASSERT_GT(pm.n_decoys, 500);
   const float conf_before = totalConfidence(pm.map);
@@ -232,7 +233,8 @@ TEST_P(PlantedDuplicates, AreMergedAndOthersKept) {
     const auto [x, y] = pm.dup_pixels[k];
     const int i = fusion.pixelSurfels()(x, y);
     ASSERT_GE(i, 0) << x << "," << y;
-    const float w = confidenceWeight(normalizedRadialDistance(float(x), float(y), kK.plain()), 0.6f);
+    const float w =
+        confidenceWeight(normalizedRadialDistance(float(x), float(y), kK.plain()), 0.6f);
     EXPECT_NEAR(a.confidence(i), pm.dup_conf_before[k] + w, 1e-4f);
     EXPECT_GE(a.position(i).z(), float(kWallZ) - 1e-5f);
     EXPECT_LE(a.position(i).z(), float(kWallZ) + 0.004f);
@@ -254,7 +256,8 @@ TEST(SurfelMerge, DisabledOrStridedMerging) {
     PlantedMap pm;
     plant(fusion, pm, f0);
     const FusionStats st = fusion.fuse(
-        pm.map, fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), 1.0 / 30).input());
+        pm.map,
+        fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), 1.0 / 30).input());
     EXPECT_EQ(st.merged, 0);
     EXPECT_EQ(pm.map.size(), pm.n_first + pm.n_dups + pm.n_decoys);
   }
@@ -268,7 +271,8 @@ TEST(SurfelMerge, DisabledOrStridedMerging) {
     int merged = 0, added = 0, removed = 0;
     for (int k = 1; k <= 3; ++k) {
       const FusionStats st = fusion.fuse(
-          pm.map, fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), k / 30.0).input());
+          pm.map,
+          fusiontest::renderScene(scene, kK, Eigen::Isometry3d::Identity(), k / 30.0).input());
       EXPECT_LT(st.merged, pm.n_dups * 0.4) << "frame " << k;
       EXPECT_GT(st.merged, pm.n_dups * 0.27) << "frame " << k;
       merged += st.merged;

@@ -11,8 +11,8 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -273,7 +273,8 @@ TEST(RawlogFrameSource, GarbageFileIsAnInputError) {
 #include "rasm/io/PrefetchingFrameSource.h"
 
 TEST(PrefetchingFrameSource, GivesTheInnerSourcesFramesInOrder) {
-  const std::string path = std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
+  const std::string path =
+      std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
   RawlogFrameSource direct(path);
   PrefetchingFrameSource ahead(std::make_unique<RawlogFrameSource>(path), 3);
   EXPECT_EQ(ahead.describe(), direct.describe());
@@ -287,10 +288,12 @@ TEST(PrefetchingFrameSource, GivesTheInnerSourcesFramesInOrder) {
     ASSERT_EQ(a->depth_m.width(), b->depth_m.width());
     ASSERT_EQ(a->colour.height(), b->colour.height());
     for (int y = 0; y < a->depth_m.height(); ++y)
-      ASSERT_EQ(0, std::memcmp(a->depth_m.row(y), b->depth_m.row(y), a->depth_m.width() * sizeof(float)))
+      ASSERT_EQ(
+          0, std::memcmp(a->depth_m.row(y), b->depth_m.row(y), a->depth_m.width() * sizeof(float)))
           << "frame " << n << " row " << y;
     for (int y = 0; y < a->colour.height(); ++y)
-      ASSERT_EQ(0, std::memcmp(a->colour.row(y), b->colour.row(y), a->colour.width() * sizeof(Bgr8)))
+      ASSERT_EQ(0,
+                std::memcmp(a->colour.row(y), b->colour.row(y), a->colour.width() * sizeof(Bgr8)))
           << "frame " << n << " row " << y;
     ASSERT_EQ(a->gt_T_world_cam.has_value(), b->gt_T_world_cam.has_value());
     if (a->gt_T_world_cam) {
@@ -323,7 +326,8 @@ TEST(PrefetchingFrameSource, RethrowsTheInnerErrorAfterTheGoodFrames) {
 }
 
 TEST(PrefetchingFrameSource, StopsWhenDestroyedMidStream) {
-  const std::string path = std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
+  const std::string path =
+      std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
   for (int depth : {1, 4}) {
     PrefetchingFrameSource src(std::make_unique<RawlogFrameSource>(path), depth);
     ASSERT_TRUE(src.next().has_value());
@@ -335,7 +339,8 @@ TEST(PrefetchingFrameSource, StopsWhenDestroyedMidStream) {
 #include "rasm/io/PreloadedFrameSource.h"
 
 TEST(PreloadedFrameSource, ReadsEveryFrameFirstThenGivesThemInOrder) {
-  const std::string path = std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
+  const std::string path =
+      std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
   RawlogFrameSource direct(path);
   long long progress = 0;
   PreloadedFrameSource pre(std::make_unique<RawlogFrameSource>(path), 0,
@@ -351,14 +356,16 @@ TEST(PreloadedFrameSource, ReadsEveryFrameFirstThenGivesThemInOrder) {
     if (!a) break;
     EXPECT_EQ(a->timestamp_s, b->timestamp_s);
     for (int y = 0; y < a->depth_m.height(); ++y)
-      ASSERT_EQ(0, std::memcmp(a->depth_m.row(y), b->depth_m.row(y), a->depth_m.width() * sizeof(float)))
+      ASSERT_EQ(
+          0, std::memcmp(a->depth_m.row(y), b->depth_m.row(y), a->depth_m.width() * sizeof(float)))
           << "frame " << n << " row " << y;
   }
   EXPECT_EQ(n, pre.loaded());
 }
 
 TEST(PreloadedFrameSource, StopsAtTheLimitAndRethrowsTheInnerErrorAfterTheGoodFrames) {
-  const std::string path = std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
+  const std::string path =
+      std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
   PreloadedFrameSource first3(std::make_unique<RawlogFrameSource>(path), 3);
   EXPECT_EQ(first3.loaded(), 3);
 
@@ -371,11 +378,13 @@ TEST(PreloadedFrameSource, StopsAtTheLimitAndRethrowsTheInnerErrorAfterTheGoodFr
 }
 
 TEST(PreloadedFrameSource, StopsWithAClearErrorOverItsMemoryLimit) {
-  const std::string path = std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
+  const std::string path =
+      std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
   // 320x240 frames hold 320 * 240 * (4 + 3) bytes = 525 KiB of depth and colour: 1 MiB is
   // exceeded by the second frame.
   const std::string msg = errorOf([&] {
-    PreloadedFrameSource src(std::make_unique<RawlogFrameSource>(path), 0, {}, std::size_t(1) << 20);
+    PreloadedFrameSource src(std::make_unique<RawlogFrameSource>(path), 0, {},
+                             std::size_t(1) << 20);
   });
   EXPECT_NE(msg.find(path), std::string::npos) << msg;
   EXPECT_NE(msg.find("the first 2 frames"), std::string::npos) << msg;

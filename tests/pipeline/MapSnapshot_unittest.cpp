@@ -71,13 +71,16 @@ TEST(MapSnapshot, AReaderRendersConsistentSnapshotsWhileTheMapperFuses) {
       max_copy_ms = std::max(max_copy_ms.load(), s->copy_ms);
       {
         std::lock_guard<std::mutex> lk(sizes.mutex);
-        if (s->frames == 0 || s->frames > sizes.sizes.size() || sizes.sizes[s->frames - 1] != s->store.size()) ++torn;
+        if (s->frames == 0 || s->frames > sizes.sizes.size() ||
+            sizes.sizes[s->frames - 1] != s->store.size())
+          ++torn;
       }
       const maps::SurfelArrays a = s->store.arrays();
       for (int i = 0; i < a.size; i += 97) {
         if (!a.alive(i)) continue;
         const Vec3f p = a.position(i), n = a.normal(i);
-        if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()) || std::abs(n.norm() - 1.0f) > 1e-3f)
+        if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()) ||
+            std::abs(n.norm() - 1.0f) > 1e-3f)
           ++unsound;
       }
       maps::RenderOptions ro;
@@ -90,7 +93,8 @@ TEST(MapSnapshot, AReaderRendersConsistentSnapshotsWhileTheMapperFuses) {
   double max_wait_ms = 0.0;
   int frames = 1;
   const auto& timers = mapper.timerNames();
-  const std::size_t wait_timer = std::size_t(std::find(timers.begin(), timers.end(), "map_lock_wait") - timers.begin());
+  const std::size_t wait_timer =
+      std::size_t(std::find(timers.begin(), timers.end(), "map_lock_wait") - timers.begin());
   ASSERT_LT(wait_timer, timers.size());
   while (seq.next(f)) {
     const FrameResult r = mapper.processFrame(f);
@@ -99,8 +103,9 @@ TEST(MapSnapshot, AReaderRendersConsistentSnapshotsWhileTheMapperFuses) {
   }
   done = true;
   reader.join();
-  std::printf("%d frames, %d snapshots (copy up to %.2f ms), mapper waited up to %.2f ms for a copy\n", frames,
-              snapshots.load(), max_copy_ms.load(), max_wait_ms);
+  std::printf(
+      "%d frames, %d snapshots (copy up to %.2f ms), mapper waited up to %.2f ms for a copy\n",
+      frames, snapshots.load(), max_copy_ms.load(), max_wait_ms);
   EXPECT_EQ(frames, 300);
   EXPECT_GT(snapshots.load(), 10);
   EXPECT_EQ(torn.load(), 0) << "a snapshot mixed two frames";

@@ -38,7 +38,9 @@ class ConstantLabelStage : public MapperStage {
     ctx.labels.setTo(std::uint32_t(params.label));
     ++frames;
   }
-  void csvColumns(std::vector<std::string>& c) const override { c.push_back("constant_label_frames"); }
+  void csvColumns(std::vector<std::string>& c) const override {
+    c.push_back("constant_label_frames");
+  }
   void csvValues(const FrameContext&, CsvRow& row) const override { row.add(frames); }
   void report(nlohmann::json& rep) const override { rep["constant_label_frames"] = frames; }
 
@@ -49,7 +51,8 @@ class ConstantLabelStage : public MapperStage {
 }  // namespace
 
 TEST(MapperStage, AStagePlugsInWithOneCallAndItsLabelsReachTheMap) {
-  std::unique_ptr<io::FrameSource> src = io::openFrameSource(std::string(RASM_MRPT_TEST_RAWLOG), io::FrameSourceOptions());
+  std::unique_ptr<io::FrameSource> src =
+      io::openFrameSource(std::string(RASM_MRPT_TEST_RAWLOG), io::FrameSourceOptions());
   Mapper mapper;
   auto stage = std::make_unique<ConstantLabelStage>();
   ConstantLabelStage& s = *stage;
@@ -78,7 +81,8 @@ TEST(MapperStage, AStagePlugsInWithOneCallAndItsLabelsReachTheMap) {
   ASSERT_GE(fused, 1) << "the test rawlog gave no fused frame";
   EXPECT_EQ(s.frames, fused);
   EXPECT_EQ(s.index_map_seen, fused) << "the index map at T_t is in the context before fusion";
-  // Every surfel fusion created or updated took L^p = 9 (III: a new surfel takes its pixel's label).
+  // Every surfel fusion created or updated took L^p = 9 (III: a new surfel takes its pixel's
+  // label).
   const maps::SurfelStore& store = mapper.map().store();
   ASSERT_GT(store.size(), 1000);
   const maps::SurfelArrays a = store.arrays();
@@ -100,5 +104,6 @@ TEST(MapperStage, ConfigLoadsEveryStageSectionStrictly) {
   ok.write("fusion", "confidence_sigma", 0.5);
   const Mapper m(ok, "test.ini");
   EXPECT_FLOAT_EQ(m.stage<FusionStage>().params().confidence_sigma, 0.5f);
-  EXPECT_FLOAT_EQ(m.stage<FusionStage>().fusion().params().confidence_sigma, 0.5f) << "configure() applied it";
+  EXPECT_FLOAT_EQ(m.stage<FusionStage>().fusion().params().confidence_sigma, 0.5f)
+      << "configure() applied it";
 }

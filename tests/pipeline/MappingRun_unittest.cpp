@@ -18,7 +18,8 @@ using namespace rasm::pipeline;
 
 namespace {
 std::string tempDir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("rasm_test_" + name + "_" + std::to_string(::getpid()));
+  const fs::path p =
+      fs::temp_directory_path() / ("rasm_test_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(p);
   return p.string();
 }
@@ -30,7 +31,8 @@ nlohmann::json readJson(const std::string& path) {
 
 TEST(MappingRun, RealKinectFrameBuildsAMapAndWritesOutputs) {
   const std::string out = tempDir("kinect");
-  RunConfig cfg = RunConfig::fromString("[source]\ntype = rawlog\npath = " RASM_MRPT_TEST_RAWLOG "\n", "test");
+  RunConfig cfg =
+      RunConfig::fromString("[source]\ntype = rawlog\npath = " RASM_MRPT_TEST_RAWLOG "\n", "test");
   cfg.set("output", "dir", out);
   MappingRun run(cfg);
   const RunSummary s = run.run();
@@ -38,8 +40,8 @@ TEST(MappingRun, RealKinectFrameBuildsAMapAndWritesOutputs) {
   // One 640x480 frame with depth 1.6-2.6 m: most pixels are valid and become surfels.
   EXPECT_GT(s.surfels, 100000u);
   EXPECT_LE(s.surfels, 640u * 480u);
-  for (const char* f : {"trajectory.txt", "map.ply", "map.3Dscene", "map.surfelmap", "report.json", "config.ini",
-                        "preview.png"})
+  for (const char* f : {"trajectory.txt", "map.ply", "map.3Dscene", "map.surfelmap", "report.json",
+                        "config.ini", "preview.png"})
     EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
   const maps::PlySurfels ply = maps::readSurfelPly(out + "/map.ply");
   EXPECT_EQ(ply.size(), s.surfels);
@@ -56,7 +58,8 @@ TEST(MappingRun, RealKinectFrameBuildsAMapAndWritesOutputs) {
 
 TEST(MappingRun, MissingRawlogIsNamedAndNothingLooksComplete) {
   const std::string out = tempDir("missing");
-  RunConfig cfg = RunConfig::fromString("[source]\ntype = rawlog\npath = /nonexistent/seq.rawlog\n", "test");
+  RunConfig cfg =
+      RunConfig::fromString("[source]\ntype = rawlog\npath = /nonexistent/seq.rawlog\n", "test");
   cfg.set("output", "dir", out);
   MappingRun run(cfg);
   try {
@@ -76,8 +79,10 @@ TEST(MappingRun, TumFr1XyzAteWithinBound) {
   const std::string data = std::string(RASM_SHARED_DATA) + "/tum/fr1_xyz_first37";
   if (!fs::exists(data)) GTEST_SKIP() << "shared data absent: " << data;
   const std::string out = tempDir("fr1");
-  RunConfig cfg = RunConfig::fromString(
-      "[source]\ntype = tum\npath = " + data + "\n[camera]\npreset = tum_fr1\n[output]\nwrite_3dscene = false\n", "test");
+  RunConfig cfg =
+      RunConfig::fromString("[source]\ntype = tum\npath = " + data +
+                                "\n[camera]\npreset = tum_fr1\n[output]\nwrite_3dscene = false\n",
+                            "test");
   cfg.set("output", "dir", out);
   MappingRun run(cfg);
   const RunSummary s = run.run();
@@ -98,8 +103,12 @@ TEST(MappingRun, SimulatedOfficeDefaultTracksWithinTarget) {
   cfg.set("output", "dir", out);
   cfg.set("source", "max_frames", "60");
   cfg.set("camera", "preset", "");
-  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{
-           {"fx", "262.5"}, {"fy", "262.5"}, {"cx", "159.5"}, {"cy", "119.5"}, {"width", "320"}, {"height", "240"}})
+  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{{"fx", "262.5"},
+                                                                             {"fy", "262.5"},
+                                                                             {"cx", "159.5"},
+                                                                             {"cy", "119.5"},
+                                                                             {"width", "320"},
+                                                                             {"height", "240"}})
     cfg.set("camera", k, v);
   cfg.set("output", "write_3dscene", "false");
   MappingRun run(cfg);
@@ -113,7 +122,8 @@ TEST(MappingRun, SimulatedOfficeDefaultTracksWithinTarget) {
   const maps::PlySurfels ply = maps::readSurfelPly(out + "/map.ply");
   std::size_t outside = 0;
   for (const auto& p : ply.position)
-    outside += (p.x() < -0.2f || p.x() > 8.2f || p.y() < -0.2f || p.y() > 6.2f || p.z() < -0.2f || p.z() > 2.9f);
+    outside += (p.x() < -0.2f || p.x() > 8.2f || p.y() < -0.2f || p.y() > 6.2f || p.z() < -0.2f ||
+                p.z() > 2.9f);
   EXPECT_LT(double(outside), 0.001 * ply.size());
   fs::remove_all(out);
 }

@@ -51,8 +51,9 @@ TEST(OdometryPrior, ExactOdometryPredictsTheCameraMotion) {
   OdometryPrior op(p);
   const Eigen::Isometry3d M = p.T_base_cam();
   // The world frame is not the odometry frame: the first camera pose is arbitrary.
-  const Eigen::Isometry3d T_world_odom = Eigen::Translation3d(1, -2, 0.3) *
-                                         Eigen::AngleAxisd(0.4, Eigen::Vector3d(0.1, 0.2, 1).normalized());
+  const Eigen::Isometry3d T_world_odom =
+      Eigen::Translation3d(1, -2, 0.3) *
+      Eigen::AngleAxisd(0.4, Eigen::Vector3d(0.1, 0.2, 1).normalized());
   const Eigen::Vector3d odo0(0.5, 0.2, 0.3), odo1(0.53, 0.215, 0.34);
   const Eigen::Isometry3d cam0 = T_world_odom * base(odo0.x(), odo0.y(), odo0.z()) * M;
   const Eigen::Isometry3d cam1 = T_world_odom * base(odo1.x(), odo1.y(), odo1.z()) * M;
@@ -63,7 +64,8 @@ TEST(OdometryPrior, ExactOdometryPredictsTheCameraMotion) {
   EXPECT_LT(rotationAngle(prior->T_world_cam, cam1), 1e-9);
   // Noise of a 3.4 cm, 2.3 deg increment: sigma_xy, sigma_yaw by the random-walk model.
   const double d = std::hypot(0.03, 0.015), a = 0.04;
-  const double s_yaw = p.odometry_sigma_yaw_deg * kDeg + p.odometry_sigma_yaw_per_sqrt_rad * std::sqrt(a) +
+  const double s_yaw = p.odometry_sigma_yaw_deg * kDeg +
+                       p.odometry_sigma_yaw_per_sqrt_rad * std::sqrt(a) +
                        p.odometry_sigma_yaw_per_sqrt_m * std::sqrt(d);
   // Rotation about the base's z (world: T_world_odom's z) has information 1 / s_yaw^2.
   const Eigen::Vector3d up = T_world_odom.linear().col(2);
@@ -95,13 +97,15 @@ TEST(OdometryPrior, PlanarProjectionKeepsRobotPosesAndRemovesTilt) {
   EXPECT_LT(translationDistance(pc, cam), 1e-9);
   EXPECT_LT(rotationAngle(pc, cam), 1e-9);
   // Height and tilt errors go; the camera's position in the plane and its heading stay.
-  const Eigen::Isometry3d bad = Eigen::Translation3d(0, 0, 0.02) * cam * Eigen::AngleAxisd(1.0 * kDeg, Eigen::Vector3d::UnitX()) *
+  const Eigen::Isometry3d bad = Eigen::Translation3d(0, 0, 0.02) * cam *
+                                Eigen::AngleAxisd(1.0 * kDeg, Eigen::Vector3d::UnitX()) *
                                 Eigen::AngleAxisd(-0.7 * kDeg, Eigen::Vector3d::UnitZ());
   const Eigen::Isometry3d pb = op.projectToFloor(bad);
   EXPECT_NEAR(pb.translation().z(), 0.55, 1e-9);
   EXPECT_NEAR(pb.translation().x(), bad.translation().x(), 1e-9);
   EXPECT_NEAR(pb.translation().y(), bad.translation().y(), 1e-9);
-  EXPECT_LT(rotationAngle(pb, cam), 1.3 * kDeg) << "only the tilt (and the heading error it implies) is removed";
+  EXPECT_LT(rotationAngle(pb, cam), 1.3 * kDeg)
+      << "only the tilt (and the heading error it implies) is removed";
   const Eigen::Vector3d z_gt = cam.linear().col(2), z_pb = pb.linear().col(2);
   EXPECT_NEAR(z_pb.z(), z_gt.z(), 1e-9) << "the viewing direction keeps the mount's pitch";
 }

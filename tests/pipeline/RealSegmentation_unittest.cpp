@@ -45,7 +45,8 @@ TEST(RealSegmentation, Fr3CabinetIsOneSegmentOfItsSize) {
     if (!a.alive(i)) continue;
     const Eigen::Vector3d p = a.position(i).cast<double>() - Eigen::Vector3d(cx, cy, cz);
     const double lx = c * p.x() + s * p.y(), ly = -s * p.x() + c * p.y();
-    if (std::abs(lx) < hx + 0.03 && std::abs(ly) < hy + 0.03 && p.z() > -hz + 0.03 && p.z() < hz + 0.03) {
+    if (std::abs(lx) < hx + 0.03 && std::abs(ly) < hy + 0.03 && p.z() > -hz + 0.03 &&
+        p.z() < hz + 0.03) {
       ++inside[a.segment[i]];
       ++total;
     }

@@ -28,15 +28,18 @@ TEST(RunConfig, EmbeddedDefaultLoadsStrictly) {
 }
 
 TEST(RunConfig, UnknownSectionKeyAndBadValueAreNamed) {
-  const std::string e1 = errorOf([] { MappingRun(RunConfig::fromString("[trackin]\nx=1\n", "my.ini")); });
+  const std::string e1 =
+      errorOf([] { MappingRun(RunConfig::fromString("[trackin]\nx=1\n", "my.ini")); });
   EXPECT_NE(e1.find("my.ini"), std::string::npos) << e1;
   EXPECT_NE(e1.find("[trackin]"), std::string::npos) << e1;
 
-  const std::string e2 = errorOf([] { MappingRun(RunConfig::fromString("[mapper]\npyramid_levle = 2\n", "my.ini")); });
+  const std::string e2 =
+      errorOf([] { MappingRun(RunConfig::fromString("[mapper]\npyramid_levle = 2\n", "my.ini")); });
   EXPECT_NE(e2.find("pyramid_levle"), std::string::npos) << e2;
   EXPECT_NE(e2.find("[mapper]"), std::string::npos) << e2;
 
-  const std::string e3 = errorOf([] { MappingRun(RunConfig::fromString("[mapper]\nmax_depth_m = far\n", "my.ini")); });
+  const std::string e3 =
+      errorOf([] { MappingRun(RunConfig::fromString("[mapper]\nmax_depth_m = far\n", "my.ini")); });
   EXPECT_NE(e3.find("max_depth_m"), std::string::npos) << e3;
 
   const std::string e4 = errorOf([] { RunConfig::fromString("[mapper]\njust words\n", "my.ini"); });

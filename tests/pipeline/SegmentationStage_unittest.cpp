@@ -6,10 +6,10 @@
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <cmath>
-#include <functional>
-#include <map>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
+#include <map>
 #include <set>
 
 #include "rasm/pipeline/Mapper.h"
@@ -97,7 +97,8 @@ std::map<std::uint32_t, int> labelsIn(const maps::SurfelStore& store, const Box&
   for (int i = 0; i < a.size; ++i) {
     if (!a.alive(i)) continue;
     const Eigen::Vector3d p = a.position(i).cast<double>();
-    if ((p.array() >= b.lo.array() - 0.01).all() && (p.array() <= b.hi.array() + 0.01).all()) ++out[a.segment[i]];
+    if ((p.array() >= b.lo.array() - 0.01).all() && (p.array() <= b.hi.array() + 0.01).all())
+      ++out[a.segment[i]];
   }
   return out;
 }
@@ -114,9 +115,11 @@ TEST(SegmentationStage, LabelsSurviveACameraMove) {
     const FrameResult r = mapper.processFrame(render({a, b}, T, k));
     ASSERT_TRUE(r.fused) << "frame " << k << " " << tracking::toString(r.tracking.status);
     // L^p at the projection of each box's front-face centre.
-    const Eigen::Vector3d ca = T.inverse() * Eigen::Vector3d(-0.3, 0, 1.8), cb = T.inverse() * Eigen::Vector3d(0.3, 0, 1.8);
+    const Eigen::Vector3d ca = T.inverse() * Eigen::Vector3d(-0.3, 0, 1.8),
+                          cb = T.inverse() * Eigen::Vector3d(0.3, 0, 1.8);
     const auto px = [](const Eigen::Vector3d& p) {
-      return std::make_pair(int(std::lround(kK.cx + kK.fx * p.x() / p.z())), int(std::lround(kK.cy + kK.fy * p.y() / p.z())));
+      return std::make_pair(int(std::lround(kK.cx + kK.fx * p.x() / p.z())),
+                            int(std::lround(kK.cy + kK.fy * p.y() / p.z())));
     };
     const auto [xa, ya] = px(ca);
     const auto [xb, yb] = px(cb);
@@ -162,11 +165,15 @@ TEST(SegmentationStage, ObjectSplitByAnOccluderMergesOnceSeenWhole) {
     const FrameResult r = mapper.processFrame(render({box}, at(0.0), k));
     removed += r.fusion.removed_carved + r.fusion.removed_unstable + r.fusion.demoted_carved;
     if (std::getenv("SEG_DEBUG")) {
-      std::printf("frame %d: %s L_t %d matched %d created %d psi %zu cosegmented %zu visible %zu carved %d demoted %d\n", k,
-                  tracking::toString(r.tracking.status), seg.lastSegments().count, seg.lastPropagation().matched,
-                  seg.lastPropagation().created, seg.mergeConfidence().size(), seg.lastPropagation().cosegmented.size(),
-                  seg.lastPropagation().visible.size(), r.fusion.removed_carved, r.fusion.demoted_carved);
-      for (const auto& [l, n] : labelsIn(mapper.map().store(), box)) std::printf("  label %u: %d\n", l, n);
+      std::printf(
+          "frame %d: %s L_t %d matched %d created %d psi %zu cosegmented %zu visible %zu carved %d "
+          "demoted %d\n",
+          k, tracking::toString(r.tracking.status), seg.lastSegments().count,
+          seg.lastPropagation().matched, seg.lastPropagation().created,
+          seg.mergeConfidence().size(), seg.lastPropagation().cosegmented.size(),
+          seg.lastPropagation().visible.size(), r.fusion.removed_carved, r.fusion.demoted_carved);
+      for (const auto& [l, n] : labelsIn(mapper.map().store(), box))
+        std::printf("  label %u: %d\n", l, n);
     }
   }
   EXPECT_GT(removed, 0) << "the pole's surfels are carved";

@@ -21,7 +21,8 @@ using namespace rasm::pipeline;
 
 namespace {
 std::string tempDir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("rasm_test_" + name + "_" + std::to_string(::getpid()));
+  const fs::path p =
+      fs::temp_directory_path() / ("rasm_test_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(p);
   return p.string();
 }
@@ -33,8 +34,12 @@ RunConfig smallSimConfig(const std::string& out, const std::string& trajectory, 
   cfg.set("sim", "trajectory", trajectory);
   cfg.set("source", "max_frames", std::to_string(frames));
   cfg.set("camera", "preset", "");
-  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{
-           {"fx", "262.5"}, {"fy", "262.5"}, {"cx", "159.5"}, {"cy", "119.5"}, {"width", "320"}, {"height", "240"}})
+  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{{"fx", "262.5"},
+                                                                             {"fy", "262.5"},
+                                                                             {"cx", "159.5"},
+                                                                             {"cy", "119.5"},
+                                                                             {"width", "320"},
+                                                                             {"height", "240"}})
     cfg.set("camera", k, v);
   cfg.set("output", "write_3dscene", "false");
   cfg.set("output", "write_ply", "false");
@@ -81,9 +86,9 @@ keyframes:
 
 /// A 2 s cut (the camera jumps from the way out to the way back) and a covered lens (all-zero
 /// depth, black colour): the frames without a trustworthy pose are lost and nothing is fused
-/// from them; after the jump the camera is found again by relocalisation once it sees mapped space (the start
-/// view, mapped in frames 0-19, is back in view from ~frame 100 on); every frame fused is
-/// within 5 cm of the ground truth.
+/// from them; after the jump the camera is found again by relocalisation once it sees mapped space
+/// (the start view, mapped in frames 0-19, is back in view from ~frame 100 on); every frame fused
+/// is within 5 cm of the ground truth.
 TEST(TrackingRobustness, JumpAndCoveredLensAreLostThenRelocalised) {
   const std::string out = tempDir("kidnap");
   fs::create_directories(out);
@@ -104,8 +109,10 @@ TEST(TrackingRobustness, JumpAndCoveredLensAreLostThenRelocalised) {
       EXPECT_FALSE(r.tracked) << "frame " << r.index << " has no data";
       EXPECT_FALSE(r.fused) << "frame " << r.index;
     }
-    if (r.relocalised && r.index >= 80 && r.index < 130 && relocalised_after_jump < 0) relocalised_after_jump = int(r.index);
-    if (r.tracked && r.index > 139 && recovered_after_blank < 0) recovered_after_blank = int(r.index);
+    if (r.relocalised && r.index >= 80 && r.index < 130 && relocalised_after_jump < 0)
+      relocalised_after_jump = int(r.index);
+    if (r.tracked && r.index > 139 && recovered_after_blank < 0)
+      recovered_after_blank = int(r.index);
     if (r.fused) {
       const double err = translationDistance(gt[i].T_world_cam, r.T_world_cam);
       EXPECT_LT(err, 0.05) << "frame " << r.index << " fused " << err << " m from the ground truth";
@@ -144,7 +151,8 @@ TEST(TrackingRobustness, SavedMapIsReloadedAndTheCameraFoundInIt) {
   EXPECT_EQ(s.lost, 0u);
   const io::Trajectory gt = io::readTumTrajectory(second + "/groundtruth.txt");
   for (std::size_t i = 0; i < frames.size(); ++i)
-    EXPECT_LT(translationDistance(gt[i].T_world_cam, frames[i].T_world_cam), 0.03) << "frame " << frames[i].index;
+    EXPECT_LT(translationDistance(gt[i].T_world_cam, frames[i].T_world_cam), 0.03)
+        << "frame " << frames[i].index;
 
   RunConfig bad = smallSimConfig(second, "office_handheld", 5);
   bad.set("mapper", "load_map", first + "/report.json");

@@ -42,7 +42,8 @@ double box(const Eigen::Vector3d& d, const Eigen::Vector3d& lo, const Eigen::Vec
 
 /// Vertical cylinder (axis along camera y) at (cx, cz), radius r.
 double cylinder(const Eigen::Vector3d& d, double cx, double cz, double r) {
-  const double a = d.x() * d.x() + d.z() * d.z(), b = -2 * (d.x() * cx + d.z() * cz), c = cx * cx + cz * cz - r * r;
+  const double a = d.x() * d.x() + d.z() * d.z(), b = -2 * (d.x() * cx + d.z() * cz),
+               c = cx * cx + cz * cz - r * r;
   const double disc = b * b - 4 * a * c;
   if (disc < 0) return INFINITY;
   const double t = (-b - std::sqrt(disc)) / (2 * a);
@@ -67,7 +68,9 @@ Frame render(const Scene& scene) {
   return f;
 }
 
-double minOf(double a, double b) { return std::min(a, b); }
+double minOf(double a, double b) {
+  return std::min(a, b);
+}
 
 /// Fraction of edge pixels among the valid ones in a window.
 double edgeFraction(const FrameSegments& s, int x0, int y0, int x1, int y1) {
@@ -84,7 +87,9 @@ double edgeFraction(const FrameSegments& s, int x0, int y0, int x1, int y1) {
 }  // namespace
 
 TEST(EdgeMap, FlatWallHasNoEdges) {
-  const Frame f = render([](const Eigen::Vector3d& d) { return plane(d, Eigen::Vector3d(0.3, 0, 1).normalized(), 2.0); });
+  const Frame f = render([](const Eigen::Vector3d& d) {
+    return plane(d, Eigen::Vector3d(0.3, 0, 1).normalized(), 2.0);
+  });
   GeometricSegmenter seg;
   const FrameSegments& s = seg.segment(f.vertex, f.normal);
   EXPECT_LT(edgeFraction(s, 5, 5, 634, 474), 0.001);
@@ -161,7 +166,8 @@ TEST(Components, SmallComponentsAreDropped) {
   TSegmentationParams p;
   p.min_component_px = 1000000;
   GeometricSegmenter seg(p);
-  const Frame f = render([](const Eigen::Vector3d& d) { return plane(d, Eigen::Vector3d(0, 0, 1), 2.0); });
+  const Frame f =
+      render([](const Eigen::Vector3d& d) { return plane(d, Eigen::Vector3d(0, 0, 1), 2.0); });
   const FrameSegments& s = seg.segment(f.vertex, f.normal);
   EXPECT_EQ(s.count, 0);
   EXPECT_EQ(s.dropped_components, 1);

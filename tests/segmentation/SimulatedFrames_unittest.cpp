@@ -3,12 +3,12 @@
 // RASM_SEG_DEBUG_DIR to write the edge, label and ground-truth images of each frame tested.
 #include <gtest/gtest.h>
 
+#include <mrpt/config/CConfigFileMemory.h>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
-#include <mrpt/config/CConfigFileMemory.h>
-#include <sstream>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 
 #include "rasm/core/FrameProcessing.h"
 #include "rasm/segmentation/GeometricSegmenter.h"
@@ -66,7 +66,9 @@ FrameScore score(const FrameSegments& s, const RgbdFrame& f, const sim::World& w
   sc.interior_fraction = valid ? double(interior) / valid : 0.0;
   for (const auto& [i, n] : inst) {
     const int k = world.indexOfInstance(std::uint16_t(i));
-    if (i == 0 || k < 0 || n < min_px || sim::isStructureClass(world.objects[std::size_t(k)].class_id)) continue;
+    if (i == 0 || k < 0 || n < min_px ||
+        sim::isStructureClass(world.objects[std::size_t(k)].class_id))
+      continue;
     ++sc.objects;
     double best = 0;
     for (const auto& [key, m] : both)
@@ -76,7 +78,8 @@ FrameScore score(const FrameSegments& s, const RgbdFrame& f, const sim::World& w
   return sc;
 }
 
-void scoreSequence(const char* world_name, const char* trajectory, int step, int frames, double min_recovered) {
+void scoreSequence(const char* world_name, const char* trajectory, int step, int frames,
+                   double min_recovered) {
   const sim::World world = sim::loadWorld(world_name);
   sim::SequenceOptions opt;
   opt.seed = 3;
@@ -117,13 +120,15 @@ void scoreSequence(const char* world_name, const char* trajectory, int step, int
     computeNormalMap(vertex, normal, 0.05f);
     const FrameSegments& s = seg.segment(vertex, normal, f.intrinsics.width, f.intrinsics.height);
     const FrameScore sc = score(s, f, world, 1500);
-    std::printf("%s frame %d: %d / %d objects one segment, %.0f%% of valid pixels in segments, %d segments "
-                "(ms: normals %.2f edges %.2f components %.2f)\n",
-                trajectory, k - 1, sc.recovered, sc.objects, 100 * sc.interior_fraction, s.count, s.ms_normals,
-                s.ms_edges, s.ms_components);
+    std::printf(
+        "%s frame %d: %d / %d objects one segment, %.0f%% of valid pixels in segments, %d segments "
+        "(ms: normals %.2f edges %.2f components %.2f)\n",
+        trajectory, k - 1, sc.recovered, sc.objects, 100 * sc.interior_fraction, s.count,
+        s.ms_normals, s.ms_edges, s.ms_components);
     objects += sc.objects;
     recovered += sc.recovered;
-    if (debug) writeDebug(std::string(debug) + "/" + trajectory + "_" + std::to_string(k - 1), s, f);
+    if (debug)
+      writeDebug(std::string(debug) + "/" + trajectory + "_" + std::to_string(k - 1), s, f);
   }
   ASSERT_GT(objects, 5) << "too few visible objects to measure";
   EXPECT_GE(double(recovered) / objects, min_recovered) << recovered << " of " << objects;
@@ -131,7 +136,9 @@ void scoreSequence(const char* world_name, const char* trajectory, int step, int
 
 }  // namespace
 
-TEST(SimulatedFrames, OfficeObjectsAreSegments) { scoreSequence("office", "office_handheld", 40, 5, 0.7); }
+TEST(SimulatedFrames, OfficeObjectsAreSegments) {
+  scoreSequence("office", "office_handheld", 40, 5, 0.7);
+}
 TEST(SimulatedFrames, ClutteredLabObjectsAreSegments) {
   scoreSequence("cluttered_lab", "cluttered_lab_handheld", 40, 5, 0.7);
 }

@@ -467,7 +467,7 @@ TEST(CSurfelMap, ClassColouringShowsTheBestClassFadedByItsProbability) {
   const SurfelArrays a = map.arrays();
   for (int i = 0; i < 3; ++i) classEvidenceClear(a.classEvidence(i));
   for (int k = 0; k < 10; ++k) classEvidenceUpdate(a.classEvidence(0), 57, 0.99f);  // clamped
-  classEvidenceUpdate(a.classEvidence(1), 57, 0.75f);                              // p = 0.75
+  classEvidenceUpdate(a.classEvidence(1), 57, 0.75f);                               // p = 0.75
   map.renderingOptions.visual.colouring = SurfelColouring::Class;
   mrpt::opengl::CSetOfObjects objs;
   map.getVisualizationInto(objs);

@@ -319,7 +319,8 @@ TEST(VoxelBlockIndex, StableSurfelsComeFirstInTheirBlock) {
     for (int b = 0; b < index.blockCapacity(); ++b) {
       const std::vector<int>& m = index.members(b);
       for (int k = 0; k < int(m.size()); ++k)
-        ASSERT_EQ(a.stable(m[k]), k < index.stableCount(b)) << when << ": block " << b << " slot " << k;
+        ASSERT_EQ(a.stable(m[k]), k < index.stableCount(b))
+            << when << ": block " << b << " slot " << k;
       stable += index.stableCount(b);
     }
     int expect = 0;

@@ -24,11 +24,15 @@ namespace {
 
 const CameraIntrinsics K(80.0, 80.0, 39.5, 29.5, 80, 60);
 
-RigidF rigid(const Eigen::Isometry3d& T) { return RigidF::fromMatrix(T.matrix().cast<float>()); }
+RigidF rigid(const Eigen::Isometry3d& T) {
+  return RigidF::fromMatrix(T.matrix().cast<float>());
+}
 
-/// Kernel aligning `frame` (camera frame at T_world_cam) with `model` (world, rendered at T_world_model).
+/// Kernel aligning `frame` (camera frame at T_world_cam) with `model` (world, rendered at
+/// T_world_model).
 IcpReduceKernel makeKernel(const FrameLevel& frame, const Image<Vec3f>& mv, const Image<Vec3f>& mn,
-                           const Eigen::Isometry3d& T_world_cam, const Eigen::Isometry3d& T_world_model,
+                           const Eigen::Isometry3d& T_world_cam,
+                           const Eigen::Isometry3d& T_world_model,
                            const CameraIntrinsics& K_model = K) {
   IcpReduceKernel k;
   k.frame_vertex = frame.vertex.view();
@@ -103,9 +107,11 @@ TEST(IcpKernels, NoiseAndConfidenceWeights) {
   const double w = s * s * 0.4;
   EXPECT_EQ(a.inliers(), a0.inliers());
   EXPECT_NEAR(a.s[IcpAccumulator::kW], w * a0.inliers(), 1e-4 * a0.inliers());
-  EXPECT_NEAR(a.s[IcpAccumulator::kJtJ + 11], w * a0.s[IcpAccumulator::kJtJ + 11], 1e-4 * a0.inliers());
+  EXPECT_NEAR(a.s[IcpAccumulator::kJtJ + 11], w * a0.s[IcpAccumulator::kJtJ + 11],
+              1e-4 * a0.inliers());
   EXPECT_NEAR(-a.s[IcpAccumulator::kJtr + 2] / a.s[IcpAccumulator::kJtJ + 11], 0.01, 1e-5);
-  EXPECT_NEAR(a.s[IcpAccumulator::kR2], a0.s[IcpAccumulator::kR2], 1e-9 * a0.inliers());  // unweighted
+  EXPECT_NEAR(a.s[IcpAccumulator::kR2], a0.s[IcpAccumulator::kR2],
+              1e-9 * a0.inliers());  // unweighted
 }
 
 TEST(IcpKernels, JacobianMatchesFiniteDifferences) {
@@ -124,7 +130,8 @@ TEST(IcpKernels, JacobianMatchesFiniteDifferences) {
       if (k.pixel(x, y, J, r, w, depth) != kernels::kIcpInlier) continue;
       // The associated model point q and normal n (recomputed as the kernel does).
       const Vec3f pm = k.T_model_cam.apply(F.vertex(x, y));
-      const int u = int(K.fx * pm.x() / pm.z() + K.cx + 0.5), v = int(K.fy * pm.y() / pm.z() + K.cy + 0.5);
+      const int u = int(K.fx * pm.x() / pm.z() + K.cx + 0.5),
+                v = int(K.fy * pm.y() / pm.z() + K.cy + 0.5);
       const Eigen::Vector3d q = W.vertex(u, v).cast<double>(), n = W.normal(u, v).cast<double>();
       const Eigen::Vector3d pc = F.vertex(x, y).cast<double>(), c = T_cam.translation();
       auto residual = [&](const Vector6d& xi) {
@@ -137,7 +144,8 @@ TEST(IcpKernels, JacobianMatchesFiniteDifferences) {
         Vector6d e = Vector6d::Zero();
         e(i) = 1e-6;
         const double num = (residual(e) - residual(-e)) / 2e-6;
-        EXPECT_NEAR(J[i], num, 2e-3 * (1.0 + std::abs(num))) << "pixel " << x << "," << y << " dof " << i;
+        EXPECT_NEAR(J[i], num, 2e-3 * (1.0 + std::abs(num)))
+            << "pixel " << x << "," << y << " dof " << i;
       }
       ++checked;
     }
@@ -215,7 +223,8 @@ TEST(IcpKernels, CudaMatchesCpu) {
     const IcpAccumulator cpu = compute::reduce1D<IcpAccumulator>(k.items(), k);
     const IcpAccumulator gpu = tracking::cuda::reduceIcp(k);
     EXPECT_EQ(cpu.valid(), gpu.valid());
-    EXPECT_NEAR(cpu.inliers(), gpu.inliers(), 1e-4 * cpu.inliers() + 2);  // fast-math rounding at limits
+    EXPECT_NEAR(cpu.inliers(), gpu.inliers(),
+                1e-4 * cpu.inliers() + 2);  // fast-math rounding at limits
     for (int i = 0; i < IcpAccumulator::kSize; ++i)
       EXPECT_NEAR(cpu.s[i], gpu.s[i], 1e-3 * (1.0 + std::abs(cpu.s[i]))) << "entry " << i;
   }
@@ -288,7 +297,8 @@ TEST(IcpKernels, PhotometricJacobianMatchesFiniteDifferences) {
         ASSERT_EQ(at(e).pixel(x, y, Jp, rp, wp, dp), kernels::kIcpInlier);
         ASSERT_EQ(at(-e).pixel(x, y, Jm, rm, wm, dm), kernels::kIcpInlier);
         const double num = (rp - rm) / 2e-3;
-        EXPECT_NEAR(J[i], num, 0.02 * (0.1 + std::abs(num))) << "pixel " << x << "," << y << " dof " << i;
+        EXPECT_NEAR(J[i], num, 0.02 * (0.1 + std::abs(num)))
+            << "pixel " << x << "," << y << " dof " << i;
       }
       ++checked;
     }
@@ -370,8 +380,10 @@ TEST(TrackingCpu, ModelDownsampleBitIdenticalToTheKernel) {
       k.out_normal = sse_n.view();
       downsampleModelCpu(k);
       for (int y = 0; y < oh; ++y) {
-        EXPECT_EQ(0, std::memcmp(ref_v.row(y), sse_v.row(y), sizeof(Vec3f) * ow)) << level << " row " << y;
-        EXPECT_EQ(0, std::memcmp(ref_n.row(y), sse_n.row(y), sizeof(Vec3f) * ow)) << level << " row " << y;
+        EXPECT_EQ(0, std::memcmp(ref_v.row(y), sse_v.row(y), sizeof(Vec3f) * ow))
+            << level << " row " << y;
+        EXPECT_EQ(0, std::memcmp(ref_n.row(y), sse_n.row(y), sizeof(Vec3f) * ow))
+            << level << " row " << y;
         for (int x = 0; x < ow; ++x) {
           ++checked;
           holes += !(ref_v(x, y).x() == ref_v(x, y).x());

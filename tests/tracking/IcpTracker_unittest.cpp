@@ -32,7 +32,8 @@ std::vector<FrameLevel> pyramidOf(const Image<float>& depth) {
   return pyr;
 }
 
-ModelMaps modelMaps(ImageView<const Vec3f> vertex, ImageView<const Vec3f> normal, const Eigen::Isometry3d& T_world_model) {
+ModelMaps modelMaps(ImageView<const Vec3f> vertex, ImageView<const Vec3f> normal,
+                    const Eigen::Isometry3d& T_world_model) {
   ModelMaps m;
   m.vertex_world = vertex;
   m.normal_world = normal;
@@ -51,7 +52,8 @@ struct Pair {
   std::vector<FrameLevel> pyr_a, pyr_b;
   std::unique_ptr<WorldMaps> model;
 
-  Pair(const Scene& scene, const Eigen::Isometry3d& Ta, const Eigen::Isometry3d& Tb, double sigma_m = 0.0)
+  Pair(const Scene& scene, const Eigen::Isometry3d& Ta, const Eigen::Isometry3d& Tb,
+       double sigma_m = 0.0)
       : T_a(Ta), T_b(Tb) {
     pyr_a = pyramidOf(scene.render(K, T_a, sigma_m, 11));
     pyr_b = pyramidOf(scene.render(K, T_b, sigma_m, 22));
@@ -64,7 +66,8 @@ struct Pair {
 
 const Eigen::Isometry3d kRoomPose = lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5});
 
-void expectPoseNear(const Eigen::Isometry3d& est, const Eigen::Isometry3d& gt, double tol_m, double tol_deg) {
+void expectPoseNear(const Eigen::Isometry3d& est, const Eigen::Isometry3d& gt, double tol_m,
+                    double tol_deg) {
   EXPECT_LT(translationDistance(gt, est), tol_m) << "translation error (m)";
   EXPECT_LT(rotationAngle(gt, est) / kDeg, tol_deg) << "rotation error (deg)";
 }
@@ -118,12 +121,15 @@ TEST(IcpTracker, CoarseToFineWidensBasinOfConvergence) {
 
   std::mt19937 rng(7);
   std::normal_distribution<double> N(0, 1);
-  auto converged = [&](const TTrackingParams& P, const std::vector<FrameLevel>& pyr_b, const Eigen::Isometry3d& T_b) {
+  auto converged = [&](const TTrackingParams& P, const std::vector<FrameLevel>& pyr_b,
+                       const Eigen::Isometry3d& T_b) {
     IcpTracker tr(P);
     const TrackingResult r = tr.align(pyr_b, modelOf(model, kRoomPose), kRoomPose);
-    return r.ok && translationDistance(T_b, r.T_world_cam) < 1e-3 && rotationAngle(T_b, r.T_world_cam) < 0.05 * kDeg;
+    return r.ok && translationDistance(T_b, r.T_world_cam) < 1e-3 &&
+           rotationAngle(T_b, r.T_world_cam) < 0.05 * kDeg;
   };
-  for (const auto& [offset_m, offset_deg, trials] : {std::tuple{0.1, 5.0, 4}, std::tuple{0.25, 12.0, 16}}) {
+  for (const auto& [offset_m, offset_deg, trials] :
+       {std::tuple{0.1, 5.0, 4}, std::tuple{0.25, 12.0, 16}}) {
     int ok_pyramid = 0, ok_single = 0;
     for (int i = 0; i < trials; ++i) {
       const Eigen::Vector3d t(N(rng), N(rng), N(rng)), axis(N(rng), N(rng), N(rng));
@@ -132,10 +138,13 @@ TEST(IcpTracker, CoarseToFineWidensBasinOfConvergence) {
       ok_pyramid += converged(pyramid, pyr_b, T_b);
       ok_single += converged(single, pyr_b, T_b);
     }
-    SCOPED_TRACE(::testing::Message() << offset_m << " m / " << offset_deg << " deg: pyramid " << ok_pyramid
-                                      << "/" << trials << ", single level " << ok_single << "/" << trials);
-    ::testing::Test::RecordProperty("converged_pyramid_" + std::to_string(int(offset_deg)) + "deg", ok_pyramid);
-    ::testing::Test::RecordProperty("converged_single_" + std::to_string(int(offset_deg)) + "deg", ok_single);
+    SCOPED_TRACE(::testing::Message()
+                 << offset_m << " m / " << offset_deg << " deg: pyramid " << ok_pyramid << "/"
+                 << trials << ", single level " << ok_single << "/" << trials);
+    ::testing::Test::RecordProperty("converged_pyramid_" + std::to_string(int(offset_deg)) + "deg",
+                                    ok_pyramid);
+    ::testing::Test::RecordProperty("converged_single_" + std::to_string(int(offset_deg)) + "deg",
+                                    ok_single);
     if (offset_m < 0.15) {
       EXPECT_EQ(ok_pyramid, trials);
     } else {
@@ -191,7 +200,8 @@ TEST(IcpTracker, EmptyModelIsLost) {
   // All-invalid maps of the right size behave the same.
   const Vec3f nan = Vec3f::Constant(std::numeric_limits<float>::quiet_NaN());
   const Image<Vec3f> invalid(K.width, K.height, nan);
-  const TrackingResult r2 = tr.align(p.pyr_b, modelMaps(invalid.view(), invalid.view(), kRoomPose), kRoomPose);
+  const TrackingResult r2 =
+      tr.align(p.pyr_b, modelMaps(invalid.view(), invalid.view(), kRoomPose), kRoomPose);
   EXPECT_FALSE(r2.ok);
   EXPECT_EQ(r2.status, TrackingStatus::TooFewInliers);
 }
@@ -200,8 +210,8 @@ TEST(IcpTracker, UnrelatedModelIsLost) {
   // The model is the room seen from elsewhere, but claimed to be rendered from the frame's pose.
   const Scene scene = Scene::room();
   const std::vector<FrameLevel> pyr = pyramidOf(scene.render(K, kRoomPose));
-  for (const Eigen::Isometry3d& T_other :
-       {lookAt({-1.5, 1.5, 1.0}, {1.0, -1.0, 0.3}), kRoomPose * motion({0.5, 0, 0}, {0, 1, 0}, 40)}) {
+  for (const Eigen::Isometry3d& T_other : {lookAt({-1.5, 1.5, 1.0}, {1.0, -1.0, 0.3}),
+                                           kRoomPose * motion({0.5, 0, 0}, {0, 1, 0}, 40)}) {
     const WorldMaps other(pyramidOf(scene.render(K, T_other))[0], T_other);
     IcpTracker tr;
     const TrackingResult r = tr.align(pyr, modelOf(other, kRoomPose), kRoomPose);
@@ -216,7 +226,8 @@ TEST(IcpTracker, ConstantVelocityLossAndRecovery) {
   for (int i = 1; i < 6; ++i) gt.push_back(gt.back() * step);
 
   IcpTracker tr;  // default: constant velocity
-  EXPECT_EQ(tr.track(pyramidOf(scene.render(K, gt[1])), ModelMaps{}).status, TrackingStatus::NotInitialized);
+  EXPECT_EQ(tr.track(pyramidOf(scene.render(K, gt[1])), ModelMaps{}).status,
+            TrackingStatus::NotInitialized);
   tr.reset(gt[0]);
   // The model is what the Mapper would render: the scene seen from the last good pose.
   auto trackFrame = [&](int i) {
@@ -232,7 +243,8 @@ TEST(IcpTracker, ConstantVelocityLossAndRecovery) {
   expectPoseNear(tr.predictPose(), gt[3], 2e-3, 0.1);
 
   // Frame 3 is lost (no model); the state keeps the last good pose, the velocity is dropped.
-  const TrackingResult lost = tr.track(pyramidOf(scene.render(K, gt[3])), modelMaps({}, {}, tr.lastGoodPose()));
+  const TrackingResult lost =
+      tr.track(pyramidOf(scene.render(K, gt[3])), modelMaps({}, {}, tr.lastGoodPose()));
   EXPECT_FALSE(lost.ok);
   expectPoseNear(tr.lastGoodPose(), gt[2], 1e-3, 0.05);
   expectPoseNear(tr.predictPose(), tr.lastGoodPose(), 1e-9, 1e-9);

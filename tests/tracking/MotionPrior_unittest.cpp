@@ -81,10 +81,13 @@ TEST(MotionPrior, FloorAndFarWallSlideFollowsThePrior) {
 
   // Odometry: right along the wall, 1 cm and 0.5 deg wrong in the directions the data fix.
   const Eigen::Isometry3d T_odo =
-      translated(s.T_b, {0.01, 0.0, 0.0}) * motion({0, 0, 0}, {0, 1, 0}, 0.5);  // yaw error (optical y = down)
-  const MotionPrior prior = MotionPrior::fromStdDevs(T_odo, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Constant(0.005),
-                                                     Eigen::Vector3d::Constant(0.5 * kDeg));
-  const TrackingResult r = tr.align(s.pyr_b, modelOf(*s.model, s.T_a), prior.T_world_cam, {}, &prior);
+      translated(s.T_b, {0.01, 0.0, 0.0}) *
+      motion({0, 0, 0}, {0, 1, 0}, 0.5);  // yaw error (optical y = down)
+  const MotionPrior prior =
+      MotionPrior::fromStdDevs(T_odo, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Constant(0.005),
+                               Eigen::Vector3d::Constant(0.5 * kDeg));
+  const TrackingResult r =
+      tr.align(s.pyr_b, modelOf(*s.model, s.T_a), prior.T_world_cam, {}, &prior);
   EXPECT_TRUE(r.ok) << toString(r.status);
   EXPECT_EQ(r.status, TrackingStatus::Degenerate) << "the weak direction is still reported";
   EXPECT_TRUE(r.used_prior);
@@ -103,8 +106,9 @@ TEST(MotionPrior, DataOverrulesAWrongPriorAndTheConflictIsReported) {
   const WorldMaps model(pyramidOf(scene.render(K, T_a))[0], T_a);
   const std::vector<FrameLevel> pyr_b = pyramidOf(scene.render(K, T_b));
   // A prior 8 cm off with a 1 cm sigma (wheel slip): the room constrains every direction.
-  const MotionPrior prior = MotionPrior::fromStdDevs(translated(T_b, {0.08, 0.0, 0.0}), Eigen::Matrix3d::Identity(),
-                                                     Eigen::Vector3d::Constant(0.01), Eigen::Vector3d::Constant(kDeg));
+  const MotionPrior prior =
+      MotionPrior::fromStdDevs(translated(T_b, {0.08, 0.0, 0.0}), Eigen::Matrix3d::Identity(),
+                               Eigen::Vector3d::Constant(0.01), Eigen::Vector3d::Constant(kDeg));
   TTrackingParams p = mechanismParams();
   p.max_prior_sigmas = 0.0;
   IcpTracker tr(p);
@@ -117,7 +121,8 @@ TEST(MotionPrior, DataOverrulesAWrongPriorAndTheConflictIsReported) {
   // per-frame noise (3 mm, 0.3 deg; [robot] gives 1-3 mm at 0.35 m/s): the data and the prior
   // disagree by far more than that noise, so one of them is wrong and nothing is fused.
   const MotionPrior odo = MotionPrior::fromStdDevs(prior.T_world_cam, Eigen::Matrix3d::Identity(),
-                                                   Eigen::Vector3d::Constant(0.003), Eigen::Vector3d::Constant(0.3 * kDeg));
+                                                   Eigen::Vector3d::Constant(0.003),
+                                                   Eigen::Vector3d::Constant(0.3 * kDeg));
   IcpTracker tr2;
   const TrackingResult r2 = tr2.align(pyr_b, modelOf(model, T_a), odo.T_world_cam, {}, &odo);
   EXPECT_FALSE(r2.ok);
@@ -169,10 +174,11 @@ TEST(LargeMotion, FiveDegreesAndThreeCentimetresConverge) {
   const Scene scene = Scene::room();
   const Eigen::Isometry3d T_a = lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5});
   const WorldMaps model(pyramidOf(scene.render(K, T_a))[0], T_a);
-  for (const Eigen::Vector3d& axis : {Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 0, 1),
-                                      Eigen::Vector3d(1, 1, 0.5)}) {
-    const Eigen::Isometry3d T_b = T_a * motion(0.03 * axis.normalized().cross(Eigen::Vector3d(0.3, 0.2, 1)).normalized(),
-                                               axis, 5.0);
+  for (const Eigen::Vector3d& axis : {Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1, 0, 0),
+                                      Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 1, 0.5)}) {
+    const Eigen::Isometry3d T_b =
+        T_a * motion(0.03 * axis.normalized().cross(Eigen::Vector3d(0.3, 0.2, 1)).normalized(),
+                     axis, 5.0);
     const std::vector<FrameLevel> pyr_b = pyramidOf(scene.render(K, T_b));
     IcpTracker tr;
     const TrackingResult r = tr.align(pyr_b, modelOf(model, T_a), T_a);

@@ -97,8 +97,10 @@ RunStats run(const Sequence& s, const TTrackingParams& P, bool bilateral, int st
   ::testing::Test::RecordProperty("ate_mm", std::to_string(st.ate_rmse_m * 1e3));
   ::testing::Test::RecordProperty("max_rpe_mm", std::to_string(st.max_rpe_m * 1e3));
   ::testing::Test::RecordProperty("max_rpe_deg", std::to_string(st.max_rpe_deg));
-  std::printf("frames %d lost %d ATE %.2f mm, max frame-to-frame error %.2f mm %.3f deg, %.1f iterations\n",
-              st.frames, st.lost, st.ate_rmse_m * 1e3, st.max_rpe_m * 1e3, st.max_rpe_deg, st.iterations_mean);
+  std::printf(
+      "frames %d lost %d ATE %.2f mm, max frame-to-frame error %.2f mm %.3f deg, %.1f iterations\n",
+      st.frames, st.lost, st.ate_rmse_m * 1e3, st.max_rpe_m * 1e3, st.max_rpe_deg,
+      st.iterations_mean);
   return st;
 }
 
@@ -113,7 +115,8 @@ RunStats run(const Sequence& s, const TTrackingParams& P, bool bilateral, int st
 // squares on raw depth, stride 2.
 TEST(RealSequences, TumFr1XyzFrameToFrame) {
   const fs::path dir = fs::path(RASM_SHARED_DATA) / "tum/fr1_xyz_first37";
-  if (!fs::exists(dir / "depth.txt")) GTEST_SKIP() << "TUM fr1_xyz_first37 not found under " << RASM_SHARED_DATA;
+  if (!fs::exists(dir / "depth.txt"))
+    GTEST_SKIP() << "TUM fr1_xyz_first37 not found under " << RASM_SHARED_DATA;
   const Sequence s = load(dir, 1000);
   ASSERT_GE(s.depth.size(), 30u);
   const RunStats st = run(s, TTrackingParams(), false);

@@ -67,7 +67,8 @@ class SimSweep {
 
  private:
   SimSweep(const std::string& world, const std::string& trajectory)
-      : scene_(std::make_unique<sim::RayScene>(sim::loadWorld(world))), path_(makePath(trajectory)) {
+      : scene_(std::make_unique<sim::RayScene>(sim::loadWorld(world))),
+        path_(makePath(trajectory)) {
     sensor_ = std::make_unique<sim::RgbdSensor>(*scene_, sim::TSensorParams());
   }
   static sim::HandheldTrajectory makePath(const std::string& name) {
@@ -81,15 +82,21 @@ class SimSweep {
 
 /// Keyframes of the office sweep from frames 0..last (every `step`-th frame offered to
 /// maybeAddKeyframe at its ground-truth pose).
-std::vector<maps::Keyframe> officeKeyframes(Relocaliser& reloc, std::size_t last, std::size_t step = 2) {
+std::vector<maps::Keyframe> officeKeyframes(Relocaliser& reloc, std::size_t last,
+                                            std::size_t step = 2) {
   const SimSweep& sim = SimSweep::office();
   std::vector<maps::Keyframe> db;
-  for (std::size_t i = 0; i <= last; i += step) reloc.maybeAddKeyframe(sim.frame(i), sim.pose(i), db);
+  for (std::size_t i = 0; i <= last; i += step)
+    reloc.maybeAddKeyframe(sim.frame(i), sim.pose(i), db);
   return db;
 }
 
-double poseErrorM(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) { return translationDistance(a, b); }
-double poseErrorDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) { return rotationAngle(a, b) / kDeg; }
+double poseErrorM(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return translationDistance(a, b);
+}
+double poseErrorDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return rotationAngle(a, b) / kDeg;
+}
 
 Eigen::Isometry3d translated(const Eigen::Isometry3d& T, const Eigen::Vector3d& d) {
   Eigen::Isometry3d out = T;
@@ -98,7 +105,8 @@ Eigen::Isometry3d translated(const Eigen::Isometry3d& T, const Eigen::Vector3d& 
 }
 Eigen::Isometry3d rotatedAboutCameraY(const Eigen::Isometry3d& T, double deg) {
   Eigen::Isometry3d out = T;
-  out.linear() = T.linear() * Eigen::AngleAxisd(deg * kDeg, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  out.linear() =
+      T.linear() * Eigen::AngleAxisd(deg * kDeg, Eigen::Vector3d::UnitY()).toRotationMatrix();
   return out;
 }
 
@@ -147,11 +155,16 @@ TEST(RelocalisationParams, DefaultsValidateAndRoundTrip) {
 }
 
 TEST(RelocalisationParams, BadValuesNameTheKey) {
-  EXPECT_NE(loadError("[relocalisation]\nmatch_ratio = 1.5\n").find("[relocalisation] match_ratio"), std::string::npos);
-  EXPECT_NE(loadError("[relocalisation]\nmin_inliers = 3\n").find("min_inliers"), std::string::npos);
-  EXPECT_NE(loadError("[relocalisation]\nmax_depth_m = 0.1\n").find("max_depth_m"), std::string::npos);
-  EXPECT_NE(loadError("[relocalisation]\nranking_features = 5000\n").find("ranking_features"), std::string::npos);
-  EXPECT_NE(loadError("[relocalisation]\norb_feature = 500\n").find("orb_feature"), std::string::npos);  // unknown
+  EXPECT_NE(loadError("[relocalisation]\nmatch_ratio = 1.5\n").find("[relocalisation] match_ratio"),
+            std::string::npos);
+  EXPECT_NE(loadError("[relocalisation]\nmin_inliers = 3\n").find("min_inliers"),
+            std::string::npos);
+  EXPECT_NE(loadError("[relocalisation]\nmax_depth_m = 0.1\n").find("max_depth_m"),
+            std::string::npos);
+  EXPECT_NE(loadError("[relocalisation]\nranking_features = 5000\n").find("ranking_features"),
+            std::string::npos);
+  EXPECT_NE(loadError("[relocalisation]\norb_feature = 500\n").find("orb_feature"),
+            std::string::npos);  // unknown
   TRelocalisationParams p;
   p.keyframe_min_features = 2;
   EXPECT_THROW(Relocaliser{p}, InputError);
@@ -204,10 +217,10 @@ TEST(Relocaliser, KeyframeSpacingRules) {
   };
   EXPECT_TRUE(offer(0, T0));  // empty database
   EXPECT_FALSE(offer(10, T0));
-  EXPECT_FALSE(offer(11, translated(T0, {0.2, 0, 0})));                           // within 0.3 m and 20 deg
+  EXPECT_FALSE(offer(11, translated(T0, {0.2, 0, 0})));  // within 0.3 m and 20 deg
   EXPECT_FALSE(offer(12, rotatedAboutCameraY(translated(T0, {0, 0.1, 0}), 15)));  // ditto
-  EXPECT_TRUE(offer(13, translated(T0, {0.35, 0, 0})));                           // 0.35 m from keyframe 0
-  EXPECT_FALSE(offer(14, rotatedAboutCameraY(T0, 25)));                           // far enough, but 1 frame later
+  EXPECT_TRUE(offer(13, translated(T0, {0.35, 0, 0})));  // 0.35 m from keyframe 0
+  EXPECT_FALSE(offer(14, rotatedAboutCameraY(T0, 25)));  // far enough, but 1 frame later
   EXPECT_FALSE(reloc.needsKeyframe(rotatedAboutCameraY(T0, 25), 17, db));
   EXPECT_TRUE(reloc.needsKeyframe(rotatedAboutCameraY(T0, 25), 18, db));
   EXPECT_TRUE(offer(18, rotatedAboutCameraY(T0, 25)));  // turning in place adds keyframes
@@ -243,7 +256,8 @@ TEST(Relocaliser, FullDatabaseReplacesTheMostRedundantKeyframe) {
     f.index = index;
     return reloc.maybeAddKeyframe(f, translated(T0, {x, 0, 0}), db);
   };
-  // Spacing (in units of 0.3 m) to the nearest other keyframe: x=0 -> 1.03, 0.31 -> 1.03, 1.5 -> 3.97.
+  // Spacing (in units of 0.3 m) to the nearest other keyframe: x=0 -> 1.03, 0.31 -> 1.03, 1.5
+  // -> 3.97.
   ASSERT_TRUE(offer(0, 0.0));
   ASSERT_TRUE(offer(1, 0.31));
   ASSERT_TRUE(offer(2, 1.5));
@@ -253,7 +267,8 @@ TEST(Relocaliser, FullDatabaseReplacesTheMostRedundantKeyframe) {
   EXPECT_EQ(db[0].frame_index, 3u);
   EXPECT_EQ(db[1].frame_index, 1u);
   EXPECT_EQ(db[2].frame_index, 2u);
-  // x = 1.85: 1.17 units from its nearest, less than every keyframe's own (3.97, 3.97, 5): kept out.
+  // x = 1.85: 1.17 units from its nearest, less than every keyframe's own (3.97, 3.97, 5): kept
+  // out.
   EXPECT_FALSE(offer(4, 1.85));
   EXPECT_EQ(db[0].frame_index, 3u);
   EXPECT_EQ(db[1].frame_index, 1u);
@@ -290,7 +305,8 @@ TEST(Relocaliser, RecoversSimulatedOfficePoses) {
       continue;
     }
     ++found;
-    const double em = poseErrorM(r->T_world_cam, sim.pose(i)), ed = poseErrorDeg(r->T_world_cam, sim.pose(i));
+    const double em = poseErrorM(r->T_world_cam, sim.pose(i)),
+                 ed = poseErrorDeg(r->T_world_cam, sim.pose(i));
     max_err_m = std::max(max_err_m, em);
     max_err_deg = std::max(max_err_deg, ed);
     EXPECT_LT(em, 0.05) << "frame " << i;
@@ -303,7 +319,8 @@ TEST(Relocaliser, RecoversSimulatedOfficePoses) {
   }
   const double n = std::max(tried, 1);
   std::printf(
-      "office: %zu keyframes, %d of %d frames relocalised, max error %.3f m %.2f deg, %.1f ms per call (ORB %.1f, "
+      "office: %zu keyframes, %d of %d frames relocalised, max error %.3f m %.2f deg, %.1f ms per "
+      "call (ORB %.1f, "
       "matching %.1f)\n",
       db.size(), found, tried, max_err_m, max_err_deg, ms / n, detect_ms / n, match_ms / n);
   ASSERT_GE(tried, 6);
@@ -320,14 +337,16 @@ TEST(Relocaliser, NoFalsePositiveOnUnrelatedViews) {
     const std::optional<RelocalisationResult> r = reloc.relocalise(sim.frame(i), db);
     if (r) {
       ++accepted;
-      ADD_FAILURE() << "frame " << i << " relocalised at " << poseErrorM(r->T_world_cam, sim.pose(i))
-                    << " m from the truth (" << r->inliers << " inliers)";
+      ADD_FAILURE() << "frame " << i << " relocalised at "
+                    << poseErrorM(r->T_world_cam, sim.pose(i)) << " m from the truth ("
+                    << r->inliers << " inliers)";
     }
   }
   EXPECT_EQ(accepted, 0);
   // Another world altogether.
   const SimSweep& lab = SimSweep::lab();
-  for (std::size_t i = 0; i <= 420; i += 60) EXPECT_FALSE(reloc.relocalise(lab.frame(i), db)) << "lab frame " << i;
+  for (std::size_t i = 0; i <= 420; i += 60)
+    EXPECT_FALSE(reloc.relocalise(lab.frame(i), db)) << "lab frame " << i;
 
   // A frame the keyframes do see, mirrored left-right (colour and depth): a scene that is no
   // rigid motion of the map.
@@ -411,7 +430,8 @@ TEST(Relocaliser, Fr3CabinetLeaveOneOut) {
 
   Relocaliser reloc;
   std::vector<std::optional<maps::Keyframe>> kfs;
-  for (std::size_t k = 0; k < frames.size(); ++k) kfs.push_back(reloc.makeKeyframe(frames[k], gt[k].T_world_cam));
+  for (std::size_t k = 0; k < frames.size(); ++k)
+    kfs.push_back(reloc.makeKeyframe(frames[k], gt[k].T_world_cam));
   int within = 0, inaccurate = 0, gross = 0, none = 0;
   double ms = 0, max_ms = 0, detect_ms = 0, match_ms = 0;
   for (std::size_t k = 0; k < frames.size(); ++k) {
@@ -435,12 +455,14 @@ TEST(Relocaliser, Fr3CabinetLeaveOneOut) {
       ++inaccurate;  // within ICP's reach (the Mapper verifies every relocalisation by ICP)
     else {
       ++gross;
-      ADD_FAILURE() << "keyframe " << k << ": relocalised " << em << " m / " << ed << " deg from the truth";
+      ADD_FAILURE() << "keyframe " << k << ": relocalised " << em << " m / " << ed
+                    << " deg from the truth";
     }
   }
   const double n = double(frames.size());
   std::printf(
-      "fr3_cabinet leave-one-out: %d within 5 cm / 3 deg, %d within 15 cm / 6 deg, %d wrong, %d not "
+      "fr3_cabinet leave-one-out: %d within 5 cm / 3 deg, %d within 15 cm / 6 deg, %d wrong, %d "
+      "not "
       "relocalised; %.1f ms per call (ORB %.1f, matching %.1f; max %.1f) against 57 keyframes\n",
       within, inaccurate, gross, none, ms / n, detect_ms / n, match_ms / n, max_ms);
   EXPECT_EQ(gross, 0);

@@ -46,7 +46,8 @@ struct Scene {
       if (t > 1e-6 && t < best) best = t;
     }
     for (const auto& b : boxes) {
-      double t0 = -std::numeric_limits<double>::infinity(), t1 = std::numeric_limits<double>::infinity();
+      double t0 = -std::numeric_limits<double>::infinity(),
+             t1 = std::numeric_limits<double>::infinity();
       for (int i = 0; i < 3; ++i) {
         if (std::abs(d[i]) < 1e-15) {
           if (o[i] < b.lo[i] || o[i] > b.hi[i]) t0 = std::numeric_limits<double>::infinity();
@@ -73,8 +74,8 @@ struct Scene {
 
   /// Depth image (z along the optical axis, metres; 0 = no hit or beyond max_depth_m) seen from
   /// T_world_cam, with optional Gaussian noise of sigma_m on each valid depth.
-  Image<float> render(const CameraIntrinsics& K, const Eigen::Isometry3d& T_world_cam, double sigma_m = 0.0,
-                      unsigned seed = 1, double max_depth_m = 8.0) const {
+  Image<float> render(const CameraIntrinsics& K, const Eigen::Isometry3d& T_world_cam,
+                      double sigma_m = 0.0, unsigned seed = 1, double max_depth_m = 8.0) const {
     Image<float> depth(K.width, K.height, 0.0f);
     const Eigen::Matrix3d R = T_world_cam.linear();
     const Eigen::Vector3d o = T_world_cam.translation();
@@ -106,7 +107,8 @@ struct Scene {
 #pragma omp parallel for schedule(static)
     for (int y = 0; y < K.height; ++y)
       for (int x = 0; x < K.width; ++x) {
-        const Eigen::Vector3d d = (R * Eigen::Vector3d((x - K.cx) / K.fx, (y - K.cy) / K.fy, 1.0)).normalized();
+        const Eigen::Vector3d d =
+            (R * Eigen::Vector3d((x - K.cx) / K.fx, (y - K.cy) / K.fy, 1.0)).normalized();
         const double t = cast(o, d);
         if (!std::isfinite(t)) continue;
         const double g = texture ? texture(o + t * d) : 0.5;
@@ -120,7 +122,8 @@ struct Scene {
   /// gradients are well defined at every pyramid level.
   static double smoothTexture(const Eigen::Vector3d& p) {
     const double k = 2.0 * M_PI;
-    return 0.5 + 0.2 * std::sin(k * p.x() / 0.3) * std::sin(k * p.z() / 0.25) + 0.12 * std::sin(k * (p.x() + p.y() + p.z()) / 0.11);
+    return 0.5 + 0.2 * std::sin(k * p.x() / 0.3) * std::sin(k * p.z() / 0.25) +
+           0.12 * std::sin(k * (p.x() + p.y() + p.z()) / 0.11);
   }
 
   /// A room (4 x 4 x 3 m, seen from inside) with two boxes and a sphere: every direction of
@@ -162,7 +165,8 @@ inline Eigen::Isometry3d lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3
 }
 
 /// Small rigid motion: translation (m) and rotation (deg) about a unit axis.
-inline Eigen::Isometry3d motion(const Eigen::Vector3d& t, const Eigen::Vector3d& axis, double angle_deg) {
+inline Eigen::Isometry3d motion(const Eigen::Vector3d& t, const Eigen::Vector3d& axis,
+                                double angle_deg) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(angle_deg * M_PI / 180.0, axis.normalized()).toRotationMatrix();
   T.translation() = t;

@@ -39,7 +39,8 @@ TEST(TrackingParams, DefaultsAreKinectFusionSchedule) {
 TEST(TrackingParams, LoadsAndRoundTrips) {
   const TTrackingParams p = load(
       "[tracking]\nnum_levels = 2\niterations_level0 = 7\nmax_dist_m_level1 = 0.2\n"
-      "motion_model = previous_pose\nhuber_delta_m = 0.01\nlevel0_pixel_stride = 1\nuse_cuda = false\n");
+      "motion_model = previous_pose\nhuber_delta_m = 0.01\nlevel0_pixel_stride = 1\nuse_cuda = "
+      "false\n");
   EXPECT_EQ(p.num_levels, 2);
   EXPECT_EQ(p.iterations[0], 7);
   EXPECT_EQ(p.iterations[1], 5);  // default kept

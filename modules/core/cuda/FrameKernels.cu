@@ -27,13 +27,15 @@ struct DeviceImage {
   DeviceImage(int w_, int h_) : buf(size_t(w_) * h_), w(w_), h(h_) {}
   ImageView<T> view() { return ImageView<T>(buf.ptr, w, h); }
   void upload(const Image<T>& im) {
-    compute::cuda::check(cudaMemcpy2D(buf.ptr, sizeof(T) * w, im.data(), im.pitchBytes(), sizeof(T) * w, h,
-                                      cudaMemcpyHostToDevice), "upload image");
+    compute::cuda::check(cudaMemcpy2D(buf.ptr, sizeof(T) * w, im.data(), im.pitchBytes(),
+                                      sizeof(T) * w, h, cudaMemcpyHostToDevice),
+                         "upload image");
   }
   void download(Image<T>& im) {
     im.resize(w, h);
-    compute::cuda::check(cudaMemcpy2D(im.data(), im.pitchBytes(), buf.ptr, sizeof(T) * w, sizeof(T) * w, h,
-                                      cudaMemcpyDeviceToHost), "download image");
+    compute::cuda::check(cudaMemcpy2D(im.data(), im.pitchBytes(), buf.ptr, sizeof(T) * w,
+                                      sizeof(T) * w, h, cudaMemcpyDeviceToHost),
+                         "download image");
   }
 };
 

@@ -53,25 +53,26 @@ inline void store4(Vec3f* p, __m128 x, __m128 y, __m128 z) {
 /// NormalMapKernel on pixels x .. x + 3 of an inner row (1 <= x, x + 3 <= width - 2): the same
 /// float operations in the same order per lane as the kernel (Eigen's cross, and its 3-term
 /// sums as a0 + (a1 + a2)), so the normals are bit-identical.
-inline void normals4(const Vec3f* up, const Vec3f* row, const Vec3f* down, int x, float max_jump_rel,
-                     Vec3f* out) {
+inline void normals4(const Vec3f* up, const Vec3f* row, const Vec3f* down, int x,
+                     float max_jump_rel, Vec3f* out) {
   const Vec3x4 c = load4(row + x), l = load4(row + x - 1), r = load4(row + x + 1),
                u = load4(up + x), d = load4(down + x);
   __m128 ok = _mm_and_ps(_mm_and_ps(_mm_cmpeq_ps(c.x, c.x), _mm_cmpeq_ps(l.x, l.x)),
-                         _mm_and_ps(_mm_cmpeq_ps(r.x, r.x), _mm_and_ps(_mm_cmpeq_ps(u.x, u.x),
-                                                                       _mm_cmpeq_ps(d.x, d.x))));
+                         _mm_and_ps(_mm_cmpeq_ps(r.x, r.x),
+                                    _mm_and_ps(_mm_cmpeq_ps(u.x, u.x), _mm_cmpeq_ps(d.x, d.x))));
   const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
   const __m128 lim = _mm_mul_ps(_mm_set1_ps(max_jump_rel), c.z);
   const auto within = [&](__m128 z) {
     return _mm_cmple_ps(_mm_and_ps(_mm_sub_ps(z, c.z), abs_mask), lim);
   };
-  ok = _mm_and_ps(ok, _mm_and_ps(_mm_and_ps(within(l.z), within(r.z)),
-                                 _mm_and_ps(within(u.z), within(d.z))));
+  ok = _mm_and_ps(
+      ok, _mm_and_ps(_mm_and_ps(within(l.z), within(r.z)), _mm_and_ps(within(u.z), within(d.z))));
   const __m128 ax = _mm_sub_ps(r.x, l.x), ay = _mm_sub_ps(r.y, l.y), az = _mm_sub_ps(r.z, l.z);
   const __m128 bx = _mm_sub_ps(d.x, u.x), by = _mm_sub_ps(d.y, u.y), bz = _mm_sub_ps(d.z, u.z);
   __m128 nx, ny, nz;
   sse::cross(ax, ay, az, bx, by, bz, nx, ny, nz);
-  const __m128 len = _mm_sqrt_ps(sse::sum3(_mm_mul_ps(nx, nx), _mm_mul_ps(ny, ny), _mm_mul_ps(nz, nz)));
+  const __m128 len =
+      _mm_sqrt_ps(sse::sum3(_mm_mul_ps(nx, nx), _mm_mul_ps(ny, ny), _mm_mul_ps(nz, nz)));
   ok = _mm_and_ps(ok, _mm_cmpgt_ps(len, _mm_setzero_ps()));
   nx = _mm_div_ps(nx, len);
   ny = _mm_div_ps(ny, len);
@@ -110,8 +111,8 @@ void computeVertexMap(const Image<float>& depth_m, const CameraIntrinsics& K, Im
       const __m128 z = _mm_loadu_ps(d + x);
       const __m128 ok = _mm_and_ps(_mm_cmpge_ps(z, zlo), _mm_cmple_ps(z, zhi));
       const __m128 rx = _mm_div_ps(_mm_sub_ps(_mm_add_ps(_mm_set1_ps(float(x)), lanes), cx), fx);
-      const __m128 X = sse::select(ok, _mm_mul_ps(rx, z), nx), Y = sse::select(ok, _mm_mul_ps(ry, z), ny),
-                   Z = sse::select(ok, z, nz);
+      const __m128 X = sse::select(ok, _mm_mul_ps(rx, z), nx),
+                   Y = sse::select(ok, _mm_mul_ps(ry, z), ny), Z = sse::select(ok, z, nz);
       store4(out + x, X, Y, Z);
     }
     for (; x < w; ++x) k(x, y);
@@ -120,7 +121,8 @@ void computeVertexMap(const Image<float>& depth_m, const CameraIntrinsics& K, Im
 
 void computeNormalMap(const Image<Vec3f>& vertex, Image<Vec3f>& normal, float max_jump_rel,
                       compute::Backend backend) {
-  if (backend == compute::Backend::Cuda) return cuda::computeNormalMap(vertex, normal, max_jump_rel);
+  if (backend == compute::Backend::Cuda)
+    return cuda::computeNormalMap(vertex, normal, max_jump_rel);
   const int w = vertex.width(), h = vertex.height();
   normal.resize(w, h);
   const kernels::NormalMapKernel k{vertex.view(), normal.view(), max_jump_rel};
@@ -159,8 +161,10 @@ inline __m128 exp2NonPositive(__m128 t) {
   // (a0 + a1 f) + f^2 (a2 + a3 f) + f^4 ((a4 + a5 f) + f^2 a6).
   const __m128 f2 = _mm_mul_ps(f, f), f4 = _mm_mul_ps(f2, f2);
   const __m128 p01 = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(6.9314718e-1f), f), _mm_set1_ps(1.0f));
-  const __m128 p23 = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(5.5504109e-2f), f), _mm_set1_ps(2.4022651e-1f));
-  const __m128 p45 = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(1.3333558e-3f), f), _mm_set1_ps(9.6181291e-3f));
+  const __m128 p23 =
+      _mm_add_ps(_mm_mul_ps(_mm_set1_ps(5.5504109e-2f), f), _mm_set1_ps(2.4022651e-1f));
+  const __m128 p45 =
+      _mm_add_ps(_mm_mul_ps(_mm_set1_ps(1.3333558e-3f), f), _mm_set1_ps(9.6181291e-3f));
   const __m128 p46 = _mm_add_ps(p45, _mm_mul_ps(f2, _mm_set1_ps(1.5403530e-4f)));
   const __m128 p = _mm_add_ps(_mm_add_ps(p01, _mm_mul_ps(f2, p23)), _mm_mul_ps(f4, p46));
   const __m128i e = _mm_slli_epi32(_mm_add_epi32(_mm_cvtps_epi32(n), _mm_set1_epi32(127)), 23);
@@ -172,13 +176,17 @@ constexpr double kLog2e = 1.4426950408889634;
 /// Lanes of v moved k (0..3) places up (towards lane 3) / down (towards lane 0), zeros shifted in.
 template <int k>
 inline __m128 lanesUp(__m128 v) {
-  if constexpr (k == 0) return v;
-  else return _mm_castsi128_ps(_mm_slli_si128(_mm_castps_si128(v), 4 * k));
+  if constexpr (k == 0)
+    return v;
+  else
+    return _mm_castsi128_ps(_mm_slli_si128(_mm_castps_si128(v), 4 * k));
 }
 template <int k>
 inline __m128 lanesDown(__m128 v) {
-  if constexpr (k == 0) return v;
-  else return _mm_castsi128_ps(_mm_srli_si128(_mm_castps_si128(v), 4 * k));
+  if constexpr (k == 0)
+    return v;
+  else
+    return _mm_castsi128_ps(_mm_srli_si128(_mm_castps_si128(v), 4 * k));
 }
 
 /// The sums (w z and w) of one accumulator row for the group of four pixels being visited (cur)
@@ -259,11 +267,12 @@ struct PairSums {
 /// One band of rows [lo, hi) of the pair-symmetric bilateral filter (bilateralFilterDepth):
 /// pixel rows of the padded input `prow(y)`, sums in rows of `acc` (R + 1 slots of 2 x aw floats).
 template <int R, typename RowOf>
-void bilateralBand(const RowOf& prow, Image<float>& out, int lo, int hi, int w4, float sigma_space_px,
-                   float sigma_depth_m, std::vector<float>& acc) {
+void bilateralBand(const RowOf& prow, Image<float>& out, int lo, int hi, int w4,
+                   float sigma_space_px, float sigma_depth_m, std::vector<float>& acc) {
   constexpr auto taps = forwardOffsets<R>();
   constexpr int kTaps = int(taps.size());
-  // Weight = 2^(space[k] - dz^2 * id2): (dx^2 + dy^2) / 2 sigma_s^2 and 1 / 2 sigma_d^2 in log2 units.
+  // Weight = 2^(space[k] - dz^2 * id2): (dx^2 + dy^2) / 2 sigma_s^2 and 1 / 2 sigma_d^2 in log2
+  // units.
   __m128 space[kTaps + 1];
   for (int k = 0; k < kTaps; ++k)
     space[k] = _mm_set1_ps(-float(double(taps[k].dx * taps[k].dx + taps[k].dy * taps[k].dy) /
@@ -339,13 +348,12 @@ void bilateralBand(const RowOf& prow, Image<float>& out, int lo, int hi, int w4,
 
 }  // namespace
 
-void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius, float sigma_space_px,
-                          float sigma_depth_m) {
+void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
+                          float sigma_space_px, float sigma_depth_m) {
   if (&in == &out) throw std::invalid_argument("bilateralFilterDepth: in and out must differ");
   if (radius < 0 || radius > 3 || !(sigma_space_px > 0.0f) || !(sigma_depth_m > 0.0f))
-    throw std::invalid_argument(
-        "bilateralFilterDepth: radius must be 0..3 (got " + std::to_string(radius) +
-        ") and both sigmas > 0");
+    throw std::invalid_argument("bilateralFilterDepth: radius must be 0..3 (got " +
+                                std::to_string(radius) + ") and both sigmas > 0");
   const int w = in.width(), h = in.height();
   out.resize(w, h);
   if (w == 0 || h == 0) return;
@@ -368,9 +376,11 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
   thread_local std::vector<float> padded;  // (the calling thread's; the team uses `pad`)
   padded.resize(std::size_t(pw) * ph);
   float* const pad = padded.data();
-  const auto prow = [pad, pw, r](int y) { return pad + std::size_t(y + r) * pw + r; };  // image row y
-  std::fill(pad, pad + std::size_t(r) * pw, 0.0f);                                 // rows above
-  std::fill(pad + std::size_t(h + r) * pw, pad + std::size_t(ph) * pw, 0.0f);      // rows below
+  const auto prow = [pad, pw, r](int y) {
+    return pad + std::size_t(y + r) * pw + r;
+  };                                                                           // image row y
+  std::fill(pad, pad + std::size_t(r) * pw, 0.0f);                             // rows above
+  std::fill(pad + std::size_t(h + r) * pw, pad + std::size_t(ph) * pw, 0.0f);  // rows below
   compute::forEach1D(h, [&](int y) {
     const float* src = in.row(y);
     float* dst = prow(y);
@@ -384,10 +394,14 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
     const int lo = int(std::int64_t(h) * b / nbands), hi = int(std::int64_t(h) * (b + 1) / nbands);
     thread_local std::vector<float> acc;  // this thread's accumulator rows
     switch (r) {
-      case 0: return bilateralBand<0>(prow, out, lo, hi, w4, sigma_space_px, sigma_depth_m, acc);
-      case 1: return bilateralBand<1>(prow, out, lo, hi, w4, sigma_space_px, sigma_depth_m, acc);
-      case 2: return bilateralBand<2>(prow, out, lo, hi, w4, sigma_space_px, sigma_depth_m, acc);
-      default: return bilateralBand<3>(prow, out, lo, hi, w4, sigma_space_px, sigma_depth_m, acc);
+      case 0:
+        return bilateralBand<0>(prow, out, lo, hi, w4, sigma_space_px, sigma_depth_m, acc);
+      case 1:
+        return bilateralBand<1>(prow, out, lo, hi, w4, sigma_space_px, sigma_depth_m, acc);
+      case 2:
+        return bilateralBand<2>(prow, out, lo, hi, w4, sigma_space_px, sigma_depth_m, acc);
+      default:
+        return bilateralBand<3>(prow, out, lo, hi, w4, sigma_space_px, sigma_depth_m, acc);
     }
   });
 }
@@ -409,7 +423,8 @@ void buildFramePyramid(const Image<float>& depth_m, const CameraIntrinsics& K, i
 
 #ifndef RASM_HAVE_CUDA
 namespace cuda {
-void computeVertexMap(const Image<float>&, const CameraIntrinsics&, Image<Vec3f>&, const VertexMapOptions&) {
+void computeVertexMap(const Image<float>&, const CameraIntrinsics&, Image<Vec3f>&,
+                      const VertexMapOptions&) {
   throw std::runtime_error("rasm was built without CUDA (RASM_WITH_CUDA=OFF or no nvcc)");
 }
 void computeNormalMap(const Image<Vec3f>&, Image<Vec3f>&, float) {

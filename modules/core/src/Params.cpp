@@ -49,7 +49,8 @@ std::string kindOf(const std::string& read) {
 }
 }  // namespace
 
-std::set<std::string> knownKeys(const mrpt::config::CLoadableOptions& params, const std::string& section) {
+std::set<std::string> knownKeys(const mrpt::config::CLoadableOptions& params,
+                                const std::string& section) {
   mrpt::config::CConfigFileMemory mem;
   params.saveToConfigFile(mem, section);
   std::vector<std::string> keys;
@@ -82,7 +83,8 @@ void loadParamsStrict(const mrpt::config::CConfigFileBase& cfg, const std::strin
   mrpt::config::CConfigFileMemory echo;
   params.saveToConfigFile(echo, section);
   for (const auto& k : keys) {
-    const std::string given = trim(cfg.read_string(section, k, "")), read = trim(echo.read_string(section, k, ""));
+    const std::string given = trim(cfg.read_string(section, k, "")),
+                      read = trim(echo.read_string(section, k, ""));
     if (!sameValue(given, read))
       throwInputError(source + " [" + section + "] " + k,
                       "bad value '" + given + "' (understood as '" + read + "'; expected a " +
@@ -90,7 +92,8 @@ void loadParamsStrict(const mrpt::config::CConfigFileBase& cfg, const std::strin
   }
 }
 
-void requireInRange(double value, double lo, double hi, const std::string& section, const std::string& key) {
+void requireInRange(double value, double lo, double hi, const std::string& section,
+                    const std::string& key) {
   if (!(value >= lo && value <= hi)) {
     std::ostringstream s;
     s << "value " << value << " out of range, expected [" << lo << ", " << hi << "]";

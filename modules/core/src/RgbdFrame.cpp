@@ -18,8 +18,9 @@ void RgbdFrame::validate(const std::string& source) const {
   }
   if (!colour.empty() && !colour.sameSize(depth_m)) {
     std::ostringstream s;
-    s << "colour image is " << colour.width() << "x" << colour.height() << ", expected the depth size "
-      << depth_m.width() << "x" << depth_m.height() << " (registered RGB-D)";
+    s << "colour image is " << colour.width() << "x" << colour.height()
+      << ", expected the depth size " << depth_m.width() << "x" << depth_m.height()
+      << " (registered RGB-D)";
     throwInputError(source, s.str());
   }
   for (int y = 0; y < depth_m.height(); ++y) {

@@ -10,8 +10,8 @@ namespace rasm::fusion {
 namespace {
 
 using sse::cross;
-using sse::rigidRow;
 using sse::gather3;
+using sse::rigidRow;
 using sse::select;
 using sse::sum3;
 
@@ -63,9 +63,11 @@ void viewBins4(const kernels::FusionKernelParams& prm, const RigidF& T_world_cam
                         _mm_andnot_si128(_mm_castps_si128(m), _mm_set1_epi32(b)));
   };
   const auto pickv = [](__m128 m, __m128i a, __m128i b) {
-    return _mm_or_si128(_mm_and_si128(_mm_castps_si128(m), a), _mm_andnot_si128(_mm_castps_si128(m), b));
+    return _mm_or_si128(_mm_and_si128(_mm_castps_si128(m), a),
+                        _mm_andnot_si128(_mm_castps_si128(m), b));
   };
-  // y >= 0: x > 0 ? (y < x ? 4 : 5) : (y > -x ? 6 : 7); else x < 0 ? (ay < ax ? 0 : 1) : (ay > x ? 2 : 3).
+  // y >= 0: x > 0 ? (y < x ? 4 : 5) : (y > -x ? 6 : 7); else x < 0 ? (ay < ax ? 0 : 1) : (ay > x ?
+  // 2 : 3).
   const __m128 neg_x = _mm_xor_ps(x, _mm_set1_ps(-0.0f));
   const __m128i upper = pickv(_mm_cmpgt_ps(x, zero), pick(_mm_cmplt_ps(y, x), 4, 5),
                               pick(_mm_cmpgt_ps(y, neg_x), 6, 7));
@@ -80,7 +82,8 @@ void viewBins4(const kernels::FusionKernelParams& prm, const RigidF& T_world_cam
 
 /// kernels::updateViewBinAt, with the exponential skipped where it cannot raise the bin.
 inline void updateViewBinAtCpu(const maps::SurfelArrays& s, int i, int bin, float dist,
-                               const kernels::FusionKernelParams& prm, const ViewInfoThresholds* ic) {
+                               const kernels::FusionKernelParams& prm,
+                               const ViewInfoThresholds* ic) {
   if (ic) {
     const std::uint8_t v = s.viewRow(i)[bin];
     if (v == 255 || dist >= ic->below[v]) return;  // (a NaN distance takes the kernel's path)
@@ -167,7 +170,8 @@ void updateFour(const kernels::UpdateKernel& k, int y, const int* xs, int n,
   const int crossed = _mm_movemask_ps(
       _mm_and_ps(fuse, _mm_or_ps(_mm_or_ps(moved(qx, px), moved(qy, py)), moved(qz, pz))));
   const int fused = _mm_movemask_ps(fuse);
-  const __m128 ox_p = select(fuse, qx, px), oy_p = select(fuse, qy, py), oz_p = select(fuse, qz, pz);
+  const __m128 ox_p = select(fuse, qx, px), oy_p = select(fuse, qy, py),
+               oz_p = select(fuse, qz, pz);
 
   alignas(16) float P[3][4], N[4][4], B[3][4], A[2][4], C[4], W[4];
   _mm_store_ps(P[0], ox_p);
@@ -186,10 +190,12 @@ void updateFour(const kernels::UpdateKernel& k, int y, const int* xs, int n,
   _mm_store_ps(W, w);
   // View bins on four lanes for the layouts viewBinIndex decides by comparisons, else per lane.
   const bool bins = k.prm.update_view_bins && s.n_view_bins > 0;
-  const bool bins4 = bins && k.prm.n_azimuth == 8 && k.prm.n_elevation >= 1 && k.prm.n_elevation <= 4;
+  const bool bins4 =
+      bins && k.prm.n_azimuth == 8 && k.prm.n_elevation >= 1 && k.prm.n_elevation <= 4;
   int bin[4];
   float dist[4];
-  if (bins4) viewBins4(k.prm, k.T_world_cam, ox_p, oy_p, oz_p, ox, oy, oz, obx, oby, obz, bin, dist);
+  if (bins4)
+    viewBins4(k.prm, k.T_world_cam, ox_p, oy_p, oz_p, ox, oy, oz, obx, oby, obz, bin, dist);
   for (int l = 0; l < n; ++l) {
     const int x = xs[l], i = idx[l];
     std::uint16_t f = k.flags(x, y);
@@ -229,7 +235,8 @@ int measureFour(const kernels::FrameView& fv, const kernels::FusionKernelParams&
   __m128 ok = _mm_and_ps(_mm_cmpeq_ps(vx, vx), _mm_cmpeq_ps(nx, nx));
   ok = _mm_and_ps(ok, _mm_and_ps(_mm_cmpge_ps(vz, _mm_set1_ps(prm.min_depth_m)),
                                  _mm_cmple_ps(vz, _mm_set1_ps(prm.max_depth_m))));
-  const __m128 vnorm = _mm_sqrt_ps(sum3(_mm_mul_ps(vx, vx), _mm_mul_ps(vy, vy), _mm_mul_ps(vz, vz)));
+  const __m128 vnorm =
+      _mm_sqrt_ps(sum3(_mm_mul_ps(vx, vx), _mm_mul_ps(vy, vy), _mm_mul_ps(vz, vz)));
   const __m128 ndv = sum3(_mm_mul_ps(nx, vx), _mm_mul_ps(ny, vy), _mm_mul_ps(nz, vz));
   const __m128 cos_inc = _mm_div_ps(_mm_xor_ps(ndv, sign), vnorm);
   ok = _mm_and_ps(ok, _mm_cmpnlt_ps(cos_inc, _mm_set1_ps(prm.min_cos_incidence)));  // !(cos < min)
@@ -244,7 +251,8 @@ int measureFour(const kernels::FrameView& fv, const kernels::FusionKernelParams&
   anz = select(_mm_cmplt_ps(anz, _mm_set1_ps(0.2f)), _mm_set1_ps(0.2f), anz);
   const __m128 r = _mm_div_ps(vz, _mm_mul_ps(_mm_set1_ps(1.41421356f * fv.focal_px), anz));
   const float* R = T_world_cam.m;
-  const __m128 nwx = sse::rigidRow(R, nx, ny, nz, false), nwy = sse::rigidRow(R + 4, nx, ny, nz, false),
+  const __m128 nwx = sse::rigidRow(R, nx, ny, nz, false),
+               nwy = sse::rigidRow(R + 4, nx, ny, nz, false),
                nwz = sse::rigidRow(R + 8, nx, ny, nz, false);
   const __m128 dz_max =
       _mm_max_ps(_mm_set1_ps(prm.assoc_dz_abs_m), _mm_mul_ps(_mm_set1_ps(prm.assoc_dz_rel), vz));
@@ -353,7 +361,9 @@ void ViewInfoThresholds::build(float l1, float dm) {
   if (builtFor(l1, dm)) return;
   lambda1 = l1;
   d_min_m = dm;
-  const auto q = [&](float d) { return maps::quantizeUnit(maps::kernels::informationContent(d, l1, dm)); };
+  const auto q = [&](float d) {
+    return maps::quantizeUnit(maps::kernels::informationContent(d, l1, dm));
+  };
   // Positive floats are ordered as their bit patterns: bisect over those, between 0 (IC 1) and
   // the largest finite float (IC 0 for any lambda1 > 0).
   for (int v = 0; v < 255; ++v) {

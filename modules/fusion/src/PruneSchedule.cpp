@@ -87,7 +87,8 @@ void PruneSchedule::moved(const std::vector<std::pair<int, int>>& moved, int new
 void PruneSchedule::permute(const std::vector<int>& new_of_old) {
   const std::int32_t n = std::int32_t(key_.size());
   std::vector<std::int32_t> key(key_.size(), kNone);
-  for (std::int32_t i = 0; i < n; ++i) key[std::size_t(new_of_old[std::size_t(i)])] = key_[std::size_t(i)];
+  for (std::int32_t i = 0; i < n; ++i)
+    key[std::size_t(new_of_old[std::size_t(i)])] = key_[std::size_t(i)];
   key_.swap(key);
   // Entries keep their bucket; an entry is live when its surfel's key maps to that bucket, and
   // key and surfel move together, so the rule still holds. Entries past the end are dropped.

@@ -18,7 +18,9 @@ namespace {
 
 constexpr float kDegToRad = 3.14159265358979f / 180.0f;
 
-RigidF toRigid(const Eigen::Isometry3d& T) { return RigidF::fromMatrix(T.matrix().cast<float>()); }
+RigidF toRigid(const Eigen::Isometry3d& T) {
+  return RigidF::fromMatrix(T.matrix().cast<float>());
+}
 
 kernels::FusionKernelParams plainParams(const TFusionParams& p,
                                         const maps::SurfelStoreOptions& layout) {
@@ -183,7 +185,8 @@ double msSince(Clock::time_point t0) {
 }
 }  // namespace
 
-SurfelFusion::FrameSetup SurfelFusion::setUpFrame(const maps::SurfelStore& map, const FusionInput& in) {
+SurfelFusion::FrameSetup SurfelFusion::setUpFrame(const maps::SurfelStore& map,
+                                                  const FusionInput& in) {
   FrameSetup f;
   f.prm = plainParams(m_params, map.options());
   f.fv = frameView(in);
@@ -223,7 +226,8 @@ IndexMapView SurfelFusion::indexMap() const {
   return v;
 }
 
-IndexMapView SurfelFusion::renderIndexMap(maps::SurfelStore& map, const FusionInput& in, FusionStats& st) {
+IndexMapView SurfelFusion::renderIndexMap(maps::SurfelStore& map, const FusionInput& in,
+                                          FusionStats& st) {
   if (!in.K.valid()) throwInputError("SurfelFusion input", "invalid intrinsics " + in.K.toString());
   checkSize(in.depth_m, in.K, "depth image", false);
   checkSize(in.vertex_cam, in.K, "vertex map", false);
@@ -374,7 +378,8 @@ void SurfelFusion::updateSurfels(maps::SurfelStore& map, const FusionInput& in, 
     };
     if (bins) m_ic.build(prm.ic_lambda1, prm.ic_d_min_m);
     const auto updateRow = [&](int y) {
-      updateRowCpu(uk, y, keptRow(y), labels, bins, bins ? &m_ic : nullptr);  // (SSE, bit-identical)
+      updateRowCpu(uk, y, keptRow(y), labels, bins,
+                   bins ? &m_ic : nullptr);  // (SSE, bit-identical)
     };
     const bool cover = prm.neighbour_coverage_check;
     const auto coverRow = [&](int y) {  // the band's own rows but its first and last: kept
@@ -391,7 +396,8 @@ void SurfelFusion::updateSurfels(maps::SurfelStore& map, const FusionInput& in, 
     {
 #pragma omp for schedule(dynamic, 1)
       for (int b = 0; b < nbands; ++b) {
-        const int lo = int(std::int64_t(h) * b / nbands), hi = int(std::int64_t(h) * (b + 1) / nbands);
+        const int lo = int(std::int64_t(h) * b / nbands),
+                  hi = int(std::int64_t(h) * (b + 1) / nbands);
         for (int y = lo; y < hi; ++y) {
           associateRow(y);
           updateRow(y);
@@ -406,7 +412,8 @@ void SurfelFusion::updateSurfels(maps::SurfelStore& map, const FusionInput& in, 
       if (cover) {
 #pragma omp for schedule(dynamic, 1)
         for (int b = 0; b < nbands; ++b) {
-          const int lo = int(std::int64_t(h) * b / nbands), hi = int(std::int64_t(h) * (b + 1) / nbands);
+          const int lo = int(std::int64_t(h) * b / nbands),
+                    hi = int(std::int64_t(h) * (b + 1) / nbands);
           if (hi > lo) {
             coverRowMeasuring(lo);
             tallyRow(lo);
@@ -479,7 +486,8 @@ void SurfelFusion::addSurfels(maps::SurfelStore& map, const FusionInput& in, Fus
   map.reindex(movers);
   std::vector<int>& became_stable = m_stable_changed;
   became_stable.clear();
-  for (const auto& l : m_stable_lists) became_stable.insert(became_stable.end(), l.begin(), l.end());
+  for (const auto& l : m_stable_lists)
+    became_stable.insert(became_stable.end(), l.begin(), l.end());
   std::sort(became_stable.begin(), became_stable.end());
   map.refreshStable(became_stable);  // the index keeps stable surfels first
 
@@ -585,7 +593,7 @@ void SurfelFusion::mergeCpu(maps::SurfelStore& map, std::vector<int>& removed) {
     }
   }
   std::sort(kept.begin(), kept.end());  // (schedule-independent order, as in integrate())
-  map.refreshStable(kept);  // summed confidence may have made a survivor stable
+  map.refreshStable(kept);              // summed confidence may have made a survivor stable
   // A survivor may be listed twice; one that was merged on later is removed (reindex of a
   // removed surfel is harmless: the removal drops it from the index).
   std::vector<int> movers;
@@ -768,7 +776,8 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
   // between frames, set and cleared only for the affected ones) filters the pixels cheaply.
   if (!m_pixel_surfel.empty()) {
     RemapTable table(m_remap_table, removed.size() + moved.size());
-    if (m_remap_bits.size() < std::size_t(old_size / 64 + 1)) m_remap_bits.resize(old_size / 64 + 1, 0);
+    if (m_remap_bits.size() < std::size_t(old_size / 64 + 1))
+      m_remap_bits.resize(old_size / 64 + 1, 0);
     std::uint64_t* bits = m_remap_bits.data();
     for (int i : removed) {
       table.put(i, -1);

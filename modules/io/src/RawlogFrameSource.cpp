@@ -76,8 +76,12 @@ RawlogFrameSource::RawlogFrameSource(const std::string& path, const RawlogSource
 
 RawlogFrameSource::~RawlogFrameSource() = default;
 
-std::string RawlogFrameSource::describe() const { return "rawlog " + impl_->path; }
-std::size_t RawlogFrameSource::entriesRead() const { return impl_->entries; }
+std::string RawlogFrameSource::describe() const {
+  return "rawlog " + impl_->path;
+}
+std::size_t RawlogFrameSource::entriesRead() const {
+  return impl_->entries;
+}
 
 static bool isIdentity(const mrpt::poses::CPose3D& p) {
   return p.translation().norm() < 1e-9 &&

@@ -122,7 +122,9 @@ void RawlogWriter::write(const RgbdFrame& frame) {
   ++m.frames;
 }
 
-void RawlogWriter::writeObject(const mrpt::serialization::CSerializable& obj) { impl_->put(obj); }
+void RawlogWriter::writeObject(const mrpt::serialization::CSerializable& obj) {
+  impl_->put(obj);
+}
 
 void RawlogWriter::close() {
   Impl& m = *impl_;
@@ -135,6 +137,8 @@ void RawlogWriter::close() {
   if (ec) throwInputError("rawlog " + m.path, "cannot rename " + m.part + ": " + ec.message());
 }
 
-std::size_t RawlogWriter::framesWritten() const { return impl_->frames; }
+std::size_t RawlogWriter::framesWritten() const {
+  return impl_->frames;
+}
 
 }  // namespace rasm::io

@@ -23,7 +23,9 @@ const std::regex& depthFileRegex() {
   return re;
 }
 
-std::string frameStem(const std::string& digits) { return "frame-" + digits; }
+std::string frameStem(const std::string& digits) {
+  return "frame-" + digits;
+}
 
 /// camera-intrinsics.txt: a 3x3 K (row-major, whitespace separated).
 CameraIntrinsics readIntrinsicsFile(const std::string& path) {
@@ -162,9 +164,15 @@ SevenScenesFrameSource::SevenScenesFrameSource(const std::string& folder,
 
 SevenScenesFrameSource::~SevenScenesFrameSource() = default;
 
-std::string SevenScenesFrameSource::describe() const { return "7-Scenes folder " + impl_->folder; }
-long long SevenScenesFrameSource::sizeHint() const { return (long long)impl_->frames.size(); }
-const CameraIntrinsics& SevenScenesFrameSource::intrinsics() const { return impl_->K; }
+std::string SevenScenesFrameSource::describe() const {
+  return "7-Scenes folder " + impl_->folder;
+}
+long long SevenScenesFrameSource::sizeHint() const {
+  return (long long)impl_->frames.size();
+}
+const CameraIntrinsics& SevenScenesFrameSource::intrinsics() const {
+  return impl_->K;
+}
 
 std::optional<RgbdFrame> SevenScenesFrameSource::next() {
   Impl& m = *impl_;

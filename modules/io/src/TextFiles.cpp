@@ -9,7 +9,9 @@
 
 namespace rasm::io::detail {
 
-std::string where(const std::string& path, int line) { return path + ":" + std::to_string(line); }
+std::string where(const std::string& path, int line) {
+  return path + ":" + std::to_string(line);
+}
 
 std::vector<TextLine> readFieldLines(const std::string& path, const std::string& what) {
   std::ifstream in(path);

@@ -103,9 +103,10 @@ TumFrameSource::TumFrameSource(const std::string& folder, const TumSourceOptions
     // (its own timestamp is the original one, the image lists count 0..n-1).
     m.groundtruth_by_index = readTumTrajectory(by_index.string());
     if (m.groundtruth_by_index.size() != m.pairs.size())
-      throwInputError(by_index.string(), std::to_string(m.groundtruth_by_index.size()) + " poses for " +
-                                             std::to_string(m.pairs.size()) +
-                                             " frames (expected one row per frame, row k = frame k)");
+      throwInputError(by_index.string(),
+                      std::to_string(m.groundtruth_by_index.size()) + " poses for " +
+                          std::to_string(m.pairs.size()) +
+                          " frames (expected one row per frame, row k = frame k)");
   }
 
   m.K = opt.intrinsics_override ? *opt.intrinsics_override : intrinsicsForFolderName(folder);
@@ -126,11 +127,19 @@ TumFrameSource::TumFrameSource(const std::string& folder, const TumSourceOptions
 
 TumFrameSource::~TumFrameSource() = default;
 
-std::string TumFrameSource::describe() const { return "TUM folder " + impl_->folder; }
-long long TumFrameSource::sizeHint() const { return (long long)impl_->pairs.size(); }
+std::string TumFrameSource::describe() const {
+  return "TUM folder " + impl_->folder;
+}
+long long TumFrameSource::sizeHint() const {
+  return (long long)impl_->pairs.size();
+}
 
-const CameraIntrinsics& TumFrameSource::intrinsics() const { return impl_->K; }
-bool TumFrameSource::flipsRows() const { return impl_->flip_rows; }
+const CameraIntrinsics& TumFrameSource::intrinsics() const {
+  return impl_->K;
+}
+bool TumFrameSource::flipsRows() const {
+  return impl_->flip_rows;
+}
 
 std::optional<RgbdFrame> TumFrameSource::next() {
   Impl& m = *impl_;

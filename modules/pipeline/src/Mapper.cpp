@@ -18,15 +18,21 @@ namespace rasm::pipeline {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 }  // namespace
 
 const char* toString(PoseSource s) {
   switch (s) {
-    case PoseSource::Tracked: return "tracked";
-    case PoseSource::Odometry: return "odometry";
-    case PoseSource::MotionModel: return "motion_model";
-    case PoseSource::Relocalised: return "relocalised";
+    case PoseSource::Tracked:
+      return "tracked";
+    case PoseSource::Odometry:
+      return "odometry";
+    case PoseSource::MotionModel:
+      return "motion_model";
+    case PoseSource::Relocalised:
+      return "relocalised";
   }
   return "?";
 }
@@ -59,7 +65,8 @@ void Mapper::addStage(std::unique_ptr<MapperStage> stage, const std::string& bef
   if (m_frames > 0) throw std::logic_error("Mapper::addStage: before the first frame");
   auto at = m_stages.end();
   if (!before.empty()) {
-    at = std::find_if(m_stages.begin(), m_stages.end(), [&](const auto& s) { return s->name() == before; });
+    at = std::find_if(m_stages.begin(), m_stages.end(),
+                      [&](const auto& s) { return s->name() == before; });
     if (at == m_stages.end()) throw std::logic_error("Mapper::addStage: no stage '" + before + "'");
   }
   stage->configure(m_mapper);
@@ -99,7 +106,8 @@ std::vector<std::string> Mapper::sectionNames() const {
 }
 
 void Mapper::saveParams(mrpt::config::CConfigFileBase& out) const {
-  for (const ParamsSection& s : const_cast<Mapper*>(this)->sections()) s.params->saveToConfigFile(out, s.name);
+  for (const ParamsSection& s : const_cast<Mapper*>(this)->sections())
+    s.params->saveToConfigFile(out, s.name);
 }
 
 FrameResult Mapper::processFrame(const RgbdFrame& frame) {
@@ -170,9 +178,15 @@ void Mapper::writeOutputs(const std::string& dir) {
   for (const auto& s : m_stages) s->writeOutputs(dir, *m_map);
 }
 
-std::size_t Mapper::relocalisations() const { return m_tracking->relocalisations(); }
-const Eigen::Isometry3d& Mapper::pose() const { return m_tracking->tracker().lastGoodPose(); }
-const Eigen::Isometry3d& Mapper::lastFramePose() const { return m_tracking->lastFramePose(); }
+std::size_t Mapper::relocalisations() const {
+  return m_tracking->relocalisations();
+}
+const Eigen::Isometry3d& Mapper::pose() const {
+  return m_tracking->tracker().lastGoodPose();
+}
+const Eigen::Isometry3d& Mapper::lastFramePose() const {
+  return m_tracking->lastFramePose();
+}
 
 std::shared_ptr<const MapSnapshot> Mapper::snapshot() const {
   auto snap = std::make_shared<MapSnapshot>();
@@ -213,16 +227,19 @@ void Mapper::loadMap(const std::string& path) {
     auto a = mrpt::serialization::archiveFrom(f);
     a >> *loaded;
   } catch (const std::exception& e) {
-    throwInputError("map '" + path + "'", std::string("cannot be read as a rasm surfel map (.surfelmap): ") + e.what());
+    throwInputError("map '" + path + "'",
+                    std::string("cannot be read as a rasm surfel map (.surfelmap): ") + e.what());
   }
   if (loaded->keyframes().empty())
-    throwInputError("map '" + path + "'", "has no relocalisation keyframes: the camera cannot be localised in it");
+    throwInputError("map '" + path + "'",
+                    "has no relocalisation keyframes: the camera cannot be localised in it");
   std::unique_lock<std::shared_mutex> writing(m_map_mutex);
   m_map = std::move(loaded);
   m_tracking->localiseInLoadedMap();
 }
 
-void Mapper::renderView(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K, maps::RenderedMaps& out) {
+void Mapper::renderView(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K,
+                        maps::RenderedMaps& out) {
   maps::RenderOptions ro;
   ro.max_depth_m = 20.0f;
   m_renderer.render(m_map->store(), T_world_cam, K, ro, out);

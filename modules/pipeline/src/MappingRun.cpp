@@ -9,23 +9,23 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <iomanip>
-#include <sstream>
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 #include "rasm/core/SE3.h"
+#include "rasm/io/EvaluationJson.h"
 #include "rasm/io/PrefetchingFrameSource.h"
 #include "rasm/io/PreloadedFrameSource.h"
 #include "rasm/io/RawlogWriter.h"
 #include "rasm/io/RgbdObservation.h"
 #include "rasm/io/TrajectoryEvaluator.h"
-#include "rasm/io/EvaluationJson.h"
 #include "rasm/pipeline/Progress.h"
 #include "rasm/pipeline/SimSource.h"
 #include "rasm/surfel_map/MapExport.h"
@@ -43,14 +43,16 @@ std::optional<CameraIntrinsics> TCameraParams::intrinsics() const {
       if (width <= 0) k.width = p.width;
       if (height <= 0) k.height = p.height;
     }
-    if (k.width <= 0 || k.height <= 0) throwInputError("[camera]", "fx given without width/height or preset");
+    if (k.width <= 0 || k.height <= 0)
+      throwInputError("[camera]", "fx given without width/height or preset");
     return k;
   }
   if (!preset.empty()) return CameraIntrinsics::preset(preset);
   return std::nullopt;
 }
 
-void TCameraParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void TCameraParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                       const std::string& s) {
   MRPT_LOAD_CONFIG_VAR(preset, string, c, s);
   MRPT_LOAD_CONFIG_VAR(fx, double, c, s);
   MRPT_LOAD_CONFIG_VAR(fy, double, c, s);
@@ -107,21 +109,25 @@ std::string MappingRun::effectiveConfig() const {
   m_output.saveToConfigFile(mem, "output");
   std::string text;
   mem.getContent(text);
-  return "; effective configuration of a rasm run (every key, defaults included), from " + m_config.source() +
-         "\n" + text + "\n" + m_sim_ini;
+  return "; effective configuration of a rasm run (every key, defaults included), from " +
+         m_config.source() + "\n" + text + "\n" + m_sim_ini;
 }
 
 std::unique_ptr<io::FrameSource> MappingRun::openSource() const {
-  if (m_source.type == "sim") return openSimSource(m_sim_ini, m_config.source(), m_camera.intrinsics());
+  if (m_source.type == "sim")
+    return openSimSource(m_sim_ini, m_config.source(), m_camera.intrinsics());
   io::FrameSourceOptions opt;
   opt.intrinsics_override = m_camera.intrinsics();
   if (!fs::exists(m_source.path))
-    throwInputError("[source] path '" + m_source.path + "'", "does not exist (expected a rawlog file or a dataset folder)");
+    throwInputError("[source] path '" + m_source.path + "'",
+                    "does not exist (expected a rawlog file or a dataset folder)");
   const bool is_dir = fs::is_directory(m_source.path);
   if (m_source.type == "rawlog" && is_dir)
-    throwInputError("[source] path '" + m_source.path + "'", "is a folder, expected a .rawlog file for type = rawlog");
+    throwInputError("[source] path '" + m_source.path + "'",
+                    "is a folder, expected a .rawlog file for type = rawlog");
   if ((m_source.type == "tum" || m_source.type == "7scenes") && !is_dir)
-    throwInputError("[source] path '" + m_source.path + "'", "is a file, expected a dataset folder for type = " + m_source.type);
+    throwInputError("[source] path '" + m_source.path + "'",
+                    "is a file, expected a dataset folder for type = " + m_source.type);
   return io::openFrameSource(m_source.path, opt);
 }
 
@@ -171,7 +177,8 @@ void MappingRun::writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, con
   w.writeObject(obs);
   maps::RenderedMaps view;
   m_mapper->renderView(r.T_world_cam, frame.intrinsics, view);
-  const cv::Mat img(view.colour.height(), view.colour.width(), CV_8UC3, view.colour.data(), view.colour.pitchBytes());
+  const cv::Mat img(view.colour.height(), view.colour.width(), CV_8UC3, view.colour.data(),
+                    view.colour.pitchBytes());
   mrpt::obs::CObservationImage im;
   im.sensorLabel = "MAP_VIEW";
   im.timestamp = obs.timestamp;
@@ -199,9 +206,11 @@ struct MappingRun::Accumulated {
 void MappingRun::prepareOutputFolder() const {
   std::error_code ec;
   fs::create_directories(m_output.dir, ec);
-  if (ec) throwInputError("[output] dir '" + m_output.dir + "'", "cannot be created: " + ec.message());
+  if (ec)
+    throwInputError("[output] dir '" + m_output.dir + "'", "cannot be created: " + ec.message());
   if (!m_output.overwrite && !fs::is_empty(m_output.dir))
-    throwInputError("[output] dir '" + m_output.dir + "'", "is not empty and [output] overwrite = false");
+    throwInputError("[output] dir '" + m_output.dir + "'",
+                    "is not empty and [output] overwrite = false");
   writeFileAtomically(m_output.dir + "/config.ini", effectiveConfig());
 }
 
@@ -211,14 +220,17 @@ std::unique_ptr<io::FrameSource> MappingRun::openWrappedSource(double& preload_s
   if (m_source.preload) {
     const auto t0 = std::chrono::steady_clock::now();
     long long limit = 0;
-    if (m_source.max_frames > 0) limit = m_source.start_frame + (long long)m_source.max_frames * m_source.frame_step;
+    if (m_source.max_frames > 0)
+      limit = m_source.start_frame + (long long)m_source.max_frames * m_source.frame_step;
     Progress reading("frames read", limit > 0 ? limit : source->sizeHint());
     source = std::make_unique<io::PreloadedFrameSource>(
-        std::move(source), limit, [&](long long n) { reading.update(n); }, std::size_t(m_source.preload_max_mib) << 20);
+        std::move(source), limit, [&](long long n) { reading.update(n); },
+        std::size_t(m_source.preload_max_mib) << 20);
     reading.finish(source->sizeHint(), "in memory");
     preload_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   } else if (m_source.prefetch_frames > 0) {
-    source = std::make_unique<io::PrefetchingFrameSource>(std::move(source), m_source.prefetch_frames);
+    source =
+        std::make_unique<io::PrefetchingFrameSource>(std::move(source), m_source.prefetch_frames);
   }
   return source;
 }
@@ -253,7 +265,8 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc,
       std::optional<RgbdFrame> f = source.next();
       if (!f) break;
       const long long idx = read++;
-      if (idx < m_source.start_frame || (idx - m_source.start_frame) % m_source.frame_step != 0) continue;
+      if (idx < m_source.start_frame || (idx - m_source.start_frame) % m_source.frame_step != 0)
+        continue;
       if (m_source.dropped(idx)) continue;
       if (m_source.blanked(idx)) {
         f->depth_m.setTo(0.0f);
@@ -277,8 +290,8 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc,
       acc.frames_csv += m_mapper->csvRow();
       acc.frames_csv += "\n";
       char extra[160];
-      std::snprintf(extra, sizeof extra, "surfels %d lost %zu %s", m_mapper->map().size(), m_mapper->framesLost(),
-                    r.tracked ? "" : tracking::toString(r.tracking.status));
+      std::snprintf(extra, sizeof extra, "surfels %d lost %zu %s", m_mapper->map().size(),
+                    m_mapper->framesLost(), r.tracked ? "" : tracking::toString(r.tracking.status));
       progress.update(static_cast<long long>(acc.processed), extra);
     }
   } catch (const std::exception& e) {
@@ -291,7 +304,8 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc,
 void MappingRun::writeOutputs(const Accumulated& acc) {
   const std::string dir = m_output.dir;
   writeFileAtomically(dir + "/frames.csv", acc.frames_csv);
-  io::writeTumTrajectory(dir + "/trajectory.txt", acc.estimate, "rasm estimate (T_world_cam, optical frame)");
+  io::writeTumTrajectory(dir + "/trajectory.txt", acc.estimate,
+                         "rasm estimate (T_world_cam, optical frame)");
   if (!acc.groundtruth.empty())
     io::writeTumTrajectory(dir + "/groundtruth.txt", acc.groundtruth, "ground truth of the source");
   if (m_output.write_ply) m_mapper->map().saveToPly(dir + "/map.ply");
@@ -309,7 +323,8 @@ void MappingRun::writeOutputs(const Accumulated& acc) {
   if (m_output.preview_png && acc.have_K && acc.processed > 0) {
     maps::RenderedMaps view;
     m_mapper->renderView(m_mapper->pose(), acc.last_K, view);
-    cv::Mat img(view.colour.height(), view.colour.width(), CV_8UC3, view.colour.data(), view.colour.pitchBytes());
+    cv::Mat img(view.colour.height(), view.colour.width(), CV_8UC3, view.colour.data(),
+                view.colour.pitchBytes());
     cv::imwrite(dir + "/preview.png", img);
     // The same view coloured by segment (III), when the map has segments.
     bool any = false;
@@ -342,15 +357,15 @@ void MappingRun::writeReport(const io::FrameSource& source, Accumulated& acc, Ru
   rep["fps"] = sum.fps;
   // CPU time of the whole process (all threads, the reader included) per frame: on a shared
   // machine a steadier measure of the work than frames/s.
-  rep["cpu_ms_per_frame"] =
-      processed > 0 ? 1e3 * acc.cpu_s / double(processed) : 0.0;
+  rep["cpu_ms_per_frame"] = processed > 0 ? 1e3 * acc.cpu_s / double(processed) : 0.0;
   rep["surfels"] = sum.surfels;
   rep["map_memory_bytes"] = m_mapper->map().store().memoryBytes();
   rep["peak_rss_mb"] = peakRssMb();
   nlohmann::json st;
   const std::vector<std::string>& timers = m_mapper->timerNames();
   for (std::size_t s = 0; s < timers.size(); ++s)
-    st[timers[s]] = {{"mean_ms", processed ? acc.ms_sum[s] / double(processed) : 0.0}, {"max_ms", acc.ms_max[s]}};
+    st[timers[s]] = {{"mean_ms", processed ? acc.ms_sum[s] / double(processed) : 0.0},
+                     {"max_ms", acc.ms_max[s]}};
   rep["stages"] = st;
   if (processed > 0) rep["final_pose"] = poseJson(m_mapper->pose());
   rep["frames_tracked"] = processed - sum.lost;
@@ -389,14 +404,16 @@ void MappingRun::writeReport(const io::FrameSource& source, Accumulated& acc, Ru
 }
 
 RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_frame) {
-  if (m_mapper->framesProcessed() > 0) throw std::logic_error("MappingRun::run: once per MappingRun");
+  if (m_mapper->framesProcessed() > 0)
+    throw std::logic_error("MappingRun::run: once per MappingRun");
   Accumulated acc;
   prepareOutputFolder();
   std::unique_ptr<io::FrameSource> source = openWrappedSource(acc.preload_s);
   // Frame rate and CPU time count the mapping (not a preload before it).
   acc.t_start = std::chrono::steady_clock::now();
   acc.cpu_start_s = processCpuSeconds();
-  if (!m_mapper->mapperParams().load_map.empty()) m_mapper->loadMap(m_mapper->mapperParams().load_map);
+  if (!m_mapper->mapperParams().load_map.empty())
+    m_mapper->loadMap(m_mapper->mapperParams().load_map);
   std::fprintf(stderr, "rasm run: %s -> %s\n", source->describe().c_str(), m_output.dir.c_str());
 
   frameLoop(*source, acc, on_frame);
@@ -404,7 +421,8 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   acc.cpu_s = processCpuSeconds() - acc.cpu_start_s;
   RunSummary sum;
   sum.out_dir = m_output.dir;
-  sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - acc.t_start).count();
+  sum.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - acc.t_start).count();
   sum.frames = acc.processed;
   sum.fps = acc.processed > 0 ? double(acc.processed) / sum.seconds : 0.0;
   sum.lost = m_mapper->framesLost();
@@ -414,8 +432,8 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   writeOutputs(acc);
   writeReport(*source, acc, sum);
   if (!acc.error.empty())
-    throw InputError(acc.error + " (outputs of the " + std::to_string(acc.processed) + " frames before it were written to " +
-                     m_output.dir + ")");
+    throw InputError(acc.error + " (outputs of the " + std::to_string(acc.processed) +
+                     " frames before it were written to " + m_output.dir + ")");
   return sum;
 }
 

@@ -14,37 +14,46 @@ Eigen::Isometry3d planar(double x, double y, double yaw) {
   return T;
 }
 
-double wrapAngle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
+double wrapAngle(double a) {
+  return std::atan2(std::sin(a), std::cos(a));
+}
 }  // namespace
 
-OdometryPrior::OdometryPrior(const TRobotParams& params) : m_params(params), m_T_base_cam(params.T_base_cam()) {}
+OdometryPrior::OdometryPrior(const TRobotParams& params)
+    : m_params(params), m_T_base_cam(params.T_base_cam()) {}
 
-void OdometryPrior::start(const Eigen::Isometry3d& T_world_cam0, const std::optional<Eigen::Vector3d>& odometry) {
+void OdometryPrior::start(const Eigen::Isometry3d& T_world_cam0,
+                          const std::optional<Eigen::Vector3d>& odometry) {
   m_T_world_floor = T_world_cam0 * m_T_base_cam.inverse();
   m_last = odometry;
 }
 
-std::optional<tracking::MotionPrior> OdometryPrior::predict(const std::optional<Eigen::Vector3d>& odometry,
-                                                            const Eigen::Isometry3d& T_world_cam_prev) {
+std::optional<tracking::MotionPrior> OdometryPrior::predict(
+    const std::optional<Eigen::Vector3d>& odometry, const Eigen::Isometry3d& T_world_cam_prev) {
   const std::optional<Eigen::Vector3d> last = m_last;
   m_last = odometry;
   if (!m_params.use_odometry || !odometry || !last) return std::nullopt;
-  const Eigen::Isometry3d T_base_delta =
-      planar((*last).x(), (*last).y(), (*last).z()).inverse() * planar(odometry->x(), odometry->y(), odometry->z());
-  const Eigen::Isometry3d T_pred = T_world_cam_prev * m_T_base_cam.inverse() * T_base_delta * m_T_base_cam;
+  const Eigen::Isometry3d T_base_delta = planar((*last).x(), (*last).y(), (*last).z()).inverse() *
+                                         planar(odometry->x(), odometry->y(), odometry->z());
+  const Eigen::Isometry3d T_pred =
+      T_world_cam_prev * m_T_base_cam.inverse() * T_base_delta * m_T_base_cam;
 
   // One increment's noise along the base's axes at t-1: random walks in distance and angle.
   const double d = T_base_delta.translation().head<2>().norm();
   const double a = std::abs(wrapAngle(odometry->z() - last->z()));
   const TRobotParams& p = m_params;
-  const double s_yaw = p.odometry_sigma_yaw_deg * kDeg + p.odometry_sigma_yaw_per_sqrt_rad * std::sqrt(a) +
+  const double s_yaw = p.odometry_sigma_yaw_deg * kDeg +
+                       p.odometry_sigma_yaw_per_sqrt_rad * std::sqrt(a) +
                        p.odometry_sigma_yaw_per_sqrt_m * std::sqrt(d);
   // The camera is off the base's rotation centre: a yaw error moves it by lever * s_yaw.
   const double lever = m_T_base_cam.translation().head<2>().norm();
-  const double s_xy = std::hypot(p.odometry_sigma_xy_m + p.odometry_sigma_xy_per_sqrt_m * std::sqrt(d), lever * s_yaw);
+  const double s_xy = std::hypot(
+      p.odometry_sigma_xy_m + p.odometry_sigma_xy_per_sqrt_m * std::sqrt(d), lever * s_yaw);
   const double s_tilt = p.odometry_sigma_tilt_deg * kDeg;
-  const Eigen::Matrix3d R_world_base = T_world_cam_prev.linear() * m_T_base_cam.linear().transpose();
-  return tracking::MotionPrior::fromStdDevs(T_pred, R_world_base, Eigen::Vector3d(s_xy, s_xy, p.odometry_sigma_z_m),
+  const Eigen::Matrix3d R_world_base =
+      T_world_cam_prev.linear() * m_T_base_cam.linear().transpose();
+  return tracking::MotionPrior::fromStdDevs(T_pred, R_world_base,
+                                            Eigen::Vector3d(s_xy, s_xy, p.odometry_sigma_z_m),
                                             Eigen::Vector3d(s_tilt, s_tilt, s_yaw));
 }
 

@@ -8,7 +8,9 @@
 
 namespace rasm::pipeline {
 
-RunConfig RunConfig::embeddedDefault() { return fromString(kDefaultIni, "embedded default (ini/default.ini)"); }
+RunConfig RunConfig::embeddedDefault() {
+  return fromString(kDefaultIni, "embedded default (ini/default.ini)");
+}
 
 RunConfig RunConfig::fromFile(const std::string& path) {
   std::ifstream f(path);

@@ -14,7 +14,8 @@ namespace rasm::pipeline {
 
 namespace {
 /// Parses "a-b,c-d,e" (inclusive ranges of frame indices); throws naming [section] key.
-std::vector<std::pair<long long, long long>> parseRanges(const std::string& text, const std::string& section,
+std::vector<std::pair<long long, long long>> parseRanges(const std::string& text,
+                                                         const std::string& section,
                                                          const std::string& key) {
   std::vector<std::pair<long long, long long>> out;
   std::stringstream ss(text);
@@ -31,7 +32,8 @@ std::vector<std::pair<long long, long long>> parseRanges(const std::string& text
       b = a;
     }
     if (a < 0 || b < a)
-      throwInputError("[" + section + "] " + key, "'" + item + "' is not a frame range 'a-b' with 0 <= a <= b");
+      throwInputError("[" + section + "] " + key,
+                      "'" + item + "' is not a frame range 'a-b' with 0 <= a <= b");
     out.emplace_back(a, b);
   }
   return out;
@@ -44,10 +46,15 @@ bool inRanges(const std::string& text, long long index) {
 }
 }  // namespace
 
-bool TSourceParams::dropped(long long index) const { return !drop_frames.empty() && inRanges(drop_frames, index); }
-bool TSourceParams::blanked(long long index) const { return !blank_frames.empty() && inRanges(blank_frames, index); }
+bool TSourceParams::dropped(long long index) const {
+  return !drop_frames.empty() && inRanges(drop_frames, index);
+}
+bool TSourceParams::blanked(long long index) const {
+  return !blank_frames.empty() && inRanges(blank_frames, index);
+}
 
-void TSourceParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void TSourceParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                       const std::string& s) {
   MRPT_LOAD_CONFIG_VAR(type, string, c, s);
   MRPT_LOAD_CONFIG_VAR(path, string, c, s);
   MRPT_LOAD_CONFIG_VAR(max_frames, int, c, s);
@@ -62,8 +69,10 @@ void TSourceParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   (void)parseRanges(drop_frames, s, "drop_frames");
   (void)parseRanges(blank_frames, s, "blank_frames");
   if (type != "sim" && type != "rawlog" && type != "tum" && type != "7scenes" && type != "auto")
-    throwInputError("[" + s + "] type", "'" + type + "' is not one of sim, rawlog, tum, 7scenes, auto");
-  if (type != "sim" && path.empty()) throwInputError("[" + s + "] path", "required for type = " + type);
+    throwInputError("[" + s + "] type",
+                    "'" + type + "' is not one of sim, rawlog, tum, 7scenes, auto");
+  if (type != "sim" && path.empty())
+    throwInputError("[" + s + "] path", "required for type = " + type);
   requireInRange(max_frames, 0, 1e9, s, "max_frames");
   requireInRange(start_frame, 0, 1e9, s, "start_frame");
   requireInRange(frame_step, 1, 1e6, s, "frame_step");
@@ -85,7 +94,8 @@ void TSourceParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(blank_frames, c, s);
 }
 
-void TMapperParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void TMapperParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                       const std::string& s) {
   MRPT_LOAD_CONFIG_VAR(pyramid_levels, int, c, s);
   MRPT_LOAD_CONFIG_VAR(min_depth_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_depth_m, double, c, s);
@@ -133,7 +143,8 @@ Eigen::Isometry3d TRobotParams::T_base_cam() const {
   return T;
 }
 
-void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                      const std::string& s) {
   MRPT_LOAD_CONFIG_VAR(use_odometry, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(camera_x_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(camera_y_m, double, c, s);
@@ -183,7 +194,8 @@ void TRobotParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
   MRPT_SAVE_CONFIG_VAR(planar_motion, c, s);
 }
 
-void TOutputParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void TOutputParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                       const std::string& s) {
   MRPT_LOAD_CONFIG_VAR(dir, string, c, s);
   MRPT_LOAD_CONFIG_VAR(write_ply, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(write_3dscene, bool, c, s);

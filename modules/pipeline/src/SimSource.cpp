@@ -11,7 +11,8 @@
 
 namespace rasm::pipeline {
 
-std::unique_ptr<io::FrameSource> openSimSource(const std::string& sim_ini, const std::string& source,
+std::unique_ptr<io::FrameSource> openSimSource(const std::string& sim_ini,
+                                               const std::string& source,
                                                const std::optional<CameraIntrinsics>& camera) {
 #ifdef RASM_HAVE_SIM
   sim::TSimParams params;

@@ -12,7 +12,9 @@ namespace rasm::segmentation {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 template <typename T>
 cv::Mat matOf(Image<T>& im, int type) {
@@ -35,7 +37,8 @@ void filterNormals(const Image<Vec3f>& in, Image<Vec3f>& out, const TSegmentatio
     for (int x = 0; x < w; ++x) b[x] = std::isnan(a[x].x()) ? Vec3f::Zero() : a[x];
   });
   cv::Mat src = matOf(zeroed, CV_32FC3), dst = matOf(out, CV_32FC3);
-  cv::bilateralFilter(src, dst, p.normal_filter_diameter_px, p.normal_filter_sigma, p.normal_filter_sigma_space_px);
+  cv::bilateralFilter(src, dst, p.normal_filter_diameter_px, p.normal_filter_sigma,
+                      p.normal_filter_sigma_space_px);
   compute::forEach1D(h, [&](int y) {
     const Vec3f* a = in.row(y);
     Vec3f* b = out.row(y);
@@ -88,19 +91,22 @@ void fillEdges(cv::Mat& labels, const Image<Vec3f>& vertex, const TSegmentationP
 
 }  // namespace
 
-const FrameSegments& GeometricSegmenter::segment(const Image<Vec3f>& vertex_cam, const Image<Vec3f>& normal_cam,
-                                                 int out_width, int out_height) {
+const FrameSegments& GeometricSegmenter::segment(const Image<Vec3f>& vertex_cam,
+                                                 const Image<Vec3f>& normal_cam, int out_width,
+                                                 int out_height) {
   const int w = vertex_cam.width(), h = vertex_cam.height();
   const int ow = out_width > 0 ? out_width : w, oh = out_height > 0 ? out_height : h;
   const int scale = w > 0 ? ow / w : 1;
   if (w <= 0 || h <= 0 || scale < 1 || ow != scale * w || oh != scale * h)
     throwInputError("GeometricSegmenter output size",
-                    std::to_string(ow) + "x" + std::to_string(oh) + " is not an integer multiple of the maps' " +
-                        std::to_string(w) + "x" + std::to_string(h));
+                    std::to_string(ow) + "x" + std::to_string(oh) +
+                        " is not an integer multiple of the maps' " + std::to_string(w) + "x" +
+                        std::to_string(h));
   if (!normal_cam.sameSize(vertex_cam))
-    throwInputError("GeometricSegmenter input", "normal map is " + std::to_string(normal_cam.width()) + "x" +
-                                                    std::to_string(normal_cam.height()) + ", vertex map " +
-                                                    std::to_string(w) + "x" + std::to_string(h));
+    throwInputError("GeometricSegmenter input",
+                    "normal map is " + std::to_string(normal_cam.width()) + "x" +
+                        std::to_string(normal_cam.height()) + ", vertex map " + std::to_string(w) +
+                        "x" + std::to_string(h));
   FrameSegments& o = m_out;
   auto t = Clock::now();
   filterNormals(normal_cam, m_normal_filtered, m_params);
@@ -126,9 +132,11 @@ const FrameSegments& GeometricSegmenter::segment(const Image<Vec3f>& vertex_cam,
   cv::Mat is_edge = edges != kernels::kInterior;  // 255 for edge or invalid
   const cv::Mat element = cv::getStructuringElement(cv::MORPH_CROSS, cv::Size(3, 3));
   if (m_params.morphology_close_iterations > 0)
-    cv::morphologyEx(is_edge, is_edge, cv::MORPH_CLOSE, element, cv::Point(-1, -1), m_params.morphology_close_iterations);
+    cv::morphologyEx(is_edge, is_edge, cv::MORPH_CLOSE, element, cv::Point(-1, -1),
+                     m_params.morphology_close_iterations);
   if (m_params.morphology_open_iterations > 0)
-    cv::morphologyEx(is_edge, is_edge, cv::MORPH_OPEN, element, cv::Point(-1, -1), m_params.morphology_open_iterations);
+    cv::morphologyEx(is_edge, is_edge, cv::MORPH_OPEN, element, cv::Point(-1, -1),
+                     m_params.morphology_open_iterations);
   // Invalid pixels stay out of every segment whatever the morphology did.
   cv::Mat interior = (is_edge == 0) & (edges != kernels::kInvalid);
   edges.setTo(kernels::kEdge, (interior == 0) & (edges != kernels::kInvalid));
@@ -140,7 +148,8 @@ const FrameSegments& GeometricSegmenter::segment(const Image<Vec3f>& vertex_cam,
   cv::Mat cc_labels, stats, centroids;
   const int n = cv::connectedComponentsWithStats(interior, cc_labels, stats, centroids, 4, CV_32S);
   // Minimum size at 640x480, scaled with the image area.
-  const int min_px = std::max(1, int(std::lround(m_params.min_component_px * (double(w) * h) / (640.0 * 480.0))));
+  const int min_px =
+      std::max(1, int(std::lround(m_params.min_component_px * (double(w) * h) / (640.0 * 480.0))));
   const int area_scale = scale * scale;
   std::vector<std::uint32_t> relabel(std::size_t(std::max(n, 1)), 0u);
   o.dropped_components = 0;

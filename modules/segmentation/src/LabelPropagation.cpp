@@ -26,8 +26,9 @@ struct Overlaps {
 
 /// L^r on the grid of every `step`-th pixel (in x and y) of the frame: the label of the candidate
 /// nearest to the measured depth within the gate.
-void renderLabels(const Image<Vec3f>& vertex_cam, const fusion::IndexMapView& view, const maps::SurfelArrays& s,
-                  const TSegmentationParams& p, int step, Image<std::uint32_t>& out) {
+void renderLabels(const Image<Vec3f>& vertex_cam, const fusion::IndexMapView& view,
+                  const maps::SurfelArrays& s, const TSegmentationParams& p, int step,
+                  Image<std::uint32_t>& out) {
   const int w = vertex_cam.width(), h = vertex_cam.height();
   const int gw = (w + step - 1) / step, gh = (h + step - 1) / step;
   out.resize(gw, gh);
@@ -58,9 +59,9 @@ void renderLabels(const Image<Vec3f>& vertex_cam, const fusion::IndexMapView& vi
 
 }  // namespace
 
-void propagateLabels(const FrameSegments& seg, const Image<Vec3f>& vertex_cam, const fusion::IndexMapView& view,
-                     const maps::SurfelArrays& surfels, const TSegmentationParams& p, std::uint32_t& next_label,
-                     Propagation& out) {
+void propagateLabels(const FrameSegments& seg, const Image<Vec3f>& vertex_cam,
+                     const fusion::IndexMapView& view, const maps::SurfelArrays& surfels,
+                     const TSegmentationParams& p, std::uint32_t& next_label, Propagation& out) {
   const int w = seg.labels.width(), h = seg.labels.height();
   // Pi is counted on every `step`-th pixel (L_t comes from the segmentation level, so a finer
   // count adds nothing); pixel thresholds are scaled to full-resolution pixels.
@@ -94,9 +95,11 @@ void propagateLabels(const FrameSegments& seg, const Image<Vec3f>& vertex_cam, c
         best_n = n;
         best = r;
       }
-      if (n >= p.propagation_min_overlap_px && n >= p.merge_min_fraction * o.labelled * area) shared.push_back(r);
+      if (n >= p.propagation_min_overlap_px && n >= p.merge_min_fraction * o.labelled * area)
+        shared.push_back(r);
     }
-    if (best && best_n >= p.propagation_min_overlap_px && best_n >= p.propagation_min_overlap * o.labelled * area) {
+    if (best && best_n >= p.propagation_min_overlap_px &&
+        best_n >= p.propagation_min_overlap * o.labelled * area) {
       out.label_of[l] = best;
       ++out.matched;
     } else {
@@ -105,17 +108,20 @@ void propagateLabels(const FrameSegments& seg, const Image<Vec3f>& vertex_cam, c
     }
     std::sort(shared.begin(), shared.end());
     for (std::size_t a = 0; a < shared.size(); ++a)
-      for (std::size_t b = a + 1; b < shared.size(); ++b) out.cosegmented.emplace_back(shared[a], shared[b]);
+      for (std::size_t b = a + 1; b < shared.size(); ++b)
+        out.cosegmented.emplace_back(shared[a], shared[b]);
   }
   std::sort(out.cosegmented.begin(), out.cosegmented.end());
-  out.cosegmented.erase(std::unique(out.cosegmented.begin(), out.cosegmented.end()), out.cosegmented.end());
+  out.cosegmented.erase(std::unique(out.cosegmented.begin(), out.cosegmented.end()),
+                        out.cosegmented.end());
   // Map labels in view: pixels summed over the current segments.
   std::sort(visible_px.begin(), visible_px.end());
   out.visible.clear();
   for (std::size_t i = 0; i < visible_px.size();) {
     std::size_t j = i;
     int n = 0;
-    while (j < visible_px.size() && visible_px[j].first == visible_px[i].first) n += visible_px[j++].second;
+    while (j < visible_px.size() && visible_px[j].first == visible_px[i].first)
+      n += visible_px[j++].second;
     if (n >= p.propagation_min_overlap_px) out.visible.push_back(visible_px[i].first);
     i = j;
   }

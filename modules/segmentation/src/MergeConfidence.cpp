@@ -4,13 +4,17 @@
 
 namespace rasm::segmentation {
 
-std::vector<MergeConfidence::Pair> MergeConfidence::update(const std::vector<Pair>& cosegmented,
-                                                           const std::vector<std::uint32_t>& visible, int threshold) {
-  const auto inView = [&](std::uint32_t l) { return std::binary_search(visible.begin(), visible.end(), l); };
+std::vector<MergeConfidence::Pair> MergeConfidence::update(
+    const std::vector<Pair>& cosegmented, const std::vector<std::uint32_t>& visible,
+    int threshold) {
+  const auto inView = [&](std::uint32_t l) {
+    return std::binary_search(visible.begin(), visible.end(), l);
+  };
   // Decrement every standing pair whose labels are both in view and not together this frame.
   for (auto it = m_psi.begin(); it != m_psi.end();) {
     const Pair p(std::uint32_t(it->first >> 32), std::uint32_t(it->first));
-    if (inView(p.first) && inView(p.second) && !std::binary_search(cosegmented.begin(), cosegmented.end(), p)) {
+    if (inView(p.first) && inView(p.second) &&
+        !std::binary_search(cosegmented.begin(), cosegmented.end(), p)) {
       if (--it->second <= 0) {
         it = m_psi.erase(it);
         continue;
@@ -43,7 +47,8 @@ void MergeConfidence::remap(const std::vector<std::uint32_t>& table) {
   std::unordered_map<std::uint64_t, int> out;
   for (const auto& [k, v] : m_psi) {
     const std::uint32_t a = std::uint32_t(k >> 32), b = std::uint32_t(k);
-    const std::uint32_t na = a < table.size() ? table[a] : 0u, nb = b < table.size() ? table[b] : 0u;
+    const std::uint32_t na = a < table.size() ? table[a] : 0u,
+                        nb = b < table.size() ? table[b] : 0u;
     if (na && nb && na != nb) out[key(na, nb)] += v;
   }
   m_psi.swap(out);

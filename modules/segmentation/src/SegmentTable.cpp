@@ -104,7 +104,8 @@ void SegmentTable::compute(const maps::SurfelArrays& s) {
     for (int ax = 0; ax < 6; ++ax) {
       double lo = std::numeric_limits<double>::infinity(), hi = -lo;
       for (int c = 0; c < 8; ++c) {
-        const Eigen::Vector3d corner((c & 1) ? st.bbox_max.x() : st.bbox_min.x(), (c & 2) ? st.bbox_max.y() : st.bbox_min.y(),
+        const Eigen::Vector3d corner((c & 1) ? st.bbox_max.x() : st.bbox_min.x(),
+                                     (c & 2) ? st.bbox_max.y() : st.bbox_min.y(),
                                      (c & 4) ? st.bbox_max.z() : st.bbox_min.z());
         const double q = axis(st, ax).dot(corner - st.centroid);
         lo = std::min(lo, q);
@@ -141,7 +142,8 @@ void SegmentTable::compute(const maps::SurfelArrays& s) {
         if (acc < hi_q) b_hi = j + 1;
       }
       b_hi = std::min(b_hi, kBins - 1);
-      (ax < 3 ? st.extents[ax] : st.upright_extents[ax - 3]) = std::max(0.0, (b_hi + 1 - b_lo) * h.width[ax]);
+      (ax < 3 ? st.extents[ax] : st.upright_extents[ax - 3]) =
+          std::max(0.0, (b_hi + 1 - b_lo) * h.width[ax]);
     }
   }
 }
@@ -162,7 +164,8 @@ void SegmentTable::renumber(const std::vector<std::uint32_t>& table) {
     m_max_label = std::max(m_max_label, id);
     out.push_back(s);
   }
-  std::sort(out.begin(), out.end(), [](const SegmentStats& a, const SegmentStats& b) { return a.id < b.id; });
+  std::sort(out.begin(), out.end(),
+            [](const SegmentStats& a, const SegmentStats& b) { return a.id < b.id; });
   m_segments.swap(out);
 }
 

@@ -6,7 +6,8 @@
 
 namespace rasm::segmentation {
 
-void TSegmentationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void TSegmentationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                             const std::string& s) {
   MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(level, int, c, s);
   MRPT_LOAD_CONFIG_VAR(concavity_threshold, double, c, s);
@@ -54,7 +55,8 @@ void TSegmentationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
   requireInRange(remap_every_n_frames, 1, 1e6, s, "remap_every_n_frames");
 }
 
-void TSegmentationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+void TSegmentationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                           const std::string& s) const {
   MRPT_SAVE_CONFIG_VAR(enabled, c, s);
   MRPT_SAVE_CONFIG_VAR(level, c, s);
   MRPT_SAVE_CONFIG_VAR(concavity_threshold, c, s);

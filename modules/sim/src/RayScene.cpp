@@ -92,7 +92,9 @@ RayScene::RayScene(World world) : impl_(std::make_unique<Impl>()) {
 
 RayScene::~RayScene() = default;
 
-const World& RayScene::world() const { return impl_->world; }
+const World& RayScene::world() const {
+  return impl_->world;
+}
 
 const Eigen::AlignedBox3f& RayScene::objectBounds(int i) const {
   return impl_->bounds.at(std::size_t(i));

@@ -52,8 +52,12 @@ const std::vector<std::string>& table() {
 
 }  // namespace
 
-const std::vector<std::string>& classNames() { return table(); }
-int numClasses() { return int(table().size()); }
+const std::vector<std::string>& classNames() {
+  return table();
+}
+int numClasses() {
+  return int(table().size());
+}
 
 int classIdFromName(const std::string& name) {
   static const std::map<std::string, int> index = [] {

@@ -111,7 +111,9 @@ void TRobotParams::validate(const std::string& s) const {
 // ---- robot --------------------------------------------------------------------------------------
 
 namespace {
-double wrapPi(double a) { return std::atan2(std::sin(a), std::cos(a)); }
+double wrapPi(double a) {
+  return std::atan2(std::sin(a), std::cos(a));
+}
 
 /// p (+) d for planar poses.
 Eigen::Vector3d compose(const Eigen::Vector3d& p, const Eigen::Vector3d& d) {
@@ -126,7 +128,9 @@ Eigen::Vector3d between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return {c * dx + s * dy, -s * dx + c * dy, wrapPi(b.z() - a.z())};
 }
 
-Eigen::Vector3d fromTPose(const mrpt::math::TPose2D& p) { return {p.x, p.y, p.phi}; }
+Eigen::Vector3d fromTPose(const mrpt::math::TPose2D& p) {
+  return {p.x, p.y, p.phi};
+}
 
 }  // namespace
 
@@ -241,7 +245,9 @@ void SimulatedDiffDriveRobot::step(double dt) {
   }
 }
 
-double SimulatedDiffDriveRobot::time_s() const { return m_time_s; }
+double SimulatedDiffDriveRobot::time_s() const {
+  return m_time_s;
+}
 
 Eigen::Vector3d SimulatedDiffDriveRobot::pose() const {
   return fromTPose(m_sim->getCurrentGTPose());
@@ -252,7 +258,9 @@ Eigen::Vector2d SimulatedDiffDriveRobot::velocity() const {
   return {t.vx, t.omega};
 }
 
-Eigen::Vector3d SimulatedDiffDriveRobot::odometry() const { return m_odometry; }
+Eigen::Vector3d SimulatedDiffDriveRobot::odometry() const {
+  return m_odometry;
+}
 
 Eigen::Isometry3d SimulatedDiffDriveRobot::cameraPose() const {
   const Eigen::Vector3d p = pose();

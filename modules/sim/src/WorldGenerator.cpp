@@ -66,8 +66,12 @@ using Rest = GeneratedWorld::Rest;
 using V2 = Eigen::Vector2d;
 using V3 = Eigen::Vector3d;
 
-double r3(double v) { return std::round(v * 1000.0) / 1000.0; }
-double r1(double v) { return std::round(v * 10.0) / 10.0; }
+double r3(double v) {
+  return std::round(v * 1000.0) / 1000.0;
+}
+double r1(double v) {
+  return std::round(v * 10.0) / 10.0;
+}
 
 // ---- materials: the colours and textures of the shipped worlds ----------------------------------
 
@@ -82,7 +86,9 @@ struct Mat {
   char axis = 0;  ///< stripes: 'x', 'y' or 'z'
 };
 
-Mat plain(Rgb c) { return Mat{c, {}, {}, 0.1, 0}; }
+Mat plain(Rgb c) {
+  return Mat{c, {}, {}, 0.1, 0};
+}
 Mat tex(Rgb c, const char* p, Rgb c2, double period, char axis = 0) {
   return Mat{c, p, c2, period, axis};
 }
@@ -154,12 +160,18 @@ struct Shape {
   double radius = 0.0, height = 0.0;
 };
 
-Shape model(const char* name) { return Shape{Shape::Model, name, V3::Zero(), 0, 0}; }
+Shape model(const char* name) {
+  return Shape{Shape::Model, name, V3::Zero(), 0, 0};
+}
 Shape box(double x, double y, double z) {
   return Shape{Shape::Box, {}, V3(r3(x), r3(y), r3(z)), 0, 0};
 }
-Shape cylinder(double r, double h) { return Shape{Shape::Cylinder, {}, V3::Zero(), r3(r), r3(h)}; }
-Shape sphere(double r) { return Shape{Shape::Sphere, {}, V3::Zero(), r3(r), 0}; }
+Shape cylinder(double r, double h) {
+  return Shape{Shape::Cylinder, {}, V3::Zero(), r3(r), r3(h)};
+}
+Shape sphere(double r) {
+  return Shape{Shape::Sphere, {}, V3::Zero(), r3(r), 0};
+}
 
 struct Box3 {
   V3 lo = V3::Constant(1e30), hi = V3::Constant(-1e30);
@@ -1201,6 +1213,8 @@ std::string Generator::entryYaml(const Entry& e, int id) const {
 
 }  // namespace
 
-GeneratedWorld generateWorld(const TWorldGenParams& params) { return Generator(params).run(); }
+GeneratedWorld generateWorld(const TWorldGenParams& params) {
+  return Generator(params).run();
+}
 
 }  // namespace rasm::sim

@@ -245,7 +245,8 @@ namespace {
 constexpr uint32_t kMaxKeyframeFeatures = 1u << 20;
 constexpr int32_t kMaxThumbnailSide = 4096;
 // The per-feature arrays are written as flat float buffers.
-static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float) && sizeof(Eigen::Vector2f) == 2 * sizeof(float));
+static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float) &&
+              sizeof(Eigen::Vector2f) == 2 * sizeof(float));
 
 // Per keyframe: frame index, timestamp, T_world_cam (3x4, row-major doubles), intrinsics
 // (fx fy cx cy, width height), feature count n, 3n floats of points, 2n floats of keypoints,
@@ -321,7 +322,7 @@ void readKeyframes(mrpt::serialization::CArchive& in, std::vector<Keyframe>& kfs
 }
 
 constexpr std::size_t kClassRecordBytes = kClassSlots * 3;  // 4 ids + 4 int16
-constexpr std::size_t kClassChunk = 1 << 16;                  // surfels per I/O chunk
+constexpr std::size_t kClassChunk = 1 << 16;                // surfels per I/O chunk
 
 void writeClassEvidence(mrpt::serialization::CArchive& out, const ClassEvidence* ev,
                         std::size_t n) {
@@ -391,7 +392,9 @@ ClassEvidence convertLinearClassRow(const std::uint8_t* row, int n_classes) {
   return e;
 }
 
-uint8_t CSurfelMap::serializeGetVersion() const { return 2; }
+uint8_t CSurfelMap::serializeGetVersion() const {
+  return 2;
+}
 
 void CSurfelMap::serializeTo(mrpt::serialization::CArchive& out) const {
   out << int32_t(m_creation.n_classes) << int32_t(m_creation.view_bins_azimuth)

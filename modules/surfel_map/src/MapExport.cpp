@@ -22,10 +22,14 @@ namespace {
 
 // Property list of the PLY (order, type, name) — the reader accepts exactly this layout.
 const char* const kPlyProperties[] = {
-    "float x",          "float y",      "float z",           "float nx",
-    "float ny",         "float nz",     "uchar red",         "uchar green",
-    "uchar blue",       "float radius", "float confidence",  "uint segment",
-    "uchar class",      "float class_probability",           "uchar stable",
+    "float x",          "float y",
+    "float z",          "float nx",
+    "float ny",         "float nz",
+    "uchar red",        "uchar green",
+    "uchar blue",       "float radius",
+    "float confidence", "uint segment",
+    "uchar class",      "float class_probability",
+    "uchar stable",
 };
 constexpr std::size_t kPlyRecordBytes = 6 * 4 + 3 + 4 + 4 + 4 + 1 + 4 + 1;
 
@@ -119,7 +123,8 @@ Bgr8 labelColour(long long label) {
   return Bgr8{std::uint8_t(255 * b), std::uint8_t(255 * g), std::uint8_t(255 * r)};
 }
 
-void writeSurfelPly(const SurfelStore& map, const std::string& path, bool stable_only, SurfelColouring colouring) {
+void writeSurfelPly(const SurfelStore& map, const std::string& path, bool stable_only,
+                    SurfelColouring colouring) {
   const SurfelArrays a = map.arrays();
   std::vector<int> ids;
   ids.reserve(a.size);
@@ -144,7 +149,8 @@ void writeSurfelPly(const SurfelStore& map, const std::string& path, bool stable
     for (std::size_t j = 0; j < n; ++j) {
       const int i = ids[k + j];
       const Vec4f pc = a.pos_conf[i], nr = a.normal_radius[i];
-      const Bgr8 c = colouring == SurfelColouring::Rgb ? a.colour(i) : visualColour(a, i, colouring, max_conf);
+      const Bgr8 c =
+          colouring == SurfelColouring::Rgb ? a.colour(i) : visualColour(a, i, colouring, max_conf);
       put(p, pc.x());
       put(p, pc.y());
       put(p, pc.z());

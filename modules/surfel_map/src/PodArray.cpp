@@ -41,7 +41,9 @@ void podFree(void* p, std::size_t bytes) {
 
 #else
 
-std::size_t podRoundBytes(std::size_t bytes) { return (bytes + 63) / 64 * 64; }
+std::size_t podRoundBytes(std::size_t bytes) {
+  return (bytes + 63) / 64 * 64;
+}
 
 void* podAllocate(std::size_t bytes) {
   void* p = std::malloc(bytes);
@@ -55,7 +57,9 @@ void* podGrow(void* p, std::size_t, std::size_t new_bytes) {
   return q;
 }
 
-void podFree(void* p, std::size_t) { std::free(p); }
+void podFree(void* p, std::size_t) {
+  std::free(p);
+}
 
 #endif
 

@@ -12,7 +12,9 @@ namespace rasm::maps {
 
 namespace {
 
-RigidF toRigid(const Eigen::Isometry3d& T) { return RigidF::fromMatrix(T.matrix().cast<float>()); }
+RigidF toRigid(const Eigen::Isometry3d& T) {
+  return RigidF::fromMatrix(T.matrix().cast<float>());
+}
 
 void fillEmpty(Image<std::uint64_t>& img) {
   const int w = img.width();
@@ -193,18 +195,17 @@ inline void forVisibleMemberGroups(const kernels::VisibilityTest& test, bool att
       const __m128 cy4 = _mm_add_ps(
           _mm_add_ps(_mm_add_ps(_mm_mul_ps(m4, r0), _mm_mul_ps(m5, r1)), _mm_mul_ps(m6, r2)), m7);
       const __m128 cz4 = _mm_add_ps(
-          _mm_add_ps(_mm_add_ps(_mm_mul_ps(m8, r0), _mm_mul_ps(m9, r1)), _mm_mul_ps(m10, r2)),
-          m11);
+          _mm_add_ps(_mm_add_ps(_mm_mul_ps(m8, r0), _mm_mul_ps(m9, r1)), _mm_mul_ps(m10, r2)), m11);
       // (z <= 0 only outside the frustum, where the tests reject the pixel coordinates anyway)
       const __m128 u4 = _mm_add_ps(_mm_div_ps(_mm_mul_ps(fx, cx4), cz4), cx);
       const __m128 v4 = _mm_add_ps(_mm_div_ps(_mm_mul_ps(fy, cy4), cz4), cy);
       __m128 ok = attribute_filters ? _mm_castsi128_ps(_mm_set1_epi32(-1))
                                     : _mm_cmpnlt_ps(r3, wmin);  // !(w < min_confidence)
       if (!inside) {
-        const __m128 in = _mm_and_ps(
-            _mm_and_ps(_mm_and_ps(_mm_cmpge_ps(cz4, zlo), _mm_cmple_ps(cz4, zhi)),
-                       _mm_and_ps(_mm_cmpge_ps(u4, ulo), _mm_cmple_ps(u4, uhi))),
-            _mm_and_ps(_mm_cmpge_ps(v4, vlo), _mm_cmple_ps(v4, vhi)));
+        const __m128 in =
+            _mm_and_ps(_mm_and_ps(_mm_and_ps(_mm_cmpge_ps(cz4, zlo), _mm_cmple_ps(cz4, zhi)),
+                                  _mm_and_ps(_mm_cmpge_ps(u4, ulo), _mm_cmple_ps(u4, uhi))),
+                       _mm_and_ps(_mm_cmpge_ps(v4, vlo), _mm_cmple_ps(v4, vhi)));
         ok = _mm_and_ps(ok, in);
       }
       const int mask = _mm_movemask_ps(ok) & ((1 << nl) - 1);
@@ -245,7 +246,8 @@ inline int footprints4(const kernels::SplatKernel& k, const MemberGroup& g,
   __m128 r = _mm_load_ps(a.normal_radius[g.idx[3]].data());
   _MM_TRANSPOSE4_PS(nx, ny, nz, r);  // world normal x, y, z and radius per lane
   const float* T = k.T_cam_world.m;
-  const __m128 ncx = sse::rigidRow(T, nx, ny, nz, false), ncy = sse::rigidRow(T + 4, nx, ny, nz, false),
+  const __m128 ncx = sse::rigidRow(T, nx, ny, nz, false),
+               ncy = sse::rigidRow(T + 4, nx, ny, nz, false),
                ncz = sse::rigidRow(T + 8, nx, ny, nz, false);  // RigidF::rotate
   const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
   const __m128 z = g.z;
@@ -333,7 +335,8 @@ inline int footprints4(const kernels::SplatKernel& k, const MemberGroup& g,
 
 /// The members of block b a render visits: with stable_only only the block's stable prefix
 /// (VoxelBlockIndex keeps stable surfels first), else all.
-inline int membersToVisit(const VoxelBlockIndex& index, int b, const kernels::VisibilityTest& test) {
+inline int membersToVisit(const VoxelBlockIndex& index, int b,
+                          const kernels::VisibilityTest& test) {
   return test.stable_only ? index.stableCount(b) : int(index.members(b).size());
 }
 
@@ -355,7 +358,8 @@ int teamSize() {
 /// Depth test of two adjacent pixels dst[0..1] at once: dst[j] = min(dst[j], packed lane j) for
 /// the lanes set in `lanes` (2 bits), the (depth bits << 32 | index) minimum as an unsigned
 /// 64-bit compare done as a signed one of the values with the top bit flipped.
-alignas(16) constexpr std::uint64_t kPairLanes[4][2] = {{0, 0}, {~0ull, 0}, {0, ~0ull}, {~0ull, ~0ull}};
+alignas(16) constexpr std::uint64_t kPairLanes[4][2] = {
+    {0, 0}, {~0ull, 0}, {0, ~0ull}, {~0ull, ~0ull}};
 inline void depthTestPair(std::uint64_t* dst, __m128i packed, int lanes) {
   const __m128i top = _mm_set1_epi64x(std::int64_t(0x8000000000000000ull));
   const __m128i lane = _mm_load_si128(reinterpret_cast<const __m128i*>(kPairLanes[lanes]));
@@ -400,8 +404,8 @@ inline void rasterizeSse(const kernels::SplatKernel& k, const kernels::SplatFoot
       const __m128 dx = _mm_sub_ps(_mm_mul_ps(t, rx), v_pcx);
       const __m128 dy = _mm_sub_ps(_mm_mul_ps(t, v_ry), v_pcy);
       const __m128 dz = _mm_sub_ps(t, v_z);
-      const __m128 d2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)),
-                                   _mm_mul_ps(dz, dz));
+      const __m128 d2 =
+          _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
       const __m128 pass = _mm_and_ps(_mm_cmpgt_ps(t, v_zero), _mm_cmpngt_ps(d2, v_r2));
       int mask = _mm_movemask_ps(pass);
       const int n = std::min(4, f.x1 - x0 + 1);
@@ -467,8 +471,8 @@ inline void rasterizeTwoRowsSse(const kernels::SplatKernel& k, const kernels::Sp
     const __m128 at_centre =
         _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_setr_epi32(0, 1, 2, 3), _mm_set1_epi32(centre)));
     const __m128 off = _mm_and_ps(
-        at_centre, _mm_or_ps(_mm_cmpngt_ps(t, v_zero),
-                             _mm_cmpgt_ps(_mm_and_ps(dz, v_abs), _mm_set1_ps(r))));
+        at_centre,
+        _mm_or_ps(_mm_cmpngt_ps(t, v_zero), _mm_cmpgt_ps(_mm_and_ps(dz, v_abs), _mm_set1_ps(r))));
     t = _mm_or_ps(_mm_andnot_ps(off, t), _mm_and_ps(off, v_z));
     mask |= 1 << centre;
   }
@@ -566,7 +570,8 @@ void SurfelRenderer::collectVisible(const SurfelStore& map, const Eigen::Isometr
     std::vector<int>& out = per_block_[j];
     out.clear();
     tested += n;
-    forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, false, index.members(c.blocks[j]).data(), n,
+    forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, false,
+                      index.members(c.blocks[j]).data(), n,
                       [&](int i, const Vec3f&, float, float) { out.push_back(i); });
   }
   std::size_t total = 0;
@@ -769,26 +774,27 @@ void SurfelRenderer::renderCandidates4x(const SurfelStore& map,
     for (int j = 0; j < nb; ++j) {
       const int n = membersToVisit(index, c.blocks[j], c.test);
       tested += n;
-      forVisibleMembers(c.test, c.attribute_filters, c.inside[j] != 0, false, index.members(c.blocks[j]).data(), n,
-                        [&](int i, const Vec3f& pc, float u, float v) {
-                          const std::uint32_t key = kernels::candidateKey4x(
-                              pc.z(), u, v, Kp, opt.min_depth_m, opt.max_depth_m);
-                          if (key == kernels::kNoCandidate) {
-                            others.push_back(kernels::CameraPoint{pc, i});
-                            return;
-                          }
-                          rows[kernels::candidateRow(key)].push_back(
-                              RowPoint{kernels::CameraPoint{pc, i},
-                                       std::uint16_t(kernels::candidateColumn(key)),
-                                       std::uint8_t(kernels::candidateSubPixel(key))});
-                        });
+      forVisibleMembers(
+          c.test, c.attribute_filters, c.inside[j] != 0, false, index.members(c.blocks[j]).data(),
+          n, [&](int i, const Vec3f& pc, float u, float v) {
+            const std::uint32_t key =
+                kernels::candidateKey4x(pc.z(), u, v, Kp, opt.min_depth_m, opt.max_depth_m);
+            if (key == kernels::kNoCandidate) {
+              others.push_back(kernels::CameraPoint{pc, i});
+              return;
+            }
+            rows[kernels::candidateRow(key)].push_back(
+                RowPoint{kernels::CameraPoint{pc, i}, std::uint16_t(kernels::candidateColumn(key)),
+                         std::uint8_t(kernels::candidateSubPixel(key))});
+          });
     }
 #pragma omp single
     {
       std::uint32_t cur = 0;
       for (int y = 0; y < h; ++y) {
         row_first[y] = cur;
-        for (int tt = 0; tt < tn; ++tt) cur += std::uint32_t(row_points_[std::size_t(tt) * h + y].size());
+        for (int tt = 0; tt < tn; ++tt)
+          cur += std::uint32_t(row_points_[std::size_t(tt) * h + y].size());
       }
       row_first[h] = cur;
       out.entries.resize(cur);
@@ -812,7 +818,8 @@ void SurfelRenderer::renderCandidates4x(const SurfelStore& map,
       for (int x = 0; x < w; ++x) col[x + 1] += col[x];  // col[x] = start of column x in the row
       sorted.resize(e - b);
       for (int tt = 0; tt < tn; ++tt)
-        for (const RowPoint& rp : row_points_[std::size_t(tt) * h + y]) sorted[col[rp.column]++] = rp;
+        for (const RowPoint& rp : row_points_[std::size_t(tt) * h + y])
+          sorted[col[rp.column]++] = rp;
       // col[x] is now the end of column x.
       std::uint32_t* first = out.first.data() + std::size_t(y) * w;
       std::uint8_t* count = out.count.data() + std::size_t(y) * w;

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
-#include <type_traits>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include "rasm/compute/Parallel.h"
 
@@ -115,7 +115,8 @@ int SurfelStore::allocate(int count) {
 
 void SurfelStore::indexAppended() {
   if (indexed_ >= size_) return;
-  index_.insertRange(indexed_, size_ - indexed_, pos_conf_.data(), colour_flags_.data(), kSurfelStable);
+  index_.insertRange(indexed_, size_ - indexed_, pos_conf_.data(), colour_flags_.data(),
+                     kSurfelStable);
   for (int i = indexed_; i < size_; ++i)
     radius_bound_ = std::max(radius_bound_, normal_radius_[i].w());
   indexed_ = size_;
@@ -330,15 +331,17 @@ void gatherSurfels(PodArray<T>& a, const std::vector<int>& old_of_new, std::size
 
 void SurfelStore::sortByBlock(std::vector<int>* new_of_old_out) {
   if (indexed_ != size_)
-    throw std::logic_error("SurfelStore::sortByBlock: surfels allocated but not indexed (call indexAppended())");
+    throw std::logic_error(
+        "SurfelStore::sortByBlock: surfels allocated but not indexed (call indexAppended())");
   ++generation_.value;
   std::vector<int> old_of_new;
   old_of_new.reserve(std::size_t(size_));
   for (int b = 0; b < index_.blockCapacity(); ++b)
     for (const int i : index_.members(b)) old_of_new.push_back(i);
   if (int(old_of_new.size()) != size_)
-    throw std::logic_error("SurfelStore::sortByBlock: the spatial index holds " + std::to_string(old_of_new.size()) +
-                           " surfels, the store " + std::to_string(size_));
+    throw std::logic_error("SurfelStore::sortByBlock: the spatial index holds " +
+                           std::to_string(old_of_new.size()) + " surfels, the store " +
+                           std::to_string(size_));
   {
     // Transient memory, freed as soon as it is no longer needed: the largest array's size plus
     // 4 bytes per surfel (old_of_new) during the gathers, then 8 bytes per surfel.

@@ -121,8 +121,8 @@ void VoxelBlockIndex::insert(int surfel, const Vec3f& p, bool stable) {
   addToBlock(surfel, blockFor(packKey(c), c), stable);
 }
 
-void VoxelBlockIndex::insertRange(int first, int count, const Vec4f* pos_conf, const std::uint32_t* flags,
-                                  std::uint32_t stable_mask) {
+void VoxelBlockIndex::insertRange(int first, int count, const Vec4f* pos_conf,
+                                  const std::uint32_t* flags, std::uint32_t stable_mask) {
   if (count <= 0) return;
   ensureSurfel(first + count - 1);
   std::uint64_t last_key = ~std::uint64_t(0);
@@ -210,7 +210,8 @@ void VoxelBlockIndex::permute(const std::vector<int>& new_of_old) {
     for (int k = 0; k < int(m.size()); ++k) {
       const int j = new_of_old[std::size_t(m[k])];
       if (j < 0 || j >= n || surfel_block_[std::size_t(j)] >= 0)
-        throw std::invalid_argument("VoxelBlockIndex::permute: not a permutation of the indexed surfels");
+        throw std::invalid_argument(
+            "VoxelBlockIndex::permute: not a permutation of the indexed surfels");
       m[k] = j;
       surfel_block_[std::size_t(j)] = b;
       surfel_slot_[std::size_t(j)] = k;
@@ -243,7 +244,8 @@ void VoxelBlockIndex::blocksInFrustum(const CameraFrustum& frustum, float margin
 }
 
 bool VoxelBlockIndex::checkConsistency(const Vec4f* pos_conf, int n, std::string* why,
-                                       const std::uint32_t* flags, std::uint32_t stable_mask) const {
+                                       const std::uint32_t* flags,
+                                       std::uint32_t stable_mask) const {
   auto fail = [&](const std::string& s) {
     if (why) *why = s;
     return false;
@@ -272,8 +274,9 @@ bool VoxelBlockIndex::checkConsistency(const Vec4f* pos_conf, int n, std::string
     if (keyOf(pos_conf[i].head<3>()) != blocks_[b].key)
       return fail("surfel " + std::to_string(i) + " is not in the block containing it");
     if (flags && isStable(i) != ((flags[i] & stable_mask) != 0))
-      return fail("surfel " + std::to_string(i) + (isStable(i) ? " is in the stable part but not stable"
-                                                               : " is stable but not in the stable part"));
+      return fail("surfel " + std::to_string(i) +
+                  (isStable(i) ? " is in the stable part but not stable"
+                               : " is stable but not in the stable part"));
   }
   return true;
 }

@@ -1,6 +1,7 @@
 // CUDA launcher of the ICP reduction of section II-C: the same IcpReduceKernel::pixel() the CPU
-// path runs, one thread per processed pixel, the IcpAccumulator sums reduced per block (warp shuffles, then
-// across warps in shared memory), per-block partials summed on the host in block order.
+// path runs, one thread per processed pixel, the IcpAccumulator sums reduced per block (warp
+// shuffles, then across warps in shared memory), per-block partials summed on the host in block
+// order.
 #include <cuda_runtime.h>
 
 #include <memory>
@@ -13,10 +14,10 @@ namespace rasm::tracking::cuda {
 
 namespace {
 
-using kernels::IcpAccumulator;
-using kernels::IcpReduceKernel;
 using compute::cuda::check;
 using compute::cuda::DeviceBuffer;
+using kernels::IcpAccumulator;
+using kernels::IcpReduceKernel;
 
 constexpr int kBlock = 256;
 constexpr int kWarps = kBlock / 32;
@@ -55,7 +56,8 @@ struct DeviceImage {
   int w = 0, h = 0;
   void upload(const ImageView<const Vec3f>& v) {
     if (!buf || w != v.width || h != v.height) {
-      buf = std::make_unique<DeviceBuffer<Vec3f>>(size_t(std::max(1, v.width)) * std::max(1, v.height));
+      buf = std::make_unique<DeviceBuffer<Vec3f>>(size_t(std::max(1, v.width)) *
+                                                  std::max(1, v.height));
       w = v.width;
       h = v.height;
     }
@@ -64,7 +66,9 @@ struct DeviceImage {
                        cudaMemcpyHostToDevice),
           "IcpCudaReducer upload");
   }
-  ImageView<const Vec3f> view() const { return ImageView<const Vec3f>(buf ? buf->ptr : nullptr, w, h); }
+  ImageView<const Vec3f> view() const {
+    return ImageView<const Vec3f>(buf ? buf->ptr : nullptr, w, h);
+  }
 };
 
 struct LevelImages {
@@ -79,7 +83,9 @@ struct IcpCudaReducer::Impl {
   std::vector<double> host_partials;
 };
 
-bool built() { return true; }
+bool built() {
+  return true;
+}
 
 IcpCudaReducer::IcpCudaReducer() : m_impl(std::make_unique<Impl>()) {}
 IcpCudaReducer::~IcpCudaReducer() = default;
@@ -94,7 +100,8 @@ void IcpCudaReducer::upload(int level, const IcpReduceKernel& k) {
 }
 
 IcpAccumulator IcpCudaReducer::reduce(int level, const IcpReduceKernel& k_host) {
-  if (level >= int(m_impl->levels.size())) throw std::runtime_error("IcpCudaReducer::reduce: level not uploaded");
+  if (level >= int(m_impl->levels.size()))
+    throw std::runtime_error("IcpCudaReducer::reduce: level not uploaded");
   const LevelImages& L = m_impl->levels[level];
   IcpReduceKernel k = k_host;
   k.frame_vertex = L.frame_vertex.view();
@@ -110,8 +117,8 @@ IcpAccumulator IcpCudaReducer::reduce(int level, const IcpReduceKernel& k_host) 
   icpReduceKernel<<<blocks, kBlock>>>(k, n, m_impl->partials->ptr);
   check(cudaGetLastError(), "icpReduceKernel launch");
   m_impl->host_partials.resize(size_t(blocks) * kN);
-  check(cudaMemcpy(m_impl->host_partials.data(), m_impl->partials->ptr, sizeof(double) * blocks * kN,
-                   cudaMemcpyDeviceToHost),
+  check(cudaMemcpy(m_impl->host_partials.data(), m_impl->partials->ptr,
+                   sizeof(double) * blocks * kN, cudaMemcpyDeviceToHost),
         "icpReduceKernel download");
   double* t = total.s;
   for (int b = 0; b < blocks; ++b)

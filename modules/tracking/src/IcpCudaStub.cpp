@@ -12,13 +12,21 @@ namespace {
 }
 }  // namespace
 
-bool built() { return false; }
+bool built() {
+  return false;
+}
 struct IcpCudaReducer::Impl {};
 IcpCudaReducer::IcpCudaReducer() = default;
 IcpCudaReducer::~IcpCudaReducer() = default;
-void IcpCudaReducer::upload(int, const kernels::IcpReduceKernel&) { noCuda(); }
-kernels::IcpAccumulator IcpCudaReducer::reduce(int, const kernels::IcpReduceKernel&) { noCuda(); }
-kernels::IcpAccumulator reduceIcp(const kernels::IcpReduceKernel&) { noCuda(); }
+void IcpCudaReducer::upload(int, const kernels::IcpReduceKernel&) {
+  noCuda();
+}
+kernels::IcpAccumulator IcpCudaReducer::reduce(int, const kernels::IcpReduceKernel&) {
+  noCuda();
+}
+kernels::IcpAccumulator reduceIcp(const kernels::IcpReduceKernel&) {
+  noCuda();
+}
 
 }  // namespace rasm::tracking::cuda
 #endif

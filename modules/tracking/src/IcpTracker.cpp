@@ -47,7 +47,9 @@ constexpr double kDegToRad = M_PI / 180.0;
 /// Below this many inliers a level's system is not solved (6 unknowns; margin for noise).
 constexpr double kMinSolveInliers = 20;
 
-RigidF toRigidF(const Eigen::Isometry3d& T) { return RigidF::fromMatrix(T.matrix().cast<float>()); }
+RigidF toRigidF(const Eigen::Isometry3d& T) {
+  return RigidF::fromMatrix(T.matrix().cast<float>());
+}
 
 /// The normal equations of one linearisation, normalised and analysed: the point-to-plane
 /// sums plus, optionally, the photometric ones scaled by kappa (m^2 per squared intensity unit,
@@ -63,8 +65,8 @@ struct IcpSystem {
   Vector6d eigenvalues = Vector6d::Zero();
   Eigen::Matrix<double, 6, 6> eigenvectors = Eigen::Matrix<double, 6, 6>::Identity();
 
-  explicit IcpSystem(const kernels::IcpAccumulator& a, const kernels::IcpAccumulator* photo = nullptr,
-                     double kappa = 0.0) {
+  explicit IcpSystem(const kernels::IcpAccumulator& a,
+                     const kernels::IcpAccumulator* photo = nullptr, double kappa = 0.0) {
     using A = kernels::IcpAccumulator;
     int k = A::kJtJ;
     for (int i = 0; i < 6; ++i)
@@ -72,7 +74,8 @@ struct IcpSystem {
         H(i, j) = H(j, i) = a.s[k] + (photo ? kappa * photo->s[k] : 0.0);
         ++k;
       }
-    for (int i = 0; i < 6; ++i) g(i) = a.s[A::kJtr + i] + (photo ? kappa * photo->s[A::kJtr + i] : 0.0);
+    for (int i = 0; i < 6; ++i)
+      g(i) = a.s[A::kJtr + i] + (photo ? kappa * photo->s[A::kJtr + i] : 0.0);
     inliers = a.inliers();
     valid = a.valid();
     weight = a.s[A::kW];
@@ -124,9 +127,10 @@ struct IcpSystem {
   /// (a floor's in-plane directions, where noisy normals add spurious, biased constraints) the
   /// prior alone decides. So (H_s + sigma^2 Lambda) xi = -g_s + sigma^2 Lambda delta with H_s,
   /// g_s the normal equations restricted to the constrained subspace.
-  void solveWithPrior(const Eigen::Matrix<double, 6, 6>& information, const Vector6d& delta, double pixel_sigma2,
-                      double min_eig, Vector6d& xi) const {
-    Eigen::Matrix<double, 6, 6> Hs = Eigen::Matrix<double, 6, 6>::Zero();  // scaled, constrained part
+  void solveWithPrior(const Eigen::Matrix<double, 6, 6>& information, const Vector6d& delta,
+                      double pixel_sigma2, double min_eig, Vector6d& xi) const {
+    Eigen::Matrix<double, 6, 6> Hs =
+        Eigen::Matrix<double, 6, 6>::Zero();  // scaled, constrained part
     Eigen::Matrix<double, 6, 6> Ps = Eigen::Matrix<double, 6, 6>::Zero();  // projector onto it
     for (int i = 0; i < 6; ++i)
       if (eigenvalues(i) >= min_eig) {
@@ -151,10 +155,12 @@ Vector6d incrementTo(const Eigen::Isometry3d& T, const Eigen::Isometry3d& T_targ
 }
 
 /// Counts of kernels::PoseCheckKernel for the pose T at frame level `level`.
-kernels::PoseCheckCounts checkPoseCounts(const FrameLevel& F, const ImageView<const Vec3f>& model_vertex,
-                                   const ImageView<const Vec3f>& model_normal, const CameraIntrinsics& K_model,
-                                   const Eigen::Isometry3d& T_world_model, const Eigen::Isometry3d& T,
-                                   const TTrackingParams& P) {
+kernels::PoseCheckCounts checkPoseCounts(const FrameLevel& F,
+                                         const ImageView<const Vec3f>& model_vertex,
+                                         const ImageView<const Vec3f>& model_normal,
+                                         const CameraIntrinsics& K_model,
+                                         const Eigen::Isometry3d& T_world_model,
+                                         const Eigen::Isometry3d& T, const TTrackingParams& P) {
   kernels::PoseCheckKernel k;
   k.frame_vertex = F.vertex.view();
   k.frame_normal = F.normal.view();
@@ -170,16 +176,20 @@ kernels::PoseCheckCounts checkPoseCounts(const FrameLevel& F, const ImageView<co
   return compute::reduce1D<kernels::PoseCheckCounts>(k.rows(), k);
 }
 
-void checkMap(const ImageView<const Vec3f>& v, const ImageView<const Vec3f>& n, const std::string& what) {
+void checkMap(const ImageView<const Vec3f>& v, const ImageView<const Vec3f>& n,
+              const std::string& what) {
   if (v.width != n.width || v.height != n.height)
-    throwInputError("tracking: " + what, "vertex map " + std::to_string(v.width) + "x" + std::to_string(v.height) +
-                                             " and normal map " + std::to_string(n.width) + "x" +
+    throwInputError("tracking: " + what, "vertex map " + std::to_string(v.width) + "x" +
+                                             std::to_string(v.height) + " and normal map " +
+                                             std::to_string(n.width) + "x" +
                                              std::to_string(n.height) + " differ in size");
 }
 
 }  // namespace
 
-IcpTracker::IcpTracker(const TTrackingParams& params) : m_params(params) { m_params.validate(); }
+IcpTracker::IcpTracker(const TTrackingParams& params) : m_params(params) {
+  m_params.validate();
+}
 IcpTracker::~IcpTracker() = default;
 IcpTracker::IcpTracker(IcpTracker&&) noexcept = default;
 IcpTracker& IcpTracker::operator=(IcpTracker&&) noexcept = default;
@@ -202,10 +212,12 @@ TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const Mod
     r.status = TrackingStatus::NotInitialized;
     return r;
   }
-  TrackingResult r = align(frame, model, prior ? prior->T_world_cam : predictPose(), frame_colour, prior);
+  TrackingResult r =
+      align(frame, model, prior ? prior->T_world_cam : predictPose(), frame_colour, prior);
   if (r.ok && r.check_overlap >= m_params.check_min_overlap) {
     m_recent_disagreement.push_back(1.0 - r.check_agreement);
-    while (int(m_recent_disagreement.size()) > m_params.check_history) m_recent_disagreement.pop_front();
+    while (int(m_recent_disagreement.size()) > m_params.check_history)
+      m_recent_disagreement.pop_front();
   }
   if (r.ok) {
     m_T_prev = m_T_last;
@@ -216,7 +228,8 @@ TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const Mod
   return r;
 }
 
-IcpTracker::PoseCheck IcpTracker::checkPose(const std::vector<FrameLevel>& frame, const ModelMaps& model,
+IcpTracker::PoseCheck IcpTracker::checkPose(const std::vector<FrameLevel>& frame,
+                                            const ModelMaps& model,
                                             const Eigen::Isometry3d& T_world_cam) {
   if (model.vertex_world.empty()) return {};
   checkMap(model.vertex_world, model.normal_world, "model maps");
@@ -224,26 +237,29 @@ IcpTracker::PoseCheck IcpTracker::checkPose(const std::vector<FrameLevel>& frame
   return checkPoseBuilt(frame, model, T_world_cam);
 }
 
-IcpTracker::PoseCheck IcpTracker::checkPoseBuilt(const std::vector<FrameLevel>& frame, const ModelMaps& model,
+IcpTracker::PoseCheck IcpTracker::checkPoseBuilt(const std::vector<FrameLevel>& frame,
+                                                 const ModelMaps& model,
                                                  const Eigen::Isometry3d& T_world_cam) const {
   const TTrackingParams& P = m_params;
   const int cl = std::min(P.check_level, P.num_levels - 1);
   const int cml = std::max(0, cl - P.model_level);
   if (static_cast<int>(frame.size()) <= cl)
-    throwInputError("tracking: frame pyramid", "has " + std::to_string(frame.size()) + " levels, the pose check needs " +
+    throwInputError("tracking: frame pyramid", "has " + std::to_string(frame.size()) +
+                                                   " levels, the pose check needs " +
                                                    std::to_string(cl + 1));
-  const kernels::PoseCheckCounts c =
-      checkPoseCounts(frame[cl], cml == 0 ? model.vertex_world : ImageView<const Vec3f>(m_model_vertex[cml - 1].view()),
-                      cml == 0 ? model.normal_world : ImageView<const Vec3f>(m_model_normal[cml - 1].view()),
-                      model.K.level(cml), model.T_world_model, T_world_cam, P);
+  const kernels::PoseCheckCounts c = checkPoseCounts(
+      frame[cl],
+      cml == 0 ? model.vertex_world : ImageView<const Vec3f>(m_model_vertex[cml - 1].view()),
+      cml == 0 ? model.normal_world : ImageView<const Vec3f>(m_model_normal[cml - 1].view()),
+      model.K.level(cml), model.T_world_model, T_world_cam, P);
   PoseCheck r;
   const double overlap = double(c.overlap());
   r.overlap = c.valid > 0 ? overlap / double(c.valid) : 0.0;
   r.agreement = overlap > 0 ? double(c.agree) / overlap : 0.0;
   r.behind = overlap > 0 ? double(c.behind) / overlap : 0.0;
   r.max_disagreement = maxDisagreement();
-  r.passed = r.overlap >= P.check_min_overlap && r.agreement >= P.check_min_agreement && r.behind <= P.check_max_behind &&
-             1.0 - r.agreement <= r.max_disagreement;
+  r.passed = r.overlap >= P.check_min_overlap && r.agreement >= P.check_min_agreement &&
+             r.behind <= P.check_max_behind && 1.0 - r.agreement <= r.max_disagreement;
   return r;
 }
 
@@ -263,8 +279,9 @@ void IcpTracker::buildModelPyramid(const ModelMaps& model, bool intensity, bool 
   if (intensity) {
     m_model_intensity.resize(L);
     m_model_intensity[0].resize(model.vertex_world.width, model.vertex_world.height);
-    compute::forEach2D(model.vertex_world.width, model.vertex_world.height,
-                       kernels::IntensityKernel{model.colour, model.vertex_world, m_model_intensity[0].view()});
+    compute::forEach2D(
+        model.vertex_world.width, model.vertex_world.height,
+        kernels::IntensityKernel{model.colour, model.vertex_world, m_model_intensity[0].view()});
   }
   const RigidF T_model_world = toRigidF(model.T_world_model.inverse());
   ImageView<const Vec3f> v = model.vertex_world, n = model.normal_world;
@@ -296,7 +313,8 @@ void IcpTracker::buildModelPyramid(const ModelMaps& model, bool intensity, bool 
   }
 }
 
-void IcpTracker::buildFrameIntensity(const std::vector<FrameLevel>& frame, ImageView<const Bgr8> colour) {
+void IcpTracker::buildFrameIntensity(const std::vector<FrameLevel>& frame,
+                                     ImageView<const Bgr8> colour) {
   const int L = m_params.num_levels;
   m_frame_intensity.resize(L);
   m_frame_igrad.resize(L);
@@ -307,54 +325,65 @@ void IcpTracker::buildFrameIntensity(const std::vector<FrameLevel>& frame, Image
     if (l == 0)
       compute::forEach2D(w, h, kernels::IntensityKernel{colour, {}, I.view()});
     else
-      compute::forEach2D(w, h, kernels::IntensityDownsampleKernel{m_frame_intensity[l - 1].cview(), I.view()});
+      compute::forEach2D(
+          w, h, kernels::IntensityDownsampleKernel{m_frame_intensity[l - 1].cview(), I.view()});
     m_frame_igrad[l].resize(w, h);
     compute::forEach2D(w, h, kernels::IntensityGradientKernel{I.cview(), m_frame_igrad[l].view()});
   }
 }
 
 TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const ModelMaps& model,
-                                 const Eigen::Isometry3d& T_world_cam_guess, ImageView<const Bgr8> frame_colour,
-                                 const MotionPrior* prior) {
+                                 const Eigen::Isometry3d& T_world_cam_guess,
+                                 ImageView<const Bgr8> frame_colour, const MotionPrior* prior) {
   const TTrackingParams& P = m_params;
   const int L = P.num_levels;
   if (static_cast<int>(frame.size()) < L)
-    throwInputError("tracking: frame pyramid", "has " + std::to_string(frame.size()) + " levels, [tracking] num_levels = " +
-                                                   std::to_string(L));
+    throwInputError("tracking: frame pyramid",
+                    "has " + std::to_string(frame.size()) +
+                        " levels, [tracking] num_levels = " + std::to_string(L));
   for (int l = 0; l < L; ++l) {
     const FrameLevel& F = frame[l];
     checkMap(F.vertex.view(), F.normal.view(), "frame level " + std::to_string(l));
     if (F.vertex.empty())
-      throwInputError("tracking: frame level " + std::to_string(l), "empty vertex map (build it with buildFramePyramid)");
+      throwInputError("tracking: frame level " + std::to_string(l),
+                      "empty vertex map (build it with buildFramePyramid)");
   }
   checkMap(model.vertex_world, model.normal_world, "model maps");
   const bool model_empty = model.vertex_world.empty();
-  if (!model_empty && (model.K.width != model.vertex_world.width || model.K.height != model.vertex_world.height))
-    throwInputError("tracking: model maps", "size " + std::to_string(model.vertex_world.width) + "x" +
-                                                std::to_string(model.vertex_world.height) +
-                                                " differs from the model intrinsics " + model.K.toString());
+  if (!model_empty &&
+      (model.K.width != model.vertex_world.width || model.K.height != model.vertex_world.height))
+    throwInputError("tracking: model maps", "size " + std::to_string(model.vertex_world.width) +
+                                                "x" + std::to_string(model.vertex_world.height) +
+                                                " differs from the model intrinsics " +
+                                                model.K.toString());
   const FrameLevel& model_frame_level = frame[P.model_level];
   if (!model_empty && (model.K.width != model_frame_level.depth_m.width() ||
                        model.K.height != model_frame_level.depth_m.height()))
-    throwInputError("tracking: model maps", "size " + std::to_string(model.K.width) + "x" +
-                                                std::to_string(model.K.height) + " differs from frame level " +
-                                                std::to_string(P.model_level) + " ([tracking] model_level), " +
-                                                std::to_string(model_frame_level.depth_m.width()) + "x" +
-                                                std::to_string(model_frame_level.depth_m.height()));
+    throwInputError("tracking: model maps",
+                    "size " + std::to_string(model.K.width) + "x" + std::to_string(model.K.height) +
+                        " differs from frame level " + std::to_string(P.model_level) +
+                        " ([tracking] model_level), " +
+                        std::to_string(model_frame_level.depth_m.width()) + "x" +
+                        std::to_string(model_frame_level.depth_m.height()));
   // Photometric term: only with both colour images (and a model to render them from).
-  const bool photometric = P.photometric_weight > 0 && !model_empty && !model.colour.empty() && !frame_colour.empty();
+  const bool photometric =
+      P.photometric_weight > 0 && !model_empty && !model.colour.empty() && !frame_colour.empty();
   if (photometric) {
-    if (model.colour.width != model.vertex_world.width || model.colour.height != model.vertex_world.height)
+    if (model.colour.width != model.vertex_world.width ||
+        model.colour.height != model.vertex_world.height)
       throwInputError("tracking: model colour", "size " + std::to_string(model.colour.width) + "x" +
-                                                    std::to_string(model.colour.height) + " differs from the vertex map");
-    if (frame_colour.width != frame[0].depth_m.width() || frame_colour.height != frame[0].depth_m.height())
+                                                    std::to_string(model.colour.height) +
+                                                    " differs from the vertex map");
+    if (frame_colour.width != frame[0].depth_m.width() ||
+        frame_colour.height != frame[0].depth_m.height())
       throwInputError("tracking: frame colour", "size " + std::to_string(frame_colour.width) + "x" +
                                                     std::to_string(frame_colour.height) +
                                                     " differs from the level-0 depth image");
   }
   if (P.use_cuda) {
     const auto avail = compute::cudaAvailability();
-    if (!avail.available) throwInputError("[tracking] use_cuda", "CUDA is not usable: " + avail.reason);
+    if (!avail.available)
+      throwInputError("[tracking] use_cuda", "CUDA is not usable: " + avail.reason);
     if (!m_cuda) m_cuda = std::make_unique<cuda::IcpCudaReducer>();
   }
 
@@ -364,9 +393,9 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
   const bool confidence = P.confidence_full > 0 && !model_empty && !model.confidence.empty();
   if (confidence && (model.confidence.width != model.vertex_world.width ||
                      model.confidence.height != model.vertex_world.height))
-    throwInputError("tracking: model confidence", "size " + std::to_string(model.confidence.width) + "x" +
-                                                      std::to_string(model.confidence.height) +
-                                                      " differs from the vertex map");
+    throwInputError("tracking: model confidence",
+                    "size " + std::to_string(model.confidence.width) + "x" +
+                        std::to_string(model.confidence.height) + " differs from the vertex map");
   if (!model_empty) buildModelPyramid(model, photometric, confidence);
   if (photometric) buildFrameIntensity(frame, frame_colour);
   const Eigen::Isometry3d T_model_world = model.T_world_model.inverse();
@@ -376,7 +405,7 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
 
   bool diverged = false;
   IcpSystem last(kernels::IcpAccumulator{});  // level 0's last system
-  IcpSystem weakest = last;                   // the level's last system with the smallest eigenvalue
+  IcpSystem weakest = last;  // the level's last system with the smallest eigenvalue
   bool have_weakest = false;
   for (int l = L - 1; l >= 0 && !diverged; --l) {
     TrackingLevelStats st;
@@ -386,8 +415,10 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
     k.frame_normal = frame[l].normal.view();
     const int ml = std::max(0, l - P.model_level);  // model level associated with frame level l
     if (!model_empty) {
-      k.model_vertex = ml == 0 ? model.vertex_world : ImageView<const Vec3f>(m_model_vertex[ml - 1].view());
-      k.model_normal = ml == 0 ? model.normal_world : ImageView<const Vec3f>(m_model_normal[ml - 1].view());
+      k.model_vertex =
+          ml == 0 ? model.vertex_world : ImageView<const Vec3f>(m_model_vertex[ml - 1].view());
+      k.model_normal =
+          ml == 0 ? model.normal_world : ImageView<const Vec3f>(m_model_normal[ml - 1].view());
     }
     k.K_model = model.K.level(ml).plain();
     k.max_dist_m = float(P.max_dist_m[l]);
@@ -395,7 +426,8 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
     k.huber_delta_m = float(P.huber_delta_m);
     k.depth_noise_weighting = P.depth_noise_weighting;
     if (confidence) {
-      k.model_confidence = ml == 0 ? model.confidence : ImageView<const float>(m_model_confidence[ml - 1].cview());
+      k.model_confidence =
+          ml == 0 ? model.confidence : ImageView<const float>(m_model_confidence[ml - 1].cview());
       k.confidence_full = float(P.confidence_full);
     }
     k.stride = l == 0 ? P.level0_pixel_stride : 1;
@@ -438,7 +470,10 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
         pk.pivot_world = k.pivot_world;
         acc_photo = compute::reduce1D<kernels::IcpAccumulator>(pk.items(), pk);
         st.photometric_inliers = int(acc_photo.inliers());
-        st.photometric_rms = acc_photo.inliers() > 0 ? std::sqrt(acc_photo.s[kernels::IcpAccumulator::kR2] / acc_photo.inliers()) : 0.0;
+        st.photometric_rms =
+            acc_photo.inliers() > 0
+                ? std::sqrt(acc_photo.s[kernels::IcpAccumulator::kR2] / acc_photo.inliers())
+                : 0.0;
       }
       const IcpSystem sys(acc, photometric ? &acc_photo : nullptr, P.photometric_weight);
       ++st.iterations;
@@ -453,7 +488,8 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
 
       Vector6d xi;
       if (prior)
-        sys.solveWithPrior(prior->information, incrementTo(T, prior->T_world_cam), prior_sigma2, P.prior_min_eigenvalue, xi);
+        sys.solveWithPrior(prior->information, incrementTo(T, prior->T_world_cam), prior_sigma2,
+                           P.prior_min_eigenvalue, xi);
       else
         sys.solve(P.min_eigenvalue, xi);
       if (!xi.allFinite()) {
@@ -470,7 +506,8 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
         diverged = true;
         break;
       }
-      if (st.last_step_translation_m < P.convergence_translation_m && st.last_step_rotation_rad < conv_rot_rad)
+      if (st.last_step_translation_m < P.convergence_translation_m &&
+          st.last_step_rotation_rad < conv_rot_rad)
         break;
     }
     if (l == 0) {

@@ -10,8 +10,8 @@ namespace rasm::tracking::detail {
 /// Writes key = value // comment. No name padding: padded names would become part of the key
 /// that rasm::knownKeys reads back.
 template <typename T>
-void put(mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& key, const T& value,
-         const std::string& comment) {
+void put(mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& key,
+         const T& value, const std::string& comment) {
   c.write(s, key, value, -1, -1, comment);
 }
 

@@ -4,9 +4,9 @@
 
 #include <string>
 
+#include "ParamsPut.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
-#include "ParamsPut.h"
 
 namespace rasm::tracking {
 
@@ -14,7 +14,8 @@ namespace {
 using detail::put;
 }  // namespace
 
-void TRelocalisationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void TRelocalisationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                               const std::string& s) {
   MRPT_LOAD_CONFIG_VAR_CS(orb_features, int);
   MRPT_LOAD_CONFIG_VAR_CS(orb_levels, int);
   MRPT_LOAD_CONFIG_VAR_CS(orb_scale_factor, double);
@@ -46,36 +47,46 @@ void TRelocalisationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   validate(s);
 }
 
-void TRelocalisationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+void TRelocalisationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                             const std::string& s) const {
   put(c, s, "orb_features", orb_features, "ORB features detected per frame");
   put(c, s, "orb_levels", orb_levels, "ORB pyramid levels");
   put(c, s, "orb_scale_factor", orb_scale_factor, "ORB pyramid scale step");
   put(c, s, "orb_fast_threshold", orb_fast_threshold, "FAST corner threshold (grey levels)");
-  put(c, s, "keyframe_translation_m", keyframe_translation_m, "new keyframe when no keyframe within this (m) ...");
+  put(c, s, "keyframe_translation_m", keyframe_translation_m,
+      "new keyframe when no keyframe within this (m) ...");
   put(c, s, "keyframe_rotation_deg", keyframe_rotation_deg, "... and this rotation (deg)");
   put(c, s, "keyframe_min_interval_frames", keyframe_min_interval_frames,
       "frames between keyframes / attempts, at least");
-  put(c, s, "keyframe_max_features", keyframe_max_features, "strongest depth-backed features kept per keyframe");
-  put(c, s, "keyframe_min_features", keyframe_min_features, "no keyframe from a frame with fewer features");
-  put(c, s, "max_keyframes", max_keyframes, "database size; when full the most redundant is replaced");
+  put(c, s, "keyframe_max_features", keyframe_max_features,
+      "strongest depth-backed features kept per keyframe");
+  put(c, s, "keyframe_min_features", keyframe_min_features,
+      "no keyframe from a frame with fewer features");
+  put(c, s, "max_keyframes", max_keyframes,
+      "database size; when full the most redundant is replaced");
   put(c, s, "min_depth_m", min_depth_m, "keypoint depth accepted from (m)");
   put(c, s, "max_depth_m", max_depth_m, "keypoint depth accepted up to (m)");
-  put(c, s, "max_depth_step_ratio", max_depth_step_ratio, "skip keypoints on depth edges (3x3 range / depth)");
+  put(c, s, "max_depth_step_ratio", max_depth_step_ratio,
+      "skip keypoints on depth edges (3x3 range / depth)");
   put(c, s, "thumbnail_width", thumbnail_width, "grey thumbnail width per keyframe (px), 0 = none");
   put(c, s, "ranking_features", ranking_features, "frame features used to rank keyframes");
   put(c, s, "candidate_keyframes", candidate_keyframes, "best-ranked keyframes tried with PnP");
   put(c, s, "match_ratio", match_ratio, "Lowe ratio test (best / second-best distance)");
   put(c, s, "max_hamming_distance", max_hamming_distance, "discard matches above (bits of 256)");
   put(c, s, "min_matches", min_matches, "candidates with fewer matches are not tried");
-  put(c, s, "neighbour_keyframes", neighbour_keyframes, "nearest keyframes whose matches join verification");
+  put(c, s, "neighbour_keyframes", neighbour_keyframes,
+      "nearest keyframes whose matches join verification");
   put(c, s, "ransac_iterations", ransac_iterations, "RANSAC PnP iterations");
   put(c, s, "ransac_reprojection_px", ransac_reprojection_px, "RANSAC PnP inlier threshold (px)");
   put(c, s, "min_inliers", min_inliers, "reject poses with fewer PnP inliers");
   put(c, s, "min_inlier_ratio", min_inlier_ratio, "reject poses with fewer inliers / matches");
-  put(c, s, "depth_check_tolerance_m", depth_check_tolerance_m, "depth check: agreement distance (m) ...");
+  put(c, s, "depth_check_tolerance_m", depth_check_tolerance_m,
+      "depth check: agreement distance (m) ...");
   put(c, s, "depth_check_relative", depth_check_relative, "... plus this fraction of the depth");
-  put(c, s, "min_depth_agreement", min_depth_agreement, "reject if fewer depth-checked inliers agree (fraction)");
-  put(c, s, "min_depth_agreeing", min_depth_agreeing, "reject if fewer inliers agree with the frame depth");
+  put(c, s, "min_depth_agreement", min_depth_agreement,
+      "reject if fewer depth-checked inliers agree (fraction)");
+  put(c, s, "min_depth_agreeing", min_depth_agreeing,
+      "reject if fewer inliers agree with the frame depth");
 }
 
 void TRelocalisationParams::validate(const std::string& s) const {

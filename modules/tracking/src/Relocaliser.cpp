@@ -40,12 +40,14 @@ inline int hamming32(const std::uint8_t* a, const std::uint8_t* b) {
 /// against the `n_train` descriptors at `train`: Lowe's ratio test (best < ratio * second best)
 /// and an absolute limit; each train descriptor keeps only its best query. Returns (query row,
 /// train index) pairs.
-std::vector<std::pair<int, int>> matchDescriptors(const cv::Mat& query_desc, const std::vector<int>& query_rows,
-                                                  const std::uint8_t* train, int n_train, double ratio,
-                                                  int max_distance) {
+std::vector<std::pair<int, int>> matchDescriptors(const cv::Mat& query_desc,
+                                                  const std::vector<int>& query_rows,
+                                                  const std::uint8_t* train, int n_train,
+                                                  double ratio, int max_distance) {
   std::vector<std::pair<int, int>> out;
   if (n_train < 2) return out;
-  std::vector<int> best_q(std::size_t(n_train), -1), best_d(std::size_t(n_train), std::numeric_limits<int>::max());
+  std::vector<int> best_q(std::size_t(n_train), -1),
+      best_d(std::size_t(n_train), std::numeric_limits<int>::max());
   for (int q : query_rows) {
     const std::uint8_t* d = query_desc.ptr<std::uint8_t>(q);
     int b1 = std::numeric_limits<int>::max(), b2 = b1, i1 = -1;
@@ -94,10 +96,13 @@ Eigen::Vector3d backProject(const CameraIntrinsics& K, float u, float v, float z
 
 /// Spacing metric of two keyframe poses: max(translation / keyframe_translation_m, rotation /
 /// keyframe_rotation_deg). Below 1 = "near" (within both limits); a zero limit never is near.
-double spacing(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, const TRelocalisationParams& P) {
+double spacing(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
+               const TRelocalisationParams& P) {
   const double inf = std::numeric_limits<double>::infinity();
-  const double t = P.keyframe_translation_m > 0 ? translationDistance(a, b) / P.keyframe_translation_m : inf;
-  const double r = P.keyframe_rotation_deg > 0 ? rotationAngle(a, b) / (P.keyframe_rotation_deg * kDeg) : inf;
+  const double t =
+      P.keyframe_translation_m > 0 ? translationDistance(a, b) / P.keyframe_translation_m : inf;
+  const double r =
+      P.keyframe_rotation_deg > 0 ? rotationAngle(a, b) / (P.keyframe_rotation_deg * kDeg) : inf;
   return std::max(t, r);
 }
 
@@ -114,8 +119,8 @@ struct Relocaliser::Impl {
   /// Grey image of the frame's colour (false when it has none of the depth's size).
   bool toGrey(const RgbdFrame& f) {
     if (f.colour.empty() || !f.colour.sameSize(f.depth_m)) return false;
-    const cv::Mat bgr(f.colour.height(), f.colour.width(), CV_8UC3, const_cast<Bgr8*>(f.colour.data()),
-                      f.colour.pitchBytes());
+    const cv::Mat bgr(f.colour.height(), f.colour.width(), CV_8UC3,
+                      const_cast<Bgr8*>(f.colour.data()), f.colour.pitchBytes());
     cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
     return true;
   }
@@ -123,8 +128,9 @@ struct Relocaliser::Impl {
 
 Relocaliser::Relocaliser(const TRelocalisationParams& params) : m_params(params), m_impl(new Impl) {
   m_params.validate();
-  m_impl->orb = cv::ORB::create(m_params.orb_features, float(m_params.orb_scale_factor), m_params.orb_levels, 31, 0, 2,
-                                cv::ORB::HARRIS_SCORE, 31, m_params.orb_fast_threshold);
+  m_impl->orb =
+      cv::ORB::create(m_params.orb_features, float(m_params.orb_scale_factor), m_params.orb_levels,
+                      31, 0, 2, cv::ORB::HARRIS_SCORE, 31, m_params.orb_fast_threshold);
 }
 
 Relocaliser::~Relocaliser() = default;
@@ -143,7 +149,8 @@ bool Relocaliser::needsKeyframe(const Eigen::Isometry3d& T_world_cam, std::size_
   return true;
 }
 
-std::optional<Keyframe> Relocaliser::makeKeyframe(const RgbdFrame& frame, const Eigen::Isometry3d& T_world_cam) const {
+std::optional<Keyframe> Relocaliser::makeKeyframe(const RgbdFrame& frame,
+                                                  const Eigen::Isometry3d& T_world_cam) const {
   const TRelocalisationParams& P = m_params;
   if (!m_impl->toGrey(frame)) return std::nullopt;
   // Detect only where depth is valid: a keyframe feature without a 3-D point is useless.
@@ -151,7 +158,8 @@ std::optional<Keyframe> Relocaliser::makeKeyframe(const RgbdFrame& frame, const 
   for (int y = 0; y < frame.height(); ++y) {
     const float* d = frame.depth_m.row(y);
     std::uint8_t* m = mask.ptr<std::uint8_t>(y);
-    for (int x = 0; x < frame.width(); ++x) m[x] = (d[x] >= P.min_depth_m && d[x] <= P.max_depth_m) ? 255 : 0;
+    for (int x = 0; x < frame.width(); ++x)
+      m[x] = (d[x] >= P.min_depth_m && d[x] <= P.max_depth_m) ? 255 : 0;
   }
   std::vector<cv::KeyPoint> kps;
   cv::Mat desc;
@@ -159,7 +167,8 @@ std::optional<Keyframe> Relocaliser::makeKeyframe(const RgbdFrame& frame, const 
 
   std::vector<int> order(kps.size());
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return kps[a].response > kps[b].response; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return kps[a].response > kps[b].response; });
 
   Keyframe kf;
   kf.frame_index = frame.index;
@@ -171,7 +180,8 @@ std::optional<Keyframe> Relocaliser::makeKeyframe(const RgbdFrame& frame, const 
     const cv::Point2f& pt = kps[i].pt;
     const float z = depthAt(frame.depth_m, pt.x, pt.y, P);
     if (z <= 0.0f) continue;
-    kf.points_world.push_back((T_world_cam * backProject(frame.intrinsics, pt.x, pt.y, z)).cast<float>());
+    kf.points_world.push_back(
+        (T_world_cam * backProject(frame.intrinsics, pt.x, pt.y, z)).cast<float>());
     kf.keypoints_px.emplace_back(pt.x, pt.y);
     const std::uint8_t* d = desc.ptr<std::uint8_t>(i);
     kf.descriptors.insert(kf.descriptors.end(), d, d + kDescBytes);
@@ -180,7 +190,8 @@ std::optional<Keyframe> Relocaliser::makeKeyframe(const RgbdFrame& frame, const 
 
   if (P.thumbnail_width > 0) {
     kf.thumb_width = std::min(P.thumbnail_width, frame.width());
-    kf.thumb_height = std::max(1, int(std::lround(double(frame.height()) * kf.thumb_width / frame.width())));
+    kf.thumb_height =
+        std::max(1, int(std::lround(double(frame.height()) * kf.thumb_width / frame.width())));
     kf.thumbnail.resize(std::size_t(kf.thumb_width) * std::size_t(kf.thumb_height));
     cv::Mat thumb(kf.thumb_height, kf.thumb_width, CV_8U, kf.thumbnail.data());
     cv::resize(m_impl->grey, thumb, thumb.size(), 0, 0, cv::INTER_AREA);
@@ -201,13 +212,15 @@ bool Relocaliser::maybeAddKeyframe(const RgbdFrame& frame, const Eigen::Isometry
   // Full: replace the keyframe nearest to another keyframe, if it is more redundant than the
   // new one would be (the new one's nearest keyframe is at spacing >= 1 by needsKeyframe).
   double new_nearest = std::numeric_limits<double>::infinity();
-  for (const Keyframe& k : db) new_nearest = std::min(new_nearest, spacing(k.T_world_cam, T_world_cam, m_params));
+  for (const Keyframe& k : db)
+    new_nearest = std::min(new_nearest, spacing(k.T_world_cam, T_world_cam, m_params));
   std::size_t victim = db.size();
   double victim_nearest = new_nearest;
   for (std::size_t i = 0; i < db.size(); ++i) {
     double nearest = std::numeric_limits<double>::infinity();
     for (std::size_t j = 0; j < db.size(); ++j)
-      if (j != i) nearest = std::min(nearest, spacing(db[i].T_world_cam, db[j].T_world_cam, m_params));
+      if (j != i)
+        nearest = std::min(nearest, spacing(db[i].T_world_cam, db[j].T_world_cam, m_params));
     if (nearest < victim_nearest) {
       victim_nearest = nearest;
       victim = i;
@@ -239,8 +252,8 @@ struct PoseSupport {
   std::vector<const Correspondence*> best;
 };
 
-PoseSupport support(const Eigen::Isometry3d& T_world_cam, const std::vector<Correspondence>& cs, const RgbdFrame& frame,
-                    const TRelocalisationParams& P) {
+PoseSupport support(const Eigen::Isometry3d& T_world_cam, const std::vector<Correspondence>& cs,
+                    const RgbdFrame& frame, const TRelocalisationParams& P) {
   // cs is sorted by q.
   const CameraIntrinsics& K = frame.intrinsics;
   const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
@@ -272,7 +285,8 @@ PoseSupport support(const Eigen::Isometry3d& T_world_cam, const std::vector<Corr
     if (z <= 0.0f) continue;
     ++s.depth_checked;
     const Eigen::Vector3d pw = T_world_cam * backProject(K, best->uv.x, best->uv.y, z);
-    if ((pw - best->p_world).norm() <= P.depth_check_tolerance_m + P.depth_check_relative * z) ++s.depth_agreeing;
+    if ((pw - best->p_world).norm() <= P.depth_check_tolerance_m + P.depth_check_relative * z)
+      ++s.depth_agreeing;
   }
   s.rms_px = s.inliers > 0 ? std::sqrt(se / s.inliers) : 0.0;
   return s;
@@ -301,7 +315,8 @@ void rvecTvecFromPose(const Eigen::Isometry3d& T_world_cam, cv::Mat& rvec, cv::M
 
 }  // namespace
 
-std::optional<RelocalisationResult> Relocaliser::relocalise(const RgbdFrame& frame, const std::vector<Keyframe>& db) {
+std::optional<RelocalisationResult> Relocaliser::relocalise(const RgbdFrame& frame,
+                                                            const std::vector<Keyframe>& db) {
   const auto t0 = std::chrono::steady_clock::now();
   const TRelocalisationParams& P = m_params;
   m_stats = RelocalisationStats{};
@@ -335,8 +350,8 @@ std::optional<RelocalisationResult> Relocaliser::relocalise(const RgbdFrame& fra
   auto matchesWith = [&](std::size_t k) -> const std::vector<std::pair<int, int>>& {
     if (!full[k]) {
       const auto tm = std::chrono::steady_clock::now();
-      full[k] = matchDescriptors(desc, all, db[k].descriptors.data(), int(db[k].numFeatures()), P.match_ratio,
-                                 P.max_hamming_distance);
+      full[k] = matchDescriptors(desc, all, db[k].descriptors.data(), int(db[k].numFeatures()),
+                                 P.match_ratio, P.max_hamming_distance);
       m_stats.match_ms += elapsedMs(tm);
     }
     return *full[k];
@@ -351,24 +366,27 @@ std::optional<RelocalisationResult> Relocaliser::relocalise(const RgbdFrame& fra
     std::vector<int> strongest = all;
     std::stable_sort(strongest.begin(), strongest.end(),
                      [&](int a, int b) { return kps[a].response > kps[b].response; });
-    if (int(strongest.size()) > P.ranking_features) strongest.resize(std::size_t(P.ranking_features));
+    if (int(strongest.size()) > P.ranking_features)
+      strongest.resize(std::size_t(P.ranking_features));
     std::vector<std::pair<int, std::size_t>> score;  // (matches, keyframe)
     score.reserve(db.size());
     for (std::size_t k = 0; k < db.size(); ++k) {
-      const int n = int(matchDescriptors(desc, strongest, db[k].descriptors.data(), int(db[k].numFeatures()),
-                                         P.match_ratio, P.max_hamming_distance)
-                            .size());
+      const int n =
+          int(matchDescriptors(desc, strongest, db[k].descriptors.data(), int(db[k].numFeatures()),
+                               P.match_ratio, P.max_hamming_distance)
+                  .size());
       if (n > 0) score.emplace_back(n, k);
     }
-    std::stable_sort(score.begin(), score.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::stable_sort(score.begin(), score.end(),
+                     [](const auto& a, const auto& b) { return a.first > b.first; });
     for (std::size_t i = 0; i < score.size() && int(i) < P.candidate_keyframes; ++i)
       candidates.push_back(score[i].second);
   }
   m_stats.match_ms += elapsedMs(t_rank);
 
   // 2. A pose hypothesis per candidate: RANSAC PnP on its own matches.
-  const cv::Matx33d K(frame.intrinsics.fx, 0, frame.intrinsics.cx, 0, frame.intrinsics.fy, frame.intrinsics.cy, 0, 0,
-                      1);
+  const cv::Matx33d K(frame.intrinsics.fx, 0, frame.intrinsics.cx, 0, frame.intrinsics.fy,
+                      frame.intrinsics.cy, 0, 0, 1);
   struct Hypothesis {
     std::size_t keyframe;
     int matches, ransac_inliers;
@@ -402,8 +420,9 @@ std::optional<RelocalisationResult> Relocaliser::relocalise(const RgbdFrame& fra
     }
     hyps.push_back({k, int(m.size()), int(inl.size()), poseFromRvecTvec(rvec, tvec)});
   }
-  std::stable_sort(hyps.begin(), hyps.end(),
-                   [](const Hypothesis& a, const Hypothesis& b) { return a.ransac_inliers > b.ransac_inliers; });
+  std::stable_sort(hyps.begin(), hyps.end(), [](const Hypothesis& a, const Hypothesis& b) {
+    return a.ransac_inliers > b.ransac_inliers;
+  });
 
   // 3. Verify hypotheses, best first: pool the matches of the keyframe and its nearest keyframes
   //    (in pose), refine on the inliers, then the inlier and depth checks.
@@ -414,7 +433,8 @@ std::optional<RelocalisationResult> Relocaliser::relocalise(const RgbdFrame& fra
     }
     std::vector<std::pair<double, std::size_t>> near;
     for (std::size_t k = 0; k < db.size(); ++k)
-      if (k != h.keyframe) near.emplace_back(spacing(db[h.keyframe].T_world_cam, db[k].T_world_cam, P), k);
+      if (k != h.keyframe)
+        near.emplace_back(spacing(db[h.keyframe].T_world_cam, db[k].T_world_cam, P), k);
     const std::size_t n_near = std::min(near.size(), std::size_t(P.neighbour_keyframes));
     std::partial_sort(near.begin(), near.begin() + std::ptrdiff_t(n_near), near.end());
     std::vector<std::size_t> pool{h.keyframe};
@@ -422,8 +442,10 @@ std::optional<RelocalisationResult> Relocaliser::relocalise(const RgbdFrame& fra
     std::vector<Correspondence> cs;
     for (std::size_t k : pool)
       for (const auto& [q, t] : matchesWith(k))
-        cs.push_back({q, kps[std::size_t(q)].pt, db[k].points_world[std::size_t(t)].cast<double>()});
-    std::stable_sort(cs.begin(), cs.end(), [](const Correspondence& a, const Correspondence& b) { return a.q < b.q; });
+        cs.push_back(
+            {q, kps[std::size_t(q)].pt, db[k].points_world[std::size_t(t)].cast<double>()});
+    std::stable_sort(cs.begin(), cs.end(),
+                     [](const Correspondence& a, const Correspondence& b) { return a.q < b.q; });
 
     Eigen::Isometry3d T = h.T_world_cam;
     PoseSupport s = support(T, cs, frame, P);
@@ -452,7 +474,8 @@ std::optional<RelocalisationResult> Relocaliser::relocalise(const RgbdFrame& fra
       note(3, "too few inliers");
       continue;
     }
-    if (s.depth_agreeing < P.min_depth_agreeing || s.depth_agreeing < P.min_depth_agreement * s.depth_checked) {
+    if (s.depth_agreeing < P.min_depth_agreeing ||
+        s.depth_agreeing < P.min_depth_agreement * s.depth_checked) {
       note(4, "depth check");
       continue;
     }

@@ -83,7 +83,8 @@ void reduceSegmentSse(const IcpReduceKernel& k, int item, IcpAccumulator& acc) {
     gather3(fv[X[0]], fv[X[1]], fv[X[2]], fv[X[3]], L[0], L[1], L[2], L[3], vx, vy, vz);
     gather3(fn[X[0]], fn[X[1]], fn[X[2]], fn[X[3]], L[0], L[1], L[2], L[3], nx, ny, nz);
     const int lanes = (1 << nl) - 1;
-    const int valid_mask = lanes & _mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(vx, vx), _mm_cmpeq_ps(nx, nx)));
+    const int valid_mask =
+        lanes & _mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(vx, vx), _mm_cmpeq_ps(nx, nx)));
     valid += __builtin_popcount(unsigned(valid_mask));
     if (!valid_mask) continue;
     // Projective association in the model camera.
@@ -119,10 +120,14 @@ void reduceSegmentSse(const IcpReduceKernel& k, int item, IcpAccumulator& acc) {
     const __m128 px = rigidRow(Tw, vx, vy, vz), py = rigidRow(Tw + 4, vx, vy, vz),
                  pz = rigidRow(Tw + 8, vx, vy, vz);
     const __m128 dx = _mm_sub_ps(px, qx), dy = _mm_sub_ps(py, qy), dz = _mm_sub_ps(pz, qz);
-    ok = _mm_and_ps(ok, _mm_cmpngt_ps(sum3(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy), _mm_mul_ps(dz, dz)), max_d2));
+    ok = _mm_and_ps(
+        ok,
+        _mm_cmpngt_ps(sum3(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy), _mm_mul_ps(dz, dz)), max_d2));
     const __m128 nwx = rigidRow(Tw, nx, ny, nz, false), nwy = rigidRow(Tw + 4, nx, ny, nz, false),
                  nwz = rigidRow(Tw + 8, nx, ny, nz, false);
-    ok = _mm_and_ps(ok, _mm_cmpnlt_ps(sum3(_mm_mul_ps(nwx, mx), _mm_mul_ps(nwy, my), _mm_mul_ps(nwz, mz)), min_cos));
+    ok = _mm_and_ps(
+        ok, _mm_cmpnlt_ps(sum3(_mm_mul_ps(nwx, mx), _mm_mul_ps(nwy, my), _mm_mul_ps(nwz, mz)),
+                          min_cos));
     mask &= _mm_movemask_ps(ok);
     if (!mask) continue;
     const __m128 r = sum3(_mm_mul_ps(mx, dx), _mm_mul_ps(my, dy), _mm_mul_ps(mz, dz));
@@ -134,7 +139,8 @@ void reduceSegmentSse(const IcpReduceKernel& k, int item, IcpAccumulator& acc) {
     __m128 s = one;
     if (k.depth_noise_weighting) {
       const __m128 d = _mm_sub_ps(vz, _mm_set1_ps(0.4f));
-      s = _mm_div_ps(sigma1, _mm_add_ps(_mm_set1_ps(0.0012f), _mm_mul_ps(_mm_mul_ps(_mm_set1_ps(0.0019f), d), d)));
+      s = _mm_div_ps(sigma1, _mm_add_ps(_mm_set1_ps(0.0012f),
+                                        _mm_mul_ps(_mm_mul_ps(_mm_set1_ps(0.0019f), d), d)));
     }
     __m128 h = one;
     if (use_huber) {
@@ -185,10 +191,9 @@ void reduceSegmentSse(const IcpReduceKernel& k, int item, IcpAccumulator& acc) {
 
 kernels::IcpAccumulator reduceIcpCpu(const kernels::IcpReduceKernel& k) {
   if (k.model_confidence.data) return compute::reduce1D<IcpAccumulator>(k.items(), k);
-  return compute::reduce1D<IcpAccumulator>(
-      k.items(), [&](int i, IcpAccumulator& acc) {
-        reduceSegmentSse<IcpReduceKernel::kSegment>(k, i, acc);
-      });
+  return compute::reduce1D<IcpAccumulator>(k.items(), [&](int i, IcpAccumulator& acc) {
+    reduceSegmentSse<IcpReduceKernel::kSegment>(k, i, acc);
+  });
 }
 
 namespace {

@@ -4,15 +4,17 @@
 
 #include <string>
 
+#include "ParamsPut.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
-#include "ParamsPut.h"
 
 namespace rasm::tracking {
 
 namespace {
 using detail::put;
-std::string levelKey(const char* base, int level) { return std::string(base) + "_level" + std::to_string(level); }
+std::string levelKey(const char* base, int level) {
+  return std::string(base) + "_level" + std::to_string(level);
+}
 }  // namespace
 
 const char* toString(MotionModel m) {
@@ -25,12 +27,14 @@ const char* toString(MotionModel m) {
   return "?";
 }
 
-void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                         const std::string& s) {
   MRPT_LOAD_CONFIG_VAR_CS(num_levels, int);
   for (int l = 0; l < kMaxLevels; ++l) {
     iterations[l] = c.read_int(s, levelKey("iterations", l), iterations[l]);
     max_dist_m[l] = c.read_double(s, levelKey("max_dist_m", l), max_dist_m[l]);
-    max_normal_angle_deg[l] = c.read_double(s, levelKey("max_normal_angle_deg", l), max_normal_angle_deg[l]);
+    max_normal_angle_deg[l] =
+        c.read_double(s, levelKey("max_normal_angle_deg", l), max_normal_angle_deg[l]);
   }
   MRPT_LOAD_CONFIG_VAR_CS(level0_pixel_stride, int);
   MRPT_LOAD_CONFIG_VAR_CS(huber_delta_m, double);
@@ -49,8 +53,8 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   else if (mm == toString(MotionModel::PreviousPose))
     motion_model = MotionModel::PreviousPose;
   else
-    throwInputError("[" + s + "] motion_model", "unknown value '" + mm +
-                                                    "', expected constant_velocity or previous_pose");
+    throwInputError("[" + s + "] motion_model",
+                    "unknown value '" + mm + "', expected constant_velocity or previous_pose");
   MRPT_LOAD_CONFIG_VAR_CS(min_inliers, int);
   MRPT_LOAD_CONFIG_VAR_CS(min_inlier_fraction, double);
   MRPT_LOAD_CONFIG_VAR_CS(max_rms_m, double);
@@ -75,45 +79,70 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   validate(s);
 }
 
-void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                       const std::string& s) const {
   put(c, s, "num_levels", num_levels, "pyramid levels (1..3), coarse to fine");
   for (int l = 0; l < kMaxLevels; ++l)
-    put(c, s, levelKey("iterations", l), iterations[l], "ICP iterations at this level (0 = full res)");
+    put(c, s, levelKey("iterations", l), iterations[l],
+        "ICP iterations at this level (0 = full res)");
   for (int l = 0; l < kMaxLevels; ++l)
     put(c, s, levelKey("max_dist_m", l), max_dist_m[l], "association distance limit (m)");
   for (int l = 0; l < kMaxLevels; ++l)
-    put(c, s, levelKey("max_normal_angle_deg", l), max_normal_angle_deg[l], "association normal-angle limit (deg)");
-  put(c, s, "level0_pixel_stride", level0_pixel_stride, "use every n-th pixel in x and y at level 0");
+    put(c, s, levelKey("max_normal_angle_deg", l), max_normal_angle_deg[l],
+        "association normal-angle limit (deg)");
+  put(c, s, "level0_pixel_stride", level0_pixel_stride,
+      "use every n-th pixel in x and y at level 0");
   put(c, s, "huber_delta_m", huber_delta_m, "Huber threshold (m), 0 = least squares");
-  put(c, s, "depth_noise_weighting", depth_noise_weighting, "weight residuals by the depth noise model");
-  put(c, s, "confidence_full", confidence_full, "weight residuals by min(1, surfel confidence / this), 0 = off");
-  put(c, s, "photometric_weight", photometric_weight, "photometric cost weight (m^2 per intensity^2), 0 = off");
-  put(c, s, "photometric_huber", photometric_huber, "Huber threshold on intensity residuals, 0 = none");
-  put(c, s, "photometric_min_gradient", photometric_min_gradient, "skip samples with weaker intensity gradient");
-  put(c, s, "model_min_confidence", model_min_confidence, "model = surfels with confidence >= this (0 = stable flag)");
-  put(c, s, "model_level", model_level, "model rendered at this pyramid level (0 = full res, 1 = half)");
-  put(c, s, "convergence_translation_m", convergence_translation_m, "early stop: increment below (m)");
+  put(c, s, "depth_noise_weighting", depth_noise_weighting,
+      "weight residuals by the depth noise model");
+  put(c, s, "confidence_full", confidence_full,
+      "weight residuals by min(1, surfel confidence / this), 0 = off");
+  put(c, s, "photometric_weight", photometric_weight,
+      "photometric cost weight (m^2 per intensity^2), 0 = off");
+  put(c, s, "photometric_huber", photometric_huber,
+      "Huber threshold on intensity residuals, 0 = none");
+  put(c, s, "photometric_min_gradient", photometric_min_gradient,
+      "skip samples with weaker intensity gradient");
+  put(c, s, "model_min_confidence", model_min_confidence,
+      "model = surfels with confidence >= this (0 = stable flag)");
+  put(c, s, "model_level", model_level,
+      "model rendered at this pyramid level (0 = full res, 1 = half)");
+  put(c, s, "convergence_translation_m", convergence_translation_m,
+      "early stop: increment below (m)");
   put(c, s, "convergence_rotation_deg", convergence_rotation_deg, "early stop: and below (deg)");
-  put(c, s, "motion_model", std::string(toString(motion_model)), "constant_velocity | previous_pose");
+  put(c, s, "motion_model", std::string(toString(motion_model)),
+      "constant_velocity | previous_pose");
   put(c, s, "min_inliers", min_inliers, "lost if fewer level-0 inliers");
   put(c, s, "min_inlier_fraction", min_inlier_fraction, "lost if inliers / valid pixels below");
   put(c, s, "max_rms_m", max_rms_m, "lost if RMS point-to-plane residual above (m)");
-  put(c, s, "max_jump_translation_m", max_jump_translation_m, "lost if result further from guess (m)");
-  put(c, s, "max_jump_rotation_deg", max_jump_rotation_deg, "lost if result rotated from guess (deg)");
+  put(c, s, "max_jump_translation_m", max_jump_translation_m,
+      "lost if result further from guess (m)");
+  put(c, s, "max_jump_rotation_deg", max_jump_rotation_deg,
+      "lost if result rotated from guess (deg)");
   put(c, s, "min_eigenvalue", min_eigenvalue, "degenerate below (normalised J^T J eigenvalue)");
-  put(c, s, "degenerate_min_inlier_fraction", degenerate_min_inlier_fraction, "accept degenerate frames above (>1: never)");
-  put(c, s, "prior_pixel_sigma_m", prior_pixel_sigma_m, "per-residual sigma (m) weighing ICP against a motion prior");
-  put(c, s, "prior_min_eigenvalue", prior_min_eigenvalue, "with a prior: data only along directions above this");
-  put(c, s, "max_prior_sigmas", max_prior_sigmas, "lost if further from the prior (Mahalanobis), 0 = off");
+  put(c, s, "degenerate_min_inlier_fraction", degenerate_min_inlier_fraction,
+      "accept degenerate frames above (>1: never)");
+  put(c, s, "prior_pixel_sigma_m", prior_pixel_sigma_m,
+      "per-residual sigma (m) weighing ICP against a motion prior");
+  put(c, s, "prior_min_eigenvalue", prior_min_eigenvalue,
+      "with a prior: data only along directions above this");
+  put(c, s, "max_prior_sigmas", max_prior_sigmas,
+      "lost if further from the prior (Mahalanobis), 0 = off");
   put(c, s, "check_level", check_level, "pyramid level of the pose check");
   put(c, s, "check_gate_m", check_gate_m, "pose check: agreement gate base (m)");
-  put(c, s, "check_noise_sigmas", check_noise_sigmas, "pose check: plus this many depth-noise sigmas");
-  put(c, s, "check_max_normal_angle_deg", check_max_normal_angle_deg, "pose check: normal angle limit (deg)");
-  put(c, s, "check_min_agreement", check_min_agreement, "lost if fewer overlapping pixels agree with the model");
-  put(c, s, "check_max_behind", check_max_behind, "lost if more overlapping pixels lie behind the model");
+  put(c, s, "check_noise_sigmas", check_noise_sigmas,
+      "pose check: plus this many depth-noise sigmas");
+  put(c, s, "check_max_normal_angle_deg", check_max_normal_angle_deg,
+      "pose check: normal angle limit (deg)");
+  put(c, s, "check_min_agreement", check_min_agreement,
+      "lost if fewer overlapping pixels agree with the model");
+  put(c, s, "check_max_behind", check_max_behind,
+      "lost if more overlapping pixels lie behind the model");
   put(c, s, "check_min_overlap", check_min_overlap, "check conclusive above this overlap fraction");
-  put(c, s, "check_max_disagreement_ratio", check_max_disagreement_ratio, "lost if disagreement > this x recent median (0 = off)");
-  put(c, s, "check_min_disagreement", check_min_disagreement, "relative rule: disagreement always allowed up to this");
+  put(c, s, "check_max_disagreement_ratio", check_max_disagreement_ratio,
+      "lost if disagreement > this x recent median (0 = off)");
+  put(c, s, "check_min_disagreement", check_min_disagreement,
+      "relative rule: disagreement always allowed up to this");
   put(c, s, "check_history", check_history, "relative rule: accepted frames in the median");
   put(c, s, "use_cuda", use_cuda, "ICP reduction on the GPU");
 }
@@ -145,7 +174,8 @@ void TTrackingParams::validate(const std::string& s) const {
   requireInRange(prior_pixel_sigma_m, 1e-5, 10.0, s, "prior_pixel_sigma_m");
   requireInRange(prior_min_eigenvalue, 0.0, 1.0, s, "prior_min_eigenvalue");
   requireInRange(max_prior_sigmas, 0.0, 1e6, s, "max_prior_sigmas");
-  requireInRange(check_level, 0, kMaxLevels - 1, s, "check_level");  // used at min(this, num_levels - 1)
+  requireInRange(check_level, 0, kMaxLevels - 1, s,
+                 "check_level");  // used at min(this, num_levels - 1)
   requireInRange(check_gate_m, 0.0, 1.0, s, "check_gate_m");
   requireInRange(check_noise_sigmas, 0.0, 100.0, s, "check_noise_sigmas");
   requireInRange(check_max_normal_angle_deg, 0.0, 180.0, s, "check_max_normal_angle_deg");

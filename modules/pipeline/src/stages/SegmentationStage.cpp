@@ -12,23 +12,30 @@ namespace rasm::pipeline {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 }  // namespace
 
-void SegmentationStage::configure(const TMapperParams& /*mapper*/) { m_segmenter.setParams(m_params); }
+void SegmentationStage::configure(const TMapperParams& /*mapper*/) {
+  m_segmenter.setParams(m_params);
+}
 
 void SegmentationStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
   m_ran = false;
   m_frame_merges = 0;
   if (!m_params.enabled || !ctx.result.fusable()) return;
   const FrameLevel& L0 = ctx.pyramid[0];
-  const FrameLevel& Ls = ctx.pyramid[std::min<std::size_t>(std::size_t(m_params.level), ctx.pyramid.size() - 1)];
-  const segmentation::FrameSegments& seg = m_segmenter.segment(Ls.vertex, Ls.normal, L0.K.width, L0.K.height);
+  const FrameLevel& Ls =
+      ctx.pyramid[std::min<std::size_t>(std::size_t(m_params.level), ctx.pyramid.size() - 1)];
+  const segmentation::FrameSegments& seg =
+      m_segmenter.segment(Ls.vertex, Ls.normal, L0.K.width, L0.K.height);
   recordMs(ctx, kEdges, seg.ms_normals + seg.ms_edges);
   recordMs(ctx, kComponents, seg.ms_components);
   const auto t = Clock::now();
   const maps::CSurfelMap& cmap = map;
-  segmentation::propagateLabels(seg, L0.vertex, ctx.index_map, cmap.store().arrays(), m_params, m_next_label, m_prop);
+  segmentation::propagateLabels(seg, L0.vertex, ctx.index_map, cmap.store().arrays(), m_params,
+                                m_next_label, m_prop);
   ctx.labels = m_prop.propagated;
   recordMs(ctx, kPropagation, msSince(t));
   m_ran = true;
@@ -46,7 +53,8 @@ void SegmentationStage::finishFrame(FrameContext& ctx, maps::CSurfelMap& map) {
   recordMs(ctx, kMerge, msSince(t));
 }
 
-int SegmentationStage::merge(maps::CSurfelMap& map, const std::vector<segmentation::MergeConfidence::Pair>& due) {
+int SegmentationStage::merge(maps::CSurfelMap& map,
+                             const std::vector<segmentation::MergeConfidence::Pair>& due) {
   // Union-find over the labels involved; each set goes to its smallest label (III).
   std::uint32_t top = 0;
   for (const auto& [a, b] : due) top = std::max({top, a, b});
@@ -69,7 +77,8 @@ int SegmentationStage::merge(maps::CSurfelMap& map, const std::vector<segmentati
   return merges;
 }
 
-void SegmentationStage::applyRelabelling(maps::CSurfelMap& map, const std::vector<std::uint32_t>& table) {
+void SegmentationStage::applyRelabelling(maps::CSurfelMap& map,
+                                         const std::vector<std::uint32_t>& table) {
   map.store().relabelSegments(table);
   m_psi.remap(table);
   m_last_relabelling = table;
@@ -91,7 +100,8 @@ void SegmentationStage::refreshTable(maps::CSurfelMap& map) {
 }
 
 void SegmentationStage::csvColumns(std::vector<std::string>& c) const {
-  c.insert(c.end(), {"seg_frame_segments", "seg_matched", "seg_created", "seg_merged", "seg_psi_pairs"});
+  c.insert(c.end(),
+           {"seg_frame_segments", "seg_matched", "seg_created", "seg_merged", "seg_psi_pairs"});
 }
 
 void SegmentationStage::csvValues(const FrameContext& /*ctx*/, CsvRow& row) const {
@@ -99,7 +109,11 @@ void SegmentationStage::csvValues(const FrameContext& /*ctx*/, CsvRow& row) cons
     row.add(0).add(0).add(0).add(0).add(m_psi.size());
     return;
   }
-  row.add(m_segmenter.last().count).add(m_prop.matched).add(m_prop.created).add(m_frame_merges).add(m_psi.size());
+  row.add(m_segmenter.last().count)
+      .add(m_prop.matched)
+      .add(m_prop.created)
+      .add(m_frame_merges)
+      .add(m_psi.size());
 }
 
 void SegmentationStage::report(nlohmann::json& rep) const {
@@ -144,9 +158,12 @@ void SegmentationStage::writeOutputs(const std::string& dir, const maps::CSurfel
   }
   nlohmann::json out;
   out["comment"] =
-      "rasm segment table (section III): world frame, metres; axes are the PCA directions (unit, by "
-      "decreasing variance), extents the spread of the surfel centres along them (1st-99th percentile); "
-      "upright_axes / upright_extents_m: the two horizontal principal directions and z (z up); last_seen_s is map time";
+      "rasm segment table (section III): world frame, metres; axes are the PCA directions (unit, "
+      "by "
+      "decreasing variance), extents the spread of the surfel centres along them (1st-99th "
+      "percentile); "
+      "upright_axes / upright_extents_m: the two horizontal principal directions and z (z up); "
+      "last_seen_s is map time";
   out["segments"] = segs;
   out["stable_surfels"] = stable;
   out["label_changes_stable"] = m_label_changes_stable;

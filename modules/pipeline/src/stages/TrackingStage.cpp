@@ -10,7 +10,9 @@ namespace rasm::pipeline {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 int countValid(const Image<Vec3f>& v) {
   const int w = v.width();
@@ -33,8 +35,8 @@ std::vector<ParamsSection> TrackingStage::sections() {
 void TrackingStage::configure(const TMapperParams& mapper) {
   m_tracking.validate("tracking");
   if (m_tracking.numLevels() > mapper.pyramid_levels)
-    throwInputError("[mapper] pyramid_levels",
-                    "must be >= the number of [tracking] levels (" + std::to_string(m_tracking.numLevels()) + ")");
+    throwInputError("[mapper] pyramid_levels", "must be >= the number of [tracking] levels (" +
+                                                   std::to_string(m_tracking.numLevels()) + ")");
   m_mapper = mapper;
   m_tracker = tracking::IcpTracker(m_tracking);
   m_odometry = OdometryPrior(m_robot);
@@ -45,8 +47,9 @@ void TrackingStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
   FrameResult& r = ctx.result;
   if (m_mapper.poses == "groundtruth") {
     if (!ctx.frame->gt_T_world_cam)
-      throwInputError("frame " + std::to_string(ctx.frame->index),
-                      "has no ground-truth pose ([mapper] poses = groundtruth needs one for every frame)");
+      throwInputError(
+          "frame " + std::to_string(ctx.frame->index),
+          "has no ground-truth pose ([mapper] poses = groundtruth needs one for every frame)");
     if (!m_tracker.initialized()) r.first = true;
     m_tracker.reset(*ctx.frame->gt_T_world_cam);
     r.tracked = true;
@@ -74,7 +77,8 @@ void TrackingStage::initialise(FrameContext& ctx) {
   FrameResult& r = ctx.result;
   // The map starts in the source's ground-truth frame when the first frame has a pose (ATE
   // aligns anyway), else at the identity.
-  const Eigen::Isometry3d T0 = frame.gt_T_world_cam ? *frame.gt_T_world_cam : Eigen::Isometry3d::Identity();
+  const Eigen::Isometry3d T0 =
+      frame.gt_T_world_cam ? *frame.gt_T_world_cam : Eigen::Isometry3d::Identity();
   m_tracker.reset(T0);
   m_odometry.start(T0, frame.odometry_xyyaw);
   r.first = true;
@@ -88,16 +92,19 @@ void TrackingStage::initialise(FrameContext& ctx) {
 void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
   const RgbdFrame& frame = *ctx.frame;
   FrameResult& r = ctx.result;
-  const std::optional<tracking::MotionPrior> prior = m_odometry.predict(frame.odometry_xyyaw, m_T_prev_frame);
+  const std::optional<tracking::MotionPrior> prior =
+      m_odometry.predict(frame.odometry_xyyaw, m_T_prev_frame);
   // The model is rendered where the guess starts from: the previous frame's pose when odometry
   // carries the estimate on (also through lost frames), else the last good pose.
   auto t = Clock::now();
-  const tracking::ModelMaps model = renderModel(ctx, map, prior ? m_T_prev_frame : m_tracker.lastGoodPose(), r);
+  const tracking::ModelMaps model =
+      renderModel(ctx, map, prior ? m_T_prev_frame : m_tracker.lastGoodPose(), r);
   recordMs(ctx, kRenderModel, msSince(t));
 
   t = Clock::now();
   const bool photometric = m_tracking.photometric_weight > 0 && !frame.colour.empty();
-  r.tracking = m_tracker.track(ctx.pyramid, model, photometric ? frame.colour.cview() : ImageView<const Bgr8>(),
+  r.tracking = m_tracker.track(ctx.pyramid, model,
+                               photometric ? frame.colour.cview() : ImageView<const Bgr8>(),
                                prior ? &*prior : nullptr);
   recordMs(ctx, kIcp, msSince(t));
   r.tracked = r.tracking.ok;
@@ -159,7 +166,8 @@ void TrackingStage::relocalise(FrameContext& ctx, const maps::CSurfelMap& map) {
   if (map.keyframes().empty()) return;
   FrameResult& r = ctx.result;
   const auto t = Clock::now();
-  const std::optional<tracking::RelocalisationResult> cand = m_reloc.relocalise(*ctx.frame, map.keyframes());
+  const std::optional<tracking::RelocalisationResult> cand =
+      m_reloc.relocalise(*ctx.frame, map.keyframes());
   if (!cand) {
     r.relocalisation_failure = m_reloc.lastStats().reason;
   } else {
@@ -185,13 +193,15 @@ void TrackingStage::relocalise(FrameContext& ctx, const maps::CSurfelMap& map) {
 }
 
 void TrackingStage::finishFrame(FrameContext& ctx, maps::CSurfelMap& map) {
-  if (ctx.result.fused) m_reloc.maybeAddKeyframe(*ctx.frame, ctx.result.T_world_cam, map.keyframes());
+  if (ctx.result.fused)
+    m_reloc.maybeAddKeyframe(*ctx.frame, ctx.result.T_world_cam, map.keyframes());
 }
 
 void TrackingStage::csvColumns(std::vector<std::string>& c) const {
-  c.insert(c.end(), {"status", "inliers", "inlier_fraction", "rms_m", "model_pixels", "model_all_surfels",
-                     "icp_iterations", "icp_iterations_level0", "pose_source", "check_overlap", "check_agreement",
-                     "check_behind", "used_prior", "prior_sigmas", "relocalisation_failure"});
+  c.insert(c.end(), {"status", "inliers", "inlier_fraction", "rms_m", "model_pixels",
+                     "model_all_surfels", "icp_iterations", "icp_iterations_level0", "pose_source",
+                     "check_overlap", "check_agreement", "check_behind", "used_prior",
+                     "prior_sigmas", "relocalisation_failure"});
 }
 
 void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
@@ -204,6 +214,8 @@ void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
   row.add(t.prior_sigmas, 4).add(r.relocalisation_failure);
 }
 
-void TrackingStage::report(nlohmann::json& rep) const { rep["relocalisations"] = m_relocalisations; }
+void TrackingStage::report(nlohmann::json& rep) const {
+  rep["relocalisations"] = m_relocalisations;
+}
 
 }  // namespace rasm::pipeline

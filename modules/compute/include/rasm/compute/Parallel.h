@@ -33,7 +33,9 @@ inline int maxThreads() {
 }
 
 /// Chunk of a dynamically scheduled 1-D loop: ~16 chunks per thread, at least 1 index.
-inline int dynamicChunk(int n) { return std::max(1, n / (16 * maxThreads())); }
+inline int dynamicChunk(int n) {
+  return std::max(1, n / (16 * maxThreads()));
+}
 
 template <typename F>
 void forEach1D(int n, const F& f) {
@@ -53,7 +55,9 @@ void forEach2D(int width, int height, const F& f) {
 
 /// Number of chunks of a reduction over n items: fixed (not the thread count), so that the
 /// summation order, and with it the floating-point result, is the same on any machine.
-inline int reduceChunks(int n) { return std::max(1, std::min(64, n / 32)); }
+inline int reduceChunks(int n) {
+  return std::max(1, std::min(64, n / 32));
+}
 
 template <typename Acc, typename F>
 Acc reduce1D(int n, const F& f, const Acc& zero = Acc()) {

@@ -49,12 +49,18 @@ template <typename T>
 struct DeviceBuffer {
   T* ptr = nullptr;
   size_t count = 0;
-  explicit DeviceBuffer(size_t n) : count(n) { check(cudaMalloc(&ptr, n * sizeof(T) + 1), "cudaMalloc"); }
+  explicit DeviceBuffer(size_t n) : count(n) {
+    check(cudaMalloc(&ptr, n * sizeof(T) + 1), "cudaMalloc");
+  }
   ~DeviceBuffer() { cudaFree(ptr); }
   DeviceBuffer(const DeviceBuffer&) = delete;
   DeviceBuffer& operator=(const DeviceBuffer&) = delete;
-  void upload(const T* host) { check(cudaMemcpy(ptr, host, count * sizeof(T), cudaMemcpyHostToDevice), "upload"); }
-  void download(T* host) const { check(cudaMemcpy(host, ptr, count * sizeof(T), cudaMemcpyDeviceToHost), "download"); }
+  void upload(const T* host) {
+    check(cudaMemcpy(ptr, host, count * sizeof(T), cudaMemcpyHostToDevice), "upload");
+  }
+  void download(T* host) const {
+    check(cudaMemcpy(host, ptr, count * sizeof(T), cudaMemcpyDeviceToHost), "download");
+  }
 };
 
 }  // namespace rasm::compute::cuda

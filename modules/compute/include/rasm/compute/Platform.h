@@ -16,8 +16,12 @@
 namespace rasm::compute {
 
 /// Quiet NaN usable in device code; invalid vertices and normals hold it in x.
-RASM_HD_INLINE float invalidFloat() { return __builtin_nanf(""); }
-RASM_HD_INLINE bool isFiniteF(float v) { return v == v && v - v == 0.0f; }
+RASM_HD_INLINE float invalidFloat() {
+  return __builtin_nanf("");
+}
+RASM_HD_INLINE bool isFiniteF(float v) {
+  return v == v && v - v == 0.0f;
+}
 /// std::lround for |x| < 2^23 (halves away from zero), inline: x - trunc(x) is exact there, so
 /// the result equals lround's (libm's out-of-line lroundf cost ~1% of a 7-Scenes run).
 RASM_HD_INLINE int roundHalfAway(float x) {

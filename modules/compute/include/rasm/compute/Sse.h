@@ -12,13 +12,16 @@
 namespace rasm::sse {
 
 /// a0 + (a1 + a2), as Eigen sums three terms.
-inline __m128 sum3(__m128 a0, __m128 a1, __m128 a2) { return _mm_add_ps(a0, _mm_add_ps(a1, a2)); }
+inline __m128 sum3(__m128 a0, __m128 a1, __m128 a2) {
+  return _mm_add_ps(a0, _mm_add_ps(a1, a2));
+}
 
 /// Row m[0..3] of a RigidF over four lanes: ((m0 x + m1 y) + m2 z) (+ m3 when `affine`, as
 /// RigidF::apply; without, as RigidF::rotate).
 inline __m128 rigidRow(const float* m, __m128 x, __m128 y, __m128 z, bool affine = true) {
-  const __m128 r = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(m[0]), x), _mm_mul_ps(_mm_set1_ps(m[1]), y)),
-                              _mm_mul_ps(_mm_set1_ps(m[2]), z));
+  const __m128 r =
+      _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(m[0]), x), _mm_mul_ps(_mm_set1_ps(m[1]), y)),
+                 _mm_mul_ps(_mm_set1_ps(m[2]), z));
   return affine ? _mm_add_ps(r, _mm_set1_ps(m[3])) : r;
 }
 

@@ -30,7 +30,8 @@ struct RigidF {
                  m[8] * p.x() + m[9] * p.y() + m[10] * p.z() + m[11]);
   }
   RASM_HD_INLINE Vec3f rotate(const Vec3f& v) const {
-    return Vec3f(m[0] * v.x() + m[1] * v.y() + m[2] * v.z(), m[4] * v.x() + m[5] * v.y() + m[6] * v.z(),
+    return Vec3f(m[0] * v.x() + m[1] * v.y() + m[2] * v.z(),
+                 m[4] * v.x() + m[5] * v.y() + m[6] * v.z(),
                  m[8] * v.x() + m[9] * v.y() + m[10] * v.z());
   }
   RASM_HD_INLINE Vec3f translation() const { return Vec3f(m[3], m[7], m[11]); }

@@ -40,7 +40,8 @@ struct CameraIntrinsics {
 
   std::string toString() const;
   bool operator==(const CameraIntrinsics& o) const {
-    return fx == o.fx && fy == o.fy && cx == o.cx && cy == o.cy && width == o.width && height == o.height;
+    return fx == o.fx && fy == o.fy && cx == o.cx && cy == o.cy && width == o.width &&
+           height == o.height;
   }
 };
 

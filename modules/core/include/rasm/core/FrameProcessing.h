@@ -16,7 +16,8 @@ struct VertexMapOptions {
 };
 
 void computeVertexMap(const Image<float>& depth_m, const CameraIntrinsics& K, Image<Vec3f>& vertex,
-                      const VertexMapOptions& opt = {}, compute::Backend backend = compute::Backend::Cpu);
+                      const VertexMapOptions& opt = {},
+                      compute::Backend backend = compute::Backend::Cpu);
 void computeNormalMap(const Image<Vec3f>& vertex, Image<Vec3f>& normal, float max_jump_rel = 0.05f,
                       compute::Backend backend = compute::Backend::Cpu);
 void downsampleDepth(const Image<float>& in, Image<float>& out, float max_diff_m = 0.03f);

@@ -57,7 +57,9 @@ class Image {
   bool empty() const { return width_ == 0 || height_ == 0; }
   bool sameSize(int w, int h) const { return width_ == w && height_ == h; }
   template <typename U>
-  bool sameSize(const Image<U>& o) const { return width_ == o.width() && height_ == o.height(); }
+  bool sameSize(const Image<U>& o) const {
+    return width_ == o.width() && height_ == o.height();
+  }
 
   T* data() { return reinterpret_cast<T*>(aligned()); }
   const T* data() const { return reinterpret_cast<const T*>(aligned()); }

@@ -14,7 +14,8 @@
 namespace rasm {
 
 /// Keys params.saveToConfigFile(section) writes.
-std::set<std::string> knownKeys(const mrpt::config::CLoadableOptions& params, const std::string& section);
+std::set<std::string> knownKeys(const mrpt::config::CLoadableOptions& params,
+                                const std::string& section);
 
 /// Loads `params` from `section` of `cfg`; unknown keys and unparsable values throw InputError
 /// "<source> [section] key: ...". Missing keys keep their defaults.
@@ -22,6 +23,7 @@ void loadParamsStrict(const mrpt::config::CConfigFileBase& cfg, const std::strin
                       mrpt::config::CLoadableOptions& params, const std::string& source);
 
 /// Helpers for range checks inside loadFromConfigFile implementations.
-void requireInRange(double value, double lo, double hi, const std::string& section, const std::string& key);
+void requireInRange(double value, double lo, double hi, const std::string& section,
+                    const std::string& key);
 
 }  // namespace rasm

@@ -26,7 +26,8 @@ RASM_HD_INLINE float confidenceWeight(float gamma, float sigma = kConfidenceSigm
 
 /// r = V(u)_z / (sqrt(2) f N(u)_z) (II-B): the back-projected circle circumscribing the pixel.
 /// |n_z| is clamped below by `min_abs_nz` so grazing surfels do not get unbounded radii.
-RASM_HD_INLINE float surfelRadius(float depth_m, float normal_z, float focal_px, float min_abs_nz = 0.2f) {
+RASM_HD_INLINE float surfelRadius(float depth_m, float normal_z, float focal_px,
+                                  float min_abs_nz = 0.2f) {
   float nz = fabsf(normal_z);
   if (nz < min_abs_nz) nz = min_abs_nz;
   return depth_m / (1.41421356f * focal_px * nz);

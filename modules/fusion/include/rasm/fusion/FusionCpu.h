@@ -24,8 +24,9 @@ struct alignas(16) KeptMeasurement {
 };
 
 /// AssociateKernel::associate of every pixel of row y (k.pixel_surfel, k.flags), keeping the
-/// measurement of each pixel with a valid one (associated or new) in kept[x]. Candidates' normals are prefetched a few
-/// pixels ahead. Needs the weight table (k.frame.weight); without it the kernel runs per pixel.
+/// measurement of each pixel with a valid one (associated or new) in kept[x]. Candidates' normals
+/// are prefetched a few pixels ahead. Needs the weight table (k.frame.weight); without it the
+/// kernel runs per pixel.
 void associateRowCpu(const kernels::AssociateKernel<kernels::ListCandidates>& k, int y,
                      KeptMeasurement* kept);
 

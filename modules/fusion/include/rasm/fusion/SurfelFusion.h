@@ -3,15 +3,18 @@
 // III and the view-information bins / basis of V-B), in four public passes that run in this order
 // for a frame (fuse() runs them all; the Mapper runs 1 in one stage, the rest in a later one, so
 // label propagation (III) reads the index map at T_t before the surfels are updated):
-//   1. renderIndexMap: the 4x point index map of the map at T_world_cam (SurfelRenderer, II-D; on the CPU
+//   1. renderIndexMap: the 4x point index map of the map at T_world_cam (SurfelRenderer, II-D; on
+//   the CPU
 //      as compact per-pixel candidate lists, renderCandidates4x);
-//   2. updateSurfels: per pixel (parallel), pick the most similar candidate in the pixel's 4x4 sub-pixel block
+//   2. updateSurfels: per pixel (parallel), pick the most similar candidate in the pixel's 4x4
+//   sub-pixel block
 //      (depth along the ray and normal angle gate it; cost = normalised ray distance + normal
 //      angle + radius ratio); then, in a second pass (race-free: each surfel is a candidate of one
 //      pixel only), update it by confidence-weighted averaging (Keller et al. 2013), accumulate w,
 //      update t_last, the stability flag, the segment weight (L^p), the basis b <- -n x (n x b)
 //      and the view bins;
-//   3. addSurfels: pixels without a match become new surfels (II-B), appended in row-major pixel order through
+//   3. addSurfels: pixels without a match become new surfels (II-B), appended in row-major pixel
+//   order through
 //      a per-row count + prefix sum (deterministic);
 //   4. cleanup: merge redundant surfels of the view (Keller et al. 2013), carve free space,
 //      remove unstable surfels past their age / idle limits.
@@ -31,8 +34,8 @@
 #include "rasm/core/Image.h"
 #include "rasm/core/RgbdFrame.h"
 #include "rasm/fusion/PruneSchedule.h"
-#include "rasm/fusion/ViewInfoThresholds.h"
 #include "rasm/fusion/TFusionParams.h"
+#include "rasm/fusion/ViewInfoThresholds.h"
 #include "rasm/fusion/kernels/FusionKernels.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
 #include "rasm/surfel_map/SurfelStore.h"
@@ -66,15 +69,15 @@ struct FusionStats {
   int added = 0;         ///< new surfels (II-B)
   int covered = 0;       ///< no own candidate, a neighbour's surfel covers its ray: not added
   int became_stable = 0;
-  int relabelled = 0;        ///< surfels whose segment changed from one label to another (III)
+  int relabelled = 0;         ///< surfels whose segment changed from one label to another (III)
   int relabelled_stable = 0;  ///< of those, stable surfels (label stability of III)
-  int removed_unstable = 0;  ///< old unstable surfels removed
-  int removed_carved = 0;    ///< free-space violators removed
-  int demoted_carved = 0;    ///< stable free-space violators that lost confidence
-  int merged = 0;            ///< redundant surfels merged into another one (and removed)
-  bool resorted = false;     ///< the store was re-sorted by block first (every index changed)
-  int map_size = 0;          ///< after the frame
-  maps::RenderStats render;  ///< of the 4x index map render
+  int removed_unstable = 0;   ///< old unstable surfels removed
+  int removed_carved = 0;     ///< free-space violators removed
+  int demoted_carved = 0;     ///< stable free-space violators that lost confidence
+  int merged = 0;             ///< redundant surfels merged into another one (and removed)
+  bool resorted = false;      ///< the store was re-sorted by block first (every index changed)
+  int map_size = 0;           ///< after the frame
+  maps::RenderStats render;   ///< of the 4x index map render
   // Wall-clock milliseconds of the stages (for report.json; tests never assert on them).
   double ms_resort = 0;     ///< SurfelStore::sortByBlock, when resorted
   double ms_index_map = 0;  ///< 4x point index map (II-D)
@@ -187,20 +190,20 @@ class SurfelFusion {
   Image<float> m_weight;  ///< II-B confidence weight per pixel for m_weight_K / m_weight_sigma
   CameraIntrinsics m_weight_K;
   float m_weight_sigma = -1.0f;
-  ViewInfoThresholds m_ic;  ///< the CPU update's view-bin skip for the current IC parameters
+  ViewInfoThresholds m_ic;     ///< the CPU update's view-bin skip for the current IC parameters
   bool m_index_fresh = false;  ///< the last index map matches the map (integrate, no removal since)
-  Pass m_pass = Pass::None;  ///< the last pass of the current frame
+  Pass m_pass = Pass::None;    ///< the last pass of the current frame
   std::vector<int> m_row_offset;
   std::vector<std::array<int, 7>> m_counts;  ///< per thread: pass 2's pixel counts for pass 3
   std::vector<std::vector<int>> m_thread_lists;
   std::vector<int> m_removed, m_demoted;
   std::vector<std::pair<int, int>> m_moved;
   std::vector<std::pair<int, int>> m_merged;  ///< (loser, kept) of the last mergeCpu
-  std::uint64_t m_merge_round = 0;             ///< merging frames so far (row phase)
+  std::uint64_t m_merge_round = 0;            ///< merging frames so far (row phase)
   std::vector<std::int32_t> m_remap_table;
-  std::vector<std::uint64_t> m_remap_bits;  ///< per surfel index, all zero between frames
+  std::vector<std::uint64_t> m_remap_bits;       ///< per surfel index, all zero between frames
   std::vector<std::vector<int>> m_stable_lists;  ///< per thread: surfels that became stable
-  std::vector<int> m_stable_changed;                 ///< scratch: surfels whose stable flag changed
+  std::vector<int> m_stable_changed;             ///< scratch: surfels whose stable flag changed
   // Pruning schedule and what it was built for.
   PruneSchedule m_schedule;
   const maps::SurfelStore* m_schedule_map = nullptr;

@@ -26,9 +26,9 @@ struct TFusionParams : public mrpt::config::CLoadableOptions {
   /// Kinect depth (3x3 differences of the bilateral-filtered level 0) are noisy: a tight gate
   /// rejects correct matches and each rejected pixel adds a duplicate surfel, which then costs
   /// every later frame (all passes are O(surfels in view)). Sweep, `rasm run`, 2 threads:
-  ///   gate   TUM fr1/xyz: added per frame, ATE   redkitchen: ATE, frames/s, map   sim 60 s: ATE, map
-  ///   30     2.8% of valid pixels, 0.30 cm       2.60 cm, 12.2-12.8, 1.25M         0.67 cm, 4.2M
-  ///   40           -                             2.51 cm, 14.1, 1.04M                   -
+  ///   gate   TUM fr1/xyz: added per frame, ATE   redkitchen: ATE, frames/s, map   sim 60 s: ATE,
+  ///   map 30     2.8% of valid pixels, 0.30 cm       2.60 cm, 12.2-12.8, 1.25M         0.67
+  ///   cm, 4.2M 40           -                             2.51 cm, 14.1, 1.04M                   -
   ///   45     1.2%, 0.29 cm                       2.49 cm, 14.5-14.8, 0.96M         0.64 cm, 3.3M
   ///   50     1.0%, 0.29 cm                       2.48 cm, 15.3-15.6, 0.88M         0.63 cm, 3.1M
   ///   60     0.8%, 0.30 cm                       2.55 cm, 16.6, 0.77M                   -

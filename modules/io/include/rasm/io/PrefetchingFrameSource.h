@@ -39,10 +39,10 @@ class PrefetchingFrameSource : public FrameSource {
   std::mutex m_mutex;
   std::condition_variable m_cv;
   std::deque<RgbdFrame> m_ready;
-  bool m_end = false;        ///< the inner source is exhausted (or failed: m_error)
-  bool m_stop = false;       ///< destructor: the reader must quit
+  bool m_end = false;   ///< the inner source is exhausted (or failed: m_error)
+  bool m_stop = false;  ///< destructor: the reader must quit
   std::exception_ptr m_error;
-  std::thread m_thread;      ///< last member: started once the rest is constructed
+  std::thread m_thread;  ///< last member: started once the rest is constructed
 };
 
 }  // namespace rasm::io

@@ -14,8 +14,8 @@
 #include <mrpt/config/CConfigFileBase.h>
 
 #include <Eigen/Geometry>
-#include <memory>
 #include <condition_variable>
+#include <memory>
 #include <mutex>
 #include <shared_mutex>
 #include <string>
@@ -39,10 +39,10 @@ class TrackingStage;
 struct MapSnapshot {
   maps::SurfelStore store;
   std::vector<segmentation::SegmentStats> segments;  ///< as of the last table refresh
-  std::uint64_t relabel_generation = 0;  ///< SegmentationStage::relabelGeneration()
-  std::size_t frames = 0;                ///< frames processed when it was taken
-  double copy_ms = 0.0;                  ///< time the copy held the map lock
-  double index_ms = 0.0;                 ///< rebuilding the spatial index afterwards (no lock)
+  std::uint64_t relabel_generation = 0;              ///< SegmentationStage::relabelGeneration()
+  std::size_t frames = 0;                            ///< frames processed when it was taken
+  double copy_ms = 0.0;                              ///< time the copy held the map lock
+  double index_ms = 0.0;  ///< rebuilding the spatial index afterwards (no lock)
 };
 
 class Mapper {
@@ -108,7 +108,8 @@ class Mapper {
   /// segmentation and every finishFrame); preprocessing and tracking read alongside the copy.
   /// The copy starts when the next write phase ends (or after 200 ms without one: the mapper is
   /// idle), so it runs during the mapping thread's read phase; the mapping thread waits only when
-  /// a copy outlasts that phase (FrameResult::ms of timer "map_lock_wait"). Cost: docs/architecture.md.
+  /// a copy outlasts that phase (FrameResult::ms of timer "map_lock_wait"). Cost:
+  /// docs/architecture.md.
   std::shared_ptr<const MapSnapshot> snapshot() const;
   /// The same into `out`, reusing its memory (a reader taking snapshots repeatedly saves the
   /// page faults of a fresh copy). Only the surfel arrays are copied under the lock; the spatial
@@ -116,7 +117,8 @@ class Mapper {
   void snapshotInto(MapSnapshot& out) const;
 
   /// Renders the map's colour / segment view at a pose (previews, annotated rawlogs).
-  void renderView(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K, maps::RenderedMaps& out);
+  void renderView(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K,
+                  maps::RenderedMaps& out);
 
  private:
   /// Builds the stage list: the one place a new stage is added.
@@ -132,7 +134,7 @@ class Mapper {
   mutable std::mutex m_phase_mutex;
   mutable std::condition_variable m_phase_cv;
   std::uint64_t m_write_phases = 0;
-  int m_lock_timer = 0;                     ///< index of "map_lock_wait" in FrameResult::ms
+  int m_lock_timer = 0;  ///< index of "map_lock_wait" in FrameResult::ms
   TMapperParams m_mapper;
   maps::CSurfelMap::TCreationOptions m_map_options;
   std::vector<std::unique_ptr<MapperStage>> m_stages;

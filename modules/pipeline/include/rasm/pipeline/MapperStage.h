@@ -88,7 +88,9 @@ class MapperStage {
 
  protected:
   /// Records part `part` (index into parts()) of this frame's time.
-  void recordMs(FrameContext& ctx, int part, double ms) const { ctx.result.ms[m_timer + 1 + part] += ms; }
+  void recordMs(FrameContext& ctx, int part, double ms) const {
+    ctx.result.ms[m_timer + 1 + part] += ms;
+  }
 
  private:
   friend class Mapper;

@@ -41,9 +41,9 @@ struct RunSummary {
   std::size_t relocalisations = 0;
   double seconds = 0.0, fps = 0.0;
   std::size_t surfels = 0;
-  std::optional<double> ate_rmse_m;          ///< over every frame (lost ones at their propagated pose)
+  std::optional<double> ate_rmse_m;  ///< over every frame (lost ones at their propagated pose)
   std::optional<double> ate_tracked_rmse_m;  ///< over the tracked frames alone
-  nlohmann::json report;  ///< what report.json holds
+  nlohmann::json report;                     ///< what report.json holds
 };
 
 class MappingRun {
@@ -82,7 +82,8 @@ class MappingRun {
   std::unique_ptr<io::FrameSource> openWrappedSource(double& preload_s) const;
   /// Maps frames until the source or [source] max_frames ends; an exception of a frame ends the
   /// loop and is kept in acc.error.
-  void frameLoop(io::FrameSource& source, Accumulated& acc, const std::function<void(const FrameResult&)>& on_frame);
+  void frameLoop(io::FrameSource& source, Accumulated& acc,
+                 const std::function<void(const FrameResult&)>& on_frame);
   void writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, const FrameResult& r);
   /// frames.csv, trajectory, ground truth, map files, preview.
   void writeOutputs(const Accumulated& acc);
@@ -96,6 +97,5 @@ class MappingRun {
   std::string m_sim_ini;  ///< [sim] section text, handed to the simulator source
   std::unique_ptr<Mapper> m_mapper;
 };
-
 
 }  // namespace rasm::pipeline

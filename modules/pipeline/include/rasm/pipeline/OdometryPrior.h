@@ -3,7 +3,8 @@
 // wheel odometry of the robot base (x, y, yaw in the odometry frame, RgbdFrame::odometry_xyyaw)
 // turned into a prediction of the camera pose through the camera's mounting pose, with the
 // odometry's noise, for IcpTracker::track's MotionPrior:
-//     T_world_cam(t) = T_world_cam(t-1) * T_cam_base * (T_odom_base(t-1)^-1 T_odom_base(t)) * T_base_cam
+//     T_world_cam(t) = T_world_cam(t-1) * T_cam_base * (T_odom_base(t-1)^-1 T_odom_base(t)) *
+//     T_base_cam
 // The increment is relative, so odometry drift never enters the map; its covariance is that of
 // one frame's increment (TRobotParams), along the base's axes at t-1.
 //

@@ -14,10 +14,10 @@ namespace rasm::pipeline {
 struct TSourceParams : mrpt::config::CLoadableOptions {
   /// sim | rawlog | tum | 7scenes | auto (auto: rawlog file, TUM or 7-Scenes folder by inspection)
   std::string type = "sim";
-  std::string path;          ///< rawlog file or dataset folder (not for sim)
-  int max_frames = 0;        ///< 0 = all
-  int start_frame = 0;       ///< frames before this are skipped
-  int frame_step = 1;        ///< use every n-th frame
+  std::string path;     ///< rawlog file or dataset folder (not for sim)
+  int max_frames = 0;   ///< 0 = all
+  int start_frame = 0;  ///< frames before this are skipped
+  int frame_step = 1;   ///< use every n-th frame
   /// Optional TUM trajectory to evaluate against (ATE in report.json) instead of the source's
   /// own ground truth (rawlogs without poses, e.g. converted elsewhere).
   std::string groundtruth;
@@ -47,13 +47,13 @@ struct TSourceParams : mrpt::config::CLoadableOptions {
 
 /// [mapper]: per-frame preprocessing around tracking and fusion (II-A).
 struct TMapperParams : mrpt::config::CLoadableOptions {
-  int pyramid_levels = 3;       ///< II-C: quarter, half, full resolution
-  double min_depth_m = 0.3;     ///< measurements nearer than this are ignored
-  double max_depth_m = 4.0;     ///< ... and further (Kinect-class noise grows with z^2)
-  bool bilateral_filter = true; ///< filter depth before computing normals (KinectFusion)
+  int pyramid_levels = 3;        ///< II-C: quarter, half, full resolution
+  double min_depth_m = 0.3;      ///< measurements nearer than this are ignored
+  double max_depth_m = 4.0;      ///< ... and further (Kinect-class noise grows with z^2)
+  bool bilateral_filter = true;  ///< filter depth before computing normals (KinectFusion)
   double bilateral_sigma_space_px = 4.5;
   double bilateral_sigma_depth_m = 0.03;
-  double normal_max_jump_rel = 0.05; ///< neighbour depth jump that invalidates a normal
+  double normal_max_jump_rel = 0.05;  ///< neighbour depth jump that invalidates a normal
   /// Where poses come from: "tracked" (ICP, II-C) or "groundtruth" (the source's ground-truth
   /// pose of every frame, for evaluating the later stages apart from tracking; a frame without
   /// one is an error).
@@ -108,10 +108,10 @@ struct TOutputParams : mrpt::config::CLoadableOptions {
   std::string dir = "rasm_out";
   bool write_ply = true;
   bool write_3dscene = true;
-  bool save_map = true;          ///< map.surfelmap: the CSurfelMap serialized for reloading
-  bool write_rawlog = false;     ///< annotated.rawlog: input observations with estimated pose
-  bool preview_png = true;       ///< preview.png: colour render of the map from the last pose
-  bool overwrite = true;         ///< false: refuse to write into a non-empty folder
+  bool save_map = true;       ///< map.surfelmap: the CSurfelMap serialized for reloading
+  bool write_rawlog = false;  ///< annotated.rawlog: input observations with estimated pose
+  bool preview_png = true;    ///< preview.png: colour render of the map from the last pose
+  bool overwrite = true;      ///< false: refuse to write into a non-empty folder
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;

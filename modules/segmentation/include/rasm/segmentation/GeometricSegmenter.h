@@ -17,14 +17,14 @@ namespace rasm::segmentation {
 
 /// L_t and what it was made from.
 struct FrameSegments {
-  Image<std::uint8_t> edges;     ///< E_t after the morphology (kernels::kInterior/kEdge/kInvalid),
-                                 ///< at the resolution of the input maps
-  Image<std::uint32_t> labels;   ///< L_t at the output resolution: 1..count (edge pixels filled
-                                 ///< from the adjacent segment nearest in depth), 0 = invalid,
-                                 ///< unfilled edge or too small a component
-  int count = 0;                 ///< segments in L_t
-  std::vector<int> pixels;       ///< pixels per label in `labels` (index = label; [0] unused)
-  int dropped_components = 0;    ///< components below min_component_px
+  Image<std::uint8_t> edges;    ///< E_t after the morphology (kernels::kInterior/kEdge/kInvalid),
+                                ///< at the resolution of the input maps
+  Image<std::uint32_t> labels;  ///< L_t at the output resolution: 1..count (edge pixels filled
+                                ///< from the adjacent segment nearest in depth), 0 = invalid,
+                                ///< unfilled edge or too small a component
+  int count = 0;                ///< segments in L_t
+  std::vector<int> pixels;      ///< pixels per label in `labels` (index = label; [0] unused)
+  int dropped_components = 0;   ///< components below min_component_px
   // Milliseconds of the steps (report.json / frames.csv; tests never assert on them).
   double ms_normals = 0, ms_edges = 0, ms_components = 0;
 };

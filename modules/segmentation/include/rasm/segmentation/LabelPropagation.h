@@ -39,6 +39,7 @@ struct Propagation {
 /// `next_label` is the first unused map label; it advances by the labels created.
 void propagateLabels(const FrameSegments& segments, const Image<Vec3f>& vertex_cam,
                      const fusion::IndexMapView& index_map, const maps::SurfelArrays& surfels,
-                     const TSegmentationParams& params, std::uint32_t& next_label, Propagation& out);
+                     const TSegmentationParams& params, std::uint32_t& next_label,
+                     Propagation& out);
 
 }  // namespace rasm::segmentation

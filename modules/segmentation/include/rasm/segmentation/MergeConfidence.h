@@ -19,8 +19,8 @@ class MergeConfidence {
 
   /// One frame: `cosegmented` pairs (a < b, sorted) gain, other pairs of `visible` labels
   /// (sorted) lose. Returns the pairs over `threshold` (to merge; a < b).
-  std::vector<Pair> update(const std::vector<Pair>& cosegmented, const std::vector<std::uint32_t>& visible,
-                           int threshold);
+  std::vector<Pair> update(const std::vector<Pair>& cosegmented,
+                           const std::vector<std::uint32_t>& visible, int threshold);
   /// Label `from` became `to` (a merge or a remap): its pairs follow (a pair with itself is
   /// dropped; evidence of two pairs that become one is summed).
   void rename(std::uint32_t from, std::uint32_t to);

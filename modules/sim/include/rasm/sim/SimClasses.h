@@ -29,7 +29,9 @@ int classIdFromName(const std::string& name);
 /// Name of a class id; throws std::out_of_range for ids >= numClasses().
 const std::string& className(int id);
 /// True for 1..80.
-inline bool isCocoClass(int id) { return id >= 1 && id <= kNumCocoClasses; }
+inline bool isCocoClass(int id) {
+  return id >= 1 && id <= kNumCocoClasses;
+}
 /// Classes that are structure of the building rather than objects (floor, wall, ceiling, door).
 bool isStructureClass(int id);
 

@@ -62,7 +62,7 @@ struct PlySurfels {
   std::vector<Bgr8> colour;
   std::vector<float> radius, confidence;
   std::vector<std::uint32_t> segment;
-  std::vector<int> class_id;               ///< 0 = none
+  std::vector<int> class_id;  ///< 0 = none
   std::vector<float> class_probability;
   std::vector<std::uint8_t> stable;
   std::size_t size() const { return position.size(); }

@@ -50,7 +50,9 @@ RASM_HD_INLINE std::uint8_t quantizeUnit(float v) {
   v = v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v);
   return std::uint8_t(v * 255.0f + 0.5f);
 }
-RASM_HD_INLINE float dequantizeUnit(std::uint8_t q) { return float(q) * (1.0f / 255.0f); }
+RASM_HD_INLINE float dequantizeUnit(std::uint8_t q) {
+  return float(q) * (1.0f / 255.0f);
+}
 
 /// Raw pointers to the arrays of a map (host or device memory); `size` surfels, strides for the
 /// per-surfel vectors. Cheap to copy into kernel functors.
@@ -64,7 +66,7 @@ struct SurfelArrays {
   std::uint32_t* segment = nullptr;
   float* segment_w = nullptr;
   ClassEvidence* class_ev = nullptr;  ///< size entries; null when n_classes = 0
-  std::uint8_t* view_ic = nullptr;  ///< size * n_view_bins
+  std::uint8_t* view_ic = nullptr;    ///< size * n_view_bins
   int size = 0;
   int n_classes = 0;  ///< class ids 1..n_classes are valid (ClassEvidence.h)
   int n_view_bins = 0;

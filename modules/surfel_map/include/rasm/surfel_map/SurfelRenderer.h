@@ -78,11 +78,13 @@ struct RenderedMaps {
 
 /// What a render touched, for tests of the culling (counts, not time) and for reports.
 struct RenderStats {
-  int blocks_total = 0;          ///< non-empty blocks in the map
-  int blocks_visited = 0;        ///< blocks that passed frustum culling
-  long long surfels_tested = 0;  ///< members of the visited blocks (their stable ones with stable_only)
-  long long surfels_drawn = 0;   ///< surfels that passed all tests and were splatted / projected
-  long long pixels_drawn = 0;    ///< pixels of render() a surfel won (index >= 0); not set by the 4x renders
+  int blocks_total = 0;    ///< non-empty blocks in the map
+  int blocks_visited = 0;  ///< blocks that passed frustum culling
+  long long surfels_tested =
+      0;  ///< members of the visited blocks (their stable ones with stable_only)
+  long long surfels_drawn = 0;  ///< surfels that passed all tests and were splatted / projected
+  long long pixels_drawn =
+      0;  ///< pixels of render() a surfel won (index >= 0); not set by the 4x renders
 };
 
 /// 4x super-sampled point index map of II-D: every surfel in view is projected as a POINT into a

@@ -13,8 +13,9 @@
 //
 // Each member list keeps the stable surfels first (members[0, stableCount)), so a render of the
 // stable surfels only (a third of the surfels in view on 7-Scenes; the II-C tracking model when
-// [tracking] model_min_confidence = 0) visits just those. The index learns a surfel's stability when it is inserted and through
-// setStable(); SurfelStore keeps it in step with the kSurfelStable flag (SurfelStore.h).
+// [tracking] model_min_confidence = 0) visits just those. The index learns a surfel's stability
+// when it is inserted and through setStable(); SurfelStore keeps it in step with the kSurfelStable
+// flag (SurfelStore.h).
 //
 // Host-only (std containers); no MRPT.
 
@@ -70,8 +71,8 @@ class VoxelBlockIndex {
   /// Adds surfels [first, first + count) at positions pos[i] (pos indexed by surfel id), stable
   /// where flags[i] & stable_mask (flags may be null: none stable).
   /// Faster than single inserts: consecutive surfels usually share a block.
-  void insertRange(int first, int count, const Vec4f* pos_conf, const std::uint32_t* flags = nullptr,
-                   std::uint32_t stable_mask = 0);
+  void insertRange(int first, int count, const Vec4f* pos_conf,
+                   const std::uint32_t* flags = nullptr, std::uint32_t stable_mask = 0);
   /// Moves an indexed surfel into (or out of) its block's stable part. O(1).
   void setStable(int surfel, bool stable);
   /// Whether an indexed surfel is in its block's stable part.

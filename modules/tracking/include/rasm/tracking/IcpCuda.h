@@ -1,8 +1,8 @@
 #pragma once
 // CUDA launcher of kernels::IcpReduceKernel (cuda/IcpReduce.cu): one thread per processed pixel,
-// a block reduction of the IcpAccumulator sums in double, per-block partials summed on the host in a fixed
-// order. Plain header (compute/ + the kernel header). Without a CUDA build every method throws
-// std::runtime_error; callers check compute::cudaAvailability() first.
+// a block reduction of the IcpAccumulator sums in double, per-block partials summed on the host in
+// a fixed order. Plain header (compute/ + the kernel header). Without a CUDA build every method
+// throws std::runtime_error; callers check compute::cudaAvailability() first.
 
 #include <memory>
 

@@ -104,8 +104,8 @@ class IcpTracker {
   /// Aligns `frame` to `model` starting from an explicit guess; does not touch the motion state.
   /// The quality rules (including the jump vs. the guess) are applied as in track().
   TrackingResult align(const std::vector<FrameLevel>& frame, const ModelMaps& model,
-                       const Eigen::Isometry3d& T_world_cam_guess, ImageView<const Bgr8> frame_colour = {},
-                       const MotionPrior* prior = nullptr);
+                       const Eigen::Isometry3d& T_world_cam_guess,
+                       ImageView<const Bgr8> frame_colour = {}, const MotionPrior* prior = nullptr);
 
   /// The pose check of align() on its own (kernels::PoseCheckKernel at params().check_level):
   /// how the frame seen from T_world_cam agrees with the model. For verifying a pose found
@@ -116,7 +116,7 @@ class IcpTracker {
     double behind = 0.0;     ///< of those, fraction behind it (seeing through mapped space)
     /// Disagreement allowed by the relative rule (recent accepted frames), 1 = no history yet.
     double max_disagreement = 1.0;
-    bool passed = false;     ///< conclusive (overlap >= check_min_overlap) and within the limits
+    bool passed = false;  ///< conclusive (overlap >= check_min_overlap) and within the limits
   };
   /// The relative rule's limit from the recent accepted frames (1 without history).
   double maxDisagreement() const;
@@ -139,7 +139,7 @@ class IcpTracker {
   std::vector<Image<float>> m_model_intensity, m_frame_intensity;
   std::vector<Image<float>> m_model_confidence;  ///< levels >= 1 (level 0 is the caller's view)
   std::vector<Image<Vec3f>> m_frame_igrad;
-  std::deque<double> m_recent_disagreement;  ///< of the last accepted frames (relative rule)
+  std::deque<double> m_recent_disagreement;      ///< of the last accepted frames (relative rule)
   std::unique_ptr<cuda::IcpCudaReducer> m_cuda;  ///< created on first use when use_cuda
 };
 

@@ -19,12 +19,18 @@ struct MotionPrior {
 
   /// A prior with independent errors along the axes of a frame A (rotation R_world_A): standard
   /// deviations of the translation (m) and rotation (rad) along A's x, y, z.
-  static MotionPrior fromStdDevs(const Eigen::Isometry3d& T_world_cam, const Eigen::Matrix3d& R_world_A,
-                                 const Eigen::Vector3d& sigma_translation_m, const Eigen::Vector3d& sigma_rotation_rad) {
+  static MotionPrior fromStdDevs(const Eigen::Isometry3d& T_world_cam,
+                                 const Eigen::Matrix3d& R_world_A,
+                                 const Eigen::Vector3d& sigma_translation_m,
+                                 const Eigen::Vector3d& sigma_rotation_rad) {
     MotionPrior p;
     p.T_world_cam = T_world_cam;
-    const Eigen::Matrix3d It = R_world_A * sigma_translation_m.cwiseInverse().cwiseAbs2().asDiagonal() * R_world_A.transpose();
-    const Eigen::Matrix3d Ir = R_world_A * sigma_rotation_rad.cwiseInverse().cwiseAbs2().asDiagonal() * R_world_A.transpose();
+    const Eigen::Matrix3d It = R_world_A *
+                               sigma_translation_m.cwiseInverse().cwiseAbs2().asDiagonal() *
+                               R_world_A.transpose();
+    const Eigen::Matrix3d Ir = R_world_A *
+                               sigma_rotation_rad.cwiseInverse().cwiseAbs2().asDiagonal() *
+                               R_world_A.transpose();
     p.information.topLeftCorner<3, 3>() = It;
     p.information.bottomRightCorner<3, 3>() = Ir;
     return p;

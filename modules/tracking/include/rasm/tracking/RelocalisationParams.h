@@ -82,8 +82,10 @@ struct TRelocalisationParams : public mrpt::config::CLoadableOptions {
   double min_depth_agreement = 0.7;
   int min_depth_agreeing = 15;
 
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                        const std::string& section) const override;
   /// Throws InputError naming `section` and the offending key when a value is out of range.
   void validate(const std::string& section = "relocalisation") const;
 };

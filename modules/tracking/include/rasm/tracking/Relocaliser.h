@@ -113,7 +113,8 @@ class Relocaliser {
   /// one is to its own. Returns true when db changed. Cost: the spacing test over db (pose
   /// distances) on every call; ORB detection (a few to ~15 ms for 640x480) only when it adds or
   /// tries to.
-  bool maybeAddKeyframe(const RgbdFrame& frame, const Eigen::Isometry3d& T_world_cam, std::vector<maps::Keyframe>& db);
+  bool maybeAddKeyframe(const RgbdFrame& frame, const Eigen::Isometry3d& T_world_cam,
+                        std::vector<maps::Keyframe>& db);
 
   /// The spacing rule alone: true when no keyframe of db is within keyframe_translation_m AND
   /// keyframe_rotation_deg of T_world_cam, and at least keyframe_min_interval_frames frames
@@ -124,11 +125,13 @@ class Relocaliser {
 
   /// ORB features of `frame` with valid depth (strongest keyframe_max_features), as world points
   /// through T_world_cam, and the thumbnail; nullopt with fewer than keyframe_min_features.
-  std::optional<maps::Keyframe> makeKeyframe(const RgbdFrame& frame, const Eigen::Isometry3d& T_world_cam) const;
+  std::optional<maps::Keyframe> makeKeyframe(const RgbdFrame& frame,
+                                             const Eigen::Isometry3d& T_world_cam) const;
 
   /// Pose of `frame` against the keyframes of `db`, or nullopt when no candidate passes the
   /// inlier and depth checks (lastStats().reason says why). Tens of ms on a 640x480 frame.
-  std::optional<RelocalisationResult> relocalise(const RgbdFrame& frame, const std::vector<maps::Keyframe>& db);
+  std::optional<RelocalisationResult> relocalise(const RgbdFrame& frame,
+                                                 const std::vector<maps::Keyframe>& db);
 
   const RelocalisationStats& lastStats() const { return m_stats; }
 

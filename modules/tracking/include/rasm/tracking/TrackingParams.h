@@ -76,7 +76,8 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   ///   stable (10), weighting        2.27                    -                     -
   ///   >= 5, weighting               2.05                    -                     -
   ///   >= 3, weighting (default)     1.95                  0.27                  0.84 / 0.68
-  ///   >= 2, weighting               1.92                  0.27                  1.13 (> 1 cm target)
+  ///   >= 2, weighting               1.92                  0.27                  1.13 (> 1 cm
+  ///   target)
   ///   >= 3, no weighting            2.64                    -                     -
   /// It costs CPU: a min_confidence model visits every member of the blocks in view, not only
   /// their stable prefix (VoxelBlockIndex), ~5-12% more CPU per frame on redkitchen.
@@ -182,8 +183,10 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
 
   int numLevels() const { return num_levels; }
 
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                        const std::string& section) const override;
   /// Throws InputError naming `section` and the offending key when a value is out of range.
   void validate(const std::string& section = "tracking") const;
 };

@@ -8,18 +8,18 @@
 namespace rasm::tracking {
 
 enum class TrackingStatus {
-  Ok,             ///< converged, enough inliers, small residual, plausible motion
-  Degenerate,     ///< geometry leaves some directions unconstrained (e.g. a single wall); those
-                  ///< directions keep the initial guess. ok if inlier_fraction >=
-                  ///< degenerate_min_inlier_fraction.
-  TooFewInliers,  ///< too little overlap with the model (empty / unrelated model, fast motion)
-  HighResidual,   ///< inliers found but the RMS point-to-plane residual is too high
-  ExcessiveMotion,///< the result is too far from the initial guess (wrong local minimum)
-  Inconsistent,   ///< the aligned frame contradicts the model it was aligned to (pose check:
-                  ///< too few overlapping pixels agree, or too many see through mapped surfaces)
-  PriorConflict,  ///< the result is too many sigmas away from the motion prior (odometry)
-  Diverged,       ///< the linear system could not be solved or produced non-finite poses
-  NotInitialized  ///< track() before reset(): no pose to predict from
+  Ok,               ///< converged, enough inliers, small residual, plausible motion
+  Degenerate,       ///< geometry leaves some directions unconstrained (e.g. a single wall); those
+                    ///< directions keep the initial guess. ok if inlier_fraction >=
+                    ///< degenerate_min_inlier_fraction.
+  TooFewInliers,    ///< too little overlap with the model (empty / unrelated model, fast motion)
+  HighResidual,     ///< inliers found but the RMS point-to-plane residual is too high
+  ExcessiveMotion,  ///< the result is too far from the initial guess (wrong local minimum)
+  Inconsistent,     ///< the aligned frame contradicts the model it was aligned to (pose check:
+                    ///< too few overlapping pixels agree, or too many see through mapped surfaces)
+  PriorConflict,    ///< the result is too many sigmas away from the motion prior (odometry)
+  Diverged,         ///< the linear system could not be solved or produced non-finite poses
+  NotInitialized    ///< track() before reset(): no pose to predict from
 };
 
 const char* toString(TrackingStatus s);
@@ -27,13 +27,13 @@ const char* toString(TrackingStatus s);
 /// Statistics of one pyramid level, taken at the last linearisation point of that level.
 struct TrackingLevelStats {
   int level = 0;
-  int iterations = 0;       ///< iterations run (<= the configured number)
+  int iterations = 0;  ///< iterations run (<= the configured number)
   int inliers = 0;
-  int valid_pixels = 0;     ///< frame pixels with a valid vertex and normal (after the stride)
-  double rms_m = 0.0;       ///< RMS point-to-plane residual of the inliers
-  int photometric_inliers = 0;     ///< model pixels used by the photometric term (0 = off)
-  double photometric_rms = 0.0;    ///< their RMS intensity residual (luma in [0, 1])
-  double min_eigenvalue = 0.0;  ///< of the level's last system (see TrackingResult)
+  int valid_pixels = 0;          ///< frame pixels with a valid vertex and normal (after the stride)
+  double rms_m = 0.0;            ///< RMS point-to-plane residual of the inliers
+  int photometric_inliers = 0;   ///< model pixels used by the photometric term (0 = off)
+  double photometric_rms = 0.0;  ///< their RMS intensity residual (luma in [0, 1])
+  double min_eigenvalue = 0.0;   ///< of the level's last system (see TrackingResult)
   double last_step_translation_m = 0.0;
   double last_step_rotation_rad = 0.0;
 };

@@ -8,7 +8,9 @@
 
 namespace rasm::kernels {
 
-RASM_HD_INLINE bool validVec(const Vec3f& v) { return v.x() == v.x(); }
+RASM_HD_INLINE bool validVec(const Vec3f& v) {
+  return v.x() == v.x();
+}
 RASM_HD_INLINE Vec3f invalidVec() {
   return Vec3f(compute::invalidFloat(), compute::invalidFloat(), compute::invalidFloat());
 }
@@ -23,7 +25,8 @@ struct VertexMapKernel {
 
   RASM_HD_INLINE void operator()(int x, int y) const {
     const float z = depth_m(x, y);
-    vertex(x, y) = (z >= min_depth_m && z <= max_depth_m) ? K.backProject(float(x), float(y), z) : invalidVec();
+    vertex(x, y) = (z >= min_depth_m && z <= max_depth_m) ? K.backProject(float(x), float(y), z)
+                                                          : invalidVec();
   }
 };
 

@@ -17,14 +17,14 @@ namespace rasm::fusion::kernels {
 
 /// Per-pixel outcome bits of the association and update passes.
 enum PixelFlag : std::uint16_t {
-  kPixValid = 1,          ///< usable measurement (vertex, normal, depth range, incidence)
-  kPixAssociated = 2,     ///< matched an existing surfel
-  kPixFused = 4,          ///< geometry averaged (radius rule passed)
-  kPixNew = 8,            ///< no match: becomes a new surfel
-  kPixBecameStable = 16,  ///< the matched surfel crossed the stability threshold
-  kPixRelabelled = 32,    ///< the matched surfel changed from one segment to another (III)
-  kPixCovered = 64,       ///< no candidate of its own, but a neighbour's surfel covers it
-  kPixCrossedBlock = 128, ///< the update moved the surfel into another spatial-index block
+  kPixValid = 1,           ///< usable measurement (vertex, normal, depth range, incidence)
+  kPixAssociated = 2,      ///< matched an existing surfel
+  kPixFused = 4,           ///< geometry averaged (radius rule passed)
+  kPixNew = 8,             ///< no match: becomes a new surfel
+  kPixBecameStable = 16,   ///< the matched surfel crossed the stability threshold
+  kPixRelabelled = 32,     ///< the matched surfel changed from one segment to another (III)
+  kPixCovered = 64,        ///< no candidate of its own, but a neighbour's surfel covers it
+  kPixCrossedBlock = 128,  ///< the update moved the surfel into another spatial-index block
   /// Bits 8-9: free-space carving verdict on the updated surfel (CarveTest::Action), evaluated on
   /// its state after the update and applied by the cleanup.
   kPixCarveShift = 8,
@@ -162,9 +162,9 @@ RASM_HD_INLINE bool mergeSurfels(const maps::SurfelArrays& s, int keep, int lose
   if (prm.max_confidence > 0.0f && c > prm.max_confidence) c = prm.max_confidence;
   std::uint32_t cf = s.colour_flags[keep];
   const Bgr8 co = maps::unpackColour(cf), cn = maps::unpackColour(s.colour_flags[loser]);
-  cf = maps::packColour(Bgr8{blendU8(co.b, cn.b, a0, a1), blendU8(co.g, cn.g, a0, a1),
-                             blendU8(co.r, cn.r, a0, a1)},
-                        cf & 0xff000000u);
+  cf = maps::packColour(
+      Bgr8{blendU8(co.b, cn.b, a0, a1), blendU8(co.g, cn.g, a0, a1), blendU8(co.r, cn.r, a0, a1)},
+      cf & 0xff000000u);
   if (c >= prm.stable_confidence) cf |= maps::kSurfelStable;
   s.pos_conf[keep] = Vec4f(p.x(), p.y(), p.z(), c);
   s.normal_radius[keep] = Vec4f(n.x(), n.y(), n.z(), r);
@@ -194,7 +194,7 @@ struct PixelMeasurement {
   // (initialised: GCC 12 cannot see that the kernels read them only after a successful measure)
   Vec3f v = Vec3f::Zero(), n = Vec3f::Zero();  ///< camera-frame vertex and normal
   Vec3f n_world = Vec3f::Zero();  ///< normal in the world frame (compared with the surfel normals)
-  float w = 0, r = 0;  ///< confidence weight and radius (II-B)
+  float w = 0, r = 0;             ///< confidence weight and radius (II-B)
   float z = 0, dz_max = 0, inv_v = 0, inv_r = 0;
 };
 
@@ -207,8 +207,8 @@ RASM_HD_INLINE void deriveGates(const FusionKernelParams& prm, PixelMeasurement&
 }
 
 RASM_HD_INLINE bool measureForAssociation(const FrameView& frame, int x, int y,
-                                          const FusionKernelParams& prm,
-                                          const RigidF& T_world_cam, PixelMeasurement& m) {
+                                          const FusionKernelParams& prm, const RigidF& T_world_cam,
+                                          PixelMeasurement& m) {
   if (!frame.measure(x, y, prm, m.v, m.n, m.w, m.r)) return false;
   m.n_world = T_world_cam.rotate(m.n);
   deriveGates(prm, m);
@@ -340,8 +340,8 @@ struct AssociateKernel {
     const int n = candidates.get(x, y, buf, c);
     const int best = bestCandidate(m, c, n, s, prm);
     pixel_surfel(x, y) = best >= 0 ? best : -2;
-    flags(x, y) = best >= 0 ? std::uint16_t(kPixValid | kPixAssociated)
-                            : std::uint16_t(kPixValid | kPixNew);
+    flags(x, y) =
+        best >= 0 ? std::uint16_t(kPixValid | kPixAssociated) : std::uint16_t(kPixValid | kPixNew);
     return best >= 0 ? best : -2;
   }
 };
@@ -531,9 +531,9 @@ struct UpdateKernel {
                                            float a1) const {
     if (frame.colour.empty()) return cf;
     const Bgr8 co = maps::unpackColour(cf), cn = frame.colour(x, y);
-    return maps::packColour(Bgr8{blendU8(co.b, cn.b, a0, a1), blendU8(co.g, cn.g, a0, a1),
-                                 blendU8(co.r, cn.r, a0, a1)},
-                            cf & 0xff000000u);
+    return maps::packColour(
+        Bgr8{blendU8(co.b, cn.b, a0, a1), blendU8(co.g, cn.g, a0, a1), blendU8(co.r, cn.r, a0, a1)},
+        cf & 0xff000000u);
   }
 
   /// The rest of update() once the geometry (p, ns, rs, b) and colour cf are averaged, but the
@@ -570,8 +570,8 @@ struct UpdateKernel {
       }
     }
     if (carve &&
-        carve_test.updatedMayViolate(x, y, z,
-                                     maps::kernels::maxF(prm.assoc_dz_abs_m, prm.assoc_dz_rel * z)) &&
+        carve_test.updatedMayViolate(
+            x, y, z, maps::kernels::maxF(prm.assoc_dz_abs_m, prm.assoc_dz_rel * z)) &&
         carve_test.violates(T_cam_world.apply(p)))
       f |= std::uint16_t(carve_test.action(cf, c_new) << kPixCarveShift);
     flags(x, y) = f;

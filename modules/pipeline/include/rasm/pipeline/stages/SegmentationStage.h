@@ -23,7 +23,9 @@ namespace rasm::pipeline {
 class SegmentationStage : public MapperStage {
  public:
   enum Part { kEdges = 0, kComponents, kPropagation, kMerge };
-  SegmentationStage() : MapperStage("segmentation", {"seg_edges", "seg_components", "seg_propagation", "seg_merge"}) {}
+  SegmentationStage()
+      : MapperStage("segmentation",
+                    {"seg_edges", "seg_components", "seg_propagation", "seg_merge"}) {}
 
   std::vector<ParamsSection> sections() override { return {{"segmentation", &m_params}}; }
   void configure(const TMapperParams& mapper) override;

@@ -12,9 +12,10 @@
 // (The paper's case test reads "> 0" for its own normal orientation; with normals facing the
 // camera, a neighbour in front of the tangent plane is the concave case.)
 // Neighbourhood: the 8 pixels at distance `step` (1 = adjacent) that are valid, and in each
-// cardinal direction the first valid pixel beyond an invalid one, up to `reach` pixels away (the paper's extension: holes of missing depth do not
-// hide an edge). delta_Gamma(z) = gamma_abs_m + gamma_per_z2 * z^2 grows with the depth noise.
-// Invalid pixels (no vertex or normal) are edges: they belong to no segment.
+// cardinal direction the first valid pixel beyond an invalid one, up to `reach` pixels away (the
+// paper's extension: holes of missing depth do not hide an edge). delta_Gamma(z) = gamma_abs_m +
+// gamma_per_z2 * z^2 grows with the depth noise. Invalid pixels (no vertex or normal) are edges:
+// they belong to no segment.
 
 #include <cstdint>
 
@@ -50,8 +51,8 @@ struct EdgeKernel {
 
   RASM_HD_INLINE static bool valid(const Vec3f& v) { return v.x() == v.x(); }
 
-  RASM_HD_INLINE void accumulate(const Vec3f& v, const Vec3f& n, int xi, int yi, float margin, float& g,
-                                 float& p) const {
+  RASM_HD_INLINE void accumulate(const Vec3f& v, const Vec3f& n, int xi, int yi, float margin,
+                                 float& g, float& p) const {
     const Vec3f vi = vertex(xi, yi), ni = normal(xi, yi);
     const float d = (vi - v).dot(n);
     const float ad = d < 0.0f ? -d : d;
@@ -84,7 +85,8 @@ struct EdgeKernel {
     const int cdx[4] = {1, -1, 0, 0}, cdy[4] = {0, 0, 1, -1};
     for (int k = 0; k < 4; ++k) {
       const int ax = x + st * cdx[k], ay = y + st * cdy[k];
-      if ((!inner && !vertex.inside(ax, ay)) || (valid(vertex(ax, ay)) && valid(normal(ax, ay)))) continue;
+      if ((!inner && !vertex.inside(ax, ay)) || (valid(vertex(ax, ay)) && valid(normal(ax, ay))))
+        continue;
       for (int r = st + 1; r <= prm.reach; ++r) {
         const int xi = x + r * cdx[k], yi = y + r * cdy[k];
         if (!inner && !vertex.inside(xi, yi)) break;

@@ -60,13 +60,21 @@ RASM_HD_INLINE void atomicMinU64(std::uint64_t* addr, std::uint64_t v) {
 }
 
 /// min / max without libm's NaN handling (fminf/fmaxf are calls without -ffast-math).
-RASM_HD_INLINE float minF(float a, float b) { return a < b ? a : b; }
-RASM_HD_INLINE float maxF(float a, float b) { return a > b ? a : b; }
+RASM_HD_INLINE float minF(float a, float b) {
+  return a < b ? a : b;
+}
+RASM_HD_INLINE float maxF(float a, float b) {
+  return a > b ? a : b;
+}
 
 /// Pixel of a projection with pixel centres at integer coordinates: round to nearest.
-RASM_HD_INLINE int pixelOf(float u) { return int(floorf(u + 0.5f)); }
+RASM_HD_INLINE int pixelOf(float u) {
+  return int(floorf(u + 0.5f));
+}
 /// Sub-pixel of the 4x map (IndexMap4x): floor(4 (u + 0.5)), so sub-pixel / 4 == pixelOf(u).
-RASM_HD_INLINE int subPixelOf4x(float u) { return int(floorf(4.0f * (u + 0.5f))); }
+RASM_HD_INLINE int subPixelOf4x(float u) {
+  return int(floorf(4.0f * (u + 0.5f)));
+}
 
 /// A surfel's centre in the camera frame and its index: what a projection pass hands on to the
 /// passes after it (fusion's association and carving), so they need not transform it again.
@@ -98,8 +106,12 @@ RASM_HD_INLINE std::uint32_t candidateKey4x(const Vec3f& pc, const PinholeF& K, 
                         max_depth_m);
 }
 /// Frame pixel row / column and sub-pixel (0-15, row-major in the 4x4 block) of a key.
-RASM_HD_INLINE int candidateRow(std::uint32_t key) { return int(key >> 18); }
-RASM_HD_INLINE int candidateColumn(std::uint32_t key) { return int((key & 0xffffu) >> 2); }
+RASM_HD_INLINE int candidateRow(std::uint32_t key) {
+  return int(key >> 18);
+}
+RASM_HD_INLINE int candidateColumn(std::uint32_t key) {
+  return int((key & 0xffffu) >> 2);
+}
 RASM_HD_INLINE int candidateSubPixel(std::uint32_t key) {
   return int(((key >> 16) & 3u) * 4u + (key & 3u));
 }
@@ -149,8 +161,7 @@ struct VisibilityTest {
   }
   /// inView() with the projection (u, v) of the centre already computed.
   RASM_HD_INLINE bool inView(float z, float u, float v) const {
-    return z >= min_depth_m && z <= max_depth_m && u >= u_lo && u <= u_hi && v >= v_lo &&
-           v <= v_hi;
+    return z >= min_depth_m && z <= max_depth_m && u >= u_lo && u <= u_hi && v >= v_lo && v <= v_hi;
   }
 };
 
@@ -187,7 +198,9 @@ struct SplatKernel {
   ImageView<std::uint64_t> packed;
 
   /// False when the surfel is outside the depth range or its footprint misses the image.
-  RASM_HD_INLINE bool footprint(int k, SplatFootprint& f) const { return footprintOf(visible[k], f); }
+  RASM_HD_INLINE bool footprint(int k, SplatFootprint& f) const {
+    return footprintOf(visible[k], f);
+  }
 
   /// footprint() of surfel i.
   RASM_HD_INLINE bool footprintOf(int i, SplatFootprint& f) const {

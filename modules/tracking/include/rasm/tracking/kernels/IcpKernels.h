@@ -29,8 +29,8 @@ namespace rasm::tracking::kernels {
 /// intensity for the photometric term); s[kDepth]: sum of inlier depths (the scale that balances
 /// the rotation columns, see IcpTracker); s[kW]: sum of the weights; s[kWR2]: sum of w r^2.
 struct IcpAccumulator {
-  static constexpr int kJtJ = 0, kJtr = 21, kR2 = 27, kInliers = 28, kValid = 29, kDepth = 30, kW = 31,
-                       kWR2 = 32;
+  static constexpr int kJtJ = 0, kJtr = 21, kR2 = 27, kInliers = 28, kValid = 29, kDepth = 30,
+                       kW = 31, kWR2 = 32;
   static constexpr int kSize = 33;
   double s[kSize] = {};
 
@@ -168,7 +168,7 @@ struct IcpReduceKernel {
   /// residual's weight is multiplied by min(1, confidence / confidence_full).
   ImageView<const float> model_confidence;
   float confidence_full = 10.0f;
-  int stride = 1;                       ///< process every stride-th pixel in x and y
+  int stride = 1;  ///< process every stride-th pixel in x and y
 
   /// Work items of the CPU reduction: row segments of kSegment processed pixels (rows alone are
   /// too few work items for compute::reduce1D to split them over threads at coarse levels).
@@ -409,14 +409,16 @@ struct PhotometricReduceKernel {
     const float u = K_frame.fx * p.x() * iz + K_frame.cx;
     const float v = K_frame.fy * p.y() * iz + K_frame.cy;
     // Bilinear taps (u0, v0) .. (u0 + 1, v0 + 1), all inside the gradient image's interior.
-    if (!(u >= 1.0f && v >= 1.0f && u < float(frame_igrad.width - 2) && v < float(frame_igrad.height - 2)))
+    if (!(u >= 1.0f && v >= 1.0f && u < float(frame_igrad.width - 2) &&
+          v < float(frame_igrad.height - 2)))
       return kIcpRejected;
     const float zf = frame_depth_m(int(u + 0.5f), int(v + 0.5f));
     if (!(zf > 0.0f) || fabsf(zf - p.z()) > max_depth_diff_m) return kIcpRejected;
     const int u0 = int(u), v0 = int(v);
     const float fu = u - float(u0), fv = v - float(v0);
-    const Vec3f s = (1.0f - fv) * ((1.0f - fu) * frame_igrad(u0, v0) + fu * frame_igrad(u0 + 1, v0)) +
-                    fv * ((1.0f - fu) * frame_igrad(u0, v0 + 1) + fu * frame_igrad(u0 + 1, v0 + 1));
+    const Vec3f s =
+        (1.0f - fv) * ((1.0f - fu) * frame_igrad(u0, v0) + fu * frame_igrad(u0 + 1, v0)) +
+        fv * ((1.0f - fu) * frame_igrad(u0, v0 + 1) + fu * frame_igrad(u0 + 1, v0 + 1));
     const float gx = s.y(), gy = s.z();
     if (gx * gx + gy * gy < min_gradient * min_gradient) return kIcpRejected;
     r = s.x() - im;

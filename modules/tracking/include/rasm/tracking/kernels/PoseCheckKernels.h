@@ -16,11 +16,11 @@ namespace rasm::tracking::kernels {
 
 /// Counts of one pose check (PoseCheckKernel): pixels of the frame by what they meet in the model.
 struct PoseCheckCounts {
-  long long valid = 0;     ///< frame pixels with a vertex and a normal
-  long long agree = 0;     ///< on the model surface: within the gate, normals compatible
-  long long front = 0;     ///< on the model pixel but nearer the camera than its surface
-  long long behind = 0;    ///< behind the model surface: seeing through mapped space
-  long long misaligned = 0;///< at the model surface's depth but off the gate or normal test
+  long long valid = 0;       ///< frame pixels with a vertex and a normal
+  long long agree = 0;       ///< on the model surface: within the gate, normals compatible
+  long long front = 0;       ///< on the model pixel but nearer the camera than its surface
+  long long behind = 0;      ///< behind the model surface: seeing through mapped space
+  long long misaligned = 0;  ///< at the model surface's depth but off the gate or normal test
   long long overlap() const { return agree + front + behind + misaligned; }
   RASM_HD_INLINE PoseCheckCounts& operator+=(const PoseCheckCounts& o) {
     valid += o.valid;
