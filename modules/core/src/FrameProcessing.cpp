@@ -1,5 +1,7 @@
 #include "rasm/core/FrameProcessing.h"
 
+#include "rasm/core/ComputeOptions.h"
+
 #include <immintrin.h>
 
 #include <algorithm>
@@ -95,6 +97,7 @@ void computeVertexMap(const Image<float>& depth_m, const CameraIntrinsics& K, Im
   vertex.resize(w, h);
   const kernels::VertexMapKernel k{depth_m.view(), vertex.view(), K.plain(), opt.min_depth_m,
                                    opt.max_depth_m};
+  if (!compute::simdEnabled()) return compute::forEach2D(w, h, k);  // [compute] simd = false
   // The kernel four pixels at a time: the same float operations per pixel ((u - cx) / fx * z),
   // so the vertices are bit-identical.
   const PinholeF Kp = K.plain();
@@ -126,6 +129,7 @@ void computeNormalMap(const Image<Vec3f>& vertex, Image<Vec3f>& normal, float ma
   const int w = vertex.width(), h = vertex.height();
   normal.resize(w, h);
   const kernels::NormalMapKernel k{vertex.view(), normal.view(), max_jump_rel};
+  if (!compute::simdEnabled()) return compute::forEach2D(w, h, k);  // [compute] simd = false
   // The kernel at the borders and row ends, four pixels per SSE operation in between (the
   // level-0 normal map took ~20 ns per pixel through the kernel, branching on every test).
   compute::forEach1D(h, [&](int y) {
@@ -357,6 +361,10 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
   const int w = in.width(), h = in.height();
   out.resize(w, h);
   if (w == 0 || h == 0) return;
+  if (!compute::simdEnabled()) {  // [compute] simd = false: the kernel the CUDA path runs
+    const kernels::BilateralDepthKernel k{in.view(), out.view(), radius, sigma_space_px, sigma_depth_m};
+    return compute::forEach2D(w, h, k);
+  }
   // BilateralDepthKernel's filter (the CUDA path's): a circular window (dx^2 + dy^2 <= radius^2,
   // as OpenCV's bilateralFilter: 13 taps at radius 2), weights exp(-(dx^2 + dy^2) / 2 sigma_s^2 -
   // dz^2 / 2 sigma_d^2) over the VALID neighbours inside the image; invalid pixels (depth <= 0 or

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rasm/core/ComputeOptions.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/SurfelMath.h"
 #include "rasm/fusion/FusionCpu.h"
@@ -364,6 +365,18 @@ void SurfelFusion::updateSurfels(maps::SurfelStore& map, const FusionInput& in, 
     kernels::AssociateKernel<kernels::ListCandidates> ak;
     kernels::CoverageKernel<kernels::ListCandidates> ck;
     setUpKernels(ak, ck, lists);
+    if (!compute::simdEnabled()) {
+      // [compute] simd = false: the kernel bodies alone, in the CUDA path's order (association
+      // of every pixel, update, then the neighbour coverage over the updated surfels).
+      compute::forEach2D(w, h, ak);
+      compute::forEach2D(w, h, uk);
+      if (prm.neighbour_coverage_check) compute::forEach2D(w, h, ck);
+#pragma omp parallel for schedule(static) num_threads(nt)
+      for (int y = 0; y < h; ++y) tallyRow(y);
+      st.ms_update = msSince(t0);
+      m_pass = Pass::Updated;
+      return;
+    }
     const bool labels = prm.update_segments && !fv.labels.empty();
     const bool bins = prm.update_view_bins && arr.n_view_bins > 0;
     // The association keeps each measured pixel's measurement for the update and the neighbour

@@ -88,12 +88,13 @@ Mapper::Mapper(const mrpt::config::CConfigFileBase& ini, const std::string& sour
 Mapper::~Mapper() = default;
 
 void Mapper::configure() {
+  compute::setSimdEnabled(m_compute.simd);  // process-wide (ComputeOptions.h)
   for (const auto& s : m_stages) s->configure(m_mapper);
   m_map = std::make_unique<maps::CSurfelMap>(m_map_options);
 }
 
 std::vector<ParamsSection> Mapper::sections() {
-  std::vector<ParamsSection> out = {{"mapper", &m_mapper}, {"map", &m_map_options}};
+  std::vector<ParamsSection> out = {{"mapper", &m_mapper}, {"map", &m_map_options}, {"compute", &m_compute}};
   for (const auto& s : m_stages)
     for (const ParamsSection& p : s->sections()) out.push_back(p);
   return out;

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "rasm/core/ComputeOptions.h"
 #include "rasm/core/RgbdFrame.h"
 #include "rasm/pipeline/FrameContext.h"
 #include "rasm/pipeline/MapperStage.h"
@@ -136,6 +137,7 @@ class Mapper {
   std::uint64_t m_write_phases = 0;
   int m_lock_timer = 0;  ///< index of "map_lock_wait" in FrameResult::ms
   TMapperParams m_mapper;
+  TComputeParams m_compute;  ///< [compute]: simd = false runs the kernel bodies alone
   maps::CSurfelMap::TCreationOptions m_map_options;
   std::vector<std::unique_ptr<MapperStage>> m_stages;
   TrackingStage* m_tracking = nullptr;
