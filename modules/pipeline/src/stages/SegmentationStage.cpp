@@ -25,6 +25,13 @@ void SegmentationStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
   m_ran = false;
   m_frame_merges = 0;
   if (!m_params.enabled || !ctx.result.fusable()) return;
+  if (!m_seeded) {
+    // A map loaded from a file (`rasm run --map`) already holds labels: new ones start above.
+    const maps::SurfelArrays a = static_cast<const maps::CSurfelMap&>(map).store().arrays();
+    for (int i = 0; i < a.size; ++i)
+      if (a.alive(i)) m_next_label = std::max(m_next_label, a.segment[i] + 1);
+    m_seeded = true;
+  }
   const FrameLevel& L0 = ctx.pyramid[0];
   const FrameLevel& Ls =
       ctx.pyramid[std::min<std::size_t>(std::size_t(m_params.level), ctx.pyramid.size() - 1)];

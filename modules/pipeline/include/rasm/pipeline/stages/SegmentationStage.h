@@ -61,7 +61,8 @@ class SegmentationStage : public MapperStage {
   segmentation::MergeConfidence m_psi;
   segmentation::SegmentTable m_table;
   std::uint32_t m_next_label = 1;
-  bool m_ran = false;  ///< this frame was segmented
+  bool m_ran = false;     ///< this frame was segmented
+  bool m_seeded = false;  ///< m_next_label is above every label of the map (loaded maps)
   std::uint64_t m_frames = 0, m_relabel_generation = 0;
   std::vector<std::uint32_t> m_last_relabelling;
   // Per frame (frames.csv) and run totals (report.json).
