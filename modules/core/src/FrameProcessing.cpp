@@ -375,8 +375,8 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
   // are gathered in registers (GroupSums) and added to the band's accumulator rows once per group
   // and row, aligned (overlapping unaligned read-modify-writes stalled on store forwarding). The
   // sums' order differs from the kernel's, within float rounding; it does not depend on the
-  // thread count. OpenCV's filter (used before) ran 9-13 ms per 640x480 frame on TBB threads that
-  // competed with the OpenMP team (docs/slam-eval.md, rounds 4 and 6).
+  // thread count. Why not OpenCV's bilateralFilter: docs/slam-eval.md (its TBB threads competed
+  // with the OpenMP team).
   //
   // Padded copy, invalid depths as 0: `radius` rows above and below, `radius` columns left and
   // at least radius + 3 right, so that every group of four pixels reads inside it.
