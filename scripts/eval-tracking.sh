@@ -7,6 +7,7 @@
 # frames whose unaligned error exceeds 5 cm, i.e. drift since the first frame, is printed
 # beside it). Writes $OUT/tracking.jsonl.
 #   scripts/eval-tracking.sh [--robot] [--fast] [--kidnap] [--worlds N] [--first-seed S] [--small]
+#                            [--kinds "robot robot_fast handheld handheld_fast"]
 # No option = --robot --fast --kidnap --worlds 20. --small renders generated worlds at 320x240 (4x
 # faster; the shipped-world sequences stay 640x480). Seeds are fixed: runs are reproducible.
 set -euo pipefail
@@ -15,7 +16,7 @@ RASM=${RASM:-build/rasm}
 OUT=${OUT:-eval_out/tracking}
 [[ -x "$RASM" ]] || { echo "build first: scripts/build.sh" >&2; exit 1; }
 mkdir -p "$OUT"
-robot=0 fast=0 kidnap=0 worlds=0 first_seed=1 small=0
+robot=0 fast=0 kidnap=0 worlds=0 first_seed=1 small=0 kinds="robot robot_fast handheld handheld_fast"
 if [[ $# -eq 0 ]]; then robot=1 fast=1 kidnap=1 worlds=20; fi
 while [[ $# -gt 0 ]]; do
   case $1 in
@@ -25,6 +26,7 @@ while [[ $# -gt 0 ]]; do
     --worlds) worlds=$2; shift ;;
     --first-seed) first_seed=$2; shift ;;
     --small) small=1 ;;
+    --kinds) kinds=$2; shift ;;
     *) echo "unknown option $1" >&2; exit 2 ;;
   esac
   shift
@@ -116,7 +118,7 @@ if [[ $worlds -gt 0 ]]; then
   for ((s = first_seed; s < first_seed + worlds; ++s)); do
     w="$OUT/gen_s$s.yaml"
     [[ -f "$w" ]] || "$RASM" sim generate "$w" --seed "$s" --fast > "$OUT/gen_s$s.log" 2>&1
-    for t in robot robot_fast handheld handheld_fast; do
+    for t in $kinds; do
       record "$w" "$OUT/gen_s${s}_$t.yaml" "$OUT/gen_s${s}_$t.rawlog" "$s" "${small_args[@]}"
       evaluate "gen_s${s}_$t" "$OUT/gen_s${s}_$t.rawlog"
       rm -rf "$OUT/gen_s${s}_$t.rawlog" "$OUT/gen_s${s}_${t}_labels"

@@ -3,6 +3,8 @@
 // the frame context (here a label map L^p) reaches fusion.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include "rasm/core/Error.h"
@@ -75,6 +77,10 @@ TEST(MapperStage, AStagePlugsInWithOneCallAndItsLabelsReachTheMap) {
   while (auto f = src->next()) {
     const FrameResult r = mapper.processFrame(*f);
     ASSERT_EQ(r.ms.size(), timers.size());
+    // frames.csv: every stage writes as many values as it names columns.
+    const std::string header = mapper.csvHeader(), row = mapper.csvRow();
+    ASSERT_EQ(std::count(row.begin(), row.end(), ','), std::count(header.begin(), header.end(), ','))
+        << header << "\n" << row;
     fused += r.fused;
     if (fused >= 3) break;
   }

@@ -109,3 +109,40 @@ TEST(OdometryPrior, PlanarProjectionKeepsRobotPosesAndRemovesTilt) {
   const Eigen::Vector3d z_gt = cam.linear().col(2), z_pb = pb.linear().col(2);
   EXPECT_NEAR(z_pb.z(), z_gt.z(), 1e-9) << "the viewing direction keeps the mount's pitch";
 }
+
+TEST(OdometryPrior, UnderRotatedTurnIsExposedAndAnAgreeingOneIsNot) {
+  // A turn in place at 3 deg per frame. Tracked poses that follow the odometry within its noise
+  // keep the accumulated heading disagreement small; tracked poses that under-rotate by 0.4 deg
+  // per frame (each well within one frame's 0.57 deg sigma) add up past 3 sigmas of the summed
+  // noise within the 30-frame window: 0.4 n > 3 * 0.57 sqrt(n) for n >= 20.
+  const TRobotParams p;
+  const Eigen::Isometry3d M = p.T_base_cam();
+  for (const double under_deg : {0.0, 0.4}) {
+    OdometryPrior op(p);
+    Eigen::Vector3d odo(0, 0, 0);
+    Eigen::Isometry3d cam = base(0, 0, 0) * M;  // the tracked pose
+    op.start(cam, odo);
+    double worst = 0.0, correction = 0.0;
+    int first_over = -1;
+    for (int k = 1; k <= 30; ++k) {
+      odo.z() += 3.0 * kDeg;
+      const std::optional<tracking::MotionPrior> prior = op.predict(odo, cam);
+      ASSERT_TRUE(prior);
+      // Tracked: the prior's pose, turned back by under_deg about the floor normal; an agreeing
+      // track alternates +-0.3 deg around the odometry (noise, no bias).
+      const double e = under_deg > 0 ? -under_deg * kDeg : (k % 2 ? 0.3 : -0.3) * kDeg;
+      cam = prior->T_world_cam;
+      cam.linear() = Eigen::AngleAxisd(e, op.up()).toRotationMatrix() * cam.linear();
+      const double s = op.addHeadingResidual(*prior, cam, correction);
+      worst = std::max(worst, s);
+      if (s > 3.0 && first_over < 0) first_over = k;
+    }
+    if (under_deg == 0.0) {
+      EXPECT_LT(worst, 1.0);
+    } else {
+      EXPECT_GE(first_over, 15);
+      EXPECT_LE(first_over, 25);
+      EXPECT_NEAR(correction, -30 * under_deg * kDeg, 1e-9) << "the window's accumulated residual";
+    }
+  }
+}

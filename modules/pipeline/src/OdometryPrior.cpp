@@ -50,11 +50,28 @@ std::optional<tracking::MotionPrior> OdometryPrior::predict(
   const double s_xy = std::hypot(
       p.odometry_sigma_xy_m + p.odometry_sigma_xy_per_sqrt_m * std::sqrt(d), lever * s_yaw);
   const double s_tilt = p.odometry_sigma_tilt_deg * kDeg;
+  m_last_sigma_yaw = s_yaw;
   const Eigen::Matrix3d R_world_base =
       T_world_cam_prev.linear() * m_T_base_cam.linear().transpose();
   return tracking::MotionPrior::fromStdDevs(T_pred, R_world_base,
                                             Eigen::Vector3d(s_xy, s_xy, p.odometry_sigma_z_m),
                                             Eigen::Vector3d(s_tilt, s_tilt, s_yaw));
+}
+
+double OdometryPrior::addHeadingResidual(const tracking::MotionPrior& prior,
+                                         const Eigen::Isometry3d& T_tracked, double& correction_rad) {
+  // Rotation from the predicted to the tracked orientation (world frame), about the floor normal.
+  const Eigen::AngleAxisd d(T_tracked.linear() * prior.T_world_cam.linear().transpose());
+  const double e = d.angle() * d.axis().dot(up());
+  m_heading.emplace_back(e, m_last_sigma_yaw * m_last_sigma_yaw);
+  while (int(m_heading.size()) > m_params.heading_drift_window_frames) m_heading.pop_front();
+  double sum = 0.0, var = 0.0;
+  for (const auto& [r, v] : m_heading) {
+    sum += r;
+    var += v;
+  }
+  correction_rad = sum;
+  return var > 0.0 ? std::abs(sum) / std::sqrt(var) : 0.0;
 }
 
 Eigen::Isometry3d OdometryPrior::projectToFloor(const Eigen::Isometry3d& T_world_cam) const {

@@ -108,6 +108,25 @@ void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
                                prior ? &*prior : nullptr);
   recordMs(ctx, kIcp, msSince(t));
   r.tracked = r.tracking.ok;
+  if (r.tracked && prior) {
+    double correction = 0.0;
+    r.heading_drift_sigmas = m_odometry.addHeadingResidual(*prior, r.tracking.T_world_cam, correction);
+    if (m_robot.heading_drift_max_sigmas > 0 && r.heading_drift_sigmas > m_robot.heading_drift_max_sigmas) {
+      // Each frame agreed with the odometry within its noise, their sum does not: the heading
+      // drifted (an under-rotated turn). Not fused; the pose takes the odometry's heading.
+      r.tracked = r.tracking.ok = false;
+      r.tracking.status = tracking::TrackingStatus::PriorConflict;
+      r.pose_source = PoseSource::Odometry;
+      const Eigen::AngleAxisd undo(-correction, m_odometry.up());
+      r.T_world_cam = r.tracking.T_world_cam;
+      r.T_world_cam.linear() = undo.toRotationMatrix() * r.T_world_cam.linear();
+      m_tracker.correctLastPose(r.T_world_cam);
+      m_odometry.resetHeadingWindow();
+      return;
+    }
+  } else if (!r.tracked) {
+    m_odometry.resetHeadingWindow();
+  }
   if (r.tracked) {
     r.T_world_cam = r.tracking.T_world_cam;
     if (m_robot.planar_motion) {
@@ -201,7 +220,7 @@ void TrackingStage::csvColumns(std::vector<std::string>& c) const {
   c.insert(c.end(), {"status", "inliers", "inlier_fraction", "rms_m", "model_pixels",
                      "model_all_surfels", "icp_iterations", "icp_iterations_level0", "pose_source",
                      "check_overlap", "check_agreement", "check_behind", "used_prior",
-                     "prior_sigmas", "relocalisation_failure"});
+                     "prior_sigmas", "heading_drift_sigmas", "relocalisation_failure"});
 }
 
 void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
@@ -211,7 +230,7 @@ void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
   row.add(r.model_valid_pixels).add(r.model_all_surfels).add(t.iterations);
   row.add(t.levels.empty() ? 0 : t.levels.back().iterations).add(toString(r.pose_source));
   row.add(t.check_overlap, 4).add(t.check_agreement, 4).add(t.check_behind, 4).add(t.used_prior);
-  row.add(t.prior_sigmas, 4).add(r.relocalisation_failure);
+  row.add(t.prior_sigmas, 4).add(r.heading_drift_sigmas, 3).add(r.relocalisation_failure);
 }
 
 void TrackingStage::report(nlohmann::json& rep) const {

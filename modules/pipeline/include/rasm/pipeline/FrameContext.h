@@ -42,6 +42,8 @@ struct FrameResult {
   /// While lost: why relocalisation found nothing this frame (Relocaliser's reason, or
   /// "rejected by ICP: <status>"); empty when it was not tried or succeeded.
   std::string relocalisation_failure;
+  /// With odometry: the accumulated heading disagreement with it, in sigmas (OdometryPrior).
+  double heading_drift_sigmas = 0.0;
   int model_valid_pixels = 0;      ///< valid pixels of the rendered model ICP aligned to
   bool model_all_surfels = false;  ///< the stable-only model was too sparse: all surfels used
   /// Milliseconds per timer, in the order of Mapper::timerNames() (stages, their parts, "total").

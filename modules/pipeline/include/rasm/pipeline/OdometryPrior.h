@@ -12,7 +12,9 @@
 // motion of the base on the floor of the first frame: height, roll and pitch of the mount fixed.
 
 #include <Eigen/Geometry>
+#include <deque>
 #include <optional>
+#include <utility>
 
 #include "rasm/pipeline/RunParams.h"
 #include "rasm/tracking/MotionPrior.h"
@@ -32,6 +34,20 @@ class OdometryPrior {
   std::optional<tracking::MotionPrior> predict(const std::optional<Eigen::Vector3d>& odometry,
                                                const Eigen::Isometry3d& T_world_cam_prev);
 
+  /// Heading drift (issue 14): the disagreement of the tracked heading with the odometry's,
+  /// accumulated over the last TRobotParams::heading_drift_window_frames frames with a prior.
+  /// Each frame passes the per-frame prior test, but a turn under-rotated by a fraction of a
+  /// degree per frame adds up; the sum, in standard deviations of the summed odometry noise,
+  /// exposes it. Call once per tracked frame that had `prior`; returns that statistic and sets
+  /// `correction_rad` to the accumulated residual (rotate the pose about the floor normal by
+  /// -correction_rad to take the odometry's heading).
+  double addHeadingResidual(const tracking::MotionPrior& prior, const Eigen::Isometry3d& T_tracked,
+                            double& correction_rad);
+  /// Forgets the accumulated residuals (after a correction, when lost).
+  void resetHeadingWindow() { m_heading.clear(); }
+  /// The floor normal in world coordinates.
+  Eigen::Vector3d up() const { return m_T_world_floor.linear().col(2); }
+
   /// The pose moved onto the floor plane (SE(2) of the base at the mount's height and tilt).
   Eigen::Isometry3d projectToFloor(const Eigen::Isometry3d& T_world_cam) const;
 
@@ -42,6 +58,9 @@ class OdometryPrior {
   Eigen::Isometry3d m_T_base_cam;
   Eigen::Isometry3d m_T_world_floor = Eigen::Isometry3d::Identity();
   std::optional<Eigen::Vector3d> m_last;  ///< reading of the previous frame
+  double m_last_sigma_yaw = 0.0;          ///< of the last predict()
+  /// (heading residual rad, its variance rad^2) of the frames in the window, oldest first.
+  std::deque<std::pair<double, double>> m_heading;
 };
 
 }  // namespace rasm::pipeline

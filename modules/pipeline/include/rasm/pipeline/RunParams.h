@@ -93,6 +93,12 @@ struct TRobotParams : mrpt::config::CLoadableOptions {
   /// standard deviations (bumps, suspension).
   double odometry_sigma_z_m = 0.005;
   double odometry_sigma_tilt_deg = 0.3;
+  /// Heading drift test (OdometryPrior::addHeadingResidual): over this many frames, the sum of
+  /// the tracked-minus-odometry heading differences may reach heading_drift_max_sigmas standard
+  /// deviations of the summed odometry noise; beyond, the frame is not fused (prior_conflict)
+  /// and the pose takes the odometry's heading. 0 sigmas = off.
+  int heading_drift_window_frames = 30;
+  double heading_drift_max_sigmas = 3.0;
   /// Constrain the camera to the SE(2) motion of a ground robot: every tracked pose is projected
   /// to the floor plane of the first frame's base (fixed height, roll and pitch of the mount).
   bool planar_motion = false;
