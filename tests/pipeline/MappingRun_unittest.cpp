@@ -42,7 +42,8 @@ TEST(MappingRun, RealKinectFrameBuildsAMapAndWritesOutputs) {
   EXPECT_GT(s.surfels, 100000u);
   EXPECT_LE(s.surfels, 640u * 480u);
   for (const char* f : {"trajectory.txt", "map.ply", "map.3Dscene", "map.surfelmap", "report.json",
-                        "config.ini", "preview.png"})
+                        "config.ini", "preview.png", "segments.json", "map_segments.ply",
+                        "map_segments.3Dscene", "preview_segments.png"})
     EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
   const maps::PlySurfels ply = maps::readSurfelPly(out + "/map.ply");
   EXPECT_EQ(ply.size(), s.surfels);

@@ -309,7 +309,19 @@ void MappingRun::writeOutputs(const Accumulated& acc) {
   if (!acc.groundtruth.empty())
     io::writeTumTrajectory(dir + "/groundtruth.txt", acc.groundtruth, "ground truth of the source");
   if (m_output.write_ply) m_mapper->map().saveToPly(dir + "/map.ply");
-  if (m_output.write_3dscene) m_mapper->map().saveTo3DScene(dir + "/map.3Dscene");
+  if (m_output.write_3dscene) {
+    m_mapper->map().saveTo3DScene(dir + "/map.3Dscene");
+    // The same scene coloured by segment (III) when the map has segments: SceneViewer3D shows
+    // the objects the segmentation found.
+    const maps::SurfelArrays a = m_mapper->map().store().arrays();
+    bool segmented = false;
+    for (int i = 0; i < a.size && !segmented; ++i) segmented = a.alive(i) && a.segment[i] != 0;
+    if (segmented) {
+      maps::SurfelVisualOptions vis = m_mapper->map().renderingOptions.visual;
+      vis.colouring = maps::SurfelColouring::Segment;
+      maps::writeSurfelScene(m_mapper->map().store(), dir + "/map_segments.3Dscene", vis);
+    }
+  }
   if (m_output.save_map) {
     const std::string p = dir + "/map.surfelmap";
     {
