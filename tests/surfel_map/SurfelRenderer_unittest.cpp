@@ -4,6 +4,8 @@
 #include "rasm/surfel_map/SurfelRenderer.h"
 
 #include <gtest/gtest.h>
+
+#include "rasm/core/ComputeOptions.h"
 #include <omp.h>
 
 #include <algorithm>
@@ -262,6 +264,32 @@ TEST(SurfelRenderer, CpuSplatEqualsTheKernelBitForBit) {
       }
   }
   EXPECT_GT(two_rows, 300);  // footprints of the two-row path
+}
+
+TEST(SurfelRenderer, KernelOnlyModeRendersTheSameMaps) {
+  // [compute] simd = false renders through SplatKernel + ResolveKernel alone: the same index,
+  // depth, vertex and normal bits as the SSE launcher.
+  const Eigen::Isometry3d T = lookPose();
+  const SurfelStore store = randomMapInView(T, kSmallK, 3000, 9, 1.0f);
+  RenderOptions opt;
+  opt.outputs = kRenderDepth | kRenderVertex | kRenderNormal;
+  SurfelRenderer r;
+  RenderedMaps sse, kern;
+  RenderStats s1, s2;
+  r.render(store, T, kSmallK, opt, sse, &s1);
+  compute::setSimdEnabled(false);
+  r.render(store, T, kSmallK, opt, kern, &s2);
+  compute::setSimdEnabled(true);
+  EXPECT_EQ(s1.pixels_drawn, s2.pixels_drawn);
+  ASSERT_GT(s1.pixels_drawn, 1000);
+  for (int y = 0; y < kSmallK.height; ++y)
+    for (int x = 0; x < kSmallK.width; ++x) {
+      ASSERT_EQ(sse.index(x, y), kern.index(x, y)) << x << "," << y;
+      if (sse.index(x, y) < 0) continue;
+      ASSERT_EQ(kernels::floatBits(sse.depth_m(x, y)), kernels::floatBits(kern.depth_m(x, y)));
+      ASSERT_EQ(sse.vertex_world(x, y), kern.vertex_world(x, y));
+      ASSERT_EQ(sse.normal_world(x, y), kern.normal_world(x, y));
+    }
 }
 
 TEST(SurfelRenderer, PlaneAtKnownDistanceRendersWithinOneMillimetre) {

@@ -1,5 +1,7 @@
 #include "rasm/surfel_map/SurfelRenderer.h"
 
+#include "rasm/core/ComputeOptions.h"
+
 #include <immintrin.h>
 
 #include <cmath>
@@ -673,7 +675,7 @@ void SurfelRenderer::splatCpu(const SurfelStore& map, const Eigen::Isometry3d& T
 void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
                             const CameraIntrinsics& K, const RenderOptions& opt, RenderedMaps& out,
                             RenderStats* stats) {
-  if (backend_ == compute::Backend::Cpu && opt.splat) {
+  if (backend_ == compute::Backend::Cpu && opt.splat && compute::simdEnabled()) {
     splatCpu(map, T_world_cam, K, opt, out, stats);
     return;
   }
@@ -687,6 +689,13 @@ void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_w
   packed_.resize(w, h);
   if (backend_ == compute::Backend::Cuda) {
     cuda::splatPacked(arr, visible_, T_cw, Kp, opt, packed_);
+  } else if (opt.splat) {
+    // [compute] simd = false: the splat kernel the CUDA path runs, one surfel per call (atomic
+    // depth test), instead of splatCpu's SSE footprints and banded rasterization.
+    fillEmpty(packed_);
+    const kernels::SplatKernel k{arr, visible_.data(), T_cw, Kp, opt.min_depth_m, opt.max_depth_m,
+                                 opt.max_splat_radius_px, packed_.view()};
+    compute::forEach1D(int(visible_.size()), k);
   } else {
     fillEmpty(packed_);
     kernels::PointKernel k{arr, visible_.data(), T_cw,   Kp, opt.min_depth_m, opt.max_depth_m,
@@ -696,11 +705,18 @@ void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_w
   }
 
   const kernels::ResolveKernel r = resolveKernel(arr, packed_, T_world_cam, Kp, opt, out);
-  std::vector<float> ray_x;
-  pixelRays(Kp, ray_x);
   long long pixels = 0;
+  if (!compute::simdEnabled()) {
+    // [compute] simd = false: the resolve kernel itself (resolveRow is its tabulated-ray copy).
+    compute::forEach2D(w, h, r);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) pixels += out.index(x, y) >= 0;
+  } else {
+    std::vector<float> ray_x;
+    pixelRays(Kp, ray_x);
 #pragma omp parallel for schedule(dynamic, 8) reduction(+ : pixels)
-  for (int y = 0; y < h; ++y) pixels += resolveRow(r, y, ray_x.data());
+    for (int y = 0; y < h; ++y) pixels += resolveRow(r, y, ray_x.data());
+  }
   if (stats) stats->pixels_drawn = pixels;
 }
 
