@@ -1,4 +1,5 @@
-// CUDA launchers of the II-A frame kernels: the same functor bodies the CPU path runs.
+// CUDA launchers of the II-A frame kernels: the functor bodies the CPU runs with [compute]
+// simd = false (by default the CPU runs SSE launchers that are bit-identical to them).
 #include <cuda_runtime.h>
 
 #include "rasm/compute/Device.h"

@@ -1,6 +1,8 @@
-// CUDA launcher of the fusion association / update kernel (kernels/FusionKernels.h): the same
-// functor body the CPU path runs. Reference launcher: the map is host-resident, so the arrays the
-// kernel touches are copied to the device and back per frame.
+// CUDA launcher of the fusion association / update kernel (kernels/FusionKernels.h): the functor
+// bodies the CPU runs with [compute] simd = false (by default the CPU runs SSE row launchers;
+// the CPU cleanup also merges redundant surfels, which this path does not). Reference launcher: the
+// map is host-resident, so the arrays the kernel touches are copied to the device and back per
+// frame.
 #include <cuda_runtime.h>
 
 #include <memory>

@@ -1,6 +1,7 @@
-// CUDA launchers of the splat / point kernels (kernels/RenderKernels.h): the same functor bodies
-// the CPU path runs. Reference launchers: the arrays the kernels read are copied to the device
-// per call (the map is host-resident), so transfers dominate for large maps.
+// CUDA launchers of the splat / point kernels (kernels/RenderKernels.h): the functor bodies the
+// CPU runs with [compute] simd = false (by default its SSE splat path, bit-identical to them).
+// Reference launchers: the arrays the kernels read are copied to the device per call (the map is
+// host-resident), so transfers dominate for large maps.
 #include <cuda_runtime.h>
 
 #include <vector>

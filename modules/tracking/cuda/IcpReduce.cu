@@ -1,7 +1,7 @@
-// CUDA launcher of the ICP reduction of section II-C: the same IcpReduceKernel::pixel() the CPU
-// path runs, one thread per processed pixel, the IcpAccumulator sums reduced per block (warp
-// shuffles, then across warps in shared memory), per-block partials summed on the host in block
-// order.
+// CUDA launcher of the ICP reduction of section II-C: the IcpReduceKernel::pixel() the CPU runs
+// with [compute] simd = false (its SSE reduction by default), one thread per processed pixel, the
+// IcpAccumulator sums reduced per block (warp shuffles, then across warps in shared memory),
+// per-block partials summed on the host in block order.
 #include <cuda_runtime.h>
 
 #include <memory>
