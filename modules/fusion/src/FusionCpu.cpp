@@ -44,15 +44,16 @@ void viewBins4(const kernels::FusionKernelParams& prm, const RigidF& T_world_cam
   const auto ring = [&](float border) {  // + (s >= border)
     el = _mm_sub_epi32(el, _mm_castps_si128(_mm_cmpge_ps(s, _mm_set1_ps(border))));
   };
+  namespace vb = maps::kernels;
   if (prm.n_elevation == 2) {
-    ring(0.70710678f);
+    ring(vb::kSinPi4);
   } else if (prm.n_elevation == 3) {
-    ring(0.5f);
-    ring(0.86602540f);
+    ring(vb::kSinPi6);
+    ring(vb::kSinPi3);
   } else if (prm.n_elevation == 4) {
-    ring(0.38268343f);
-    ring(0.70710678f);
-    ring(0.92387953f);
+    ring(vb::kSinPi8);
+    ring(vb::kSinPi4);
+    ring(vb::kSin3Pi8);
   }
   const __m128 x = sum3(_mm_mul_ps(ux, bx), _mm_mul_ps(uy, by), _mm_mul_ps(uz, bz));
   const __m128 y = sum3(_mm_mul_ps(ux, cx), _mm_mul_ps(uy, cy), _mm_mul_ps(uz, cz));
@@ -248,8 +249,8 @@ int measureFour(const kernels::FrameView& fv, const kernels::FusionKernelParams&
                         : _mm_setr_ps(wrow[xs[0]], wrow[xs[1]], wrow[xs[2]], wrow[xs[3]]);
   // surfelRadius: z / (sqrt2 f max(|n_z|, 0.2)).
   __m128 anz = _mm_and_ps(nz, _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)));
-  anz = select(_mm_cmplt_ps(anz, _mm_set1_ps(0.2f)), _mm_set1_ps(0.2f), anz);
-  const __m128 r = _mm_div_ps(vz, _mm_mul_ps(_mm_set1_ps(1.41421356f * fv.focal_px), anz));
+  anz = select(_mm_cmplt_ps(anz, _mm_set1_ps(kMinAbsNormalZ)), _mm_set1_ps(kMinAbsNormalZ), anz);
+  const __m128 r = _mm_div_ps(vz, _mm_mul_ps(_mm_set1_ps(kSqrt2 * fv.focal_px), anz));
   const float* R = T_world_cam.m;
   const __m128 nwx = sse::rigidRow(R, nx, ny, nz, false),
                nwy = sse::rigidRow(R + 4, nx, ny, nz, false),

@@ -24,13 +24,18 @@ RASM_HD_INLINE float confidenceWeight(float gamma, float sigma = kConfidenceSigm
   return expf(-gamma * gamma / (2.0f * sigma * sigma));
 }
 
+/// sqrt(2): the circle circumscribing a pixel (surfelRadius); the SSE copies use this constant.
+constexpr float kSqrt2 = 1.41421356f;
+/// surfelRadius's default lower bound of |n_z|.
+constexpr float kMinAbsNormalZ = 0.2f;
+
 /// r = V(u)_z / (sqrt(2) f N(u)_z) (II-B): the back-projected circle circumscribing the pixel.
 /// |n_z| is clamped below by `min_abs_nz` so grazing surfels do not get unbounded radii.
 RASM_HD_INLINE float surfelRadius(float depth_m, float normal_z, float focal_px,
-                                  float min_abs_nz = 0.2f) {
+                                  float min_abs_nz = kMinAbsNormalZ) {
   float nz = fabsf(normal_z);
   if (nz < min_abs_nz) nz = min_abs_nz;
-  return depth_m / (1.41421356f * focal_px * nz);
+  return depth_m / (kSqrt2 * focal_px * nz);
 }
 
 }  // namespace rasm

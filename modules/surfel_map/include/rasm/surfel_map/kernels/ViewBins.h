@@ -48,6 +48,11 @@ RASM_HD_INLINE float fastAtan2(float y, float x) {
   return y < 0.0f ? -r : r;
 }
 
+/// Elevation ring borders (sines of k pi / (2 n)) of the view bins for n = 2, 3, 4 rings (the SSE
+/// copy in fusion's FusionCpu.cpp uses these).
+constexpr float kSinPi8 = 0.38268343f, kSinPi6 = 0.5f, kSinPi4 = 0.70710678f, kSinPi3 = 0.86602540f,
+                kSin3Pi8 = 0.92387953f;
+
 /// Bin of the camera direction `dir_to_camera` (unit, from the surfel towards the camera centre)
 /// in the surfel frame (b, n x b, n) (V-B): azimuth atan2(d.(n x b), d.b) in [-pi, pi) over
 /// n_azimuth equal sectors, elevation asin(d.n) in [0, pi/2] over n_elevation equal rings
@@ -65,11 +70,11 @@ RASM_HD_INLINE int viewBinIndex(const Vec3f& n, const Vec3f& b, const Vec3f& dir
   if (n_elevation == 1) {
     el = 0;
   } else if (n_elevation == 2) {  // ring border asin(s) = pi/4
-    el = s >= 0.70710678f ? 1 : 0;
+    el = s >= kSinPi4 ? 1 : 0;
   } else if (n_elevation == 3) {  // pi/6, pi/3
-    el = (s >= 0.5f ? 1 : 0) + (s >= 0.86602540f ? 1 : 0);
+    el = (s >= kSinPi6 ? 1 : 0) + (s >= kSinPi3 ? 1 : 0);
   } else if (n_elevation == 4) {  // pi/8, pi/4, 3 pi/8
-    el = (s >= 0.38268343f ? 1 : 0) + (s >= 0.70710678f ? 1 : 0) + (s >= 0.92387953f ? 1 : 0);
+    el = (s >= kSinPi8 ? 1 : 0) + (s >= kSinPi4 ? 1 : 0) + (s >= kSin3Pi8 ? 1 : 0);
   } else {
     const float cos_el = sqrtf(1.0f - s * s);
     el = int(fastAtan2(s, cos_el) * (2.0f / kPi) * float(n_elevation));  // asin(s)
