@@ -10,6 +10,7 @@
 #include "rasm/core/ComputeOptions.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/SurfelMath.h"
+#include "rasm/core/Timing.h"
 #include "rasm/fusion/FusionCpu.h"
 #include "rasm/fusion/kernels/FusionKernels.h"
 
@@ -178,13 +179,6 @@ FusionStats SurfelFusion::integrate(maps::SurfelStore& map, const FusionInput& i
   addSurfels(map, in, st);
   return st;
 }
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-}  // namespace
 
 SurfelFusion::FrameSetup SurfelFusion::setUpFrame(const maps::SurfelStore& map,
                                                   const FusionInput& in) {

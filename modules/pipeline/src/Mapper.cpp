@@ -9,19 +9,13 @@
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
+#include "rasm/core/Timing.h"
 #include "rasm/pipeline/stages/FusionStages.h"
 #include "rasm/pipeline/stages/PreprocessStage.h"
 #include "rasm/pipeline/stages/SegmentationStage.h"
 #include "rasm/pipeline/stages/TrackingStage.h"
 
 namespace rasm::pipeline {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-}  // namespace
 
 const char* toString(PoseSource s) {
   switch (s) {
@@ -94,7 +88,8 @@ void Mapper::configure() {
 }
 
 std::vector<ParamsSection> Mapper::sections() {
-  std::vector<ParamsSection> out = {{"mapper", &m_mapper}, {"map", &m_map_options}, {"compute", &m_compute}};
+  std::vector<ParamsSection> out = {
+      {"mapper", &m_mapper}, {"map", &m_map_options}, {"compute", &m_compute}};
   for (const auto& s : m_stages)
     for (const ParamsSection& p : s->sections()) out.push_back(p);
   return out;

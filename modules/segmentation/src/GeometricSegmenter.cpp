@@ -6,15 +6,12 @@
 
 #include "rasm/compute/Parallel.h"
 #include "rasm/core/Error.h"
+#include "rasm/core/Timing.h"
 #include "rasm/segmentation/kernels/EdgeKernels.h"
 
 namespace rasm::segmentation {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 template <typename T>
 cv::Mat matOf(Image<T>& im, int type) {

@@ -5,17 +5,11 @@
 #include <filesystem>
 #include <numeric>
 
+#include "rasm/core/Timing.h"
 #include "rasm/pipeline/OutputFiles.h"
 #include "rasm/surfel_map/MapExport.h"
 
 namespace rasm::pipeline {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-}  // namespace
 
 void SegmentationStage::configure(const TMapperParams& /*mapper*/) {
   m_segmenter.setParams(m_params);

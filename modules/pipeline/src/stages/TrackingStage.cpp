@@ -4,15 +4,12 @@
 
 #include "rasm/compute/Parallel.h"
 #include "rasm/core/Error.h"
+#include "rasm/core/Timing.h"
 #include "rasm/core/kernels/FrameKernels.h"
 
 namespace rasm::pipeline {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 int countValid(const Image<Vec3f>& v) {
   const int w = v.width();
@@ -110,8 +107,10 @@ void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
   r.tracked = r.tracking.ok;
   if (r.tracked && prior) {
     double correction = 0.0;
-    r.heading_drift_sigmas = m_odometry.addHeadingResidual(*prior, r.tracking.T_world_cam, correction);
-    if (m_robot.heading_drift_max_sigmas > 0 && r.heading_drift_sigmas > m_robot.heading_drift_max_sigmas) {
+    r.heading_drift_sigmas =
+        m_odometry.addHeadingResidual(*prior, r.tracking.T_world_cam, correction);
+    if (m_robot.heading_drift_max_sigmas > 0 &&
+        r.heading_drift_sigmas > m_robot.heading_drift_max_sigmas) {
       // Each frame agreed with the odometry within its noise, their sum does not: the heading
       // drifted (an under-rotated turn). Not fused; the pose takes the odometry's heading.
       r.tracked = r.tracking.ok = false;
