@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "sim/OfficeRayHits.h"
+
 #include <cmath>
 #include <random>
 
@@ -98,19 +100,10 @@ TEST(SurfaceDistance, NearAnEdgeTheBoundNeverUnderestimates) {
 
 TEST(SurfaceDistance, RayCastSamplesOfTheOfficeAreOnItsSurface) {
   const RayScene scene(loadWorld("office"));
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<float> u(-1.f, 1.f);
   std::vector<V3f> points, normals;
-  for (const V3f& eye : {V3f(4.f, 3.f, 1.5f), V3f(1.5f, 1.5f, 1.2f), V3f(6.5f, 4.5f, 0.5f)}) {
-    const std::size_t end = points.size() + 3000;
-    while (points.size() < end) {
-      const V3f d(u(rng), u(rng), u(rng));
-      if (d.norm() < 0.1f) continue;
-      const RayHit h = scene.castRay(eye, d.normalized());
-      if (!h.hit) continue;
-      points.push_back(h.point);
-      normals.push_back(h.normal);
-    }
+  for (const RayHit& h : test::officeRayHits(scene)) {
+    points.push_back(h.point);
+    normals.push_back(h.normal);
   }
   ASSERT_EQ(points.size(), 9000u);
   for (const std::vector<V3f>& n : {normals, std::vector<V3f>{}}) {

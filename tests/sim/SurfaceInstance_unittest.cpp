@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "sim/OfficeRayHits.h"
+
 #include <cmath>
 #include <random>
 
@@ -104,20 +106,11 @@ TEST(SurfaceInstance, PointsOnKnownOfficeObjectsGetTheirInstance) {
 TEST(SurfaceInstance, RayCastSamplesOfTheOfficeAgreeWithTheHitObject) {
   const RayScene scene(loadWorld("office"));
   const SurfaceInstanceQuery q(scene);
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<float> u(-1.f, 1.f);
   std::vector<V3f> points;
   std::vector<int> hit_object;
-  for (const V3f& eye : {V3f(4.f, 3.f, 1.5f), V3f(1.5f, 1.5f, 1.2f), V3f(6.5f, 4.5f, 0.5f)}) {
-    const std::size_t end = points.size() + 3000;
-    while (points.size() < end) {
-      const V3f d(u(rng), u(rng), u(rng));
-      if (d.norm() < 0.1f) continue;
-      const RayHit h = scene.castRay(eye, d.normalized());
-      if (!h.hit) continue;
-      points.push_back(h.point);
-      hit_object.push_back(h.object);
-    }
+  for (const RayHit& h : test::officeRayHits(scene)) {
+    points.push_back(h.point);
+    hit_object.push_back(h.object);
   }
   const std::vector<NearestSurface> r = q.nearest(points, 0.05f);
   std::size_t agree = 0;
