@@ -65,7 +65,7 @@ int runMain(const std::vector<std::string>& args) {
   std::printf("outputs in %s\n", s.out_dir.c_str());
   if (const auto seg = s.report.find("segmentation");
       seg != s.report.end() && seg->contains("segments"))
-    std::printf("segments: %d (segments.json, map_segments.ply, preview_segments.png)\n",
+    std::printf("segments: %d (segments.json, map_segments.ply, map_segments.3Dscene with the 3-D scene, preview_segments.png)\n",
                 (*seg)["segments"].get<int>());
   if (lost_pct > 5.0)
     std::printf(
