@@ -6,7 +6,8 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake ninja-build ccache pkg-config git
   libmrpt-dev mrpt-apps mrpt-common         # MRPT 2.5: obs, maps, nav, kinematics, opengl, hwdrivers
-  libopencv-dev                              # image ops, DNN loading
+  libopencv-dev libopencv-contrib-dev        # image ops, DNN loading; ximgproc (Edge Boxes, IV-A)
+  darknet                                    # /usr/share/darknet: yolov3.cfg, coco.names, dog.jpg (IV tests)
   libeigen3-dev liboctomap-dev libnanoflann-dev
   libembree-dev libassimp-dev                # simulator: ray casting, meshes
   nlohmann-json3-dev libyaml-cpp-dev         # JSON outputs, world files
