@@ -10,6 +10,7 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 #include "rasm/core/Timing.h"
+#include "rasm/pipeline/stages/ClassificationStage.h"
 #include "rasm/pipeline/stages/FusionStages.h"
 #include "rasm/pipeline/stages/PreprocessStage.h"
 #include "rasm/pipeline/stages/SegmentationStage.h"
@@ -38,8 +39,11 @@ void Mapper::assemble() {
   m_stages.push_back(std::move(tracking));
   auto fuse = std::make_unique<FusionStage>();
   m_stages.push_back(std::make_unique<IndexMapStage>(*fuse));
-  m_stages.push_back(std::make_unique<SegmentationStage>());
+  auto segmentation = std::make_unique<SegmentationStage>();
+  auto classification = std::make_unique<ClassificationStage>(segmentation.get());
+  m_stages.push_back(std::move(segmentation));
   m_stages.push_back(std::move(fuse));
+  m_stages.push_back(std::move(classification));
   indexTimers();
 }
 
@@ -167,6 +171,11 @@ std::string Mapper::csvRow() const {
 void Mapper::report(nlohmann::json& rep) const {
   for (const auto& s : m_stages) s->report(rep);
   rep["keyframes"] = m_map->keyframes().size();
+}
+
+void Mapper::finishRun() {
+  std::unique_lock<std::shared_mutex> writing(m_map_mutex);
+  for (const auto& s : m_stages) s->finishRun(*m_map);
 }
 
 void Mapper::writeOutputs(const std::string& dir) {

@@ -28,7 +28,11 @@
 #include "rasm/io/TrajectoryEvaluator.h"
 #include "rasm/pipeline/Progress.h"
 #include "rasm/pipeline/SimSource.h"
+#include "rasm/pipeline/stages/ClassificationStage.h"
 #include "rasm/surfel_map/MapExport.h"
+#ifdef RASM_HAVE_SIM
+#include "rasm/sim/SimFrameSource.h"
+#endif
 
 namespace fs = std::filesystem;
 
@@ -168,6 +172,25 @@ nlohmann::json poseJson(const Eigen::Isometry3d& T) {
 }
 }  // namespace
 
+bool MappingRun::classMapView(const maps::RenderedMaps& view, cv::Mat& out) const {
+  // The class map of IV (the paper's Fig. 5 bottom): each pixel's surfel in its best class's
+  // colour, faded to grey as the class's probability falls to the 0.5 prior; black = no surfel.
+  const maps::SurfelArrays a = m_mapper->map().store().arrays();
+  out = cv::Mat(view.colour.height(), view.colour.width(), CV_8UC3, cv::Scalar(0, 0, 0));
+  if (a.n_classes == 0) return false;
+  bool any = false;
+  for (int y = 0; y < out.rows; ++y)
+    for (int x = 0; x < out.cols; ++x) {
+      const int i = view.index(x, y);
+      if (i < 0 || i >= a.size) continue;
+      const maps::BestClass b = maps::bestClass(a, i);
+      any = any || b.id != 0;
+      const Bgr8 c = maps::classColour(b);
+      out.at<cv::Vec3b>(y, x) = cv::Vec3b(c.b, c.g, c.r);
+    }
+  return any;
+}
+
 void MappingRun::writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, const FrameResult& r) {
   mrpt::obs::CObservation3DRangeScan obs;
   io::FrameToObservationOptions fo;
@@ -186,6 +209,12 @@ void MappingRun::writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, con
   frame.intrinsics.toTCamera(im.cameraParams);
   im.image = mrpt::img::CImage(img, mrpt::img::DEEP_COPY);
   w.writeObject(im);
+  cv::Mat classes;
+  if (classMapView(view, classes)) {  // the class map (IV) once the map carries classes
+    im.sensorLabel = "CLASS_VIEW";
+    im.image = mrpt::img::CImage(classes, mrpt::img::DEEP_COPY);
+    w.writeObject(im);
+  }
 }
 
 /// What the frame loop gathers for the outputs.
@@ -216,6 +245,11 @@ void MappingRun::prepareOutputFolder() const {
 
 std::unique_ptr<io::FrameSource> MappingRun::openWrappedSource(double& preload_s) const {
   std::unique_ptr<io::FrameSource> source = openSource();
+#ifdef RASM_HAVE_SIM
+  // The simulated detector's occlusion test casts rays into the scene the frames come from.
+  if (const auto* sim_source = dynamic_cast<const sim::SimFrameSource*>(source.get()))
+    m_mapper->stage<ClassificationStage>().setSimScene(&sim_source->sequence().scene());
+#endif
   preload_s = 0.0;
   if (m_source.preload) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -350,6 +384,8 @@ void MappingRun::writeOutputs(const Accumulated& acc) {
         seg.at<cv::Vec3b>(y, x) = cv::Vec3b(c.b, c.g, c.r);
       }
     if (any) cv::imwrite(dir + "/preview_segments.png", seg);
+    cv::Mat classes;
+    if (classMapView(view, classes)) cv::imwrite(dir + "/preview_classes.png", classes);
   }
 }
 
@@ -429,6 +465,11 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   std::fprintf(stderr, "rasm run: %s -> %s\n", source->describe().c_str(), m_output.dir.c_str());
 
   frameLoop(*source, acc, on_frame);
+  try {
+    m_mapper->finishRun();
+  } catch (const std::exception& e) {
+    if (acc.error.empty()) acc.error = e.what();
+  }
 
   acc.cpu_s = processCpuSeconds() - acc.cpu_start_s;
   RunSummary sum;

@@ -197,7 +197,8 @@ CSurfelMap::CSurfelMap(const CSurfelMap& o)
       renderingOptions(o.renderingOptions),
       m_creation(o.m_creation),
       m_store(o.m_store),
-      m_keyframes(o.m_keyframes) {}
+      m_keyframes(o.m_keyframes),
+      m_classes(o.m_classes) {}
 
 CSurfelMap& CSurfelMap::operator=(const CSurfelMap& o) {
   if (this == &o) return *this;
@@ -208,6 +209,7 @@ CSurfelMap& CSurfelMap::operator=(const CSurfelMap& o) {
   m_creation = o.m_creation;
   m_store = o.m_store;
   m_keyframes = o.m_keyframes;
+  m_classes = o.m_classes;
   m_inserter.reset();
   return *this;
 }
@@ -237,6 +239,8 @@ void CSurfelMap::internal_clear() {
 // 128) becomes L = logit(p) clamped to +-7 nats, and the classes of highest rank (positive L
 // first, then |L|) fill the 4 slots (convertLinearClassRow): the best class is kept. A version-0
 // map has no keyframes.
+// Version 3: version 2, then the class list (classes()): count, then name and source per class.
+// Older maps load with an empty list (their ids follow the default: COCO 1..80, then rasm's).
 
 namespace {
 
@@ -393,7 +397,7 @@ ClassEvidence convertLinearClassRow(const std::uint8_t* row, int n_classes) {
 }
 
 uint8_t CSurfelMap::serializeGetVersion() const {
-  return 2;
+  return 3;
 }
 
 void CSurfelMap::serializeTo(mrpt::serialization::CArchive& out) const {
@@ -424,13 +428,16 @@ void CSurfelMap::serializeTo(mrpt::serialization::CArchive& out) const {
     if (a.n_view_bins > 0) out.WriteBuffer(a.view_ic, n * std::size_t(a.n_view_bins));
   }
   writeKeyframes(out, m_keyframes);  // version 1
+  out << uint32_t(m_classes.size());  // version 3
+  for (const MapClass& c : m_classes) out << c.name << c.source;
 }
 
 void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
   switch (version) {
     case 0:
     case 1:
-    case 2: {
+    case 2:
+    case 3: {
       int32_t nc, az, el;
       TCreationOptions co;
       in >> nc >> az >> el >> co.block_size_m;
@@ -498,6 +505,17 @@ void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t versio
         readKeyframes(in, m_keyframes);
       else
         m_keyframes.clear();
+      m_classes.clear();
+      if (version >= 3) {
+        uint32_t nclasses;
+        in >> nclasses;
+        if (nclasses > uint32_t(kMaxClassId))
+          throwInputError(what, "class list of " + std::to_string(nclasses) +
+                                    " names (at most " + std::to_string(kMaxClassId) +
+                                    "; corrupt file?)");
+        m_classes.resize(nclasses);
+        for (MapClass& c : m_classes) in >> c.name >> c.source;
+      }
     } break;
     default:
       MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);

@@ -54,16 +54,8 @@ Bgr8 visualColour(const SurfelArrays& a, int i, SurfelColouring mode, float max_
   switch (mode) {
     case SurfelColouring::Segment:
       return labelColour(a.segment[i]);
-    case SurfelColouring::Class: {
-      // The class's colour, faded towards the "none" grey as p falls to the 0.5 prior.
-      const BestClass b = bestClass(a, i);
-      const Bgr8 c = labelColour(b.id), g = labelColour(0);
-      const float t = std::min(1.0f, std::max(0.0f, 2.0f * (b.probability - 0.5f)));
-      const auto mix = [t](std::uint8_t x, std::uint8_t y) {
-        return std::uint8_t(float(y) + t * (float(x) - float(y)) + 0.5f);
-      };
-      return Bgr8{mix(c.b, g.b), mix(c.g, g.g), mix(c.r, g.r)};
-    }
+    case SurfelColouring::Class:
+      return classColour(bestClass(a, i));
     case SurfelColouring::Confidence: {
       const float t = std::min(1.0f, a.confidence(i) / std::max(max_conf, 1e-6f));
       return Bgr8{std::uint8_t(255 * (1 - t)), 0, std::uint8_t(255 * t)};
@@ -77,6 +69,16 @@ Bgr8 visualColour(const SurfelArrays& a, int i, SurfelColouring mode, float max_
 }
 
 }  // namespace
+
+Bgr8 classColour(const BestClass& b) {
+  // The class's colour, faded towards the "none" grey as p falls to the 0.5 prior.
+  const Bgr8 c = labelColour(b.id), g = labelColour(0);
+  const float t = std::min(1.0f, std::max(0.0f, 2.0f * (b.probability - 0.5f)));
+  const auto mix = [t](std::uint8_t x, std::uint8_t y) {
+    return std::uint8_t(float(y) + t * (float(x) - float(y)) + 0.5f);
+  };
+  return Bgr8{mix(c.b, g.b), mix(c.g, g.g), mix(c.r, g.r)};
+}
 
 BestClass bestClass(const SurfelArrays& a, int i) {
   return a.n_classes > 0 ? bestClass(a.classEvidence(i)) : BestClass{};

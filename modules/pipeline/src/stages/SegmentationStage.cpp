@@ -84,6 +84,7 @@ void SegmentationStage::applyRelabelling(maps::CSurfelMap& map,
   m_psi.remap(table);
   m_last_relabelling = table;
   ++m_relabel_generation;
+  for (const RelabelListener& l : m_listeners) l(table);
 }
 
 void SegmentationStage::refreshTable(maps::CSurfelMap& map) {

@@ -78,6 +78,9 @@ class Mapper {
   void report(nlohmann::json& rep) const;
   /// The stages' own output files in `dir`.
   void writeOutputs(const std::string& dir);
+  /// Ends a run: every stage's finishRun (work in flight lands in the map). Call after the last
+  /// frame and before saving the map or writing outputs.
+  void finishRun();
 
   /// The stage of type S (std::logic_error when the pipeline has none).
   template <typename S>

@@ -76,6 +76,9 @@ class MapperStage {
   virtual void process(FrameContext& ctx, maps::CSurfelMap& map) = 0;
   /// After every stage processed the frame (e.g. keyframes of fused frames).
   virtual void finishFrame(FrameContext& /*ctx*/, maps::CSurfelMap& /*map*/) {}
+  /// After the last frame, before any output is written (Mapper::finishRun): work still in
+  /// flight (e.g. detections) lands in the map.
+  virtual void finishRun(maps::CSurfelMap& /*map*/) {}
 
   /// frames.csv: column names, and the values of one frame in the same order.
   virtual void csvColumns(std::vector<std::string>& /*columns*/) const {}

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/core/mat.hpp>
 
 #include "rasm/io/FrameSource.h"
 #include "rasm/io/RawlogWriter.h"
@@ -85,6 +86,8 @@ class MappingRun {
   void frameLoop(io::FrameSource& source, Accumulated& acc,
                  const std::function<void(const FrameResult&)>& on_frame);
   void writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, const FrameResult& r);
+  /// The class map (IV) of a rendered view; false when no surfel in view carries a class.
+  bool classMapView(const maps::RenderedMaps& view, cv::Mat& out) const;
   /// frames.csv, trajectory, ground truth, map files, preview.
   void writeOutputs(const Accumulated& acc);
   /// report.json (and the summary's ATE), written last.

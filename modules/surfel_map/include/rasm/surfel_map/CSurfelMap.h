@@ -35,6 +35,15 @@ namespace rasm::maps {
 
 class SurfelFrameInserter;
 
+/// One class of the map's class list (IV): class id k + 1 is classes()[k]. `source` says where
+/// the name came from ("coco": a COCO-trained detector's list; "rasm": the project's own classes;
+/// otherwise the detector that added it, e.g. "zero_shot").
+struct MapClass {
+  std::string name;
+  std::string source;
+  bool operator==(const MapClass& o) const { return name == o.name && source == o.source; }
+};
+
 class CSurfelMap : public mrpt::maps::CMetricMap {
   DEFINE_SERIALIZABLE(CSurfelMap, rasm::maps)
 
@@ -113,6 +122,12 @@ class CSurfelMap : public mrpt::maps::CMetricMap {
   std::vector<Keyframe>& keyframes() { return m_keyframes; }
   const std::vector<Keyframe>& keyframes() const { return m_keyframes; }
 
+  /// The names of the class ids of the surfels' class evidence (id k + 1 = classes()[k]),
+  /// serialized with the map (version 3); empty = not named yet (the classification stage fills
+  /// it: rasm/classification/ClassList.h). Kept by clear(): it belongs to the layout.
+  std::vector<MapClass>& classes() { return m_classes; }
+  const std::vector<MapClass>& classes() const { return m_classes; }
+
   void saveToPly(const std::string& path, bool stable_only = false) const {
     writeSurfelPly(m_store, path, stable_only);
   }
@@ -141,6 +156,7 @@ class CSurfelMap : public mrpt::maps::CMetricMap {
   TCreationOptions m_creation;
   SurfelStore m_store;
   std::vector<Keyframe> m_keyframes;
+  std::vector<MapClass> m_classes;
   std::unique_ptr<SurfelFrameInserter> m_inserter;  ///< created on first insertion
   std::string m_inserter_ini;                       ///< the fusion INI text it was built from
 

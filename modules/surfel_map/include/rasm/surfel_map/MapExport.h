@@ -49,6 +49,9 @@ BestClass bestClass(const SurfelArrays& a, int i);
 
 /// Pseudo-colour for a label (segment or class id); grey for <= 0 (segment) / < 0 (class).
 Bgr8 labelColour(long long label);
+/// The class map's colour (IV, the paper's Fig. 5 bottom): the class's labelColour, faded to
+/// the "none" grey as its probability falls to the 0.5 prior.
+Bgr8 classColour(const BestClass& best);
 
 /// Writes the PLY described above; red/green/blue hold the measured colour, or with `colouring`
 /// a visualization colour (e.g. Segment: one pseudo-colour per segment, map_segments.ply). Throws

@@ -158,6 +158,10 @@ class SurfelStore {
   /// the whole map, O(N) (a caller with the segment's member list passes it to the overload above).
   ClassUpdateStats addClassEvidenceToSegment(std::uint32_t segment, int class_id,
                                              float p_detection);
+  /// The arrays for a caller that writes class evidence (class_ev) and nothing else, e.g. the
+  /// classification stage's batch of segment updates in one pass: like addClassEvidence it does
+  /// not count as a modification for generation().
+  SurfelArrays arraysForClassEvidence() { return static_cast<const SurfelStore&>(*this).arrays(); }
 
   /// Segment relabelling of III (merges, filling unused ids): every surfel with segment l <
   /// table.size() gets table[l] (0 = none); labels >= table.size() are left alone. Like

@@ -11,6 +11,7 @@
 // stable surfels.
 
 #include <cstdint>
+#include <functional>
 
 #include "rasm/pipeline/MapperStage.h"
 #include "rasm/segmentation/GeometricSegmenter.h"
@@ -49,6 +50,11 @@ class SegmentationStage : public MapperStage {
   const std::vector<std::uint32_t>& lastRelabelling() const { return m_last_relabelling; }
   /// Recomputes the segment table from the map now (and renumbers labels densely).
   void refreshTable(maps::CSurfelMap& map);
+  /// Called with every relabelling applied to the map (merges, renumbering; new = table[old],
+  /// old ids past its end unchanged), on the mapping thread: stages that hold labels of earlier
+  /// frames (classification's L^p of frames in flight) rename them.
+  using RelabelListener = std::function<void(const std::vector<std::uint32_t>& table)>;
+  void addRelabelListener(RelabelListener listener) { m_listeners.push_back(std::move(listener)); }
 
  private:
   void applyRelabelling(maps::CSurfelMap& map, const std::vector<std::uint32_t>& table);
@@ -65,6 +71,7 @@ class SegmentationStage : public MapperStage {
   bool m_seeded = false;  ///< m_next_label is above every label of the map (loaded maps)
   std::uint64_t m_frames = 0, m_relabel_generation = 0;
   std::vector<std::uint32_t> m_last_relabelling;
+  std::vector<RelabelListener> m_listeners;
   // Per frame (frames.csv) and run totals (report.json).
   int m_frame_merges = 0;
   std::size_t m_merges = 0, m_label_changes_stable = 0, m_psi_max = 0;

@@ -1,0 +1,80 @@
+#pragma once
+// Segment-level fusion of detections into the map (paper IV).
+//
+// Association. For each detection d and segment l of the propagated label map L^p of the frame
+// the detection was computed on, I(l, d) counts the pixels of l inside d's box and U(l, d) =
+// |l| + |box| - I(l, d) the union; the detection belongs to s_d = argmax_l I(l, d) / U(l, d)
+// (the paper prints argmin: a typo, the best overlap is wanted) when that IoU reaches min_iou.
+// Segments, not boxes, take the class: a box that covers an object and part of the wall behind
+// it overlaps the object's segment with a high IoU and the wall's (a large segment) with a low
+// one, so the wall is not labelled (the paper's argument for segment-level fusion).
+//
+// Bayes fusion. Every surfel of s_d updates p_c(i) <- p_d p / (p_d p + (1 - p_d)(1 - p)) for each
+// class i the detection reports, which in log-odds is L += logit(p_d) (ClassEvidence.h); classes
+// it does not report carry no evidence. A segment's class is the one with the highest mean
+// posterior over its surfels (a surfel without evidence for a class counts at the 0.5 prior).
+
+#include <cstdint>
+#include <vector>
+
+#include "rasm/classification/Detection.h"
+#include "rasm/core/Image.h"
+#include "rasm/surfel_map/SurfelArrays.h"
+
+namespace rasm::classification {
+
+struct Association {
+  std::uint32_t segment = 0;  ///< s_d; 0 = no segment reached min_iou
+  float iou = 0.f;            ///< I / U of s_d
+  int intersection = 0;       ///< I(s_d, d), pixels
+  int union_ = 0;             ///< U(s_d, d), pixels
+};
+
+/// s_d for each detection (same order). `labels`: L^p (0 = no segment). Boxes are clipped to
+/// the image; a box outside it has no segment.
+std::vector<Association> associateDetections(const Image<std::uint32_t>& labels,
+                                             const std::vector<Detection>& detections,
+                                             float min_iou);
+
+/// How a detector's score becomes the p_d of the Bayes update.
+enum class ScoreModel {
+  /// p_d = score (the paper: scores are approximate probabilities; a score below 0.5 lowers p).
+  Probability,
+  /// p_d = 0.5 + 0.5 * score: every reported class gains evidence in proportion to its score
+  /// (for detectors whose scores are not calibrated probabilities, e.g. after a threshold).
+  Vote,
+};
+/// p_d of a score under `model`, clamped to [1 - max_p, max_p].
+float detectionProbability(float score, ScoreModel model, float max_p);
+
+/// Evidence for one class of one segment: L += logit(p_detection) for its surfels.
+struct SegmentEvidence {
+  std::uint32_t segment = 0;
+  int class_id = 0;
+  float p_detection = 0.5f;
+};
+
+struct FusionCounts {
+  std::size_t surfels = 0;  ///< surfel updates (a surfel counts once per evidence item)
+  std::size_t dropped = 0;  ///< updates with no slot left (ClassEvidence.h slot rule)
+};
+
+/// Applies the evidence to every live surfel of each segment (one parallel pass over the map;
+/// pass SurfelStore::arraysForClassEvidence(), which does not invalidate fusion's caches).
+FusionCounts fuseSegmentEvidence(const maps::SurfelArrays& surfels,
+                                 const std::vector<SegmentEvidence>& evidence);
+
+/// The class of one segment: best and runner-up by mean posterior over its surfels.
+struct SegmentClass {
+  std::uint32_t segment = 0;
+  int surfels = 0;
+  int best_id = 0;  ///< 0 when no class's mean posterior exceeds 0.5
+  float best_p = 0.5f;
+  int runner_up_id = 0;
+  float runner_up_p = 0.5f;
+};
+
+/// Every segment with live surfels, sorted by segment id.
+std::vector<SegmentClass> segmentClasses(const maps::SurfelArrays& surfels);
+
+}  // namespace rasm::classification

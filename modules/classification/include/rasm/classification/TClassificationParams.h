@@ -1,0 +1,45 @@
+#pragma once
+// [classification]: the classification stage of section IV (docs/classification.md). Each
+// detector has its own section with its own thresholds: [sim_detector] (the simulator's
+// detector, rasm/sim/SimulatedDetector.h), [dnn_detector] (YOLO family, DnnDetector.h),
+// [zero_shot] (IV-A, ZeroShotDetector.h).
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+#include <vector>
+
+#include "rasm/classification/ClassFusion.h"
+
+namespace rasm::classification {
+
+struct TClassificationParams : mrpt::config::CLoadableOptions {
+  bool enabled = true;
+  /// The detectors to run, by section name, comma separated: sim_detector, dnn_detector,
+  /// zero_shot (empty: none). Each runs on its own worker thread on the same frames.
+  std::string detectors = "dnn_detector";
+  /// Offer every n-th fused frame to the detectors (a busy detector skips it, counted).
+  int every_n_frames = 5;
+  /// true: detectors on worker threads, results fused when they arrive (never blocking mapping);
+  /// false: detect on the mapping thread and fuse in the same frame (deterministic runs).
+  bool threaded = true;
+  /// A detection is fused into the segment of L^p with the highest IoU with its box when that
+  /// IoU reaches this (IV).
+  double min_iou = 0.25;
+  /// How a score becomes p_d: "probability" (p_d = score, the paper) or "vote"
+  /// (p_d = 0.5 + score / 2: every reported class gains evidence). ClassFusion.h.
+  std::string score_model = "probability";
+  /// p_d is clamped to [1 - max, max], so one detection never saturates a surfel (ClassEvidence.h:
+  /// 0.9 is 2.2 nats of the 7-nat clamp).
+  double max_detection_probability = 0.9;
+  /// Seed of the simulated detector's noise (sim_detector only).
+  int seed = 1;
+
+  std::vector<std::string> detectorList() const;
+  ScoreModel scoreModel() const;
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+}  // namespace rasm::classification

@@ -1,0 +1,27 @@
+#include "rasm/classification/DetectorFactory.h"
+
+#include "rasm/classification/SimDetector.h"
+#include "rasm/core/Error.h"
+
+namespace rasm::classification {
+
+std::vector<std::pair<std::string, mrpt::config::CLoadableOptions*>> DetectorSections::list() {
+  return {{"sim_detector", &sim_detector}};
+}
+
+DetectorBuild makeDetectors(const TClassificationParams& params, DetectorSections& sections,
+                            const sim::RayScene* sim_scene) {
+  DetectorBuild out;
+  for (const std::string& name : params.detectorList()) {
+    if (name == "sim_detector") {
+      out.detectors.push_back(std::make_unique<SimDetector>(sections.sim_detector, sim_scene,
+                                                            std::uint64_t(params.seed)));
+    } else {
+      out.warnings.push_back("[classification] detectors: '" + name +
+                             "' is not built into this version; left out");
+    }
+  }
+  return out;
+}
+
+}  // namespace rasm::classification

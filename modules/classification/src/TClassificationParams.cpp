@@ -1,0 +1,64 @@
+#include "rasm/classification/TClassificationParams.h"
+
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <sstream>
+
+#include "rasm/core/Error.h"
+#include "rasm/core/Params.h"
+
+namespace rasm::classification {
+
+std::vector<std::string> TClassificationParams::detectorList() const {
+  std::vector<std::string> out;
+  std::stringstream ss(detectors);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    const auto b = item.find_first_not_of(" \t"), e = item.find_last_not_of(" \t");
+    if (b == std::string::npos) continue;
+    out.push_back(item.substr(b, e - b + 1));
+  }
+  return out;
+}
+
+ScoreModel TClassificationParams::scoreModel() const {
+  return score_model == "vote" ? ScoreModel::Vote : ScoreModel::Probability;
+}
+
+void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                               const std::string& s) {
+  MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
+  detectors = c.read_string(s, "detectors", detectors);
+  MRPT_LOAD_CONFIG_VAR(every_n_frames, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(threaded, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(min_iou, double, c, s);
+  score_model = c.read_string(s, "score_model", score_model);
+  MRPT_LOAD_CONFIG_VAR(max_detection_probability, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(seed, int, c, s);
+  requireInRange(every_n_frames, 1, 100000, s, "every_n_frames");
+  requireInRange(min_iou, 0.0, 1.0, s, "min_iou");
+  requireInRange(max_detection_probability, 0.5, 1.0, s, "max_detection_probability");
+  if (score_model != "probability" && score_model != "vote")
+    throwInputError("[" + s + "] score_model = " + score_model,
+                    "expected 'probability' or 'vote'");
+  for (const std::string& d : detectorList())
+    if (d != "sim_detector" && d != "dnn_detector" && d != "zero_shot")
+      throwInputError("[" + s + "] detectors = " + detectors,
+                      "unknown detector '" + d + "'; expected sim_detector, dnn_detector or zero_shot");
+}
+
+void TClassificationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                             const std::string& s) const {
+  c.write(s, "enabled", enabled, 28, 0, "false: no classification stage work");
+  c.write(s, "detectors", detectors, 28, 0,
+          "comma list of detector sections: sim_detector, dnn_detector, zero_shot");
+  c.write(s, "every_n_frames", every_n_frames, 28, 0, "offer every n-th fused frame");
+  c.write(s, "threaded", threaded, 28, 0, "detectors on worker threads (false: deterministic)");
+  c.write(s, "min_iou", min_iou, 28, 0, "box / L^p segment IoU needed to fuse a detection");
+  c.write(s, "score_model", score_model, 28, 0, "p_d from a score: probability | vote");
+  c.write(s, "max_detection_probability", max_detection_probability, 28, 0,
+          "p_d clamped to [1 - max, max]");
+  c.write(s, "seed", seed, 28, 0, "seed of the simulated detector's noise");
+}
+
+}  // namespace rasm::classification

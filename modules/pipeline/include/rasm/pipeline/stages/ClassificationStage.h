@@ -1,0 +1,87 @@
+#pragma once
+// Section IV as a stage of the Mapper, after fuse (Mapper::assemble):
+//   process      fuses the detector results that arrived (each with the L^p of the frame it was
+//                computed on: association by IoU, Bayes update of the segment's surfels), then
+//                offers every n-th fused frame to the detector workers (DetectorWorker.h: a busy
+//                detector skips the frame, counted; one that throws is disabled and reported);
+//   finishRun    waits for the detections in flight and fuses them.
+// The L^p of frames in flight follow the segmentation stage's merges and renumbering (its
+// relabel listener), so a late result lands on the segments its pixels belong to now.
+// Sections [classification] and one per detector ([sim_detector], [dnn_detector], [zero_shot]).
+// Outputs: objects.json (segment, class, runner-up, geometry, detections fused, pose hint),
+// classes.json (the map's class list), map_classes.ply / .3Dscene (coloured by class).
+
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "rasm/classification/ClassList.h"
+#include "rasm/classification/DetectorFactory.h"
+#include "rasm/classification/DetectorWorker.h"
+#include "rasm/classification/TClassificationParams.h"
+#include "rasm/pipeline/MapperStage.h"
+
+namespace rasm::pipeline {
+
+class SegmentationStage;
+
+class ClassificationStage : public MapperStage {
+ public:
+  enum Part { kFuse = 0 };
+  /// `segmentation` (may be null: no segments, nothing fused) must outlive the stage.
+  explicit ClassificationStage(SegmentationStage* segmentation);
+  ~ClassificationStage() override;
+
+  std::vector<ParamsSection> sections() override;
+  void configure(const TMapperParams& mapper) override;
+  bool writesMap() const override { return true; }  ///< class evidence of surfels
+  void process(FrameContext& ctx, maps::CSurfelMap& map) override;
+  void finishRun(maps::CSurfelMap& map) override;
+  void csvColumns(std::vector<std::string>& columns) const override;
+  void csvValues(const FrameContext& ctx, CsvRow& row) const override;
+  void report(nlohmann::json& rep) const override;
+  void writeOutputs(const std::string& dir, const maps::CSurfelMap& map) override;
+
+  /// The simulator's scene for the simulated detector's occlusion test (before the first frame).
+  void setSimScene(const sim::RayScene* scene) { m_sim_scene = scene; }
+  const classification::TClassificationParams& params() const { return m_params; }
+  const classification::ClassList& classList() const { return m_classes; }
+  /// Detections fused per segment so far (follows relabelling).
+  const std::map<std::uint32_t, int>& detectionsPerSegment() const { return m_fused_per_segment; }
+
+ private:
+  /// L^p of a frame whose detections are still running.
+  struct Pending {
+    Image<std::uint32_t> labels;
+    int outstanding = 0;  ///< workers that took the frame and have not returned
+  };
+  struct PoseRecord {
+    classification::PoseHint pose;
+    int class_id = 0;
+    float score = 0.f;
+  };
+  void startWorkers(maps::CSurfelMap& map);
+  void fuseArrived(maps::CSurfelMap& map);
+  void fuseResult(const classification::DetectorResult& r, Pending& p, maps::CSurfelMap& map);
+  void relabel(const std::vector<std::uint32_t>& table);
+
+  SegmentationStage* m_segmentation;
+  classification::TClassificationParams m_params;
+  classification::DetectorSections m_detector_sections;
+  const sim::RayScene* m_sim_scene = nullptr;
+  classification::ClassList m_classes;
+  std::vector<std::unique_ptr<classification::DetectorWorker>> m_workers;
+  std::vector<std::vector<int>> m_class_ids;  ///< per worker: detector class index -> map id
+  std::vector<std::string> m_warnings;
+  bool m_started = false;
+  std::map<std::size_t, Pending> m_pending;  ///< by frame index
+  std::size_t m_frames_seen = 0;
+  // Run totals (report.json) and per-frame counts (frames.csv).
+  std::size_t m_results = 0, m_detections = 0, m_associated = 0, m_surfel_updates = 0,
+              m_dropped_updates = 0, m_frames_offered = 0;
+  int m_frame_detections = 0, m_frame_associated = 0;
+  std::map<std::uint32_t, int> m_fused_per_segment;
+  std::map<std::uint32_t, PoseRecord> m_pose_per_segment;
+};
+
+}  // namespace rasm::pipeline

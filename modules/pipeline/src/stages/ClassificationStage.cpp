@@ -1,0 +1,268 @@
+#include "rasm/pipeline/stages/ClassificationStage.h"
+
+#include <filesystem>
+
+#include "rasm/classification/ClassFusion.h"
+#include "rasm/core/Error.h"
+#include "rasm/core/Timing.h"
+#include "rasm/pipeline/OutputFiles.h"
+#include "rasm/pipeline/stages/SegmentationStage.h"
+#include "rasm/surfel_map/MapExport.h"
+
+namespace rasm::pipeline {
+
+using namespace rasm::classification;
+
+ClassificationStage::ClassificationStage(SegmentationStage* segmentation)
+    : MapperStage("classification", {"cls_fuse"}), m_segmentation(segmentation) {
+  if (m_segmentation)
+    m_segmentation->addRelabelListener(
+        [this](const std::vector<std::uint32_t>& table) { relabel(table); });
+}
+
+ClassificationStage::~ClassificationStage() = default;
+
+std::vector<ParamsSection> ClassificationStage::sections() {
+  std::vector<ParamsSection> out = {{"classification", &m_params}};
+  for (const auto& [name, params] : m_detector_sections.list()) out.push_back({name, params});
+  return out;
+}
+
+void ClassificationStage::configure(const TMapperParams& /*mapper*/) {
+  if (m_started)
+    throw std::logic_error("ClassificationStage: reconfigured after its detectors started");
+}
+
+void ClassificationStage::startWorkers(maps::CSurfelMap& map) {
+  m_started = true;
+  // The map's class list: a loaded map's, else the default; the detectors' classes join it.
+  m_classes = ClassList(map.classes().empty() ? ClassList::defaultClasses() : map.classes(),
+                        map.creationOptions().n_classes);
+  if (!m_params.enabled) return;
+  DetectorBuild built = makeDetectors(m_params, m_detector_sections, m_sim_scene);
+  m_warnings = std::move(built.warnings);
+  for (const std::string& w : m_warnings) std::fprintf(stderr, "rasm: warning: %s\n", w.c_str());
+  for (auto& d : built.detectors) {
+    m_class_ids.push_back(m_classes.registerDetector(*d));
+    m_workers.push_back(
+        std::make_unique<DetectorWorker>(std::move(d), int(m_workers.size()), m_params.threaded));
+  }
+  map.classes() = m_classes.classes();
+}
+
+void ClassificationStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
+  m_frame_detections = m_frame_associated = 0;
+  if (!m_started) startWorkers(map);
+  if (m_workers.empty()) return;
+  const auto t = Clock::now();
+  fuseArrived(map);
+  recordMs(ctx, kFuse, msSince(t));
+  if (!ctx.result.fusable() || ctx.labels.empty()) return;
+  if (m_frames_seen++ % std::size_t(m_params.every_n_frames) != 0) return;
+  // The workers share one copy of the frame; its L^p waits here for their results.
+  auto frame = std::make_shared<const RgbdFrame>(*ctx.frame);
+  Pending pending;
+  pending.labels = ctx.labels;
+  m_pending[frame->index] = std::move(pending);
+  ++m_frames_offered;
+  for (auto& w : m_workers)
+    if (w->offer(frame)) ++m_pending[frame->index].outstanding;
+  if (m_pending[frame->index].outstanding == 0) m_pending.erase(frame->index);
+  if (!m_params.threaded) {
+    const auto t2 = Clock::now();
+    fuseArrived(map);
+    recordMs(ctx, kFuse, msSince(t2));
+  }
+}
+
+void ClassificationStage::fuseArrived(maps::CSurfelMap& map) {
+  std::vector<DetectorResult> arrived;
+  for (auto& w : m_workers) w->collect(arrived);
+  for (const DetectorResult& r : arrived) {
+    auto it = m_pending.find(r.frame_index);
+    if (it == m_pending.end())
+      throw std::logic_error("ClassificationStage: a result for frame " +
+                             std::to_string(r.frame_index) + " that was never offered");
+    fuseResult(r, it->second, map);
+    if (--it->second.outstanding == 0) m_pending.erase(it);
+  }
+}
+
+void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p,
+                                     maps::CSurfelMap& map) {
+  if (r.failed) return;  // reported by the worker (report.json "detectors")
+  ++m_results;
+  m_detections += r.detections.size();
+  m_frame_detections += int(r.detections.size());
+  const std::vector<Association> assoc =
+      associateDetections(p.labels, r.detections, float(m_params.min_iou));
+  const std::vector<int>& ids = m_class_ids[std::size_t(r.worker)];
+  std::vector<SegmentEvidence> evidence;
+  for (std::size_t d = 0; d < r.detections.size(); ++d) {
+    if (assoc[d].segment == 0) continue;
+    ++m_associated;
+    ++m_frame_associated;
+    const Detection& det = r.detections[d];
+    ++m_fused_per_segment[assoc[d].segment];
+    for (const ClassScore& cs : det.scores) {
+      if (cs.class_index < 0 || cs.class_index >= int(ids.size())) continue;
+      evidence.push_back({assoc[d].segment, ids[std::size_t(cs.class_index)],
+                          detectionProbability(cs.score, m_params.scoreModel(),
+                                               float(m_params.max_detection_probability))});
+    }
+    if (det.pose.valid && !det.scores.empty()) {
+      PoseRecord& rec = m_pose_per_segment[assoc[d].segment];
+      if (det.bestScore() >= rec.score)
+        rec = {det.pose, ids[std::size_t(det.bestIndex())], det.bestScore()};
+    }
+  }
+  const FusionCounts c = fuseSegmentEvidence(map.store().arraysForClassEvidence(), evidence);
+  m_surfel_updates += c.surfels;
+  m_dropped_updates += c.dropped;
+}
+
+void ClassificationStage::relabel(const std::vector<std::uint32_t>& table) {
+  const auto apply = [&](std::uint32_t l) { return l < table.size() ? table[l] : l; };
+  for (auto& [index, p] : m_pending)
+    for (int y = 0; y < p.labels.height(); ++y) {
+      std::uint32_t* row = p.labels.row(y);
+      for (int x = 0; x < p.labels.width(); ++x) row[x] = apply(row[x]);
+    }
+  std::map<std::uint32_t, int> counts;
+  for (const auto& [l, n] : m_fused_per_segment)
+    if (apply(l) != 0) counts[apply(l)] += n;
+  m_fused_per_segment = std::move(counts);
+  std::map<std::uint32_t, PoseRecord> poses;
+  for (const auto& [l, rec] : m_pose_per_segment) {
+    const std::uint32_t n = apply(l);
+    if (n != 0 && (poses.count(n) == 0 || rec.score > poses[n].score)) poses[n] = rec;
+  }
+  m_pose_per_segment = std::move(poses);
+}
+
+void ClassificationStage::finishRun(maps::CSurfelMap& map) {
+  for (auto& w : m_workers) w->waitIdle();
+  fuseArrived(map);
+}
+
+void ClassificationStage::csvColumns(std::vector<std::string>& c) const {
+  c.insert(c.end(), {"cls_detections", "cls_fused", "cls_pending"});
+}
+
+void ClassificationStage::csvValues(const FrameContext& /*ctx*/, CsvRow& row) const {
+  row.add(m_frame_detections).add(m_frame_associated).add(m_pending.size());
+}
+
+void ClassificationStage::report(nlohmann::json& rep) const {
+  nlohmann::json j;
+  j["enabled"] = m_params.enabled;
+  j["threaded"] = m_params.threaded;
+  j["every_n_frames"] = m_params.every_n_frames;
+  j["frames_offered"] = m_frames_offered;
+  j["results_fused"] = m_results;
+  j["detections"] = m_detections;
+  j["detections_fused"] = m_associated;
+  j["detections_without_segment"] = m_detections - m_associated;
+  j["surfel_updates"] = m_surfel_updates;
+  j["surfel_updates_dropped"] = m_dropped_updates;
+  j["class_evidence_bytes_per_surfel"] = sizeof(maps::ClassEvidence);
+  j["classes"] = m_classes.size();
+  nlohmann::json dets = nlohmann::json::array();
+  for (const auto& w : m_workers) {
+    const DetectorWorkerStats s = w->stats();
+    nlohmann::json d = {{"name", w->detector().name()},
+                        {"frames_offered", s.offered},
+                        {"frames_detected", s.calls},
+                        {"frames_skipped", s.skipped},
+                        {"detections", s.detections},
+                        {"ms_per_call", s.calls > 0 ? s.ms_total / double(s.calls) : 0.0},
+                        {"ms_max", s.ms_max}};
+    if (w->disabled()) d["disabled"] = w->error();
+    dets.push_back(d);
+  }
+  j["detectors"] = dets;
+  j["warnings"] = m_warnings;
+  rep["classification"] = j;
+}
+
+}  // namespace rasm::pipeline
+
+namespace rasm::pipeline {
+
+namespace {
+
+nlohmann::json vec3(const Eigen::Vector3d& v) {
+  return nlohmann::json{v.x(), v.y(), v.z()};
+}
+
+/// The oriented box of a segment: its upright (z-up) axes and extents about the centroid.
+nlohmann::json orientedBox(const segmentation::SegmentStats& s) {
+  nlohmann::json axes = nlohmann::json::array();
+  for (int k = 0; k < 3; ++k) axes.push_back(vec3(s.upright_axes.col(k)));
+  return {{"centre", vec3(0.5 * (s.bbox_min + s.bbox_max))},
+          {"axes", axes},
+          {"extents_m", vec3(s.upright_extents)}};
+}
+
+}  // namespace
+
+void ClassificationStage::writeOutputs(const std::string& dir, const maps::CSurfelMap& map) {
+  if (!m_params.enabled || !m_started) return;
+  nlohmann::json classes = nlohmann::json::array();
+  for (int id = 1; id <= m_classes.size(); ++id)
+    classes.push_back({{"id", id},
+                       {"name", m_classes.name(id)},
+                       {"source", m_classes.classes()[std::size_t(id - 1)].source}});
+  writeFileAtomically(dir + "/classes.json",
+                      nlohmann::json{{"comment",
+                                      "the map's class list (IV): surfel class evidence ids, "
+                                      "source = where the name came from"},
+                                     {"classes", classes}}
+                              .dump(1) +
+                          "\n");
+  const std::vector<SegmentClass> seg_classes = segmentClasses(map.store().arrays());
+  nlohmann::json objects = nlohmann::json::array();
+  for (const SegmentClass& c : seg_classes) {
+    const segmentation::SegmentStats* s =
+        m_segmentation ? m_segmentation->table().find(c.segment) : nullptr;
+    const auto fused = m_fused_per_segment.find(c.segment);
+    const int n_fused = fused == m_fused_per_segment.end() ? 0 : fused->second;
+    if (c.best_id == 0 && n_fused == 0) continue;  // never classified: not an object here
+    nlohmann::json o = {{"segment", c.segment},
+                        {"class", m_classes.name(c.best_id)},
+                        {"class_id", c.best_id},
+                        {"probability", c.best_p},
+                        {"runner_up", m_classes.name(c.runner_up_id)},
+                        {"runner_up_probability", c.runner_up_p},
+                        {"surfels", c.surfels},
+                        {"detections_fused", n_fused}};
+    if (s) {
+      o["centroid"] = vec3(s->centroid);
+      o["pca_extents_m"] = vec3(s->extents);
+      o["oriented_box"] = orientedBox(*s);
+    }
+    const auto pose = m_pose_per_segment.find(c.segment);
+    if (pose != m_pose_per_segment.end())
+      o["pose_hint"] = {{"class", m_classes.name(pose->second.class_id)},
+                        {"azimuth_deg", pose->second.pose.azimuth_deg},
+                        {"elevation_deg", pose->second.pose.elevation_deg},
+                        {"template", pose->second.pose.template_index},
+                        {"score", pose->second.score}};
+    objects.push_back(o);
+  }
+  nlohmann::json out;
+  out["comment"] =
+      "rasm objects (section IV): segments that carry a class or had detections fused; class = "
+      "highest mean posterior over the segment's surfels (\"none\": no class above 0.5), world "
+      "frame, metres; oriented_box: upright axes (z up) and extents about the box centre";
+  out["objects"] = objects;
+  writeFileAtomically(dir + "/objects.json", out.dump(1) + "\n");
+  const std::string ply = dir + "/map_classes.ply";
+  maps::writeSurfelPly(map.store(), ply + ".part", false, maps::SurfelColouring::Class);
+  std::filesystem::rename(ply + ".part", ply);
+  maps::SurfelVisualOptions vis = map.renderingOptions.visual;
+  vis.colouring = maps::SurfelColouring::Class;
+  maps::writeSurfelScene(map.store(), dir + "/map_classes.3Dscene", vis);
+}
+
+}  // namespace rasm::pipeline
