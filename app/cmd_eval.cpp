@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <optional>
 
 #include "Command.h"
@@ -25,6 +26,11 @@
 #include "rasm/sim/World.h"
 #include "rasm/surfel_map/MapExport.h"
 #endif
+#if defined(RASM_EVAL_SEGMENTATION) && defined(RASM_HAVE_MODULE_CLASSIFICATION)
+#define RASM_EVAL_CLASSIFICATION 1
+#include "rasm/classification/ClassificationMetrics.h"
+#include "rasm/sim/SimClasses.h"
+#endif
 
 namespace {
 
@@ -36,6 +42,8 @@ const char* kUsage =
     "       rasm eval segmentation <run folder> [--world NAME|YAML] [--json out.json]\n"
     "                     [--max-dist-m 0.05] [--min-size-m 0.10] [--min-surfels 50] "
     "[--stable-only]\n"
+    "       rasm eval classification <run folder> [--world NAME|YAML] [--json out.json]\n"
+    "                     [--max-dist-m 0.05] [--min-size-m 0.10] [--min-surfels 50]\n"
     "Trajectories in TUM format (timestamp tx ty tz qx qy qz qw). ATE aligns the estimate to the\n"
     "ground truth (Horn/Umeyama, SE(3); --scale: Sim(3)); RPE uses intervals of D s (default 1) "
     "or\n"
@@ -391,6 +399,143 @@ int evalSegmentation(const std::vector<std::string>& args) {
 
 #endif  // RASM_EVAL_SEGMENTATION
 
+#ifdef RASM_EVAL_CLASSIFICATION
+
+/// Segment -> class name of <run>/objects.json (aliases mapped to the simulator's names).
+std::map<std::uint32_t, std::string> readSegmentClasses(const std::string& path) {
+  std::ifstream f(path);
+  if (!f)
+    rasm::throwInputError(path, "missing; expected the objects.json that `rasm run` writes "
+                                "([classification] enabled)");
+  nlohmann::json j;
+  try {
+    f >> j;
+  } catch (const std::exception& e) {
+    rasm::throwInputError(path, std::string("is not valid JSON: ") + e.what());
+  }
+  if (!j.contains("objects") || !j["objects"].is_array())
+    rasm::throwInputError(path, "expected an \"objects\" array");
+  std::map<std::uint32_t, std::string> out;
+  for (const auto& o : j["objects"]) {
+    if (!o.contains("segment") || !o.contains("class"))
+      rasm::throwInputError(path, "an object without \"segment\" or \"class\"");
+    std::string name = o["class"].get<std::string>();
+    const int id = rasm::sim::classIdFromName(name);
+    if (id > 0) name = rasm::sim::className(id);
+    out[o["segment"].get<std::uint32_t>()] = name;
+  }
+  return out;
+}
+
+int evalClassification(const std::vector<std::string>& args) {
+  std::vector<std::string> pos;
+  std::string json, world_opt;
+  double max_dist = 0.05;
+  rasm::classification::ClassificationMetricsParams mp;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) rasm::throwInputError(a, "needs a value\n" + std::string(kUsage));
+      return args[++i];
+    };
+    if (a == "--json")
+      json = value();
+    else if (a == "--world")
+      world_opt = value();
+    else if (a == "--max-dist-m")
+      max_dist = parseNumber(a, value());
+    else if (a == "--min-size-m")
+      mp.min_object_size_m = parseNumber(a, value());
+    else if (a == "--min-surfels")
+      mp.min_object_surfels = std::size_t(std::max(0.0, parseNumber(a, value())));
+    else if (a.rfind("--", 0) == 0)
+      throw rasm::InputError("unknown option '" + a + "'\n" + std::string(kUsage));
+    else
+      pos.push_back(a);
+  }
+  if (pos.size() != 1)
+    throw rasm::InputError("expected classification <run folder>\n" + std::string(kUsage));
+  const std::string run = pos[0];
+  const std::string ply = (fs::path(run) / "map.ply").string();
+  if (!fs::is_regular_file(ply))
+    rasm::throwInputError(ply, "missing; expected the surfel PLY that `rasm run` writes");
+  const auto segment_class = readSegmentClasses((fs::path(run) / "objects.json").string());
+  const std::string world_path = runWorld(run, world_opt);
+  const rasm::maps::PlySurfels map = rasm::maps::readSurfelPly(ply);
+  if (map.size() == 0) rasm::throwInputError(ply, "no surfels; nothing to evaluate");
+  const rasm::sim::RayScene scene(rasm::sim::loadWorld(world_path));
+  const rasm::sim::SurfaceInstanceQuery query(scene);
+  std::vector<Eigen::Vector3f> positions(map.size());
+  for (std::size_t i = 0; i < map.size(); ++i) positions[i] = map.position[i];
+  const auto nearest = query.nearest(positions, float(max_dist));
+  std::vector<std::uint32_t> instance(map.size());
+  for (std::size_t i = 0; i < map.size(); ++i) instance[i] = nearest[i].instance_id;
+  std::vector<rasm::classification::GtClassObject> objects;
+  for (const rasm::sim::WorldInstanceInfo& w : rasm::sim::worldInstances(scene.world()))
+    objects.push_back({w.instance_id, w.class_name, w.name, w.size_m,
+                       w.is_structure || w.class_id == 0});
+  for (int id = 1; id <= rasm::sim::kNumCocoClasses; ++id)
+    mp.detectable_classes.insert(rasm::sim::className(id));
+  const auto m = rasm::classification::computeClassificationMetrics(map.segment, instance,
+                                                                    segment_class, objects, mp);
+  std::printf("classification of %s against world %s\n", run.c_str(),
+              scene.world().name.c_str());
+  std::printf("  objects evaluated (> %.2f m, >= %zu surfels)  %zu\n", mp.min_object_size_m,
+              mp.min_object_surfels, m.evaluated);
+  std::printf("  object_accuracy                 %s  (%zu of %zu carry their class)\n",
+              fmt(m.object_accuracy).c_str(), m.correct, m.evaluated);
+  std::printf("  segmented COCO-class accuracy   %s  (%zu of %zu segmented COCO-class objects)\n",
+              fmt(m.segmented_accuracy).c_str(), m.segmented_detectable_correct,
+              m.segmented_detectable);
+  std::printf("  %-18s %8s %8s %10s %10s\n", "class", "objects", "recall", "predicted",
+              "precision");
+  for (const auto& [c, st] : m.per_class)
+    std::printf("  %-18s %8zu %8s %10zu %10s\n", c.c_str(), st.objects, fmt(st.recall()).c_str(),
+                st.segments_predicted, fmt(st.precision()).c_str());
+  std::printf("  per object (evaluated): name class -> predicted [segment share]\n");
+  for (const auto& r : m.per_object)
+    if (r.evaluated)
+      std::printf("    %-22s %-14s -> %-14s %s%s  share %.2f\n", r.object.name.c_str(),
+                  r.object.class_name.c_str(), r.predicted.c_str(), r.correct ? "ok" : "WRONG",
+                  r.segmented ? "" : " (not segmented)", r.segment_share);
+  if (!json.empty()) {
+    nlohmann::json j, per_class = nlohmann::json::object(), confusion = nlohmann::json::object();
+    for (const auto& [c, st] : m.per_class)
+      per_class[c] = {{"objects", st.objects},
+                      {"correct", st.objects_correct},
+                      {"recall", num(st.recall())},
+                      {"segments_predicted", st.segments_predicted},
+                      {"segments_true", st.segments_true},
+                      {"precision", num(st.precision())}};
+    for (const auto& [t, row] : m.confusion)
+      for (const auto& [p, n] : row) confusion[t][p] = n;
+    nlohmann::json objs = nlohmann::json::array();
+    for (const auto& r : m.per_object)
+      objs.push_back({{"name", r.object.name},
+                      {"class", r.object.class_name},
+                      {"evaluated", r.evaluated},
+                      {"surfels", r.surfels},
+                      {"segment", r.segment},
+                      {"segment_share", r.segment_share},
+                      {"segmented", r.segmented},
+                      {"predicted", r.predicted},
+                      {"correct", r.correct}});
+    j["run"] = run;
+    j["world"] = scene.world().name;
+    j["objects_evaluated"] = m.evaluated;
+    j["object_accuracy"] = num(m.object_accuracy);
+    j["segmented_coco_objects"] = m.segmented_detectable;
+    j["segmented_coco_accuracy"] = num(m.segmented_accuracy);
+    j["per_class"] = per_class;
+    j["confusion"] = confusion;
+    j["objects"] = objs;
+    writeJsonAtomically(json, j);
+  }
+  return 0;
+}
+
+#endif  // RASM_EVAL_CLASSIFICATION
+
 int eval(const std::vector<std::string>& args) {
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
     std::cout << kUsage;
@@ -402,6 +547,13 @@ int eval(const std::vector<std::string>& args) {
 #else
     rasm::throwInputError("rasm eval segmentation",
                           "this build lacks the sim, segmentation or surfel_map module");
+#endif
+  }
+  if (args[0] == "classification") {
+#ifdef RASM_EVAL_CLASSIFICATION
+    return evalClassification(std::vector<std::string>(args.begin() + 1, args.end()));
+#else
+    rasm::throwInputError("rasm eval classification", "this build lacks the classification module");
 #endif
   }
   std::vector<std::string> pos;
@@ -466,7 +618,8 @@ int eval(const std::vector<std::string>& args) {
 
 const rasm::app::Registrar reg{
     "eval",
-    "trajectory metrics: ate | rpe <groundtruth.txt> <estimate.txt>; segmentation <run folder>",
+    "trajectory metrics: ate | rpe <groundtruth.txt> <estimate.txt>; segmentation | classification "
+    "<run folder>",
     &eval};
 
 }  // namespace

@@ -98,7 +98,7 @@ TEST(ClassFusion, LogOddsEqualTheProductForm) {
   for (float pd : pds) {
     fuseSegmentEvidence(a, {{1, 3, pd}});
     num *= pd;
-    den *= 1 - pd;
+    den *= 1.0 - double(pd);
     sequential = bayes(sequential, pd);
   }
   const double product = num / (num + den);

@@ -49,16 +49,16 @@ void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
 
 void TClassificationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                                              const std::string& s) const {
-  c.write(s, "enabled", enabled, 28, 0, "false: no classification stage work");
-  c.write(s, "detectors", detectors, 28, 0,
+  c.write(s, "enabled", enabled, -1, -1, "false: no classification stage work");
+  c.write(s, "detectors", detectors, -1, -1,
           "comma list of detector sections: sim_detector, dnn_detector, zero_shot");
-  c.write(s, "every_n_frames", every_n_frames, 28, 0, "offer every n-th fused frame");
-  c.write(s, "threaded", threaded, 28, 0, "detectors on worker threads (false: deterministic)");
-  c.write(s, "min_iou", min_iou, 28, 0, "box / L^p segment IoU needed to fuse a detection");
-  c.write(s, "score_model", score_model, 28, 0, "p_d from a score: probability | vote");
-  c.write(s, "max_detection_probability", max_detection_probability, 28, 0,
+  c.write(s, "every_n_frames", every_n_frames, -1, -1, "offer every n-th fused frame");
+  c.write(s, "threaded", threaded, -1, -1, "detectors on worker threads (false: deterministic)");
+  c.write(s, "min_iou", min_iou, -1, -1, "box / L^p segment IoU needed to fuse a detection");
+  c.write(s, "score_model", score_model, -1, -1, "p_d from a score: probability | vote");
+  c.write(s, "max_detection_probability", max_detection_probability, -1, -1,
           "p_d clamped to [1 - max, max]");
-  c.write(s, "seed", seed, 28, 0, "seed of the simulated detector's noise");
+  c.write(s, "seed", seed, -1, -1, "seed of the simulated detector's noise");
 }
 
 }  // namespace rasm::classification

@@ -33,6 +33,11 @@ void ClassificationStage::configure(const TMapperParams& /*mapper*/) {
     throw std::logic_error("ClassificationStage: reconfigured after its detectors started");
 }
 
+void ClassificationStage::addDetector(std::unique_ptr<Detector> detector) {
+  if (m_started) throw std::logic_error("ClassificationStage::addDetector: after the first frame");
+  m_extra_detectors.push_back(std::move(detector));
+}
+
 void ClassificationStage::startWorkers(maps::CSurfelMap& map) {
   m_started = true;
   // The map's class list: a loaded map's, else the default; the detectors' classes join it.
@@ -40,6 +45,8 @@ void ClassificationStage::startWorkers(maps::CSurfelMap& map) {
                         map.creationOptions().n_classes);
   if (!m_params.enabled) return;
   DetectorBuild built = makeDetectors(m_params, m_detector_sections, m_sim_scene);
+  for (auto& d : m_extra_detectors) built.detectors.push_back(std::move(d));
+  m_extra_detectors.clear();
   m_warnings = std::move(built.warnings);
   for (const std::string& w : m_warnings) std::fprintf(stderr, "rasm: warning: %s\n", w.c_str());
   for (auto& d : built.detectors) {

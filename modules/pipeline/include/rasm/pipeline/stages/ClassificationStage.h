@@ -42,6 +42,9 @@ class ClassificationStage : public MapperStage {
   void report(nlohmann::json& rep) const override;
   void writeOutputs(const std::string& dir, const maps::CSurfelMap& map) override;
 
+  /// Adds a detector besides the configured ones (tests, programs embedding the Mapper); before
+  /// the first frame.
+  void addDetector(std::unique_ptr<classification::Detector> detector);
   /// The simulator's scene for the simulated detector's occlusion test (before the first frame).
   void setSimScene(const sim::RayScene* scene) { m_sim_scene = scene; }
   const classification::TClassificationParams& params() const { return m_params; }
@@ -73,6 +76,7 @@ class ClassificationStage : public MapperStage {
   std::vector<std::unique_ptr<classification::DetectorWorker>> m_workers;
   std::vector<std::vector<int>> m_class_ids;  ///< per worker: detector class index -> map id
   std::vector<std::string> m_warnings;
+  std::vector<std::unique_ptr<classification::Detector>> m_extra_detectors;
   bool m_started = false;
   std::map<std::size_t, Pending> m_pending;  ///< by frame index
   std::size_t m_frames_seen = 0;

@@ -1,0 +1,78 @@
+// `rasm objects <run folder>`: the objects a run found (its objects.json, section IV) as a table.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "Command.h"
+#include "rasm/core/Error.h"
+
+namespace {
+
+const char* kUsage =
+    "usage: rasm objects <run folder> [--all]\n"
+    "Prints <run folder>/objects.json: segment, class and probability, runner-up, surfels,\n"
+    "detections fused, centroid and upright extents (m), zero-shot pose hint. Objects without a\n"
+    "class (detections fused but no class above 0.5) only with --all.\n";
+
+double at(const nlohmann::json& v, int k) {
+  return v.is_array() && int(v.size()) > k && v[k].is_number() ? v[k].get<double>() : 0.0;
+}
+
+int objects(const std::vector<std::string>& args) {
+  std::string run;
+  bool all = false;
+  for (const std::string& a : args) {
+    if (a == "--all")
+      all = true;
+    else if (a == "--help" || a == "-h") {
+      std::printf("%s", kUsage);
+      return 0;
+    } else if (a.rfind("--", 0) == 0)
+      throw rasm::InputError("unknown option '" + a + "'\n" + kUsage);
+    else
+      run = a;
+  }
+  if (run.empty()) throw rasm::InputError(std::string("expected <run folder>\n") + kUsage);
+  const std::string path = (std::filesystem::path(run) / "objects.json").string();
+  std::ifstream f(path);
+  if (!f)
+    rasm::throwInputError(path, "missing; expected the objects.json of a `rasm run` output folder");
+  nlohmann::json j;
+  try {
+    f >> j;
+  } catch (const std::exception& e) {
+    rasm::throwInputError(path, std::string("is not valid JSON: ") + e.what());
+  }
+  if (!j.contains("objects") || !j["objects"].is_array())
+    rasm::throwInputError(path, "expected an \"objects\" array");
+  std::printf("%7s  %-16s %5s  %-16s %5s %8s %5s  %-22s %-18s %s\n", "segment", "class", "p",
+              "runner-up", "p", "surfels", "dets", "centroid (m)", "extents (m)", "pose hint");
+  int shown = 0, total = 0;
+  for (const auto& o : j["objects"]) {
+    ++total;
+    const std::string cls = o.value("class", "none");
+    if (cls == "none" && !all) continue;
+    ++shown;
+    const auto& c = o.contains("centroid") ? o["centroid"] : nlohmann::json();
+    const auto& e = o.contains("oriented_box") ? o["oriented_box"]["extents_m"] : nlohmann::json();
+    char pose[64] = "";
+    if (o.contains("pose_hint"))
+      std::snprintf(pose, sizeof pose, "%s az %.0f el %.0f",
+                    o["pose_hint"].value("class", "").c_str(),
+                    o["pose_hint"].value("azimuth_deg", 0.0),
+                    o["pose_hint"].value("elevation_deg", 0.0));
+    std::printf("%7u  %-16s %5.2f  %-16s %5.2f %8d %5d  %6.2f %6.2f %6.2f  %5.2f %5.2f %5.2f  %s\n",
+                o.value("segment", 0u), cls.c_str(), o.value("probability", 0.5),
+                o.value("runner_up", "none").c_str(), o.value("runner_up_probability", 0.5),
+                o.value("surfels", 0), o.value("detections_fused", 0), at(c, 0), at(c, 1),
+                at(c, 2), at(e, 0), at(e, 1), at(e, 2), pose);
+  }
+  std::printf("%d objects with a class shown (%d entries in %s)\n", shown, total, path.c_str());
+  return 0;
+}
+
+const rasm::app::Registrar reg{"objects", "the objects of a run: rasm objects <run folder>",
+                               &objects};
+
+}  // namespace

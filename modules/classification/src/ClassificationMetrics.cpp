@@ -1,0 +1,108 @@
+#include "rasm/classification/ClassificationMetrics.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace rasm::classification {
+
+double ClassStats::recall() const {
+  return objects > 0 ? double(objects_correct) / double(objects) : std::nan("");
+}
+double ClassStats::precision() const {
+  return segments_predicted > 0 ? double(segments_true) / double(segments_predicted)
+                                : std::nan("");
+}
+
+namespace {
+
+using Counts = std::unordered_map<std::uint32_t, std::size_t>;
+
+/// The key with the largest count (ties to the lower key); 0 when empty.
+std::uint32_t argmax(const Counts& c, std::size_t* best_count = nullptr) {
+  std::uint32_t best = 0;
+  std::size_t n = 0;
+  for (const auto& [k, v] : c)
+    if (v > n || (v == n && k < best)) {
+      best = k;
+      n = v;
+    }
+  if (best_count) *best_count = n;
+  return best;
+}
+
+}  // namespace
+
+ClassificationMetrics computeClassificationMetrics(
+    const std::vector<std::uint32_t>& segment, const std::vector<std::uint32_t>& instance,
+    const std::map<std::uint32_t, std::string>& segment_class,
+    const std::vector<GtClassObject>& objects, const ClassificationMetricsParams& params) {
+  if (segment.size() != instance.size())
+    throw std::invalid_argument("computeClassificationMetrics: segment and instance sizes differ");
+  std::unordered_map<std::uint32_t, Counts> by_segment, by_instance;  // s -> g -> n, g -> s -> n
+  std::unordered_map<std::uint32_t, std::size_t> segment_size;
+  for (std::size_t i = 0; i < segment.size(); ++i) {
+    if (instance[i] != 0) ++by_instance[instance[i]][segment[i]];
+    if (segment[i] != 0 && instance[i] != 0) {
+      ++by_segment[segment[i]][instance[i]];
+      ++segment_size[segment[i]];
+    }
+  }
+  std::unordered_map<std::uint32_t, const GtClassObject*> object_of;
+  for (const GtClassObject& o : objects) object_of[o.instance_id] = &o;
+  const auto classOf = [&](std::uint32_t s) {
+    const auto it = segment_class.find(s);
+    return it == segment_class.end() || it->second.empty() ? std::string("none") : it->second;
+  };
+
+  ClassificationMetrics m;
+  for (const GtClassObject& o : objects) {
+    if (o.is_structure || !(o.size_m > params.min_object_size_m)) continue;
+    ObjectClassResult r;
+    r.object = o;
+    Counts segs = by_instance.count(o.instance_id) ? by_instance[o.instance_id] : Counts{};
+    for (const auto& [s, n] : segs) r.surfels += n;
+    r.evaluated = r.surfels >= params.min_object_surfels;
+    segs.erase(0);
+    std::size_t n_dom = 0;
+    r.segment = argmax(segs, &n_dom);
+    r.segment_share = r.surfels > 0 ? double(n_dom) / double(r.surfels) : 0.0;
+    if (r.segment != 0) {
+      r.predicted = classOf(r.segment);
+      r.segmented = argmax(by_segment[r.segment]) == o.instance_id &&
+                    r.segment_share >= params.min_segment_share;
+    }
+    r.correct = r.segment != 0 && r.predicted == o.class_name;
+    r.detectable =
+        params.detectable_classes.empty() || params.detectable_classes.count(o.class_name) > 0;
+    if (r.evaluated) {
+      ++m.evaluated;
+      m.correct += r.correct;
+      ClassStats& cs = m.per_class[o.class_name];
+      ++cs.objects;
+      cs.objects_correct += r.correct;
+      ++m.confusion[o.class_name][r.predicted];
+      if (r.segmented && r.detectable) {
+        ++m.segmented_detectable;
+        m.segmented_detectable_correct += r.correct;
+      }
+    }
+    m.per_object.push_back(std::move(r));
+  }
+  // Precision: every segment of a useful size that carries a class.
+  for (const auto& [s, n] : segment_size) {
+    const std::string predicted = classOf(s);
+    if (predicted == "none" || n < params.min_object_surfels) continue;
+    ClassStats& cs = m.per_class[predicted];
+    ++cs.segments_predicted;
+    const auto it = object_of.find(argmax(by_segment[s]));
+    cs.segments_true += it != object_of.end() && it->second->class_name == predicted;
+  }
+  m.object_accuracy = m.evaluated > 0 ? double(m.correct) / double(m.evaluated) : std::nan("");
+  m.segmented_accuracy = m.segmented_detectable > 0 ? double(m.segmented_detectable_correct) /
+                                                          double(m.segmented_detectable)
+                                                    : std::nan("");
+  return m;
+}
+
+}  // namespace rasm::classification

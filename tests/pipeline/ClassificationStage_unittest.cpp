@@ -1,0 +1,123 @@
+// Section IV in the Mapper: a detection computed on frame t is fused with frame t's L^p, however
+// late it arrives and however far the camera has moved since (analytic scene, ground-truth poses).
+#include <gtest/gtest.h>
+
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <condition_variable>
+#include <mutex>
+
+#include "pipeline/AnalyticScene.h"
+#include "rasm/pipeline/Mapper.h"
+#include "rasm/pipeline/stages/ClassificationStage.h"
+
+using namespace rasm;
+using namespace rasm::pipeline;
+using namespace rasm::pipeline::testing;
+
+namespace {
+
+/// Projects box b into the camera at T: the pixel bounds of its 8 corners.
+cv::Rect2f projectBox(const Box& b, const Eigen::Isometry3d& T) {
+  float x0 = 1e9f, y0 = 1e9f, x1 = -1e9f, y1 = -1e9f;
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d w(c & 1 ? b.hi.x() : b.lo.x(), c & 2 ? b.hi.y() : b.lo.y(),
+                            c & 4 ? b.hi.z() : b.lo.z());
+    const Eigen::Vector3d p = T.inverse() * w;
+    const float u = float(kK.cx + kK.fx * p.x() / p.z()), v = float(kK.cy + kK.fy * p.y() / p.z());
+    x0 = std::min(x0, u), y0 = std::min(y0, v), x1 = std::max(x1, u), y1 = std::max(y1, v);
+  }
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
+/// Reports box `target` as seen in the frame it is given ("tv", class index 0), but only once
+/// the test releases it: its result for frame 0 arrives many frames later.
+class HeldDetector : public classification::Detector {
+ public:
+  HeldDetector(Box target, std::mutex& m, std::condition_variable& cv, bool& released)
+      : m_target(target), m_mutex(m), m_cv(cv), m_released(released) {}
+  std::string name() const override { return "held"; }
+  const std::vector<std::string>& classNames() const override { return m_names; }
+  std::vector<classification::Detection> detect(const classification::DetectorInput& in) override {
+    {
+      std::unique_lock<std::mutex> lock(m_mutex);
+      m_cv.wait(lock, [&] { return m_released; });
+    }
+    classification::Detection d;
+    d.box = projectBox(m_target, *in.frame->gt_T_world_cam);
+    d.scores.push_back({0, 0.9f});
+    ++frames;
+    return {d};
+  }
+  int frames = 0;
+
+ private:
+  Box m_target;
+  std::mutex& m_mutex;
+  std::condition_variable& m_cv;
+  bool& m_released;
+  std::vector<std::string> m_names = {"tv"};
+};
+
+}  // namespace
+
+TEST(ClassificationStage, ALateResultLandsOnTheSegmentsOfItsOwnFrame) {
+  // Boxes A and B 0.6 m apart; the camera slides 0.6 m to the right, so at the end B is where A
+  // was in frame 0. The detector's frame-0 result (A's box in frame 0) is held back until then:
+  // fused with the current L^p it would label B, with frame 0's it labels A.
+  const Box a{{-0.5, -0.2, 1.8}, {-0.1, 0.2, 2.2}}, b{{0.1, -0.2, 1.8}, {0.5, 0.2, 2.2}};
+  mrpt::config::CConfigFileMemory ini;
+  ini.write("classification", "detectors", "");
+  ini.write("classification", "threaded", "true");
+  ini.write("classification", "every_n_frames", "1");
+  ini.write("segmentation", "remap_every_n_frames", "5");  // relabellings while it is held
+  Mapper mapper(ini, "test");
+  mapper.addStage(std::make_unique<GroundTruthPose>(), "index_map");
+  std::mutex m;
+  std::condition_variable cv;
+  bool released = false;
+  auto held = std::make_unique<HeldDetector>(a, m, cv, released);
+  HeldDetector* probe = held.get();
+  auto& stage = mapper.stage<ClassificationStage>();
+  stage.addDetector(std::move(held));
+  const int n = 30;
+  for (int k = 0; k < n; ++k) {
+    if (k == n - 2) {
+      {
+        std::lock_guard<std::mutex> lock(m);
+        released = true;
+      }
+      cv.notify_all();
+    }
+    ASSERT_TRUE(mapper.processFrame(render({a, b}, at(0.6 * k / (n - 3)), k)).fused) << k;
+  }
+  mapper.finishRun();
+  EXPECT_GE(probe->frames, 1);
+  // Surfels with evidence for "tv" lie on A, none on B.
+  const int tv = stage.classList().find("tv");
+  ASSERT_GT(tv, 0);
+  const maps::SurfelArrays s = static_cast<const maps::SurfelStore&>(mapper.map().store()).arrays();
+  const auto inside = [](const Box& box, const Eigen::Vector3d& p) {
+    return (p.array() >= box.lo.array() - 0.01).all() && (p.array() <= box.hi.array() + 0.01).all();
+  };
+  int on_a = 0, on_b = 0, elsewhere = 0, a_total = 0;
+  for (int i = 0; i < s.size; ++i) {
+    if (!s.alive(i)) continue;
+    const Eigen::Vector3d p = s.position(i).cast<double>();
+    a_total += inside(a, p);
+    if (maps::classLogitUnits(s.class_ev[i], tv) <= 0) continue;
+    if (inside(a, p))
+      ++on_a;
+    else if (inside(b, p))
+      ++on_b;
+    else
+      ++elsewhere;
+  }
+  EXPECT_EQ(on_b, 0);
+  EXPECT_GE(on_a, 0.9 * a_total) << "A has " << a_total << " surfels";
+  EXPECT_LE(elsewhere, 0.05 * on_a);
+  // Frames offered while the detector was held were skipped, not queued.
+  nlohmann::json rep;
+  mapper.report(rep);
+  EXPECT_GE(rep["classification"]["detectors"][0]["frames_skipped"].get<int>(), n - 4);
+}
