@@ -34,10 +34,12 @@ void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(min_iou, double, c, s);
   score_model = c.read_string(s, "score_model", score_model);
   MRPT_LOAD_CONFIG_VAR(max_detection_probability, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(min_object_probability, double, c, s);
   MRPT_LOAD_CONFIG_VAR(seed, int, c, s);
   requireInRange(every_n_frames, 1, 100000, s, "every_n_frames");
   requireInRange(min_iou, 0.0, 1.0, s, "min_iou");
   requireInRange(max_detection_probability, 0.5, 1.0, s, "max_detection_probability");
+  requireInRange(min_object_probability, 0.5, 1.0, s, "min_object_probability");
   if (score_model != "probability" && score_model != "vote")
     throwInputError("[" + s + "] score_model = " + score_model,
                     "expected 'probability' or 'vote'");
@@ -58,6 +60,8 @@ void TClassificationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   c.write(s, "score_model", score_model, -1, -1, "p_d from a score: probability | vote");
   c.write(s, "max_detection_probability", max_detection_probability, -1, -1,
           "p_d clamped to [1 - max, max]");
+  c.write(s, "min_object_probability", min_object_probability, -1, -1,
+          "a segment's class needs this mean posterior");
   c.write(s, "seed", seed, -1, -1, "seed of the simulated detector's noise");
 }
 

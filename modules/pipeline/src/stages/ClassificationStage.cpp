@@ -235,9 +235,11 @@ void ClassificationStage::writeOutputs(const std::string& dir, const maps::CSurf
     const auto fused = m_fused_per_segment.find(c.segment);
     const int n_fused = fused == m_fused_per_segment.end() ? 0 : fused->second;
     if (c.best_id == 0 && n_fused == 0) continue;  // never classified: not an object here
+    const bool named = c.best_id != 0 && c.best_p >= m_params.min_object_probability;
     nlohmann::json o = {{"segment", c.segment},
-                        {"class", m_classes.name(c.best_id)},
-                        {"class_id", c.best_id},
+                        {"class", named ? m_classes.name(c.best_id) : std::string("none")},
+                        {"class_id", named ? c.best_id : 0},
+                        {"best_class", m_classes.name(c.best_id)},
                         {"probability", c.best_p},
                         {"runner_up", m_classes.name(c.runner_up_id)},
                         {"runner_up_probability", c.runner_up_p},
@@ -259,8 +261,9 @@ void ClassificationStage::writeOutputs(const std::string& dir, const maps::CSurf
   }
   nlohmann::json out;
   out["comment"] =
-      "rasm objects (section IV): segments that carry a class or had detections fused; class = "
-      "highest mean posterior over the segment's surfels (\"none\": no class above 0.5), world "
+      "rasm objects (section IV): segments that carry a class or had detections fused; best_class "
+      "= highest mean posterior over the segment's surfels, class = best_class when that posterior "
+      "reaches [classification] min_object_probability, else \"none\"; world "
       "frame, metres; oriented_box: upright axes (z up) and extents about the box centre";
   out["objects"] = objects;
   writeFileAtomically(dir + "/objects.json", out.dump(1) + "\n");

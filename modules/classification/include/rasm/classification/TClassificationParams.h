@@ -32,6 +32,10 @@ struct TClassificationParams : mrpt::config::CLoadableOptions {
   /// p_d is clamped to [1 - max, max], so one detection never saturates a surfel (ClassEvidence.h:
   /// 0.9 is 2.2 nats of the 7-nat clamp).
   double max_detection_probability = 0.9;
+  /// A segment is an object of its best class (objects.json, the class map's eval) when the mean
+  /// posterior of that class over its surfels reaches this; below it the segment has no class
+  /// ("none"): a few surfels that carried evidence into a large segment do not name it.
+  double min_object_probability = 0.6;
   /// Seed of the simulated detector's noise (sim_detector only).
   int seed = 1;
 
