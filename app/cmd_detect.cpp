@@ -67,17 +67,15 @@ std::string resolveSharedData(const std::string& path) {
 }
 
 /// The detector `rasm detect` runs, from the configuration (one place, so more detectors join
-/// here). InputError when it is disabled or its files are missing.
+/// here). InputError when it is disabled or its files are missing (whatever `required` says).
 std::unique_ptr<Detector> makeConfiguredDetector(const rasm::pipeline::RunConfig& cfg) {
   rasm::classification::TDnnDetectorParams params;
   rasm::loadParamsStrict(cfg.ini(), "dnn_detector", params, cfg.source());
   for (std::string* p : {&params.model, &params.weights, &params.names}) *p = resolveSharedData(*p);
-  std::string warning;
-  auto detector = rasm::classification::makeDnnDetector(params, &warning);
-  if (!detector && warning.empty())
+  if (!params.enabled)
     rasm::throwInputError("[dnn_detector] enabled", "false: there is no detector to run");
-  if (!detector) rasm::throwInputError(cfg.source(), warning);
-  return detector;
+  params.required = true;  // this command has nothing to do without it: missing files are errors
+  return rasm::classification::makeDnnDetector(params, nullptr);
 }
 
 /// v to `decimals` places (the nearest double, so the JSON prints it short).
