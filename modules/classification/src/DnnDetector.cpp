@@ -504,7 +504,8 @@ DnnDetector::DnnDetector(const TDnnDetectorParams& params, std::string section)
   if (n_classes != int(m_class_names.size()))
     throwInputError(keyName(m_section, "names") + " '" + m_params.names + "'",
                     "lists " + std::to_string(m_class_names.size()) + " classes but the model '" +
-                        m_params.model + "' outputs " + std::to_string(n_classes));
+                        m_params.model + "' outputs " + std::to_string(n_classes) +
+                        " (read with layout = " + m_params.layout + ")");
   try {
     decode(outputs);
   } catch (const std::exception& e) {
