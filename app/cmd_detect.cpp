@@ -1,0 +1,214 @@
+// rasm detect <image> [file.ini] [--set section.key=value ...] [--out boxes.png] [--threads N]
+//             [--repeat N]
+// Runs the configured 2-D detector of section IV ([dnn_detector], rasm::classification::
+// DnnDetector) on one image and prints the detections as JSON: class, score, box (x, y, w, h in
+// pixels) and every reported class's score. --out draws the boxes and labels into a PNG. Without
+// an INI: Yolo-Fastest 1.1 (COCO) from the shared data folder. Paths under "../shared/data/" that
+// do not exist relative to the working directory are looked up in $RASM_SHARED_DATA and next to
+// the source tree of this binary (<source>/build/rasm -> <source>/../shared/data), so the default
+// works from any directory. --threads sets OpenCV's thread count, --repeat N times N calls and
+// reports their median (docs/classification.md "DNN detector").
+#if defined(RASM_HAVE_MODULE_CLASSIFICATION) && defined(RASM_HAVE_MODULE_PIPELINE)
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <string>
+#include <vector>
+
+#include "Command.h"
+#include "rasm/classification/DnnDetector.h"
+#include "rasm/core/Error.h"
+#include "rasm/core/Params.h"
+#include "rasm/core/Timing.h"
+#include "rasm/pipeline/OutputFiles.h"
+#include "rasm/pipeline/RunConfig.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using rasm::classification::Detection;
+using rasm::classification::Detector;
+
+const char* kUsage =
+    "usage: rasm detect <image> [file.ini] [--set section.key=value ...] [--out boxes.png]\n"
+    "                   [--threads N] [--repeat N]\n"
+    "Runs [dnn_detector] (default: Yolo-Fastest 1.1 from ../shared/data) on one image and prints\n"
+    "the detections as JSON; --out draws them into a PNG.\n";
+const char* kSharedPrefix = "../shared/data/";
+
+/// Candidate shared data folders: $RASM_SHARED_DATA, then next to the source tree of this binary.
+std::vector<fs::path> sharedDataFolders() {
+  std::vector<fs::path> out;
+  if (const char* env = std::getenv("RASM_SHARED_DATA")) out.emplace_back(env);
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) out.push_back(exe.parent_path().parent_path().parent_path() / "shared" / "data");
+  return out;
+}
+
+/// A path under "../shared/data/" that is missing relative to the working directory, looked up
+/// in the other shared data folders; any other path unchanged.
+std::string resolveSharedData(const std::string& path) {
+  std::error_code ec;
+  if (path.rfind(kSharedPrefix, 0) != 0 || fs::exists(path, ec)) return path;
+  const std::string rest = path.substr(std::string(kSharedPrefix).size());
+  for (const fs::path& folder : sharedDataFolders())
+    if (fs::exists(folder / rest, ec)) return (folder / rest).string();
+  return path;
+}
+
+/// The detector `rasm detect` runs, from the configuration (one place, so more detectors join
+/// here). InputError when it is disabled or its files are missing (whatever `required` says).
+std::unique_ptr<Detector> makeConfiguredDetector(const rasm::pipeline::RunConfig& cfg) {
+  rasm::classification::TDnnDetectorParams params;
+  rasm::loadParamsStrict(cfg.ini(), "dnn_detector", params, cfg.source());
+  for (std::string* p : {&params.model, &params.weights, &params.names}) *p = resolveSharedData(*p);
+  if (!params.enabled)
+    rasm::throwInputError("[dnn_detector] enabled", "false: there is no detector to run");
+  params.required = true;  // this command has nothing to do without it: missing files are errors
+  return rasm::classification::makeDnnDetector(params, nullptr);
+}
+
+/// v to `decimals` places (the nearest double, so the JSON prints it short).
+double rounded(double v, int decimals) {
+  const double scale = std::pow(10.0, decimals);
+  return std::round(v * scale) / scale;
+}
+
+nlohmann::ordered_json detectionsJson(const std::vector<Detection>& detections,
+                                      const std::vector<std::string>& names) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (const Detection& d : detections) {
+    nlohmann::ordered_json scores = nlohmann::ordered_json::object();
+    for (const auto& s : d.scores) scores[names.at(s.class_index)] = rounded(s.score, 4);
+    list.push_back({{"class", names.at(d.bestIndex())},
+                    {"score", rounded(d.bestScore(), 4)},
+                    {"box",
+                     {rounded(d.box.x, 1), rounded(d.box.y, 1), rounded(d.box.width, 1),
+                      rounded(d.box.height, 1)}},
+                    {"scores", scores}});
+  }
+  return list;
+}
+
+/// Boxes and "class score" labels drawn over the image, one colour per class.
+void writeBoxesPng(const cv::Mat& bgr, const std::vector<Detection>& detections,
+                   const std::vector<std::string>& names, const std::string& path) {
+  cv::Mat canvas = bgr.clone();
+  for (const Detection& d : detections) {
+    const int c = d.bestIndex();
+    const cv::Scalar colour((c * 67 + 40) % 256, (c * 131 + 90) % 256, (c * 199 + 160) % 256);
+    const cv::Rect box(cv::Point(int(std::lround(d.box.x)), int(std::lround(d.box.y))),
+                       cv::Point(int(std::lround(d.box.br().x)), int(std::lround(d.box.br().y))));
+    cv::rectangle(canvas, box, colour, 2);
+    char label[128];
+    std::snprintf(label, sizeof label, "%s %.2f", names.at(c).c_str(), d.bestScore());
+    int baseline = 0;
+    const cv::Size text = cv::getTextSize(label, cv::FONT_HERSHEY_SIMPLEX, 0.5, 1, &baseline);
+    const cv::Point origin(box.x, std::max(text.height + 4, box.y));
+    cv::rectangle(canvas, origin + cv::Point(0, -text.height - 4),
+                  origin + cv::Point(text.width + 4, baseline - 2), colour, cv::FILLED);
+    cv::putText(canvas, label, origin + cv::Point(2, -3), cv::FONT_HERSHEY_SIMPLEX, 0.5,
+                cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  }
+  std::vector<uchar> png;
+  if (!cv::imencode(".png", canvas, png))
+    rasm::throwInputError("--out " + path, "PNG encoding failed");
+  rasm::pipeline::writeFileAtomically(path, std::string(png.begin(), png.end()));
+}
+
+int positiveInt(const std::string& opt, const std::string& text) {
+  std::size_t n = 0;
+  int v = 0;
+  try {
+    v = std::stoi(text, &n);
+  } catch (const std::exception&) {
+  }
+  if (n != text.size() || v < 1) rasm::throwInputError(opt, "'" + text + "' is not a count >= 1");
+  return v;
+}
+
+int detectMain(const std::vector<std::string>& args) {
+  using rasm::pipeline::RunConfig;
+  std::vector<std::string> positional, overrides;
+  std::string out_png;
+  int repeat = 1;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&](const char* what) -> std::string {
+      if (i + 1 >= args.size()) rasm::throwInputError(a, std::string("expects ") + what);
+      return args[++i];
+    };
+    if (a == "--set")
+      overrides.push_back(value("section.key=value"));
+    else if (a == "--out")
+      out_png = value("a PNG path");
+    else if (a == "--threads")
+      cv::setNumThreads(positiveInt(a, value("a thread count")));
+    else if (a == "--repeat")
+      repeat = positiveInt(a, value("a count"));
+    else if (a == "--help" || a == "-h") {
+      std::cout << kUsage;
+      return 0;
+    } else if (!a.empty() && a[0] == '-')
+      rasm::throwInputError("option '" + a + "'", "unknown");
+    else
+      positional.push_back(a);
+  }
+  if (positional.empty() || positional.size() > 2) {
+    std::cerr << kUsage;
+    return 2;
+  }
+  const std::string& image_path = positional[0];
+  std::error_code ec;
+  if (!fs::is_regular_file(image_path, ec))
+    rasm::throwInputError("image '" + image_path + "'", "not found");
+  const cv::Mat bgr = cv::imread(image_path, cv::IMREAD_COLOR);
+  if (bgr.empty())
+    rasm::throwInputError("image '" + image_path + "'", "cannot be decoded as an image");
+
+  RunConfig cfg = positional.size() == 2
+                      ? RunConfig::fromFile(positional[1])
+                      : RunConfig::fromString("", "built-in default (Yolo-Fastest 1.1)");
+  for (const auto& o : overrides) cfg.applyOverride(o);
+  const std::unique_ptr<Detector> detector = makeConfiguredDetector(cfg);
+
+  rasm::classification::DetectorInput input;
+  input.bgr = bgr;
+  std::vector<Detection> detections;
+  std::vector<double> ms;
+  for (int r = 0; r < repeat; ++r) {
+    const rasm::Clock::time_point t0 = rasm::Clock::now();
+    detections = detector->detect(input);
+    ms.push_back(rasm::msSince(t0));
+  }
+  std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
+  const nlohmann::ordered_json j = {
+      {"image", image_path},
+      {"detector", detector->name()},
+      {"detections", detectionsJson(detections, detector->classNames())},
+      {"ms", rounded(ms[ms.size() / 2], 2)},
+      {"threads", cv::getNumThreads()}};
+  std::cout << j.dump(2) << std::endl;
+  if (!out_png.empty()) writeBoxesPng(bgr, detections, detector->classNames(), out_png);
+  return 0;
+}
+
+const rasm::app::Registrar reg(
+    "detect",
+    "2-D detections on one image as JSON: rasm detect <image> [file.ini] [--set s.k=v] "
+    "[--out boxes.png]",
+    detectMain);
+
+}  // namespace
+
+#endif
