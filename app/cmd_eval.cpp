@@ -401,8 +401,10 @@ int evalSegmentation(const std::vector<std::string>& args) {
 
 #ifdef RASM_EVAL_CLASSIFICATION
 
-/// Segment -> class name of <run>/objects.json (aliases mapped to the simulator's names).
-std::map<std::uint32_t, std::string> readSegmentClasses(const std::string& path) {
+/// Segment -> class name of <run>/objects.json (aliases mapped to the simulator's names), and
+/// segment -> detections fused.
+std::map<std::uint32_t, std::string> readSegmentClasses(const std::string& path,
+                                                        std::map<std::uint32_t, int>& detections) {
   std::ifstream f(path);
   if (!f)
     rasm::throwInputError(path, "missing; expected the objects.json that `rasm run` writes "
@@ -423,6 +425,7 @@ std::map<std::uint32_t, std::string> readSegmentClasses(const std::string& path)
     const int id = rasm::sim::classIdFromName(name);
     if (id > 0) name = rasm::sim::className(id);
     out[o["segment"].get<std::uint32_t>()] = name;
+    detections[o["segment"].get<std::uint32_t>()] = o.value("detections_fused", 0);
   }
   return out;
 }
@@ -459,7 +462,9 @@ int evalClassification(const std::vector<std::string>& args) {
   const std::string ply = (fs::path(run) / "map.ply").string();
   if (!fs::is_regular_file(ply))
     rasm::throwInputError(ply, "missing; expected the surfel PLY that `rasm run` writes");
-  const auto segment_class = readSegmentClasses((fs::path(run) / "objects.json").string());
+  std::map<std::uint32_t, int> segment_detections;
+  const auto segment_class =
+      readSegmentClasses((fs::path(run) / "objects.json").string(), segment_detections);
   const std::string world_path = runWorld(run, world_opt);
   const rasm::maps::PlySurfels map = rasm::maps::readSurfelPly(ply);
   if (map.size() == 0) rasm::throwInputError(ply, "no surfels; nothing to evaluate");
@@ -477,7 +482,8 @@ int evalClassification(const std::vector<std::string>& args) {
   for (int id = 1; id <= rasm::sim::kNumCocoClasses; ++id)
     mp.detectable_classes.insert(rasm::sim::className(id));
   const auto m = rasm::classification::computeClassificationMetrics(map.segment, instance,
-                                                                    segment_class, objects, mp);
+                                                                    segment_class, objects, mp,
+                                                                    segment_detections);
   std::printf("classification of %s against world %s\n", run.c_str(),
               scene.world().name.c_str());
   std::printf("  objects evaluated (> %.2f m, >= %zu surfels)  %zu\n", mp.min_object_size_m,
@@ -492,7 +498,14 @@ int evalClassification(const std::vector<std::string>& args) {
   for (const auto& [c, st] : m.per_class)
     std::printf("  %-18s %8zu %8s %10zu %10s\n", c.c_str(), st.objects, fmt(st.recall()).c_str(),
                 st.segments_predicted, fmt(st.precision()).c_str());
-  std::printf("  per object (evaluated): name class -> predicted [segment share]\n");
+  std::printf("  accuracy by detections fused into the object's segment (views):");
+  for (const auto& b : m.by_views)
+    std::printf("  %d%s%s: %s (%zu)", b.min_views,
+                b.max_views < 0 ? "+" : (b.max_views == b.min_views ? "" : "-"),
+                b.max_views > b.min_views ? std::to_string(b.max_views).c_str() : "",
+                fmt(b.objects ? double(b.correct) / double(b.objects) : std::nan("")).c_str(),
+                b.objects);
+  std::printf("\n  per object (evaluated): name class -> predicted [segment share]\n");
   for (const auto& r : m.per_object)
     if (r.evaluated)
       std::printf("    %-22s %-14s -> %-14s %s%s  share %.2f\n", r.object.name.c_str(),
@@ -519,6 +532,7 @@ int evalClassification(const std::vector<std::string>& args) {
                       {"segment_share", r.segment_share},
                       {"segmented", r.segmented},
                       {"predicted", r.predicted},
+                      {"views", r.views},
                       {"correct", r.correct}});
     j["run"] = run;
     j["world"] = scene.world().name;
@@ -529,6 +543,14 @@ int evalClassification(const std::vector<std::string>& args) {
     j["per_class"] = per_class;
     j["confusion"] = confusion;
     j["objects"] = objs;
+    nlohmann::json views = nlohmann::json::array();
+    for (const auto& b : m.by_views)
+      views.push_back({{"min_views", b.min_views},
+                       {"max_views", b.max_views < 0 ? nlohmann::json() : nlohmann::json(b.max_views)},
+                       {"objects", b.objects},
+                       {"accuracy", num(b.objects ? double(b.correct) / double(b.objects)
+                                                  : std::nan(""))}});
+    j["accuracy_by_views"] = views;
     writeJsonAtomically(json, j);
   }
   return 0;

@@ -36,7 +36,8 @@ std::uint32_t argmax(const Counts& c, std::size_t* best_count = nullptr) {
 ClassificationMetrics computeClassificationMetrics(
     const std::vector<std::uint32_t>& segment, const std::vector<std::uint32_t>& instance,
     const std::map<std::uint32_t, std::string>& segment_class,
-    const std::vector<GtClassObject>& objects, const ClassificationMetricsParams& params) {
+    const std::vector<GtClassObject>& objects, const ClassificationMetricsParams& params,
+    const std::map<std::uint32_t, int>& segment_detections) {
   if (segment.size() != instance.size())
     throw std::invalid_argument("computeClassificationMetrics: segment and instance sizes differ");
   std::unordered_map<std::uint32_t, Counts> by_segment, by_instance;  // s -> g -> n, g -> s -> n
@@ -56,6 +57,7 @@ ClassificationMetrics computeClassificationMetrics(
   };
 
   ClassificationMetrics m;
+  m.by_views = {{0, 0}, {1, 2}, {3, 5}, {6, 10}, {11, -1}};
   for (const GtClassObject& o : objects) {
     if (o.is_structure || !(o.size_m > params.min_object_size_m)) continue;
     ObjectClassResult r;
@@ -73,6 +75,8 @@ ClassificationMetrics computeClassificationMetrics(
                     r.segment_share >= params.min_segment_share;
     }
     r.correct = r.segment != 0 && r.predicted == o.class_name;
+    const auto views = segment_detections.find(r.segment);
+    r.views = r.segment != 0 && views != segment_detections.end() ? views->second : 0;
     r.detectable =
         params.detectable_classes.empty() || params.detectable_classes.count(o.class_name) > 0;
     if (r.evaluated) {
@@ -82,6 +86,11 @@ ClassificationMetrics computeClassificationMetrics(
       ++cs.objects;
       cs.objects_correct += r.correct;
       ++m.confusion[o.class_name][r.predicted];
+      for (ViewBin& b : m.by_views)
+        if (r.views >= b.min_views && (b.max_views < 0 || r.views <= b.max_views)) {
+          ++b.objects;
+          b.correct += r.correct;
+        }
       if (r.segmented && r.detectable) {
         ++m.segmented_detectable;
         m.segmented_detectable_correct += r.correct;

@@ -6,7 +6,7 @@
 namespace rasm::classification {
 
 std::vector<std::pair<std::string, mrpt::config::CLoadableOptions*>> DetectorSections::list() {
-  return {{"sim_detector", &sim_detector}};
+  return {{"sim_detector", &sim_detector}, {"dnn_detector", &dnn_detector}};
 }
 
 DetectorBuild makeDetectors(const TClassificationParams& params, DetectorSections& sections,
@@ -16,6 +16,13 @@ DetectorBuild makeDetectors(const TClassificationParams& params, DetectorSection
     if (name == "sim_detector") {
       out.detectors.push_back(std::make_unique<SimDetector>(sections.sim_detector, sim_scene,
                                                             std::uint64_t(params.seed)));
+    } else if (name == "dnn_detector") {
+      std::string warning;
+      auto d = makeDnnDetector(sections.dnn_detector, &warning, name);
+      if (d)
+        out.detectors.push_back(std::move(d));
+      else if (!warning.empty())
+        out.warnings.push_back(warning + " (running without " + name + ")");
     } else {
       out.warnings.push_back("[classification] detectors: '" + name +
                              "' is not built into this version; left out");

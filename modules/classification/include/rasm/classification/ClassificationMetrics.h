@@ -25,6 +25,10 @@
 //                      with a non-void majority).
 //   confusion          evaluated objects by (true class, predicted class of their segment, "none"
 //                      when it has no class or no segment).
+//   by views           object accuracy of the evaluated objects binned by the detections fused
+//                      into their segment (`segment_detections`; the views in which a detector
+//                      saw the object and the fusion found its segment): bins 0, 1-2, 3-5, 6-10,
+//                      11+.
 
 #include <cstdint>
 #include <map>
@@ -59,6 +63,7 @@ struct ObjectClassResult {
   std::string predicted = "none";
   bool correct = false;
   bool detectable = false;
+  int views = 0;  ///< detections fused into its segment
 };
 
 struct ClassStats {
@@ -66,6 +71,11 @@ struct ClassStats {
   std::size_t segments_predicted = 0, segments_true = 0;  ///< precision = true / predicted
   double recall() const;
   double precision() const;  ///< NaN when nothing was predicted
+};
+
+struct ViewBin {
+  int min_views = 0, max_views = 0;  ///< inclusive; max_views < 0: no upper bound
+  std::size_t objects = 0, correct = 0;
 };
 
 struct ClassificationMetrics {
@@ -77,12 +87,14 @@ struct ClassificationMetrics {
   /// confusion[true][predicted] = objects.
   std::map<std::string, std::map<std::string, std::size_t>> confusion;
   std::vector<ObjectClassResult> per_object;
+  std::vector<ViewBin> by_views;
 };
 
 /// `segment_class`: predicted class name per segment id (absent or "none" = no class).
 ClassificationMetrics computeClassificationMetrics(
     const std::vector<std::uint32_t>& segment, const std::vector<std::uint32_t>& instance,
     const std::map<std::uint32_t, std::string>& segment_class,
-    const std::vector<GtClassObject>& objects, const ClassificationMetricsParams& params);
+    const std::vector<GtClassObject>& objects, const ClassificationMetricsParams& params,
+    const std::map<std::uint32_t, int>& segment_detections = {});
 
 }  // namespace rasm::classification

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "rasm/classification/Detector.h"
+#include "rasm/classification/DnnDetector.h"
 #include "rasm/classification/TClassificationParams.h"
 #include "rasm/sim/SimulatedDetector.h"
 
@@ -18,7 +19,7 @@ namespace rasm::classification {
 
 struct DetectorSections {
   sim::TDetectorParams sim_detector;
-  // dnn_detector, zero_shot: added with their detectors.
+  TDnnDetectorParams dnn_detector;
 
   /// (section name, params) of every detector section.
   std::vector<std::pair<std::string, mrpt::config::CLoadableOptions*>> list();
