@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# ThreadSanitizer run of the tests that share the map between threads (issue 13, 3): builds
-# build-tsan/ (RelWithDebInfo, -fsanitize=thread, no CUDA, no benchmarks) and runs the snapshot
-# test with one OpenMP thread (libgomp is not instrumented: its own barriers would be reported).
-#   scripts/tsan.sh [gtest filter, default MapSnapshot.*]
+# ThreadSanitizer run of the tests that share the map or frames between threads: builds
+# build-tsan/ (RelWithDebInfo, -fsanitize=thread, no CUDA, no benchmarks) and runs, with one
+# OpenMP thread (libgomp is not instrumented: its own barriers would be reported), the snapshot
+# test (issue 13, 3), the classification stage's late-result test and the detector workers
+# (issue 17: results for frame t fused with frame t's L^p while mapping goes on).
+#   scripts/tsan.sh [gtest filter for test_pipeline, default MapSnapshot.*:ClassificationStage.*]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD_DIR=${RASM_TSAN_BUILD_DIR:-build-tsan}
-FILTER=${1:-MapSnapshot.*}
+FILTER=${1:-MapSnapshot.*:ClassificationStage.*}
 GEN=()
 command -v ninja >/dev/null && GEN=(-G Ninja)
 if [[ ! -f "$BUILD_DIR/CMakeCache.txt" ]]; then
@@ -14,6 +16,8 @@ if [[ ! -f "$BUILD_DIR/CMakeCache.txt" ]]; then
     -DRASM_BUILD_BENCH=OFF -DCMAKE_CXX_FLAGS="-fsanitize=thread" \
     -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=thread"
 fi
-cmake --build "$BUILD_DIR" -j "${RASM_JOBS:-$(nproc)}" --target test_pipeline
-OMP_NUM_THREADS=1 TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$PWD/scripts/tsan.supp" \
-  "$BUILD_DIR/tests/test_pipeline" --gtest_filter="$FILTER"
+cmake --build "$BUILD_DIR" -j "${RASM_JOBS:-$(nproc)}" --target test_pipeline test_classification
+export OMP_NUM_THREADS=1
+export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$PWD/scripts/tsan.supp"
+"$BUILD_DIR/tests/test_pipeline" --gtest_filter="$FILTER"
+"$BUILD_DIR/tests/test_classification" --gtest_filter="DetectorWorker.*"

@@ -153,6 +153,10 @@ TEST(ClassFusion, ScoreModels) {
   EXPECT_FLOAT_EQ(detectionProbability(0.99f, ScoreModel::Probability, 0.9f), 0.9f);
   EXPECT_FLOAT_EQ(detectionProbability(0.3f, ScoreModel::Vote, 0.9f), 0.65f);
   EXPECT_FLOAT_EQ(detectionProbability(NAN, ScoreModel::Vote, 0.9f), 0.5f);
+  // Neutral score 0.4: 0.3 is no evidence, 0.7 half way from 0.5 to 1 (0.75), 1 clamped to 0.9.
+  EXPECT_FLOAT_EQ(detectionProbability(0.3f, ScoreModel::Vote, 0.9f, 0.4f), 0.5f);
+  EXPECT_NEAR(detectionProbability(0.7f, ScoreModel::Vote, 0.9f, 0.4f), 0.75f, 1e-6f);
+  EXPECT_FLOAT_EQ(detectionProbability(1.0f, ScoreModel::Vote, 0.9f, 0.4f), 0.9f);
 }
 
 TEST(ClassList, DefaultIsCocoThenProjectAndDetectorsJoinByName) {

@@ -60,10 +60,13 @@ std::vector<Association> associateDetections(const Image<std::uint32_t>& labels,
   return out;
 }
 
-float detectionProbability(float score, ScoreModel model, float max_p) {
+float detectionProbability(float score, ScoreModel model, float max_p, float s0) {
   if (!(score == score)) return 0.5f;
   score = std::clamp(score, 0.f, 1.f);
-  float p = model == ScoreModel::Vote ? 0.5f + 0.5f * score : score;
+  s0 = std::clamp(s0, 0.f, 0.99f);
+  const float p = model == ScoreModel::Vote
+                      ? 0.5f + 0.5f * std::max(0.f, score - s0) / (1.f - s0)
+                      : score;
   const float hi = std::clamp(max_p, 0.5f, 1.f);
   return std::clamp(p, 1.f - hi, hi);
 }

@@ -33,12 +33,14 @@ void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(threaded, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(min_iou, double, c, s);
   score_model = c.read_string(s, "score_model", score_model);
+  MRPT_LOAD_CONFIG_VAR(vote_neutral_score, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_detection_probability, double, c, s);
   MRPT_LOAD_CONFIG_VAR(min_object_probability, double, c, s);
   MRPT_LOAD_CONFIG_VAR(seed, int, c, s);
   requireInRange(every_n_frames, 1, 100000, s, "every_n_frames");
   requireInRange(min_iou, 0.0, 1.0, s, "min_iou");
   requireInRange(max_detection_probability, 0.5, 1.0, s, "max_detection_probability");
+  requireInRange(vote_neutral_score, 0.0, 0.95, s, "vote_neutral_score");
   requireInRange(min_object_probability, 0.5, 1.0, s, "min_object_probability");
   if (score_model != "probability" && score_model != "vote")
     throwInputError("[" + s + "] score_model = " + score_model,
@@ -58,6 +60,8 @@ void TClassificationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   c.write(s, "threaded", threaded, -1, -1, "detectors on worker threads (false: deterministic)");
   c.write(s, "min_iou", min_iou, -1, -1, "box / L^p segment IoU needed to fuse a detection");
   c.write(s, "score_model", score_model, -1, -1, "p_d from a score: probability | vote");
+  c.write(s, "vote_neutral_score", vote_neutral_score, -1, -1,
+          "vote model: scores at or below it carry no evidence");
   c.write(s, "max_detection_probability", max_detection_probability, -1, -1,
           "p_d clamped to [1 - max, max]");
   c.write(s, "min_object_probability", min_object_probability, -1, -1,

@@ -115,7 +115,8 @@ void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p,
       if (cs.class_index < 0 || cs.class_index >= int(ids.size())) continue;
       evidence.push_back({assoc[d].segment, ids[std::size_t(cs.class_index)],
                           detectionProbability(cs.score, m_params.scoreModel(),
-                                               float(m_params.max_detection_probability))});
+                                               float(m_params.max_detection_probability),
+                                               float(m_params.vote_neutral_score))});
     }
     if (det.pose.valid && !det.scores.empty()) {
       PoseRecord& rec = m_pose_per_segment[assoc[d].segment];

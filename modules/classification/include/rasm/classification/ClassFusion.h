@@ -40,12 +40,15 @@ std::vector<Association> associateDetections(const Image<std::uint32_t>& labels,
 enum class ScoreModel {
   /// p_d = score (the paper: scores are approximate probabilities; a score below 0.5 lowers p).
   Probability,
-  /// p_d = 0.5 + 0.5 * score: every reported class gains evidence in proportion to its score
-  /// (for detectors whose scores are not calibrated probabilities, e.g. after a threshold).
+  /// p_d = 0.5 + 0.5 (score - s0) / (1 - s0) for score > s0, else 0.5 (no evidence): a
+  /// detection is evidence for its class in proportion to how far its score rises above the
+  /// neutral score s0, and never evidence against it (detectors whose scores are not calibrated
+  /// probabilities: a true but weak YOLO detection at 0.3 must not lower the class).
   Vote,
 };
-/// p_d of a score under `model`, clamped to [1 - max_p, max_p].
-float detectionProbability(float score, ScoreModel model, float max_p);
+/// p_d of a score under `model` (s0: the Vote model's neutral score), clamped to
+/// [1 - max_p, max_p].
+float detectionProbability(float score, ScoreModel model, float max_p, float s0 = 0.f);
 
 /// Evidence for one class of one segment: L += logit(p_detection) for its surfels.
 struct SegmentEvidence {

@@ -26,9 +26,13 @@ struct TClassificationParams : mrpt::config::CLoadableOptions {
   /// A detection is fused into the segment of L^p with the highest IoU with its box when that
   /// IoU reaches this (IV).
   double min_iou = 0.25;
-  /// How a score becomes p_d: "probability" (p_d = score, the paper) or "vote"
-  /// (p_d = 0.5 + score / 2: every reported class gains evidence). ClassFusion.h.
-  std::string score_model = "probability";
+  /// How a score becomes p_d (ClassFusion.h): "probability" (p_d = score, the paper's reading:
+  /// a score below 0.5 is evidence against the class) or "vote" (p_d = 0.5 + 0.5 (score - s0) /
+  /// (1 - s0) above the neutral score s0, no evidence below it). docs/classification.md
+  /// "Score model" has the measurements behind the default.
+  std::string score_model = "vote";
+  /// s0 of the vote model.
+  double vote_neutral_score = 0.4;
   /// p_d is clamped to [1 - max, max], so one detection never saturates a surfel (ClassEvidence.h:
   /// 0.9 is 2.2 nats of the 7-nat clamp).
   double max_detection_probability = 0.9;
