@@ -86,7 +86,8 @@ FusionCounts fuseSegmentEvidence(const maps::SurfelArrays& a,
   for (std::size_t l = 1; l < first.size(); ++l) first[l] += first[l - 1];
   std::vector<int> units(items.size());
   for (std::size_t k = 0; k < items.size(); ++k)
-    units[k] = maps::quantizeClassLogit(maps::probabilityLogit(items[k].p_detection));
+    units[k] = maps::quantizeClassLogit(items[k].weight *
+                                        maps::probabilityLogit(items[k].p_detection));
 
   long long updated = 0, dropped = 0;
 #pragma omp parallel for schedule(static) reduction(+ : updated, dropped)

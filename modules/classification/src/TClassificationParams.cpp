@@ -34,6 +34,7 @@ void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(min_iou, double, c, s);
   score_model = c.read_string(s, "score_model", score_model);
   MRPT_LOAD_CONFIG_VAR(vote_neutral_score, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(iou_weighted_evidence, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(max_detection_probability, double, c, s);
   MRPT_LOAD_CONFIG_VAR(min_object_probability, double, c, s);
   MRPT_LOAD_CONFIG_VAR(seed, int, c, s);
@@ -62,6 +63,8 @@ void TClassificationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   c.write(s, "score_model", score_model, -1, -1, "p_d from a score: probability | vote");
   c.write(s, "vote_neutral_score", vote_neutral_score, -1, -1,
           "vote model: scores at or below it carry no evidence");
+  c.write(s, "iou_weighted_evidence", iou_weighted_evidence, -1, -1,
+          "scale a detection's log-odds by its IoU with the segment");
   c.write(s, "max_detection_probability", max_detection_probability, -1, -1,
           "p_d clamped to [1 - max, max]");
   c.write(s, "min_object_probability", min_object_probability, -1, -1,

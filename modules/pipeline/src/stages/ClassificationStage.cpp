@@ -116,7 +116,8 @@ void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p,
       evidence.push_back({assoc[d].segment, ids[std::size_t(cs.class_index)],
                           detectionProbability(cs.score, m_params.scoreModel(),
                                                float(m_params.max_detection_probability),
-                                               float(m_params.vote_neutral_score))});
+                                               float(m_params.vote_neutral_score)),
+                          m_params.iou_weighted_evidence ? assoc[d].iou : 1.f});
     }
     if (det.pose.valid && !det.scores.empty()) {
       PoseRecord& rec = m_pose_per_segment[assoc[d].segment];

@@ -50,11 +50,12 @@ enum class ScoreModel {
 /// [1 - max_p, max_p].
 float detectionProbability(float score, ScoreModel model, float max_p, float s0 = 0.f);
 
-/// Evidence for one class of one segment: L += logit(p_detection) for its surfels.
+/// Evidence for one class of one segment: L += weight logit(p_detection) for its surfels.
 struct SegmentEvidence {
   std::uint32_t segment = 0;
   int class_id = 0;
   float p_detection = 0.5f;
+  float weight = 1.f;  ///< 1: the paper's update; < 1 a weaker one (e.g. the association's IoU)
 };
 
 struct FusionCounts {
