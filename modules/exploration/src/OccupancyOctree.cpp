@@ -73,7 +73,7 @@ OccupancyOctree::OccupancyOctree(const TExplorationParams& params)
 }
 
 void OccupancyOctree::computeUpdateKeys(const Image<float>& depth_m, const CameraIntrinsics& K,
-                                        const Eigen::Isometry3d& T_world_cam,
+                                        const Eigen::Isometry3d& T_world_cam, int stride,
                                         double no_return_free_m, octomap::KeySet& free_keys,
                                         octomap::KeySet& occupied_keys) const {
   if (depth_m.width() != K.width || depth_m.height() != K.height)
@@ -84,7 +84,6 @@ void OccupancyOctree::computeUpdateKeys(const Image<float>& depth_m, const Camer
   const octomap::point3d origin(float(o.x()), float(o.y()), float(o.z()));
   const double beyond = no_return_free_m + 2.0 * m_params.resolution_m;  // truncated to the range
   octomap::Pointcloud returns, no_returns;
-  const int stride = m_params.pixel_stride;
   for (int y = 0; y < K.height; y += stride)
     for (int x = 0; x < K.width; x += stride) {
       const float z = depth_m(x, y);
@@ -113,7 +112,8 @@ void OccupancyOctree::computeUpdateKeys(const Image<float>& depth_m, const Camer
 void OccupancyOctree::insertDepthFrame(const Image<float>& depth_m, const CameraIntrinsics& K,
                                        const Eigen::Isometry3d& T_world_cam) {
   octomap::KeySet free_keys, occupied_keys;
-  computeUpdateKeys(depth_m, K, T_world_cam, m_params.no_return_free_m, free_keys, occupied_keys);
+  computeUpdateKeys(depth_m, K, T_world_cam, m_params.pixel_stride, m_params.no_return_free_m,
+                    free_keys, occupied_keys);
   // As OccupancyOcTreeBase::insertPointCloud: free first, then occupied.
   for (const auto& k : free_keys) m_tree->updateNode(k, false);
   for (const auto& k : occupied_keys) m_tree->updateNode(k, true);
@@ -162,7 +162,7 @@ double OccupancyOctree::predictedEntropyReduction(const Eigen::Isometry3d& T_wor
                                                   const CameraIntrinsics& K,
                                                   const Image<float>& predicted_depth_m) const {
   octomap::KeySet free_keys, occupied_keys;
-  computeUpdateKeys(predicted_depth_m, K, T_world_cam, m_params.max_range_m, free_keys,
+  computeUpdateKeys(predicted_depth_m, K, T_world_cam, 1, m_params.max_range_m, free_keys,
                     occupied_keys);
   const float lo = m_tree->getClampingThresMinLog(), hi = m_tree->getClampingThresMaxLog();
   const auto reduction = [&](const octomap::KeySet& keys, float delta) {

@@ -66,7 +66,8 @@ class OccupancyOctree {
 
   /// The entropy reduction (nats, >= 0 up to rounding) the workspace would see if a frame with
   /// depth `predicted_depth_m` were inserted from T_world_cam: the same rays and cells as
-  /// insertDepthFrame, but empty pixels count as free space up to max_range_m (the unknown
+  /// insertDepthFrame, but every pixel is used (the predicted map is rendered small: its size
+  /// sets the ray count) and empty pixels count as free space up to max_range_m (the unknown
   /// beyond the map is assumed seen through). Unknown cells start from p = 0.5.
   double predictedEntropyReduction(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K,
                                    const Image<float>& predicted_depth_m) const;
@@ -86,7 +87,7 @@ class OccupancyOctree {
  private:
   /// Keys a frame would update (occupied wins over free; both may reach outside the workspace).
   void computeUpdateKeys(const Image<float>& depth_m, const CameraIntrinsics& K,
-                         const Eigen::Isometry3d& T_world_cam, double no_return_free_m,
+                         const Eigen::Isometry3d& T_world_cam, int stride, double no_return_free_m,
                          octomap::KeySet& free_keys, octomap::KeySet& occupied_keys) const;
   /// Cells of the workspace a leaf covers.
   std::int64_t coveredCells(const octomap::OcTree::leaf_bbx_iterator& it) const;
