@@ -28,7 +28,6 @@ void TExplorationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
   MRPT_LOAD_CONFIG_VAR(band_max_z_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(ic_weight_floor, double, c, s);
   MRPT_LOAD_CONFIG_VAR(random_candidates, int, c, s);
-  MRPT_LOAD_CONFIG_VAR(random_attempts_per_candidate, int, c, s);
   MRPT_LOAD_CONFIG_VAR(seed, int, c, s);
   MRPT_LOAD_CONFIG_VAR(footprint_radius_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(object_min_extent_m, double, c, s);
@@ -65,7 +64,6 @@ void TExplorationParams::validate(const std::string& s) const {
   requireInRange(band_max_z_m, -10, 10, s, "band_max_z_m");
   requireInRange(ic_weight_floor, 0.0, 1.0, s, "ic_weight_floor");
   requireInRange(random_candidates, 0, 100000, s, "random_candidates");
-  requireInRange(random_attempts_per_candidate, 1, 100000, s, "random_attempts_per_candidate");
   requireInRange(seed, 0, 2147483647, s, "seed");
   requireInRange(footprint_radius_m, 0.0, 5.0, s, "footprint_radius_m");
   requireInRange(object_min_extent_m, 0.0, 100.0, s, "object_min_extent_m");
@@ -111,7 +109,6 @@ void TExplorationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(band_max_z_m, c, s);
   MRPT_SAVE_CONFIG_VAR(ic_weight_floor, c, s);
   MRPT_SAVE_CONFIG_VAR(random_candidates, c, s);
-  MRPT_SAVE_CONFIG_VAR(random_attempts_per_candidate, c, s);
   MRPT_SAVE_CONFIG_VAR(seed, c, s);
   MRPT_SAVE_CONFIG_VAR(footprint_radius_m, c, s);
   MRPT_SAVE_CONFIG_VAR(object_min_extent_m, c, s);

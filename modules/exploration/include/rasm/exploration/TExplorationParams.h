@@ -47,8 +47,7 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
 
   // ---- candidate views (V) ----
   int random_candidates = 40;  ///< (a) SE(2) samples in known free space
-  int random_attempts_per_candidate = 50;
-  int seed = 1;  ///< of the random candidates: the same seed gives the same plan
+  int seed = 1;                ///< of the random candidates: the same seed gives the same plan
   double footprint_radius_m = 0.25;  ///< robot disc (as [sim_robot] footprint_radius_m)
   /// (b) object views: segments whose largest upright extent is within [min, max] m.
   double object_min_extent_m = 0.15, object_max_extent_m = 2.0;
