@@ -1,0 +1,73 @@
+#pragma once
+// [exploration]: information-gain exploration of section V (occupancy octree V-A, object-centric
+// view information V-B, candidate views and their score IG(a) = w1 dH + w2 dIC). Defaults and the
+// reasons for them: docs/exploration.md. The camera mount is not repeated here: candidates take
+// T_base_cam from the run's [robot] section (pipeline TRobotParams::T_base_cam()).
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+
+namespace rasm::exploration {
+
+struct TExplorationParams : mrpt::config::CLoadableOptions {
+  // ---- occupancy octree (V-A) ----
+  double resolution_m = 0.1;  ///< leaf edge of the octree (and cell of the 2-D projection)
+  /// Rays longer than this insert free space up to it and no endpoint (Kinect-class depth beyond
+  /// 4 m is too noisy to mark cells occupied; the mapper's [mapper] max_depth_m is 4 m too).
+  double max_range_m = 4.0;
+  double min_depth_m = 0.3;  ///< nearer depth is ignored (as [mapper] min_depth_m)
+  /// Every n-th pixel in x and y is inserted (4: 160x120 rays of a 640x480 frame).
+  int pixel_stride = 4;
+  /// Pixels without a return (depth 0) insert free space up to this range along their ray when
+  /// > 0; 0 = not at all: a dropout (glass, black, too close) is no evidence of free space. A
+  /// *predicted* depth map always treats its empty pixels as free up to max_range_m (V-A:
+  /// unknown space is assumed seen through).
+  double no_return_free_m = 0.0;
+  /// Sensor model: P(occupied | hit), P(occupied | miss), and the clamping of the cell log-odds
+  /// (OctoMap's clamping defaults, Hornung et al. 2013). Not OctoMap's 0.7 / 0.4: with those a
+  /// first observation lowers a cell's entropy less than a second one (h(p) is flat at 0.5:
+  /// log 2 - h(0.4) = 0.020 nats, h(0.4) - h(0.31) = 0.054), so an entropy-gain planner would
+  /// rather look again at seen space than into unknown space. With 0.9 / 0.2 (one RGB-D ray is
+  /// strong evidence) the first observation is the largest drop for hits and misses alike
+  /// (0.368 then 0.194; 0.193 then 0.135 nats) and two reach the clamp.
+  double prob_hit = 0.9, prob_miss = 0.2;
+  double clamp_min = 0.1192, clamp_max = 0.971;
+  /// Workspace: the axis-aligned box whose cells the entropy H(m) sums over (m, world frame).
+  double workspace_min_x_m = -10.0, workspace_min_y_m = -10.0, workspace_min_z_m = 0.0;
+  double workspace_max_x_m = 10.0, workspace_max_y_m = 10.0, workspace_max_z_m = 2.5;
+  /// Height band of the 2-D projection (the robot's body above the floor): a column is occupied
+  /// when any cell of the band is, free when none is and at least one is seen free.
+  double band_min_z_m = 0.05, band_max_z_m = 0.6;
+
+  // ---- object-centric information (V-B) ----
+  /// Gain weight of surfels without class evidence; surfels with evidence weigh
+  /// max(floor, 1 - |2 p_best - 1|) (ObjectInformation.h).
+  double ic_weight_floor = 0.25;
+
+  // ---- candidate views (V) ----
+  int random_candidates = 40;  ///< (a) SE(2) samples in known free space
+  int seed = 1;                ///< of the random candidates: the same seed gives the same plan
+  double footprint_radius_m = 0.25;  ///< robot disc (as [sim_robot] footprint_radius_m)
+  /// (b) object views: segments whose largest upright extent is within [min, max] m.
+  double object_min_extent_m = 0.15, object_max_extent_m = 2.0;
+  double object_standoff_m = 1.0;  ///< distance from the segment's side to the robot centre
+  /// Predicted maps (depth for dH, surfel index for dIC) are rendered at this size (the camera's
+  /// intrinsics scaled).
+  int predict_width = 160, predict_height = 120;
+
+  // ---- score (V) ----
+  double w_entropy = 1.0;  ///< w1 of IG(a); dH is divided by the largest dH of the candidates
+  double w_ic = 1.0;       ///< w2 of IG(a); dIC is divided by the largest dIC of the candidates
+  /// Rank by IG / (travel time + min_travel_time_s) (true) or by IG alone (false).
+  bool rank_by_rate = true;
+  double speed_mps = 0.3, turn_rate_degps = 45.0;
+  double min_travel_time_s = 2.0;
+
+  /// Throws InputError naming [section] key for a value out of range or a min above its max.
+  void validate(const std::string& section = "exploration") const;
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+}  // namespace rasm::exploration

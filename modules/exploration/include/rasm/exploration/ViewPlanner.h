@@ -1,0 +1,63 @@
+#pragma once
+// The next-best-view planner of section V: candidate views (random + object views), pruned by
+// reachability, scored by IG(a) = w1 dH + w2 dIC and ranked. Works on a map snapshot (surfel
+// store + segment table, never the live map) and the occupancy octree; deterministic for a fixed
+// params.seed (the random views are the only random part; ties keep the candidates' order).
+//
+// Normalisation: dH (nats) and dIC (pixel-weighted IC) have unrelated units and scales, so each
+// is divided by its largest value over the reachable candidates of this plan before weighting:
+// IG(a) = w1 dH(a) / max dH + w2 dIC(a) / max dIC, in [0, w1 + w2]; the weights then say how much
+// the best exploring view counts against the best object view. A term whose maximum is 0 (no
+// surfels in any view, nothing left to explore) drops out.
+// Ranking: by IG (rank_by_rate = false) or by IG per second of travel,
+// IG / (travel_time_s + min_travel_time_s) (default: a nearby view that gains almost as much is
+// preferred; the constant keeps views next to the robot from dominating by a vanishing time).
+
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "rasm/core/CameraIntrinsics.h"
+#include "rasm/exploration/ObjectInformation.h"
+#include "rasm/exploration/OccupancyOctree.h"
+#include "rasm/exploration/TExplorationParams.h"
+#include "rasm/exploration/ViewCandidates.h"
+#include "rasm/exploration/ViewPredictor.h"
+#include "rasm/segmentation/SegmentTable.h"
+#include "rasm/surfel_map/SurfelStore.h"
+
+namespace rasm::exploration {
+
+struct PlannerInputs {
+  const maps::SurfelStore* store = nullptr;  ///< snapshot with its spatial index rebuilt
+  const std::vector<segmentation::SegmentStats>* segments = nullptr;
+  const OccupancyOctree* octree = nullptr;
+  Eigen::Vector3d robot_pose = Eigen::Vector3d::Zero();          ///< x, y, yaw of the base now
+  Eigen::Isometry3d T_base_cam = Eigen::Isometry3d::Identity();  ///< the camera mount
+  CameraIntrinsics K;   ///< the camera's (predicted maps use it scaled to the predict size)
+  ViewInfoModel model;  ///< fusion's IC parameters and the map's bin layout
+};
+
+struct Plan {
+  std::vector<ViewCandidate> ranked;       ///< reachable candidates, best first
+  std::vector<ViewCandidate> unreachable;  ///< pruned by the path planner
+  mrpt::maps::COccupancyGridMap2D grid;    ///< the projection planned on (robot footprint free)
+};
+
+class ViewPlanner {
+ public:
+  /// Throws InputError when the params are out of range.
+  explicit ViewPlanner(const TExplorationParams& params = {});
+
+  /// Candidates, pruning, prediction and ranking for one snapshot. Throws InputError when an
+  /// input pointer is null.
+  Plan plan(const PlannerInputs& in) const;
+
+ private:
+  TExplorationParams m_params;
+};
+
+/// Sets gain and rate of each candidate from its dH, dIC and travel time (normalised as in the
+/// header comment) and sorts them best first (stable).
+void rankCandidates(const TExplorationParams& params, std::vector<ViewCandidate>& candidates);
+
+}  // namespace rasm::exploration

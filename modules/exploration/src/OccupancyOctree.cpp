@@ -1,0 +1,220 @@
+#include "rasm/exploration/OccupancyOctree.h"
+
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "rasm/core/Error.h"
+
+namespace rasm::exploration {
+
+namespace {
+
+/// OctoMap's computeUpdate calls omp_set_num_threads(number of its key-ray buffers), which is 1
+/// for the Debian build (no OpenMP): that would leave the calling thread's later OpenMP regions
+/// (renderer, fusion) on one thread. This restores the caller's setting.
+class OmpThreadsGuard {
+ public:
+  OmpThreadsGuard() : m_threads(omp_get_max_threads()) {}
+  ~OmpThreadsGuard() { omp_set_num_threads(m_threads); }
+
+ private:
+  int m_threads;
+};
+
+/// Log-odds after one update of `delta`, clamped as OctoMap's updateNode does.
+float updatedLogOdds(float l, float delta, float clamp_min, float clamp_max) {
+  return std::min(std::max(l + delta, clamp_min), clamp_max);
+}
+
+}  // namespace
+
+double cellEntropy(double p) {
+  if (!(p > 0.0 && p < 1.0)) return 0.0;
+  return -(p * std::log(p) + (1.0 - p) * std::log(1.0 - p));
+}
+
+std::int64_t WorkspaceKeys::cells() const {
+  std::int64_t n = 1;
+  for (int a = 0; a < 3; ++a) n *= std::int64_t(max[a]) - std::int64_t(min[a]) + 1;
+  return n;
+}
+
+bool WorkspaceKeys::contains(const octomap::OcTreeKey& k) const {
+  for (int a = 0; a < 3; ++a)
+    if (k[a] < min[a] || k[a] > max[a]) return false;
+  return true;
+}
+
+OccupancyOctree::OccupancyOctree(const TExplorationParams& params)
+    : m_params(params), m_tree(std::make_unique<octomap::OcTree>(params.resolution_m)) {
+  m_params.validate();
+  m_tree->setProbHit(m_params.prob_hit);
+  m_tree->setProbMiss(m_params.prob_miss);
+  m_tree->setClampingThresMin(m_params.clamp_min);
+  m_tree->setClampingThresMax(m_params.clamp_max);
+  // Cells whose centres lie in the box: centre of key k is (k - 2^15 + 0.5) res on each axis.
+  const double res = m_params.resolution_m;
+  const double lo[3] = {m_params.workspace_min_x_m, m_params.workspace_min_y_m,
+                        m_params.workspace_min_z_m};
+  const double hi[3] = {m_params.workspace_max_x_m, m_params.workspace_max_y_m,
+                        m_params.workspace_max_z_m};
+  for (int a = 0; a < 3; ++a) {
+    const double first = std::ceil(lo[a] / res - 0.5), last = std::floor(hi[a] / res - 0.5);
+    if (last < first || std::abs(first) > 30000 || std::abs(last) > 30000)
+      throwInputError("[exploration] workspace", "holds no cell or exceeds the octree's range");
+    m_workspace.min[a] = octomap::key_type(first + 32768);
+    m_workspace.max[a] = octomap::key_type(last + 32768);
+  }
+}
+
+void OccupancyOctree::computeUpdateKeys(const Image<float>& depth_m, const CameraIntrinsics& K,
+                                        const Eigen::Isometry3d& T_world_cam, int stride,
+                                        double no_return_free_m, octomap::KeySet& free_keys,
+                                        octomap::KeySet& occupied_keys) const {
+  if (depth_m.width() != K.width || depth_m.height() != K.height)
+    throwInputError("depth image", std::to_string(depth_m.width()) + "x" +
+                                       std::to_string(depth_m.height()) +
+                                       " does not match the intrinsics " + K.toString());
+  const Eigen::Vector3d o = T_world_cam.translation();
+  const octomap::point3d origin(float(o.x()), float(o.y()), float(o.z()));
+  const double beyond = no_return_free_m + 2.0 * m_params.resolution_m;  // truncated to the range
+  octomap::Pointcloud returns, no_returns;
+  for (int y = 0; y < K.height; y += stride)
+    for (int x = 0; x < K.width; x += stride) {
+      const float z = depth_m(x, y);
+      if (!std::isfinite(z) || z < 0.0f)
+        throwInputError("depth image pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")",
+                        "depth must be finite and >= 0");
+      const Eigen::Vector3d ray((x - K.cx) / K.fx, (y - K.cy) / K.fy, 1.0);
+      Eigen::Vector3d p;
+      if (z > 0.0f && z >= m_params.min_depth_m) {
+        p = T_world_cam * (ray * double(z));
+        returns.push_back(float(p.x()), float(p.y()), float(p.z()));
+      } else if (z == 0.0f && no_return_free_m > 0.0) {
+        p = T_world_cam * (ray.normalized() * beyond);
+        no_returns.push_back(float(p.x()), float(p.y()), float(p.z()));
+      }
+    }
+  OmpThreadsGuard guard;
+  m_tree->computeDiscreteUpdate(returns, origin, free_keys, occupied_keys, m_params.max_range_m);
+  if (no_returns.size() == 0) return;
+  octomap::KeySet free_beyond, none;
+  m_tree->computeUpdate(no_returns, origin, free_beyond, none, no_return_free_m);
+  for (const auto& k : free_beyond)
+    if (!occupied_keys.count(k)) free_keys.insert(k);
+}
+
+void OccupancyOctree::insertDepthFrame(const Image<float>& depth_m, const CameraIntrinsics& K,
+                                       const Eigen::Isometry3d& T_world_cam) {
+  octomap::KeySet free_keys, occupied_keys;
+  computeUpdateKeys(depth_m, K, T_world_cam, m_params.pixel_stride, m_params.no_return_free_m,
+                    free_keys, occupied_keys);
+  // As OccupancyOcTreeBase::insertPointCloud: free first, then occupied.
+  for (const auto& k : free_keys) m_tree->updateNode(k, false);
+  for (const auto& k : occupied_keys) m_tree->updateNode(k, true);
+}
+
+std::int64_t OccupancyOctree::coveredCells(const octomap::OcTree::leaf_bbx_iterator& it) const {
+  const double half = 0.5 * it.getSize() - 0.5 * m_params.resolution_m;
+  const octomap::point3d c = it.getCoordinate();
+  std::int64_t n = 1;
+  for (int a = 0; a < 3; ++a) {
+    const std::int64_t lo =
+        std::max<std::int64_t>(m_tree->coordToKey(c(a) - half), m_workspace.min[a]);
+    const std::int64_t hi =
+        std::min<std::int64_t>(m_tree->coordToKey(c(a) + half), m_workspace.max[a]);
+    if (hi < lo) return 0;
+    n *= hi - lo + 1;
+  }
+  return n;
+}
+
+double OccupancyOctree::entropy() const {
+  // V-A: unknown cells at p = 0.5 contribute log 2 each; a known leaf h(p) per covered cell.
+  std::int64_t known = 0;
+  double h_known = 0.0;
+  for (auto it = m_tree->begin_leafs_bbx(m_workspace.min, m_workspace.max),
+            end = m_tree->end_leafs_bbx();
+       it != end; ++it) {
+    const std::int64_t n = coveredCells(it);
+    known += n;
+    h_known += double(n) * cellEntropy(it->getOccupancy());
+  }
+  return double(workspaceCells() - known) * std::log(2.0) + h_known;
+}
+
+OccupancyOctree::CellCounts OccupancyOctree::countCells() const {
+  CellCounts c;
+  for (auto it = m_tree->begin_leafs_bbx(m_workspace.min, m_workspace.max),
+            end = m_tree->end_leafs_bbx();
+       it != end; ++it)
+    (m_tree->isNodeOccupied(*it) ? c.occupied : c.free) += coveredCells(it);
+  c.unknown = workspaceCells() - c.occupied - c.free;
+  return c;
+}
+
+double OccupancyOctree::predictedEntropyReduction(const Eigen::Isometry3d& T_world_cam,
+                                                  const CameraIntrinsics& K,
+                                                  const Image<float>& predicted_depth_m) const {
+  octomap::KeySet free_keys, occupied_keys;
+  computeUpdateKeys(predicted_depth_m, K, T_world_cam, 1, m_params.max_range_m, free_keys,
+                    occupied_keys);
+  const float lo = m_tree->getClampingThresMinLog(), hi = m_tree->getClampingThresMaxLog();
+  const auto reduction = [&](const octomap::KeySet& keys, float delta) {
+    double sum = 0.0;
+    for (const auto& k : keys) {
+      if (!m_workspace.contains(k)) continue;
+      const octomap::OcTreeNode* node = m_tree->search(k);
+      const float l = node ? node->getLogOdds() : 0.0f;  // unknown: p = 0.5
+      sum += cellEntropy(octomap::probability(l)) -
+             cellEntropy(octomap::probability(updatedLogOdds(l, delta, lo, hi)));
+    }
+    return sum;
+  };
+  return reduction(free_keys, m_tree->getProbMissLog()) +
+         reduction(occupied_keys, m_tree->getProbHitLog());
+}
+
+void OccupancyOctree::projectToGrid(mrpt::maps::COccupancyGridMap2D& grid) const {
+  const double res = m_params.resolution_m;
+  const auto coord = [&](octomap::key_type k) { return (double(k) - 32768.0) * res; };
+  const int nx = m_workspace.max[0] - m_workspace.min[0] + 1;
+  const int ny = m_workspace.max[1] - m_workspace.min[1] + 1;
+  grid.setSize(float(coord(m_workspace.min[0])), float(coord(m_workspace.max[0]) + res),
+               float(coord(m_workspace.min[1])), float(coord(m_workspace.max[1]) + res), float(res),
+               0.5f);
+  // Per column: 2 = an occupied cell in the band, 1 = only free cells seen, 0 = unknown.
+  std::vector<std::uint8_t> column(std::size_t(nx) * ny, 0);
+  octomap::OcTreeKey band_min = m_workspace.min, band_max = m_workspace.max;
+  band_min[2] = std::max(band_min[2], m_tree->coordToKey(m_params.band_min_z_m + 0.5 * res));
+  band_max[2] = std::min(band_max[2], m_tree->coordToKey(m_params.band_max_z_m - 0.5 * res));
+  for (auto it = m_tree->begin_leafs_bbx(band_min, band_max), end = m_tree->end_leafs_bbx();
+       it != end; ++it) {
+    const std::uint8_t v = m_tree->isNodeOccupied(*it) ? 2 : 1;
+    const double half = 0.5 * it.getSize() - 0.5 * res;
+    const octomap::point3d c = it.getCoordinate();
+    const int x0 = std::max(0, int(m_tree->coordToKey(c.x() - half)) - int(m_workspace.min[0]));
+    const int x1 =
+        std::min(nx - 1, int(m_tree->coordToKey(c.x() + half)) - int(m_workspace.min[0]));
+    const int y0 = std::max(0, int(m_tree->coordToKey(c.y() - half)) - int(m_workspace.min[1]));
+    const int y1 =
+        std::min(ny - 1, int(m_tree->coordToKey(c.y() + half)) - int(m_workspace.min[1]));
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        std::uint8_t& col = column[std::size_t(y) * nx + x];
+        col = std::max(col, v);
+      }
+  }
+  for (int y = 0; y < std::min(ny, int(grid.getSizeY())); ++y)
+    for (int x = 0; x < std::min(nx, int(grid.getSizeX())); ++x) {
+      const std::uint8_t col = column[std::size_t(y) * nx + x];
+      if (col != 0) grid.setCell(x, y, col == 2 ? 0.0f : 1.0f);
+    }
+}
+
+}  // namespace rasm::exploration

@@ -1,0 +1,35 @@
+#include "rasm/exploration/ViewPredictor.h"
+
+namespace rasm::exploration {
+
+CameraIntrinsics scaledIntrinsics(const CameraIntrinsics& K, int width, int height) {
+  const double sx = double(width) / K.width, sy = double(height) / K.height;
+  return CameraIntrinsics(K.fx * sx, K.fy * sy, (K.cx + 0.5) * sx - 0.5, (K.cy + 0.5) * sy - 0.5,
+                          width, height);
+}
+
+ViewPredictor::ViewPredictor(const TExplorationParams& params, const ViewInfoModel& model)
+    : m_params(params), m_model(model) {
+  m_params.validate();
+  m_options.min_depth_m = float(m_params.min_depth_m);
+  m_options.max_depth_m = float(m_params.max_range_m);
+  // V-B: occluded and back-facing surfels gain nothing (fusion would not update them).
+  m_options.cull_back_faces = true;
+  m_options.splat = true;
+  m_options.outputs = maps::kRenderDepth;
+}
+
+ViewPrediction ViewPredictor::predict(const maps::SurfelStore& store, const OccupancyOctree& octree,
+                                      const Eigen::Isometry3d& T_world_cam,
+                                      const CameraIntrinsics& K) {
+  const CameraIntrinsics Kp = scaledIntrinsics(K, m_params.predict_width, m_params.predict_height);
+  m_renderer.render(store, T_world_cam, Kp, m_options, m_maps);
+  ViewPrediction p;
+  // V-A: the predicted depth cast through the octree (empty pixels: unknown, seen through).
+  p.entropy_reduction = octree.predictedEntropyReduction(T_world_cam, Kp, m_maps.depth_m);
+  p.information = predictedInformationGain(store, m_maps.index, T_world_cam, m_model,
+                                           float(m_params.ic_weight_floor));
+  return p;
+}
+
+}  // namespace rasm::exploration

@@ -1,0 +1,122 @@
+// Cost of the exploration predictions of section V on a map of the simulated office: the map is
+// fused (SurfelFusion, ground-truth poses) and the octree filled from 48 frames of a robot that
+// turns in place at two spots of the room (noise-free depth, 640x480). Prints one JSON line with
+// medians over repetitions: entropy() of the workspace, one candidate's dH and dIC (one render of
+// the surfel map + the octree ray cast + the bin sum) at 320x240 and 160x120, and a whole plan.
+//   bench_exploration
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <vector>
+
+#include "rasm/core/FrameProcessing.h"
+#include "rasm/exploration/ViewPlanner.h"
+#include "rasm/fusion/SurfelFusion.h"
+#include "rasm/segmentation/SegmentTable.h"
+#include "rasm/sim/CameraPoses.h"
+#include "rasm/sim/RayScene.h"
+#include "rasm/sim/RgbdSensor.h"
+#include "rasm/sim/SimulatedDiffDriveRobot.h"
+
+using namespace rasm;
+
+namespace {
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+template <typename F>
+double medianMs(int reps, F&& f) {
+  std::vector<double> v;
+  for (int k = 0; k < reps; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    f();
+    v.push_back(msSince(t0));
+  }
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+}  // namespace
+
+int main() {
+  const sim::RayScene scene(sim::loadWorld("office"));
+  sim::TSensorParams sp;
+  sp.noise = false;
+  sim::RgbdSensor sensor(scene, sp);
+  const CameraIntrinsics K = sensor.intrinsics();
+  const Eigen::AlignedBox3f box = scene.world().bounds();
+  const Eigen::Vector3f c = box.center();
+  const Eigen::Isometry3d mount = sim::TRobotParams().T_base_cam();
+
+  exploration::TExplorationParams ep;
+  ep.workspace_min_x_m = box.min().x(), ep.workspace_max_x_m = box.max().x();
+  ep.workspace_min_y_m = box.min().y(), ep.workspace_max_y_m = box.max().y();
+  ep.workspace_min_z_m = 0.0, ep.workspace_max_z_m = std::min(3.0f, box.max().z());
+  exploration::OccupancyOctree octree(ep);
+  fusion::SurfelFusion fusion;
+  maps::SurfelStore store;
+  double insert_ms = 0.0;
+  int frame = 0;
+  for (const double dx : {-1.0, 1.0})
+    for (int k = 0; k < 24; ++k, ++frame) {
+      const Eigen::Vector3d pose(c.x() + dx, c.y(), k * M_PI / 12);
+      const Eigen::Isometry3d T = exploration::cameraPoseOf(pose, mount);
+      const RgbdFrame f = sensor.render(T, 0, std::size_t(frame));
+      Image<Vec3f> v, n;
+      computeVertexMap(f.depth_m, K, v);
+      computeNormalMap(v, n);
+      fusion.fuse(store, fusion::makeFusionInput(f, v, n, T));
+      const auto t0 = std::chrono::steady_clock::now();
+      octree.insertDepthFrame(f.depth_m, K, T);
+      insert_ms += msSince(t0);
+    }
+  segmentation::SegmentTable table;
+  table.compute(store.arrays());
+  const exploration::ViewInfoModel model =
+      exploration::ViewInfoModel::of(fusion.params(), store.options());
+
+  const double entropy_ms = medianMs(5, [&] { (void)octree.entropy(); });
+  std::printf(
+      "{\"bench\":\"exploration\",\"surfels\":%d,\"octree_leaves\":%zu,"
+      "\"insert_frame_ms\":%.2f,\"entropy_ms\":%.2f",
+      store.size(), octree.tree().getNumLeafNodes(), insert_ms / frame, entropy_ms);
+  for (const int w : {320, 160}) {
+    ep.predict_width = w, ep.predict_height = w * 3 / 4;
+    exploration::ViewPredictor predictor(ep, model);
+    const Eigen::Isometry3d T =
+        exploration::cameraPoseOf(Eigen::Vector3d(c.x(), c.y() + 0.5, 0.7), mount);
+    const CameraIntrinsics Kp =
+        exploration::scaledIntrinsics(K, ep.predict_width, ep.predict_height);
+    maps::SurfelRenderer renderer;
+    maps::RenderedMaps maps;
+    maps::RenderOptions ro;
+    ro.cull_back_faces = true;
+    ro.outputs = maps::kRenderDepth;
+    const double render_ms = medianMs(5, [&] { renderer.render(store, T, Kp, ro, maps); });
+    const double dh_ms =
+        medianMs(5, [&] { (void)octree.predictedEntropyReduction(T, Kp, maps.depth_m); });
+    const double dic_ms = medianMs(5, [&] {
+      (void)exploration::predictedInformationGain(store, maps.index, T, model, 0.25f);
+    });
+    const double both_ms = medianMs(5, [&] { (void)predictor.predict(store, octree, T, K); });
+    std::printf(
+        ",\"%dx%d\":{\"render_ms\":%.2f,\"dH_ms\":%.2f,\"dIC_ms\":%.2f,\"predict_ms\":%.2f}",
+        ep.predict_width, ep.predict_height, render_ms, dh_ms, dic_ms, both_ms);
+  }
+  ep.predict_width = 160, ep.predict_height = 120;
+  exploration::PlannerInputs in;
+  in.store = &store;
+  in.segments = &table.segments();
+  in.octree = &octree;
+  in.robot_pose = Eigen::Vector3d(c.x() - 1.0, c.y(), 0.0);  // the first spin spot
+  in.T_base_cam = mount;
+  in.K = K;
+  in.model = model;
+  std::size_t ranked = 0, pruned = 0;
+  const double plan_ms = medianMs(3, [&] {
+    const exploration::Plan plan = exploration::ViewPlanner(ep).plan(in);
+    ranked = plan.ranked.size(), pruned = plan.unreachable.size();
+  });
+  std::printf(",\"plan_160x120_ms\":%.1f,\"plan_candidates\":%zu,\"plan_pruned\":%zu}\n", plan_ms,
+              ranked, pruned);
+  return 0;
+}
