@@ -141,8 +141,9 @@ TEST(ZeroShotTraining, ParameterisedBoxRendersEachDistinctCombination) {
   for (const TemplateInfo& t : bank.templates) {
     combos.insert({t.dimensions_m.x(), t.dimensions_m.y(), t.dimensions_m.z()});
     EXPECT_LT(t.azimuth_deg, 180.f);
-    if (t.azimuth_deg == 0.f && t.elevation_deg == 0.f)  // front view: y by z
+    if (t.azimuth_deg == 0.f && t.elevation_deg == 0.f) {  // front view: y by z
       EXPECT_NEAR(t.aspect, t.dimensions_m.y() / t.dimensions_m.z(), 1e-4f);
+    }
   }
   EXPECT_EQ(combos.size(), 7u);
   EXPECT_EQ(combos.count({0.6f, 0.6f, 0.6f}), 0u);
