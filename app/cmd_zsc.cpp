@@ -38,11 +38,12 @@ int train(const Args& a) {
   }
   const rasm::Clock::time_point t0 = rasm::Clock::now();
   const ModelsSpec spec = loadModelsSpec(a[0]);
-  const TemplateBank bank = trainTemplateBank(spec, [&](std::size_t i, std::size_t n, std::size_t t) {
-    std::fprintf(stderr, "\rtraining: model %zu/%zu (%s), %zu templates", i, n,
-                 spec.models[i - 1].class_name.c_str(), t);
-    std::fflush(stderr);
-  });
+  const TemplateBank bank =
+      trainTemplateBank(spec, [&](std::size_t i, std::size_t n, std::size_t t) {
+        std::fprintf(stderr, "\rtraining: model %zu/%zu (%s), %zu templates", i, n,
+                     spec.models[i - 1].class_name.c_str(), t);
+        std::fflush(stderr);
+      });
   std::fprintf(stderr, "\n");
   saveTemplateBank(bank, a[1]);
   nlohmann::json j;

@@ -43,7 +43,8 @@ inline std::vector<CabinetKeyframe> loadCabinetKeyframes(const std::string& dir)
     double t, p[3], q[4];
     if (!(s >> t >> p[0] >> p[1] >> p[2] >> q[0] >> q[1] >> q[2] >> q[3])) continue;
     Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
-    T_world_cam.linear() = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
+    T_world_cam.linear() =
+        Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
     T_world_cam.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
     double u0 = 1e9, v0 = 1e9, u1 = -1e9, v1 = -1e9;
     bool in_front = true;

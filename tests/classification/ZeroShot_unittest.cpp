@@ -128,13 +128,14 @@ TEST(ZeroShotTraining, ParameterisedBoxRendersEachDistinctCombination) {
   // 2 x 2 x 2 combinations of 0.3 / 0.6 m; 0.6^3 is proportional to 0.3^3 (same orthographic
   // templates) and is skipped: 7. Views: azimuth every 30 degrees over 180 (symmetry 2) = 6,
   // elevations 0, 15, 30 = 3. So 7 x 6 x 3 = 126 templates.
-  const std::string yaml = writeTemp("box.yaml",
-                                     "views: {azimuth_step_deg: 30, elevation_deg: [0, 30], "
-                                     "elevation_step_deg: 15}\n"
-                                     "models:\n"
-                                     "  - class: cabinet\n"
-                                     "    box: {x: [0.3, 0.6, 2], y: [0.3, 0.6, 2], z: [0.3, 0.6, 2]}\n"
-                                     "    azimuth_symmetry: 2\n");
+  const std::string yaml =
+      writeTemp("box.yaml",
+                "views: {azimuth_step_deg: 30, elevation_deg: [0, 30], "
+                "elevation_step_deg: 15}\n"
+                "models:\n"
+                "  - class: cabinet\n"
+                "    box: {x: [0.3, 0.6, 2], y: [0.3, 0.6, 2], z: [0.3, 0.6, 2]}\n"
+                "    azimuth_symmetry: 2\n");
   const TemplateBank bank = trainTemplateBank(loadModelsSpec(yaml));
   ASSERT_EQ(bank.size(), 126u);
   std::set<std::vector<float>> combos;
@@ -182,8 +183,9 @@ TEST(ZeroShotTraining, BadModelsFilesAreErrors) {
   EXPECT_NE(message("m3.yaml", "models:\n  - {class: x, procedural: mug, colour: 3}\n")
                 .find("unknown key"),
             std::string::npos);
-  EXPECT_NE(message("m4.yaml", "views: {elevation_deg: [10, 95]}\nmodels:\n  - {class: x, "
-                               "procedural: mug}\n")
+  EXPECT_NE(message("m4.yaml",
+                    "views: {elevation_deg: [10, 95]}\nmodels:\n  - {class: x, "
+                    "procedural: mug}\n")
                 .find("views.elevation_deg"),
             std::string::npos);
   EXPECT_NE(message("m5.yaml", "models: []\n").find("models"), std::string::npos);
@@ -216,8 +218,8 @@ TEST(ZeroShotParams, StrictAndValidated) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/office.bank"), std::string::npos);
   }
-  EXPECT_TRUE(fs::equivalent(resolveModelsPath("office_zero_shot"),
-                             kModelsDir + "/office_zero_shot.yaml"));
+  EXPECT_TRUE(
+      fs::equivalent(resolveModelsPath("office_zero_shot"), kModelsDir + "/office_zero_shot.yaml"));
 }
 
 namespace {

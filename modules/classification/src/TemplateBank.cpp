@@ -70,11 +70,12 @@ TemplateViews parseViews(const std::string& file, const YAML::Node& node) {
   };
   if (node["azimuth_step_deg"])
     v.azimuth_step_deg =
-        float(in("azimuth_step_deg", number(file, node["azimuth_step_deg"], "views.azimuth_step_deg"), 0.5, 180));
+        float(in("azimuth_step_deg",
+                 number(file, node["azimuth_step_deg"], "views.azimuth_step_deg"), 0.5, 180));
   if (node["elevation_step_deg"])
-    v.elevation_step_deg = float(in(
-        "elevation_step_deg", number(file, node["elevation_step_deg"], "views.elevation_step_deg"),
-        0.5, 90));
+    v.elevation_step_deg =
+        float(in("elevation_step_deg",
+                 number(file, node["elevation_step_deg"], "views.elevation_step_deg"), 0.5, 90));
   if (node["render_px"])
     v.render_px = int(in("render_px", number(file, node["render_px"], "views.render_px"), 16, 512));
   if (const YAML::Node e = node["elevation_deg"]) {
@@ -113,7 +114,8 @@ void applyScale(const std::string& file, const YAML::Node& node, const std::stri
                 sim::TriangleMesh& mesh) {
   Eigen::Vector3f s;
   if (node.IsSequence() && node.size() == 3) {
-    for (int a = 0; a < 3; ++a) s[a] = float(number(file, node[a], key + "[" + std::to_string(a) + "]"));
+    for (int a = 0; a < 3; ++a)
+      s[a] = float(number(file, node[a], key + "[" + std::to_string(a) + "]"));
   } else {
     s.setConstant(float(number(file, node, key)));
   }
@@ -123,13 +125,13 @@ void applyScale(const std::string& file, const YAML::Node& node, const std::stri
 
 ModelSpec parseModel(const std::string& file, const std::string& base_dir, const YAML::Node& node,
                      const std::string& key) {
-  allowKeys(file, node, key,
-            {"class", "procedural", "mesh", "box", "scale", "azimuth_symmetry"});
+  allowKeys(file, node, key, {"class", "procedural", "mesh", "box", "scale", "azimuth_symmetry"});
   ModelSpec m;
   if (!node["class"] || !node["class"].IsScalar() || node["class"].Scalar().empty())
     throwInputError(where(file, node, key + ".class"), "missing class name");
   m.class_name = node["class"].Scalar();
-  const int kinds = int(bool(node["procedural"])) + int(bool(node["mesh"])) + int(bool(node["box"]));
+  const int kinds =
+      int(bool(node["procedural"])) + int(bool(node["mesh"])) + int(bool(node["box"]));
   if (kinds != 1)
     throwInputError(where(file, node, key), "expected exactly one of procedural, mesh, box");
   if (node["procedural"]) {
@@ -185,8 +187,9 @@ std::vector<float> azimuths(const TemplateViews& v, int symmetry) {
 
 std::vector<float> elevations(const TemplateViews& v) {
   std::vector<float> out;
-  const int n = int(std::floor((v.elevation_max_deg - v.elevation_min_deg) / v.elevation_step_deg +
-                               1e-4f)) + 1;
+  const int n =
+      int(std::floor((v.elevation_max_deg - v.elevation_min_deg) / v.elevation_step_deg + 1e-4f)) +
+      1;
   for (int i = 0; i < n; ++i) out.push_back(v.elevation_min_deg + float(i) * v.elevation_step_deg);
   return out;
 }
@@ -214,7 +217,8 @@ std::vector<ViewJob> viewJobs(const ModelsSpec& spec, int model_index) {
   std::vector<ViewJob> jobs;
   for (const auto& d : dims)
     for (float e : elevations(spec.views))
-      for (float a : azimuths(spec.views, m.azimuth_symmetry)) jobs.push_back({model_index, a, e, d});
+      for (float a : azimuths(spec.views, m.azimuth_symmetry))
+        jobs.push_back({model_index, a, e, d});
   return jobs;
 }
 
@@ -313,8 +317,8 @@ cv::Mat renderTemplateView(const sim::TriangleMesh& mesh, float azimuth_deg, flo
       bounds.extend(Eigen::Vector2f(v.dot(right), -v.dot(up)));
     }
   const Eigen::Vector2f extent = bounds.sizes(), centre = bounds.center();
-  const float scale = float(render_px) * kTemplateObjectPx / kTemplatePx /
-                      std::max(extent.maxCoeff(), 1e-9f);
+  const float scale =
+      float(render_px) * kTemplateObjectPx / kTemplatePx / std::max(extent.maxCoeff(), 1e-9f);
   if (aspect) *aspect = extent.x() / std::max(extent.y(), 1e-9f);
   for (std::size_t i = 0; i < p.size(); ++i) {
     const Eigen::Vector3f& v = mesh.vertices[i];
@@ -354,8 +358,8 @@ cv::Mat renderTemplateView(const sim::TriangleMesh& mesh, float azimuth_deg, flo
 }
 
 int descriptorLength() {
-  static const int n = int(cv::HOGDescriptor({kTemplatePx, kTemplatePx}, {8, 8}, {4, 4}, {4, 4}, 9)
-                               .getDescriptorSize());
+  static const int n = int(
+      cv::HOGDescriptor({kTemplatePx, kTemplatePx}, {8, 8}, {4, 4}, {4, 4}, 9).getDescriptorSize());
   return n;
 }
 
@@ -372,8 +376,8 @@ void describePatch(const cv::Mat& patch, float* out) {
 }
 
 cv::Mat squareCropWithMargin(const cv::Mat& image, const cv::Rect& box) {
-  const int side = std::max(1, int(std::lround(std::max(box.width, box.height) * double(kTemplatePx) /
-                                               kTemplateObjectPx)));
+  const int side = std::max(1, int(std::lround(std::max(box.width, box.height) *
+                                               double(kTemplatePx) / kTemplateObjectPx)));
   const cv::Rect square(box.x + box.width / 2 - side / 2, box.y + box.height / 2 - side / 2, side,
                         side);
   const cv::Rect inside = square & cv::Rect(0, 0, image.cols, image.rows);
@@ -384,9 +388,8 @@ cv::Mat squareCropWithMargin(const cv::Mat& image, const cv::Rect& box) {
   }
   if (inside.empty()) return cv::Mat(kTemplatePx, kTemplatePx, image.type(), cv::Scalar::all(0));
   cv::Mat padded;
-  cv::copyMakeBorder(image(inside), padded, inside.y - square.y,
-                     square.br().y - inside.br().y, inside.x - square.x,
-                     square.br().x - inside.br().x, cv::BORDER_REPLICATE);
+  cv::copyMakeBorder(image(inside), padded, inside.y - square.y, square.br().y - inside.br().y,
+                     inside.x - square.x, square.br().x - inside.br().x, cv::BORDER_REPLICATE);
   cv::resize(padded, patch, {kTemplatePx, kTemplatePx}, 0, 0, cv::INTER_AREA);
   return patch;
 }
@@ -413,9 +416,9 @@ TemplateBank trainTemplateBank(const ModelsSpec& spec, const TrainingProgress& p
         const sim::TriangleMesh box_mesh =
             m.source == "box" ? sim::makeBox(job.dimensions_m) : sim::TriangleMesh{};
         float aspect = 1.f;
-        const cv::Mat view = renderTemplateView(m.source == "box" ? box_mesh : m.mesh,
-                                                job.azimuth_deg, job.elevation_deg,
-                                                spec.views.render_px, &aspect);
+        const cv::Mat view =
+            renderTemplateView(m.source == "box" ? box_mesh : m.mesh, job.azimuth_deg,
+                               job.elevation_deg, spec.views.render_px, &aspect);
         cv::Mat patch;
         cv::resize(view, patch, {kTemplatePx, kTemplatePx}, 0, 0, cv::INTER_AREA);
         describePatch(patch, rows.ptr<float>(j));

@@ -157,30 +157,66 @@ std::vector<cv::Rect> ZeroShotDetector::proposals(const cv::Mat& bgr, int max_bo
   auto eb = cv::ximgproc::createEdgeBoxes(
       float(m_params.edge_boxes_alpha), float(m_params.edge_boxes_beta), 1.f,
       float(m_params.edge_boxes_min_score), max_boxes > 0 ? max_boxes : m_params.max_proposals,
-      0.1f, 0.5f, 0.5f, float(m_params.edge_boxes_max_aspect_ratio),
-      float(min_side * min_side), 2.f, 1.5f);
+      0.1f, 0.5f, 0.5f, float(m_params.edge_boxes_max_aspect_ratio), float(min_side * min_side),
+      2.f, 1.5f);
   std::vector<cv::Rect> boxes;
   eb->getBoundingBoxes(edges, orientation, boxes);
   const cv::Rect image(0, 0, bgr.cols, bgr.rows);
   for (cv::Rect& b : boxes) {
-    b = cv::Rect(cv::Point(int(std::lround(b.x / scale)), int(std::lround(b.y / scale))),
-                 cv::Point(int(std::lround(b.br().x / scale)), int(std::lround(b.br().y / scale)))) &
+    b = cv::Rect(
+            cv::Point(int(std::lround(b.x / scale)), int(std::lround(b.y / scale))),
+            cv::Point(int(std::lround(b.br().x / scale)), int(std::lround(b.br().y / scale)))) &
         image;
   }
   return boxes;
 }
 
+namespace {
+
+/// Image pyramid (halving) so that every proposal is cropped from the level where its square is
+/// 32..64 px: the area-averaging down to 16 px then reads at most 64 x 64 pixels per proposal.
+std::vector<cv::Mat> cropPyramid(const cv::Mat& bgr) {
+  std::vector<cv::Mat> levels{bgr};
+  while (std::min(levels.back().cols, levels.back().rows) >= 4 * kTemplatePx) {
+    cv::Mat next;
+    cv::pyrDown(levels.back(), next);
+    levels.push_back(next);
+  }
+  return levels;
+}
+
+cv::Mat proposalPatch(const std::vector<cv::Mat>& levels, const cv::Rect& box) {
+  const double side = std::max(box.width, box.height) * double(kTemplatePx) / kTemplateObjectPx;
+  int level = 0;
+  while (level + 1 < int(levels.size()) && side / double(2 << level) >= 2.0 * kTemplatePx) ++level;
+  const double f = 1.0 / double(1 << level);
+  const cv::Rect scaled(
+      cv::Point(int(std::lround(box.x * f)), int(std::lround(box.y * f))),
+      cv::Point(int(std::lround(box.br().x * f)), int(std::lround(box.br().y * f))));
+  return squareCropWithMargin(levels[level], scaled);
+}
+
+/// IV-A matching: cosine similarity (dot product of L2-normalised descriptors) of one proposal
+/// with every template, keeping the best template per class. A plain loop the compiler
+/// vectorises (omp simd reduction over the descriptor).
+void bestPerClass(const float* descriptor, const TemplateBank& bank, ProposalMatch& m) {
+  const int dim = bank.descriptors.cols;
+  for (int t = 0; t < bank.descriptors.rows; ++t) {
+    const float* tmpl = bank.descriptors.ptr<float>(t);
+    float s = 0.f;
+#pragma omp simd reduction(+ : s)
+    for (int k = 0; k < dim; ++k) s += descriptor[k] * tmpl[k];
+    const int c = bank.templates[t].class_index;
+    if (s > m.best_similarity[c]) m.best_similarity[c] = s, m.best_template[c] = t;
+  }
+}
+
+}  // namespace
+
 std::vector<ProposalMatch> ZeroShotDetector::match(const cv::Mat& bgr,
                                                    const std::vector<cv::Rect>& boxes) const {
-  const int dim = descriptorLength();
-  cv::Mat descriptors(int(boxes.size()), dim, CV_32F);
-  for (std::size_t i = 0; i < boxes.size(); ++i)
-    describePatch(squareCropWithMargin(bgr, boxes[i]), descriptors.ptr<float>(int(i)));
-  // Cosine similarity of L2-normalised descriptors: one matrix product, proposals x templates.
-  cv::Mat similarity;
-  if (!boxes.empty())
-    cv::gemm(descriptors, m_bank.descriptors, 1.0, cv::noArray(), 0.0, similarity,
-             cv::GEMM_2_T);
+  const std::vector<cv::Mat> levels = cropPyramid(bgr);
+  std::vector<float> descriptor(descriptorLength());
   const int n_classes = int(m_bank.class_names.size());
   std::vector<ProposalMatch> out(boxes.size());
   for (std::size_t i = 0; i < boxes.size(); ++i) {
@@ -188,11 +224,8 @@ std::vector<ProposalMatch> ZeroShotDetector::match(const cv::Mat& bgr,
     m.box = boxes[i];
     m.best_similarity.assign(n_classes, -1.f);
     m.best_template.assign(n_classes, -1);
-    const float* s = similarity.ptr<float>(int(i));
-    for (int t = 0; t < similarity.cols; ++t) {
-      const int c = m_bank.templates[t].class_index;
-      if (s[t] > m.best_similarity[c]) m.best_similarity[c] = s[t], m.best_template[c] = t;
-    }
+    describePatch(proposalPatch(levels, boxes[i]), descriptor.data());
+    bestPerClass(descriptor.data(), m_bank, m);
   }
   return out;
 }
@@ -203,7 +236,6 @@ std::vector<Detection> ZeroShotDetector::detectionsFrom(
   const float lo = float(m_params.score_at_threshold), hi = float(m_params.score_at_one);
   std::vector<Detection> detections;
   for (const ProposalMatch& m : matches) {
-    if (m.box.width < m_params.min_box_px || m.box.height < m_params.min_box_px) continue;
     Detection d;
     d.box = cv::Rect2f(m.box);
     for (int c = 0; c < int(m.best_similarity.size()); ++c) {
@@ -227,11 +259,16 @@ std::vector<Detection> ZeroShotDetector::detectionsFrom(
 
 std::vector<Detection> ZeroShotDetector::detect(const DetectorInput& input) {
   if (input.bgr.type() != CV_8UC3 || input.bgr.empty())
-    throwInputError("zero-shot detector '" + m_name + "'",
-                    "expects an 8-bit BGR image (CV_8UC3), got type " +
-                        std::to_string(input.bgr.type()));
+    throwInputError(
+        "zero-shot detector '" + m_name + "'",
+        "expects an 8-bit BGR image (CV_8UC3), got type " + std::to_string(input.bgr.type()));
   const Clock::time_point t0 = Clock::now();
-  const std::vector<cv::Rect> boxes = proposals(input.bgr);
+  std::vector<cv::Rect> boxes = proposals(input.bgr);
+  const int min_px = m_params.min_box_px;
+  boxes.erase(
+      std::remove_if(boxes.begin(), boxes.end(),
+                     [&](const cv::Rect& b) { return b.width < min_px || b.height < min_px; }),
+      boxes.end());
   m_proposal_ms = msSince(t0);
   const Clock::time_point t1 = Clock::now();
   std::vector<Detection> detections = detectionsFrom(match(input.bgr, boxes));

@@ -39,21 +39,21 @@ struct TZeroShotParams : public mrpt::config::CLoadableOptions {
   /// Models file (TemplateBank.h). A bare name (`office_zero_shot`) is looked up in the shipped
   /// modules/classification/models/<name>.yaml.
   std::string models;
-  double similarity_threshold = 0.75;  ///< cosine similarity a match needs (IV-A threshold)
-  double score_at_threshold = 0.55;    ///< class score of a match at the threshold
-  double score_at_one = 0.9;           ///< class score of a perfect match
-  int max_proposals = 500;             ///< Edge Boxes proposals matched per image
-  double proposal_scale = 0.5;         ///< image scale the edge map and Edge Boxes run at
+  double similarity_threshold = 0.75;    ///< cosine similarity a match needs (IV-A threshold)
+  double score_at_threshold = 0.55;      ///< class score of a match at the threshold
+  double score_at_one = 0.9;             ///< class score of a perfect match
+  int max_proposals = 500;               ///< Edge Boxes proposals matched per image
+  double proposal_scale = 0.5;           ///< image scale the edge map and Edge Boxes run at
   double edge_smoothing_sigma_px = 1.0;  ///< Gaussian before the gradient (full-resolution px)
-  double edge_contrast = 60.0;         ///< gradient magnitude (Sobel, 8 bit) mapped to 1 - 1/e
-  double edge_nms_min_gradient = 8.0;  ///< weakest gradient kept by the edge thinning
-  double edge_boxes_alpha = 0.65;      ///< Edge Boxes sliding-window step (IoU of neighbours)
-  double edge_boxes_beta = 0.75;       ///< Edge Boxes NMS IoU among proposals
+  double edge_contrast = 60.0;           ///< gradient magnitude (Sobel, 8 bit) mapped to 1 - 1/e
+  double edge_nms_min_gradient = 20.0;   ///< weakest gradient kept by the edge thinning
+  double edge_boxes_alpha = 0.65;        ///< Edge Boxes sliding-window step (IoU of neighbours)
+  double edge_boxes_beta = 0.75;         ///< Edge Boxes NMS IoU among proposals
   double edge_boxes_min_score = 0.01;
   double edge_boxes_max_aspect_ratio = 3.0;
-  int min_box_px = 20;              ///< proposals with a shorter side (full resolution) are dropped
-  double nms_iou = 0.3;             ///< per-class NMS of the detections
-  int max_detections = 20;          ///< best detections kept per image
+  int min_box_px = 20;      ///< proposals with a shorter side (full resolution) are dropped
+  double nms_iou = 0.3;     ///< per-class NMS of the detections
+  int max_detections = 20;  ///< best detections kept per image
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) override;
