@@ -8,7 +8,6 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <cstdio>
 #include <fstream>
 #include <opencv2/core/types.hpp>
 #include <sstream>
@@ -55,10 +54,10 @@ inline std::vector<CabinetKeyframe> loadCabinetKeyframes(const std::string& dir)
       u0 = std::min(u0, u), v0 = std::min(v0, v), u1 = std::max(u1, u), v1 = std::max(v1, v);
     }
     if (!in_front) continue;
-    char name[32];
-    std::snprintf(name, sizeof(name), "/raw_imgs/%04d_rgb_raw.jpg", index);
+    std::string number = std::to_string(index);
+    number.insert(0, number.size() < 4 ? 4 - number.size() : 0, '0');
     CabinetKeyframe k;
-    k.image_path = dir + name;
+    k.image_path = dir + "/raw_imgs/" + number + "_rgb_raw.jpg";
     const cv::Rect full{cv::Point(int(u0), int(v0)), cv::Point(int(u1), int(v1))};
     k.box = full & cv::Rect(0, 0, 640, 480);
     k.visible = full.area() > 0 ? double(k.box.area()) / full.area() : 0.0;

@@ -9,10 +9,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <set>
 #include <sstream>
 
+#include "classification/TumCabinet.h"
 #include "rasm/classification/TemplateBank.h"
 #include "rasm/classification/ZeroShotDetector.h"
 #include "rasm/core/Error.h"
@@ -304,4 +306,33 @@ TEST(ZeroShotMatching, SimulatedViewsMatchTheirClassAndViewpoint) {
     EXPECT_LE(std::fabs(t.elevation_deg - c.elevation_deg), 10.0)
         << "matched elevation " << t.elevation_deg;
   }
+}
+
+// Real data (issue 17, 6): TUM fr3/cabinet keyframes with only a box of unknown dimensions named
+// 'cabinet' (modules/classification/models/cabinet_box.yaml). The requirement checked is that the
+// classifier labels the cabinet in most views: a 'cabinet' detection overlapping the projected
+// ground-truth cuboid by IoU >= 0.5 in more than half of the keyframes tested (every 6th). The
+// paper expects many false positives (VII-A), so other cabinet detections are allowed.
+TEST(ZeroShotRealData, LabelsTheTumCabinetInMostKeyframes) {
+  const std::string dir = std::string(RASM_SHARED_DATA) + "/tum/fr3_cabinet_keyframes";
+  const std::vector<test::CabinetKeyframe> frames = test::loadCabinetKeyframes(dir);
+  if (frames.empty()) GTEST_SKIP() << "no TUM fr3/cabinet keyframes in " << dir;
+  ZeroShotDetector detector(trainTemplateBank(loadModelsSpec(kModelsDir + "/cabinet_box.yaml")),
+                            TZeroShotParams{});
+  ASSERT_EQ(detector.classNames(), std::vector<std::string>{"cabinet"});
+  int tested = 0, labelled = 0;
+  for (std::size_t i = 0; i < frames.size(); i += 6) {
+    DetectorInput in;
+    in.bgr = cv::imread(frames[i].image_path, cv::IMREAD_COLOR);
+    ASSERT_FALSE(in.bgr.empty()) << frames[i].image_path;
+    double best = 0.0;
+    for (const Detection& d : detector.detect(in)) {
+      const cv::Rect b(d.box), t = frames[i].box;
+      const double inter = (b & t).area();
+      best = std::max(best, inter / (b.area() + t.area() - inter));
+    }
+    ++tested;
+    labelled += best >= 0.5;
+  }
+  EXPECT_GT(labelled, tested / 2) << labelled << " of " << tested << " keyframes";
 }

@@ -39,7 +39,7 @@ struct TZeroShotParams : public mrpt::config::CLoadableOptions {
   /// Models file (TemplateBank.h). A bare name (`office_zero_shot`) is looked up in the shipped
   /// modules/classification/models/<name>.yaml.
   std::string models;
-  double similarity_threshold = 0.75;    ///< cosine similarity a match needs (IV-A threshold)
+  double similarity_threshold = 0.8;     ///< cosine similarity a match needs (IV-A threshold)
   double score_at_threshold = 0.55;      ///< class score of a match at the threshold
   double score_at_one = 0.9;             ///< class score of a perfect match
   int max_proposals = 500;               ///< Edge Boxes proposals matched per image
