@@ -36,6 +36,7 @@ void TZeroShotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(edge_boxes_min_score, double, c, s);
   MRPT_LOAD_CONFIG_VAR(edge_boxes_max_aspect_ratio, double, c, s);
   MRPT_LOAD_CONFIG_VAR(min_box_px, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_aspect_mismatch, double, c, s);
   MRPT_LOAD_CONFIG_VAR(nms_iou, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_detections, int, c, s);
   requireInRange(similarity_threshold, 0.0, 1.0, s, "similarity_threshold");
@@ -51,6 +52,7 @@ void TZeroShotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireInRange(edge_boxes_min_score, 0.0, 1.0, s, "edge_boxes_min_score");
   requireInRange(edge_boxes_max_aspect_ratio, 1.0, 20.0, s, "edge_boxes_max_aspect_ratio");
   requireInRange(min_box_px, 4, 10000, s, "min_box_px");
+  requireInRange(max_aspect_mismatch, 1.0, 1e6, s, "max_aspect_mismatch");
   requireInRange(nms_iou, 0.0, 1.0, s, "nms_iou");
   requireInRange(max_detections, 1, 100000, s, "max_detections");
   if (enabled && bank.empty() && models.empty())
@@ -75,6 +77,7 @@ void TZeroShotParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(edge_boxes_min_score, c, s);
   MRPT_SAVE_CONFIG_VAR(edge_boxes_max_aspect_ratio, c, s);
   MRPT_SAVE_CONFIG_VAR(min_box_px, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_aspect_mismatch, c, s);
   MRPT_SAVE_CONFIG_VAR(nms_iou, c, s);
   MRPT_SAVE_CONFIG_VAR(max_detections, c, s);
 }
@@ -197,11 +200,16 @@ cv::Mat proposalPatch(const std::vector<cv::Mat>& levels, const cv::Rect& box) {
 }
 
 /// IV-A matching: cosine similarity (dot product of L2-normalised descriptors) of one proposal
-/// with every template, keeping the best template per class. A plain loop the compiler
-/// vectorises (omp simd reduction over the descriptor).
-void bestPerClass(const float* descriptor, const TemplateBank& bank, ProposalMatch& m) {
+/// with every template, keeping the best template per class. Templates whose outline's aspect
+/// (width / height) differs from the box's by more than the factor `max_aspect_mismatch` are
+/// skipped. A plain loop the compiler vectorises (omp simd reduction over the descriptor).
+void bestPerClass(const float* descriptor, const TemplateBank& bank, float max_aspect_mismatch,
+                  ProposalMatch& m) {
   const int dim = bank.descriptors.cols;
+  const float box_aspect = float(m.box.width) / float(std::max(1, m.box.height));
   for (int t = 0; t < bank.descriptors.rows; ++t) {
+    const float r = box_aspect / bank.templates[t].aspect;
+    if (r > max_aspect_mismatch || r * max_aspect_mismatch < 1.f) continue;
     const float* tmpl = bank.descriptors.ptr<float>(t);
     float s = 0.f;
 #pragma omp simd reduction(+ : s)
@@ -225,7 +233,7 @@ std::vector<ProposalMatch> ZeroShotDetector::match(const cv::Mat& bgr,
     m.best_similarity.assign(n_classes, -1.f);
     m.best_template.assign(n_classes, -1);
     describePatch(proposalPatch(levels, boxes[i]), descriptor.data());
-    bestPerClass(descriptor.data(), m_bank, m);
+    bestPerClass(descriptor.data(), m_bank, float(m_params.max_aspect_mismatch), m);
   }
   return out;
 }

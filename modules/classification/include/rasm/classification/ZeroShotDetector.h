@@ -51,7 +51,10 @@ struct TZeroShotParams : public mrpt::config::CLoadableOptions {
   double edge_boxes_beta = 0.75;         ///< Edge Boxes NMS IoU among proposals
   double edge_boxes_min_score = 0.01;
   double edge_boxes_max_aspect_ratio = 3.0;
-  int min_box_px = 20;      ///< proposals with a shorter side (full resolution) are dropped
+  int min_box_px = 20;  ///< proposals with a shorter side (full resolution) are dropped
+  /// A proposal is compared only with templates whose outline aspect (width / height) is within
+  /// this factor of the box's (1e6: all templates, as in the paper; 1.6 measured in the office).
+  double max_aspect_mismatch = 1.6;
   double nms_iou = 0.3;     ///< per-class NMS of the detections
   int max_detections = 20;  ///< best detections kept per image
 
