@@ -18,8 +18,8 @@
 namespace rasm::classification {
 
 struct DetectorInput {
-  cv::Mat bgr;                      ///< 8-bit 3-channel B,G,R (CV_8UC3)
-  const RgbdFrame* frame = nullptr; ///< the whole frame when there is one (ground truth: sim)
+  cv::Mat bgr;                       ///< 8-bit 3-channel B,G,R (CV_8UC3)
+  const RgbdFrame* frame = nullptr;  ///< the whole frame when there is one (ground truth: sim)
   std::size_t frame_index = 0;
 };
 

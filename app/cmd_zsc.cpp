@@ -1,0 +1,159 @@
+// `rasm zsc ...`: the zero-shot classifier of paper IV-A (thin layer over
+// rasm::classification::TemplateBank / ZeroShotDetector; docs/classification-zero-shot.md).
+//   rasm zsc train <models.yaml> <bank>
+//   rasm zsc detect <bank> <image> [--out boxes.png] [--set zero_shot.key=value ...]
+#ifdef RASM_HAVE_MODULE_CLASSIFICATION
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "Command.h"
+#include "rasm/classification/TemplateBank.h"
+#include "rasm/classification/ZeroShotDetector.h"
+#include "rasm/core/Error.h"
+#include "rasm/core/Params.h"
+#include "rasm/core/Timing.h"
+
+namespace {
+
+using namespace rasm::classification;
+using Args = std::vector<std::string>;
+
+const char* kUsage =
+    "usage:\n"
+    "  rasm zsc train <models.yaml> <bank>\n"
+    "  rasm zsc detect <bank> <image> [--out boxes.png] [--set zero_shot.key=value ...]\n"
+    "models.yaml: docs/classification-zero-shot.md (shipped: "
+    "modules/classification/models/*.yaml)\n";
+
+int train(const Args& a) {
+  if (a.size() != 2) {
+    std::cerr << kUsage;
+    return 2;
+  }
+  const rasm::Clock::time_point t0 = rasm::Clock::now();
+  const ModelsSpec spec = loadModelsSpec(a[0]);
+  const TemplateBank bank =
+      trainTemplateBank(spec, [&](std::size_t i, std::size_t n, std::size_t t) {
+        std::fprintf(stderr, "\rtraining: model %zu/%zu (%s), %zu templates", i, n,
+                     spec.models[i - 1].class_name.c_str(), t);
+        std::fflush(stderr);
+      });
+  std::fprintf(stderr, "\n");
+  saveTemplateBank(bank, a[1]);
+  nlohmann::json j;
+  j["bank"] = a[1];
+  j["templates"] = bank.size();
+  j["descriptor_length"] = bank.descriptors.cols;
+  for (int c = 0; c < int(bank.class_names.size()); ++c)
+    j["templates_per_class"][bank.class_names[c]] = bank.templatesOfClass(c);
+  j["seconds"] = rasm::msSince(t0) / 1000.0;
+  std::cout << j.dump(2) << std::endl;
+  return 0;
+}
+
+/// --set zero_shot.key=value overrides on top of the defaults, with the strict INI loader.
+TZeroShotParams paramsFromOverrides(const std::vector<std::string>& sets) {
+  mrpt::config::CConfigFileMemory ini;
+  for (const std::string& s : sets) {
+    const auto dot = s.find('.'), eq = s.find('=');
+    if (dot == std::string::npos || eq == std::string::npos || eq < dot ||
+        s.substr(0, dot) != "zero_shot")
+      rasm::throwInputError("--set '" + s + "'", "expected zero_shot.key=value");
+    ini.write("zero_shot", s.substr(dot + 1, eq - dot - 1), s.substr(eq + 1));
+  }
+  TZeroShotParams p;
+  rasm::loadParamsStrict(ini, "zero_shot", p, "--set");
+  return p;
+}
+
+void drawDetections(cv::Mat& image, const std::vector<Detection>& dets,
+                    const std::vector<std::string>& names) {
+  for (const Detection& d : dets) {
+    const cv::Rect box(d.box);
+    cv::rectangle(image, box, cv::Scalar(0, 255, 255), 2);
+    char label[160];
+    std::snprintf(label, sizeof(label), "%s %.2f az%.0f el%.0f", names[d.bestIndex()].c_str(),
+                  d.bestScore(), d.pose.azimuth_deg, d.pose.elevation_deg);
+    cv::putText(image, label, box.tl() + cv::Point(2, 14), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+                cv::Scalar(0, 255, 255), 1, cv::LINE_AA);
+  }
+}
+
+int detect(const Args& args) {
+  Args pos, sets;
+  std::string out;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if ((a == "--out" || a == "--set") && i + 1 >= args.size())
+      rasm::throwInputError("option '" + a + "'", "expects a value");
+    if (a == "--out")
+      out = args[++i];
+    else if (a == "--set")
+      sets.push_back(args[++i]);
+    else if (a.rfind("--", 0) == 0)
+      rasm::throwInputError("option '" + a + "'", "unknown");
+    else
+      pos.push_back(a);
+  }
+  if (pos.size() != 2) {
+    std::cerr << kUsage;
+    return 2;
+  }
+  TZeroShotParams params = paramsFromOverrides(sets);
+  ZeroShotDetector detector(loadTemplateBank(pos[0]), params);
+  cv::Mat image = cv::imread(pos[1], cv::IMREAD_COLOR);
+  if (image.empty()) rasm::throwInputError("image '" + pos[1] + "'", "missing or unreadable");
+  DetectorInput in;
+  in.bgr = image;
+  const std::vector<Detection> dets = detector.detect(in);
+  nlohmann::json j;
+  j["image"] = pos[1];
+  j["proposal_ms"] = detector.lastProposalMs();
+  j["match_ms"] = detector.lastMatchMs();
+  j["detections"] = nlohmann::json::array();
+  for (const Detection& d : dets) {
+    nlohmann::json dj;
+    dj["class"] = detector.classNames()[d.bestIndex()];
+    dj["score"] = d.bestScore();
+    dj["box"] = {d.box.x, d.box.y, d.box.width, d.box.height};
+    dj["azimuth_deg"] = d.pose.azimuth_deg;
+    dj["elevation_deg"] = d.pose.elevation_deg;
+    dj["template"] = d.pose.template_index;
+    const TemplateInfo& t = detector.bank().templates[d.pose.template_index];
+    if (t.dimensions_m.maxCoeff() > 0.f)
+      dj["dimensions_m"] = {t.dimensions_m.x(), t.dimensions_m.y(), t.dimensions_m.z()};
+    j["detections"].push_back(dj);
+  }
+  std::cout << j.dump(2) << std::endl;
+  if (!out.empty()) {
+    drawDetections(image, dets, detector.classNames());
+    if (!cv::imwrite(out, image)) rasm::throwInputError("--out '" + out + "'", "cannot write");
+  }
+  return 0;
+}
+
+int zscMain(const Args& args) {
+  if (args.empty()) {
+    std::cerr << kUsage;
+    return 2;
+  }
+  const Args rest(args.begin() + 1, args.end());
+  if (args[0] == "train") return train(rest);
+  if (args[0] == "detect") return detect(rest);
+  std::cerr << "rasm zsc: unknown subcommand '" << args[0] << "'\n" << kUsage;
+  return 2;
+}
+
+const rasm::app::Registrar reg(
+    "zsc",
+    "zero-shot classifier (IV-A): rasm zsc train <models.yaml> <bank> | detect <bank> <image>",
+    zscMain);
+
+}  // namespace
+#endif  // RASM_HAVE_MODULE_CLASSIFICATION
