@@ -26,6 +26,8 @@
 
 #include "Command.h"
 #include "rasm/classification/DnnDetector.h"
+#include "rasm/classification/TClassificationParams.h"
+#include "rasm/classification/ZeroShotDetector.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 #include "rasm/core/Timing.h"
@@ -41,8 +43,10 @@ using rasm::classification::Detector;
 const char* kUsage =
     "usage: rasm detect <image> [file.ini] [--set section.key=value ...] [--out boxes.png]\n"
     "                   [--threads N] [--repeat N]\n"
-    "Runs [dnn_detector] (default: Yolo-Fastest 1.1 from ../shared/data) on one image and prints\n"
-    "the detections as JSON; --out draws them into a PNG.\n";
+    "Runs the detectors [classification] detectors lists (dnn_detector, zero_shot), or\n"
+    "[dnn_detector] alone when the INI does not set that key (default: Yolo-Fastest 1.1 from\n"
+    "../shared/data), on one image and prints the detections as JSON (with several detectors, one\n"
+    "entry per detector under \"detectors\"); --out draws them into a PNG.\n";
 const char* kSharedPrefix = "../shared/data/";
 
 /// Candidate shared data folders: $RASM_SHARED_DATA, then next to the source tree of this binary.
@@ -68,7 +72,7 @@ std::string resolveSharedData(const std::string& path) {
 
 /// The detector `rasm detect` runs, from the configuration (one place, so more detectors join
 /// here). InputError when it is disabled or its files are missing (whatever `required` says).
-std::unique_ptr<Detector> makeConfiguredDetector(const rasm::pipeline::RunConfig& cfg) {
+std::unique_ptr<Detector> makeConfiguredDnn(const rasm::pipeline::RunConfig& cfg) {
   rasm::classification::TDnnDetectorParams params;
   rasm::loadParamsStrict(cfg.ini(), "dnn_detector", params, cfg.source());
   for (std::string* p : {&params.model, &params.weights, &params.names}) *p = resolveSharedData(*p);
@@ -76,6 +80,34 @@ std::unique_ptr<Detector> makeConfiguredDetector(const rasm::pipeline::RunConfig
     rasm::throwInputError("[dnn_detector] enabled", "false: there is no detector to run");
   params.required = true;  // this command has nothing to do without it: missing files are errors
   return rasm::classification::makeDnnDetector(params, nullptr);
+}
+
+/// The detectors [classification] detectors lists (the DNN detector alone when the INI does not
+/// set that key): the same detectors a run with this INI would use, on one image.
+std::vector<std::unique_ptr<Detector>> makeConfiguredDetectors(
+    const rasm::pipeline::RunConfig& cfg) {
+  std::vector<std::unique_ptr<Detector>> out;
+  if (!cfg.ini().keyExists("classification", "detectors")) {
+    out.push_back(makeConfiguredDnn(cfg));
+    return out;
+  }
+  rasm::classification::TClassificationParams params;
+  rasm::loadParamsStrict(cfg.ini(), "classification", params, cfg.source());
+  for (const std::string& name : params.detectorList()) {
+    if (name == "dnn_detector") {
+      out.push_back(makeConfiguredDnn(cfg));
+    } else if (name == "zero_shot") {
+      rasm::classification::TZeroShotParams zsc;
+      rasm::loadParamsStrict(cfg.ini(), "zero_shot", zsc, cfg.source());
+      out.push_back(rasm::classification::ZeroShotDetector::fromParams(zsc, name));
+    } else {
+      rasm::throwInputError("[classification] detectors = " + params.detectors,
+                            "'" + name + "' needs a simulated frame, not an image");
+    }
+  }
+  if (out.empty())
+    rasm::throwInputError("[classification] detectors", "is empty: there is no detector to run");
+  return out;
 }
 
 /// v to `decimals` places (the nearest double, so the JSON prints it short).
@@ -101,9 +133,8 @@ nlohmann::ordered_json detectionsJson(const std::vector<Detection>& detections,
 }
 
 /// Boxes and "class score" labels drawn over the image, one colour per class.
-void writeBoxesPng(const cv::Mat& bgr, const std::vector<Detection>& detections,
-                   const std::vector<std::string>& names, const std::string& path) {
-  cv::Mat canvas = bgr.clone();
+void drawBoxes(cv::Mat& canvas, const std::vector<Detection>& detections,
+               const std::vector<std::string>& names) {
   for (const Detection& d : detections) {
     const int c = d.bestIndex();
     const cv::Scalar colour((c * 67 + 40) % 256, (c * 131 + 90) % 256, (c * 199 + 160) % 256);
@@ -120,6 +151,9 @@ void writeBoxesPng(const cv::Mat& bgr, const std::vector<Detection>& detections,
     cv::putText(canvas, label, origin + cv::Point(2, -3), cv::FONT_HERSHEY_SIMPLEX, 0.5,
                 cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
   }
+}
+
+void writePng(const cv::Mat& canvas, const std::string& path) {
   std::vector<uchar> png;
   if (!cv::imencode(".png", canvas, png))
     rasm::throwInputError("--out " + path, "PNG encoding failed");
@@ -180,26 +214,35 @@ int detectMain(const std::vector<std::string>& args) {
                       ? RunConfig::fromFile(positional[1])
                       : RunConfig::fromString("", "built-in default (Yolo-Fastest 1.1)");
   for (const auto& o : overrides) cfg.applyOverride(o);
-  const std::unique_ptr<Detector> detector = makeConfiguredDetector(cfg);
+  const std::vector<std::unique_ptr<Detector>> detectors = makeConfiguredDetectors(cfg);
 
   rasm::classification::DetectorInput input;
   input.bgr = bgr;
-  std::vector<Detection> detections;
-  std::vector<double> ms;
-  for (int r = 0; r < repeat; ++r) {
-    const rasm::Clock::time_point t0 = rasm::Clock::now();
-    detections = detector->detect(input);
-    ms.push_back(rasm::msSince(t0));
+  nlohmann::ordered_json per_detector = nlohmann::ordered_json::array();
+  cv::Mat canvas = bgr.clone();
+  for (const auto& detector : detectors) {
+    std::vector<Detection> detections;
+    std::vector<double> ms;
+    for (int r = 0; r < repeat; ++r) {
+      const rasm::Clock::time_point t0 = rasm::Clock::now();
+      detections = detector->detect(input);
+      ms.push_back(rasm::msSince(t0));
+    }
+    std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
+    per_detector.push_back({{"detector", detector->name()},
+                            {"detections", detectionsJson(detections, detector->classNames())},
+                            {"ms", rounded(ms[ms.size() / 2], 2)}});
+    drawBoxes(canvas, detections, detector->classNames());
   }
-  std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
-  const nlohmann::ordered_json j = {
-      {"image", image_path},
-      {"detector", detector->name()},
-      {"detections", detectionsJson(detections, detector->classNames())},
-      {"ms", rounded(ms[ms.size() / 2], 2)},
-      {"threads", cv::getNumThreads()}};
+  nlohmann::ordered_json j = {{"image", image_path}};
+  if (per_detector.size() == 1) {  // one detector: its fields at the top level
+    for (auto it = per_detector[0].begin(); it != per_detector[0].end(); ++it) j[it.key()] = *it;
+  } else {
+    j["detectors"] = per_detector;
+  }
+  j["threads"] = cv::getNumThreads();
   std::cout << j.dump(2) << std::endl;
-  if (!out_png.empty()) writeBoxesPng(bgr, detections, detector->classNames(), out_png);
+  if (!out_png.empty()) writePng(canvas, out_png);
   return 0;
 }
 

@@ -6,7 +6,9 @@
 namespace rasm::classification {
 
 std::vector<std::pair<std::string, mrpt::config::CLoadableOptions*>> DetectorSections::list() {
-  return {{"sim_detector", &sim_detector}, {"dnn_detector", &dnn_detector}};
+  return {{"sim_detector", &sim_detector},
+          {"dnn_detector", &dnn_detector},
+          {"zero_shot", &zero_shot}};
 }
 
 DetectorBuild makeDetectors(const TClassificationParams& params, DetectorSections& sections,
@@ -21,8 +23,15 @@ DetectorBuild makeDetectors(const TClassificationParams& params, DetectorSection
       auto d = makeDnnDetector(sections.dnn_detector, &warning, name);
       if (d)
         out.detectors.push_back(std::move(d));
-      else if (!warning.empty())
-        out.warnings.push_back(warning + " (running without " + name + ")");
+      else
+        out.warnings.push_back((warning.empty() ? "[dnn_detector] enabled = false" : warning) +
+                               " (running without " + name + ")");
+    } else if (name == "zero_shot") {
+      if (sections.zero_shot.enabled)
+        out.detectors.push_back(ZeroShotDetector::fromParams(sections.zero_shot, name));
+      else
+        out.warnings.push_back("[classification] detectors lists zero_shot but [zero_shot] "
+                               "enabled = false (running without zero_shot)");
     } else {
       out.warnings.push_back("[classification] detectors: '" + name +
                              "' is not built into this version; left out");

@@ -8,6 +8,7 @@
 
 #include "rasm/classification/Detector.h"
 #include "rasm/classification/DnnDetector.h"
+#include "rasm/classification/ZeroShotDetector.h"
 #include "rasm/classification/TClassificationParams.h"
 #include "rasm/sim/SimulatedDetector.h"
 
@@ -20,6 +21,7 @@ namespace rasm::classification {
 struct DetectorSections {
   sim::TDetectorParams sim_detector;
   TDnnDetectorParams dnn_detector;
+  TZeroShotParams zero_shot;
 
   /// (section name, params) of every detector section.
   std::vector<std::pair<std::string, mrpt::config::CLoadableOptions*>> list();
@@ -32,8 +34,9 @@ struct DetectorBuild {
 };
 
 /// The detectors of `params.detectorList()` in that order. `sim_scene`: the simulator's scene for
-/// the simulated detector's occlusion test (may be null). Throws InputError for a detector that
-/// cannot be built and is required.
+/// the simulated detector's occlusion test (may be null). A listed detector whose own section says
+/// enabled = false is left out with a warning; so is a DNN detector whose files are missing when
+/// its `required` is false. Throws InputError for a detector that cannot be built otherwise.
 DetectorBuild makeDetectors(const TClassificationParams& params, DetectorSections& sections,
                             const sim::RayScene* sim_scene);
 
