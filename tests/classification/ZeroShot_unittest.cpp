@@ -308,6 +308,30 @@ TEST(ZeroShotMatching, SimulatedViewsMatchTheirClassAndViewpoint) {
   }
 }
 
+TEST(ZeroShotMatching, AspectGateSkipsTemplatesOfOtherProportions) {
+  // A round blob in a 3:1 box: without the gate its best templates are rounder views; with a gate
+  // of 1.2 only templates whose outline is 2.5 .. 3.6 times wider than high may match.
+  const TemplateBank& bank = officeBank();
+  cv::Mat image(240, 320, CV_8UC3, cv::Scalar(40, 40, 40));
+  cv::circle(image, {160, 120}, 45, cv::Scalar(200, 200, 200), cv::FILLED);
+  const cv::Rect box(70, 90, 180, 60);
+  TZeroShotParams p;
+  p.max_aspect_mismatch = 1e6;
+  const ProposalMatch all = ZeroShotDetector(bank, p).match(image, {box}).front();
+  p.max_aspect_mismatch = 1.2;
+  const ProposalMatch gated = ZeroShotDetector(bank, p).match(image, {box}).front();
+  for (int c = 0; c < 2; ++c) {
+    ASSERT_GE(all.best_template[c], 0);
+    EXPECT_LT(bank.templates[all.best_template[c]].aspect, 3.f / 1.2f) << "test premise";
+    EXPECT_GE(all.best_similarity[c], gated.best_similarity[c]);
+    if (gated.best_template[c] < 0) continue;  // no template of that class is 3:1 enough
+    const float aspect = bank.templates[gated.best_template[c]].aspect;
+    EXPECT_GE(aspect, 3.f / 1.2f);
+    EXPECT_LE(aspect, 3.f * 1.2f);
+  }
+  EXPECT_GE(gated.best_template[0], 0) << "the phone seen from low elevations is about 3:1";
+}
+
 // Real data (issue 17, 6): TUM fr3/cabinet keyframes with only a box of unknown dimensions named
 // 'cabinet' (modules/classification/models/cabinet_box.yaml). The requirement checked is that the
 // classifier labels the cabinet in most views: a 'cabinet' detection overlapping the projected
