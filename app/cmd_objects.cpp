@@ -48,10 +48,11 @@ int objects(const std::vector<std::string>& args) {
     rasm::throwInputError(path, "expected an \"objects\" array");
   std::printf("%7s  %-16s %5s  %-16s %5s %8s %5s  %-22s %-18s %s\n", "segment", "class", "p",
               "runner-up", "p", "surfels", "dets", "centroid (m)", "extents (m)", "pose hint");
-  int shown = 0, total = 0;
+  int shown = 0, total = 0, named = 0;
   for (const auto& o : j["objects"]) {
     ++total;
     const std::string cls = o.value("class", "none");
+    named += cls != "none";
     if (cls == "none" && !all) continue;
     ++shown;
     const auto& c = o.contains("centroid") ? o["centroid"] : nlohmann::json();
@@ -68,7 +69,8 @@ int objects(const std::vector<std::string>& args) {
                 o.value("surfels", 0), o.value("detections_fused", 0), at(c, 0), at(c, 1),
                 at(c, 2), at(e, 0), at(e, 1), at(e, 2), pose);
   }
-  std::printf("%d objects with a class shown (%d entries in %s)\n", shown, total, path.c_str());
+  std::printf("%d objects with a class, %d shown, of %d entries in %s\n", named, shown, total,
+              path.c_str());
   return 0;
 }
 
