@@ -340,7 +340,7 @@ TEST(CSurfelMap, MrptFramingOfTheTestStreamsIsTheRealOne) {
   mrpt::io::CMemoryStream payload;
   auto pout = mrpt::serialization::archiveFrom(payload);
   map.serializeTo(pout);
-  EXPECT_EQ(streamBytes(real), framed(2, streamBytes(payload)));
+  EXPECT_EQ(streamBytes(real), framed(3, streamBytes(payload)));
 }
 
 // Version 0 and 1 maps (linear u8 probabilities per class) load into the log-odds slots: old

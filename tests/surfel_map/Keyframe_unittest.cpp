@@ -96,14 +96,17 @@ TEST(Keyframe, RoundTripThroughMapSerialization) {
   map.keyframes().push_back(randomKeyframe(rng, 0, 0, 0));  // no features, no thumbnail
   map.keyframes().push_back(randomKeyframe(rng, 37, 20, 15));
   for (const Keyframe& kf : map.keyframes()) ASSERT_TRUE(kf.consistent());
+  // The class list (version 3) travels with the map.
+  map.classes() = {{"person", "coco"}, {"cabinet", "zero_shot"}};
 
   const std::vector<std::uint8_t> bytes = serialize(map);
-  EXPECT_EQ(bytes.at(versionOffset(bytes)), 2);
+  EXPECT_EQ(bytes.at(versionOffset(bytes)), 3);
   const CSurfelMap::Ptr copy = deserialize(bytes);
   ASSERT_TRUE(copy);
   EXPECT_EQ(copy->size(), 1);
   ASSERT_EQ(copy->keyframes().size(), 3u);
   for (std::size_t k = 0; k < 3; ++k) expectSame(map.keyframes()[k], copy->keyframes()[k]);
+  EXPECT_EQ(copy->classes(), map.classes());
 }
 
 TEST(Keyframe, MapWithoutSurfelsKeepsItsKeyframes) {
@@ -134,12 +137,14 @@ TEST(Keyframe, Version0MapsStillLoad) {
   map.append(s);
   std::vector<std::uint8_t> bytes = serialize(map);
   const std::size_t v = versionOffset(bytes);
-  ASSERT_EQ(bytes.at(v), 2);
-  const std::size_t count_at = bytes.size() - 1 - 4;
-  for (std::size_t i = count_at; i < count_at + 4; ++i) ASSERT_EQ(bytes[i], 0) << "keyframe count";
+  ASSERT_EQ(bytes.at(v), 3);
+  // The stream ends with the keyframe count (version 1) and the class count (version 3), both 0
+  // here, then MRPT's end flag: dropping both makes a version-0 stream.
+  const std::size_t count_at = bytes.size() - 1 - 8;
+  for (std::size_t i = count_at; i < count_at + 8; ++i) ASSERT_EQ(bytes[i], 0) << "counts";
   bytes[v] = 0;
   bytes.erase(bytes.begin() + std::ptrdiff_t(count_at),
-              bytes.begin() + std::ptrdiff_t(count_at + 4));
+              bytes.begin() + std::ptrdiff_t(count_at + 8));
 
   const CSurfelMap::Ptr old = deserialize(bytes);
   ASSERT_TRUE(old);
@@ -181,7 +186,7 @@ TEST(Keyframe, CorruptRecordIsAnInputError) {
   }
   ASSERT_GT(ts_at, 0u);
   const std::size_t n_at = ts_at + 8 + 96 + 32 + 8;
-  ASSERT_EQ(n_at + 4 + 8 + 1, bytes.size());  // then the end flag
+  ASSERT_EQ(n_at + 4 + 8 + 4 + 1, bytes.size());  // then the class count (0) and the end flag
   const std::uint32_t huge = 0xFFFFFFFFu;
   std::memcpy(bytes.data() + n_at, &huge, 4);
   try {

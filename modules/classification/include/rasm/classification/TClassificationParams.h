@@ -32,12 +32,12 @@ struct TClassificationParams : mrpt::config::CLoadableOptions {
   /// "Score model" has the measurements behind the default.
   std::string score_model = "vote";
   /// s0 of the vote model.
-  double vote_neutral_score = 0.4;
+  double vote_neutral_score = 0.25;
   /// true: a detection's log-odds are scaled by its IoU with the segment, L += IoU logit(p_d)
   /// (a box that explains the segment well says more about it than one that overlaps a corner of
   /// it: a keyboard's box on the desk segment it was merged into, next to the desk's own box);
   /// false: the paper's full update whatever the overlap.
-  bool iou_weighted_evidence = false;
+  bool iou_weighted_evidence = true;
   /// p_d is clamped to [1 - max, max], so one detection never saturates a surfel (ClassEvidence.h:
   /// 0.9 is 2.2 nats of the 7-nat clamp).
   double max_detection_probability = 0.9;
