@@ -139,5 +139,13 @@ TEST_P(MappingRunModes, SimulatedOfficeDefaultTracksWithinTarget) {
     outside += (p.x() < -0.2f || p.x() > 8.2f || p.y() < -0.2f || p.y() > 6.2f || p.z() < -0.2f ||
                 p.z() > 2.9f);
   EXPECT_LT(double(outside), 0.001 * ply.size());
+  // Classification (IV) with the simulated detector on the mapping thread: every 5th of the 60
+  // fused frames is detected and fused in the same frame; the class outputs exist.
+  const nlohmann::json& cls = s.report.at("classification");
+  EXPECT_EQ(cls.at("frames_offered").get<int>(), 12);
+  EXPECT_EQ(cls.at("results_fused").get<int>(), 12);
+  EXPECT_EQ(cls.at("detectors").at(0).at("frames_skipped").get<int>(), 0);
+  for (const char* f : {"objects.json", "classes.json", "map_classes.ply"})
+    EXPECT_TRUE(fs::is_regular_file(out + "/" + f)) << f;
   fs::remove_all(out);
 }

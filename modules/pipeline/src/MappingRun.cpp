@@ -355,6 +355,15 @@ void MappingRun::writeOutputs(const Accumulated& acc) {
       vis.colouring = maps::SurfelColouring::Segment;
       maps::writeSurfelScene(m_mapper->map().store(), dir + "/map_segments.3Dscene", vis);
     }
+    // And coloured by class (IV) when any surfel carries one.
+    bool classified = false;
+    for (int i = 0; i < a.size && !classified && a.n_classes > 0; ++i)
+      classified = a.alive(i) && maps::bestClass(a, i).id != 0;
+    if (classified) {
+      maps::SurfelVisualOptions vis = m_mapper->map().renderingOptions.visual;
+      vis.colouring = maps::SurfelColouring::Class;
+      maps::writeSurfelScene(m_mapper->map().store(), dir + "/map_classes.3Dscene", vis);
+    }
   }
   if (m_output.save_map) {
     const std::string p = dir + "/map.surfelmap";

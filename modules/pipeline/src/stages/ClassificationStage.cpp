@@ -272,9 +272,6 @@ void ClassificationStage::writeOutputs(const std::string& dir, const maps::CSurf
   const std::string ply = dir + "/map_classes.ply";
   maps::writeSurfelPly(map.store(), ply + ".part", false, maps::SurfelColouring::Class);
   std::filesystem::rename(ply + ".part", ply);
-  maps::SurfelVisualOptions vis = map.renderingOptions.visual;
-  vis.colouring = maps::SurfelColouring::Class;
-  maps::writeSurfelScene(map.store(), dir + "/map_classes.3Dscene", vis);
 }
 
 }  // namespace rasm::pipeline

@@ -9,7 +9,8 @@
 // relabel listener), so a late result lands on the segments its pixels belong to now.
 // Sections [classification] and one per detector ([sim_detector], [dnn_detector], [zero_shot]).
 // Outputs: objects.json (segment, class, runner-up, geometry, detections fused, pose hint),
-// classes.json (the map's class list), map_classes.ply / .3Dscene (coloured by class).
+// classes.json (the map's class list), map_classes.ply (coloured by class; MappingRun writes
+// map_classes.3Dscene with [output] write_3dscene, next to map_segments.3Dscene).
 
 #include <map>
 #include <memory>
