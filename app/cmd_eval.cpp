@@ -180,11 +180,21 @@ std::optional<std::pair<std::uint64_t, std::uint64_t>> labelCounters(const std::
   return std::make_pair(*changes, *stable);
 }
 
-int evalSegmentation(const std::vector<std::string>& args) {
+/// Options shared by `rasm eval segmentation` and `rasm eval classification`.
+struct RunEvalOptions {
+  std::string run, json, world;
+  double max_dist_m = 0.05;
+  double min_size_m = 0.10;
+  std::size_t min_surfels = 50;
+  bool stable_only = false;
+};
+
+/// Parses `<run folder> [--json F] [--world W] [--max-dist-m D] [--min-size-m S] [--min-surfels
+/// N]` (and --stable-only when `stable_only_allowed`); `what` names the metric in errors.
+RunEvalOptions parseRunEvalOptions(const std::vector<std::string>& args, const char* what,
+                                   bool stable_only_allowed) {
+  RunEvalOptions o;
   std::vector<std::string> pos;
-  std::string json, world_opt;
-  double max_dist = 0.05;
-  rasm::segmentation::SegmentationMetricsParams mp;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&]() -> const std::string& {
@@ -192,32 +202,44 @@ int evalSegmentation(const std::vector<std::string>& args) {
       return args[++i];
     };
     if (a == "--json")
-      json = value();
+      o.json = value();
     else if (a == "--world")
-      world_opt = value();
+      o.world = value();
     else if (a == "--max-dist-m")
-      max_dist = parseNumber(a, value());
+      o.max_dist_m = parseNumber(a, value());
     else if (a == "--min-size-m")
-      mp.min_object_size_m = parseNumber(a, value());
+      o.min_size_m = parseNumber(a, value());
     else if (a == "--min-surfels") {
       const double v = parseNumber(a, value());
       if (!(v >= 0.0) || v != std::floor(v))
         rasm::throwInputError(a, "expected a non-negative integer");
-      mp.min_object_surfels = std::size_t(v);
-    } else if (a == "--stable-only")
-      mp.stable_only = true;
+      o.min_surfels = std::size_t(v);
+    } else if (a == "--stable-only" && stable_only_allowed)
+      o.stable_only = true;
     else if (a.rfind("--", 0) == 0)
       throw rasm::InputError("unknown option '" + a + "'\n" + std::string(kUsage));
     else
       pos.push_back(a);
   }
   if (pos.size() != 1)
-    throw rasm::InputError("expected segmentation <run folder>\n" + std::string(kUsage));
-  if (!(max_dist > 0.0) || !std::isfinite(max_dist))
+    throw rasm::InputError(std::string("expected ") + what + " <run folder>\n" + kUsage);
+  o.run = pos[0];
+  if (!(o.max_dist_m > 0.0) || !std::isfinite(o.max_dist_m))
     rasm::throwInputError("--max-dist-m", "expected a distance > 0");
-  if (!(mp.min_object_size_m >= 0.0) || !std::isfinite(mp.min_object_size_m))
+  if (!(o.min_size_m >= 0.0) || !std::isfinite(o.min_size_m))
     rasm::throwInputError("--min-size-m", "expected a size >= 0");
-  const std::string run = pos[0];
+  return o;
+}
+
+int evalSegmentation(const std::vector<std::string>& args) {
+  const RunEvalOptions o = parseRunEvalOptions(args, "segmentation", true);
+  const std::string json = o.json, world_opt = o.world;
+  const double max_dist = o.max_dist_m;
+  rasm::segmentation::SegmentationMetricsParams mp;
+  mp.min_object_size_m = o.min_size_m;
+  mp.min_object_surfels = o.min_surfels;
+  mp.stable_only = o.stable_only;
+  const std::string& run = o.run;
   if (!fs::is_directory(run))
     rasm::throwInputError(run,
                           "no such folder; expected the output folder of `rasm run` (with "
@@ -431,34 +453,13 @@ std::map<std::uint32_t, std::string> readSegmentClasses(const std::string& path,
 }
 
 int evalClassification(const std::vector<std::string>& args) {
-  std::vector<std::string> pos;
-  std::string json, world_opt;
-  double max_dist = 0.05;
+  const RunEvalOptions o = parseRunEvalOptions(args, "classification", false);
+  const std::string json = o.json, world_opt = o.world;
+  const double max_dist = o.max_dist_m;
   rasm::classification::ClassificationMetricsParams mp;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) rasm::throwInputError(a, "needs a value\n" + std::string(kUsage));
-      return args[++i];
-    };
-    if (a == "--json")
-      json = value();
-    else if (a == "--world")
-      world_opt = value();
-    else if (a == "--max-dist-m")
-      max_dist = parseNumber(a, value());
-    else if (a == "--min-size-m")
-      mp.min_object_size_m = parseNumber(a, value());
-    else if (a == "--min-surfels")
-      mp.min_object_surfels = std::size_t(std::max(0.0, parseNumber(a, value())));
-    else if (a.rfind("--", 0) == 0)
-      throw rasm::InputError("unknown option '" + a + "'\n" + std::string(kUsage));
-    else
-      pos.push_back(a);
-  }
-  if (pos.size() != 1)
-    throw rasm::InputError("expected classification <run folder>\n" + std::string(kUsage));
-  const std::string run = pos[0];
+  mp.min_object_size_m = o.min_size_m;
+  mp.min_object_surfels = o.min_surfels;
+  const std::string& run = o.run;
   const std::string ply = (fs::path(run) / "map.ply").string();
   if (!fs::is_regular_file(ply))
     rasm::throwInputError(ply, "missing; expected the surfel PLY that `rasm run` writes");
