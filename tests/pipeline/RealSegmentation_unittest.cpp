@@ -116,7 +116,9 @@ TEST(RealClassification, ZeroShotBoxModelNamesTheFr3Cabinet) {
   EXPECT_GE(seg[best].p_sum / seg[best].surfels, min_p) << "the cabinet's segment is a cabinet";
   // No other segment of more than a tenth of the cabinet's surfels is named cabinet (the floor
   // and the wall it stands against are the large ones).
-  for (const auto& [l, k] : seg)
-    if (l != best && k.surfels > seg[best].surfels / 10)
+  for (const auto& [l, k] : seg) {
+    if (l != best && k.surfels > seg[best].surfels / 10) {
       EXPECT_LT(k.p_sum / k.surfels, min_p) << "segment " << l << " of " << k.surfels << " surfels";
+    }
+  }
 }
