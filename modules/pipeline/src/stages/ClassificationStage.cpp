@@ -1,5 +1,6 @@
 #include "rasm/pipeline/stages/ClassificationStage.h"
 
+#include <cstdio>
 #include <filesystem>
 
 #include "rasm/classification/ClassFusion.h"
@@ -97,7 +98,11 @@ void ClassificationStage::fuseArrived(maps::CSurfelMap& map) {
 
 void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p,
                                      maps::CSurfelMap& map) {
-  if (r.failed) return;  // reported by the worker (report.json "detectors")
+  if (r.failed) {  // the worker disabled the detector; said now and in report.json "detectors"
+    std::fprintf(stderr, "\nrasm: warning: %s (mapping goes on without it)\n",
+                 m_workers[std::size_t(r.worker)]->error().c_str());
+    return;
+  }
   ++m_results;
   m_detections += r.detections.size();
   m_frame_detections += int(r.detections.size());
@@ -119,7 +124,7 @@ void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p,
                                                float(m_params.vote_neutral_score)),
                           m_params.iou_weighted_evidence ? assoc[d].iou : 1.f});
     }
-    if (det.pose.valid && !det.scores.empty()) {
+    if (det.pose.valid && det.bestIndex() >= 0 && det.bestIndex() < int(ids.size())) {
       PoseRecord& rec = m_pose_per_segment[assoc[d].segment];
       if (det.bestScore() >= rec.score)
         rec = {det.pose, ids[std::size_t(det.bestIndex())], det.bestScore()};
@@ -191,6 +196,12 @@ void ClassificationStage::report(nlohmann::json& rep) const {
   }
   j["detectors"] = dets;
   j["warnings"] = m_warnings;
+  if (m_objects_counted) {  // the final map's (after writeOutputs)
+    int n = 0;
+    for (const auto& [c, k] : m_objects_by_class) n += k;
+    j["objects"] = n;
+    j["objects_by_class"] = m_objects_by_class;
+  }
   rep["classification"] = j;
 }
 
@@ -230,6 +241,8 @@ void ClassificationStage::writeOutputs(const std::string& dir, const maps::CSurf
                               .dump(1) +
                           "\n");
   const std::vector<SegmentClass> seg_classes = segmentClasses(map.store().arrays());
+  m_objects_by_class.clear();
+  m_objects_counted = true;
   nlohmann::json objects = nlohmann::json::array();
   for (const SegmentClass& c : seg_classes) {
     const segmentation::SegmentStats* s =
@@ -238,6 +251,7 @@ void ClassificationStage::writeOutputs(const std::string& dir, const maps::CSurf
     const int n_fused = fused == m_fused_per_segment.end() ? 0 : fused->second;
     if (c.best_id == 0 && n_fused == 0) continue;  // never classified: not an object here
     const bool named = c.best_id != 0 && c.best_p >= m_params.min_object_probability;
+    if (named) ++m_objects_by_class[m_classes.name(c.best_id)];
     nlohmann::json o = {{"segment", c.segment},
                         {"class", named ? m_classes.name(c.best_id) : std::string("none")},
                         {"class_id", named ? c.best_id : 0},

@@ -87,6 +87,9 @@ class ClassificationStage : public MapperStage {
   int m_frame_detections = 0, m_frame_associated = 0;
   std::map<std::uint32_t, int> m_fused_per_segment;
   std::map<std::uint32_t, PoseRecord> m_pose_per_segment;
+  /// Named objects of the final map by class (writeOutputs; report.json "objects_by_class").
+  std::map<std::string, int> m_objects_by_class;
+  bool m_objects_counted = false;
 };
 
 }  // namespace rasm::pipeline
