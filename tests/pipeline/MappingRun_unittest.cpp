@@ -145,7 +145,8 @@ TEST_P(MappingRunModes, SimulatedOfficeDefaultTracksWithinTarget) {
   EXPECT_EQ(cls.at("frames_offered").get<int>(), 12);
   EXPECT_EQ(cls.at("results_fused").get<int>(), 12);
   EXPECT_EQ(cls.at("detectors").at(0).at("frames_skipped").get<int>(), 0);
-  for (const char* f : {"objects.json", "classes.json", "map_classes.ply"})
+  EXPECT_GT(cls.at("surfel_updates").get<long long>(), 0);  // some detections found a segment
+  for (const char* f : {"objects.json", "classes.json", "map_classes.ply", "preview_classes.png"})
     EXPECT_TRUE(fs::is_regular_file(out + "/" + f)) << f;
   fs::remove_all(out);
 }

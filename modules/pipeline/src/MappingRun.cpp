@@ -177,18 +177,16 @@ bool MappingRun::classMapView(const maps::RenderedMaps& view, cv::Mat& out) cons
   // colour, faded to grey as the class's probability falls to the 0.5 prior; black = no surfel.
   const maps::SurfelArrays a = m_mapper->map().store().arrays();
   out = cv::Mat(view.colour.height(), view.colour.width(), CV_8UC3, cv::Scalar(0, 0, 0));
-  if (a.n_classes == 0) return false;
-  bool any = false;
+  if (a.n_classes == 0 || !m_mapper->stage<ClassificationStage>().fusedAnyEvidence())
+    return false;
   for (int y = 0; y < out.rows; ++y)
     for (int x = 0; x < out.cols; ++x) {
       const int i = view.index(x, y);
       if (i < 0 || i >= a.size) continue;
-      const maps::BestClass b = maps::bestClass(a, i);
-      any = any || b.id != 0;
-      const Bgr8 c = maps::classColour(b);
+      const Bgr8 c = maps::classColour(maps::bestClass(a, i));
       out.at<cv::Vec3b>(y, x) = cv::Vec3b(c.b, c.g, c.r);
     }
-  return any;
+  return true;
 }
 
 void MappingRun::writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, const FrameResult& r) {

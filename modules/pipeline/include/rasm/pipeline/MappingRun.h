@@ -86,7 +86,8 @@ class MappingRun {
   void frameLoop(io::FrameSource& source, Accumulated& acc,
                  const std::function<void(const FrameResult&)>& on_frame);
   void writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, const FrameResult& r);
-  /// The class map (IV) of a rendered view; false when no surfel in view carries a class.
+  /// The class map (IV) of a rendered view (grey where no class rose above 0.5); false when no
+  /// class evidence has been fused into the map yet (nothing to show).
   bool classMapView(const maps::RenderedMaps& view, cv::Mat& out) const;
   /// frames.csv, trajectory, ground truth, map files, preview.
   void writeOutputs(const Accumulated& acc);

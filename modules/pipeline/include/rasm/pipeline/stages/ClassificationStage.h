@@ -50,6 +50,8 @@ class ClassificationStage : public MapperStage {
   void setSimScene(const sim::RayScene* scene) { m_sim_scene = scene; }
   const classification::TClassificationParams& params() const { return m_params; }
   const classification::ClassList& classList() const { return m_classes; }
+  /// Whether any class evidence has been fused into the map (the class map has something to show).
+  bool fusedAnyEvidence() const { return m_surfel_updates > 0; }
   /// Detections fused per segment so far (follows relabelling).
   const std::map<std::uint32_t, int>& detectionsPerSegment() const { return m_fused_per_segment; }
 
