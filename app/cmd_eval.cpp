@@ -429,8 +429,9 @@ std::map<std::uint32_t, std::string> readSegmentClasses(const std::string& path,
                                                         std::map<std::uint32_t, int>& detections) {
   std::ifstream f(path);
   if (!f)
-    rasm::throwInputError(path, "missing; expected the objects.json that `rasm run` writes "
-                                "([classification] enabled)");
+    rasm::throwInputError(path,
+                          "missing; expected the objects.json that `rasm run` writes "
+                          "([classification] enabled)");
   nlohmann::json j;
   try {
     f >> j;
@@ -450,6 +451,51 @@ std::map<std::uint32_t, std::string> readSegmentClasses(const std::string& path,
     detections[o["segment"].get<std::uint32_t>()] = o.value("detections_fused", 0);
   }
   return out;
+}
+
+/// The --json document of `rasm eval classification`.
+nlohmann::json classificationJson(const rasm::classification::ClassificationMetrics& m,
+                                  const std::string& run, const std::string& world) {
+  nlohmann::json j, per_class = nlohmann::json::object(), confusion = nlohmann::json::object();
+  for (const auto& [c, st] : m.per_class)
+    per_class[c] = {{"objects", st.objects},
+                    {"correct", st.objects_correct},
+                    {"recall", num(st.recall())},
+                    {"segments_predicted", st.segments_predicted},
+                    {"segments_true", st.segments_true},
+                    {"precision", num(st.precision())}};
+  for (const auto& [t, row] : m.confusion)
+    for (const auto& [p, n] : row) confusion[t][p] = n;
+  nlohmann::json objs = nlohmann::json::array();
+  for (const auto& r : m.per_object)
+    objs.push_back({{"name", r.object.name},
+                    {"class", r.object.class_name},
+                    {"evaluated", r.evaluated},
+                    {"surfels", r.surfels},
+                    {"segment", r.segment},
+                    {"segment_share", r.segment_share},
+                    {"segmented", r.segmented},
+                    {"predicted", r.predicted},
+                    {"views", r.views},
+                    {"correct", r.correct}});
+  j["run"] = run;
+  j["world"] = world;
+  j["objects_evaluated"] = m.evaluated;
+  j["object_accuracy"] = num(m.object_accuracy);
+  j["segmented_coco_objects"] = m.segmented_detectable;
+  j["segmented_coco_accuracy"] = num(m.segmented_accuracy);
+  j["per_class"] = per_class;
+  j["confusion"] = confusion;
+  j["objects"] = objs;
+  nlohmann::json views = nlohmann::json::array();
+  for (const auto& b : m.by_views)
+    views.push_back(
+        {{"min_views", b.min_views},
+         {"max_views", b.max_views < 0 ? nlohmann::json() : nlohmann::json(b.max_views)},
+         {"objects", b.objects},
+         {"accuracy", num(b.objects ? double(b.correct) / double(b.objects) : std::nan(""))}});
+  j["accuracy_by_views"] = views;
+  return j;
 }
 
 int evalClassification(const std::vector<std::string>& args) {
@@ -478,15 +524,13 @@ int evalClassification(const std::vector<std::string>& args) {
   for (std::size_t i = 0; i < map.size(); ++i) instance[i] = nearest[i].instance_id;
   std::vector<rasm::classification::GtClassObject> objects;
   for (const rasm::sim::WorldInstanceInfo& w : rasm::sim::worldInstances(scene.world()))
-    objects.push_back({w.instance_id, w.class_name, w.name, w.size_m,
-                       w.is_structure || w.class_id == 0});
+    objects.push_back(
+        {w.instance_id, w.class_name, w.name, w.size_m, w.is_structure || w.class_id == 0});
   for (int id = 1; id <= rasm::sim::kNumCocoClasses; ++id)
     mp.detectable_classes.insert(rasm::sim::className(id));
-  const auto m = rasm::classification::computeClassificationMetrics(map.segment, instance,
-                                                                    segment_class, objects, mp,
-                                                                    segment_detections);
-  std::printf("classification of %s against world %s\n", run.c_str(),
-              scene.world().name.c_str());
+  const auto m = rasm::classification::computeClassificationMetrics(
+      map.segment, instance, segment_class, objects, mp, segment_detections);
+  std::printf("classification of %s against world %s\n", run.c_str(), scene.world().name.c_str());
   std::printf("  objects evaluated (> %.2f m, >= %zu surfels)  %zu\n", mp.min_object_size_m,
               mp.min_object_surfels, m.evaluated);
   std::printf("  object_accuracy                 %s  (%zu of %zu carry their class)\n",
@@ -512,48 +556,7 @@ int evalClassification(const std::vector<std::string>& args) {
       std::printf("    %-22s %-14s -> %-14s %s%s  share %.2f\n", r.object.name.c_str(),
                   r.object.class_name.c_str(), r.predicted.c_str(), r.correct ? "ok" : "WRONG",
                   r.segmented ? "" : " (not segmented)", r.segment_share);
-  if (!json.empty()) {
-    nlohmann::json j, per_class = nlohmann::json::object(), confusion = nlohmann::json::object();
-    for (const auto& [c, st] : m.per_class)
-      per_class[c] = {{"objects", st.objects},
-                      {"correct", st.objects_correct},
-                      {"recall", num(st.recall())},
-                      {"segments_predicted", st.segments_predicted},
-                      {"segments_true", st.segments_true},
-                      {"precision", num(st.precision())}};
-    for (const auto& [t, row] : m.confusion)
-      for (const auto& [p, n] : row) confusion[t][p] = n;
-    nlohmann::json objs = nlohmann::json::array();
-    for (const auto& r : m.per_object)
-      objs.push_back({{"name", r.object.name},
-                      {"class", r.object.class_name},
-                      {"evaluated", r.evaluated},
-                      {"surfels", r.surfels},
-                      {"segment", r.segment},
-                      {"segment_share", r.segment_share},
-                      {"segmented", r.segmented},
-                      {"predicted", r.predicted},
-                      {"views", r.views},
-                      {"correct", r.correct}});
-    j["run"] = run;
-    j["world"] = scene.world().name;
-    j["objects_evaluated"] = m.evaluated;
-    j["object_accuracy"] = num(m.object_accuracy);
-    j["segmented_coco_objects"] = m.segmented_detectable;
-    j["segmented_coco_accuracy"] = num(m.segmented_accuracy);
-    j["per_class"] = per_class;
-    j["confusion"] = confusion;
-    j["objects"] = objs;
-    nlohmann::json views = nlohmann::json::array();
-    for (const auto& b : m.by_views)
-      views.push_back({{"min_views", b.min_views},
-                       {"max_views", b.max_views < 0 ? nlohmann::json() : nlohmann::json(b.max_views)},
-                       {"objects", b.objects},
-                       {"accuracy", num(b.objects ? double(b.correct) / double(b.objects)
-                                                  : std::nan(""))}});
-    j["accuracy_by_views"] = views;
-    writeJsonAtomically(json, j);
-  }
+  if (!json.empty()) writeJsonAtomically(json, classificationJson(m, run, scene.world().name));
   return 0;
 }
 

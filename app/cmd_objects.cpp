@@ -59,15 +59,14 @@ int objects(const std::vector<std::string>& args) {
     const auto& e = o.contains("oriented_box") ? o["oriented_box"]["extents_m"] : nlohmann::json();
     char pose[64] = "";
     if (o.contains("pose_hint"))
-      std::snprintf(pose, sizeof pose, "%s az %.0f el %.0f",
-                    o["pose_hint"].value("class", "").c_str(),
-                    o["pose_hint"].value("azimuth_deg", 0.0),
-                    o["pose_hint"].value("elevation_deg", 0.0));
+      std::snprintf(
+          pose, sizeof pose, "%s az %.0f el %.0f", o["pose_hint"].value("class", "").c_str(),
+          o["pose_hint"].value("azimuth_deg", 0.0), o["pose_hint"].value("elevation_deg", 0.0));
     std::printf("%7u  %-16s %5.2f  %-16s %5.2f %8d %5d  %6.2f %6.2f %6.2f  %5.2f %5.2f %5.2f  %s\n",
                 o.value("segment", 0u), cls.c_str(), o.value("probability", 0.5),
                 o.value("runner_up", "none").c_str(), o.value("runner_up_probability", 0.5),
-                o.value("surfels", 0), o.value("detections_fused", 0), at(c, 0), at(c, 1),
-                at(c, 2), at(e, 0), at(e, 1), at(e, 2), pose);
+                o.value("surfels", 0), o.value("detections_fused", 0), at(c, 0), at(c, 1), at(c, 2),
+                at(e, 0), at(e, 1), at(e, 2), pose);
   }
   std::printf("%d objects with a class, %d shown, of %d entries in %s\n", named, shown, total,
               path.c_str());

@@ -65,17 +65,20 @@ int runMain(const std::vector<std::string>& args) {
   std::printf("outputs in %s\n", s.out_dir.c_str());
   if (const auto seg = s.report.find("segmentation");
       seg != s.report.end() && seg->contains("segments"))
-    std::printf("segments: %d (segments.json, map_segments.ply, map_segments.3Dscene with the 3-D scene, preview_segments.png)\n",
-                (*seg)["segments"].get<int>());
+    std::printf(
+        "segments: %d (segments.json, map_segments.ply, map_segments.3Dscene with the 3-D scene, "
+        "preview_segments.png)\n",
+        (*seg)["segments"].get<int>());
   if (const auto cls = s.report.find("classification");
       cls != s.report.end() && cls->contains("objects")) {
     std::string by_class;
     for (const auto& [name, n] : (*cls)["objects_by_class"].items())
       by_class += (by_class.empty() ? "" : ", ") + name + " " + std::to_string(n.get<int>());
-    std::printf("objects: %d named%s%s%s (objects.json, map_classes.ply, preview_classes.png; "
-                "rasm objects %s)\n",
-                (*cls)["objects"].get<int>(), by_class.empty() ? "" : " (", by_class.c_str(),
-                by_class.empty() ? "" : ")", s.out_dir.c_str());
+    std::printf(
+        "objects: %d named%s%s%s (objects.json, map_classes.ply, preview_classes.png; "
+        "rasm objects %s)\n",
+        (*cls)["objects"].get<int>(), by_class.empty() ? "" : " (", by_class.c_str(),
+        by_class.empty() ? "" : ")", s.out_dir.c_str());
     for (const auto& d : (*cls)["detectors"])
       if (d.contains("disabled"))
         std::printf("WARNING: %s\n", d["disabled"].get<std::string>().c_str());

@@ -53,8 +53,7 @@ TEST(ClassFusion, BayesUpdateOfASegmentFollowsThePaper) {
   maps::SurfelStore store = makeStore(300, 3);
   const std::uint64_t generation = store.generation();
   // Segment 2 seen as class 57 ("chair") three times at p_d = 0.8, segment 3 once at 0.3.
-  for (int k = 0; k < 3; ++k)
-    fuseSegmentEvidence(store.arraysForClassEvidence(), {{2, 57, 0.8f}});
+  for (int k = 0; k < 3; ++k) fuseSegmentEvidence(store.arraysForClassEvidence(), {{2, 57, 0.8f}});
   const FusionCounts c = fuseSegmentEvidence(store.arraysForClassEvidence(), {{3, 57, 0.3f}});
   EXPECT_EQ(c.surfels, 100u);
   EXPECT_EQ(store.generation(), generation);  // fusion's caches stay valid

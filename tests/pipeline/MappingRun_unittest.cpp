@@ -7,9 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rasm/core/ComputeOptions.h"
 #include "rasm/core/Error.h"
 #include "rasm/io/Trajectory.h"
-#include "rasm/core/ComputeOptions.h"
 #include "rasm/pipeline/MappingRun.h"
 #include "rasm/surfel_map/MapExport.h"
 

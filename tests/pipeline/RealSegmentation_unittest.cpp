@@ -112,7 +112,8 @@ TEST(RealClassification, ZeroShotBoxModelNamesTheFr3Cabinet) {
   for (const auto& [l, k] : seg)
     if (!best || k.inside > seg[best].inside) best = l;
   ASSERT_NE(best, 0u);
-  const double min_p = mapper.stage<pipeline::ClassificationStage>().params().min_object_probability;
+  const double min_p =
+      mapper.stage<pipeline::ClassificationStage>().params().min_object_probability;
   EXPECT_GE(seg[best].p_sum / seg[best].surfels, min_p) << "the cabinet's segment is a cabinet";
   // No other segment of more than a tenth of the cabinet's surfels is named cabinet (the floor
   // and the wall it stands against are the large ones).

@@ -52,8 +52,7 @@ std::vector<Association> associateDetections(const Image<std::uint32_t>& labels,
     for (const auto& [l, i] : inter) {
       const int u = segment_pixels[l] + box.area() - i;  // U(l, d)
       const float iou = float(i) / float(u);
-      if (iou > best.iou || (iou == best.iou && l < best.segment))
-        best = Association{l, iou, i, u};
+      if (iou > best.iou || (iou == best.iou && l < best.segment)) best = Association{l, iou, i, u};
     }
     if (best.iou >= min_iou) out[d] = best;
   }
@@ -64,9 +63,8 @@ float detectionProbability(float score, ScoreModel model, float max_p, float s0)
   if (!(score == score)) return 0.5f;
   score = std::clamp(score, 0.f, 1.f);
   s0 = std::clamp(s0, 0.f, 0.99f);
-  const float p = model == ScoreModel::Vote
-                      ? 0.5f + 0.5f * std::max(0.f, score - s0) / (1.f - s0)
-                      : score;
+  const float p =
+      model == ScoreModel::Vote ? 0.5f + 0.5f * std::max(0.f, score - s0) / (1.f - s0) : score;
   const float hi = std::clamp(max_p, 0.5f, 1.f);
   return std::clamp(p, 1.f - hi, hi);
 }
@@ -86,8 +84,8 @@ FusionCounts fuseSegmentEvidence(const maps::SurfelArrays& a,
   for (std::size_t l = 1; l < first.size(); ++l) first[l] += first[l - 1];
   std::vector<int> units(items.size());
   for (std::size_t k = 0; k < items.size(); ++k)
-    units[k] = maps::quantizeClassLogit(items[k].weight *
-                                        maps::probabilityLogit(items[k].p_detection));
+    units[k] =
+        maps::quantizeClassLogit(items[k].weight * maps::probabilityLogit(items[k].p_detection));
 
   long long updated = 0, dropped = 0;
 #pragma omp parallel for schedule(static) reduction(+ : updated, dropped)
@@ -118,8 +116,8 @@ std::vector<SegmentClass> segmentClasses(const maps::SurfelArrays& a) {
     const maps::ClassEvidence& e = a.class_ev[i];
     for (int k = 0; k < maps::kClassSlots; ++k)
       if (e.id[k] != 0)
-        sums[e.id[k]] += double(maps::logitProbability(maps::dequantizeClassLogit(e.logit[k]))) -
-                         0.5;
+        sums[e.id[k]] +=
+            double(maps::logitProbability(maps::dequantizeClassLogit(e.logit[k]))) - 0.5;
   }
   std::vector<SegmentClass> out;
   out.reserve(acc.size());

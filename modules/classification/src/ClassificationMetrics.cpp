@@ -10,8 +10,7 @@ double ClassStats::recall() const {
   return objects > 0 ? double(objects_correct) / double(objects) : std::nan("");
 }
 double ClassStats::precision() const {
-  return segments_predicted > 0 ? double(segments_true) / double(segments_predicted)
-                                : std::nan("");
+  return segments_predicted > 0 ? double(segments_true) / double(segments_predicted) : std::nan("");
 }
 
 namespace {

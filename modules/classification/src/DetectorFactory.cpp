@@ -6,9 +6,8 @@
 namespace rasm::classification {
 
 std::vector<std::pair<std::string, mrpt::config::CLoadableOptions*>> DetectorSections::list() {
-  return {{"sim_detector", &sim_detector},
-          {"dnn_detector", &dnn_detector},
-          {"zero_shot", &zero_shot}};
+  return {
+      {"sim_detector", &sim_detector}, {"dnn_detector", &dnn_detector}, {"zero_shot", &zero_shot}};
 }
 
 DetectorBuild makeDetectors(const TClassificationParams& params, DetectorSections& sections,
@@ -30,8 +29,9 @@ DetectorBuild makeDetectors(const TClassificationParams& params, DetectorSection
       if (sections.zero_shot.enabled)
         out.detectors.push_back(ZeroShotDetector::fromParams(sections.zero_shot, name));
       else
-        out.warnings.push_back("[classification] detectors lists zero_shot but [zero_shot] "
-                               "enabled = false (running without zero_shot)");
+        out.warnings.push_back(
+            "[classification] detectors lists zero_shot but [zero_shot] "
+            "enabled = false (running without zero_shot)");
     } else {
       out.warnings.push_back("[classification] detectors: '" + name +
                              "' is not built into this version; left out");

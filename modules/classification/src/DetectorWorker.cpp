@@ -7,8 +7,7 @@
 
 namespace rasm::classification {
 
-DetectorWorker::DetectorWorker(std::unique_ptr<Detector> detector, int worker_index,
-                               bool threaded)
+DetectorWorker::DetectorWorker(std::unique_ptr<Detector> detector, int worker_index, bool threaded)
     : m_detector(std::move(detector)), m_index(worker_index), m_threaded(threaded) {
   if (m_threaded) m_thread = std::thread([this] { loop(); });
 }

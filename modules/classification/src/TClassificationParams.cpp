@@ -44,12 +44,12 @@ void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   requireInRange(vote_neutral_score, 0.0, 0.95, s, "vote_neutral_score");
   requireInRange(min_object_probability, 0.5, 1.0, s, "min_object_probability");
   if (score_model != "probability" && score_model != "vote")
-    throwInputError("[" + s + "] score_model = " + score_model,
-                    "expected 'probability' or 'vote'");
+    throwInputError("[" + s + "] score_model = " + score_model, "expected 'probability' or 'vote'");
   for (const std::string& d : detectorList())
     if (d != "sim_detector" && d != "dnn_detector" && d != "zero_shot")
-      throwInputError("[" + s + "] detectors = " + detectors,
-                      "unknown detector '" + d + "'; expected sim_detector, dnn_detector or zero_shot");
+      throwInputError(
+          "[" + s + "] detectors = " + detectors,
+          "unknown detector '" + d + "'; expected sim_detector, dnn_detector or zero_shot");
 }
 
 void TClassificationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,

@@ -177,8 +177,7 @@ bool MappingRun::classMapView(const maps::RenderedMaps& view, cv::Mat& out) cons
   // colour, faded to grey as the class's probability falls to the 0.5 prior; black = no surfel.
   const maps::SurfelArrays a = m_mapper->map().store().arrays();
   out = cv::Mat(view.colour.height(), view.colour.width(), CV_8UC3, cv::Scalar(0, 0, 0));
-  if (a.n_classes == 0 || !m_mapper->stage<ClassificationStage>().fusedAnyEvidence())
-    return false;
+  if (a.n_classes == 0 || !m_mapper->stage<ClassificationStage>().fusedAnyEvidence()) return false;
   for (int y = 0; y < out.rows; ++y)
     for (int x = 0; x < out.cols; ++x) {
       const int i = view.index(x, y);

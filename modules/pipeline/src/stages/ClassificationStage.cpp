@@ -96,8 +96,7 @@ void ClassificationStage::fuseArrived(maps::CSurfelMap& map) {
   }
 }
 
-void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p,
-                                     maps::CSurfelMap& map) {
+void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p, maps::CSurfelMap& map) {
   if (r.failed) {  // the worker disabled the detector; said now and in report.json "detectors"
     std::fprintf(stderr, "\nrasm: warning: %s (mapping goes on without it)\n",
                  m_workers[std::size_t(r.worker)]->error().c_str());

@@ -57,8 +57,8 @@ struct ObjectClassResult {
   GtClassObject object;
   std::size_t surfels = 0;
   bool evaluated = false;
-  std::uint32_t segment = 0;  ///< dominant segment, 0 = none
-  double segment_share = 0.0; ///< |s ∩ g| / |g|
+  std::uint32_t segment = 0;   ///< dominant segment, 0 = none
+  double segment_share = 0.0;  ///< |s ∩ g| / |g|
   bool segmented = false;
   std::string predicted = "none";
   bool correct = false;
@@ -67,7 +67,7 @@ struct ObjectClassResult {
 };
 
 struct ClassStats {
-  std::size_t objects = 0, objects_correct = 0;          ///< recall = correct / objects
+  std::size_t objects = 0, objects_correct = 0;           ///< recall = correct / objects
   std::size_t segments_predicted = 0, segments_true = 0;  ///< precision = true / predicted
   double recall() const;
   double precision() const;  ///< NaN when nothing was predicted

@@ -8,8 +8,8 @@
 
 #include "rasm/classification/Detector.h"
 #include "rasm/classification/DnnDetector.h"
-#include "rasm/classification/ZeroShotDetector.h"
 #include "rasm/classification/TClassificationParams.h"
+#include "rasm/classification/ZeroShotDetector.h"
 #include "rasm/sim/SimulatedDetector.h"
 
 namespace mrpt::config {

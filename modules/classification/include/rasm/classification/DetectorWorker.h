@@ -25,7 +25,7 @@ struct DetectorResult {
   std::size_t frame_index = 0;
   int worker = 0;  ///< index of the worker (ClassificationStage's detector order)
   std::vector<Detection> detections;
-  double ms = 0.0;  ///< detect() wall time
+  double ms = 0.0;      ///< detect() wall time
   bool failed = false;  ///< detect() threw (the worker is now disabled): no detections
 };
 
