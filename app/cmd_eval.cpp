@@ -14,6 +14,7 @@
 #include <optional>
 
 #include "Command.h"
+#include "RunObjects.h"
 #include "rasm/core/Error.h"
 #include "rasm/io/EvaluationJson.h"
 #include "rasm/io/TrajectoryEvaluator.h"
@@ -425,23 +426,12 @@ int evalSegmentation(const std::vector<std::string>& args) {
 
 /// Segment -> class name of <run>/objects.json (aliases mapped to the simulator's names), and
 /// segment -> detections fused.
-std::map<std::uint32_t, std::string> readSegmentClasses(const std::string& path,
+std::map<std::uint32_t, std::string> readSegmentClasses(const std::string& run,
                                                         std::map<std::uint32_t, int>& detections) {
-  std::ifstream f(path);
-  if (!f)
-    rasm::throwInputError(path,
-                          "missing; expected the objects.json that `rasm run` writes "
-                          "([classification] enabled)");
-  nlohmann::json j;
-  try {
-    f >> j;
-  } catch (const std::exception& e) {
-    rasm::throwInputError(path, std::string("is not valid JSON: ") + e.what());
-  }
-  if (!j.contains("objects") || !j["objects"].is_array())
-    rasm::throwInputError(path, "expected an \"objects\" array");
+  const nlohmann::json objects = rasm::app::readRunObjects(run);
+  const std::string path = (fs::path(run) / "objects.json").string();
   std::map<std::uint32_t, std::string> out;
-  for (const auto& o : j["objects"]) {
+  for (const auto& o : objects) {
     if (!o.contains("segment") || !o.contains("class"))
       rasm::throwInputError(path, "an object without \"segment\" or \"class\"");
     std::string name = o["class"].get<std::string>();
@@ -510,8 +500,7 @@ int evalClassification(const std::vector<std::string>& args) {
   if (!fs::is_regular_file(ply))
     rasm::throwInputError(ply, "missing; expected the surfel PLY that `rasm run` writes");
   std::map<std::uint32_t, int> segment_detections;
-  const auto segment_class =
-      readSegmentClasses((fs::path(run) / "objects.json").string(), segment_detections);
+  const auto segment_class = readSegmentClasses(run, segment_detections);
   const std::string world_path = runWorld(run, world_opt);
   const rasm::maps::PlySurfels map = rasm::maps::readSurfelPly(ply);
   if (map.size() == 0) rasm::throwInputError(ply, "no surfels; nothing to evaluate");

@@ -1,10 +1,10 @@
 // `rasm objects <run folder>`: the objects a run found (its objects.json, section IV) as a table.
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "Command.h"
+#include "RunObjects.h"
 #include "rasm/core/Error.h"
 
 namespace {
@@ -34,22 +34,12 @@ int objects(const std::vector<std::string>& args) {
       run = a;
   }
   if (run.empty()) throw rasm::InputError(std::string("expected <run folder>\n") + kUsage);
+  const nlohmann::json objects = rasm::app::readRunObjects(run);
   const std::string path = (std::filesystem::path(run) / "objects.json").string();
-  std::ifstream f(path);
-  if (!f)
-    rasm::throwInputError(path, "missing; expected the objects.json of a `rasm run` output folder");
-  nlohmann::json j;
-  try {
-    f >> j;
-  } catch (const std::exception& e) {
-    rasm::throwInputError(path, std::string("is not valid JSON: ") + e.what());
-  }
-  if (!j.contains("objects") || !j["objects"].is_array())
-    rasm::throwInputError(path, "expected an \"objects\" array");
   std::printf("%7s  %-16s %5s  %-16s %5s %8s %5s  %-22s %-18s %s\n", "segment", "class", "p",
               "runner-up", "p", "surfels", "dets", "centroid (m)", "extents (m)", "pose hint");
   int shown = 0, total = 0, named = 0;
-  for (const auto& o : j["objects"]) {
+  for (const auto& o : objects) {
     ++total;
     const std::string cls = o.value("class", "none");
     named += cls != "none";

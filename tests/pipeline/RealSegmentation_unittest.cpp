@@ -22,13 +22,35 @@
 using namespace rasm;
 namespace fs = std::filesystem;
 
+namespace {
+
+/// The ground-truth cuboid of truth_objects.txt: centre x y z, yaw about z, half sizes (cuboid
+/// SLAM's format), world z up.
+struct Fr3Cuboid {
+  double cx, cy, cz, yaw, hx, hy, hz;
+  bool read(const fs::path& dir) {
+    std::ifstream f(dir / "truth_objects.txt");
+    return bool(f >> cx >> cy >> cz >> yaw >> hx >> hy >> hz);
+  }
+  /// Inside the cuboid grown by 3 cm but for its bottom, which is cut 3 cm above the floor (the
+  /// floor's surfels run under the cabinet).
+  bool holds(const Eigen::Vector3d& world) const {
+    const Eigen::Vector3d p = world - Eigen::Vector3d(cx, cy, cz);
+    const double c = std::cos(yaw), s = std::sin(yaw);
+    const double lx = c * p.x() + s * p.y(), ly = -s * p.x() + c * p.y();
+    return std::abs(lx) < hx + 0.03 && std::abs(ly) < hy + 0.03 && p.z() > -hz + 0.03 &&
+           p.z() < hz + 0.03;
+  }
+};
+
+}  // namespace
+
 TEST(RealSegmentation, Fr3CabinetIsOneSegmentOfItsSize) {
   const fs::path dir = fs::path(RASM_SHARED_DATA) / "tum" / "fr3_cabinet_keyframes";
   if (!fs::is_directory(dir)) GTEST_SKIP() << "shared data absent: " << dir.string();
-  // Cuboid: centre x y z, yaw about z, half sizes (cuboid SLAM's format), world z up.
-  std::ifstream f(dir / "truth_objects.txt");
-  double cx, cy, cz, yaw, hx, hy, hz;
-  ASSERT_TRUE(f >> cx >> cy >> cz >> yaw >> hx >> hy >> hz);
+  Fr3Cuboid cuboid;
+  ASSERT_TRUE(cuboid.read(dir));
+  const double yaw = cuboid.yaw, hx = cuboid.hx, hy = cuboid.hy, hz = cuboid.hz;
 
   mrpt::config::CConfigFileMemory ini;
   ini.write("mapper", "poses", "groundtruth");
@@ -40,18 +62,14 @@ TEST(RealSegmentation, Fr3CabinetIsOneSegmentOfItsSize) {
   pipeline::SegmentationStage& seg = mapper.stage<pipeline::SegmentationStage>();
   seg.refreshTable(mapper.map());
 
-  // The segment that holds most of the surfels inside the cuboid, grown by 3 cm but for its
-  // bottom, which is cut 3 cm above the floor (the floor's surfels run under the cabinet).
+  // The segment that holds most of the surfels inside the cuboid (Fr3Cuboid::holds).
   const maps::SurfelArrays a = static_cast<const maps::CSurfelMap&>(mapper.map()).store().arrays();
   const double c = std::cos(yaw), s = std::sin(yaw);
   std::map<std::uint32_t, int> inside;
   int total = 0;
   for (int i = 0; i < a.size; ++i) {
     if (!a.alive(i)) continue;
-    const Eigen::Vector3d p = a.position(i).cast<double>() - Eigen::Vector3d(cx, cy, cz);
-    const double lx = c * p.x() + s * p.y(), ly = -s * p.x() + c * p.y();
-    if (std::abs(lx) < hx + 0.03 && std::abs(ly) < hy + 0.03 && p.z() > -hz + 0.03 &&
-        p.z() < hz + 0.03) {
+    if (cuboid.holds(a.position(i).cast<double>())) {
       ++inside[a.segment[i]];
       ++total;
     }
@@ -76,9 +94,8 @@ TEST(RealSegmentation, Fr3CabinetIsOneSegmentOfItsSize) {
 TEST(RealClassification, ZeroShotBoxModelNamesTheFr3Cabinet) {
   const fs::path dir = fs::path(RASM_SHARED_DATA) / "tum" / "fr3_cabinet_keyframes";
   if (!fs::is_directory(dir)) GTEST_SKIP() << "shared data absent: " << dir.string();
-  std::ifstream f(dir / "truth_objects.txt");
-  double cx, cy, cz, yaw, hx, hy, hz;
-  ASSERT_TRUE(f >> cx >> cy >> cz >> yaw >> hx >> hy >> hz);
+  Fr3Cuboid cuboid;
+  ASSERT_TRUE(cuboid.read(dir));
   // The shipped run configuration of this sequence (its [classification] and [zero_shot]).
   const mrpt::config::CConfigFile ini(std::string(RASM_SOURCE_DIR) +
                                       "/ini/tum_fr3_cabinet_zero_shot.ini");
@@ -89,10 +106,9 @@ TEST(RealClassification, ZeroShotBoxModelNamesTheFr3Cabinet) {
   mapper.stage<pipeline::SegmentationStage>().refreshTable(mapper.map());
   const int cabinet = mapper.stage<pipeline::ClassificationStage>().classList().find("cabinet");
   ASSERT_GT(cabinet, 0);
-  // Per segment: surfels, surfels inside the cuboid (grown by 3 cm, bottom cut 3 cm above the
-  // floor as above), and the mean posterior of 'cabinet'.
+  // Per segment: surfels, surfels inside the cuboid (Fr3Cuboid::holds), and the mean posterior
+  // of 'cabinet'.
   const maps::SurfelArrays a = static_cast<const maps::CSurfelMap&>(mapper.map()).store().arrays();
-  const double c = std::cos(yaw), s = std::sin(yaw);
   struct Count {
     int surfels = 0, inside = 0;
     double p_sum = 0;
@@ -100,12 +116,9 @@ TEST(RealClassification, ZeroShotBoxModelNamesTheFr3Cabinet) {
   std::map<std::uint32_t, Count> seg;
   for (int i = 0; i < a.size; ++i) {
     if (!a.alive(i) || a.segment[i] == 0) continue;
-    const Eigen::Vector3d p = a.position(i).cast<double>() - Eigen::Vector3d(cx, cy, cz);
-    const double lx = c * p.x() + s * p.y(), ly = -s * p.x() + c * p.y();
     Count& k = seg[a.segment[i]];
     ++k.surfels;
-    k.inside += std::abs(lx) < hx + 0.03 && std::abs(ly) < hy + 0.03 && p.z() > -hz + 0.03 &&
-                p.z() < hz + 0.03;
+    k.inside += cuboid.holds(a.position(i).cast<double>());
     k.p_sum += maps::classProbability(a.class_ev[i], cabinet);
   }
   std::uint32_t best = 0;

@@ -69,13 +69,11 @@ void ClassificationStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
   if (m_frames_seen++ % std::size_t(m_params.every_n_frames) != 0) return;
   // The workers share one copy of the frame; its L^p waits here for their results.
   auto frame = std::make_shared<const RgbdFrame>(*ctx.frame);
-  Pending pending;
+  Pending& pending = m_pending[frame->index];
   pending.labels = ctx.labels;
-  m_pending[frame->index] = std::move(pending);
   ++m_frames_offered;
-  for (auto& w : m_workers)
-    if (w->offer(frame)) ++m_pending[frame->index].outstanding;
-  if (m_pending[frame->index].outstanding == 0) m_pending.erase(frame->index);
+  for (auto& w : m_workers) pending.outstanding += w->offer(frame);
+  if (pending.outstanding == 0) m_pending.erase(frame->index);
   if (!m_params.threaded) {
     const auto t2 = Clock::now();
     fuseArrived(map);
