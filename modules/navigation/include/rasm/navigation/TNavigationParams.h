@@ -1,0 +1,52 @@
+#pragma once
+// Parameters of the navigator (INI section [navigation]). Defaults suit the simulated office robot
+// (0.25 m disc, 0.6 m/s and 90 deg/s limits): see docs/navigation.md for the reasons.
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+
+namespace rasm::navigation {
+
+struct TNavigationParams : public mrpt::config::CLoadableOptions {
+  double period_s = 0.1;  ///< navigation step period (the robot's simulated time)
+  double max_v_mps = 0.35;
+  double max_w_degps = 60.0;
+  double goal_tolerance_m = 0.15;
+  double heading_tolerance_deg = 8.0;
+  double align_w_degps = 40.0;  ///< rotate-in-place speed for the final heading
+  double goal_timeout_s = 90.0;  ///< give up on a goal after this long: reason "timeout"
+  /// No progress: the distance to the goal did not shrink by stuck_distance_m within
+  /// stuck_timeout_s: reason "stuck".
+  double stuck_timeout_s = 10.0;
+  double stuck_distance_m = 0.15;
+  /// Targets nearer than this are driven to by the own controller: MRPT's PTGs fail on targets
+  /// closer than their reach (MRPT-NOTES trap).
+  double direct_range_m = 0.5;
+  /// Turn in place toward the goal first when it lies more than this off the heading (the
+  /// forward-only PTGs otherwise take a wide loop).
+  double face_goal_deg = 45.0;
+  // MRPT reactive navigator (CReactiveNavigationSystem) settings.
+  double ptg_ref_distance_m = 3.0;  ///< PTG reach: obstacles further than this are ignored
+  double ptg_resolution_m = 0.05;   ///< PTG look-up-table cell size
+  int ptg_num_paths = 121;          ///< trajectories per PTG
+  bool allow_reverse = false;       ///< adds a backward circular-arc PTG
+  double footprint_margin_m = 0.05; ///< the footprint polygon is grown by this for the PTGs
+  std::string holonomic_method = "CHolonomicFullEval";  ///< or CHolonomicND, CHolonomicVFF
+  /// Folder of MRPT's PTG cache files (ReacNavGrid_*.dat.gz); empty = <temp dir>/rasm_ptg_cache.
+  /// MRPT writes them into the current directory by default (MRPT-NOTES trap).
+  std::string ptg_cache_dir;
+
+  /// The PTG cache folder in effect (ptg_cache_dir or the temp-dir default).
+  std::string effectiveCacheDir() const;
+
+  /// Throws InputError "[section] key: ..." naming the key and the expected range.
+  void validate(const std::string& section = "navigation") const;
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) override;
+  /// Writes every key (the strict loader's list of known keys).
+  void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                        const std::string& section) const override;
+};
+
+}  // namespace rasm::navigation

@@ -1,0 +1,274 @@
+#include "rasm/navigation/Navigator.h"
+
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/core/Clock.h>
+#include <mrpt/nav/reactive/CReactiveNavigationSystem.h>
+#include <mrpt/nav/reactive/TWaypoint.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include "ReactiveConfig.h"
+#include "RobotNavInterface.h"
+#include "rasm/core/Error.h"
+
+namespace rasm::navigation {
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+// Simulated-clock epoch: robot time 0 maps to this (a zero timestamp is MRPT's INVALID_TIMESTAMP).
+constexpr double kEpoch_s = 1.0e9;
+
+double wrapAngle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
+
+/// MRPT's navigator reads mrpt::Clock::now(): while alive, the process clock is the simulated one
+/// at the robot's time; the previous source is restored on exit (IRobot.h, MRPT-NOTES: with the
+/// real clock the navigator's waits never complete in simulation).
+class SimulatedClockScope {
+ public:
+  explicit SimulatedClockScope(double robot_time_s) : m_prev(mrpt::Clock::getActiveClock()) {
+    mrpt::Clock::setActiveClock(mrpt::Clock::Simulated);
+    mrpt::Clock::setSimulatedTime(mrpt::Clock::fromDouble(kEpoch_s + robot_time_s));
+  }
+  ~SimulatedClockScope() { mrpt::Clock::setActiveClock(m_prev); }
+  SimulatedClockScope(const SimulatedClockScope&) = delete;
+  SimulatedClockScope& operator=(const SimulatedClockScope&) = delete;
+
+ private:
+  mrpt::Clock::Source m_prev;
+};
+
+}  // namespace
+
+const char* toString(NavState s) {
+  switch (s) {
+    case NavState::Idle: return "idle";
+    case NavState::Navigating: return "navigating";
+    case NavState::Aligning: return "aligning";
+    case NavState::Reached: return "reached";
+    case NavState::Failed: return "failed";
+  }
+  return "?";
+}
+
+struct Navigator::Impl {
+  Impl(sim::IRobot& r, const TNavigationParams& p, const std::vector<Eigen::Vector2f>& fp,
+       std::function<Eigen::Vector3d()> loc)
+      : robot(r), params(p), footprint(fp), localisation(loc), iface(r, std::move(loc)),
+        nav(iface, /*enableConsoleOutput=*/false, /*enableLogFile=*/false) {}
+
+  sim::IRobot& robot;
+  TNavigationParams params;
+  std::vector<Eigen::Vector2f> footprint;
+  std::function<Eigen::Vector3d()> localisation;
+  RobotNavInterface iface;
+  mrpt::nav::CReactiveNavigationSystem nav;
+  float radius_m = 0.f;  ///< largest footprint vertex distance (plus margin)
+
+  NavState state = NavState::Idle;
+  std::string reason;
+  Eigen::Vector3d goal = Eigen::Vector3d::Zero();
+  double path_m = 0.0;
+  Eigen::Vector3d last_pose = Eigen::Vector3d::Zero();
+  double last_step_t = -std::numeric_limits<double>::infinity();
+  double goal_t = 0.0;
+  double best_dist = 0.0, best_t = 0.0;  ///< progress for the stuck check
+  bool mrpt_active = false;               ///< a navigateWaypoints() request is running
+
+  void initialise();
+  void step(double t);
+  void stepNavigating(double t, const Eigen::Vector3d& pose);
+  void stepAligning(const Eigen::Vector3d& pose);
+  void stepReactive(const Eigen::Vector2d& target);
+  void driveDirect(const Eigen::Vector3d& pose, const Eigen::Vector2d& target);
+  void rotate(double heading_error_rad, double max_w_radps);
+  double frontClearance_m() const;
+  void stopMrpt();
+  void finish(NavState s, const std::string& why);
+};
+
+void Navigator::Impl::initialise() {
+  params.validate();
+  if (footprint.size() < 3)
+    throwInputError("navigation footprint", "needs at least 3 vertices, got " +
+                                                std::to_string(footprint.size()));
+  for (const Eigen::Vector2f& v : footprint) radius_m = std::max(radius_m, v.norm());
+  radius_m += float(params.footprint_margin_m);
+  std::filesystem::create_directories(params.effectiveCacheDir());
+  mrpt::config::CConfigFileMemory cfg(reactiveConfigText(params, footprint));
+  nav.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+  nav.enableRethrowNavExceptions(true);  // errors come back as exceptions: reason "mrpt: ..."
+  const SimulatedClockScope clock(robot.time_s());
+  nav.loadConfigFile(cfg);
+  nav.initialize();  // builds (or loads from ptg_cache_dir) the PTG tables: ~1 s
+  last_pose = localisation();
+}
+
+void Navigator::Impl::stopMrpt() {
+  if (mrpt_active) {
+    const SimulatedClockScope clock(robot.time_s());
+    nav.cancel();
+    if (nav.getCurrentState() == mrpt::nav::CAbstractNavigator::NAV_ERROR) nav.resetNavError();
+  }
+  mrpt_active = false;
+}
+
+void Navigator::Impl::finish(NavState s, const std::string& why) {
+  stopMrpt();
+  robot.stop();
+  state = s;
+  reason = why;
+}
+
+void Navigator::Impl::step(double t) {
+  const Eigen::Vector3d pose = localisation();
+  path_m += (pose.head<2>() - last_pose.head<2>()).norm();
+  last_pose = pose;
+  if (state == NavState::Navigating || state == NavState::Aligning) {
+    if (robot.collided()) return finish(NavState::Failed, "collision");
+    if (t - goal_t > params.goal_timeout_s) return finish(NavState::Failed, "timeout");
+  }
+  if (state == NavState::Navigating) stepNavigating(t, pose);
+  if (state == NavState::Aligning) stepAligning(pose);
+}
+
+void Navigator::Impl::stepNavigating(double t, const Eigen::Vector3d& pose) {
+  const Eigen::Vector2d to_goal = goal.head<2>() - pose.head<2>();
+  const double d = to_goal.norm();
+  if (d <= params.goal_tolerance_m) {
+    stopMrpt();
+    state = NavState::Aligning;
+    return;
+  }
+  if (d < best_dist - params.stuck_distance_m) {
+    best_dist = d;
+    best_t = t;
+  } else if (t - best_t > params.stuck_timeout_s) {
+    return finish(NavState::Failed, "stuck");
+  }
+  const double bearing = wrapAngle(std::atan2(to_goal.y(), to_goal.x()) - pose.z());
+  if (d < params.direct_range_m) {
+    // MRPT trap: the PTGs fail on targets nearer than their reach; our controller drives there.
+    stopMrpt();
+    return driveDirect(pose, goal.head<2>());
+  }
+  if (std::abs(bearing) > params.face_goal_deg * kDeg) {
+    // Goal behind: turn in place first rather than letting forward PTGs loop around.
+    stopMrpt();
+    return rotate(bearing, params.max_w_degps * kDeg);
+  }
+  stepReactive(goal.head<2>());
+}
+
+/// One step of MRPT's reactive navigator toward `target`; its state and error reason are read
+/// after every step (MRPT trap: an error is only visible there and in the event callbacks).
+void Navigator::Impl::stepReactive(const Eigen::Vector2d& target) {
+  using mrpt::nav::CAbstractNavigator;
+  const SimulatedClockScope clock(robot.time_s());
+  try {
+    if (!mrpt_active) {
+      // navigateWaypoints(), not navigate(): see docs/navigation.md (MRPT trap).
+      mrpt::nav::TWaypointSequence seq;
+      seq.waypoints.emplace_back(target.x(), target.y(), params.goal_tolerance_m,
+                                 /*allow_skip=*/false);
+      iface.clearEvents();
+      nav.navigateWaypoints(seq);
+      mrpt_active = true;
+    }
+    nav.navigationStep();
+  } catch (const std::exception& e) {
+    return finish(NavState::Failed, std::string("mrpt: ") + e.what());
+  }
+  const CAbstractNavigator::TState s = nav.getCurrentState();
+  if (s == CAbstractNavigator::NAV_ERROR) {
+    const auto& err = nav.getErrorReason();
+    if (err.error_code == CAbstractNavigator::ERR_CANNOT_REACH_TARGET || iface.target_blocked)
+      return finish(NavState::Failed, "unreachable");
+    return finish(NavState::Failed, "mrpt: " + err.error_msg);
+  }
+  if (iface.target_blocked) return finish(NavState::Failed, "unreachable");
+  // IDLE: MRPT considers the waypoint reached; the next step re-checks the distance ourselves.
+  if (s == CAbstractNavigator::IDLE) mrpt_active = false;
+}
+
+/// Distance from the footprint's front to the nearest obstacle point in the corridor ahead.
+double Navigator::Impl::frontClearance_m() const {
+  std::vector<Eigen::Vector3f> pts;
+  robot.senseObstacles(pts);
+  double clear = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3f& q : pts)
+    if (q.x() > 0.f && std::abs(q.y()) < radius_m) clear = std::min<double>(clear, q.x() - radius_m);
+  return clear;
+}
+
+/// Own controller for near targets: turn toward the target, then drive with a speed that falls
+/// with the distance; stops short of obstacles in the corridor ahead (the stuck check then ends
+/// the goal).
+void Navigator::Impl::driveDirect(const Eigen::Vector3d& pose, const Eigen::Vector2d& target) {
+  const Eigen::Vector2d to = target - pose.head<2>();
+  const double d = to.norm();
+  const double bearing = wrapAngle(std::atan2(to.y(), to.x()) - pose.z());
+  const double max_w = params.max_w_degps * kDeg;
+  const double w = std::clamp(2.0 * bearing, -max_w, max_w);
+  if (std::abs(bearing) > 30.0 * kDeg) return robot.setVelocityCommand(0.0, w);
+  double v = std::min(params.max_v_mps, 0.8 * d) * std::cos(bearing);
+  if (frontClearance_m() < v * params.period_s + 0.02) v = 0.0;
+  robot.setVelocityCommand(v, w);
+}
+
+/// Rotation in place toward `heading_error_rad`: proportional, at least 10 deg/s so it converges,
+/// at most max_w_radps; the gain keeps one period's turn below the heading tolerance band.
+void Navigator::Impl::rotate(double heading_error_rad, double max_w_radps) {
+  const double mag = std::clamp(2.0 * std::abs(heading_error_rad), 10.0 * kDeg, max_w_radps);
+  robot.setVelocityCommand(0.0, std::copysign(mag, heading_error_rad));
+}
+
+void Navigator::Impl::stepAligning(const Eigen::Vector3d& pose) {
+  const double e = wrapAngle(goal.z() - pose.z());
+  if (std::abs(e) <= params.heading_tolerance_deg * kDeg) return finish(NavState::Reached, "");
+  rotate(e, params.align_w_degps * kDeg);
+}
+
+Navigator::Navigator(sim::IRobot& robot, const TNavigationParams& params,
+                     const std::vector<Eigen::Vector2f>& footprint,
+                     std::function<Eigen::Vector3d()> localisation)
+    : m_impl(std::make_unique<Impl>(robot, params, footprint, std::move(localisation))) {
+  m_impl->initialise();
+}
+
+Navigator::~Navigator() {
+  if (m_impl->state == NavState::Navigating || m_impl->state == NavState::Aligning)
+    m_impl->finish(NavState::Idle, "");
+}
+
+void Navigator::setGoal(const Eigen::Vector3d& goal_xyyaw) {
+  Impl& m = *m_impl;
+  m.stopMrpt();
+  m.goal = goal_xyyaw;
+  m.goal.z() = wrapAngle(m.goal.z());
+  m.state = NavState::Navigating;
+  m.reason.clear();
+  m.goal_t = m.best_t = m.robot.time_s();
+  m.best_dist = (m.goal.head<2>() - m.localisation().head<2>()).norm();
+  m.last_step_t = -std::numeric_limits<double>::infinity();  // step at the next update()
+}
+
+void Navigator::cancel() { m_impl->finish(NavState::Idle, ""); }
+
+void Navigator::update() {
+  Impl& m = *m_impl;
+  const double t = m.robot.time_s();
+  if (t - m.last_step_t < m.params.period_s - 1e-9) return;
+  m.last_step_t = t;
+  m.step(t);
+}
+
+NavState Navigator::state() const { return m_impl->state; }
+const std::string& Navigator::failureReason() const { return m_impl->reason; }
+const Eigen::Vector3d& Navigator::goal() const { return m_impl->goal; }
+double Navigator::pathLength_m() const { return m_impl->path_m; }
+
+}  // namespace rasm::navigation
