@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <unistd.h>
 
@@ -60,6 +61,10 @@ TNavigationParams testParams() {
   p.ptg_cache_dir =
       (std::filesystem::temp_directory_path() / ("rasm_nav_test_" + std::to_string(getpid())))
           .string();
+  if (const char* env = std::getenv("RASM_NAV_SET")) {  // experiments: "[navigation]\nkey=value"
+    mrpt::config::CConfigFileMemory c(std::string("[navigation]\n") + env);
+    p.loadFromConfigFile(c, "navigation");
+  }
   return p;
 }
 
@@ -99,11 +104,23 @@ struct Rig {
   Navigator nav;
 };
 
+/// After Reached / Failed / cancel the robot does not move on (within MRPT's simulated lag).
+void expectStaysStopped(Rig& rig) {
+  const Eigen::Vector3d at = rig.robot.pose();
+  for (int i = 0; i < 10; ++i) {
+    rig.robot.step(kDt);
+    rig.nav.update();
+  }
+  EXPECT_LT((rig.robot.pose() - at).norm(), 1e-3);
+  EXPECT_LT(rig.robot.velocity().norm(), 1e-6);
+}
+
 double headingError(double a, double b) { return std::abs(std::atan2(std::sin(a - b), std::cos(a - b))); }
 
 }  // namespace
 
 TEST(Navigator, ReachesAGoalThreeMetresAwayAroundAnObstacle) {
+  const mrpt::Clock::Source clock_before = mrpt::Clock::getActiveClock();
   const auto t0 = std::chrono::steady_clock::now();
   Rig rig(floorWorld(kBlock), Eigen::Vector3d(0, 0, 0));
   const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -122,10 +139,132 @@ TEST(Navigator, ReachesAGoalThreeMetresAwayAroundAnObstacle) {
   EXPECT_LE(headingError(rig.robot.pose().z(), goal.z()), p.heading_tolerance_deg * kDeg);
   // It went around the block: the straight line is 3 m; the path must leave |y| < 0.6 + radius.
   EXPECT_GT(rig.nav.pathLength_m(), 3.0);
-  // The robot stays stopped once Reached, and the process clock is the real one again.
-  EXPECT_EQ(mrpt::Clock::getActiveClock(), mrpt::Clock::Realtime);
-  const Eigen::Vector3d at = rig.robot.pose();
-  rig.robot.step(0.5);
-  rig.nav.update();
-  EXPECT_LT((rig.robot.pose() - at).norm(), 1e-9);
+  // The process clock is the one it was before (the Navigator's simulated clock is scoped).
+  EXPECT_EQ(mrpt::Clock::getActiveClock(), clock_before);
+  expectStaysStopped(rig);
+}
+
+TEST(Navigator, ReachesANearTargetWithItsOwnController) {
+  // 0.3 m: nearer than the PTGs' reach (MRPT trap), so the direct controller drives there.
+  Rig rig(floorWorld(), Eigen::Vector3d(0, 0, 0));
+  const TNavigationParams p = testParams();
+  const Eigen::Vector3d goal(0.25, 0.15, 0.0);
+  ASSERT_LT(goal.head<2>().norm(), p.direct_range_m);
+  rig.nav.setGoal(goal);
+  const Outcome o = drive(rig.robot, rig.nav, p.goal_timeout_s);
+  ASSERT_EQ(o.state, NavState::Reached) << o.reason;
+  EXPECT_FALSE(o.collided);
+  EXPECT_LE((rig.robot.pose().head<2>() - goal.head<2>()).norm(), p.goal_tolerance_m);
+  EXPECT_LE(headingError(rig.robot.pose().z(), goal.z()), p.heading_tolerance_deg * kDeg);
+  // 0.3 m at up to 0.35 m/s plus turning about 60 deg twice: well under 10 s.
+  EXPECT_LT(o.time_s, 10.0);
+}
+
+TEST(Navigator, ReachesAPureRotationGoal) {
+  Rig rig(floorWorld(), Eigen::Vector3d(1.0, -0.5, 0.2));
+  const TNavigationParams p = testParams();
+  const Eigen::Vector3d goal(1.0, -0.5, 0.2 + 120 * kDeg);
+  rig.nav.setGoal(goal);
+  const Outcome o = drive(rig.robot, rig.nav, p.goal_timeout_s);
+  ASSERT_EQ(o.state, NavState::Reached) << o.reason;
+  EXPECT_LT((rig.robot.pose().head<2>() - goal.head<2>()).norm(), 1e-6);  // turned in place
+  EXPECT_LE(headingError(rig.robot.pose().z(), goal.z()), p.heading_tolerance_deg * kDeg);
+  // 120 deg at align_w_degps = 40 deg/s is 3 s, plus the slow-down near the goal.
+  EXPECT_LT(o.time_s, 120.0 / p.align_w_degps + 3.0);
+  expectStaysStopped(rig);
+}
+
+TEST(Navigator, UnreachableGoalsFailWithAReasonWithinTheTimeout) {
+  TNavigationParams p = testParams();
+  p.goal_timeout_s = 30.0;
+  for (const Eigen::Vector3d goal : {Eigen::Vector3d(3.0, 0.0, 0.0),    // inside the pen
+                                     Eigen::Vector3d(2.4, 0.0, 0.0)}) {  // inside a pen wall
+    Rig rig(floorWorld(kPen), Eigen::Vector3d(0, 0, 0), p);
+    rig.nav.setGoal(goal);
+    const Outcome o = drive(rig.robot, rig.nav, p.goal_timeout_s + 5.0);
+    std::printf("goal (%.1f, %.1f): %s '%s' after %.1f s\n", goal.x(), goal.y(), toString(o.state),
+                o.reason.c_str(), o.time_s);
+    EXPECT_EQ(o.state, NavState::Failed);
+    EXPECT_FALSE(o.reason.empty());
+    EXPECT_LE(o.time_s, p.goal_timeout_s + p.period_s + 1e-6);
+    EXPECT_FALSE(o.collided);
+    expectStaysStopped(rig);
+  }
+}
+
+TEST(Navigator, CancelStopsTheRobot) {
+  Rig rig(floorWorld(), Eigen::Vector3d(0, 0, 0));
+  rig.nav.setGoal(Eigen::Vector3d(3.0, 0.0, 0.0));
+  const Outcome o = drive(rig.robot, rig.nav, 2.0);
+  ASSERT_EQ(o.state, NavState::Navigating);
+  ASSERT_GT(rig.robot.velocity().x(), 0.1);  // it was driving
+  rig.nav.cancel();
+  EXPECT_EQ(rig.nav.state(), NavState::Idle);
+  EXPECT_TRUE(rig.nav.failureReason().empty());
+  expectStaysStopped(rig);
+  // A new goal after cancel works (one Navigator reused across goals).
+  rig.nav.setGoal(Eigen::Vector3d(rig.robot.pose().x(), rig.robot.pose().y(), M_PI / 2));
+  EXPECT_EQ(drive(rig.robot, rig.nav, 20.0).state, NavState::Reached);
+}
+
+TEST(Navigator, SameInputsGiveTheSameTrajectory) {
+  std::vector<Eigen::Vector3d> first;
+  for (int run = 0; run < 2; ++run) {  // one Navigator at a time (global MRPT clock)
+    Rig rig(floorWorld(kBlock), Eigen::Vector3d(0, 0, 0));
+    rig.nav.setGoal(Eigen::Vector3d(3.0, 0.0, 0.0));
+    const Outcome o = drive(rig.robot, rig.nav, 8.0);
+    if (run == 0) {
+      first = o.trajectory;
+      continue;
+    }
+    ASSERT_EQ(o.trajectory.size(), first.size());
+    for (size_t i = 0; i < first.size(); ++i)
+      ASSERT_EQ(o.trajectory[i], first[i]) << "step " << i;
+  }
+}
+
+TEST(TNavigationParams, RejectsUnknownAndOutOfRangeKeysByName) {
+  TNavigationParams p;
+  mrpt::config::CConfigFileMemory unknown("[navigation]\nmax_v_mps = 0.3\nmax_speed = 1\n");
+  try {
+    loadParamsStrict(unknown, "navigation", p, "test.ini");
+    FAIL() << "unknown key accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("max_speed"), std::string::npos) << e.what();
+  }
+  mrpt::config::CConfigFileMemory bad("[navigation]\ngoal_tolerance_m = -1\n");
+  try {
+    loadParamsStrict(bad, "navigation", p, "test.ini");
+    FAIL() << "negative tolerance accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("[navigation] goal_tolerance_m"), std::string::npos)
+        << e.what();
+  }
+  p = TNavigationParams();
+  p.holonomic_method = "CHolonomicMagic";
+  EXPECT_THROW(p.validate(), InputError);
+  EXPECT_NO_THROW(TNavigationParams().validate());
+}
+
+TEST(TNavigationParams, SaveLoadRoundTrip) {
+  TNavigationParams a;
+  a.period_s = 0.2;
+  a.max_v_mps = 0.5;
+  a.goal_timeout_s = 42;
+  a.allow_reverse = true;
+  a.ptg_num_paths = 61;
+  a.holonomic_method = "CHolonomicFullEval";
+  a.ptg_cache_dir = "/tmp/some cache";
+  mrpt::config::CConfigFileMemory c;
+  a.saveToConfigFile(c, "navigation");
+  TNavigationParams b;
+  loadParamsStrict(c, "navigation", b, "roundtrip");
+  mrpt::config::CConfigFileMemory c2;
+  b.saveToConfigFile(c2, "navigation");
+  EXPECT_EQ(c.getContent(), c2.getContent());
+  EXPECT_EQ(b.holonomic_method, a.holonomic_method);
+  EXPECT_EQ(b.ptg_cache_dir, a.ptg_cache_dir);
+  EXPECT_TRUE(b.allow_reverse);
+  EXPECT_DOUBLE_EQ(b.goal_timeout_s, 42);
+  EXPECT_EQ(knownKeys(a, "navigation").size(), 18u);  // every key written
 }

@@ -77,6 +77,7 @@ struct Navigator::Impl {
   double goal_t = 0.0;
   double best_dist = 0.0, best_t = 0.0;  ///< progress for the stuck check
   bool mrpt_active = false;               ///< a navigateWaypoints() request is running
+  bool facing = false;  ///< turning in place toward the goal before the reactive approach
 
   void initialise();
   void step(double t);
@@ -100,6 +101,7 @@ void Navigator::Impl::initialise() {
   std::filesystem::create_directories(params.effectiveCacheDir());
   mrpt::config::CConfigFileMemory cfg(reactiveConfigText(params, footprint));
   nav.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+  iface.setMinLoggingLevel(mrpt::system::LVL_ERROR);  // "not implemented" INFO lines per event
   nav.enableRethrowNavExceptions(true);  // errors come back as exceptions: reason "mrpt: ..."
   const SimulatedClockScope clock(robot.time_s());
   nav.loadConfigFile(cfg);
@@ -155,11 +157,10 @@ void Navigator::Impl::stepNavigating(double t, const Eigen::Vector3d& pose) {
     stopMrpt();
     return driveDirect(pose, goal.head<2>());
   }
-  if (std::abs(bearing) > params.face_goal_deg * kDeg) {
-    // Goal behind: turn in place first rather than letting forward PTGs loop around.
-    stopMrpt();
-    return rotate(bearing, params.max_w_degps * kDeg);
-  }
+  // Goal behind at the start: turn in place first rather than letting the forward PTGs loop
+  // around; only once per goal (the reactive navigator's own detours may point away later).
+  if (facing && std::abs(bearing) > 10.0 * kDeg) return rotate(bearing, params.max_w_degps * kDeg);
+  facing = false;
   stepReactive(goal.head<2>());
 }
 
@@ -183,6 +184,15 @@ void Navigator::Impl::stepReactive(const Eigen::Vector2d& target) {
     return finish(NavState::Failed, std::string("mrpt: ") + e.what());
   }
   const CAbstractNavigator::TState s = nav.getCurrentState();
+  if (getenv("RASM_NAV_DEBUG")) {
+    const Eigen::Vector3d q = localisation();
+    const Eigen::Vector2d v = robot.velocity();
+    fprintf(stderr, "t=%.2f pose %.2f %.2f %.1f v %.2f w %.2f mrpt %d err %d '%s' ev %d%d%d%d%d\n",
+            robot.time_s(), q.x(), q.y(), q.z() / kDeg, v.x(), v.y(), int(s),
+            int(nav.getErrorReason().error_code), nav.getErrorReason().error_msg.c_str(),
+            iface.ended, iface.error, iface.way_blocked, iface.apparent_collision,
+            iface.target_blocked);
+  }
   if (s == CAbstractNavigator::NAV_ERROR) {
     const auto& err = nav.getErrorReason();
     if (err.error_code == CAbstractNavigator::ERR_CANNOT_REACH_TARGET || iface.target_blocked)
@@ -254,6 +264,10 @@ void Navigator::setGoal(const Eigen::Vector3d& goal_xyyaw) {
   m.goal_t = m.best_t = m.robot.time_s();
   m.best_dist = (m.goal.head<2>() - m.localisation().head<2>()).norm();
   m.last_step_t = -std::numeric_limits<double>::infinity();  // step at the next update()
+  const Eigen::Vector3d pose = m.localisation();
+  const Eigen::Vector2d to = m.goal.head<2>() - pose.head<2>();
+  m.facing = std::abs(wrapAngle(std::atan2(to.y(), to.x()) - pose.z())) >
+             m.params.face_goal_deg * kDeg;
 }
 
 void Navigator::cancel() { m_impl->finish(NavState::Idle, ""); }

@@ -32,7 +32,9 @@ struct TNavigationParams : public mrpt::config::CLoadableOptions {
   int ptg_num_paths = 121;          ///< trajectories per PTG
   bool allow_reverse = false;       ///< adds a backward circular-arc PTG
   double footprint_margin_m = 0.05; ///< the footprint polygon is grown by this for the PTGs
-  std::string holonomic_method = "CHolonomicFullEval";  ///< or CHolonomicND, CHolonomicVFF
+  /// CHolonomicND: CHolonomicFullEval with the example weights stalls in front of a block and
+  /// grazes its corner (apparent collision) in the 3 m test; ND goes around (docs/navigation.md).
+  std::string holonomic_method = "CHolonomicND";  ///< or CHolonomicFullEval, CHolonomicVFF
   /// Folder of MRPT's PTG cache files (ReacNavGrid_*.dat.gz); empty = <temp dir>/rasm_ptg_cache.
   /// MRPT writes them into the current directory by default (MRPT-NOTES trap).
   std::string ptg_cache_dir;
