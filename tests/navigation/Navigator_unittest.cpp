@@ -68,6 +68,13 @@ TNavigationParams testParams() {
   return p;
 }
 
+/// Removes this process's PTG cache when the tests end (kept between tests: warm constructions).
+class CacheCleanup : public ::testing::Environment {
+ public:
+  void TearDown() override { std::filesystem::remove_all(testParams().ptg_cache_dir); }
+};
+const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new CacheCleanup);
+
 struct Outcome {
   NavState state = NavState::Idle;
   std::string reason;
@@ -98,7 +105,6 @@ struct Rig {
                const TNavigationParams& p = testParams())
       : scene(w), robot(scene, quietRobot(), start),
         nav(robot, p, robot.params().footprintPolygon(), [this] { return robot.pose(); }) {}
-  ~Rig() { std::filesystem::remove_all(testParams().ptg_cache_dir); }
   sim::RayScene scene;
   sim::SimulatedDiffDriveRobot robot;
   Navigator nav;
@@ -125,6 +131,17 @@ TEST(Navigator, ReachesAGoalThreeMetresAwayAroundAnObstacle) {
   Rig rig(floorWorld(kBlock), Eigen::Vector3d(0, 0, 0));
   const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const TNavigationParams p = testParams();
+  // PTG cache files go to ptg_cache_dir, not the working directory (MRPT trap).
+  const auto isCache = [](const std::filesystem::directory_entry& e) {
+    return e.path().filename().string().rfind("ReacNavGrid_", 0) == 0;
+  };
+  int in_cache = 0, in_cwd = 0;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(p.ptg_cache_dir))
+    in_cache += isCache(e);
+  for (const auto& e : std::filesystem::directory_iterator(std::filesystem::current_path()))
+    in_cwd += isCache(e);
+  EXPECT_GT(in_cache, 0);
+  EXPECT_EQ(in_cwd, 0);
   const Eigen::Vector3d goal(3.0, 0.0, 90 * kDeg);
   rig.nav.setGoal(goal);
   EXPECT_EQ(rig.nav.state(), NavState::Navigating);
@@ -210,7 +227,11 @@ TEST(Navigator, CancelStopsTheRobot) {
 TEST(Navigator, SameInputsGiveTheSameTrajectory) {
   std::vector<Eigen::Vector3d> first;
   for (int run = 0; run < 2; ++run) {  // one Navigator at a time (global MRPT clock)
+    const auto t0 = std::chrono::steady_clock::now();
     Rig rig(floorWorld(kBlock), Eigen::Vector3d(0, 0, 0));
+    std::printf("construction %.2f s wall (%s PTG cache)\n",
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+                run == 0 ? "cold or warm" : "warm");
     rig.nav.setGoal(Eigen::Vector3d(3.0, 0.0, 0.0));
     const Outcome o = drive(rig.robot, rig.nav, 8.0);
     if (run == 0) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <limits>
 
 #include "ReactiveConfig.h"
@@ -98,13 +99,24 @@ void Navigator::Impl::initialise() {
                                                 std::to_string(footprint.size()));
   for (const Eigen::Vector2f& v : footprint) radius_m = std::max(radius_m, v.norm());
   radius_m += float(params.footprint_margin_m);
-  std::filesystem::create_directories(params.effectiveCacheDir());
-  mrpt::config::CConfigFileMemory cfg(reactiveConfigText(params, footprint));
+  const std::string cfg_text = reactiveConfigText(params, footprint);
+  mrpt::config::CConfigFileMemory cfg(cfg_text);
   nav.setMinLoggingLevel(mrpt::system::LVL_ERROR);
   iface.setMinLoggingLevel(mrpt::system::LVL_ERROR);  // "not implemented" INFO lines per event
+  // The delays time logger dumps its table at INFO level when the navigator is destroyed; it is
+  // exposed only as const, but the object itself is not const.
+  const_cast<mrpt::system::CTimeLogger&>(nav.getDelaysTimeLogger())
+      .setMinLoggingLevel(mrpt::system::LVL_ERROR);
   nav.enableRethrowNavExceptions(true);  // errors come back as exceptions: reason "mrpt: ..."
   const SimulatedClockScope clock(robot.time_s());
   nav.loadConfigFile(cfg);
+  // MRPT trap: the ptg_cache_files_directory key is not read from the config in 2.5.8 and the
+  // default "." writes ReacNavGrid_*.dat.gz into the cwd. The file names do not encode the PTG
+  // settings, so each configuration gets its own sub-folder (named by a hash of the config).
+  const std::filesystem::path cache_dir = std::filesystem::path(params.effectiveCacheDir()) /
+                                          std::to_string(std::hash<std::string>{}(cfg_text));
+  std::filesystem::create_directories(cache_dir);
+  nav.params_abstract_ptg_navigator.ptg_cache_files_directory = cache_dir.string();
   nav.initialize();  // builds (or loads from ptg_cache_dir) the PTG tables: ~1 s
   last_pose = localisation();
 }
@@ -184,15 +196,6 @@ void Navigator::Impl::stepReactive(const Eigen::Vector2d& target) {
     return finish(NavState::Failed, std::string("mrpt: ") + e.what());
   }
   const CAbstractNavigator::TState s = nav.getCurrentState();
-  if (getenv("RASM_NAV_DEBUG")) {
-    const Eigen::Vector3d q = localisation();
-    const Eigen::Vector2d v = robot.velocity();
-    fprintf(stderr, "t=%.2f pose %.2f %.2f %.1f v %.2f w %.2f mrpt %d err %d '%s' ev %d%d%d%d%d\n",
-            robot.time_s(), q.x(), q.y(), q.z() / kDeg, v.x(), v.y(), int(s),
-            int(nav.getErrorReason().error_code), nav.getErrorReason().error_msg.c_str(),
-            iface.ended, iface.error, iface.way_blocked, iface.apparent_collision,
-            iface.target_blocked);
-  }
   if (s == CAbstractNavigator::NAV_ERROR) {
     const auto& err = nav.getErrorReason();
     if (err.error_code == CAbstractNavigator::ERR_CANNOT_REACH_TARGET || iface.target_blocked)

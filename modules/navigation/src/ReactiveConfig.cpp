@@ -113,7 +113,6 @@ std::string reactiveConfigText(const TNavigationParams& p,
     << "use_delays_model = false\nmax_distance_predicted_actual_path = 0.15\n"
     << "min_normalized_free_space_for_ptg_continuation = 0.2\n"
     << "enable_obstacle_filtering = false\nevaluate_clearance = false\n"
-    << "ptg_cache_files_directory = " << p.effectiveCacheDir() << "\n"
     << kMotionScores << "\n"
     << "[CReactiveNavigationSystem]\n"
     << "min_obstacles_height = 0.0\nmax_obstacles_height = 10.0\n"
