@@ -6,12 +6,12 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/Clock.h>
 
+#include <unistd.h>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <unistd.h>
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
@@ -103,7 +103,8 @@ Outcome drive(sim::SimulatedDiffDriveRobot& robot, Navigator& nav, double limit_
 struct Rig {
   explicit Rig(const sim::World& w, const Eigen::Vector3d& start,
                const TNavigationParams& p = testParams())
-      : scene(w), robot(scene, quietRobot(), start),
+      : scene(w),
+        robot(scene, quietRobot(), start),
         nav(robot, p, robot.params().footprintPolygon(), [this] { return robot.pose(); }) {}
   sim::RayScene scene;
   sim::SimulatedDiffDriveRobot robot;
@@ -121,7 +122,9 @@ void expectStaysStopped(Rig& rig) {
   EXPECT_LT(rig.robot.velocity().norm(), 1e-6);
 }
 
-double headingError(double a, double b) { return std::abs(std::atan2(std::sin(a - b), std::cos(a - b))); }
+double headingError(double a, double b) {
+  return std::abs(std::atan2(std::sin(a - b), std::cos(a - b)));
+}
 
 }  // namespace
 
@@ -129,7 +132,8 @@ TEST(Navigator, ReachesAGoalThreeMetresAwayAroundAnObstacle) {
   const mrpt::Clock::Source clock_before = mrpt::Clock::getActiveClock();
   const auto t0 = std::chrono::steady_clock::now();
   Rig rig(floorWorld(kBlock), Eigen::Vector3d(0, 0, 0));
-  const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double build_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const TNavigationParams p = testParams();
   // PTG cache files go to ptg_cache_dir, not the working directory (MRPT trap).
   const auto isCache = [](const std::filesystem::directory_entry& e) {
@@ -194,8 +198,8 @@ TEST(Navigator, ReachesAPureRotationGoal) {
 TEST(Navigator, UnreachableGoalsFailWithAReasonWithinTheTimeout) {
   TNavigationParams p = testParams();
   p.goal_timeout_s = 30.0;
-  for (const Eigen::Vector3d goal : {Eigen::Vector3d(3.0, 0.0, 0.0),    // inside the pen
-                                     Eigen::Vector3d(2.4, 0.0, 0.0)}) {  // inside a pen wall
+  for (const Eigen::Vector3d& goal : {Eigen::Vector3d(3.0, 0.0, 0.0),     // inside the pen
+                                      Eigen::Vector3d(2.4, 0.0, 0.0)}) {  // inside a pen wall
     Rig rig(floorWorld(kPen), Eigen::Vector3d(0, 0, 0), p);
     rig.nav.setGoal(goal);
     const Outcome o = drive(rig.robot, rig.nav, p.goal_timeout_s + 5.0);
@@ -239,8 +243,7 @@ TEST(Navigator, SameInputsGiveTheSameTrajectory) {
       continue;
     }
     ASSERT_EQ(o.trajectory.size(), first.size());
-    for (size_t i = 0; i < first.size(); ++i)
-      ASSERT_EQ(o.trajectory[i], first[i]) << "step " << i;
+    for (size_t i = 0; i < first.size(); ++i) ASSERT_EQ(o.trajectory[i], first[i]) << "step " << i;
   }
 }
 

@@ -23,7 +23,9 @@ constexpr double kDeg = M_PI / 180.0;
 // Simulated-clock epoch: robot time 0 maps to this (a zero timestamp is MRPT's INVALID_TIMESTAMP).
 constexpr double kEpoch_s = 1.0e9;
 
-double wrapAngle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
+double wrapAngle(double a) {
+  return std::atan2(std::sin(a), std::cos(a));
+}
 
 /// MRPT's navigator reads mrpt::Clock::now(): while alive, the process clock is the simulated one
 /// at the robot's time; the previous source is restored on exit (IRobot.h, MRPT-NOTES: with the
@@ -46,11 +48,16 @@ class SimulatedClockScope {
 
 const char* toString(NavState s) {
   switch (s) {
-    case NavState::Idle: return "idle";
-    case NavState::Navigating: return "navigating";
-    case NavState::Aligning: return "aligning";
-    case NavState::Reached: return "reached";
-    case NavState::Failed: return "failed";
+    case NavState::Idle:
+      return "idle";
+    case NavState::Navigating:
+      return "navigating";
+    case NavState::Aligning:
+      return "aligning";
+    case NavState::Reached:
+      return "reached";
+    case NavState::Failed:
+      return "failed";
   }
   return "?";
 }
@@ -58,7 +65,11 @@ const char* toString(NavState s) {
 struct Navigator::Impl {
   Impl(sim::IRobot& r, const TNavigationParams& p, const std::vector<Eigen::Vector2f>& fp,
        std::function<Eigen::Vector3d()> loc)
-      : robot(r), params(p), footprint(fp), localisation(loc), iface(r, std::move(loc)),
+      : robot(r),
+        params(p),
+        footprint(fp),
+        localisation(loc),
+        iface(r, std::move(loc)),
         nav(iface, /*enableConsoleOutput=*/false, /*enableLogFile=*/false) {}
 
   sim::IRobot& robot;
@@ -77,7 +88,7 @@ struct Navigator::Impl {
   double last_step_t = -std::numeric_limits<double>::infinity();
   double goal_t = 0.0;
   double best_dist = 0.0, best_t = 0.0;  ///< progress for the stuck check
-  bool mrpt_active = false;               ///< a navigateWaypoints() request is running
+  bool mrpt_active = false;              ///< a navigateWaypoints() request is running
   bool facing = false;  ///< turning in place toward the goal before the reactive approach
 
   void initialise();
@@ -95,8 +106,8 @@ struct Navigator::Impl {
 void Navigator::Impl::initialise() {
   params.validate();
   if (footprint.size() < 3)
-    throwInputError("navigation footprint", "needs at least 3 vertices, got " +
-                                                std::to_string(footprint.size()));
+    throwInputError("navigation footprint",
+                    "needs at least 3 vertices, got " + std::to_string(footprint.size()));
   for (const Eigen::Vector2f& v : footprint) radius_m = std::max(radius_m, v.norm());
   radius_m += float(params.footprint_margin_m);
   const std::string cfg_text = reactiveConfigText(params, footprint);
@@ -213,7 +224,8 @@ double Navigator::Impl::frontClearance_m() const {
   robot.senseObstacles(pts);
   double clear = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector3f& q : pts)
-    if (q.x() > 0.f && std::abs(q.y()) < radius_m) clear = std::min<double>(clear, q.x() - radius_m);
+    if (q.x() > 0.f && std::abs(q.y()) < radius_m)
+      clear = std::min<double>(clear, q.x() - radius_m);
   return clear;
 }
 
@@ -269,11 +281,13 @@ void Navigator::setGoal(const Eigen::Vector3d& goal_xyyaw) {
   m.last_step_t = -std::numeric_limits<double>::infinity();  // step at the next update()
   const Eigen::Vector3d pose = m.localisation();
   const Eigen::Vector2d to = m.goal.head<2>() - pose.head<2>();
-  m.facing = std::abs(wrapAngle(std::atan2(to.y(), to.x()) - pose.z())) >
-             m.params.face_goal_deg * kDeg;
+  m.facing =
+      std::abs(wrapAngle(std::atan2(to.y(), to.x()) - pose.z())) > m.params.face_goal_deg * kDeg;
 }
 
-void Navigator::cancel() { m_impl->finish(NavState::Idle, ""); }
+void Navigator::cancel() {
+  m_impl->finish(NavState::Idle, "");
+}
 
 void Navigator::update() {
   Impl& m = *m_impl;
@@ -283,9 +297,17 @@ void Navigator::update() {
   m.step(t);
 }
 
-NavState Navigator::state() const { return m_impl->state; }
-const std::string& Navigator::failureReason() const { return m_impl->reason; }
-const Eigen::Vector3d& Navigator::goal() const { return m_impl->goal; }
-double Navigator::pathLength_m() const { return m_impl->path_m; }
+NavState Navigator::state() const {
+  return m_impl->state;
+}
+const std::string& Navigator::failureReason() const {
+  return m_impl->reason;
+}
+const Eigen::Vector3d& Navigator::goal() const {
+  return m_impl->goal;
+}
+double Navigator::pathLength_m() const {
+  return m_impl->path_m;
+}
 
 }  // namespace rasm::navigation

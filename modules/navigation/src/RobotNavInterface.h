@@ -19,8 +19,8 @@ class RobotNavInterface : public mrpt::nav::CRobot2NavInterface {
       : m_robot(robot), m_localisation(std::move(localisation)) {}
 
   bool getCurrentPoseAndSpeeds(mrpt::math::TPose2D& pose, mrpt::math::TTwist2D& vel_global,
-                               mrpt::system::TTimeStamp& timestamp,
-                               mrpt::math::TPose2D& odometry, std::string& frame_id) override;
+                               mrpt::system::TTimeStamp& timestamp, mrpt::math::TPose2D& odometry,
+                               std::string& frame_id) override;
   bool changeSpeeds(const mrpt::kinematics::CVehicleVelCmd& cmd) override;
   bool stop(bool is_emergency_stop) override;
   mrpt::kinematics::CVehicleVelCmd::Ptr getEmergencyStopCmd() override;

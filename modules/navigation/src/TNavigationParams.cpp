@@ -58,9 +58,9 @@ void TNavigationParams::validate(const std::string& s) const {
                     "must be at least goal_tolerance_m (the own controller finishes the approach)");
   if (holonomic_method != "CHolonomicFullEval" && holonomic_method != "CHolonomicND" &&
       holonomic_method != "CHolonomicVFF")
-    throwInputError("[" + s + "] holonomic_method",
-                    "'" + holonomic_method +
-                        "' is not one of CHolonomicFullEval, CHolonomicND, CHolonomicVFF");
+    throwInputError(
+        "[" + s + "] holonomic_method",
+        "'" + holonomic_method + "' is not one of CHolonomicFullEval, CHolonomicND, CHolonomicVFF");
 }
 
 void TNavigationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,

@@ -14,7 +14,7 @@ struct TNavigationParams : public mrpt::config::CLoadableOptions {
   double max_w_degps = 60.0;
   double goal_tolerance_m = 0.15;
   double heading_tolerance_deg = 8.0;
-  double align_w_degps = 40.0;  ///< rotate-in-place speed for the final heading
+  double align_w_degps = 40.0;   ///< rotate-in-place speed for the final heading
   double goal_timeout_s = 90.0;  ///< give up on a goal after this long: reason "timeout"
   /// No progress: the distance to the goal did not shrink by stuck_distance_m within
   /// stuck_timeout_s: reason "stuck".
@@ -27,11 +27,11 @@ struct TNavigationParams : public mrpt::config::CLoadableOptions {
   /// forward-only PTGs otherwise take a wide loop).
   double face_goal_deg = 45.0;
   // MRPT reactive navigator (CReactiveNavigationSystem) settings.
-  double ptg_ref_distance_m = 3.0;  ///< PTG reach: obstacles further than this are ignored
-  double ptg_resolution_m = 0.05;   ///< PTG look-up-table cell size
-  int ptg_num_paths = 121;          ///< trajectories per PTG
-  bool allow_reverse = false;       ///< adds a backward circular-arc PTG
-  double footprint_margin_m = 0.05; ///< the footprint polygon is grown by this for the PTGs
+  double ptg_ref_distance_m = 3.0;   ///< PTG reach: obstacles further than this are ignored
+  double ptg_resolution_m = 0.05;    ///< PTG look-up-table cell size
+  int ptg_num_paths = 121;           ///< trajectories per PTG
+  bool allow_reverse = false;        ///< adds a backward circular-arc PTG
+  double footprint_margin_m = 0.05;  ///< the footprint polygon is grown by this for the PTGs
   /// CHolonomicND: CHolonomicFullEval with the example weights stalls in front of a block and
   /// grazes its corner (apparent collision) in the 3 m test; ND goes around (docs/navigation.md).
   std::string holonomic_method = "CHolonomicND";  ///< or CHolonomicFullEval, CHolonomicVFF
