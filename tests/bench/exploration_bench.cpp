@@ -124,9 +124,13 @@ int main() {
   for (const char* name : {"frontier", "random", "lawnmower"}) {
     ep.planner = name;
     const auto planner = exploration::makePlanner(ep);
-    std::size_t offered = 0;
-    const double ms = medianMs(5, [&] { offered = planner->plan(in).ranked.size(); });
-    std::printf(",\"%s\":{\"plan_ms\":%.1f,\"offered\":%zu}", name, ms, offered);
+    std::size_t offered = 0, grid_cells = 0;
+    const double ms = medianMs(5, [&] {
+      const exploration::Plan plan = planner->plan(in);
+      offered = plan.ranked.size(), grid_cells = plan.grid.getSizeX() * plan.grid.getSizeY();
+    });
+    std::printf(",\"%s\":{\"plan_ms\":%.2f,\"offered\":%zu,\"grid_cells\":%zu}", name, ms,
+                offered, grid_cells);
   }
   std::printf("}\n");
   return 0;

@@ -88,7 +88,7 @@ Plan FrontierPlanner::plan(const PlannerInputs& in) {
   detail::requireOctree(in, name());
   m_blacklist.tick();
   Plan plan;
-  plan.grid = planningGrid(*in.octree, in.robot_pose, m_params.footprint_radius_m);
+  planningGrid(*in.octree, in.robot_pose, m_params.footprint_radius_m, plan.grid);
   const ReachableCells reach = reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
   std::vector<ViewCandidate> candidates;
   for (const FrontierCluster& f : findFrontiers(plan.grid, m_params.frontier_min_cells)) {

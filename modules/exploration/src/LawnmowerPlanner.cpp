@@ -57,7 +57,7 @@ void LawnmowerPlanner::skip(std::size_t i) {
 Plan LawnmowerPlanner::plan(const PlannerInputs& in) {
   detail::requireOctree(in, name());
   Plan plan;
-  plan.grid = planningGrid(*in.octree, in.robot_pose, m_params.footprint_radius_m);
+  planningGrid(*in.octree, in.robot_pose, m_params.footprint_radius_m, plan.grid);
   const ReachableCells reach = reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
   const double snap = 0.5 * std::min(m_params.lawnmower_spacing_m, m_params.lawnmower_step_m);
   const std::size_t n = m_waypoints.size();

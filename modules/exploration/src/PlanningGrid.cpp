@@ -40,13 +40,11 @@ std::vector<std::uint8_t> blockedCells(const mrpt::maps::COccupancyGridMap2D& gr
 
 }  // namespace
 
-mrpt::maps::COccupancyGridMap2D planningGrid(const OccupancyOctree& octree,
-                                             const Eigen::Vector3d& robot_pose,
-                                             double footprint_radius_m) {
-  mrpt::maps::COccupancyGridMap2D grid;
+void planningGrid(const OccupancyOctree& octree, const Eigen::Vector3d& robot_pose,
+                  double footprint_radius_m, mrpt::maps::COccupancyGridMap2D& grid) {
   octree.projectToGrid(grid);
+  // The robot stands on its footprint: those cells are free whatever the camera has seen.
   markFootprintFree(grid, robot_pose.x(), robot_pose.y(), footprint_radius_m);
-  return grid;
 }
 
 bool ReachableCells::reachable(int ix, int iy) const {

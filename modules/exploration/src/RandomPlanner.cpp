@@ -24,7 +24,7 @@ Plan RandomPlanner::plan(const PlannerInputs& in) {
   detail::requireOctree(in, name());
   m_blacklist.tick();
   Plan plan;
-  plan.grid = planningGrid(*in.octree, in.robot_pose, m_params.footprint_radius_m);
+  planningGrid(*in.octree, in.robot_pose, m_params.footprint_radius_m, plan.grid);
   const ReachableCells reach = reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
   // Reachable cells not near a failed goal, row-major (the draw depends on the seed only).
   std::vector<Eigen::Vector2d> cells;

@@ -16,7 +16,7 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
   if (!in.store || !in.segments || !in.octree)
     throwInputError("exploration planner inputs", "store, segments and octree are required");
   Plan plan;
-  plan.grid = planningGrid(*in.octree, in.robot_pose, m_params.footprint_radius_m);
+  planningGrid(*in.octree, in.robot_pose, m_params.footprint_radius_m, plan.grid);
 
   std::mt19937_64 rng(std::uint64_t(m_params.seed));
   std::vector<ViewCandidate> candidates = sampleRandomViews(plan.grid, m_params, rng);

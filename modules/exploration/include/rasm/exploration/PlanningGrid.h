@@ -20,10 +20,10 @@
 
 namespace rasm::exploration {
 
-/// The octree's projection (projectToGrid) with the footprint disc at robot_pose marked free.
-mrpt::maps::COccupancyGridMap2D planningGrid(const OccupancyOctree& octree,
-                                             const Eigen::Vector3d& robot_pose,
-                                             double footprint_radius_m);
+/// The octree's projection (projectToGrid) with the footprint disc at robot_pose marked free,
+/// written into `grid` (an output argument: MRPT grids copy slowly; Plan::grid is filled in place).
+void planningGrid(const OccupancyOctree& octree, const Eigen::Vector3d& robot_pose,
+                  double footprint_radius_m, mrpt::maps::COccupancyGridMap2D& grid);
 
 /// Shortest 8-connected path lengths (m) from the robot's cell over the traversable cells.
 struct ReachableCells {
