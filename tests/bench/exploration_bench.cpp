@@ -129,8 +129,8 @@ int main() {
       const exploration::Plan plan = planner->plan(in);
       offered = plan.ranked.size(), grid_cells = plan.grid.getSizeX() * plan.grid.getSizeY();
     });
-    std::printf(",\"%s\":{\"plan_ms\":%.2f,\"offered\":%zu,\"grid_cells\":%zu}", name, ms,
-                offered, grid_cells);
+    std::printf(",\"%s\":{\"plan_ms\":%.2f,\"offered\":%zu,\"grid_cells\":%zu}", name, ms, offered,
+                grid_cells);
   }
   std::printf("}\n");
   return 0;

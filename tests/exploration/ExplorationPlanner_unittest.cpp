@@ -281,9 +281,9 @@ TEST(LawnmowerPlanner, VisitsWaypointsInSnakeOrderRetriesAFailedOneAndEnds) {
   const auto octree = roomOctree(p, false, false);
   LawnmowerPlanner planner(p);
   // 5 m box, 1.5 m: 3 lanes at y = -1.5, 0, 1.5 and 3 waypoints at x = -1.5, 0, 1.5 on each.
-  const std::vector<Eigen::Vector2d> snake = {{-1.5, -1.5}, {0, -1.5},   {1.5, -1.5},
-                                              {1.5, 0},     {0, 0},      {-1.5, 0},
-                                              {-1.5, 1.5},  {0, 1.5},    {1.5, 1.5}};
+  const std::vector<Eigen::Vector2d> snake = {{-1.5, -1.5}, {0, -1.5}, {1.5, -1.5},
+                                              {1.5, 0},     {0, 0},    {-1.5, 0},
+                                              {-1.5, 1.5},  {0, 1.5},  {1.5, 1.5}};
   ASSERT_EQ(planner.waypoints().size(), snake.size());
   for (std::size_t k = 0; k < snake.size(); ++k) {
     EXPECT_NEAR((planner.waypoints()[k].head<2>() - snake[k]).norm(), 0.0, 1e-9) << k;

@@ -53,7 +53,8 @@ Plan IgPlanner::plan(const PlannerInputs& in) {
 namespace detail {
 
 void requireOctree(const PlannerInputs& in, const std::string& planner) {
-  if (!in.octree) throwInputError("exploration planner '" + planner + "' inputs", "octree is required");
+  if (!in.octree)
+    throwInputError("exploration planner '" + planner + "' inputs", "octree is required");
 }
 
 ViewCandidate baselineCandidate(const Eigen::Vector2d& xy, double yaw, ViewCandidate::Source source,

@@ -11,8 +11,12 @@ namespace rasm::exploration {
 namespace {
 
 /// MRPT grids store P(free): known free well above the unknown 0.5, occupied near 0.
-bool knownFree(float v) { return v > 0.6f; }
-bool unknown(float v) { return v >= 0.4f && v <= 0.6f; }
+bool knownFree(float v) {
+  return v > 0.6f;
+}
+bool unknown(float v) {
+  return v >= 0.4f && v <= 0.6f;
+}
 
 /// Yamauchi's frontier cell: known free with an unknown 4-neighbour (inside the grid; the
 /// grid's border is the workspace's, beyond which nothing is to be explored). Returns the summed
@@ -41,7 +45,8 @@ std::vector<FrontierCluster> findFrontiers(const mrpt::maps::COccupancyGridMap2D
   std::vector<std::uint8_t> is_frontier(dir.size(), 0), seen(dir.size(), 0);
   for (int iy = 0; iy < ny; ++iy)
     for (int ix = 0; ix < nx; ++ix)
-      is_frontier[std::size_t(iy) * nx + ix] = frontierCell(grid, ix, iy, dir[std::size_t(iy) * nx + ix]);
+      is_frontier[std::size_t(iy) * nx + ix] =
+          frontierCell(grid, ix, iy, dir[std::size_t(iy) * nx + ix]);
   std::vector<FrontierCluster> clusters;
   std::vector<int> stack;
   for (int start = 0; start < nx * ny; ++start) {
@@ -89,7 +94,8 @@ Plan FrontierPlanner::plan(const PlannerInputs& in) {
   m_blacklist.tick();
   Plan plan;
   planningGrid(*in.octree, in.robot_pose, m_params.footprint_radius_m, plan.grid);
-  const ReachableCells reach = reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
+  const ReachableCells reach =
+      reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
   std::vector<ViewCandidate> candidates;
   for (const FrontierCluster& f : findFrontiers(plan.grid, m_params.frontier_min_cells)) {
     const std::optional<Eigen::Vector2d> goal = nearestReachableCell(
@@ -97,7 +103,8 @@ Plan FrontierPlanner::plan(const PlannerInputs& in) {
     // Face the unknown side: a point 0.5 m past the centroid along the frontier's outward normal.
     const Eigen::Vector2d at = goal ? *goal : f.centroid;
     Eigen::Vector2d look = f.centroid + 0.5 * f.outward - at;
-    if (look.norm() < 1e-6) look = Eigen::Vector2d(std::cos(in.robot_pose.z()), std::sin(in.robot_pose.z()));
+    if (look.norm() < 1e-6)
+      look = Eigen::Vector2d(std::cos(in.robot_pose.z()), std::sin(in.robot_pose.z()));
     ViewCandidate c = detail::baselineCandidate(at, std::atan2(look.y(), look.x()),
                                                 ViewCandidate::Source::Frontier, in);
     if (!goal)

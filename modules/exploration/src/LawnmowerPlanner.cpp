@@ -58,7 +58,8 @@ Plan LawnmowerPlanner::plan(const PlannerInputs& in) {
   detail::requireOctree(in, name());
   Plan plan;
   planningGrid(*in.octree, in.robot_pose, m_params.footprint_radius_m, plan.grid);
-  const ReachableCells reach = reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
+  const ReachableCells reach =
+      reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
   const double snap = 0.5 * std::min(m_params.lawnmower_spacing_m, m_params.lawnmower_step_m);
   const std::size_t n = m_waypoints.size();
   m_offered = false;
@@ -68,9 +69,9 @@ Plan LawnmowerPlanner::plan(const PlannerInputs& in) {
     if (m_states[i] != State::Pending) continue;
     const Eigen::Vector3d& w = m_waypoints[i];
     if (const auto goal = nearestReachableCell(plan.grid, reach, w.x(), w.y(), snap)) {
-      detail::measureInto(m_params, in,
-                          {detail::baselineCandidate(*goal, w.z(), ViewCandidate::Source::Sweep, in)},
-                          plan);
+      detail::measureInto(
+          m_params, in, {detail::baselineCandidate(*goal, w.z(), ViewCandidate::Source::Sweep, in)},
+          plan);
       if (!plan.ranked.empty()) {
         m_cursor = i, m_offered = true, m_offered_xy = *goal;
         return plan;

@@ -19,7 +19,8 @@ std::vector<std::uint8_t> blockedCells(const mrpt::maps::COccupancyGridMap2D& gr
   const int nx = int(grid.getSizeX()), ny = int(grid.getSizeY());
   std::vector<std::uint8_t> obstacle(std::size_t(nx) * ny), rows(obstacle.size());
   for (int iy = 0; iy < ny; ++iy)
-    for (int ix = 0; ix < nx; ++ix) obstacle[std::size_t(iy) * nx + ix] = !(grid.getCell(ix, iy) > 0.5f);
+    for (int ix = 0; ix < nx; ++ix)
+      obstacle[std::size_t(iy) * nx + ix] = !(grid.getCell(ix, iy) > 0.5f);
   for (int iy = 0; iy < ny; ++iy)
     for (int ix = 0; ix < nx; ++ix) {
       std::uint8_t v = 0;
@@ -96,8 +97,8 @@ ReachableCells reachableCells(const mrpt::maps::COccupancyGridMap2D& grid,
 }
 
 std::optional<Eigen::Vector2d> nearestReachableCell(const mrpt::maps::COccupancyGridMap2D& grid,
-                                                    const ReachableCells& reach, double x,
-                                                    double y, double radius_m) {
+                                                    const ReachableCells& reach, double x, double y,
+                                                    double radius_m) {
   const int r = int(std::ceil(radius_m / grid.getResolution())) + 1;
   const int cx = grid.x2idx(x), cy = grid.y2idx(y);
   std::optional<Eigen::Vector2d> best;

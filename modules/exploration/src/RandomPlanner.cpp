@@ -25,7 +25,8 @@ Plan RandomPlanner::plan(const PlannerInputs& in) {
   m_blacklist.tick();
   Plan plan;
   planningGrid(*in.octree, in.robot_pose, m_params.footprint_radius_m, plan.grid);
-  const ReachableCells reach = reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
+  const ReachableCells reach =
+      reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
   // Reachable cells not near a failed goal, row-major (the draw depends on the seed only).
   std::vector<Eigen::Vector2d> cells;
   for (int iy = 0; iy < reach.size_y; ++iy)
@@ -40,7 +41,8 @@ Plan RandomPlanner::plan(const PlannerInputs& in) {
   for (int k = 0; k < kDraws && plan.ranked.empty(); ++k) {
     const Eigen::Vector2d xy = cells[pick(m_rng)];
     const double yaw = heading(m_rng);
-    detail::measureInto(m_params, in, {detail::baselineCandidate(xy, yaw, ViewCandidate::Source::Random, in)},
+    detail::measureInto(m_params, in,
+                        {detail::baselineCandidate(xy, yaw, ViewCandidate::Source::Random, in)},
                         plan);
   }
   return plan;

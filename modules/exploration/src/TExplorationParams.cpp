@@ -86,9 +86,12 @@ void TExplorationParams::validate(const std::string& s) const {
   requireInRange(turn_rate_degps, 0.001, 3600.0, s, "turn_rate_degps");
   requireInRange(min_travel_time_s, 0.001, 1000000.0, s, "min_travel_time_s");
   const std::vector<std::string> names = plannerNames();
-  if (std::find(names.begin(), names.end(), planner) == names.end())
+  if (std::find(names.begin(), names.end(), planner) == names.end()) {
+    std::string accepted;
+    for (const std::string& n : names) accepted += (accepted.empty() ? "" : ", ") + n;
     throwInputError("[" + s + "] planner",
-                    "'" + planner + "' is not a planner; accepted: ig, frontier, random, lawnmower");
+                    "'" + planner + "' is not a planner; accepted: " + accepted);
+  }
   requireInRange(blacklist_radius_m, 0.0, 100.0, s, "blacklist_radius_m");
   requireInRange(frontier_min_cells, 1, 1000000, s, "frontier_min_cells");
   requireInRange(frontier_goal_radius_m, 0.0, 100.0, s, "frontier_goal_radius_m");
@@ -151,6 +154,8 @@ void TExplorationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(lawnmower_axis, c, s);
 }
 
-std::vector<std::string> plannerNames() { return {"ig", "frontier", "random", "lawnmower"}; }
+std::vector<std::string> plannerNames() {
+  return {"ig", "frontier", "random", "lawnmower"};
+}
 
 }  // namespace rasm::exploration

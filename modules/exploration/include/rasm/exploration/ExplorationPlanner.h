@@ -41,8 +41,8 @@ struct PlannerInputs {
   const maps::SurfelStore* store = nullptr;  ///< snapshot with its spatial index rebuilt ("ig")
   const std::vector<segmentation::SegmentStats>* segments = nullptr;  ///< ("ig")
   const OccupancyOctree* octree = nullptr;                            ///< every planner
-  Eigen::Vector3d robot_pose = Eigen::Vector3d::Zero();          ///< x, y, yaw of the base now
-  Eigen::Isometry3d T_base_cam = Eigen::Isometry3d::Identity();  ///< the camera mount
+  Eigen::Vector3d robot_pose = Eigen::Vector3d::Zero();               ///< x, y, yaw of the base now
+  Eigen::Isometry3d T_base_cam = Eigen::Isometry3d::Identity();       ///< the camera mount
   CameraIntrinsics K;   ///< the camera's (predicted maps use it scaled to the predict size)
   ViewInfoModel model;  ///< fusion's IC parameters and the map's bin layout
 };
@@ -75,7 +75,8 @@ class ExplorationPlanner {
   const GoalBlacklist& blacklist() const { return m_blacklist; }
 
  protected:
-  explicit ExplorationPlanner(const GoalBlacklist& blacklist = GoalBlacklist()) : m_blacklist(blacklist) {}
+  explicit ExplorationPlanner(const GoalBlacklist& blacklist = GoalBlacklist())
+      : m_blacklist(blacklist) {}
   GoalBlacklist m_blacklist;
 };
 

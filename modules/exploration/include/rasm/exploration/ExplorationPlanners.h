@@ -74,11 +74,11 @@ class RandomPlanner : public ExplorationPlanner {
 /// "lawnmower": a boustrophedon sweep of the workspace's xy box. round(width / spacing) lanes
 /// (at least one) lawnmower_spacing_m apart and centred in the box run along lawnmower_axis,
 /// round(length / step) waypoints lawnmower_step_m apart and centred on each, lanes alternating
-/// direction (snake order), the heading along the lane. A waypoint is reached at the reachable cell nearest it within half the
-/// smaller of spacing and step (furniture or a wall may stand on the exact point).
-/// plan(): from the current waypoint on in snake order (then wrapping to the start: a later
-/// pass), the first pending waypoint reachable now is offered; each pending one walked past as
-/// unreachable counts a skip, and after max_skips skips it is abandoned. A waypoint is done when
+/// direction (snake order), the heading along the lane. A waypoint is reached at the reachable cell
+/// nearest it within half the smaller of spacing and step (furniture or a wall may stand on the
+/// exact point). plan(): from the current waypoint on in snake order (then wrapping to the start: a
+/// later pass), the first pending waypoint reachable now is offered; each pending one walked past
+/// as unreachable counts a skip, and after max_skips skips it is abandoned. A waypoint is done when
 /// reached (goalOutcome(true)); a failed one counts a skip and the sweep moves on. Empty plan:
 /// every waypoint is done or abandoned, or none is reachable now (the robot cannot move, so it
 /// cannot see more). Does not use the blacklist.

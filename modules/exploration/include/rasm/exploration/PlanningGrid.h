@@ -47,7 +47,7 @@ ReachableCells reachableCells(const mrpt::maps::COccupancyGridMap2D& grid,
 /// The centre of the reachable cell nearest (x, y) whose centre is within radius_m of it (ties:
 /// the shorter path from the robot, then row-major order); none when no such cell.
 std::optional<Eigen::Vector2d> nearestReachableCell(const mrpt::maps::COccupancyGridMap2D& grid,
-                                                    const ReachableCells& reach, double x,
-                                                    double y, double radius_m);
+                                                    const ReachableCells& reach, double x, double y,
+                                                    double radius_m);
 
 }  // namespace rasm::exploration
