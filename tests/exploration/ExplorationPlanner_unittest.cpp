@@ -182,6 +182,43 @@ TEST(GoalBlacklist, ContainsWithinTheRadiusAndAgesOutWhenAsked) {
   EXPECT_EQ(aging.size(), 0u);
 }
 
+// ---- the shared reachability field ----
+
+TEST(PlanningGrid, ReachableCellsAgreeWithPlannerSimple2D) {
+  // A free 6 x 6 m grid with a wall across x = 3 except a 1 m gap at y in [4.5, 5.5].
+  mrpt::maps::COccupancyGridMap2D g;
+  g.setSize(0.0f, 6.0f, 0.0f, 6.0f, 0.1f, 1.0f);
+  for (int iy = 0; iy < 60; ++iy)
+    if (iy < 45 || iy > 55) g.setCell(30, iy, 0.0f);
+  for (int ix = 40; ix < 60; ++ix) g.setCell(ix, 10, 0.5f);  // an unknown strip: an obstacle
+  const TExplorationParams p;
+  const Eigen::Vector3d robot(1.0, 1.0, 0.0);
+  const ReachableCells reach = reachableCells(g, robot, p.footprint_radius_m);
+  EXPECT_FALSE(reach.reachable(g.x2idx(3.0), g.y2idx(1.0)));  // the wall
+  EXPECT_FALSE(reach.reachable(g.x2idx(3.2), g.y2idx(1.0)));  // within the footprint of it
+  EXPECT_FALSE(reach.reachable(g.x2idx(5.0), g.y2idx(1.2)));  // next to the unknown strip
+  // Every 7th reachable cell: PlannerSimple2D finds a path, as long as the field's within 8%.
+  std::vector<ViewCandidate> c;
+  int k = 0;
+  for (int iy = 0; iy < reach.size_y; ++iy)
+    for (int ix = 0; ix < reach.size_x; ++ix)
+      if (reach.reachable(ix, iy) && ++k % 7 == 0) {
+        ViewCandidate v;
+        v.pose = Eigen::Vector3d(g.idx2x(ix), g.idx2y(iy), 0.0);
+        c.push_back(v);
+      }
+  ASSERT_GT(c.size(), 100u);
+  planPaths(g, robot, p, c);
+  for (const ViewCandidate& v : c) {
+    ASSERT_TRUE(v.reachable) << v.pose.transpose();
+    const float d = reach.distance(g.x2idx(v.pose.x()), g.y2idx(v.pose.y()));
+    EXPECT_NEAR(v.path_length_m, d, 0.08 * d + 0.2) << v.pose.transpose();
+  }
+  // Beyond the wall through the gap: around, not through.
+  const float beyond = reach.distance(g.x2idx(4.0), g.y2idx(1.0));
+  EXPECT_GT(beyond, std::hypot(2.0, 4.0) + std::hypot(1.0, 4.0) - 0.3);
+}
+
 // ---- frontier ----
 
 TEST(FrontierPlanner, GoalIsNextToTheOpeningIntoUnknownSpaceAndReachable) {
@@ -312,6 +349,20 @@ TEST(LawnmowerPlanner, VisitsWaypointsInSnakeOrderRetriesAFailedOneAndEnds) {
   }
   for (const auto s : planner.states()) EXPECT_EQ(s, LawnmowerPlanner::State::Visited);
   EXPECT_TRUE(planner.plan(inputsFor(*octree, robot)).ranked.empty());
+}
+
+TEST(LawnmowerPlanner, AxisYLanesRunAlongY) {
+  TExplorationParams p = roomParams();
+  p.lawnmower_axis = "y";
+  p.lawnmower_spacing_m = 2.5, p.lawnmower_step_m = 2.5;  // 2 lanes at x = -1.25, 1.25
+  const LawnmowerPlanner planner(p);
+  const std::vector<Eigen::Vector3d> want = {{-1.25, -1.25, M_PI / 2},
+                                             {-1.25, 1.25, M_PI / 2},
+                                             {1.25, 1.25, -M_PI / 2},
+                                             {1.25, -1.25, -M_PI / 2}};
+  ASSERT_EQ(planner.waypoints().size(), want.size());
+  for (std::size_t k = 0; k < want.size(); ++k)
+    EXPECT_NEAR((planner.waypoints()[k] - want[k]).norm(), 0.0, 1e-9) << k;
 }
 
 TEST(LawnmowerPlanner, WaypointsNeverReachableAreAbandonedAndTheSweepEnds) {
