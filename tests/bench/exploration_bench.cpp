@@ -2,7 +2,8 @@
 // fused (SurfelFusion, ground-truth poses) and the octree filled from 48 frames of a robot that
 // turns in place at two spots of the room (noise-free depth, 640x480). Prints one JSON line with
 // medians over repetitions: entropy() of the workspace, one candidate's dH and dIC (one render of
-// the surfel map + the octree ray cast + the bin sum) at 320x240 and 160x120, and a whole plan.
+// the surfel map + the octree ray cast + the bin sum) at 320x240 and 160x120, a whole IG plan and
+// one plan of each baseline (frontier, random, lawnmower) on the same octree.
 //   bench_exploration
 #include <algorithm>
 #include <chrono>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "rasm/core/FrameProcessing.h"
+#include "rasm/exploration/ExplorationPlanners.h"
 #include "rasm/exploration/ViewPlanner.h"
 #include "rasm/fusion/SurfelFusion.h"
 #include "rasm/segmentation/SegmentTable.h"
@@ -116,7 +118,20 @@ int main() {
     const exploration::Plan plan = exploration::ViewPlanner(ep).plan(in);
     ranked = plan.ranked.size(), pruned = plan.unreachable.size();
   });
-  std::printf(",\"plan_160x120_ms\":%.1f,\"plan_candidates\":%zu,\"plan_pruned\":%zu}\n", plan_ms,
+  std::printf(",\"plan_160x120_ms\":%.1f,\"plan_candidates\":%zu,\"plan_pruned\":%zu", plan_ms,
               ranked, pruned);
+  // The baselines (issue 18 deliverable 6) on the same octree and robot pose.
+  for (const char* name : {"frontier", "random", "lawnmower"}) {
+    ep.planner = name;
+    const auto planner = exploration::makePlanner(ep);
+    std::size_t offered = 0, grid_cells = 0;
+    const double ms = medianMs(5, [&] {
+      const exploration::Plan plan = planner->plan(in);
+      offered = plan.ranked.size(), grid_cells = plan.grid.getSizeX() * plan.grid.getSizeY();
+    });
+    std::printf(",\"%s\":{\"plan_ms\":%.2f,\"offered\":%zu,\"grid_cells\":%zu}", name, ms, offered,
+                grid_cells);
+  }
+  std::printf("}\n");
   return 0;
 }

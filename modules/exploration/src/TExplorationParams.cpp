@@ -2,6 +2,8 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 
+#include <algorithm>
+
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 
@@ -41,6 +43,13 @@ void TExplorationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
   MRPT_LOAD_CONFIG_VAR(speed_mps, double, c, s);
   MRPT_LOAD_CONFIG_VAR(turn_rate_degps, double, c, s);
   MRPT_LOAD_CONFIG_VAR(min_travel_time_s, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(planner, string, c, s);
+  MRPT_LOAD_CONFIG_VAR(blacklist_radius_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(frontier_min_cells, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(frontier_goal_radius_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(lawnmower_spacing_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(lawnmower_step_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(lawnmower_axis, string, c, s);
   validate(s);
 }
 
@@ -76,6 +85,20 @@ void TExplorationParams::validate(const std::string& s) const {
   requireInRange(speed_mps, 0.001, 10.0, s, "speed_mps");
   requireInRange(turn_rate_degps, 0.001, 3600.0, s, "turn_rate_degps");
   requireInRange(min_travel_time_s, 0.001, 1000000.0, s, "min_travel_time_s");
+  const std::vector<std::string> names = plannerNames();
+  if (std::find(names.begin(), names.end(), planner) == names.end()) {
+    std::string accepted;
+    for (const std::string& n : names) accepted += (accepted.empty() ? "" : ", ") + n;
+    throwInputError("[" + s + "] planner",
+                    "'" + planner + "' is not a planner; accepted: " + accepted);
+  }
+  requireInRange(blacklist_radius_m, 0.0, 100.0, s, "blacklist_radius_m");
+  requireInRange(frontier_min_cells, 1, 1000000, s, "frontier_min_cells");
+  requireInRange(frontier_goal_radius_m, 0.0, 100.0, s, "frontier_goal_radius_m");
+  requireInRange(lawnmower_spacing_m, 0.05, 1000.0, s, "lawnmower_spacing_m");
+  requireInRange(lawnmower_step_m, 0.05, 1000.0, s, "lawnmower_step_m");
+  if (lawnmower_axis != "x" && lawnmower_axis != "y")
+    throwInputError("[" + s + "] lawnmower_axis", "'" + lawnmower_axis + "' must be x or y");
   const auto requireBelow = [&s](double lo, double hi, const std::string& keys) {
     if (!(lo < hi)) throwInputError("[" + s + "] " + keys, "the minimum must be below the maximum");
   };
@@ -122,6 +145,17 @@ void TExplorationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(speed_mps, c, s);
   MRPT_SAVE_CONFIG_VAR(turn_rate_degps, c, s);
   MRPT_SAVE_CONFIG_VAR(min_travel_time_s, c, s);
+  MRPT_SAVE_CONFIG_VAR(planner, c, s);
+  MRPT_SAVE_CONFIG_VAR(blacklist_radius_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(frontier_min_cells, c, s);
+  MRPT_SAVE_CONFIG_VAR(frontier_goal_radius_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(lawnmower_spacing_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(lawnmower_step_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(lawnmower_axis, c, s);
+}
+
+std::vector<std::string> plannerNames() {
+  return {"ig", "frontier", "random", "lawnmower"};
 }
 
 }  // namespace rasm::exploration

@@ -4,6 +4,7 @@
 #include <random>
 
 #include "rasm/core/Error.h"
+#include "rasm/exploration/PlanningGrid.h"
 
 namespace rasm::exploration {
 
@@ -15,9 +16,7 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
   if (!in.store || !in.segments || !in.octree)
     throwInputError("exploration planner inputs", "store, segments and octree are required");
   Plan plan;
-  in.octree->projectToGrid(plan.grid);
-  // The robot stands on its footprint: those cells are free whatever the camera has seen.
-  markFootprintFree(plan.grid, in.robot_pose.x(), in.robot_pose.y(), m_params.footprint_radius_m);
+  planningGrid(*in.octree, in.robot_pose, m_params.footprint_radius_m, plan.grid);
 
   std::mt19937_64 rng(std::uint64_t(m_params.seed));
   std::vector<ViewCandidate> candidates = sampleRandomViews(plan.grid, m_params, rng);

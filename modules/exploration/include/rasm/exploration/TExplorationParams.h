@@ -7,6 +7,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <string>
+#include <vector>
 
 namespace rasm::exploration {
 
@@ -64,10 +65,35 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   double speed_mps = 0.3, turn_rate_degps = 45.0;
   double min_travel_time_s = 2.0;
 
+  // ---- planner and baselines (issue 18 deliverable 6; ExplorationPlanner.h) ----
+  /// Which planner makePlanner builds: "ig" (the IG planner of V), "frontier" (nearest frontier,
+  /// Yamauchi 1997), "random" (random reachable free cells), "lawnmower" (boustrophedon sweep).
+  /// The baselines run on the same octree, projection, reachability and budget as "ig".
+  std::string planner = "ig";
+  /// A goal the robot failed to reach (and, for "frontier", a goal it reached) is blacklisted:
+  /// candidates whose base lies within this distance (m) of it are not offered again. 0.5 m is
+  /// two footprint radii: the same spot up to the navigation's goal tolerance.
+  double blacklist_radius_m = 0.5;
+  /// Frontier clusters (8-connected known-free cells next to unknown ones) with fewer cells are
+  /// ignored: 5 cells at 10 cm are a 0.5 m gap, less is speckle between the rays of a frame.
+  int frontier_min_cells = 5;
+  /// The frontier goal is the reachable cell nearest the cluster's centroid within this radius
+  /// (m); the footprint keeps goals ~footprint_radius_m + 1 cell from unknown space, and 1 m still
+  /// sees the frontier well inside the 4 m depth range.
+  double frontier_goal_radius_m = 1.0;
+  /// Lawnmower: lanes this far apart (m) along lawnmower_axis ("x" or "y"), a waypoint every
+  /// lawnmower_step_m (m) on each lane. 1.5 m: the 63-degree camera sees ~1.8 m across at 1.5 m,
+  /// so neighbouring lanes overlap a little.
+  double lawnmower_spacing_m = 1.5, lawnmower_step_m = 1.5;
+  std::string lawnmower_axis = "x";
+
   /// Throws InputError naming [section] key for a value out of range or a min above its max.
   void validate(const std::string& section = "exploration") const;
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
+
+/// The accepted values of [exploration] planner, in the order of the docs.
+std::vector<std::string> plannerNames();
 
 }  // namespace rasm::exploration

@@ -25,7 +25,9 @@
 namespace rasm::exploration {
 
 struct ViewCandidate {
-  enum class Source { Random, Object };
+  /// Random and Object: the IG planner's (a) and (b); Frontier, Sweep: the "frontier" and
+  /// "lawnmower" baselines' goals ("random" offers Random ones).
+  enum class Source { Random, Object, Frontier, Sweep };
   Source source = Source::Random;
   std::uint32_t segment = 0;                       ///< the segment an object view looks at
   Eigen::Vector3d pose = Eigen::Vector3d::Zero();  ///< robot base (x m, y m, yaw rad)
@@ -38,8 +40,10 @@ struct ViewCandidate {
 
   double entropy_reduction = 0.0;  ///< dH (nats), V-A
   double information = 0.0;        ///< dIC (class-weighted), V-B
-  double gain = 0.0;               ///< IG(a) = w1 dH / max dH + w2 dIC / max dIC
-  double rate = 0.0;               ///< gain / (travel_time_s + min_travel_time_s)
+  /// IG(a) = w1 dH / max dH + w2 dIC / max dIC ("ig"); the baselines set gain = rate =
+  /// 1 / (1 + path_length_m), an ordering key only.
+  double gain = 0.0;
+  double rate = 0.0;  ///< gain / (travel_time_s + min_travel_time_s) ("ig")
 };
 
 /// Base pose (x, y, yaw) on the floor (z = 0, base frame x forward, z up) composed with T_base_cam.

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "rasm/core/CameraIntrinsics.h"
+#include "rasm/exploration/ExplorationPlanner.h"
 #include "rasm/exploration/ObjectInformation.h"
 #include "rasm/exploration/OccupancyOctree.h"
 #include "rasm/exploration/TExplorationParams.h"
@@ -27,29 +28,13 @@
 
 namespace rasm::exploration {
 
-struct PlannerInputs {
-  const maps::SurfelStore* store = nullptr;  ///< snapshot with its spatial index rebuilt
-  const std::vector<segmentation::SegmentStats>* segments = nullptr;
-  const OccupancyOctree* octree = nullptr;
-  Eigen::Vector3d robot_pose = Eigen::Vector3d::Zero();          ///< x, y, yaw of the base now
-  Eigen::Isometry3d T_base_cam = Eigen::Isometry3d::Identity();  ///< the camera mount
-  CameraIntrinsics K;   ///< the camera's (predicted maps use it scaled to the predict size)
-  ViewInfoModel model;  ///< fusion's IC parameters and the map's bin layout
-};
-
-struct Plan {
-  std::vector<ViewCandidate> ranked;       ///< reachable candidates, best first
-  std::vector<ViewCandidate> unreachable;  ///< pruned by the path planner
-  mrpt::maps::COccupancyGridMap2D grid;    ///< the projection planned on (robot footprint free)
-};
-
 class ViewPlanner {
  public:
   /// Throws InputError when the params are out of range.
   explicit ViewPlanner(const TExplorationParams& params = {});
 
-  /// Candidates, pruning, prediction and ranking for one snapshot. Throws InputError when an
-  /// input pointer is null.
+  /// Candidates, pruning, prediction and ranking for one snapshot (Plan::blacklisted stays empty
+  /// and best_* 0: IgPlanner adds those). Throws InputError when an input pointer is null.
   Plan plan(const PlannerInputs& in) const;
 
  private:

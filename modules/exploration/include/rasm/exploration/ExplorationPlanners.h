@@ -1,0 +1,112 @@
+#pragma once
+// The four planners behind ExplorationPlanner (ExplorationPlanner.h says what each does and the
+// contract). All plan on planningGrid / reachableCells (PlanningGrid.h) and measure what they
+// offer with planPaths, so path lengths and travel times compare across planners. Use
+// makePlanner; the classes are public for tests and tools that need their state.
+
+#include <Eigen/Core>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "rasm/exploration/ExplorationPlanner.h"
+#include "rasm/exploration/ViewPlanner.h"
+
+namespace rasm::exploration {
+
+/// "ig": ViewPlanner (V) unchanged; candidates near a failed goal are moved to Plan::blacklisted
+/// and the rest re-ranked (rankCandidates: the normalisation runs over what is offered);
+/// best_entropy_reduction / best_information are the largest dH / dIC of the ranked views.
+class IgPlanner : public ExplorationPlanner {
+ public:
+  explicit IgPlanner(const TExplorationParams& params);
+  std::string name() const override { return "ig"; }
+  Plan plan(const PlannerInputs& in) override;
+
+ private:
+  TExplorationParams m_params;
+  ViewPlanner m_planner;
+};
+
+/// A frontier of the projection: 8-connected known-free cells that are 4-adjacent to unknown.
+struct FrontierCluster {
+  std::vector<Eigen::Vector2d> cells;  ///< cell centres (m)
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  /// Unit vector from the cells towards their unknown neighbours (zero when they cancel out).
+  Eigen::Vector2d outward = Eigen::Vector2d::Zero();
+};
+
+/// The frontiers of `grid` with at least min_cells cells (row-major discovery order).
+std::vector<FrontierCluster> findFrontiers(const mrpt::maps::COccupancyGridMap2D& grid,
+                                           int min_cells);
+
+/// "frontier": nearest-frontier exploration (Yamauchi 1997). One goal per frontier cluster: the
+/// reachable cell nearest its centroid within frontier_goal_radius_m, facing a point 0.5 m past
+/// the centroid on the unknown side (the centroid itself when the goal is on it); ranked by path
+/// length, nearest first. Goals near a visited (reached or failed) goal are blacklisted.
+class FrontierPlanner : public ExplorationPlanner {
+ public:
+  explicit FrontierPlanner(const TExplorationParams& params);
+  std::string name() const override { return "frontier"; }
+  Plan plan(const PlannerInputs& in) override;
+  /// Reached and failed goals alike are blacklisted.
+  void goalOutcome(const Eigen::Vector3d& goal_xyyaw, bool reached) override;
+
+ private:
+  TExplorationParams m_params;
+};
+
+/// "random": one goal per plan, a uniformly drawn reachable known-free cell (footprint included)
+/// not near a failed goal, with a uniform heading; std::mt19937_64(params.seed) lives as long as
+/// the planner, so the same seed and the same inputs give the same sequence of goals. Empty only
+/// when no such cell is reachable.
+class RandomPlanner : public ExplorationPlanner {
+ public:
+  explicit RandomPlanner(const TExplorationParams& params);
+  std::string name() const override { return "random"; }
+  Plan plan(const PlannerInputs& in) override;
+
+ private:
+  TExplorationParams m_params;
+  std::mt19937_64 m_rng;
+};
+
+/// "lawnmower": a boustrophedon sweep of the workspace's xy box. round(width / spacing) lanes
+/// (at least one) lawnmower_spacing_m apart and centred in the box run along lawnmower_axis,
+/// round(length / step) waypoints lawnmower_step_m apart and centred on each, lanes alternating
+/// direction (snake order), the heading along the lane. A waypoint is reached at the reachable cell
+/// nearest it within half the smaller of spacing and step (furniture or a wall may stand on the
+/// exact point). plan(): from the current waypoint on in snake order (then wrapping to the start: a
+/// later pass), the first pending waypoint reachable now is offered; each pending one walked past
+/// as unreachable counts a skip, and after max_skips skips it is abandoned. A waypoint is done when
+/// reached (goalOutcome(true)); a failed one counts a skip and the sweep moves on. Empty plan:
+/// every waypoint is done or abandoned, or none is reachable now (the robot cannot move, so it
+/// cannot see more). Does not use the blacklist.
+class LawnmowerPlanner : public ExplorationPlanner {
+ public:
+  enum class State { Pending, Visited, Abandoned };
+  static constexpr int kDefaultMaxSkips = 3;
+
+  explicit LawnmowerPlanner(const TExplorationParams& params, int max_skips = kDefaultMaxSkips);
+  std::string name() const override { return "lawnmower"; }
+  Plan plan(const PlannerInputs& in) override;
+  void goalOutcome(const Eigen::Vector3d& goal_xyyaw, bool reached) override;
+
+  /// The sweep's waypoints (x, y, heading) in snake order, and their states.
+  const std::vector<Eigen::Vector3d>& waypoints() const { return m_waypoints; }
+  const std::vector<State>& states() const { return m_states; }
+
+ private:
+  void skip(std::size_t i);
+
+  TExplorationParams m_params;
+  int m_max_skips;
+  std::vector<Eigen::Vector3d> m_waypoints;
+  std::vector<State> m_states;
+  std::vector<int> m_skips;
+  std::size_t m_cursor = 0;  ///< the waypoint the sweep is at
+  bool m_offered = false;    ///< m_cursor's waypoint was offered by the last plan ...
+  Eigen::Vector2d m_offered_xy = Eigen::Vector2d::Zero();  ///< ... at this cell
+};
+
+}  // namespace rasm::exploration

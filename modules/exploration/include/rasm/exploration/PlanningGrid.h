@@ -1,0 +1,53 @@
+#pragma once
+// The 2-D world every exploration planner plans on (ViewPlanner and the baselines share it, so a
+// baseline sees exactly the free space and reachability the IG planner sees):
+//   planningGrid: the octree's projection of the robot's height band (V-A) with the robot's own
+//     footprint marked free (it stands there, whatever the camera has seen);
+//   reachableCells: one Dijkstra over that grid from the robot, with PlannerSimple2D's model of
+//     the robot (VI): a cell is traversable when it is known free and no cell within the square of
+//     ceil(footprint / cell) cells around it is occupied or unknown, 8-connected moves. One field
+//     answers "reachable?" and "how far?" for every cell, where planPaths runs one wavefront per
+//     candidate; the baselines pick goals with it and planPaths then measures the few they offer
+//     (the same path length and travel time as the IG planner's candidates).
+
+#include <mrpt/maps/COccupancyGridMap2D.h>
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "rasm/exploration/OccupancyOctree.h"
+
+namespace rasm::exploration {
+
+/// The octree's projection (projectToGrid) with the footprint disc at robot_pose marked free,
+/// written into `grid` (an output argument: MRPT grids copy slowly; Plan::grid is filled in place).
+void planningGrid(const OccupancyOctree& octree, const Eigen::Vector3d& robot_pose,
+                  double footprint_radius_m, mrpt::maps::COccupancyGridMap2D& grid);
+
+/// Shortest 8-connected path lengths (m) from the robot's cell over the traversable cells.
+struct ReachableCells {
+  int size_x = 0, size_y = 0;
+  std::vector<float> distance_m;  ///< row-major; +infinity where not reachable
+
+  bool inside(int ix, int iy) const { return ix >= 0 && iy >= 0 && ix < size_x && iy < size_y; }
+  bool reachable(int ix, int iy) const;
+  /// Path length from the robot (+infinity when not reachable).
+  float distance(int ix, int iy) const;
+  /// Number of reachable cells.
+  int count() const;
+};
+
+/// Traversable as PlannerSimple2D sees it: value > 0.5 (unknown 0.5 is an obstacle), the
+/// obstacles grown by a square of ceil(radius / resolution) cells, the grid's outer ring excluded.
+/// The robot's own cell counts as traversable (PlannerSimple2D starts there whatever it holds).
+ReachableCells reachableCells(const mrpt::maps::COccupancyGridMap2D& grid,
+                              const Eigen::Vector3d& robot_pose, double footprint_radius_m);
+
+/// The centre of the reachable cell nearest (x, y) whose centre is within radius_m of it (ties:
+/// the shorter path from the robot, then row-major order); none when no such cell.
+std::optional<Eigen::Vector2d> nearestReachableCell(const mrpt::maps::COccupancyGridMap2D& grid,
+                                                    const ReachableCells& reach, double x, double y,
+                                                    double radius_m);
+
+}  // namespace rasm::exploration

@@ -1,0 +1,125 @@
+// "frontier": nearest-frontier exploration (Yamauchi 1997) on the planning grid.
+#include <algorithm>
+#include <cmath>
+
+#include "BaselineCandidates.h"
+#include "rasm/exploration/ExplorationPlanners.h"
+#include "rasm/exploration/PlanningGrid.h"
+
+namespace rasm::exploration {
+
+namespace {
+
+/// MRPT grids store P(free): known free well above the unknown 0.5, occupied near 0.
+bool knownFree(float v) {
+  return v > 0.6f;
+}
+bool unknown(float v) {
+  return v >= 0.4f && v <= 0.6f;
+}
+
+/// Yamauchi's frontier cell: known free with an unknown 4-neighbour (inside the grid; the
+/// grid's border is the workspace's, beyond which nothing is to be explored). Returns the summed
+/// directions to those neighbours (zero vector and false when none).
+bool frontierCell(const mrpt::maps::COccupancyGridMap2D& g, int ix, int iy, Eigen::Vector2d& out) {
+  const int nx = int(g.getSizeX()), ny = int(g.getSizeY());
+  if (!knownFree(g.getCell(ix, iy))) return false;
+  static const int d[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  bool any = false;
+  out.setZero();
+  for (const auto& s : d) {
+    const int jx = ix + s[0], jy = iy + s[1];
+    if (jx < 0 || jy < 0 || jx >= nx || jy >= ny || !unknown(g.getCell(jx, jy))) continue;
+    out += Eigen::Vector2d(s[0], s[1]);
+    any = true;
+  }
+  return any;
+}
+
+}  // namespace
+
+std::vector<FrontierCluster> findFrontiers(const mrpt::maps::COccupancyGridMap2D& grid,
+                                           int min_cells) {
+  const int nx = int(grid.getSizeX()), ny = int(grid.getSizeY());
+  std::vector<Eigen::Vector2d> dir(std::size_t(nx) * ny, Eigen::Vector2d::Zero());
+  std::vector<std::uint8_t> is_frontier(dir.size(), 0), seen(dir.size(), 0);
+  for (int iy = 0; iy < ny; ++iy)
+    for (int ix = 0; ix < nx; ++ix)
+      is_frontier[std::size_t(iy) * nx + ix] =
+          frontierCell(grid, ix, iy, dir[std::size_t(iy) * nx + ix]);
+  std::vector<FrontierCluster> clusters;
+  std::vector<int> stack;
+  for (int start = 0; start < nx * ny; ++start) {
+    if (!is_frontier[start] || seen[start]) continue;
+    FrontierCluster c;
+    Eigen::Vector2d out = Eigen::Vector2d::Zero();
+    stack = {start};
+    seen[start] = 1;
+    while (!stack.empty()) {  // 8-connected flood fill
+      const int cell = stack.back();
+      stack.pop_back();
+      const int cx = cell % nx, cy = cell / nx;
+      c.cells.emplace_back(grid.idx2x(cx), grid.idx2y(cy));
+      out += dir[cell];
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int jx = cx + dx, jy = cy + dy, j = jy * nx + jx;
+          if (jx < 0 || jy < 0 || jx >= nx || jy >= ny || !is_frontier[j] || seen[j]) continue;
+          seen[j] = 1;
+          stack.push_back(j);
+        }
+    }
+    if (int(c.cells.size()) < min_cells) continue;
+    for (const Eigen::Vector2d& p : c.cells) c.centroid += p;
+    c.centroid /= double(c.cells.size());
+    if (out.norm() > 1e-9) c.outward = out.normalized();
+    clusters.push_back(std::move(c));
+  }
+  return clusters;
+}
+
+FrontierPlanner::FrontierPlanner(const TExplorationParams& params)
+    : ExplorationPlanner(GoalBlacklist(params.blacklist_radius_m)), m_params(params) {
+  m_params.validate();
+}
+
+void FrontierPlanner::goalOutcome(const Eigen::Vector3d& goal_xyyaw, bool /*reached*/) {
+  // Yamauchi: a frontier still there after the robot stood at it (glass, a dropout, a gap the
+  // camera cannot see into) must not pull the robot back forever.
+  m_blacklist.add(goal_xyyaw);
+}
+
+Plan FrontierPlanner::plan(const PlannerInputs& in) {
+  detail::requireOctree(in, name());
+  m_blacklist.tick();
+  Plan plan;
+  planningGrid(*in.octree, in.robot_pose, m_params.footprint_radius_m, plan.grid);
+  const ReachableCells reach =
+      reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
+  std::vector<ViewCandidate> candidates;
+  for (const FrontierCluster& f : findFrontiers(plan.grid, m_params.frontier_min_cells)) {
+    const std::optional<Eigen::Vector2d> goal = nearestReachableCell(
+        plan.grid, reach, f.centroid.x(), f.centroid.y(), m_params.frontier_goal_radius_m);
+    // Face the unknown side: a point 0.5 m past the centroid along the frontier's outward normal.
+    const Eigen::Vector2d at = goal ? *goal : f.centroid;
+    Eigen::Vector2d look = f.centroid + 0.5 * f.outward - at;
+    if (look.norm() < 1e-6)
+      look = Eigen::Vector2d(std::cos(in.robot_pose.z()), std::sin(in.robot_pose.z()));
+    ViewCandidate c = detail::baselineCandidate(at, std::atan2(look.y(), look.x()),
+                                                ViewCandidate::Source::Frontier, in);
+    if (!goal)
+      plan.unreachable.push_back(c);
+    else if (m_blacklist.contains(c.pose))
+      plan.blacklisted.push_back(c);
+    else
+      candidates.push_back(c);
+  }
+  detail::measureInto(m_params, in, std::move(candidates), plan);
+  std::stable_sort(plan.ranked.begin(), plan.ranked.end(),
+                   [](const ViewCandidate& a, const ViewCandidate& b) {
+                     return a.path_length_m < b.path_length_m;  // nearest frontier first
+                   });
+  return plan;
+}
+
+}  // namespace rasm::exploration

@@ -1,0 +1,120 @@
+#include "rasm/exploration/PlanningGrid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+
+#include "rasm/exploration/ViewCandidates.h"
+
+namespace rasm::exploration {
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+/// 1 where a cell is blocked for the robot's centre: a non-free cell (<= 0.5) within the square of
+/// r cells (PlannerSimple2D's growth), or the grid's outer ring. Separable max filter, O(n r).
+std::vector<std::uint8_t> blockedCells(const mrpt::maps::COccupancyGridMap2D& grid, int r) {
+  const int nx = int(grid.getSizeX()), ny = int(grid.getSizeY());
+  std::vector<std::uint8_t> obstacle(std::size_t(nx) * ny), rows(obstacle.size());
+  for (int iy = 0; iy < ny; ++iy)
+    for (int ix = 0; ix < nx; ++ix)
+      obstacle[std::size_t(iy) * nx + ix] = !(grid.getCell(ix, iy) > 0.5f);
+  for (int iy = 0; iy < ny; ++iy)
+    for (int ix = 0; ix < nx; ++ix) {
+      std::uint8_t v = 0;
+      for (int k = std::max(0, ix - r); k <= std::min(nx - 1, ix + r) && !v; ++k)
+        v = obstacle[std::size_t(iy) * nx + k];
+      rows[std::size_t(iy) * nx + ix] = v;
+    }
+  std::vector<std::uint8_t> blocked(obstacle.size());
+  for (int iy = 0; iy < ny; ++iy)
+    for (int ix = 0; ix < nx; ++ix) {
+      std::uint8_t v = ix == 0 || iy == 0 || ix == nx - 1 || iy == ny - 1;
+      for (int k = std::max(0, iy - r); k <= std::min(ny - 1, iy + r) && !v; ++k)
+        v = rows[std::size_t(k) * nx + ix];
+      blocked[std::size_t(iy) * nx + ix] = v;
+    }
+  return blocked;
+}
+
+}  // namespace
+
+void planningGrid(const OccupancyOctree& octree, const Eigen::Vector3d& robot_pose,
+                  double footprint_radius_m, mrpt::maps::COccupancyGridMap2D& grid) {
+  octree.projectToGrid(grid);
+  // The robot stands on its footprint: those cells are free whatever the camera has seen.
+  markFootprintFree(grid, robot_pose.x(), robot_pose.y(), footprint_radius_m);
+}
+
+bool ReachableCells::reachable(int ix, int iy) const {
+  return inside(ix, iy) && distance_m[std::size_t(iy) * size_x + ix] < kInf;
+}
+
+float ReachableCells::distance(int ix, int iy) const {
+  return inside(ix, iy) ? distance_m[std::size_t(iy) * size_x + ix] : kInf;
+}
+
+int ReachableCells::count() const {
+  return int(std::count_if(distance_m.begin(), distance_m.end(), [](float d) { return d < kInf; }));
+}
+
+ReachableCells reachableCells(const mrpt::maps::COccupancyGridMap2D& grid,
+                              const Eigen::Vector3d& robot_pose, double footprint_radius_m) {
+  ReachableCells out;
+  out.size_x = int(grid.getSizeX()), out.size_y = int(grid.getSizeY());
+  out.distance_m.assign(std::size_t(out.size_x) * out.size_y, kInf);
+  const int sx = grid.x2idx(robot_pose.x()), sy = grid.y2idx(robot_pose.y());
+  if (!out.inside(sx, sy)) return out;
+  const int r = int(std::ceil(footprint_radius_m / grid.getResolution()));
+  const std::vector<std::uint8_t> blocked = blockedCells(grid, r);
+  // Dijkstra, 8-connected (PlannerSimple2D's wavefront weighs diagonals 3/2; exact sqrt 2 here).
+  const float res = grid.getResolution(), diag = float(M_SQRT2) * res;
+  using Item = std::pair<float, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  out.distance_m[std::size_t(sy) * out.size_x + sx] = 0.0f;
+  open.push({0.0f, sy * out.size_x + sx});
+  while (!open.empty()) {
+    const auto [d, cell] = open.top();
+    open.pop();
+    if (d > out.distance_m[cell]) continue;
+    const int cx = cell % out.size_x, cy = cell / out.size_x;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int nx = cx + dx, ny = cy + dy;
+        if ((dx == 0 && dy == 0) || !out.inside(nx, ny)) continue;
+        const int n = ny * out.size_x + nx;
+        if (blocked[n]) continue;
+        const float nd = d + (dx != 0 && dy != 0 ? diag : res);
+        if (nd < out.distance_m[n]) {
+          out.distance_m[n] = nd;
+          open.push({nd, n});
+        }
+      }
+  }
+  return out;
+}
+
+std::optional<Eigen::Vector2d> nearestReachableCell(const mrpt::maps::COccupancyGridMap2D& grid,
+                                                    const ReachableCells& reach, double x, double y,
+                                                    double radius_m) {
+  const int r = int(std::ceil(radius_m / grid.getResolution())) + 1;
+  const int cx = grid.x2idx(x), cy = grid.y2idx(y);
+  std::optional<Eigen::Vector2d> best;
+  double best_d = std::numeric_limits<double>::infinity(), best_path = best_d;
+  for (int iy = cy - r; iy <= cy + r; ++iy)
+    for (int ix = cx - r; ix <= cx + r; ++ix) {
+      if (!reach.reachable(ix, iy)) continue;
+      const Eigen::Vector2d c(grid.idx2x(ix), grid.idx2y(iy));
+      const double d = std::hypot(c.x() - x, c.y() - y);
+      if (d > radius_m) continue;
+      const double path = reach.distance(ix, iy);
+      if (d < best_d - 1e-9 || (d < best_d + 1e-9 && path < best_path)) {
+        best = c, best_d = d, best_path = path;
+      }
+    }
+  return best;
+}
+
+}  // namespace rasm::exploration

@@ -1,0 +1,442 @@
+// The planners behind ExplorationPlanner (issue 18 deliverable 6): makePlanner, the frontier,
+// random and lawnmower baselines and the IG planner through the interface, on octrees mapped by
+// the real OctoMap from synthetic depth of a 4 x 4 m box room (optionally with door openings
+// whose rays return nothing, so the space beyond a door stays unknown), and the new params.
+
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "rasm/core/Error.h"
+#include "rasm/core/Params.h"
+#include "rasm/exploration/ExplorationPlanners.h"
+#include "rasm/exploration/PlanningGrid.h"
+
+namespace rasm::exploration {
+namespace {
+
+const Eigen::Vector3d kMin(-2.0, -2.0, 0.0), kMax(2.0, 2.0, 2.5);
+const double kDoorHalfWidth = 0.7, kDoorHeight = 2.0;
+const CameraIntrinsics kK(60.0, 60.0, 39.5, 29.5, 80, 60);
+
+/// The [robot] mount: 0.1 m forward, 0.55 m up, pitched 10 degrees down (optical frame).
+Eigen::Isometry3d mount() {
+  Eigen::Matrix3d R_body_optical;
+  R_body_optical << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(10.0 * M_PI / 180, Eigen::Vector3d::UnitY()) * R_body_optical;
+  T.translation() = Eigen::Vector3d(0.1, 0.0, 0.55);
+  return T;
+}
+
+/// Depth of the room seen from inside: the ray's exit from the box, or no return (0) where it
+/// leaves through a door (|y| < kDoorHalfWidth, z < kDoorHeight in the x = +2 and/or x = -2 wall).
+Image<float> roomDepth(const Eigen::Isometry3d& T, bool door_px, bool door_mx) {
+  Image<float> depth(kK.width, kK.height, 0.0f);
+  const Eigen::Vector3d o = T.translation();
+  for (int y = 0; y < kK.height; ++y)
+    for (int x = 0; x < kK.width; ++x) {
+      const Eigen::Vector3d r =
+          T.linear() * Eigen::Vector3d((x - kK.cx) / kK.fx, (y - kK.cy) / kK.fy, 1.0);
+      double t = 1e9;
+      int face = -1;
+      for (int a = 0; a < 3; ++a) {
+        if (std::abs(r[a]) < 1e-12) continue;
+        const double ta = ((r[a] > 0 ? kMax[a] : kMin[a]) - o[a]) / r[a];
+        if (ta < t) t = ta, face = a;
+      }
+      const Eigen::Vector3d p = o + t * r;
+      const bool in_door = face == 0 && std::abs(p.y()) < kDoorHalfWidth && p.z() < kDoorHeight;
+      if (in_door && ((r.x() > 0 && door_px) || (r.x() < 0 && door_mx))) continue;
+      depth(x, y) = float(t);
+    }
+  return depth;
+}
+
+TExplorationParams roomParams() {
+  TExplorationParams p;
+  p.workspace_min_x_m = -2.5, p.workspace_max_x_m = 2.5;
+  p.workspace_min_y_m = -2.5, p.workspace_max_y_m = 2.5;
+  p.pixel_stride = 1;  // rays ~4 cm apart at the far corners: no unknown speckle between them
+  p.predict_width = 80, p.predict_height = 60;
+  p.random_candidates = 12;
+  return p;
+}
+
+/// The robot turns in place at the origin (16 views).
+std::unique_ptr<OccupancyOctree> roomOctree(const TExplorationParams& p, bool door_px,
+                                            bool door_mx) {
+  auto octree = std::make_unique<OccupancyOctree>(p);
+  for (int k = 0; k < 16; ++k) {
+    const Eigen::Isometry3d T = cameraPoseOf(Eigen::Vector3d(0, 0, k * M_PI / 8), mount());
+    octree->insertDepthFrame(roomDepth(T, door_px, door_mx), kK, T);
+  }
+  return octree;
+}
+
+PlannerInputs inputsFor(const OccupancyOctree& octree, const Eigen::Vector3d& robot) {
+  PlannerInputs in;
+  in.octree = &octree;
+  in.robot_pose = robot;
+  in.T_base_cam = mount();
+  in.K = kK;
+  return in;
+}
+
+/// Checks every offered goal: reachable, footprint known free, camera pose from the mount.
+void expectSoundGoals(const Plan& plan, const TExplorationParams& p) {
+  for (const ViewCandidate& c : plan.ranked) {
+    EXPECT_TRUE(c.reachable);
+    EXPECT_TRUE(footprintFree(plan.grid, c.pose.x(), c.pose.y(), p.footprint_radius_m))
+        << c.pose.transpose();
+    EXPECT_TRUE(c.T_world_cam.isApprox(cameraPoseOf(c.pose, mount())));
+    EXPECT_GT(c.travel_time_s, 0.0);
+  }
+}
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// ---- makePlanner and params ----
+
+TEST(ExplorationPlanner, MakePlannerBuildsEachNamedPlannerAndRejectsUnknownNames) {
+  TExplorationParams p;
+  EXPECT_EQ(makePlanner(p)->name(), "ig");  // the default
+  for (const std::string& name : plannerNames()) {
+    p.planner = name;
+    EXPECT_EQ(makePlanner(p)->name(), name);
+  }
+  p.planner = "astar";
+  try {
+    makePlanner(p);
+    FAIL() << "unknown planner accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("[exploration] planner"), std::string::npos) << what;
+    for (const std::string& name : plannerNames())
+      EXPECT_NE(what.find(name), std::string::npos) << what;
+  }
+}
+
+TEST(ExplorationPlanner, NewParamsRoundTripAndBadValuesNameTheirKey) {
+  TExplorationParams p;
+  p.planner = "lawnmower";
+  p.blacklist_radius_m = 0.8;
+  p.frontier_min_cells = 9;
+  p.frontier_goal_radius_m = 1.7;
+  p.lawnmower_spacing_m = 2.25;
+  p.lawnmower_step_m = 0.75;
+  p.lawnmower_axis = "y";
+  mrpt::config::CConfigFileMemory ini;
+  p.saveToConfigFile(ini, "exploration");
+  TExplorationParams q;
+  loadParamsStrict(ini, "exploration", q, "test.ini");
+  EXPECT_EQ(q.planner, "lawnmower");
+  EXPECT_EQ(q.blacklist_radius_m, 0.8);
+  EXPECT_EQ(q.frontier_min_cells, 9);
+  EXPECT_EQ(q.frontier_goal_radius_m, 1.7);
+  EXPECT_EQ(q.lawnmower_spacing_m, 2.25);
+  EXPECT_EQ(q.lawnmower_step_m, 0.75);
+  EXPECT_EQ(q.lawnmower_axis, "y");
+  const auto expectKeyError = [](const TExplorationParams& bad, const std::string& key) {
+    try {
+      bad.validate();
+      FAIL() << key << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
+  TExplorationParams bad;
+  bad.lawnmower_axis = "z";
+  expectKeyError(bad, "lawnmower_axis");
+  bad = TExplorationParams(), bad.lawnmower_spacing_m = 0.0;
+  expectKeyError(bad, "lawnmower_spacing_m");
+  bad = TExplorationParams(), bad.frontier_min_cells = 0;
+  expectKeyError(bad, "frontier_min_cells");
+  bad = TExplorationParams(), bad.blacklist_radius_m = -1.0;
+  expectKeyError(bad, "blacklist_radius_m");
+  mrpt::config::CConfigFileMemory wrong;
+  wrong.write("exploration", "planner", "bogus");
+  TExplorationParams r;
+  EXPECT_THROW(loadParamsStrict(wrong, "exploration", r, "test.ini"), InputError);
+}
+
+TEST(GoalBlacklist, ContainsWithinTheRadiusAndAgesOutWhenAsked) {
+  GoalBlacklist permanent(0.5);
+  permanent.add(Eigen::Vector3d(1.0, 1.0, 0.3));
+  EXPECT_TRUE(permanent.contains(Eigen::Vector3d(1.3, 1.4, -2.0)));  // 0.5 m away, any heading
+  EXPECT_FALSE(permanent.contains(Eigen::Vector3d(1.4, 1.4, 0.3)));
+  for (int k = 0; k < 100; ++k) permanent.tick();
+  EXPECT_EQ(permanent.size(), 1u);
+  GoalBlacklist aging(0.5, 2);
+  aging.add(Eigen::Vector3d(0, 0, 0));
+  aging.tick();
+  EXPECT_TRUE(aging.contains(Eigen::Vector3d(0, 0, 0)));
+  aging.tick();
+  EXPECT_EQ(aging.size(), 0u);
+}
+
+// ---- the shared reachability field ----
+
+TEST(PlanningGrid, ReachableCellsAgreeWithPlannerSimple2D) {
+  // A free 6 x 6 m grid with a wall across x = 3 except a 1 m gap at y in [4.5, 5.5].
+  mrpt::maps::COccupancyGridMap2D g;
+  g.setSize(0.0f, 6.0f, 0.0f, 6.0f, 0.1f, 1.0f);
+  for (int iy = 0; iy < 60; ++iy)
+    if (iy < 45 || iy > 55) g.setCell(30, iy, 0.0f);
+  for (int ix = 40; ix < 60; ++ix) g.setCell(ix, 10, 0.5f);  // an unknown strip: an obstacle
+  const TExplorationParams p;
+  const Eigen::Vector3d robot(1.0, 1.0, 0.0);
+  const ReachableCells reach = reachableCells(g, robot, p.footprint_radius_m);
+  EXPECT_FALSE(reach.reachable(g.x2idx(3.0), g.y2idx(1.0)));  // the wall
+  EXPECT_FALSE(reach.reachable(g.x2idx(3.2), g.y2idx(1.0)));  // within the footprint of it
+  EXPECT_FALSE(reach.reachable(g.x2idx(5.0), g.y2idx(1.2)));  // next to the unknown strip
+  // Every 7th reachable cell: PlannerSimple2D finds a path, as long as the field's within 8%.
+  std::vector<ViewCandidate> c;
+  int k = 0;
+  for (int iy = 0; iy < reach.size_y; ++iy)
+    for (int ix = 0; ix < reach.size_x; ++ix)
+      if (reach.reachable(ix, iy) && ++k % 7 == 0) {
+        ViewCandidate v;
+        v.pose = Eigen::Vector3d(g.idx2x(ix), g.idx2y(iy), 0.0);
+        c.push_back(v);
+      }
+  ASSERT_GT(c.size(), 100u);
+  planPaths(g, robot, p, c);
+  for (const ViewCandidate& v : c) {
+    ASSERT_TRUE(v.reachable) << v.pose.transpose();
+    const float d = reach.distance(g.x2idx(v.pose.x()), g.y2idx(v.pose.y()));
+    EXPECT_NEAR(v.path_length_m, d, 0.08 * d + 0.2) << v.pose.transpose();
+  }
+  // Beyond the wall through the gap: around, not through.
+  const float beyond = reach.distance(g.x2idx(4.0), g.y2idx(1.0));
+  EXPECT_GT(beyond, std::hypot(2.0, 4.0) + std::hypot(1.0, 4.0) - 0.3);
+}
+
+// ---- frontier ----
+
+TEST(FrontierPlanner, GoalIsNextToTheOpeningIntoUnknownSpaceAndReachable) {
+  TExplorationParams p = roomParams();
+  p.planner = "frontier";
+  const auto octree = roomOctree(p, /*door_px=*/true, /*door_mx=*/false);
+  auto planner = makePlanner(p);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Plan plan = planner->plan(inputsFor(*octree, Eigen::Vector3d::Zero()));
+  std::printf("frontier plan: %.1f ms, %zu offered, %zu unreachable\n", msSince(t0),
+              plan.ranked.size(), plan.unreachable.size());
+  ASSERT_FALSE(plan.ranked.empty());
+  expectSoundGoals(plan, p);
+  const ViewCandidate& g = plan.ranked.front();
+  EXPECT_EQ(g.source, ViewCandidate::Source::Frontier);
+  // Within the goal radius of the door's frontier (the free cells along x = 1.95, |y| < 0.7), on
+  // the room's side, facing out through it.
+  EXPECT_LE((g.pose.head<2>() - Eigen::Vector2d(1.95, 0.0)).norm(), p.frontier_goal_radius_m + 0.1);
+  EXPECT_LT(g.pose.x(), kMax.x());
+  EXPECT_LT(std::abs(g.pose.y()), kDoorHalfWidth);
+  EXPECT_LT(std::abs(g.pose.z()), 0.5);
+  EXPECT_GE(g.path_length_m, g.pose.head<2>().norm() - 0.1);
+  for (std::size_t k = 1; k < plan.ranked.size(); ++k)
+    EXPECT_GE(plan.ranked[k].path_length_m, plan.ranked[k - 1].path_length_m);
+  // The frontiers found are the door's only: the room's walls close everything else.
+  for (const FrontierCluster& f : findFrontiers(plan.grid, p.frontier_min_cells))
+    EXPECT_GT(f.centroid.x(), 1.5) << f.centroid.transpose();
+}
+
+TEST(FrontierPlanner, ClosedKnownRoomHasNoFrontierAndAnEmptyPlan) {
+  TExplorationParams p = roomParams();
+  const auto octree = roomOctree(p, false, false);
+  FrontierPlanner planner(p);
+  const Plan plan = planner.plan(inputsFor(*octree, Eigen::Vector3d::Zero()));
+  EXPECT_TRUE(plan.ranked.empty());
+  EXPECT_TRUE(plan.blacklisted.empty());
+  EXPECT_TRUE(findFrontiers(plan.grid, p.frontier_min_cells).empty());
+}
+
+TEST(FrontierPlanner, BlacklistedGoalMakesTheNextPlanChooseTheOtherFrontier) {
+  TExplorationParams p = roomParams();
+  const auto octree = roomOctree(p, true, true);  // doors at both ends
+  FrontierPlanner planner(p);
+  const PlannerInputs in = inputsFor(*octree, Eigen::Vector3d(0.6, 0.0, 0.0));  // nearer +x
+  const Plan first = planner.plan(in);
+  ASSERT_FALSE(first.ranked.empty());
+  EXPECT_GT(first.ranked.front().pose.x(), 1.0);
+  planner.goalOutcome(first.ranked.front().pose, true);  // reached: still blacklisted
+  const Plan second = planner.plan(in);
+  ASSERT_FALSE(second.ranked.empty());
+  EXPECT_LT(second.ranked.front().pose.x(), -1.0);
+  ASSERT_EQ(second.blacklisted.size(), 1u);
+  EXPECT_GT(second.blacklisted.front().pose.x(), 1.0);
+  planner.goalOutcome(second.ranked.front().pose, false);
+  EXPECT_TRUE(planner.plan(in).ranked.empty());  // both frontiers visited: done
+}
+
+// ---- random ----
+
+TEST(RandomPlanner, SameSeedSameGoalsInReachableKnownFreeSpace) {
+  TExplorationParams p = roomParams();
+  p.seed = 7;
+  const auto octree = roomOctree(p, false, false);
+  const PlannerInputs in = inputsFor(*octree, Eigen::Vector3d::Zero());
+  RandomPlanner a(p), b(p);
+  p.seed = 8;
+  RandomPlanner other(p);
+  int moved = 0;
+  for (int k = 0; k < 4; ++k) {
+    const Plan pa = a.plan(in), pb = b.plan(in), po = other.plan(in);
+    ASSERT_EQ(pa.ranked.size(), 1u);
+    ASSERT_EQ(pb.ranked.size(), 1u);
+    ASSERT_EQ(po.ranked.size(), 1u);
+    EXPECT_EQ(pa.ranked[0].pose, pb.ranked[0].pose);
+    moved += pa.ranked[0].pose != po.ranked[0].pose;
+    expectSoundGoals(pa, p);
+    const Eigen::Vector3d& g = pa.ranked[0].pose;
+    EXPECT_EQ(pa.ranked[0].source, ViewCandidate::Source::Random);
+    EXPECT_GT(g.x(), kMin.x() + p.footprint_radius_m);
+    EXPECT_LT(g.x(), kMax.x() - p.footprint_radius_m);
+    EXPECT_GT(g.y(), kMin.y() + p.footprint_radius_m);
+    EXPECT_LT(g.y(), kMax.y() - p.footprint_radius_m);
+  }
+  EXPECT_GT(moved, 0);
+  // A failed goal is not drawn again.
+  const Eigen::Vector3d failed = a.plan(in).ranked[0].pose;
+  a.goalOutcome(failed, false);
+  for (int k = 0; k < 5; ++k)
+    EXPECT_GT((a.plan(in).ranked[0].pose - failed).head<2>().norm(), p.blacklist_radius_m);
+}
+
+// ---- lawnmower ----
+
+TEST(LawnmowerPlanner, VisitsWaypointsInSnakeOrderRetriesAFailedOneAndEnds) {
+  TExplorationParams p = roomParams();
+  p.lawnmower_spacing_m = 1.5, p.lawnmower_step_m = 1.5, p.lawnmower_axis = "x";
+  const auto octree = roomOctree(p, false, false);
+  LawnmowerPlanner planner(p);
+  // 5 m box, 1.5 m: 3 lanes at y = -1.5, 0, 1.5 and 3 waypoints at x = -1.5, 0, 1.5 on each.
+  const std::vector<Eigen::Vector2d> snake = {{-1.5, -1.5}, {0, -1.5}, {1.5, -1.5},
+                                              {1.5, 0},     {0, 0},    {-1.5, 0},
+                                              {-1.5, 1.5},  {0, 1.5},  {1.5, 1.5}};
+  ASSERT_EQ(planner.waypoints().size(), snake.size());
+  for (std::size_t k = 0; k < snake.size(); ++k) {
+    EXPECT_NEAR((planner.waypoints()[k].head<2>() - snake[k]).norm(), 0.0, 1e-9) << k;
+    EXPECT_NEAR(std::abs(planner.waypoints()[k].z()), (k / 3) % 2 ? M_PI : 0.0, 1e-9);
+  }
+  Eigen::Vector3d robot = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector2d> goals;
+  for (int k = 0; k < 20; ++k) {
+    const Plan plan = planner.plan(inputsFor(*octree, robot));
+    if (plan.ranked.empty()) break;
+    ASSERT_EQ(plan.ranked.size(), 1u);
+    expectSoundGoals(plan, p);
+    const ViewCandidate& g = plan.ranked[0];
+    EXPECT_EQ(g.source, ViewCandidate::Source::Sweep);
+    goals.push_back(g.pose.head<2>());
+    const bool fail_first = goals.size() == 1;  // the first waypoint fails once
+    planner.goalOutcome(g.pose, !fail_first);
+    if (!fail_first) robot = g.pose;
+  }
+  // Waypoints 1..8 in snake order, then waypoint 0 again on the second pass; each within a cell
+  // of its waypoint (the room's free space holds all of them with the footprint).
+  ASSERT_EQ(goals.size(), snake.size() + 1);
+  for (std::size_t k = 0; k < goals.size(); ++k) {
+    const Eigen::Vector2d& want = k == 0 || k == snake.size() ? snake[0] : snake[k];
+    EXPECT_LE((goals[k] - want).norm(), 0.15) << k << ": " << goals[k].transpose();
+  }
+  for (const auto s : planner.states()) EXPECT_EQ(s, LawnmowerPlanner::State::Visited);
+  EXPECT_TRUE(planner.plan(inputsFor(*octree, robot)).ranked.empty());
+}
+
+TEST(LawnmowerPlanner, AxisYLanesRunAlongY) {
+  TExplorationParams p = roomParams();
+  p.lawnmower_axis = "y";
+  p.lawnmower_spacing_m = 2.5, p.lawnmower_step_m = 2.5;  // 2 lanes at x = -1.25, 1.25
+  const LawnmowerPlanner planner(p);
+  const std::vector<Eigen::Vector3d> want = {{-1.25, -1.25, M_PI / 2},
+                                             {-1.25, 1.25, M_PI / 2},
+                                             {1.25, 1.25, -M_PI / 2},
+                                             {1.25, -1.25, -M_PI / 2}};
+  ASSERT_EQ(planner.waypoints().size(), want.size());
+  for (std::size_t k = 0; k < want.size(); ++k)
+    EXPECT_NEAR((planner.waypoints()[k] - want[k]).norm(), 0.0, 1e-9) << k;
+}
+
+TEST(LawnmowerPlanner, WaypointsNeverReachableAreAbandonedAndTheSweepEnds) {
+  TExplorationParams p = roomParams();
+  p.workspace_max_x_m = 6.5;  // a 9 m box: the lanes' last waypoints lie beyond the room's wall
+  const auto octree = roomOctree(p, false, false);
+  LawnmowerPlanner planner(p);
+  Eigen::Vector3d robot = Eigen::Vector3d::Zero();
+  int offered = 0;
+  for (int k = 0; k < 60; ++k) {
+    const Plan plan = planner.plan(inputsFor(*octree, robot));
+    if (plan.ranked.empty()) break;
+    EXPECT_LT(plan.ranked[0].pose.x(), kMax.x());
+    planner.goalOutcome(plan.ranked[0].pose, true);
+    robot = plan.ranked[0].pose;
+    ++offered;
+  }
+  int visited = 0, abandoned = 0;
+  for (const auto s : planner.states()) {
+    visited += s == LawnmowerPlanner::State::Visited;
+    abandoned += s == LawnmowerPlanner::State::Abandoned;
+  }
+  EXPECT_EQ(visited, offered);
+  EXPECT_EQ(visited + abandoned, int(planner.states().size()));
+  EXPECT_GT(abandoned, 0);
+  EXPECT_TRUE(planner.plan(inputsFor(*octree, robot)).ranked.empty());
+}
+
+// ---- ig through the interface ----
+
+TEST(IgPlanner, SameRankingAsViewPlannerAndFailedGoalsAreBlacklisted) {
+  TExplorationParams p = roomParams();
+  p.pixel_stride = 4;
+  p.random_candidates = 8;  // each IG candidate costs a render and a ray cast
+  const auto octree = roomOctree(p, false, false);
+  maps::SurfelStore store;
+  segmentation::SegmentStats object;
+  object.id = 3;
+  object.centroid = Eigen::Vector3d(1.0, 0.0, 0.4);
+  object.upright_extents = Eigen::Vector3d(0.4, 0.3, 0.8);
+  const std::vector<segmentation::SegmentStats> segments = {object};
+  PlannerInputs in = inputsFor(*octree, Eigen::Vector3d::Zero());
+  in.store = &store;
+  in.segments = &segments;
+  auto ig = makePlanner(p);
+  const Plan direct = ViewPlanner(p).plan(in);
+  const Plan through = ig->plan(in);
+  ASSERT_FALSE(direct.ranked.empty());
+  ASSERT_EQ(through.ranked.size(), direct.ranked.size());
+  double best_h = 0.0;
+  for (std::size_t k = 0; k < direct.ranked.size(); ++k) {
+    EXPECT_EQ(through.ranked[k].pose, direct.ranked[k].pose);
+    EXPECT_EQ(through.ranked[k].rate, direct.ranked[k].rate);
+    best_h = std::max(best_h, direct.ranked[k].entropy_reduction);
+  }
+  EXPECT_TRUE(through.blacklisted.empty());
+  EXPECT_EQ(through.best_entropy_reduction, best_h);
+  EXPECT_GT(best_h, 0.0);
+  EXPECT_EQ(through.best_information, 0.0);  // no surfels
+
+  const Eigen::Vector3d failed = through.ranked.front().pose;
+  ig->goalOutcome(failed, false);
+  const Plan after = ig->plan(in);
+  ASSERT_FALSE(after.blacklisted.empty());
+  EXPECT_EQ(after.ranked.size() + after.blacklisted.size(), through.ranked.size());
+  for (const ViewCandidate& c : after.ranked)
+    EXPECT_GT((c.pose - failed).head<2>().norm(), p.blacklist_radius_m);
+  for (std::size_t k = 1; k < after.ranked.size(); ++k)
+    EXPECT_GE(after.ranked[k - 1].rate, after.ranked[k].rate);
+  in.octree = nullptr;
+  EXPECT_THROW(ig->plan(in), InputError);
+  p.planner = "frontier";
+  EXPECT_THROW(makePlanner(p)->plan(in), InputError);
+}
+
+}  // namespace
+}  // namespace rasm::exploration
