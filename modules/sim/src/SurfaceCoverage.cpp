@@ -242,21 +242,6 @@ struct Visibility {
   }
 };
 
-inline long long cellKey(int x, int y, int z) {
-  constexpr long long kOff = 1 << 20;
-  return ((x + kOff) << 42) | ((y + kOff) << 21) | (z + kOff);
-}
-
-inline std::size_t hashKey(long long key) {
-  std::uint64_t x = std::uint64_t(key);
-  x ^= x >> 30;
-  x *= 0xbf58476d1ce4e5b9ULL;
-  x ^= x >> 27;
-  x *= 0x94d049bb133111ebULL;
-  x ^= x >> 31;
-  return std::size_t(x);
-}
-
 }  // namespace
 
 CoverageOptions coverageOptionsForRobot(const TRobotParams& robot, const CameraIntrinsics& K,
@@ -341,35 +326,45 @@ SurfaceCoverage::SurfaceCoverage(const World& world, const RayScene& scene,
     smp.observable = vis.observable(smp.position, smp.normal);
   }
 
-  // 3. Hash of the observable samples.
+  // 3. Cells of the observable samples.
   m_cell = float(2.0 * opts.max_dist_m);
-  std::vector<std::pair<long long, unsigned>> keyed;
+  Eigen::AlignedBox3f box;
+  for (const Sample& smp : m_samples)
+    if (smp.observable) box.extend(smp.position);
+  if (box.isEmpty()) return;
+  m_grid_origin = (box.min() / m_cell).array().floor().matrix() * m_cell -
+                  V3::Constant(m_cell);
+  m_grid_dims = (((box.max() - m_grid_origin) / m_cell).array().floor() + 2.f).cast<int>();
+  const std::uint64_t nx = std::uint64_t(m_grid_dims.x()), ny = std::uint64_t(m_grid_dims.y());
+  const std::uint64_t total = nx * ny * std::uint64_t(m_grid_dims.z());
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
   for (std::size_t i = 0; i < m_samples.size(); ++i) {
     if (!m_samples[i].observable) continue;
-    const V3 c = (m_samples[i].position / m_cell).array().floor();
-    keyed.emplace_back(cellKey(int(c.x()), int(c.y()), int(c.z())), unsigned(i));
+    const Eigen::Vector3i c =
+        ((m_samples[i].position - m_grid_origin) / m_cell).array().floor().cast<int>().max(0).min(
+            m_grid_dims.array() - 1);
+    keyed.emplace_back((std::uint64_t(c.z()) * ny + std::uint64_t(c.y())) * nx + std::uint64_t(c.x()),
+                       std::uint32_t(i));
   }
   m_observable = keyed.size();
   std::sort(keyed.begin(), keyed.end());
+  m_cell_bits.assign(std::size_t((total + 63) / 64), 0);
   m_sorted_pos.resize(keyed.size());
   m_sorted_idx.resize(keyed.size());
-  std::size_t cells = 0;
   for (std::size_t i = 0; i < keyed.size(); ++i) {
     m_sorted_idx[i] = keyed[i].second;
     m_sorted_pos[i] = m_samples[keyed[i].second].position;
-    if (i == 0 || keyed[i].first != keyed[i - 1].first) ++cells;
+    if (i == 0 || keyed[i].first != keyed[i - 1].first) {
+      m_cell_start.push_back(std::uint32_t(i));
+      m_cell_bits[std::size_t(keyed[i].first >> 6)] |= std::uint64_t(1) << (keyed[i].first & 63);
+    }
   }
-  std::size_t cap = 16;
-  while (cap < 2 * cells) cap *= 2;
-  m_table.assign(cap, Slot{});
-  m_mask = cap - 1;
-  for (std::size_t i = 0; i < keyed.size();) {
-    std::size_t j = i;
-    while (j < keyed.size() && keyed[j].first == keyed[i].first) ++j;
-    std::size_t h = hashKey(keyed[i].first) & m_mask;
-    while (m_table[h].end != 0) h = (h + 1) & m_mask;
-    m_table[h] = Slot{keyed[i].first, unsigned(i), unsigned(j)};
-    i = j;
+  m_cell_start.push_back(std::uint32_t(keyed.size()));
+  m_cell_rank.resize(m_cell_bits.size());
+  std::uint32_t count = 0;
+  for (std::size_t w = 0; w < m_cell_bits.size(); ++w) {
+    m_cell_rank[w] = count;
+    count += std::uint32_t(__builtin_popcountll(m_cell_bits[w]));
   }
 }
 
@@ -383,39 +378,47 @@ SurfaceCoverage::Result SurfaceCoverage::evaluate(
     {
       // Per-thread marks, OR-ed together: the same result for any thread count.
       std::vector<std::uint8_t> mine(m_sorted_pos.size(), 0);
-      Eigen::Array<int, 6, 1> last_block = Eigen::Array<int, 6, 1>::Constant(INT32_MIN);
-      std::pair<unsigned, unsigned> ranges[8];
+      int last_block[6] = {-1, -1, -1, -1, -1, -1};
+      std::pair<std::uint32_t, std::uint32_t> ranges[8];
       int nr = 0;
+      const int dx = m_grid_dims.x(), dy = m_grid_dims.y(), dz = m_grid_dims.z();
 #pragma omp for schedule(static, 8192) nowait
       for (long long i = 0; i < N; ++i) {
         const V3& p = map_points[std::size_t(i)];
-        if (!p.allFinite() || (p.array().abs() > 1e4f).any()) continue;  // keys hold +/-40 km
-        const Eigen::Array3f lo = ((p.array() - r) * inv).floor();
-        const Eigen::Array3f hi = ((p.array() + r) * inv).floor();
-        const int x0 = int(lo.x()), y0 = int(lo.y()), z0 = int(lo.z());
+        if (!p.allFinite()) continue;
+        // The cells the ball of radius r around p reaches (2 per axis: cells are 2 r wide).
+        const V3 q = (p - m_grid_origin) * inv;
+        const float rc = r * inv;
+        const float lo_f[3] = {std::floor(q.x() - rc), std::floor(q.y() - rc),
+                               std::floor(q.z() - rc)};
+        const float hi_f[3] = {std::floor(q.x() + rc), std::floor(q.y() + rc),
+                               std::floor(q.z() + rc)};
+        if (hi_f[0] < 0.f || hi_f[1] < 0.f || hi_f[2] < 0.f || lo_f[0] >= float(dx) ||
+            lo_f[1] >= float(dy) || lo_f[2] >= float(dz))
+          continue;  // outside the samples' cells
+        const int block[6] = {std::max(0, int(lo_f[0])),      std::max(0, int(lo_f[1])),
+                              std::max(0, int(lo_f[2])),      std::min(dx - 1, int(hi_f[0])),
+                              std::min(dy - 1, int(hi_f[1])), std::min(dz - 1, int(hi_f[2]))};
         // Consecutive map points often share their block of cells: reuse its lookups.
-        const int mx = int(hi.x()) - x0, my = int(hi.y()) - y0, mz = int(hi.z()) - z0;
-        Eigen::Array<int, 6, 1> block;
-        block << x0, y0, z0, mx, my, mz;
-        if ((block != last_block).any()) {
-          last_block = block;
+        if (!std::equal(block, block + 6, last_block)) {
+          std::copy(block, block + 6, last_block);
           nr = 0;
-          for (int dz = 0; dz <= mz; ++dz)
-            for (int dy = 0; dy <= my; ++dy)
-              for (int dx = 0; dx <= mx; ++dx) {
-                const long long key = cellKey(x0 + dx, y0 + dy, z0 + dz);
-                std::size_t h = hashKey(key) & m_mask;
-                while (m_table[h].end != 0) {
-                  if (m_table[h].key == key) {
-                    ranges[nr++] = {m_table[h].begin, m_table[h].end};
-                    break;
-                  }
-                  h = (h + 1) & m_mask;
-                }
+          for (int z = block[2]; z <= block[5]; ++z)
+            for (int y = block[1]; y <= block[4]; ++y)
+              for (int x = block[0]; x <= block[3]; ++x) {
+                const std::uint64_t c =
+                    (std::uint64_t(z) * std::uint64_t(dy) + std::uint64_t(y)) * std::uint64_t(dx) +
+                    std::uint64_t(x);
+                const std::uint64_t word = m_cell_bits[std::size_t(c >> 6)];
+                const std::uint64_t bit = std::uint64_t(1) << (c & 63);
+                if (!(word & bit)) continue;
+                const std::uint32_t k = m_cell_rank[std::size_t(c >> 6)] +
+                                        std::uint32_t(__builtin_popcountll(word & (bit - 1)));
+                ranges[nr++] = {m_cell_start[k], m_cell_start[k + 1]};
               }
         }
         for (int k = 0; k < nr; ++k)
-          for (unsigned j = ranges[k].first; j < ranges[k].second; ++j)
+          for (std::uint32_t j = ranges[k].first; j < ranges[k].second; ++j)
             if ((m_sorted_pos[j] - p).squaredNorm() <= r2) mine[j] = 1;
       }
 #pragma omp critical(rasm_sim_surface_coverage)
@@ -427,7 +430,7 @@ SurfaceCoverage::Result SurfaceCoverage::evaluate(
   res.samples = m_samples.size();
   res.observable = m_observable;
   std::vector<double> obs_area(m_num_objects, 0.0), cov_area(m_num_objects, 0.0);
-  // Sum in sample order (not hash order) so the result does not depend on the hash layout.
+  // Sum in sample order (not cell order): the same sums as before any change of the cells.
   std::vector<std::uint8_t> cov_by_sample(m_samples.size(), 0);
   for (std::size_t j = 0; j < covered.size(); ++j) cov_by_sample[m_sorted_idx[j]] = covered[j];
   double obs_s = 0, cov_s = 0, obs_f = 0, cov_f = 0;
