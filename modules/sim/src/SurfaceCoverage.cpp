@@ -152,6 +152,8 @@ struct Visibility {
   const PositionGrid& grid;
   float tan_up = 0.f, tan_down = 0.f;  ///< tan of the elevation limits (pitch +/- fov / 2)
   float cos_inc = 0.f;
+  float cos_pitch = 1.f, sin_pitch = 0.f;
+  float cos_half_fov = 1.f;  ///< cos(vertical fov / 2)
 
   /// Whether the sample (p, n) is seen from some robot position.
   bool observable(const V3& p, const V3& n) const {
@@ -159,9 +161,11 @@ struct Visibility {
     const float h = float(o.camera_height_m), fwd = float(o.camera_forward_m);
     const float rmin = float(o.min_range_m), rmax = float(o.max_range_m);
     const float dz = p.z() - h;
-    if (std::abs(dz) > rmax) return false;
+    // Within the field of view the depth is at least cos(fov / 2) x the distance.
+    const float dmax = rmax / cos_half_fov;
+    if (std::abs(dz) > dmax) return false;
     // Horizontal camera-to-sample distance allowed by the range and the elevation limits.
-    float dh_max = std::sqrt(std::max(0.f, rmax * rmax - dz * dz));
+    float dh_max = std::sqrt(std::max(0.f, dmax * dmax - dz * dz));
     float dh_min = 0.f;
     const float elev_lo = float(std::atan(tan_down)), elev_hi = float(std::atan(tan_up));
     if (dz > 0.f) {
@@ -213,8 +217,10 @@ struct Visibility {
             if (bd < base_min || bd > base_max || bd <= fwd) continue;
             const Eigen::Vector2f cam2 = b + (fwd / bd) * d2;
             const float dh = bd - fwd;
+            // Depth along the optical axis (the camera faces the sample's azimuth).
+            const float depth = dh * cos_pitch + dz * sin_pitch;
+            if (depth < rmin || depth > rmax) continue;
             const float d = std::sqrt(dh * dh + dz * dz);
-            if (d < rmin || d > rmax) continue;
             // Elevation within the field of view: dz / dh in [tan_down, tan_up].
             if (dz > tan_up * dh || dz < tan_down * dh) continue;
             const V3 cam(cam2.x(), cam2.y(), h);
@@ -319,6 +325,9 @@ SurfaceCoverage::SurfaceCoverage(const World& world, const RayScene& scene,
   vis.tan_up = float(std::tan(std::clamp(pitch + half, -M_PI / 2 + 1e-6, M_PI / 2 - 1e-6)));
   vis.tan_down = float(std::tan(std::clamp(pitch - half, -M_PI / 2 + 1e-6, M_PI / 2 - 1e-6)));
   vis.cos_inc = float(std::cos(std::clamp(opts.max_incidence_deg, 0.0, 90.0) * kDeg));
+  vis.cos_pitch = float(std::cos(pitch));
+  vis.sin_pitch = float(std::sin(pitch));
+  vis.cos_half_fov = float(std::cos(half));
   const long long N = (long long)m_samples.size();
 #pragma omp parallel for schedule(dynamic, 256)
   for (long long i = 0; i < N; ++i) {

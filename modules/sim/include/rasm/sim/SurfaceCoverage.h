@@ -22,13 +22,16 @@
 //    position towards the sample, camera_height_m above the floor, with pitch camera_pitch_deg
 //    (the sample is then in the image's middle column, so the horizontal field of view never
 //    limits);
-//  - the sample is within [min_range_m, max_range_m] of the camera (Euclidean), its elevation
-//    seen from the camera is within pitch +/- vertical_fov_deg / 2, the angle between the ray
-//    and the surface's normal line is at most max_incidence_deg (the sensor drops grazing
-//    returns; surfaces count from either side: a closed mesh's far side is occluded by the mesh
-//    itself, and open or inconsistently wound meshes are still seen from the side a camera is
-//    on), and the segment from the sample to the camera hits nothing (RayScene; from 1 mm off
-//    the sample to 1 mm before the camera).
+//  - the sample's depth (along the optical axis, as the sensor measures it) is within
+//    [min_range_m, max_range_m]; its elevation seen from the camera is within pitch +/-
+//    vertical_fov_deg / 2; the angle between the ray and the surface's normal line is at most
+//    max_incidence_deg (the sensor returns nothing beyond 80 deg and little of use near it; with
+//    75 deg a horizontal face above the camera needs an elevation of 15 deg, more than the
+//    14.6 deg a 0.55 m camera pitched 10 deg down with a 49 deg field of view looks up);
+//    surfaces count from either side (a closed mesh's far side is occluded by the mesh itself;
+//    open or inconsistently wound meshes, such as the mug, are seen from the camera's side);
+//  - the segment from the sample to the camera hits nothing (RayScene; from 1 mm off the
+//    sample to 1 mm before the camera).
 // So the undersides of tables (above a 0.55 m camera pitched 10 deg down they need an
 // elevation over the field of view, or a grazing angle), the tops of tall cabinets, the
 // ceiling, faces inside or behind furniture and the floor under closed furniture do not count.
@@ -66,7 +69,7 @@ struct CoverageOptions {
   double camera_pitch_deg = -10.0; ///< optical axis elevation (negative = looking down)
   double camera_forward_m = 0.10;  ///< camera ahead of the robot's rotation centre
   double vertical_fov_deg = 49.1;  ///< full vertical field of view (kinect_v1: 480 px, f 525)
-  double min_range_m = 0.4, max_range_m = 4.0;  ///< camera-to-sample distance
+  double min_range_m = 0.4, max_range_m = 4.0;  ///< depth of the sample in the camera
   double max_incidence_deg = 75.0;  ///< largest angle between the ray and the normal line
   // --- the robot's free space ---
   double robot_radius_m = 0.25;  ///< disc footprint (a polygon: its circumradius)
