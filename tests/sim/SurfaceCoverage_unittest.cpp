@@ -133,9 +133,9 @@ TEST(SurfaceCoverage, PointsOnTheFloorCoverStructureOnly) {
     if (s.object != floor) continue;
     bool clear = true;
     for (const auto& b : near_floor)
-      clear = clear && !(s.position.x() > b.min().x() - 0.03f &&
-                         s.position.x() < b.max().x() + 0.03f &&
-                         s.position.y() > b.min().y() - 0.03f && s.position.y() < b.max().y() + 0.03f);
+      clear =
+          clear && !(s.position.x() > b.min().x() - 0.03f && s.position.x() < b.max().x() + 0.03f &&
+                     s.position.y() > b.min().y() - 0.03f && s.position.y() < b.max().y() + 0.03f);
     if (!clear) continue;
     pts.push_back(s.position);
     given += s.area_m2;

@@ -32,7 +32,7 @@ void sampleTriangle(const V3& a, const V3& b, const V3& c, float s, int object, 
   const float area = 0.5f * twice_area;
   const V3 n = cr / twice_area;
   const V3 u = e0 / L;
-  const V3 w = n.cross(u);  // in-plane, towards c
+  const V3 w = n.cross(u);                     // in-plane, towards c
   const float cx = e1.dot(u), cy = e1.dot(w);  // c in (u, w); a = (0, 0), b = (L, 0)
   const std::size_t first = out.size();
   for (int j = 0;; ++j) {
@@ -84,9 +84,8 @@ std::vector<Eigen::Vector2f> freePositions(const World& world, const CoverageOpt
 #pragma omp parallel for schedule(static)
   for (int iy = 0; iy < ny; ++iy)
     for (int ix = 0; ix < nx; ++ix)
-      free[std::size_t(iy) * nx + ix] =
-          !raster.collidesDisc(org + sp * Eigen::Vector2f(float(ix), float(iy)),
-                               float(o.robot_radius_m));
+      free[std::size_t(iy) * nx + ix] = !raster.collidesDisc(
+          org + sp * Eigen::Vector2f(float(ix), float(iy)), float(o.robot_radius_m));
   // Largest 8-connected component (the first found wins a tie).
   std::vector<int> label(free.size(), -1);
   int best = -1;
@@ -341,19 +340,22 @@ SurfaceCoverage::SurfaceCoverage(const World& world, const RayScene& scene,
   for (const Sample& smp : m_samples)
     if (smp.observable) box.extend(smp.position);
   if (box.isEmpty()) return;
-  m_grid_origin = (box.min() / m_cell).array().floor().matrix() * m_cell -
-                  V3::Constant(m_cell);
+  m_grid_origin = (box.min() / m_cell).array().floor().matrix() * m_cell - V3::Constant(m_cell);
   m_grid_dims = (((box.max() - m_grid_origin) / m_cell).array().floor() + 2.f).cast<int>();
   const std::uint64_t nx = std::uint64_t(m_grid_dims.x()), ny = std::uint64_t(m_grid_dims.y());
   const std::uint64_t total = nx * ny * std::uint64_t(m_grid_dims.z());
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
   for (std::size_t i = 0; i < m_samples.size(); ++i) {
     if (!m_samples[i].observable) continue;
-    const Eigen::Vector3i c =
-        ((m_samples[i].position - m_grid_origin) / m_cell).array().floor().cast<int>().max(0).min(
-            m_grid_dims.array() - 1);
-    keyed.emplace_back((std::uint64_t(c.z()) * ny + std::uint64_t(c.y())) * nx + std::uint64_t(c.x()),
-                       std::uint32_t(i));
+    const Eigen::Vector3i c = ((m_samples[i].position - m_grid_origin) / m_cell)
+                                  .array()
+                                  .floor()
+                                  .cast<int>()
+                                  .max(0)
+                                  .min(m_grid_dims.array() - 1);
+    keyed.emplace_back(
+        (std::uint64_t(c.z()) * ny + std::uint64_t(c.y())) * nx + std::uint64_t(c.x()),
+        std::uint32_t(i));
   }
   m_observable = keyed.size();
   std::sort(keyed.begin(), keyed.end());
@@ -439,7 +441,7 @@ SurfaceCoverage::Result SurfaceCoverage::evaluate(
   res.samples = m_samples.size();
   res.observable = m_observable;
   std::vector<double> obs_area(m_num_objects, 0.0), cov_area(m_num_objects, 0.0);
-  // Sum in sample order (not cell order): the same sums as before any change of the cells.
+  // Sums in sample order: fixed, whatever the thread count.
   std::vector<std::uint8_t> cov_by_sample(m_samples.size(), 0);
   for (std::size_t j = 0; j < covered.size(); ++j) cov_by_sample[m_sorted_idx[j]] = covered[j];
   double obs_s = 0, cov_s = 0, obs_f = 0, cov_f = 0;

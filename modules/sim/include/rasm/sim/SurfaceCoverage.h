@@ -40,8 +40,8 @@
 // Coverage: a sample is covered when a map point lies within max_dist_m of it (exact Euclidean
 // test against the observable samples of the 2 x 2 x 2 cells of 2 max_dist_m its ball reaches;
 // the cells are a dense occupancy bitmap over the observable samples' bounding box, 1.5 bits a
-// cell: 0.3 MB for the office). Fractions are area-weighted. Structure = floor, wall, ceiling and door
-// classes (isStructureClass); everything else (static furniture and objects) is
+// cell: 0.3 MB for the office). Fractions are area-weighted. Structure = floor, wall, ceiling and
+// door classes (isStructureClass); everything else (static furniture and objects) is
 // furniture_and_objects. Construction and evaluation are parallel (OpenMP) and give the same
 // result for any thread count.
 
@@ -65,17 +65,17 @@ struct CoverageOptions {
   double sample_spacing_m = 0.03;  ///< lattice pitch of the surface samples (~1 per spacing^2)
   double max_dist_m = 0.02;        ///< a sample is covered when a map point lies within this
   // --- observability: the robot-mounted camera (defaults: TRobotParams, kinect_v1) ---
-  double camera_height_m = 0.55;   ///< camera centre above the floor
-  double camera_pitch_deg = -10.0; ///< optical axis elevation (negative = looking down)
-  double camera_forward_m = 0.10;  ///< camera ahead of the robot's rotation centre
-  double vertical_fov_deg = 49.1;  ///< full vertical field of view (kinect_v1: 480 px, f 525)
+  double camera_height_m = 0.55;    ///< camera centre above the floor
+  double camera_pitch_deg = -10.0;  ///< optical axis elevation (negative = looking down)
+  double camera_forward_m = 0.10;   ///< camera ahead of the robot's rotation centre
+  double vertical_fov_deg = 49.1;   ///< full vertical field of view (kinect_v1: 480 px, f 525)
   double min_range_m = 0.4, max_range_m = 4.0;  ///< depth of the sample in the camera
   double max_incidence_deg = 75.0;  ///< largest angle between the ray and the normal line
   // --- the robot's free space ---
   double robot_radius_m = 0.25;  ///< disc footprint (a polygon: its circumradius)
   double robot_z_min_m = 0.03, robot_z_max_m = 0.6;  ///< collision height band
-  double raster_cell_m = 0.02;       ///< occupancy raster cell
-  double position_spacing_m = 0.25;  ///< grid of candidate robot positions
+  double raster_cell_m = 0.02;                       ///< occupancy raster cell
+  double position_spacing_m = 0.25;                  ///< grid of candidate robot positions
 };
 
 /// Options for a robot's camera: height, pitch and forward offset of the mount (TRobotParams'
