@@ -190,7 +190,7 @@ struct Visibility {
 
     // Packet of up to 8 rays from the sample towards candidate cameras.
     RTCRay8 rays;
-    int valid[8];
+    alignas(32) int valid[8];  // Embree wants the mask aligned like the packet
     int k = 0;
     RTCIntersectContext ctx;
     const auto flush = [&]() -> bool {
