@@ -14,6 +14,7 @@
 #include <optional>
 
 #include "Command.h"
+#include "EvalExploration.h"
 #include "RunObjects.h"
 #include "rasm/core/Error.h"
 #include "rasm/io/EvaluationJson.h"
@@ -45,6 +46,8 @@ const char* kUsage =
     "[--stable-only]\n"
     "       rasm eval classification <run folder> [--world NAME|YAML] [--json out.json]\n"
     "                     [--max-dist-m 0.05] [--min-size-m 0.10] [--min-surfels 50]\n"
+    "       rasm eval exploration <run folder>... [--times 60,120,180] [--json out.json]\n"
+    "                     [--markdown out.md] [--plot out.png]\n"
     "Trajectories in TUM format (timestamp tx ty tz qx qy qz qw). ATE aligns the estimate to the\n"
     "ground truth (Horn/Umeyama, SE(3); --scale: Sim(3)); RPE uses intervals of D s (default 1) "
     "or\n"
@@ -564,6 +567,8 @@ int eval(const std::vector<std::string>& args) {
                           "this build lacks the sim, segmentation or surfel_map module");
 #endif
   }
+  if (args[0] == "exploration")
+    return rasm::app::evalExploration(std::vector<std::string>(args.begin() + 1, args.end()));
   if (args[0] == "classification") {
 #ifdef RASM_EVAL_CLASSIFICATION
     return evalClassification(std::vector<std::string>(args.begin() + 1, args.end()));

@@ -83,6 +83,18 @@ int runMain(const std::vector<std::string>& args) {
       if (d.contains("disabled"))
         std::printf("WARNING: %s\n", d["disabled"].get<std::string>().c_str());
   }
+  if (s.explored) {
+    const auto& r = s.report;
+    const auto& x = r["exploration"];
+    std::printf(
+        "exploration (%s planner): stopped by %s after %.0f simulated s, %.1f m driven, %d goals "
+        "(%d reached); coverage %.3f of the world's observable surface; %d of %d detectable "
+        "objects carry their class (exploration.json, exploration.png)\n",
+        x["planner"].get<std::string>().c_str(), r["stop_reason"].get<std::string>().c_str(),
+        r["sim_time_s"].get<double>(), r["path_length_m"].get<double>(), x["goals"].get<int>(),
+        x["goals_reached"].get<int>(), r["coverage_fraction"].get<double>(),
+        x["objects_correct"].get<int>(), x["objects_detectable"].get<int>());
+  }
   if (lost_pct > 5.0)
     std::printf(
         "WARNING: tracking lost %.1f%% of the frames (%zu of %zu, frames.csv: tracked = 0); the "

@@ -61,10 +61,6 @@ TNavigationParams testParams() {
   p.ptg_cache_dir =
       (std::filesystem::temp_directory_path() / ("rasm_nav_test_" + std::to_string(getpid())))
           .string();
-  if (const char* env = std::getenv("RASM_NAV_SET")) {  // experiments: "[navigation]\nkey=value"
-    mrpt::config::CConfigFileMemory c(std::string("[navigation]\n") + env);
-    p.loadFromConfigFile(c, "navigation");
-  }
   return p;
 }
 

@@ -1,5 +1,7 @@
 #include "rasm/pipeline/Mapper.h"
 
+#include <thread>
+
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/serialization/CArchive.h>
 
@@ -11,6 +13,7 @@
 #include "rasm/core/Params.h"
 #include "rasm/core/Timing.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
+#include "rasm/pipeline/stages/ExplorationStage.h"
 #include "rasm/pipeline/stages/FusionStages.h"
 #include "rasm/pipeline/stages/PreprocessStage.h"
 #include "rasm/pipeline/stages/SegmentationStage.h"
@@ -44,6 +47,7 @@ void Mapper::assemble() {
   m_stages.push_back(std::move(segmentation));
   m_stages.push_back(std::move(fuse));
   m_stages.push_back(std::move(classification));
+  m_stages.push_back(std::make_unique<ExplorationStage>());
   indexTimers();
 }
 
@@ -112,6 +116,7 @@ void Mapper::saveParams(mrpt::config::CConfigFileBase& out) const {
 
 FrameResult Mapper::processFrame(const RgbdFrame& frame) {
   const auto t_start = Clock::now();
+  m_mapping_thread = std::this_thread::get_id();
   if (m_frames == 0) m_t0 = frame.timestamp_s;
   FrameContext& ctx = m_ctx;
   ctx.frame = &frame;
@@ -200,7 +205,8 @@ std::shared_ptr<const MapSnapshot> Mapper::snapshot() const {
 }
 
 void Mapper::snapshotInto(MapSnapshot& snap) const {
-  {
+  // From the mapping thread itself (between frames) nothing writes: copy at once.
+  if (std::this_thread::get_id() != m_mapping_thread.load()) {
     std::unique_lock<std::mutex> lk(m_phase_mutex);
     const std::uint64_t seen = m_write_phases;
     m_phase_cv.wait_for(lk, std::chrono::milliseconds(200), [&] { return m_write_phases != seen; });

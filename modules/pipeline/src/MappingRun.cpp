@@ -26,9 +26,11 @@
 #include "rasm/io/RawlogWriter.h"
 #include "rasm/io/RgbdObservation.h"
 #include "rasm/io/TrajectoryEvaluator.h"
+#include "rasm/pipeline/ExplorationLoop.h"
 #include "rasm/pipeline/Progress.h"
 #include "rasm/pipeline/SimSource.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
+#include "rasm/pipeline/stages/ExplorationStage.h"
 #include "rasm/surfel_map/MapExport.h"
 #ifdef RASM_HAVE_SIM
 #include "rasm/sim/SimFrameSource.h"
@@ -81,7 +83,7 @@ void TCameraParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
 std::vector<std::string> MappingRun::knownSections() const {
   std::vector<std::string> known = {"source", "camera"};
   for (const std::string& s : m_mapper->sectionNames()) known.push_back(s);
-  known.insert(known.end(), {"output", "sim"});
+  known.insert(known.end(), {"navigation", "output", "sim"});
   return known;
 }
 
@@ -95,7 +97,12 @@ MappingRun::MappingRun(const RunConfig& config) : m_config(config) {
   loadParamsStrict(ini, "source", m_source, src);
   loadParamsStrict(ini, "camera", m_camera, src);
   loadParamsStrict(ini, "output", m_output, src);
+  loadParamsStrict(ini, "navigation", m_navigation, src);
   (void)m_camera.intrinsics();  // validates
+  if (m_mapper->stage<ExplorationStage>().exploreParams().enabled && m_source.type != "sim")
+    throwInputError(src + " [explore] enabled",
+                    "needs a robot the run can drive: [source] type = sim with a robot "
+                    "trajectory spec (got [source] type = " + m_source.type + ")");
   // [sim] belongs to the simulator; it is parsed strictly when the sim source is opened.
   std::vector<std::string> keys;
   ini.getAllKeys("sim", keys);
@@ -110,6 +117,7 @@ std::string MappingRun::effectiveConfig() const {
   m_source.saveToConfigFile(mem, "source");
   m_camera.saveToConfigFile(mem, "camera");
   m_mapper->saveParams(mem);
+  m_navigation.saveToConfigFile(mem, "navigation");
   m_output.saveToConfigFile(mem, "output");
   std::string text;
   mem.getContent(text);
@@ -119,7 +127,8 @@ std::string MappingRun::effectiveConfig() const {
 
 std::unique_ptr<io::FrameSource> MappingRun::openSource() const {
   if (m_source.type == "sim")
-    return openSimSource(m_sim_ini, m_config.source(), m_camera.intrinsics());
+    return openSimSource(m_sim_ini, m_config.source(), m_camera.intrinsics(),
+                         m_mapper->stage<ExplorationStage>().exploreParams().enabled);
   io::FrameSourceOptions opt;
   opt.intrinsics_override = m_camera.intrinsics();
   if (!fs::exists(m_source.path))
@@ -240,7 +249,7 @@ void MappingRun::prepareOutputFolder() const {
   writeFileAtomically(m_output.dir + "/config.ini", effectiveConfig());
 }
 
-std::unique_ptr<io::FrameSource> MappingRun::openWrappedSource(double& preload_s) const {
+std::unique_ptr<io::FrameSource> MappingRun::openWrappedSource(double& preload_s) {
   std::unique_ptr<io::FrameSource> source = openSource();
 #ifdef RASM_HAVE_SIM
   // The simulated detector's occlusion test casts rays into the scene the frames come from.
@@ -248,6 +257,15 @@ std::unique_ptr<io::FrameSource> MappingRun::openWrappedSource(double& preload_s
     m_mapper->stage<ClassificationStage>().setSimScene(&sim_source->sequence().scene());
 #endif
   preload_s = 0.0;
+#ifdef RASM_HAVE_SIM
+  // Exploring: the run drives the robot, so each frame must be rendered after the commands the
+  // previous one led to (no read-ahead).
+  if (m_mapper->stage<ExplorationStage>().exploreParams().enabled) {
+    auto* sim_source = dynamic_cast<sim::SimFrameSource*>(source.get());
+    m_explore = std::make_unique<ExplorationLoop>(*m_mapper, sim_source->sequence(), m_navigation);
+    return source;
+  }
+#endif
   if (m_source.preload) {
     const auto t0 = std::chrono::steady_clock::now();
     long long limit = 0;
@@ -275,6 +293,12 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc,
     if (m_source.max_frames > 0) total = std::min<long long>(total, m_source.max_frames);
   } else if (m_source.max_frames > 0) {
     total = m_source.max_frames;
+  }
+  if (m_explore && total <= 0) {
+    const double budget = m_mapper->stage<ExplorationStage>().exploreParams().time_budget_s;
+    const auto* sim_source = dynamic_cast<const sim::SimFrameSource*>(&source);
+    if (budget > 0 && sim_source)
+      total = (long long)(budget / sim_source->sequence().frameInterval()) + 1;
   }
   Progress progress("frames", total);
   // annotated.rawlog: each input observation with the ESTIMATED camera pose as sensorPose (MRPT
@@ -304,6 +328,7 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc,
         if (!f->colour.empty()) f->colour.setTo(Bgr8{});
       }
       const FrameResult r = m_mapper->processFrame(*f);
+      if (m_explore) m_explore->afterFrame(*f, r);
       ++acc.processed;
       acc.last_K = f->intrinsics;
       acc.have_K = true;
@@ -323,7 +348,8 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc,
       char extra[160];
       std::snprintf(extra, sizeof extra, "surfels %d lost %zu %s", m_mapper->map().size(),
                     m_mapper->framesLost(), r.tracked ? "" : tracking::toString(r.tracking.status));
-      progress.update(static_cast<long long>(acc.processed), extra);
+      progress.update(static_cast<long long>(acc.processed),
+                      m_explore ? std::string(extra) + " | " + m_explore->progressText() : extra);
     }
   } catch (const std::exception& e) {
     acc.error = e.what();
@@ -372,6 +398,7 @@ void MappingRun::writeOutputs(const Accumulated& acc) {
     fs::rename(p + ".part", p);
   }
   m_mapper->writeOutputs(dir);
+  if (m_explore) m_explore->writeOutputs(dir);
   if (m_output.preview_png && acc.have_K && acc.processed > 0) {
     maps::RenderedMaps view;
     m_mapper->renderView(m_mapper->pose(), acc.last_K, view);
@@ -429,6 +456,7 @@ void MappingRun::writeReport(const io::FrameSource& source, Accumulated& acc, Ru
   m_mapper->report(rep);  // the stages' fields (relocalisations, keyframes, ...)
 
   io::Trajectory groundtruth = acc.groundtruth;
+  if (m_explore) m_explore->report(rep);
   if (!m_source.groundtruth.empty()) {
     try {
       groundtruth = io::readTumTrajectory(m_source.groundtruth);
@@ -473,6 +501,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   frameLoop(*source, acc, on_frame);
   try {
     m_mapper->finishRun();
+    if (m_explore) m_explore->finish(acc.error.empty() ? "source_end" : "error");
   } catch (const std::exception& e) {
     if (acc.error.empty()) acc.error = e.what();
   }
@@ -488,6 +517,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   sum.lost_intervals = acc.loss.intervals;
   sum.relocalisations = m_mapper->relocalisations();
   sum.surfels = std::size_t(m_mapper->map().size());
+  sum.explored = m_explore != nullptr;
   writeOutputs(acc);
   writeReport(*source, acc, sum);
   if (!acc.error.empty())

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 
 namespace rasm::sim {
@@ -27,6 +28,9 @@ long long framesIn(double duration_s, double rate_hz) {
 SimulatedSequence::SimulatedSequence(const World& world, const TrajectorySpec& spec,
                                      const SequenceOptions& opt)
     : m_spec(spec), m_seed(opt.seed) {
+  if (opt.rate_hz < 0.0 || !std::isfinite(opt.rate_hz))
+    throwInputError("sequence rate_hz", "must be >= 0 (0: the spec's rate)");
+  m_rate_hz = opt.rate_hz > 0.0 ? opt.rate_hz : spec.rate_hz;
   applyParamOverrides(m_sensor_params, "sim_sensor", spec.sensor_overrides,
                       spec.source + " sensor:");
   applyParamOverrides(m_sensor_params, "sim_sensor", opt.sensor_overrides, "sensor overrides");
@@ -48,17 +52,19 @@ SimulatedSequence::SimulatedSequence(const World& world, const TrajectorySpec& s
   if (spec.kind == TrajectorySpec::Kind::Handheld) {
     m_hand = std::make_unique<HandheldTrajectory>(spec.keyframes, spec.jitter, opt.seed);
     m_planned =
-        framesIn(spec.duration_s.value_or(m_hand->endTime() - m_hand->startTime()), spec.rate_hz);
+        framesIn(spec.duration_s.value_or(m_hand->endTime() - m_hand->startTime()), m_rate_hz);
   } else {
     m_robot = std::make_unique<SimulatedDiffDriveRobot>(*m_scene, rp, spec.start_pose, opt.seed);
-    std::vector<Eigen::Vector2d> path{spec.start_pose.head<2>()};
-    path.insert(path.end(), spec.waypoints.begin(), spec.waypoints.end());
-    m_pursuit = std::make_unique<PurePursuit>(path, spec.controller, spec.loop, spec.laps);
-    if (spec.duration_s) m_planned = framesIn(*spec.duration_s, spec.rate_hz);
+    if (!opt.commanded) {
+      std::vector<Eigen::Vector2d> path{spec.start_pose.head<2>()};
+      path.insert(path.end(), spec.waypoints.begin(), spec.waypoints.end());
+      m_pursuit = std::make_unique<PurePursuit>(path, spec.controller, spec.loop, spec.laps);
+    }
+    if (spec.duration_s) m_planned = framesIn(*spec.duration_s, m_rate_hz);
   }
   if (opt.max_frames >= 0 && (m_planned < 0 || opt.max_frames < m_planned))
     m_planned = opt.max_frames;
-  m_limit = m_planned >= 0 ? m_planned : framesIn(spec.max_duration_s, spec.rate_hz);
+  m_limit = m_planned >= 0 ? m_planned : framesIn(spec.max_duration_s, m_rate_hz);
 }
 
 SimulatedSequence::~SimulatedSequence() = default;
@@ -66,12 +72,12 @@ SimulatedSequence::~SimulatedSequence() = default;
 double SimulatedSequence::progress() const {
   if (m_planned > 0) return std::min(1.0, double(m_next) / double(m_planned));
   if (m_pursuit) return m_pursuit->progress() / m_pursuit->totalLength();
-  return 0.0;
+  return double(m_next) / double(std::max<long long>(1, m_limit));
 }
 
 bool SimulatedSequence::next(RgbdFrame& frame) {
   if (m_done || m_next >= m_limit) return false;
-  const double dt = 1.0 / m_spec.rate_hz;
+  const double dt = 1.0 / m_rate_hz;
   const double t = double(m_next) * dt;
   const Eigen::Isometry3d T =
       m_hand ? m_hand->pose(m_hand->startTime() + t) : m_robot->cameraPose();
@@ -85,6 +91,14 @@ bool SimulatedSequence::next(RgbdFrame& frame) {
   ++m_next;
 
   // Drive the robot to the pose of the next frame: pure pursuit at control_substeps x rate.
+  if (m_robot && !m_pursuit) {  // commanded: the hook sets the commands
+    const int sub = m_spec.control_substeps;
+    for (int k = 0; k < sub; ++k) {
+      m_robot->step(dt / sub);
+      if (m_substep_hook) m_substep_hook();
+    }
+    return true;
+  }
   if (m_robot) {
     if (m_pursuit->done()) {
       m_done = true;  // this frame, at the goal, was the last one

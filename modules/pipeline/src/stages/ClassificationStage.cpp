@@ -285,4 +285,13 @@ void ClassificationStage::writeOutputs(const std::string& dir, const maps::CSurf
   std::filesystem::rename(ply + ".part", ply);
 }
 
+std::map<std::uint32_t, std::string> ClassificationStage::segmentClassNames(
+    const maps::CSurfelMap& map) const {
+  std::map<std::uint32_t, std::string> names;
+  for (const SegmentClass& c : segmentClasses(map.store().arrays()))
+    if (c.best_id != 0 && c.best_p >= m_params.min_object_probability)
+      names[c.segment] = m_classes.name(c.best_id);
+  return names;
+}
+
 }  // namespace rasm::pipeline

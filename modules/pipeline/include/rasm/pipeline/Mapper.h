@@ -14,11 +14,13 @@
 #include <mrpt/config/CConfigFileBase.h>
 
 #include <Eigen/Geometry>
+#include <atomic>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <shared_mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "rasm/core/ComputeOptions.h"
@@ -112,7 +114,8 @@ class Mapper {
   /// segmentation and every finishFrame); preprocessing and tracking read alongside the copy.
   /// The copy starts when the next write phase ends (or after 200 ms without one: the mapper is
   /// idle), so it runs during the mapping thread's read phase; the mapping thread waits only when
-  /// a copy outlasts that phase (FrameResult::ms of timer "map_lock_wait"). Cost:
+  /// a copy outlasts that phase (FrameResult::ms of timer "map_lock_wait"). Called from the
+  /// mapping thread between frames (the deterministic exploration loop) it copies at once. Cost:
   /// docs/architecture.md.
   std::shared_ptr<const MapSnapshot> snapshot() const;
   /// The same into `out`, reusing its memory (a reader taking snapshots repeatedly saves the
@@ -138,6 +141,7 @@ class Mapper {
   mutable std::mutex m_phase_mutex;
   mutable std::condition_variable m_phase_cv;
   std::uint64_t m_write_phases = 0;
+  std::atomic<std::thread::id> m_mapping_thread{};  ///< the thread of the last processFrame
   int m_lock_timer = 0;  ///< index of "map_lock_wait" in FrameResult::ms
   TMapperParams m_mapper;
   TComputeParams m_compute;  ///< [compute]: simd = false runs the kernel bodies alone

@@ -18,6 +18,7 @@
 #include "rasm/io/FrameSource.h"
 #include "rasm/io/RawlogWriter.h"
 #include "rasm/io/Trajectory.h"
+#include "rasm/navigation/TNavigationParams.h"
 #include "rasm/pipeline/Mapper.h"
 #include "rasm/pipeline/OutputFiles.h"
 #include "rasm/pipeline/RunConfig.h"
@@ -45,7 +46,10 @@ struct RunSummary {
   std::optional<double> ate_rmse_m;  ///< over every frame (lost ones at their propagated pose)
   std::optional<double> ate_tracked_rmse_m;  ///< over the tracked frames alone
   nlohmann::json report;                     ///< what report.json holds
+  bool explored = false;  ///< [explore] enabled: report holds the exploration's fields
 };
+
+class ExplorationLoop;
 
 class MappingRun {
  public:
@@ -53,8 +57,8 @@ class MappingRun {
   explicit MappingRun(const RunConfig& config);
   ~MappingRun();
 
-  /// Sections this build understands: the run's own ([source] [camera] [output] [sim]) and the
-  /// Mapper's and its stages' (Mapper::sectionNames).
+  /// Sections this build understands: the run's own ([source] [camera] [navigation] [output]
+  /// [sim]) and the Mapper's and its stages' (Mapper::sectionNames).
   std::vector<std::string> knownSections() const;
 
   /// Runs to the end of the source (or [source] max_frames) and writes the output folder. Once
@@ -79,8 +83,9 @@ class MappingRun {
   /// Creates the output folder and writes config.ini (InputError when it cannot be used).
   void prepareOutputFolder() const;
   /// The configured source with its read-ahead / preload wrapper; `preload_s` = seconds spent
-  /// preloading.
-  std::unique_ptr<io::FrameSource> openWrappedSource(double& preload_s) const;
+  /// preloading. An exploring run ([explore] enabled) gets no read-ahead: the source's robot is
+  /// driven by the exploration loop created here.
+  std::unique_ptr<io::FrameSource> openWrappedSource(double& preload_s);
   /// Maps frames until the source or [source] max_frames ends; an exception of a frame ends the
   /// loop and is kept in acc.error.
   void frameLoop(io::FrameSource& source, Accumulated& acc,
@@ -99,7 +104,9 @@ class MappingRun {
   TCameraParams m_camera;
   TOutputParams m_output;
   std::string m_sim_ini;  ///< [sim] section text, handed to the simulator source
+  navigation::TNavigationParams m_navigation;  ///< [navigation]: the exploring robot's navigator
   std::unique_ptr<Mapper> m_mapper;
+  std::unique_ptr<ExplorationLoop> m_explore;  ///< [explore] enabled: the closed loop (V, VI)
 };
 
 }  // namespace rasm::pipeline

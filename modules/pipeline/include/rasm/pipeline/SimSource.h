@@ -10,10 +10,12 @@
 
 namespace rasm::pipeline {
 
-/// `sim_ini` holds the [sim] section; `source` names the config for messages. Throws InputError
-/// when the build has no simulator or the section is invalid.
+/// `sim_ini` holds the [sim] section; `source` names the config for messages; `commanded`: the
+/// run drives the simulated robot (exploration). Throws InputError when the build has no
+/// simulator or the section is invalid.
 std::unique_ptr<io::FrameSource> openSimSource(const std::string& sim_ini,
                                                const std::string& source,
-                                               const std::optional<CameraIntrinsics>& camera);
+                                               const std::optional<CameraIntrinsics>& camera,
+                                               bool commanded = false);
 
 }  // namespace rasm::pipeline

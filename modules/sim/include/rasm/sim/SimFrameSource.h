@@ -21,6 +21,7 @@ struct TSimParams : public mrpt::config::CLoadableOptions {
   std::uint64_t seed = 0;
   bool noise = true;    ///< false: exact depth, no dropouts ([sim_sensor] noise and dropouts)
   int max_frames = -1;  ///< < 0: the whole trajectory
+  double rate_hz = 0.0;  ///< camera frame rate; 0: the trajectory spec's
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) override;
@@ -33,8 +34,10 @@ class SimFrameSource : public io::FrameSource {
   SimFrameSource(const World& world, const TrajectorySpec& spec, const SequenceOptions& opt = {});
   /// Loads the world and the spec named in `params` (InputError naming them when they do not
   /// load); `intrinsics` replaces the sensor's camera when given.
+  /// `commanded`: a robot spec's robot is driven from outside (SequenceOptions::commanded).
   explicit SimFrameSource(const TSimParams& params,
-                          const std::optional<CameraIntrinsics>& intrinsics = std::nullopt);
+                          const std::optional<CameraIntrinsics>& intrinsics = std::nullopt,
+                          bool commanded = false);
 
   std::optional<RgbdFrame> next() override;
   long long sizeHint() const override { return m_seq->plannedFrames(); }
@@ -42,6 +45,7 @@ class SimFrameSource : public io::FrameSource {
 
   /// The sequence behind it (its RayScene feeds SimulatedDetector).
   const SimulatedSequence& sequence() const { return *m_seq; }
+  SimulatedSequence& sequence() { return *m_seq; }
 
  private:
   std::unique_ptr<SimulatedSequence> m_seq;

@@ -4,6 +4,7 @@
 // colour, noisy depth, ground-truth pose and labels, and (robot specs) the odometry.
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -27,6 +28,12 @@ struct SequenceOptions {
   std::optional<CameraIntrinsics> intrinsics;
   /// Stop after this many frames (< 0: as the spec says).
   long long max_frames = -1;
+  /// Camera frame rate (Hz) replacing the spec's rate_hz; 0 keeps the spec's.
+  double rate_hz = 0.0;
+  /// Robot specs: the robot is driven from outside (exploration: a navigator sets its velocity
+  /// commands from the substep hook) instead of pure pursuit along the spec's waypoints, which are
+  /// ignored; the sequence then runs until max_duration_s / max_frames, or finish().
+  bool commanded = false;
 };
 
 class SimulatedSequence {
@@ -53,6 +60,15 @@ class SimulatedSequence {
   const RgbdSensor& sensor() const { return *m_sensor; }
   /// The simulated robot (robot specs), else null.
   const SimulatedDiffDriveRobot* robot() const { return m_robot.get(); }
+  SimulatedDiffDriveRobot* robot() { return m_robot.get(); }
+
+  /// Commanded robot: called after each of the control_substeps robot steps between two frames
+  /// (the navigator's update: it reads the robot's clock and sets its next velocity command).
+  void setSubstepHook(std::function<void()> hook) { m_substep_hook = std::move(hook); }
+  /// Ends the sequence: next() returns false from now on (an exploration that stopped).
+  void finish() { m_done = true; }
+  /// Seconds between two frames.
+  double frameInterval() const { return 1.0 / m_rate_hz; }
 
  private:
   TrajectorySpec m_spec;
@@ -62,7 +78,9 @@ class SimulatedSequence {
   std::unique_ptr<RgbdSensor> m_sensor;
   std::unique_ptr<HandheldTrajectory> m_hand;
   std::unique_ptr<SimulatedDiffDriveRobot> m_robot;
-  std::unique_ptr<PurePursuit> m_pursuit;
+  std::unique_ptr<PurePursuit> m_pursuit;  ///< null for a commanded robot
+  std::function<void()> m_substep_hook;
+  double m_rate_hz = 30.0;
   long long m_planned = -1, m_limit = 0, m_next = 0;
   double m_stuck_s = 0.0;
   bool m_stuck = false, m_done = false;

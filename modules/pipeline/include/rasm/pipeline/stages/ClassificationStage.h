@@ -52,6 +52,9 @@ class ClassificationStage : public MapperStage {
   const classification::ClassList& classList() const { return m_classes; }
   /// Whether any class evidence has been fused into the map (the class map has something to show).
   bool fusedAnyEvidence() const { return m_surfel_updates > 0; }
+  /// The class name of every segment that carries one now (best class with a mean posterior of
+  /// at least min_object_probability; as objects.json's "class"), by segment id.
+  std::map<std::uint32_t, std::string> segmentClassNames(const maps::CSurfelMap& map) const;
   /// Detections fused per segment so far (follows relabelling).
   const std::map<std::uint32_t, int>& detectionsPerSegment() const { return m_fused_per_segment; }
 

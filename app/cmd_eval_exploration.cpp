@@ -1,0 +1,285 @@
+// `rasm eval exploration`: runs grouped by world and planner (seeds averaged), with coverage and
+// objects correctly classified at fixed simulated times, time to 90% coverage, path length and
+// why each run stopped; a Markdown table, JSON, and a PNG of coverage against simulated time.
+#include <mrpt/config/CConfigFile.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "EvalExploration.h"
+#include "rasm/core/Error.h"
+
+namespace fs = std::filesystem;
+
+namespace rasm::app {
+namespace {
+
+const char* kUsage =
+    "usage: rasm eval exploration <run folder>... [--times 60,120,180] [--json out.json]\n"
+    "                             [--markdown out.md] [--plot out.png]\n"
+    "Each run folder is an exploring `rasm run` ([explore] enabled): its report.json, "
+    "exploration.json\nand config.ini ([sim] world and seed). Runs are grouped by world and "
+    "planner; values are means\nover the seeds (min-max in brackets). A run that stopped before "
+    "a time keeps its final values.\n";
+
+struct Series {
+  std::vector<double> t, coverage, objects;
+  /// The value at time T: the last sample at or before T (a stopped run keeps its last value).
+  static double at(const std::vector<double>& ts, const std::vector<double>& v, double T) {
+    double out = v.empty() ? 0.0 : v.front();
+    for (std::size_t i = 0; i < ts.size() && ts[i] <= T + 1e-9; ++i) out = v[i];
+    return out;
+  }
+};
+
+struct RunRow {
+  std::string dir, world, planner, stop_reason;
+  long long seed = 0;
+  double coverage = 0, objects = 0, path_m = 0, sim_s = 0, t90 = -1, wall_s = 0;
+  Series series;
+};
+
+nlohmann::json readJson(const fs::path& p) {
+  std::ifstream f(p);
+  if (!f) throwInputError(p.string(), "missing; expected the file an exploring `rasm run` writes");
+  try {
+    return nlohmann::json::parse(f);
+  } catch (const std::exception& e) {
+    throwInputError(p.string(), std::string("is not valid JSON: ") + e.what());
+  }
+}
+
+RunRow readRun(const std::string& dir) {
+  RunRow r;
+  r.dir = dir;
+  const nlohmann::json rep = readJson(fs::path(dir) / "report.json");
+  if (!rep.contains("exploration"))
+    throwInputError(dir + "/report.json", "has no exploration block ([explore] enabled = false?)");
+  const nlohmann::json ex = readJson(fs::path(dir) / "exploration.json");
+  const fs::path ini = fs::path(dir) / "config.ini";
+  if (!fs::is_regular_file(ini)) throwInputError(ini.string(), "missing; `rasm run` writes it");
+  const mrpt::config::CConfigFile cfg(ini.string());
+  r.world = fs::path(cfg.read_string("sim", "world", "?")).stem().string();
+  r.seed = cfg.read_int("sim", "seed", 0);
+  r.planner = rep["exploration"].value("planner", "?");
+  r.stop_reason = rep.value("stop_reason", "");
+  r.coverage = rep.value("coverage_fraction", 0.0);
+  r.objects = rep.value("objects_correct_fraction", 0.0);
+  r.path_m = rep.value("path_length_m", 0.0);
+  r.sim_s = rep.value("sim_time_s", 0.0);
+  r.wall_s = rep.value("seconds", 0.0);
+  const auto& t90 = rep["exploration"]["time_to_90_coverage_s"];
+  r.t90 = t90.is_number() ? t90.get<double>() : -1.0;
+  for (const auto& m : ex["metrics"]) {
+    r.series.t.push_back(m.value("t", 0.0));
+    r.series.coverage.push_back(m.value("coverage", 0.0));
+    r.series.objects.push_back(m.value("objects_correct_fraction", 0.0));
+  }
+  return r;
+}
+
+struct Stat {
+  double mean = 0, lo = 0, hi = 0;
+  int n = 0;
+};
+Stat stat(const std::vector<double>& v) {
+  Stat s;
+  if (v.empty()) return s;
+  s.n = int(v.size());
+  s.lo = *std::min_element(v.begin(), v.end());
+  s.hi = *std::max_element(v.begin(), v.end());
+  for (double x : v) s.mean += x / double(v.size());
+  return s;
+}
+std::string fmt(const Stat& s, int decimals) {
+  char b[96];
+  if (s.n == 0) return "-";
+  if (s.n == 1 || s.lo == s.hi)
+    std::snprintf(b, sizeof b, "%.*f", decimals, s.mean);
+  else
+    std::snprintf(b, sizeof b, "%.*f [%.*f-%.*f]", decimals, s.mean, decimals, s.lo, decimals,
+                  s.hi);
+  return b;
+}
+
+void plot(const std::string& path, const std::map<std::string, std::vector<RunRow>>& by_group,
+          double tmax) {
+  // One panel per world, one line per planner: mean coverage over the seeds against time.
+  std::map<std::string, std::map<std::string, std::vector<const RunRow*>>> worlds;
+  for (const auto& [key, runs] : by_group)
+    for (const RunRow& r : runs) worlds[r.world][r.planner].push_back(&r);
+  const int W = 520, H = 340, L = 50, B = 45;
+  cv::Mat img(H, W * int(std::max<std::size_t>(1, worlds.size())), CV_8UC3,
+              cv::Scalar(255, 255, 255));
+  const cv::Scalar colours[] = {{200, 80, 0}, {0, 0, 200}, {0, 150, 0}, {150, 0, 150},
+                                {0, 140, 255}, {90, 90, 90}};
+  int panel = 0;
+  for (const auto& [world, planners] : worlds) {
+    const int x0 = panel++ * W;
+    auto px = [&](double t, double v) {
+      return cv::Point(x0 + L + int((W - L - 20) * t / tmax), H - B - int((H - B - 30) * v));
+    };
+    cv::rectangle(img, px(0, 0), px(tmax, 1), cv::Scalar(0, 0, 0));
+    for (double v = 0.25; v < 1.0; v += 0.25)
+      cv::line(img, px(0, v), px(tmax, v), cv::Scalar(225, 225, 225));
+    cv::line(img, px(0, 0.9), px(tmax, 0.9), cv::Scalar(180, 180, 180));
+    cv::putText(img, world + ": coverage vs simulated time (0-" + std::to_string(int(tmax)) + " s)",
+                cv::Point(x0 + L, 18), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0));
+    int k = 0;
+    for (const auto& [planner, runs] : planners) {
+      const cv::Scalar c = colours[k % 6];
+      cv::putText(img, planner, cv::Point(x0 + L + 5 + 90 * k, H - 12), cv::FONT_HERSHEY_SIMPLEX,
+                  0.45, c, 1);
+      ++k;
+      cv::Point prev;
+      for (int i = 0; i <= 100; ++i) {
+        const double t = tmax * i / 100.0;
+        double v = 0;
+        for (const RunRow* r : runs) v += Series::at(r->series.t, r->series.coverage, t);
+        v /= double(runs.size());
+        const cv::Point p = px(t, v);
+        if (i > 0) cv::line(img, prev, p, c, 2);
+        prev = p;
+      }
+    }
+  }
+  if (!cv::imwrite(path, img)) throwInputError("--plot " + path, "cannot be written");
+  std::printf("wrote %s\n", path.c_str());
+}
+
+}  // namespace
+
+int evalExploration(const std::vector<std::string>& args) {
+  std::vector<std::string> dirs;
+  std::vector<double> times = {60, 120, 180};
+  std::string json, markdown, plot_path;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) throwInputError(a, "needs a value\n" + std::string(kUsage));
+      return args[++i];
+    };
+    if (a == "--help" || a == "-h") {
+      std::printf("%s", kUsage);
+      return 0;
+    } else if (a == "--json") {
+      json = value();
+    } else if (a == "--markdown") {
+      markdown = value();
+    } else if (a == "--plot") {
+      plot_path = value();
+    } else if (a == "--times") {
+      times.clear();
+      std::stringstream ss(value());
+      std::string item;
+      while (std::getline(ss, item, ',')) {
+        char* end = nullptr;
+        const double t = std::strtod(item.c_str(), &end);
+        if (end == item.c_str() || *end != 0 || !(t >= 0))
+          throwInputError("--times", "'" + item + "' is not a non-negative number of seconds");
+        times.push_back(t);
+      }
+    } else if (a.rfind("--", 0) == 0) {
+      throw InputError("unknown option '" + a + "'\n" + std::string(kUsage));
+    } else {
+      dirs.push_back(a);
+    }
+  }
+  if (dirs.empty()) throw InputError("expected at least one run folder\n" + std::string(kUsage));
+
+  std::map<std::string, std::vector<RunRow>> groups;  // "world / planner"
+  double tmax = 0;
+  for (const std::string& d : dirs) {
+    RunRow r = readRun(d);
+    tmax = std::max(tmax, r.sim_s);
+    groups[r.world + " / " + r.planner].push_back(std::move(r));
+  }
+  std::ostringstream md;
+  md << "| world | planner | runs |";
+  for (double t : times) md << " coverage @" << t << " s |";
+  md << " final coverage | time to 90% (s) |";
+  for (double t : times) md << " objects correct @" << t << " s |";
+  md << " path (m) | simulated (s) | wall (s) | stopped by |\n|---|---|---|";
+  for (std::size_t i = 0; i < 2 * times.size() + 6; ++i) md << "---|";
+  md << "\n";
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& [key, runs] : groups) {
+    std::map<std::string, int> reasons;
+    std::vector<double> cov_final, t90, path, sim, wall;
+    int reached90 = 0;
+    for (const RunRow& r : runs) {
+      cov_final.push_back(r.coverage);
+      if (r.t90 >= 0) {
+        t90.push_back(r.t90);
+        ++reached90;
+      }
+      path.push_back(r.path_m);
+      sim.push_back(r.sim_s);
+      wall.push_back(r.wall_s);
+      ++reasons[r.stop_reason];
+    }
+    md << "| " << runs.front().world << " | " << runs.front().planner << " | " << runs.size()
+       << " |";
+    nlohmann::json j = {{"world", runs.front().world}, {"planner", runs.front().planner},
+                        {"runs", runs.size()}};
+    for (double t : times) {
+      std::vector<double> v;
+      for (const RunRow& r : runs) v.push_back(Series::at(r.series.t, r.series.coverage, t));
+      md << " " << fmt(stat(v), 3) << " |";
+      j["coverage_at"][std::to_string(int(t))] = stat(v).mean;
+    }
+    md << " " << fmt(stat(cov_final), 3) << " | " << fmt(stat(t90), 0)
+       << (reached90 < int(runs.size()) ? " (" + std::to_string(reached90) + " of " +
+                                              std::to_string(runs.size()) + " reached)"
+                                        : std::string())
+       << " |";
+    for (double t : times) {
+      std::vector<double> v;
+      for (const RunRow& r : runs) v.push_back(Series::at(r.series.t, r.series.objects, t));
+      md << " " << fmt(stat(v), 3) << " |";
+      j["objects_correct_at"][std::to_string(int(t))] = stat(v).mean;
+    }
+    std::string why;
+    for (const auto& [reason, n] : reasons)
+      why += (why.empty() ? "" : ", ") + reason + (n > 1 ? " x" + std::to_string(n) : "");
+    md << " " << fmt(stat(path), 1) << " | " << fmt(stat(sim), 0) << " | " << fmt(stat(wall), 0)
+       << " | " << why << " |\n";
+    j["coverage_final"] = stat(cov_final).mean;
+    j["time_to_90_coverage_s"] = t90.empty() ? nlohmann::json() : nlohmann::json(stat(t90).mean);
+    j["runs_reaching_90"] = reached90;
+    j["path_length_m"] = stat(path).mean;
+    j["sim_time_s"] = stat(sim).mean;
+    j["stop_reasons"] = reasons;
+    nlohmann::json seeds = nlohmann::json::array();
+    for (const RunRow& r : runs)
+      seeds.push_back({{"dir", r.dir}, {"seed", r.seed}, {"coverage", r.coverage},
+                       {"objects_correct_fraction", r.objects}, {"path_length_m", r.path_m},
+                       {"sim_time_s", r.sim_s}, {"stop_reason", r.stop_reason},
+                       {"time_to_90_coverage_s", r.t90 < 0 ? nlohmann::json() : nlohmann::json(r.t90)}});
+    j["per_run"] = seeds;
+    out.push_back(j);
+  }
+  std::printf("%s", md.str().c_str());
+  if (!markdown.empty()) {
+    std::ofstream f(markdown);
+    f << md.str();
+    if (!f) throwInputError("--markdown " + markdown, "cannot be written");
+  }
+  if (!json.empty()) {
+    std::ofstream f(json);
+    f << nlohmann::json{{"groups", out}}.dump(2) << "\n";
+    if (!f) throwInputError("--json " + json, "cannot be written");
+  }
+  if (!plot_path.empty()) plot(plot_path, groups, std::max(1.0, tmax));
+  return 0;
+}
+
+}  // namespace rasm::app

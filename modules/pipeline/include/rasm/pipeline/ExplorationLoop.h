@@ -1,0 +1,110 @@
+#pragma once
+// The closed loop of an exploring run (sections V and VI): after each frame the Mapper processed,
+//   localisation  the robot base's pose in the map: the last frame's estimated camera pose
+//                 (T_world_cam T_base_cam^-1, on the floor) carried on by the odometry since it;
+//   planning      the exploration planner ([exploration] planner: information gain, or a
+//                 baseline) on a map snapshot and the occupancy octree of ExplorationStage, when
+//                 the robot has arrived or given up, and every replan_period_s while it drives
+//                 (a mid-way switch only when the new view is clearly better);
+//   navigation    MRPT's reactive navigator drives the robot to the chosen SE(2) view; it steps
+//                 in the simulator's substeps (SimulatedSequence::setSubstepHook);
+//   stopping      [explore]'s rule: the best view gains too little for stop_plans plans, the
+//                 planner has nothing left, or a time / path budget is spent;
+//   metrics       with the simulator's ground truth: surface coverage and the fraction of the
+//                 world's detectable objects carrying their right class, over time.
+// Deterministic: the planner runs on the mapping thread at simulated times, so a seed gives one
+// run. It starts with one turn in place (the map of one frame has no free space to plan in).
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rasm/exploration/ViewCandidates.h"
+#include "rasm/navigation/Navigator.h"
+#include "rasm/pipeline/Mapper.h"
+#include "rasm/pipeline/stages/ExplorationStage.h"
+
+namespace rasm::sim {
+class SimulatedSequence;
+class SurfaceCoverage;
+class SurfaceInstanceQuery;
+}  // namespace rasm::sim
+
+namespace rasm::exploration {
+class ExplorationPlanner;
+}
+
+namespace rasm::pipeline {
+
+class ExplorationLoop {
+ public:
+  /// `seq`: the commanded simulated sequence the frames come from (its robot is driven).
+  ExplorationLoop(Mapper& mapper, sim::SimulatedSequence& seq,
+                  const navigation::TNavigationParams& nav_params);
+  ~ExplorationLoop();
+
+  /// After the Mapper processed `frame` (result `r`): localisation, planning, stopping, metrics.
+  void afterFrame(const RgbdFrame& frame, const FrameResult& r);
+  /// Why the run should end (empty while exploring).
+  const std::string& stopReason() const { return m_stop_reason; }
+  bool finished() const { return !m_stop_reason.empty(); }
+  /// End of the run (after Mapper::finishRun): the final metrics; `reason` when no stopping rule
+  /// ended it (the source ended, an error).
+  void finish(const std::string& reason);
+
+  /// One-line state for the progress line.
+  std::string progressText() const;
+  /// Top-level report fields (coverage_fraction, objects_correct_fraction, path_length_m,
+  /// sim_time_s, stop_reason) and the "exploration" block.
+  void report(nlohmann::json& rep) const;
+  /// exploration.json (plans, goals, metrics over time) and exploration.png (coverage and
+  /// objects against simulated time).
+  void writeOutputs(const std::string& dir) const;
+
+ private:
+  struct GoalRecord {
+    Eigen::Vector3d goal;
+    double t_start = 0, t_end = -1;
+    std::string source, outcome;
+    double gain = 0, entropy_reduction = 0, information = 0;
+  };
+  struct MetricsRow {
+    double t = 0, path_m = 0, coverage = 0, objects_correct = 0, entropy = 0;
+    std::size_t frames = 0, surfels = 0, objects_total = 0, objects_ok = 0;
+  };
+  Eigen::Vector3d estimatedBasePose() const;
+  void plan(double t, bool driving);
+  void startGoal(const exploration::ViewCandidate& c, double t);
+  void endGoal(double t, const std::string& outcome);
+  void measure(double t);
+  void stop(const std::string& reason);
+
+  Mapper& m_mapper;
+  ExplorationStage& m_stage;
+  sim::SimulatedSequence& m_seq;
+  Eigen::Isometry3d m_T_base_cam;
+  std::unique_ptr<navigation::Navigator> m_nav;
+  std::unique_ptr<exploration::ExplorationPlanner> m_planner;
+  std::unique_ptr<sim::SurfaceCoverage> m_coverage;
+  std::unique_ptr<sim::SurfaceInstanceQuery> m_instances;
+  MapSnapshot m_snapshot;
+  // Localisation: the base pose estimated at the last frame and the odometry then.
+  Eigen::Vector3d m_est_base = Eigen::Vector3d::Zero(), m_odo_at_est = Eigen::Vector3d::Zero();
+  Eigen::Vector3d m_last_base = Eigen::Vector3d::Zero();
+  bool m_have_est = false;
+  double m_path_m = 0, m_t = 0, m_last_plan_t = -1e9, m_last_metrics_t = -1e9;
+  int m_spin_goals_left = 3;  ///< the initial turn in place, in thirds
+  int m_low_plans = 0, m_plans = 0;
+  std::optional<GoalRecord> m_goal;
+  double m_goal_rate = 0.0;  ///< rate of the current goal when chosen (for switching)
+  std::vector<GoalRecord> m_goals;
+  nlohmann::json m_plan_log = nlohmann::json::array();
+  std::vector<MetricsRow> m_metrics;
+  std::string m_stop_reason;
+  std::size_t m_frames = 0;
+};
+
+}  // namespace rasm::pipeline

@@ -1,0 +1,77 @@
+#pragma once
+// Section V-A as a stage of the Mapper, after classification (Mapper::assemble): the occupancy
+// octree of exploration, updated from every fused depth frame at its tracked pose (a lost or
+// relocalising frame's pose is not trusted, so it updates nothing). The stage owns the sections
+//   [exploration]  the octree, candidate views and the information-gain score (TExplorationParams)
+//   [explore]      whether the run explores, and the loop around the planner (TExploreParams:
+//                  planning period, stopping rule, budgets); ExplorationLoop reads them.
+// With [explore] enabled = false (hand-held runs and replays) the stage does nothing.
+
+#include <memory>
+
+#include "rasm/exploration/OccupancyOctree.h"
+#include "rasm/exploration/TExplorationParams.h"
+#include "rasm/pipeline/MapperStage.h"
+
+namespace rasm::pipeline {
+
+/// [explore]: the closed loop of an exploring run (section V-VI; docs/exploration.md "The loop").
+struct TExploreParams : mrpt::config::CLoadableOptions {
+  /// Drive the robot by information gain (needs a robot: [source] type = sim with a robot spec).
+  bool enabled = false;
+  /// Octree update from every n-th fused frame (the octree's 10 cm cells change little between
+  /// consecutive frames of a robot; 2 halves its cost).
+  int octree_every_n_frames = 2;
+  /// While the robot drives to a view, replan every this many simulated seconds and switch to the
+  /// new best view only when it is clearly better (switch_ratio); on arrival, or when the goal
+  /// fails, replan at once.
+  double replan_period_s = 8.0;
+  double switch_ratio = 2.0;
+  /// Stopping rule (V): the run ends when, over stop_plans consecutive plans, the best reachable
+  /// view gains less than stop_entropy_nats of map entropy AND less than stop_information of
+  /// object view information (or no view is reachable), or at a budget (0 = none).
+  double stop_entropy_nats = 25.0;
+  double stop_information = 50.0;
+  int stop_plans = 3;
+  double time_budget_s = 300.0;  ///< simulated seconds
+  double path_budget_m = 0.0;
+  /// The workspace of V-A from the simulated world's bounds (walls included) when the source is
+  /// the simulator, instead of [exploration] workspace_*.
+  bool workspace_from_world = true;
+  /// Ground-truth metrics (simulator): surface coverage and objects correctly classified, every
+  /// this many simulated seconds and at the end (0: only at the end).
+  double metrics_period_s = 15.0;
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+class ExplorationStage : public MapperStage {
+ public:
+  ExplorationStage() : MapperStage("occupancy") {}
+
+  std::vector<ParamsSection> sections() override {
+    return {{"exploration", &m_params}, {"explore", &m_explore}};
+  }
+  void configure(const TMapperParams& mapper) override;
+  void process(FrameContext& ctx, maps::CSurfelMap& map) override;
+  void csvColumns(std::vector<std::string>& columns) const override;
+  void csvValues(const FrameContext& ctx, CsvRow& row) const override;
+  void report(nlohmann::json& rep) const override;
+
+  const exploration::TExplorationParams& params() const { return m_params; }
+  const TExploreParams& exploreParams() const { return m_explore; }
+  /// Replaces the workspace box of V-A (before the first frame: the octree is rebuilt empty).
+  void setWorkspace(const Eigen::AlignedBox3d& box);
+  /// The octree (read it from the mapping thread, between frames).
+  const exploration::OccupancyOctree& octree() const { return *m_octree; }
+
+ private:
+  exploration::TExplorationParams m_params;
+  TExploreParams m_explore;
+  std::unique_ptr<exploration::OccupancyOctree> m_octree;
+  std::size_t m_fused = 0, m_inserted = 0;
+  bool m_inserted_this_frame = false;
+};
+
+}  // namespace rasm::pipeline

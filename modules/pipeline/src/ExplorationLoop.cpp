@@ -1,0 +1,393 @@
+#include "rasm/pipeline/ExplorationLoop.h"
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <cstdio>
+
+#include "rasm/classification/ClassificationMetrics.h"
+#include "rasm/core/Error.h"
+#include "rasm/core/Timing.h"
+#include "rasm/exploration/ExplorationPlanner.h"
+#include "rasm/exploration/ViewPredictor.h"
+#include "rasm/pipeline/OutputFiles.h"
+#include "rasm/pipeline/stages/ClassificationStage.h"
+#include "rasm/pipeline/stages/FusionStages.h"
+#include "rasm/pipeline/stages/TrackingStage.h"
+#include "rasm/sim/SimClasses.h"
+#include "rasm/sim/SimulatedSequence.h"
+#include "rasm/sim/SurfaceCoverage.h"
+#include "rasm/sim/SurfaceInstance.h"
+
+namespace rasm::pipeline {
+
+namespace {
+double wrapAngle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
+
+/// SE(2) composition a (+) b.
+Eigen::Vector3d compose(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double c = std::cos(a.z()), s = std::sin(a.z());
+  return {a.x() + c * b.x() - s * b.y(), a.y() + s * b.x() + c * b.y(), wrapAngle(a.z() + b.z())};
+}
+/// SE(2) b relative to a: a^-1 (+) b.
+Eigen::Vector3d between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double c = std::cos(a.z()), s = std::sin(a.z());
+  const Eigen::Vector2d d = b.head<2>() - a.head<2>();
+  return {c * d.x() + s * d.y(), -s * d.x() + c * d.y(), wrapAngle(b.z() - a.z())};
+}
+
+nlohmann::json poseJson(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
+
+const char* sourceName(exploration::ViewCandidate::Source s) {
+  using S = exploration::ViewCandidate::Source;
+  switch (s) {
+    case S::Object: return "object";
+    case S::Frontier: return "frontier";
+    case S::Sweep: return "sweep";
+    case S::Random: break;
+  }
+  return "random";
+}
+}  // namespace
+
+ExplorationLoop::ExplorationLoop(Mapper& mapper, sim::SimulatedSequence& seq,
+                                 const navigation::TNavigationParams& nav_params)
+    : m_mapper(mapper), m_stage(mapper.stage<ExplorationStage>()), m_seq(seq) {
+  if (!seq.robot())
+    throwInputError("[explore] enabled", "needs a simulated robot ([sim] trajectory: a robot spec)");
+  m_T_base_cam = mapper.stage<TrackingStage>().robotParams().T_base_cam();
+  if (m_stage.exploreParams().workspace_from_world) {
+    const Eigen::AlignedBox3f b = seq.scene().world().bounds();
+    const auto& p = m_stage.params();
+    m_stage.setWorkspace(Eigen::AlignedBox3d(
+        Eigen::Vector3d(b.min().x(), b.min().y(), p.workspace_min_z_m),
+        Eigen::Vector3d(b.max().x(), b.max().y(), std::min<double>(b.max().z(), p.workspace_max_z_m))));
+  }
+  m_planner = exploration::makePlanner(m_stage.params());
+  sim::SimulatedDiffDriveRobot& robot = *seq.robot();
+  m_nav = std::make_unique<navigation::Navigator>(robot, nav_params,
+                                                  robot.params().footprintPolygon(),
+                                                  [this] { return estimatedBasePose(); });
+  seq.setSubstepHook([this] { m_nav->update(); });
+  // Coverage counts the surface this robot's camera could see (its height, pitch, field of view
+  // and the mapper's depth range), not the ceiling or the undersides of desks.
+  m_coverage = std::make_unique<sim::SurfaceCoverage>(
+      seq.scene().world(), seq.scene(),
+      sim::coverageOptionsForRobot(robot.params(), seq.sensor().intrinsics(),
+                                   mapper.mapperParams().max_depth_m));
+  m_instances = std::make_unique<sim::SurfaceInstanceQuery>(seq.scene());
+}
+
+ExplorationLoop::~ExplorationLoop() { m_seq.setSubstepHook({}); }
+
+Eigen::Vector3d ExplorationLoop::estimatedBasePose() const {
+  const Eigen::Vector3d odo = m_seq.robot()->odometry();
+  if (!m_have_est) return odo;  // before the first frame: the odometry starts at the true pose
+  return compose(m_est_base, between(m_odo_at_est, odo));
+}
+
+void ExplorationLoop::afterFrame(const RgbdFrame& frame, const FrameResult& r) {
+  ++m_frames;
+  m_t = r.timestamp_s;
+  // Localisation: the estimated camera pose of this frame, as a base pose on the floor.
+  const Eigen::Isometry3d T_base = r.T_world_cam * m_T_base_cam.inverse();
+  const Eigen::Matrix3d R = T_base.linear();
+  const Eigen::Vector3d base(T_base.translation().x(), T_base.translation().y(),
+                             std::atan2(R(1, 0), R(0, 0)));
+  if (m_have_est) m_path_m += (base.head<2>() - m_last_base.head<2>()).norm();
+  m_last_base = base;
+  m_est_base = base;
+  m_odo_at_est = frame.odometry_xyyaw.value_or(m_seq.robot()->odometry());
+  m_have_est = true;
+  if (finished()) return;
+
+  const TExploreParams& xp = m_stage.exploreParams();
+  if (xp.metrics_period_s > 0 && m_t - m_last_metrics_t >= xp.metrics_period_s) measure(m_t);
+  if (xp.time_budget_s > 0 && m_t >= xp.time_budget_s) return stop("time_budget");
+  if (xp.path_budget_m > 0 && m_path_m >= xp.path_budget_m) return stop("path_budget");
+
+  const navigation::NavState s = m_nav->state();
+  if (s == navigation::NavState::Reached || s == navigation::NavState::Failed) {
+    const bool ok = s == navigation::NavState::Reached;
+    if (m_goal) {
+      m_planner->goalOutcome(m_goal->goal, ok);
+      endGoal(m_t, ok ? "reached" : m_nav->failureReason());
+    }
+    m_nav->cancel();
+  }
+  if (m_nav->state() == navigation::NavState::Idle) {
+    if (m_spin_goals_left > 0) {  // the initial turn in place, a third at a time
+      --m_spin_goals_left;
+      Eigen::Vector3d g = estimatedBasePose();
+      g.z() = wrapAngle(g.z() + 2.0 * M_PI / 3.0);
+      m_nav->setGoal(g);
+      return;
+    }
+    plan(m_t, false);
+  } else if (xp.replan_period_s > 0 && m_t - m_last_plan_t >= xp.replan_period_s && m_goal &&
+             m_spin_goals_left == 0) {
+    plan(m_t, true);
+  }
+}
+
+void ExplorationLoop::plan(double t, bool driving) {
+  m_last_plan_t = t;
+  ++m_plans;
+  const auto t0 = Clock::now();
+  m_mapper.snapshotInto(m_snapshot);  // reuses the memory of the last plan's copy
+  const MapSnapshot* snap = &m_snapshot;
+  exploration::PlannerInputs in;
+  in.store = &snap->store;
+  in.segments = &snap->segments;
+  in.octree = &m_stage.octree();
+  in.robot_pose = estimatedBasePose();
+  in.T_base_cam = m_T_base_cam;
+  in.K = m_mapper.lastContext().frame ? m_mapper.lastContext().frame->intrinsics
+                                      : CameraIntrinsics::preset("kinect_v1");
+  in.model = exploration::ViewInfoModel::of(m_mapper.stage<FusionStage>().params(),
+                                            snap->store.options());
+  const exploration::Plan p = m_planner->plan(in);
+  const double best_dH = p.best_entropy_reduction, best_dIC = p.best_information;
+  const double ms = msSince(t0);
+  nlohmann::json log = {{"t", t},
+                        {"robot", poseJson(in.robot_pose)},
+                        {"reachable", p.ranked.size()},
+                        {"unreachable", p.unreachable.size()},
+                        {"best_entropy_reduction", best_dH},
+                        {"best_information", best_dIC},
+                        {"ms", ms},
+                        {"while_driving", driving}};
+  if (!p.ranked.empty()) {
+    const auto& b = p.ranked.front();
+    log["best"] = {{"pose", poseJson(b.pose)}, {"source", sourceName(b.source)},
+                   {"gain", b.gain},           {"rate", b.rate},
+                   {"path_length_m", b.path_length_m}};
+  }
+
+  // Stopping rule (V): too little left to gain over stop_plans consecutive plans, or nothing left
+  // for a baseline planner.
+  const TExploreParams& xp = m_stage.exploreParams();
+  const bool ig = m_planner->name() == "ig";
+  const bool low = p.ranked.empty() ||
+                   (ig && best_dH < xp.stop_entropy_nats && best_dIC < xp.stop_information);
+  m_low_plans = low ? m_low_plans + 1 : 0;
+  log["low"] = low;
+  m_plan_log.push_back(log);
+  if (!driving && (m_low_plans >= xp.stop_plans || (!ig && p.ranked.empty()))) {
+    stop(p.ranked.empty() ? (ig ? "no_reachable_views" : "planner_done")
+                          : "information_gain_below_threshold");
+    return;
+  }
+  if (p.ranked.empty()) {
+    if (!driving) {  // nothing reachable now: turn a little and look again
+      Eigen::Vector3d g = estimatedBasePose();
+      g.z() = wrapAngle(g.z() + M_PI / 2.0);
+      m_nav->setGoal(g);
+    }
+    return;
+  }
+  const exploration::ViewCandidate& best = p.ranked.front();
+  if (!driving) {
+    startGoal(best, t);
+    return;
+  }
+  // Mid-way: is the new best view clearly better than finishing the current goal? The current
+  // goal is scored in this plan's units (its dH and dIC predicted now, normalised by this plan's
+  // maxima, over the time still to drive).
+  if (!ig || !m_goal) return;
+  exploration::ViewPredictor predictor(m_stage.params(), in.model);
+  const exploration::ViewPrediction cur = predictor.predict(
+      snap->store, m_stage.octree(), exploration::cameraPoseOf(m_goal->goal, m_T_base_cam), in.K);
+  const auto& P = m_stage.params();
+  const double gain = (best_dH > 0 ? P.w_entropy * cur.entropy_reduction / best_dH : 0.0) +
+                      (best_dIC > 0 ? P.w_ic * cur.information.weighted / best_dIC : 0.0);
+  const double remaining = (m_goal->goal.head<2>() - in.robot_pose.head<2>()).norm() / P.speed_mps;
+  const double cur_rate = P.rank_by_rate ? gain / (remaining + P.min_travel_time_s) : gain;
+  const double best_score = P.rank_by_rate ? best.rate : best.gain;
+  m_plan_log.back()["current_goal_score"] = cur_rate;
+  if (best_score > xp.switch_ratio * cur_rate) {
+    m_planner->goalOutcome(m_goal->goal, false);
+    endGoal(t, "switched");
+    startGoal(best, t);
+  }
+}
+
+void ExplorationLoop::startGoal(const exploration::ViewCandidate& c, double t) {
+  GoalRecord g;
+  g.goal = c.pose;
+  g.t_start = t;
+  g.source = sourceName(c.source);
+  g.gain = c.gain;
+  g.entropy_reduction = c.entropy_reduction;
+  g.information = c.information;
+  m_goal = g;
+  m_nav->setGoal(c.pose);
+}
+
+void ExplorationLoop::endGoal(double t, const std::string& outcome) {
+  if (!m_goal) return;
+  m_goal->t_end = t;
+  m_goal->outcome = outcome;
+  m_goals.push_back(*m_goal);
+  m_goal.reset();
+}
+
+void ExplorationLoop::measure(double t) {
+  m_last_metrics_t = t;
+  MetricsRow row;
+  row.t = t;
+  row.path_m = m_path_m;
+  row.frames = m_frames;
+  row.entropy = m_stage.octree().entropy();
+  const maps::SurfelArrays a = m_mapper.map().store().arrays();
+  std::vector<Eigen::Vector3f> positions;
+  std::vector<std::uint32_t> segment;
+  positions.reserve(std::size_t(a.size));
+  segment.reserve(std::size_t(a.size));
+  for (int i = 0; i < a.size; ++i)
+    if (a.alive(i)) {
+      positions.push_back(a.position(i));
+      segment.push_back(a.segment[i]);
+    }
+  row.surfels = positions.size();
+  row.coverage = m_coverage->evaluate(positions).fraction;
+  // Objects carrying their class: every detectable (COCO) object of the world counts, seen or not.
+  const auto nearest = m_instances->nearest(positions, 0.05f);
+  std::vector<std::uint32_t> instance(positions.size());
+  for (std::size_t i = 0; i < positions.size(); ++i) instance[i] = nearest[i].instance_id;
+  std::vector<classification::GtClassObject> objects;
+  for (const sim::WorldInstanceInfo& w : sim::worldInstances(m_seq.scene().world()))
+    objects.push_back(
+        {w.instance_id, w.class_name, w.name, w.size_m, w.is_structure || w.class_id == 0});
+  classification::ClassificationMetricsParams mp;
+  for (int id = 1; id <= sim::kNumCocoClasses; ++id) mp.detectable_classes.insert(sim::className(id));
+  const auto m = classification::computeClassificationMetrics(
+      segment, instance,
+      m_mapper.stage<ClassificationStage>().segmentClassNames(m_mapper.map()), objects, mp);
+  for (const auto& o : m.per_object)
+    if (o.detectable) {
+      ++row.objects_total;
+      row.objects_ok += o.correct;
+    }
+  row.objects_correct =
+      row.objects_total > 0 ? double(row.objects_ok) / double(row.objects_total) : 0.0;
+  m_metrics.push_back(row);
+}
+
+void ExplorationLoop::stop(const std::string& reason) {
+  if (!m_stop_reason.empty()) return;
+  m_stop_reason = reason;
+  if (m_goal) endGoal(m_t, "stopped");
+  m_nav->cancel();
+  m_seq.finish();
+}
+
+void ExplorationLoop::finish(const std::string& reason) {
+  if (m_stop_reason.empty()) stop(reason);
+  if (m_metrics.empty() || m_metrics.back().t < m_t || m_metrics.back().frames < m_frames)
+    measure(m_t);
+}
+
+std::string ExplorationLoop::progressText() const {
+  char buf[160];
+  const double cov = m_metrics.empty() ? 0.0 : m_metrics.back().coverage;
+  std::snprintf(buf, sizeof buf, "t %.0fs path %.1fm coverage %.2f goals %zu %s", m_t, m_path_m,
+                cov, m_goals.size() + (m_goal ? 1 : 0), navigation::toString(m_nav->state()));
+  return buf;
+}
+
+void ExplorationLoop::report(nlohmann::json& rep) const {
+  const MetricsRow last = m_metrics.empty() ? MetricsRow{} : m_metrics.back();
+  rep["coverage_fraction"] = last.coverage;
+  rep["objects_correct_fraction"] = last.objects_correct;
+  rep["path_length_m"] = m_path_m;
+  rep["sim_time_s"] = m_t;
+  rep["stop_reason"] = m_stop_reason;
+  double t90 = -1;
+  for (const MetricsRow& r : m_metrics)
+    if (r.coverage >= 0.9) {
+      t90 = r.t;
+      break;
+    }
+  int reached = 0, failed = 0;
+  for (const GoalRecord& g : m_goals) (g.outcome == "reached" ? reached : failed) += 1;
+  rep["exploration"] = {{"planner", m_planner->name()},
+                        {"plans", m_plans},
+                        {"goals", m_goals.size()},
+                        {"goals_reached", reached},
+                        {"goals_not_reached", failed},
+                        {"objects_correct", last.objects_ok},
+                        {"objects_detectable", last.objects_total},
+                        {"time_to_90_coverage_s", t90 < 0 ? nlohmann::json() : nlohmann::json(t90)},
+                        {"metrics_cover",
+                         "coverage: fraction of the world's observable surface within 2 cm of a "
+                         "surfel; objects: detectable (COCO) objects of the world carrying their "
+                         "class, unseen ones included"}};
+}
+
+void ExplorationLoop::writeOutputs(const std::string& dir) const {
+  nlohmann::json goals = nlohmann::json::array();
+  for (const GoalRecord& g : m_goals)
+    goals.push_back({{"goal", poseJson(g.goal)},
+                     {"t_start", g.t_start},
+                     {"t_end", g.t_end},
+                     {"source", g.source},
+                     {"outcome", g.outcome},
+                     {"gain", g.gain},
+                     {"entropy_reduction", g.entropy_reduction},
+                     {"information", g.information}});
+  nlohmann::json metrics = nlohmann::json::array();
+  for (const MetricsRow& r : m_metrics)
+    metrics.push_back({{"t", r.t},
+                       {"frames", r.frames},
+                       {"path_m", r.path_m},
+                       {"coverage", r.coverage},
+                       {"objects_correct_fraction", r.objects_correct},
+                       {"objects_correct", r.objects_ok},
+                       {"objects_detectable", r.objects_total},
+                       {"entropy_nats", r.entropy},
+                       {"surfels", r.surfels}});
+  nlohmann::json out = {{"comment",
+                         "rasm exploration (V, VI): plans (t: simulated s; poses x, y, yaw rad in "
+                         "the map frame), goals driven to and their outcome, ground-truth metrics "
+                         "over time"},
+                        {"planner", m_planner->name()},
+                        {"stop_reason", m_stop_reason},
+                        {"plans", m_plan_log},
+                        {"goals", goals},
+                        {"metrics", metrics}};
+  writeFileAtomically(dir + "/exploration.json", out.dump(1) + "\n");
+
+  // exploration.png: coverage (blue) and objects correct (red) against simulated time.
+  if (m_metrics.size() < 2) return;
+  const int W = 640, H = 360, L = 50, B = 40;
+  cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
+  const double tmax = std::max(1.0, m_metrics.back().t);
+  auto px = [&](double t, double v) {
+    return cv::Point(L + int((W - L - 20) * t / tmax), H - B - int((H - B - 20) * v));
+  };
+  cv::rectangle(img, px(0, 0), px(tmax, 1), cv::Scalar(0, 0, 0));
+  for (double v = 0.25; v < 1.0; v += 0.25)
+    cv::line(img, px(0, v), px(tmax, v), cv::Scalar(220, 220, 220));
+  for (std::size_t i = 1; i < m_metrics.size(); ++i) {
+    cv::line(img, px(m_metrics[i - 1].t, m_metrics[i - 1].coverage),
+             px(m_metrics[i].t, m_metrics[i].coverage), cv::Scalar(200, 80, 0), 2);
+    cv::line(img, px(m_metrics[i - 1].t, m_metrics[i - 1].objects_correct),
+             px(m_metrics[i].t, m_metrics[i].objects_correct), cv::Scalar(0, 0, 200), 2);
+  }
+  char label[96];
+  std::snprintf(label, sizeof label, "simulated time 0 - %.0f s", tmax);
+  cv::putText(img, label, cv::Point(L, H - 12), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0));
+  cv::putText(img, "coverage", cv::Point(L + 10, 35), cv::FONT_HERSHEY_SIMPLEX, 0.5,
+              cv::Scalar(200, 80, 0));
+  cv::putText(img, "objects correct", cv::Point(L + 110, 35), cv::FONT_HERSHEY_SIMPLEX, 0.5,
+              cv::Scalar(0, 0, 200));
+  cv::putText(img, "1", cv::Point(L - 15, px(0, 1).y + 5), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+              cv::Scalar(0, 0, 0));
+  cv::putText(img, "0", cv::Point(L - 15, px(0, 0).y + 5), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+              cv::Scalar(0, 0, 0));
+  cv::imwrite(dir + "/exploration.png", img);
+}
+
+}  // namespace rasm::pipeline

@@ -1,0 +1,97 @@
+#include "rasm/pipeline/stages/ExplorationStage.h"
+
+#include <mrpt/config/CConfigFileBase.h>
+
+#include "rasm/core/Error.h"
+
+namespace rasm::pipeline {
+
+void TExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                        const std::string& s) {
+  MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(octree_every_n_frames, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(replan_period_s, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(switch_ratio, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(stop_entropy_nats, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(stop_information, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(stop_plans, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(time_budget_s, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(path_budget_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(workspace_from_world, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(metrics_period_s, double, c, s);
+  const auto need = [&](bool ok, const char* key, const char* what) {
+    if (!ok) throwInputError("[" + s + "] " + key, what);
+  };
+  need(octree_every_n_frames >= 1, "octree_every_n_frames", "expected >= 1");
+  need(replan_period_s >= 0.0, "replan_period_s", "expected >= 0 (0: replan on arrival only)");
+  need(switch_ratio >= 1.0, "switch_ratio", "expected >= 1");
+  need(stop_entropy_nats >= 0.0, "stop_entropy_nats", "expected >= 0");
+  need(stop_information >= 0.0, "stop_information", "expected >= 0");
+  need(stop_plans >= 1, "stop_plans", "expected >= 1");
+  need(time_budget_s >= 0.0, "time_budget_s", "expected >= 0 (0: none)");
+  need(path_budget_m >= 0.0, "path_budget_m", "expected >= 0 (0: none)");
+  need(metrics_period_s >= 0.0, "metrics_period_s", "expected >= 0 (0: at the end only)");
+}
+
+void TExploreParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                      const std::string& s) const {
+  MRPT_SAVE_CONFIG_VAR_COMMENT(enabled, "explore by information gain (needs a robot)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(octree_every_n_frames, "octree update from every n-th fused frame");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(replan_period_s, "replan while driving (simulated s; 0: on arrival)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(switch_ratio, "switch goals mid-way when the new rate is this x");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(stop_entropy_nats, "stop: best view's dH below this ...");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(stop_information, "... and its dIC below this ...");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(stop_plans, "... over this many consecutive plans");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(time_budget_s, "simulated seconds (0: none)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(path_budget_m, "metres driven (0: none)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(workspace_from_world, "simulator: workspace = the world's bounds");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(metrics_period_s, "ground-truth coverage/classes every s (0: end)");
+}
+
+void ExplorationStage::configure(const TMapperParams& /*mapper*/) {
+  m_params.validate("exploration");
+  if (m_explore.enabled) m_octree = std::make_unique<exploration::OccupancyOctree>(m_params);
+}
+
+void ExplorationStage::setWorkspace(const Eigen::AlignedBox3d& box) {
+  m_params.workspace_min_x_m = box.min().x();
+  m_params.workspace_min_y_m = box.min().y();
+  m_params.workspace_min_z_m = box.min().z();
+  m_params.workspace_max_x_m = box.max().x();
+  m_params.workspace_max_y_m = box.max().y();
+  m_params.workspace_max_z_m = box.max().z();
+  m_params.validate("exploration");
+  m_octree = std::make_unique<exploration::OccupancyOctree>(m_params);
+}
+
+void ExplorationStage::process(FrameContext& ctx, maps::CSurfelMap& /*map*/) {
+  m_inserted_this_frame = false;
+  if (!m_octree || !ctx.result.fusable()) return;
+  if (m_fused++ % std::size_t(m_explore.octree_every_n_frames) != 0) return;
+  const RgbdFrame& f = *ctx.frame;
+  m_octree->insertDepthFrame(f.depth_m, f.intrinsics, ctx.result.T_world_cam);
+  ++m_inserted;
+  m_inserted_this_frame = true;
+}
+
+void ExplorationStage::csvColumns(std::vector<std::string>& columns) const {
+  columns.push_back("octree_updated");
+}
+
+void ExplorationStage::csvValues(const FrameContext& /*ctx*/, CsvRow& row) const {
+  row.add(m_inserted_this_frame);
+}
+
+void ExplorationStage::report(nlohmann::json& rep) const {
+  if (!m_octree) return;
+  const auto counts = m_octree->countCells();
+  rep["occupancy"] = {{"frames_inserted", m_inserted},
+                      {"resolution_m", m_params.resolution_m},
+                      {"entropy_nats", m_octree->entropy()},
+                      {"workspace_cells", m_octree->workspaceCells()},
+                      {"cells_free", counts.free},
+                      {"cells_occupied", counts.occupied},
+                      {"cells_unknown", counts.unknown}};
+}
+
+}  // namespace rasm::pipeline
