@@ -41,9 +41,10 @@ struct Series {
 };
 
 struct RunRow {
-  std::string dir, world, planner, stop_reason;
+  std::string dir, world, planner, poses, stop_reason;
   long long seed = 0;
   double coverage = 0, objects = 0, path_m = 0, sim_s = 0, t90 = -1, wall_s = 0;
+  double lost_fraction = 0, ate_m = -1;  ///< tracking: frames lost / frames, ATE RMSE (-1: none)
   Series series;
 };
 
@@ -69,6 +70,11 @@ RunRow readRun(const std::string& dir) {
   const mrpt::config::CConfigFile cfg(ini.string());
   r.world = fs::path(cfg.read_string("sim", "world", "?")).stem().string();
   r.seed = cfg.read_int("sim", "seed", 0);
+  r.poses = cfg.read_string("mapper", "poses", "tracked");
+  const double frames = rep.value("frames", 0.0);
+  r.lost_fraction = frames > 0 ? rep.value("frames_lost", 0.0) / frames : 0.0;
+  if (rep.contains("ate") && rep["ate"].contains("translation_m"))
+    r.ate_m = rep["ate"]["translation_m"].value("rmse", -1.0);
   r.planner = rep["exploration"].value("planner", "?");
   r.stop_reason = rep.value("stop_reason", "");
   r.coverage = rep.value("coverage_fraction", 0.0);
@@ -115,7 +121,8 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
   // One panel per world, one line per planner: mean coverage over the seeds against time.
   std::map<std::string, std::map<std::string, std::vector<const RunRow*>>> worlds;
   for (const auto& [key, runs] : by_group)
-    for (const RunRow& r : runs) worlds[r.world][r.planner].push_back(&r);
+    for (const RunRow& r : runs)
+      worlds[r.world][r.planner + (r.poses == "groundtruth" ? " (gt poses)" : "")].push_back(&r);
   const int W = 520, H = 340, L = 50, B = 45;
   cv::Mat img(H, W * int(std::max<std::size_t>(1, worlds.size())), CV_8UC3,
               cv::Scalar(255, 255, 255));
@@ -136,8 +143,8 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
     int k = 0;
     for (const auto& [planner, runs] : planners) {
       const cv::Scalar c = colours[k % 6];
-      cv::putText(img, planner, cv::Point(x0 + L + 5 + 90 * k, H - 12), cv::FONT_HERSHEY_SIMPLEX,
-                  0.45, c, 1);
+      cv::putText(img, planner, cv::Point(x0 + L + 8, 38 + 16 * k), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+                  c, 1);
       ++k;
       cv::Point prev;
       for (int i = 0; i <= 100; ++i) {
@@ -200,20 +207,21 @@ int evalExploration(const std::vector<std::string>& args) {
   for (const std::string& d : dirs) {
     RunRow r = readRun(d);
     tmax = std::max(tmax, r.sim_s);
-    groups[r.world + " / " + r.planner].push_back(std::move(r));
+    groups[r.world + " / " + r.poses + " / " + r.planner].push_back(std::move(r));
   }
   std::ostringstream md;
-  md << "| world | planner | runs |";
+  md << "| world | poses | planner | runs |";
   for (double t : times) md << " coverage @" << t << " s |";
   md << " final coverage | time to 90% (s) |";
   for (double t : times) md << " objects correct @" << t << " s |";
-  md << " path (m) | simulated (s) | wall (s) | stopped by |\n|---|---|---|";
-  for (std::size_t i = 0; i < 2 * times.size() + 6; ++i) md << "---|";
+  md << " path (m) | simulated (s) | wall (s) | frames lost | ATE (cm) | stopped by |\n"
+     << "|---|---|---|---|";
+  for (std::size_t i = 0; i < 2 * times.size() + 8; ++i) md << "---|";
   md << "\n";
   nlohmann::json out = nlohmann::json::array();
   for (const auto& [key, runs] : groups) {
     std::map<std::string, int> reasons;
-    std::vector<double> cov_final, t90, path, sim, wall;
+    std::vector<double> cov_final, t90, path, sim, wall, lost, ate_cm;
     int reached90 = 0;
     for (const RunRow& r : runs) {
       cov_final.push_back(r.coverage);
@@ -224,12 +232,14 @@ int evalExploration(const std::vector<std::string>& args) {
       path.push_back(r.path_m);
       sim.push_back(r.sim_s);
       wall.push_back(r.wall_s);
+      lost.push_back(r.lost_fraction);
+      if (r.ate_m >= 0) ate_cm.push_back(100.0 * r.ate_m);
       ++reasons[r.stop_reason];
     }
-    md << "| " << runs.front().world << " | " << runs.front().planner << " | " << runs.size()
-       << " |";
-    nlohmann::json j = {{"world", runs.front().world}, {"planner", runs.front().planner},
-                        {"runs", runs.size()}};
+    md << "| " << runs.front().world << " | " << runs.front().poses << " | "
+       << runs.front().planner << " | " << runs.size() << " |";
+    nlohmann::json j = {{"world", runs.front().world}, {"poses", runs.front().poses},
+                        {"planner", runs.front().planner}, {"runs", runs.size()}};
     for (double t : times) {
       std::vector<double> v;
       for (const RunRow& r : runs) v.push_back(Series::at(r.series.t, r.series.coverage, t));
@@ -251,12 +261,15 @@ int evalExploration(const std::vector<std::string>& args) {
     for (const auto& [reason, n] : reasons)
       why += (why.empty() ? "" : ", ") + reason + (n > 1 ? " x" + std::to_string(n) : "");
     md << " " << fmt(stat(path), 1) << " | " << fmt(stat(sim), 0) << " | " << fmt(stat(wall), 0)
-       << " | " << why << " |\n";
+       << " | " << fmt(stat(lost), 3) << " | " << fmt(stat(ate_cm), 1) << " | " << why
+       << " |\n";
     j["coverage_final"] = stat(cov_final).mean;
     j["time_to_90_coverage_s"] = t90.empty() ? nlohmann::json() : nlohmann::json(stat(t90).mean);
     j["runs_reaching_90"] = reached90;
     j["path_length_m"] = stat(path).mean;
     j["sim_time_s"] = stat(sim).mean;
+    j["frames_lost_fraction"] = stat(lost).mean;
+    j["ate_rmse_cm"] = ate_cm.empty() ? nlohmann::json() : nlohmann::json(stat(ate_cm).mean);
     j["stop_reasons"] = reasons;
     nlohmann::json seeds = nlohmann::json::array();
     for (const RunRow& r : runs)

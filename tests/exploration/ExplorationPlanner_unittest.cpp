@@ -432,6 +432,21 @@ TEST(IgPlanner, SameRankingAsViewPlannerAndFailedGoalsAreBlacklisted) {
     EXPECT_GT((c.pose - failed).head<2>().norm(), p.blacklist_radius_m);
   for (std::size_t k = 1; k < after.ranked.size(); ++k)
     EXPECT_GE(after.ranked[k - 1].rate, after.ranked[k].rate);
+
+  // A reached goal is a taken view: the same place facing the same way (within the params) is
+  // not offered again, the same place facing elsewhere still is.
+  const Eigen::Vector3d taken = after.ranked.front().pose;
+  ig->goalOutcome(taken, true);
+  auto* igp = dynamic_cast<IgPlanner*>(ig.get());
+  ASSERT_NE(igp, nullptr);
+  const double r = p.taken_view_radius_m, a = p.taken_view_heading_deg * M_PI / 180.0;
+  EXPECT_TRUE(igp->isTakenView(taken + Eigen::Vector3d(0.9 * r, 0.0, 0.9 * a)));
+  EXPECT_FALSE(igp->isTakenView(taken + Eigen::Vector3d(1.1 * r, 0.0, 0.0)));
+  EXPECT_FALSE(igp->isTakenView(taken + Eigen::Vector3d(0.0, 0.0, 1.1 * a)));
+  const Plan later = ig->plan(in);
+  for (const ViewCandidate& c : later.ranked) EXPECT_FALSE(igp->isTakenView(c.pose));
+  EXPECT_EQ(later.ranked.size() + later.blacklisted.size(), through.ranked.size());
+
   in.octree = nullptr;
   EXPECT_THROW(ig->plan(in), InputError);
   p.planner = "frontier";

@@ -286,5 +286,5 @@ TEST(TNavigationParams, SaveLoadRoundTrip) {
   EXPECT_EQ(b.ptg_cache_dir, a.ptg_cache_dir);
   EXPECT_TRUE(b.allow_reverse);
   EXPECT_DOUBLE_EQ(b.goal_timeout_s, 42);
-  EXPECT_EQ(knownKeys(a, "navigation").size(), 18u);  // every key written
+  EXPECT_EQ(knownKeys(a, "navigation").size(), 20u);  // every key written
 }

@@ -30,13 +30,31 @@ IgPlanner::IgPlanner(const TExplorationParams& params)
       m_params(params),
       m_planner(params) {}
 
+void IgPlanner::goalOutcome(const Eigen::Vector3d& goal_xyyaw, bool reached) {
+  if (reached)
+    m_taken.push_back(goal_xyyaw);
+  else
+    m_blacklist.add(goal_xyyaw);
+}
+
+bool IgPlanner::isTakenView(const Eigen::Vector3d& pose) const {
+  if (m_params.taken_view_radius_m <= 0.0) return false;
+  const double max_dyaw = m_params.taken_view_heading_deg * M_PI / 180.0;
+  for (const Eigen::Vector3d& t : m_taken) {
+    const double dyaw = std::abs(std::remainder(pose.z() - t.z(), 2.0 * M_PI));
+    if ((pose.head<2>() - t.head<2>()).norm() <= m_params.taken_view_radius_m && dyaw <= max_dyaw)
+      return true;
+  }
+  return false;
+}
+
 Plan IgPlanner::plan(const PlannerInputs& in) {
   m_blacklist.tick();
   Plan plan = m_planner.plan(in);
-  if (m_blacklist.size() > 0) {
+  if (m_blacklist.size() > 0 || !m_taken.empty()) {
     std::vector<ViewCandidate> kept;
     for (const ViewCandidate& c : plan.ranked)
-      (m_blacklist.contains(c.pose) ? plan.blacklisted : kept).push_back(c);
+      (m_blacklist.contains(c.pose) || isTakenView(c.pose) ? plan.blacklisted : kept).push_back(c);
     // Re-rank what is offered: IG's normalisation (max dH, max dIC) runs over these views.
     if (!plan.blacklisted.empty()) rankCandidates(m_params, kept);
     plan.ranked = std::move(kept);

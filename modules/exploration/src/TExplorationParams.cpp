@@ -45,6 +45,8 @@ void TExplorationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
   MRPT_LOAD_CONFIG_VAR(min_travel_time_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(planner, string, c, s);
   MRPT_LOAD_CONFIG_VAR(blacklist_radius_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(taken_view_radius_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(taken_view_heading_deg, double, c, s);
   MRPT_LOAD_CONFIG_VAR(frontier_min_cells, int, c, s);
   MRPT_LOAD_CONFIG_VAR(frontier_goal_radius_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(lawnmower_spacing_m, double, c, s);
@@ -93,6 +95,8 @@ void TExplorationParams::validate(const std::string& s) const {
                     "'" + planner + "' is not a planner; accepted: " + accepted);
   }
   requireInRange(blacklist_radius_m, 0.0, 100.0, s, "blacklist_radius_m");
+  requireInRange(taken_view_radius_m, 0.0, 100.0, s, "taken_view_radius_m");
+  requireInRange(taken_view_heading_deg, 0.0, 180.0, s, "taken_view_heading_deg");
   requireInRange(frontier_min_cells, 1, 1000000, s, "frontier_min_cells");
   requireInRange(frontier_goal_radius_m, 0.0, 100.0, s, "frontier_goal_radius_m");
   requireInRange(lawnmower_spacing_m, 0.05, 1000.0, s, "lawnmower_spacing_m");
@@ -147,6 +151,8 @@ void TExplorationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(min_travel_time_s, c, s);
   MRPT_SAVE_CONFIG_VAR(planner, c, s);
   MRPT_SAVE_CONFIG_VAR(blacklist_radius_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(taken_view_radius_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(taken_view_heading_deg, c, s);
   MRPT_SAVE_CONFIG_VAR(frontier_min_cells, c, s);
   MRPT_SAVE_CONFIG_VAR(frontier_goal_radius_m, c, s);
   MRPT_SAVE_CONFIG_VAR(lawnmower_spacing_m, c, s);

@@ -90,6 +90,13 @@ struct Navigator::Impl {
   double best_dist = 0.0, best_t = 0.0;  ///< progress for the stuck check
   bool mrpt_active = false;              ///< a navigateWaypoints() request is running
   bool facing = false;  ///< turning in place toward the goal before the reactive approach
+  /// Escape from a wedged spot (no progress for stuck_timeout_s): turn toward the most open
+  /// direction of the scan, drive up to escape_distance_m along it, then navigate again; a goal
+  /// fails "stuck" only when it makes no progress after escape_attempts escapes.
+  enum class Escape { None, Turning, Driving } escape = Escape::None;
+  int escapes = 0;
+  double escape_heading = 0.0, escape_t = 0.0;
+  Eigen::Vector2d escape_from = Eigen::Vector2d::Zero();
 
   void initialise();
   void step(double t);
@@ -99,6 +106,10 @@ struct Navigator::Impl {
   void driveDirect(const Eigen::Vector3d& pose, const Eigen::Vector2d& target);
   void rotate(double heading_error_rad, double max_w_radps);
   double frontClearance_m() const;
+  double clearanceAlong_m(double bearing_rad) const;
+  double mostOpenBearing(double goal_bearing_rad) const;
+  void startEscape(double t, const Eigen::Vector3d& pose, double goal_bearing_rad);
+  void stepEscape(double t, const Eigen::Vector3d& pose);
   void stopMrpt();
   void finish(NavState s, const std::string& why);
 };
@@ -168,13 +179,15 @@ void Navigator::Impl::stepNavigating(double t, const Eigen::Vector3d& pose) {
     state = NavState::Aligning;
     return;
   }
+  const double bearing = wrapAngle(std::atan2(to_goal.y(), to_goal.x()) - pose.z());
+  if (escape != Escape::None) return stepEscape(t, pose);
   if (d < best_dist - params.stuck_distance_m) {
     best_dist = d;
     best_t = t;
   } else if (t - best_t > params.stuck_timeout_s) {
-    return finish(NavState::Failed, "stuck");
+    if (escapes >= params.escape_attempts) return finish(NavState::Failed, "stuck");
+    return startEscape(t, pose, bearing);
   }
-  const double bearing = wrapAngle(std::atan2(to_goal.y(), to_goal.x()) - pose.z());
   if (d < params.direct_range_m) {
     // MRPT trap: the PTGs fail on targets nearer than their reach; our controller drives there.
     stopMrpt();
@@ -227,6 +240,66 @@ double Navigator::Impl::frontClearance_m() const {
     if (q.x() > 0.f && std::abs(q.y()) < radius_m)
       clear = std::min<double>(clear, q.x() - radius_m);
   return clear;
+}
+
+/// Free distance ahead of the footprint along `bearing_rad` (robot frame): the nearest obstacle
+/// point in the corridor of the footprint's width in that direction, minus the footprint radius.
+double Navigator::Impl::clearanceAlong_m(double bearing_rad) const {
+  std::vector<Eigen::Vector3f> pts;
+  robot.senseObstacles(pts);
+  const double c = std::cos(bearing_rad), s = std::sin(bearing_rad);
+  double clear = params.escape_distance_m + radius_m;  // enough: nothing nearer matters
+  for (const Eigen::Vector3f& q : pts) {
+    const double along = c * q.x() + s * q.y(), across = -s * q.x() + c * q.y();
+    if (along > 0.0 && std::abs(across) < radius_m) clear = std::min(clear, along - radius_m);
+  }
+  return clear;
+}
+
+/// The bearing (robot frame, 10 degree steps) with the most free distance ahead; among equally
+/// open ones (within 5 cm) the one nearest the goal's bearing.
+double Navigator::Impl::mostOpenBearing(double goal_bearing_rad) const {
+  double best = goal_bearing_rad, best_clear = -1.0, best_off = 0.0;
+  for (int k = 0; k < 36; ++k) {
+    const double b = wrapAngle(k * 10.0 * kDeg);
+    const double clear = clearanceAlong_m(b), off = std::abs(wrapAngle(b - goal_bearing_rad));
+    if (clear > best_clear + 0.05 || (clear > best_clear - 0.05 && off < best_off)) {
+      best = b;
+      best_clear = std::max(best_clear, clear);
+      best_off = off;
+    }
+  }
+  return best;
+}
+
+void Navigator::Impl::startEscape(double t, const Eigen::Vector3d& pose, double goal_bearing_rad) {
+  stopMrpt();
+  ++escapes;
+  escape = Escape::Turning;
+  escape_heading = wrapAngle(pose.z() + mostOpenBearing(goal_bearing_rad));
+  escape_from = pose.head<2>();
+  escape_t = t;
+}
+
+/// Turn to the escape heading, drive straight until escape_distance_m, an obstacle ahead or
+/// stuck_timeout_s; then navigation resumes with a fresh progress check.
+void Navigator::Impl::stepEscape(double t, const Eigen::Vector3d& pose) {
+  const double e = wrapAngle(escape_heading - pose.z());
+  const bool done = t - escape_t > params.stuck_timeout_s ||
+                    (pose.head<2>() - escape_from).norm() >= params.escape_distance_m;
+  if (escape == Escape::Turning && std::abs(e) <= params.heading_tolerance_deg * kDeg)
+    escape = Escape::Driving;
+  if (escape == Escape::Turning && !done) return rotate(e, params.max_w_degps * kDeg);
+  const double v = std::min(0.5 * params.max_v_mps, frontClearance_m() / 1.0);
+  if (done || v < 0.02) {
+    robot.stop();
+    escape = Escape::None;
+    best_dist = (goal.head<2>() - pose.head<2>()).norm();
+    best_t = t;
+    facing = true;  // face the goal again before handing over to the reactive navigator
+    return;
+  }
+  robot.setVelocityCommand(v, std::clamp(2.0 * e, -0.5, 0.5));
 }
 
 /// Own controller for near targets: turn toward the target, then drive with a speed that falls
@@ -283,6 +356,8 @@ void Navigator::setGoal(const Eigen::Vector3d& goal_xyyaw) {
   const Eigen::Vector2d to = m.goal.head<2>() - pose.head<2>();
   m.facing =
       std::abs(wrapAngle(std::atan2(to.y(), to.x()) - pose.z())) > m.params.face_goal_deg * kDeg;
+  m.escape = Impl::Escape::None;
+  m.escapes = 0;
 }
 
 void Navigator::cancel() {

@@ -25,6 +25,8 @@ void TNavigationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   MRPT_LOAD_CONFIG_VAR(goal_timeout_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(stuck_timeout_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(stuck_distance_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(escape_attempts, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(escape_distance_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(direct_range_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(face_goal_deg, double, c, s);
   MRPT_LOAD_CONFIG_VAR(ptg_ref_distance_m, double, c, s);
@@ -47,6 +49,8 @@ void TNavigationParams::validate(const std::string& s) const {
   requireInRange(goal_timeout_s, 1.0, 1e6, s, "goal_timeout_s");
   requireInRange(stuck_timeout_s, 0.5, 1e6, s, "stuck_timeout_s");
   requireInRange(stuck_distance_m, 0.0, 10.0, s, "stuck_distance_m");
+  requireInRange(escape_attempts, 0, 10, s, "escape_attempts");
+  requireInRange(escape_distance_m, 0.0, 5.0, s, "escape_distance_m");
   requireInRange(direct_range_m, 0.0, 5.0, s, "direct_range_m");
   requireInRange(face_goal_deg, 0.0, 180.0, s, "face_goal_deg");
   requireInRange(ptg_ref_distance_m, 0.5, 20.0, s, "ptg_ref_distance_m");
@@ -74,6 +78,8 @@ void TNavigationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(goal_timeout_s, c, s);
   MRPT_SAVE_CONFIG_VAR(stuck_timeout_s, c, s);
   MRPT_SAVE_CONFIG_VAR(stuck_distance_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(escape_attempts, c, s);
+  MRPT_SAVE_CONFIG_VAR(escape_distance_m, c, s);
   MRPT_SAVE_CONFIG_VAR(direct_range_m, c, s);
   MRPT_SAVE_CONFIG_VAR(face_goal_deg, c, s);
   MRPT_SAVE_CONFIG_VAR(ptg_ref_distance_m, c, s);

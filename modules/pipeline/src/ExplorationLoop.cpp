@@ -79,7 +79,14 @@ ExplorationLoop::ExplorationLoop(Mapper& mapper, sim::SimulatedSequence& seq,
   m_instances = std::make_unique<sim::SurfaceInstanceQuery>(seq.scene());
 }
 
-ExplorationLoop::~ExplorationLoop() { m_seq.setSubstepHook({}); }
+ExplorationLoop::~ExplorationLoop() { release(); }
+
+void ExplorationLoop::release() {
+  if (!m_nav) return;
+  m_seq.setSubstepHook({});
+  m_nav_final = m_nav->state();
+  m_nav.reset();  // MRPT's navigator stops the robot when destroyed: the robot must still exist
+}
 
 Eigen::Vector3d ExplorationLoop::estimatedBasePose() const {
   const Eigen::Vector3d odo = m_seq.robot()->odometry();
@@ -165,8 +172,9 @@ void ExplorationLoop::plan(double t, bool driving) {
                    {"path_length_m", b.path_length_m}};
   }
 
-  // Stopping rule (V): too little left to gain over stop_plans consecutive plans, or nothing left
-  // for a baseline planner.
+  // Stopping rule (V): over stop_plans consecutive plans, too little left to gain (ig) or nothing
+  // offered (every planner; the robot turns a quarter between them, so a view hidden behind it
+  // or a frontier the obstacle growth hid for a moment gets another chance).
   const TExploreParams& xp = m_stage.exploreParams();
   const bool ig = m_planner->name() == "ig";
   const bool low = p.ranked.empty() ||
@@ -174,7 +182,7 @@ void ExplorationLoop::plan(double t, bool driving) {
   m_low_plans = low ? m_low_plans + 1 : 0;
   log["low"] = low;
   m_plan_log.push_back(log);
-  if (!driving && (m_low_plans >= xp.stop_plans || (!ig && p.ranked.empty()))) {
+  if (!driving && m_low_plans >= xp.stop_plans) {
     stop(p.ranked.empty() ? (ig ? "no_reachable_views" : "planner_done")
                           : "information_gain_below_threshold");
     return;
@@ -246,7 +254,7 @@ void ExplorationLoop::measure(double t) {
   positions.reserve(std::size_t(a.size));
   segment.reserve(std::size_t(a.size));
   for (int i = 0; i < a.size; ++i)
-    if (a.alive(i)) {
+    if (a.alive(i) && a.stable(i)) {  // the map proper: unstable surfels come and go (II-B)
       positions.push_back(a.position(i));
       segment.push_back(a.segment[i]);
     }
@@ -279,7 +287,7 @@ void ExplorationLoop::stop(const std::string& reason) {
   if (!m_stop_reason.empty()) return;
   m_stop_reason = reason;
   if (m_goal) endGoal(m_t, "stopped");
-  m_nav->cancel();
+  if (m_nav) m_nav->cancel();
   m_seq.finish();
 }
 
@@ -287,13 +295,14 @@ void ExplorationLoop::finish(const std::string& reason) {
   if (m_stop_reason.empty()) stop(reason);
   if (m_metrics.empty() || m_metrics.back().t < m_t || m_metrics.back().frames < m_frames)
     measure(m_t);
+  release();
 }
 
 std::string ExplorationLoop::progressText() const {
   char buf[160];
   const double cov = m_metrics.empty() ? 0.0 : m_metrics.back().coverage;
   std::snprintf(buf, sizeof buf, "t %.0fs path %.1fm coverage %.2f goals %zu %s", m_t, m_path_m,
-                cov, m_goals.size() + (m_goal ? 1 : 0), navigation::toString(m_nav->state()));
+                cov, m_goals.size() + (m_goal ? 1 : 0), navigation::toString(m_nav ? m_nav->state() : m_nav_final));
   return buf;
 }
 
@@ -321,7 +330,7 @@ void ExplorationLoop::report(nlohmann::json& rep) const {
                         {"objects_detectable", last.objects_total},
                         {"time_to_90_coverage_s", t90 < 0 ? nlohmann::json() : nlohmann::json(t90)},
                         {"metrics_cover",
-                         "coverage: fraction of the world's observable surface within 2 cm of a "
+                         "coverage: fraction of the world's observable surface within 2 cm of a stable "
                          "surfel; objects: detectable (COCO) objects of the world carrying their "
                          "class, unseen ones included"}};
 }

@@ -501,10 +501,15 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   frameLoop(*source, acc, on_frame);
   try {
     m_mapper->finishRun();
-    if (m_explore) m_explore->finish(acc.error.empty() ? "source_end" : "error");
   } catch (const std::exception& e) {
     if (acc.error.empty()) acc.error = e.what();
   }
+  // The exploration loop lets go of the source's robot here, while `source` still lives.
+  if (m_explore) try {
+      m_explore->finish(acc.error.empty() ? "source_end" : "error");
+    } catch (const std::exception& e) {
+      if (acc.error.empty()) acc.error = e.what();
+    }
 
   acc.cpu_s = processCpuSeconds() - acc.cpu_start_s;
   RunSummary sum;

@@ -35,17 +35,17 @@ void TExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
 
 void TExploreParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                                       const std::string& s) const {
-  MRPT_SAVE_CONFIG_VAR_COMMENT(enabled, "explore by information gain (needs a robot)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(octree_every_n_frames, "octree update from every n-th fused frame");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(replan_period_s, "replan while driving (simulated s; 0: on arrival)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(switch_ratio, "switch goals mid-way when the new rate is this x");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(stop_entropy_nats, "stop: best view's dH below this ...");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(stop_information, "... and its dIC below this ...");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(stop_plans, "... over this many consecutive plans");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(time_budget_s, "simulated seconds (0: none)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(path_budget_m, "metres driven (0: none)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(workspace_from_world, "simulator: workspace = the world's bounds");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(metrics_period_s, "ground-truth coverage/classes every s (0: end)");
+  MRPT_SAVE_CONFIG_VAR(enabled, c, s);
+  MRPT_SAVE_CONFIG_VAR(octree_every_n_frames, c, s);
+  MRPT_SAVE_CONFIG_VAR(replan_period_s, c, s);
+  MRPT_SAVE_CONFIG_VAR(switch_ratio, c, s);
+  MRPT_SAVE_CONFIG_VAR(stop_entropy_nats, c, s);
+  MRPT_SAVE_CONFIG_VAR(stop_information, c, s);
+  MRPT_SAVE_CONFIG_VAR(stop_plans, c, s);
+  MRPT_SAVE_CONFIG_VAR(time_budget_s, c, s);
+  MRPT_SAVE_CONFIG_VAR(path_budget_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(workspace_from_world, c, s);
+  MRPT_SAVE_CONFIG_VAR(metrics_period_s, c, s);
 }
 
 void ExplorationStage::configure(const TMapperParams& /*mapper*/) {

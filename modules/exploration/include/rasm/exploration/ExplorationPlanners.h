@@ -22,10 +22,15 @@ class IgPlanner : public ExplorationPlanner {
   explicit IgPlanner(const TExplorationParams& params);
   std::string name() const override { return "ig"; }
   Plan plan(const PlannerInputs& in) override;
+  /// Failed goals are blacklisted; reached ones become taken views (taken_view_* params).
+  void goalOutcome(const Eigen::Vector3d& goal_xyyaw, bool reached) override;
+  /// Whether `pose` repeats a taken view (within taken_view_radius_m and taken_view_heading_deg).
+  bool isTakenView(const Eigen::Vector3d& pose) const;
 
  private:
   TExplorationParams m_params;
   ViewPlanner m_planner;
+  std::vector<Eigen::Vector3d> m_taken;  ///< reached goals (x, y, yaw)
 };
 
 /// A frontier of the projection: 8-connected known-free cells that are 4-adjacent to unknown.

@@ -20,6 +20,12 @@ struct TNavigationParams : public mrpt::config::CLoadableOptions {
   /// stuck_timeout_s: reason "stuck".
   double stuck_timeout_s = 10.0;
   double stuck_distance_m = 0.15;
+  /// Before failing "stuck", up to escape_attempts escapes: turn toward the most open direction
+  /// of the scan and drive up to escape_distance_m along it (a robot wedged between a chair and
+  /// a desk gets no motion from the reactive navigator, whose PTGs all start in collision with
+  /// the margin-grown footprint; seen in the office with object views at 1 m standoff).
+  int escape_attempts = 1;
+  double escape_distance_m = 0.4;
   /// Targets nearer than this are driven to by the own controller: MRPT's PTGs fail on targets
   /// closer than their reach (MRPT-NOTES trap).
   double direct_range_m = 0.5;

@@ -52,7 +52,8 @@ class ExplorationLoop {
   const std::string& stopReason() const { return m_stop_reason; }
   bool finished() const { return !m_stop_reason.empty(); }
   /// End of the run (after Mapper::finishRun): the final metrics; `reason` when no stopping rule
-  /// ended it (the source ended, an error).
+  /// ended it (the source ended, an error). Releases the navigator and the substep hook: call it
+  /// while the source (which owns the robot) still exists; the destructor does the same if not.
   void finish(const std::string& reason);
 
   /// One-line state for the progress line.
@@ -81,12 +82,14 @@ class ExplorationLoop {
   void endGoal(double t, const std::string& outcome);
   void measure(double t);
   void stop(const std::string& reason);
+  void release();
 
   Mapper& m_mapper;
   ExplorationStage& m_stage;
   sim::SimulatedSequence& m_seq;
   Eigen::Isometry3d m_T_base_cam;
-  std::unique_ptr<navigation::Navigator> m_nav;
+  std::unique_ptr<navigation::Navigator> m_nav;  ///< null once released (finish())
+  navigation::NavState m_nav_final = navigation::NavState::Idle;
   std::unique_ptr<exploration::ExplorationPlanner> m_planner;
   std::unique_ptr<sim::SurfaceCoverage> m_coverage;
   std::unique_ptr<sim::SurfaceInstanceQuery> m_instances;
