@@ -6,10 +6,14 @@
 # a coverage-against-time plot per world.
 #   scripts/eval-exploration.sh [--worlds "office cluttered_lab two_rooms"] [--generated N]
 #       [--planners "ig frontier random lawnmower"] [--seeds "1 2 3"] [--budget S] [--small]
-#       [--jobs J] [-- --set section.key=value ...]
+#       [--poses tracked|groundtruth] [--jobs J] [-- --set section.key=value ...]
+# --poses groundtruth fuses at the simulator's true poses: it compares the planners without the
+# tracker's drift (which moves covered surface by more than the 2 cm of the coverage test);
+# tracked (default) is the mission's own loop.
 # --generated N adds rooms of `rasm sim generate --seed s` (s = 101..100+N) nobody tuned on.
 # --small: 320x240 camera (faster; coverage is measured the same way). --jobs J runs J runs at
-# once with GNU parallel when it is installed (else one after another). Existing run folders with
+# once (xargs -P; each run uses the machine's cores, so J > 1 only pays on a bigger machine or
+# when runs wait on each other). Existing run folders with
 # an exploration.json are reused (delete $OUT to start over).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,7 +22,7 @@ OUT=${OUT:-eval_out/exploration}
 [[ -x "$RASM" ]] || { echo "build first: scripts/build.sh" >&2; exit 1; }
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 worlds="office cluttered_lab two_rooms" generated=0 planners="ig frontier random lawnmower"
-seeds="1 2 3" budget=180 small=0 jobs=1 extra=()
+seeds="1 2 3" budget=180 small=0 jobs=1 poses=tracked extra=()
 while [[ $# -gt 0 ]]; do
   case $1 in
     --worlds) worlds=$2; shift ;;
@@ -27,6 +31,7 @@ while [[ $# -gt 0 ]]; do
     --seeds) seeds=$2; shift ;;
     --budget) budget=$2; shift ;;
     --small) small=1 ;;
+    --poses) poses=$2; shift ;;
     --jobs) jobs=$2; shift ;;
     --) shift; extra=("$@"); break ;;
     *) echo "unknown option $1" >&2; exit 2 ;;
@@ -61,21 +66,23 @@ for w in "${all_worlds[@]}"; do
   name=$(basename "${w%.yaml}")
   for p in $planners; do
     for s in $seeds; do
-      d="$OUT/runs/${name}_${p}_s$s"
+      d="$OUT/runs/${name}_${p}_s${s}_$poses"
       dirs+=("$d")
       [[ -f $d/exploration.json ]] && continue
-      echo "$RASM run --out $d --set output.overwrite=true --set sim.world=$w --set sim.trajectory=$(robot_spec "$w") --set sim.seed=$s --set exploration.seed=$s --set exploration.planner=$p --set explore.time_budget_s=$budget --set output.write_rawlog=false $small_args ${extra[*]:-} > $d.log 2>&1 || echo FAILED $d" >>"$cmds"
+      echo "$RASM run --out $d --set output.overwrite=true --set sim.world=$w --set sim.trajectory=$(robot_spec "$w") --set sim.seed=$s --set exploration.seed=$s --set exploration.planner=$p --set explore.time_budget_s=$budget --set mapper.poses=$poses --set output.write_rawlog=false $small_args ${extra[*]:-} > $d.log 2>&1 || echo FAILED $d" >>"$cmds"
     done
   done
 done
 mkdir -p "$OUT/runs"
 echo "$(wc -l <"$cmds") runs to do ($OUT/commands.txt)"
-if [[ $jobs -gt 1 ]] && command -v parallel >/dev/null; then
-  parallel -j "$jobs" --bar <"$cmds"
+if [[ $jobs -gt 1 ]]; then
+  tr '\n' '\0' <"$cmds" | xargs -0 -P "$jobs" -n 1 bash -c
 else
   while read -r c; do echo "$c" | cut -c1-160; bash -c "$c"; done <"$cmds"
 fi
+for d in "${dirs[@]}"; do [[ -f $d/exploration.json ]] || echo "missing: $d (see $d.log)"; done
+# The table covers every finished run under $OUT/runs (earlier calls with other options too).
 ok=()
-for d in "${dirs[@]}"; do [[ -f $d/exploration.json ]] && ok+=("$d") || echo "missing: $d (see $d.log)"; done
+for d in "$OUT"/runs/*/; do [[ -f $d/exploration.json ]] && ok+=("${d%/}"); done
 "$RASM" eval exploration "${ok[@]}" --times 60,120,180 --json "$OUT/exploration.json" \
   --markdown "$OUT/exploration.md" --plot "$OUT/exploration_coverage.png"

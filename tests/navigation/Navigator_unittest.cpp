@@ -177,6 +177,55 @@ TEST(Navigator, ReachesANearTargetWithItsOwnController) {
   EXPECT_LT(o.time_s, 10.0);
 }
 
+// A goal just beyond the goal tolerance with an obstacle just past it (an object view next to a
+// chair, seen in the office): the direct controller creeps up to 1 cm of clearance instead of
+// stopping a few cm short for good (it used to keep clearance >= one period's travel + 2 cm).
+TEST(Navigator, CreepsUpToAnObstacleNextToItsGoal) {
+  // Box face at x = 0.37: the margin-grown footprint (0.25 + 0.05 m) has 2 cm left when the
+  // robot is at x = 0.05, where it is within the 0.15 m tolerance of the goal at x = 0.2.
+  Rig rig(floorWorld("  - {id: 2, class: box, primitive: box, size: [0.2, 1.0, 1.0], "
+                     "position: [0.47, 0, 0.5]}\n"),
+          Eigen::Vector3d(0, 0, 0));
+  const TNavigationParams p = testParams();
+  const Eigen::Vector3d goal(0.2, 0.0, 0.0);
+  rig.nav.setGoal(goal);
+  const Outcome o = drive(rig.robot, rig.nav, p.goal_timeout_s);
+  ASSERT_EQ(o.state, NavState::Reached) << o.reason;
+  EXPECT_FALSE(o.collided);
+  EXPECT_LE((rig.robot.pose().head<2>() - goal.head<2>()).norm(), p.goal_tolerance_m);
+}
+
+// No progress (a wall between the robot and a goal the direct controller heads for): before
+// failing "stuck" the navigator escapes once (turns toward the most open direction of the scan
+// and drives escape_distance_m along it) and tries again; with escape_attempts = 0 it fails at
+// the wall. Here the direct controller meets the wall again after the escape, so both fail; the
+// escape shows as the extra path driven without a collision.
+TEST(Navigator, EscapesOnceBeforeFailingStuck) {
+  // A 1 m wall across the straight line at x = 0.45; the goal 1 m ahead, behind it.
+  const std::string wall =
+      "  - {id: 2, class: wall, primitive: box, size: [0.1, 1.0, 1.0], position: [0.5, 0, 0.5]}\n";
+  TNavigationParams p = testParams();
+  p.direct_range_m = 1.5;  // the direct controller drives straight at the wall: no progress
+  const Eigen::Vector3d goal(1.0, 0.0, 0.0);
+  double path_m[2] = {0, 0}, time_s[2] = {0, 0};
+  for (int attempts : {0, 1}) {
+    p.escape_attempts = attempts;
+    Rig rig(floorWorld(wall), Eigen::Vector3d(0, 0, 0), p);
+    rig.nav.setGoal(goal);
+    const Outcome o = drive(rig.robot, rig.nav, p.goal_timeout_s);
+    EXPECT_EQ(o.state, NavState::Failed);
+    EXPECT_EQ(o.reason, "stuck");
+    EXPECT_FALSE(o.collided);
+    path_m[attempts] = rig.nav.pathLength_m();
+    time_s[attempts] = o.time_s;
+  }
+  // Without escape: up to the wall (x = 0.45 - 0.3 of margin-grown footprint, ~0.15 m).
+  EXPECT_LT(path_m[0], 0.3);
+  // The escape drove out escape_distance_m and (facing the goal again) back toward the wall.
+  EXPECT_GT(path_m[1], path_m[0] + p.escape_distance_m);
+  EXPECT_GT(time_s[1], time_s[0] + p.stuck_timeout_s);  // a second no-progress period
+}
+
 TEST(Navigator, ReachesAPureRotationGoal) {
   Rig rig(floorWorld(), Eigen::Vector3d(1.0, -0.5, 0.2));
   const TNavigationParams p = testParams();

@@ -287,8 +287,9 @@ void Navigator::Impl::stepEscape(double t, const Eigen::Vector3d& pose) {
   const double e = wrapAngle(escape_heading - pose.z());
   const bool done = t - escape_t > params.stuck_timeout_s ||
                     (pose.head<2>() - escape_from).norm() >= params.escape_distance_m;
-  if (escape == Escape::Turning && std::abs(e) <= params.heading_tolerance_deg * kDeg)
-    escape = Escape::Driving;
+  // Turn to 2 degrees, not the goal's heading tolerance: the open direction may pass a wall at
+  // a centimetre, and 8 degrees off it the corridor ahead is blocked.
+  if (escape == Escape::Turning && std::abs(e) <= 2.0 * kDeg) escape = Escape::Driving;
   if (escape == Escape::Turning && !done) return rotate(e, params.max_w_degps * kDeg);
   const double v = std::min(0.5 * params.max_v_mps, frontClearance_m() / 1.0);
   if (done || v < 0.02) {
@@ -313,7 +314,9 @@ void Navigator::Impl::driveDirect(const Eigen::Vector3d& pose, const Eigen::Vect
   const double w = std::clamp(2.0 * bearing, -max_w, max_w);
   if (std::abs(bearing) > 30.0 * kDeg) return robot.setVelocityCommand(0.0, w);
   double v = std::min(params.max_v_mps, 0.8 * d) * std::cos(bearing);
-  if (frontClearance_m() < v * params.period_s + 0.02) v = 0.0;
+  // At most what keeps 1 cm of the clearance ahead after one period: the robot may creep up to
+  // an obstacle at the goal (a view next to a chair) instead of stopping 2 cm short for good.
+  v = std::min(v, std::max(0.0, (frontClearance_m() - 0.01) / params.period_s));
   robot.setVelocityCommand(v, w);
 }
 
