@@ -140,6 +140,29 @@ TEST(ExplorationLoop, SameSeedGivesTheSameRun) {
   EXPECT_EQ(goals[0], goals[1]);
 }
 
+// Deliverable 3: the planner in a thread of its own (map snapshots, a copy of the octree) while
+// mapping goes on; goals are planned, driven to and reached, and the run ends by its budget.
+// Not deterministic (the plan arrives after as many frames as the machine's speed gives).
+TEST(ExplorationLoop, PlannerThreadPlansWhileMappingGoesOn) {
+  const std::string out = tempDir("thread");
+  RunConfig cfg = smallExploringRun(out, 30.0);
+  cfg.set("explore", "planner_thread", "true");
+  cfg.set("mapper", "poses", "groundtruth");
+  MappingRun run(cfg);
+  const RunSummary s = run.run();
+  EXPECT_EQ(s.report.at("stop_reason").get<std::string>(), "time_budget");
+  const nlohmann::json ex = readJson(out + "/exploration.json");
+  ASSERT_GE(ex.at("plans").size(), 1u);
+  // A plan is applied on a later frame than it was requested on (mapping went on meanwhile).
+  bool later = false;
+  for (const auto& p : ex.at("plans"))
+    later = later || p.at("applied_t").get<double>() > p.at("t").get<double>();
+  EXPECT_TRUE(later);
+  EXPECT_GE(s.report.at("exploration").at("goals_reached").get<int>(), 1);
+  EXPECT_GT(s.report.at("path_length_m").get<double>(), 0.5);
+  fs::remove_all(out);
+}
+
 TEST(ExplorationLoop, NeedsARobotItCanDrive) {
   {
     RunConfig cfg = RunConfig::fromString(

@@ -50,6 +50,11 @@ bool WorkspaceKeys::contains(const octomap::OcTreeKey& k) const {
   return true;
 }
 
+OccupancyOctree::OccupancyOctree(const OccupancyOctree& other)
+    : m_params(other.m_params),
+      m_tree(std::make_unique<octomap::OcTree>(*other.m_tree)),
+      m_workspace(other.m_workspace) {}
+
 OccupancyOctree::OccupancyOctree(const TExplorationParams& params)
     : m_params(params), m_tree(std::make_unique<octomap::OcTree>(params.resolution_m)) {
   m_params.validate();

@@ -77,11 +77,21 @@ ExplorationLoop::ExplorationLoop(Mapper& mapper, sim::SimulatedSequence& seq,
       sim::coverageOptionsForRobot(robot.params(), seq.sensor().intrinsics(),
                                    mapper.mapperParams().max_depth_m));
   m_instances = std::make_unique<sim::SurfaceInstanceQuery>(seq.scene());
+  m_fusion_params = mapper.stage<FusionStage>().params();
+  if (m_stage.exploreParams().planner_thread) m_worker = std::thread([this] { plannerThread(); });
 }
 
 ExplorationLoop::~ExplorationLoop() { release(); }
 
 void ExplorationLoop::release() {
+  if (m_worker.joinable()) {
+    {
+      std::lock_guard<std::mutex> lock(m_mx);
+      m_quit = true;
+    }
+    m_cv.notify_all();
+    m_worker.join();
+  }
   if (!m_nav) return;
   m_seq.setSubstepHook({});
   m_nav_final = m_nav->state();
@@ -118,10 +128,14 @@ void ExplorationLoop::afterFrame(const RgbdFrame& frame, const FrameResult& r) {
   if (s == navigation::NavState::Reached || s == navigation::NavState::Failed) {
     const bool ok = s == navigation::NavState::Reached;
     if (m_goal) {
-      m_planner->goalOutcome(m_goal->goal, ok);
+      reportOutcome(m_goal->goal, ok);
       endGoal(m_t, ok ? "reached" : m_nav->failureReason());
     }
     m_nav->cancel();
+  }
+  if (xp.planner_thread) {
+    takeThreadedPlan();
+    if (finished()) return;
   }
   if (m_nav->state() == navigation::NavState::Idle) {
     if (m_spin_goals_left > 0) {  // the initial turn in place, a third at a time
@@ -140,37 +154,85 @@ void ExplorationLoop::afterFrame(const RgbdFrame& frame, const FrameResult& r) {
 
 void ExplorationLoop::plan(double t, bool driving) {
   m_last_plan_t = t;
-  ++m_plans;
+  PlanRequest req;
+  req.t = t;
+  req.driving = driving;
+  req.robot = estimatedBasePose();
+  req.K = m_mapper.lastContext().frame ? m_mapper.lastContext().frame->intrinsics
+                                       : CameraIntrinsics::preset("kinect_v1");
+  if (m_goal && driving) req.goal = m_goal->goal;
+  if (!m_stage.exploreParams().planner_thread) {
+    req.octree = &m_stage.octree();  // the mapping thread plans between frames: no copy
+    return applyPlan(computePlan(req));
+  }
+  std::lock_guard<std::mutex> lock(m_mx);
+  if (m_request || m_busy) return;  // one plan at a time; the robot waits or drives on
+  req.octree_copy = std::make_unique<exploration::OccupancyOctree>(m_stage.octree());
+  req.octree = req.octree_copy.get();
+  m_request = std::move(req);
+  m_cv.notify_one();
+}
+
+/// Snapshot, planner and (while driving) the current goal's score in this plan's units; on the
+/// mapping thread (deterministic mode) or the planner thread.
+ExplorationLoop::PlanOutput ExplorationLoop::computePlan(const PlanRequest& req) {
   const auto t0 = Clock::now();
   m_mapper.snapshotInto(m_snapshot);  // reuses the memory of the last plan's copy
-  const MapSnapshot* snap = &m_snapshot;
   exploration::PlannerInputs in;
-  in.store = &snap->store;
-  in.segments = &snap->segments;
-  in.octree = &m_stage.octree();
-  in.robot_pose = estimatedBasePose();
+  in.store = &m_snapshot.store;
+  in.segments = &m_snapshot.segments;
+  in.octree = req.octree;
+  in.robot_pose = req.robot;
   in.T_base_cam = m_T_base_cam;
-  in.K = m_mapper.lastContext().frame ? m_mapper.lastContext().frame->intrinsics
-                                      : CameraIntrinsics::preset("kinect_v1");
-  in.model = exploration::ViewInfoModel::of(m_mapper.stage<FusionStage>().params(),
-                                            snap->store.options());
-  const exploration::Plan p = m_planner->plan(in);
+  in.K = req.K;
+  in.model = exploration::ViewInfoModel::of(m_fusion_params, m_snapshot.store.options());
+  PlanOutput out;
+  out.t = req.t;
+  out.driving = req.driving;
+  out.robot = req.robot;
+  out.goal = req.goal;
+  out.plan = m_planner->plan(in);
+  const exploration::Plan& p = out.plan;
+  if (req.goal && !p.ranked.empty() && m_planner->name() == "ig") {
+    // Is the new best view clearly better than finishing the current goal? The current goal is
+    // scored in this plan's units (its dH and dIC predicted now, normalised by this plan's
+    // maxima, over the time still to drive).
+    const auto& P = m_stage.params();
+    exploration::ViewPredictor predictor(P, in.model);
+    const exploration::ViewPrediction cur = predictor.predict(
+        m_snapshot.store, *req.octree, exploration::cameraPoseOf(*req.goal, m_T_base_cam), in.K);
+    const double dH = p.best_entropy_reduction, dIC = p.best_information;
+    const double gain = (dH > 0 ? P.w_entropy * cur.entropy_reduction / dH : 0.0) +
+                        (dIC > 0 ? P.w_ic * cur.information.weighted / dIC : 0.0);
+    const double remaining = (req.goal->head<2>() - req.robot.head<2>()).norm() / P.speed_mps;
+    out.current_goal_score = P.rank_by_rate ? gain / (remaining + P.min_travel_time_s) : gain;
+  }
+  out.ms = msSince(t0);
+  return out;
+}
+
+/// The decisions of a plan, on the mapping thread: log, stopping rule, the next goal or a switch.
+void ExplorationLoop::applyPlan(const PlanOutput& out) {
+  ++m_plans;
+  const exploration::Plan& p = out.plan;
   const double best_dH = p.best_entropy_reduction, best_dIC = p.best_information;
-  const double ms = msSince(t0);
-  nlohmann::json log = {{"t", t},
-                        {"robot", poseJson(in.robot_pose)},
+  nlohmann::json log = {{"t", out.t},
+                        {"applied_t", m_t},
+                        {"robot", poseJson(out.robot)},
                         {"reachable", p.ranked.size()},
                         {"unreachable", p.unreachable.size()},
+                        {"blacklisted", p.blacklisted.size()},
                         {"best_entropy_reduction", best_dH},
                         {"best_information", best_dIC},
-                        {"ms", ms},
-                        {"while_driving", driving}};
+                        {"ms", out.ms},
+                        {"while_driving", out.driving}};
   if (!p.ranked.empty()) {
     const auto& b = p.ranked.front();
     log["best"] = {{"pose", poseJson(b.pose)}, {"source", sourceName(b.source)},
                    {"gain", b.gain},           {"rate", b.rate},
                    {"path_length_m", b.path_length_m}};
   }
+  if (out.current_goal_score >= 0) log["current_goal_score"] = out.current_goal_score;
 
   // Stopping rule (V): over stop_plans consecutive plans, too little left to gain (ig) or nothing
   // offered (every planner; the robot turns a quarter between them, so a view hidden behind it
@@ -182,13 +244,15 @@ void ExplorationLoop::plan(double t, bool driving) {
   m_low_plans = low ? m_low_plans + 1 : 0;
   log["low"] = low;
   m_plan_log.push_back(log);
-  if (!driving && m_low_plans >= xp.stop_plans) {
+  // What the robot does now (with the planner thread it may have arrived since the request).
+  const bool idle = m_nav->state() == navigation::NavState::Idle;
+  if (idle && m_low_plans >= xp.stop_plans) {
     stop(p.ranked.empty() ? (ig ? "no_reachable_views" : "planner_done")
                           : "information_gain_below_threshold");
     return;
   }
   if (p.ranked.empty()) {
-    if (!driving) {  // nothing reachable now: turn a little and look again
+    if (idle) {  // nothing reachable now: turn a little and look again
       Eigen::Vector3d g = estimatedBasePose();
       g.z() = wrapAngle(g.z() + M_PI / 2.0);
       m_nav->setGoal(g);
@@ -196,29 +260,60 @@ void ExplorationLoop::plan(double t, bool driving) {
     return;
   }
   const exploration::ViewCandidate& best = p.ranked.front();
-  if (!driving) {
-    startGoal(best, t);
-    return;
+  if (idle) return startGoal(best, m_t);
+  // Mid-way switch: only for the goal this plan scored, and only when clearly better.
+  if (!ig || !m_goal || !out.goal || *out.goal != m_goal->goal || out.current_goal_score < 0) return;
+  const double best_score = m_stage.params().rank_by_rate ? best.rate : best.gain;
+  if (best_score > xp.switch_ratio * out.current_goal_score) {
+    reportOutcome(m_goal->goal, false);
+    endGoal(m_t, "switched");
+    startGoal(best, m_t);
   }
-  // Mid-way: is the new best view clearly better than finishing the current goal? The current
-  // goal is scored in this plan's units (its dH and dIC predicted now, normalised by this plan's
-  // maxima, over the time still to drive).
-  if (!ig || !m_goal) return;
-  exploration::ViewPredictor predictor(m_stage.params(), in.model);
-  const exploration::ViewPrediction cur = predictor.predict(
-      snap->store, m_stage.octree(), exploration::cameraPoseOf(m_goal->goal, m_T_base_cam), in.K);
-  const auto& P = m_stage.params();
-  const double gain = (best_dH > 0 ? P.w_entropy * cur.entropy_reduction / best_dH : 0.0) +
-                      (best_dIC > 0 ? P.w_ic * cur.information.weighted / best_dIC : 0.0);
-  const double remaining = (m_goal->goal.head<2>() - in.robot_pose.head<2>()).norm() / P.speed_mps;
-  const double cur_rate = P.rank_by_rate ? gain / (remaining + P.min_travel_time_s) : gain;
-  const double best_score = P.rank_by_rate ? best.rate : best.gain;
-  m_plan_log.back()["current_goal_score"] = cur_rate;
-  if (best_score > xp.switch_ratio * cur_rate) {
-    m_planner->goalOutcome(m_goal->goal, false);
-    endGoal(t, "switched");
-    startGoal(best, t);
+}
+
+void ExplorationLoop::reportOutcome(const Eigen::Vector3d& goal, bool reached) {
+  if (!m_stage.exploreParams().planner_thread) return m_planner->goalOutcome(goal, reached);
+  std::lock_guard<std::mutex> lock(m_mx);  // the planner thread applies it before its next plan
+  m_outcomes.emplace_back(goal, reached);
+}
+
+/// The planner thread ([explore] planner_thread): waits for a request, plans on a snapshot and
+/// the octree copy of the request, leaves the result for the mapping thread.
+void ExplorationLoop::plannerThread() {
+  for (;;) {
+    PlanRequest req;
+    {
+      std::unique_lock<std::mutex> lock(m_mx);
+      m_cv.wait(lock, [&] { return m_quit || m_request.has_value(); });
+      if (m_quit) return;
+      req = std::move(*m_request);
+      m_request.reset();
+      m_busy = true;
+      for (const auto& [g, ok] : m_outcomes) m_planner->goalOutcome(g, ok);
+      m_outcomes.clear();
+    }
+    PlanOutput out;
+    try {
+      out = computePlan(req);
+    } catch (const std::exception& e) {
+      out.error = e.what();
+    }
+    std::lock_guard<std::mutex> lock(m_mx);
+    m_ready = std::move(out);
+    m_busy = false;
   }
+}
+
+/// A result of the planner thread, if one is waiting (mapping thread).
+void ExplorationLoop::takeThreadedPlan() {
+  std::optional<PlanOutput> out;
+  {
+    std::lock_guard<std::mutex> lock(m_mx);
+    out.swap(m_ready);
+  }
+  if (!out) return;
+  if (!out->error.empty()) throw std::runtime_error("exploration planner: " + out->error);
+  applyPlan(*out);
 }
 
 void ExplorationLoop::startGoal(const exploration::ViewCandidate& c, double t) {

@@ -12,6 +12,7 @@ void TExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(octree_every_n_frames, int, c, s);
   MRPT_LOAD_CONFIG_VAR(replan_period_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(switch_ratio, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(planner_thread, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(stop_entropy_nats, double, c, s);
   MRPT_LOAD_CONFIG_VAR(stop_information, double, c, s);
   MRPT_LOAD_CONFIG_VAR(stop_plans, int, c, s);
@@ -39,6 +40,7 @@ void TExploreParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(octree_every_n_frames, c, s);
   MRPT_SAVE_CONFIG_VAR(replan_period_s, c, s);
   MRPT_SAVE_CONFIG_VAR(switch_ratio, c, s);
+  MRPT_SAVE_CONFIG_VAR(planner_thread, c, s);
   MRPT_SAVE_CONFIG_VAR(stop_entropy_nats, c, s);
   MRPT_SAVE_CONFIG_VAR(stop_information, c, s);
   MRPT_SAVE_CONFIG_VAR(stop_plans, c, s);

@@ -46,6 +46,10 @@ class OccupancyOctree {
  public:
   /// Throws InputError when the params are out of range (TExplorationParams' checks).
   explicit OccupancyOctree(const TExplorationParams& params = {});
+  /// A deep copy (the planner thread of an exploring run plans on a copy while mapping inserts
+  /// into the original; ~1 ms per 10k leaves).
+  OccupancyOctree(const OccupancyOctree& other);
+  OccupancyOctree& operator=(const OccupancyOctree&) = delete;
 
   const TExplorationParams& params() const { return m_params; }
   const octomap::OcTree& tree() const { return *m_tree; }

@@ -15,14 +15,20 @@
 // Deterministic: the planner runs on the mapping thread at simulated times, so a seed gives one
 // run. It starts with one turn in place (the map of one frame has no free space to plan in).
 
+#include <condition_variable>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "rasm/exploration/ExplorationPlanner.h"
 #include "rasm/exploration/ViewCandidates.h"
+#include "rasm/fusion/TFusionParams.h"
 #include "rasm/navigation/Navigator.h"
 #include "rasm/pipeline/Mapper.h"
 #include "rasm/pipeline/stages/ExplorationStage.h"
@@ -32,10 +38,6 @@ class SimulatedSequence;
 class SurfaceCoverage;
 class SurfaceInstanceQuery;
 }  // namespace rasm::sim
-
-namespace rasm::exploration {
-class ExplorationPlanner;
-}
 
 namespace rasm::pipeline {
 
@@ -76,8 +78,34 @@ class ExplorationLoop {
     double t = 0, path_m = 0, coverage = 0, objects_correct = 0, entropy = 0;
     std::size_t frames = 0, surfels = 0, objects_total = 0, objects_ok = 0;
   };
+  /// What a plan is computed from (taken on the mapping thread).
+  struct PlanRequest {
+    double t = 0;
+    bool driving = false;
+    Eigen::Vector3d robot = Eigen::Vector3d::Zero();
+    CameraIntrinsics K;
+    std::optional<Eigen::Vector3d> goal;  ///< the goal being driven to (for a switch)
+    const exploration::OccupancyOctree* octree = nullptr;
+    std::unique_ptr<exploration::OccupancyOctree> octree_copy;  ///< planner thread: a copy
+  };
+  struct PlanOutput {
+    exploration::Plan plan;
+    double t = 0, ms = 0;
+    bool driving = false;
+    Eigen::Vector3d robot = Eigen::Vector3d::Zero();
+    std::optional<Eigen::Vector3d> goal;
+    double current_goal_score = -1;  ///< the goal's score in this plan's units (-1: none)
+    std::string error;               ///< the planner thread's exception
+  };
   Eigen::Vector3d estimatedBasePose() const;
+  /// Plans now (deterministic mode) or asks the planner thread to ([explore] planner_thread).
   void plan(double t, bool driving);
+  PlanOutput computePlan(const PlanRequest& req);
+  void applyPlan(const PlanOutput& out);
+  void plannerThread();
+  void takeThreadedPlan();
+  /// A goal's outcome to the planner (queued for the planner thread when it runs).
+  void reportOutcome(const Eigen::Vector3d& goal, bool reached);
   void startGoal(const exploration::ViewCandidate& c, double t);
   void endGoal(double t, const std::string& outcome);
   void measure(double t);
@@ -108,6 +136,15 @@ class ExplorationLoop {
   std::vector<MetricsRow> m_metrics;
   std::string m_stop_reason;
   std::size_t m_frames = 0;
+  fusion::TFusionParams m_fusion_params;  ///< IC parameters of the predicted view information
+  // Planner thread: one request / result at a time; goal outcomes queued for the planner.
+  std::thread m_worker;
+  std::mutex m_mx;
+  std::condition_variable m_cv;
+  std::optional<PlanRequest> m_request;
+  std::optional<PlanOutput> m_ready;
+  std::vector<std::pair<Eigen::Vector3d, bool>> m_outcomes;
+  bool m_busy = false, m_quit = false;
 };
 
 }  // namespace rasm::pipeline

@@ -27,6 +27,12 @@ struct TExploreParams : mrpt::config::CLoadableOptions {
   /// fails, replan at once.
   double replan_period_s = 8.0;
   double switch_ratio = 2.0;
+  /// Plan in a thread of its own on map snapshots and a copy of the octree, while mapping goes
+  /// on at camera rate (true), or on the mapping thread between frames (false: deterministic,
+  /// the same seed gives the same run; the mapping pauses for the plan, simulated time does not
+  /// advance meanwhile). A robot needs true; the simulated embedded default, the evaluation and
+  /// the tests use false.
+  bool planner_thread = true;
   /// Stopping rule (V): the run ends when, over stop_plans consecutive plans, the best reachable
   /// view gains less than stop_entropy_nats of map entropy AND less than stop_information of
   /// object view information (or no view is reachable), or at a budget (0 = none).
