@@ -43,6 +43,9 @@ int benchMain(const std::vector<std::string>& args) {
       cfg.set("source", "path", input);
     }
   }
+  // The mapping pipeline's speed: the embedded default's robot follows its scripted path
+  // (--set explore.enabled=auto explores, with the planner's pauses in the timings).
+  cfg.set("explore", "enabled", "false");
   const std::string out = (std::filesystem::temp_directory_path() / "rasm_bench").string();
   cfg.set("output", "dir", out);
   for (const char* k : {"write_ply", "write_3dscene", "save_map", "preview_png"})

@@ -69,7 +69,7 @@ for w in "${all_worlds[@]}"; do
       d="$OUT/runs/${name}_${p}_s${s}_$poses"
       dirs+=("$d")
       [[ -f $d/exploration.json ]] && continue
-      echo "$RASM run --out $d --set output.overwrite=true --set sim.world=$w --set sim.trajectory=$(robot_spec "$w") --set sim.seed=$s --set exploration.seed=$s --set exploration.planner=$p --set explore.time_budget_s=$budget --set mapper.poses=$poses --set output.write_rawlog=false $small_args ${extra[*]:-} > $d.log 2>&1 || echo FAILED $d" >>"$cmds"
+      echo "$RASM run --out $d --set output.overwrite=true --set sim.world=$w --set sim.trajectory=$(robot_spec "$w") --set sim.seed=$s --set exploration.seed=$s --set exploration.planner=$p --set explore.enabled=true --set explore.time_budget_s=$budget --set mapper.poses=$poses --set output.write_rawlog=false $small_args ${extra[*]:-} > $d.log 2>&1 || echo FAILED $d" >>"$cmds"
     done
   done
 done

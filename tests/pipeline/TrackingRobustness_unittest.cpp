@@ -31,6 +31,7 @@ std::string tempDir(const std::string& name) {
 RunConfig smallSimConfig(const std::string& out, const std::string& trajectory, int frames) {
   RunConfig cfg = RunConfig::embeddedDefault();
   cfg.set("output", "dir", out);
+  cfg.set("explore", "enabled", "false");  // the scripted path, not an exploring robot
   cfg.set("sim", "trajectory", trajectory);
   cfg.set("source", "max_frames", std::to_string(frames));
   cfg.set("camera", "preset", "");

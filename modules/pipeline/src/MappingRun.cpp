@@ -99,15 +99,25 @@ MappingRun::MappingRun(const RunConfig& config) : m_config(config) {
   loadParamsStrict(ini, "output", m_output, src);
   loadParamsStrict(ini, "navigation", m_navigation, src);
   (void)m_camera.intrinsics();  // validates
-  if (m_mapper->stage<ExplorationStage>().exploreParams().enabled && m_source.type != "sim")
-    throwInputError(src + " [explore] enabled",
-                    "needs a robot the run can drive: [source] type = sim with a robot "
-                    "trajectory spec (got [source] type = " + m_source.type + ")");
   // [sim] belongs to the simulator; it is parsed strictly when the sim source is opened.
   std::vector<std::string> keys;
   ini.getAllKeys("sim", keys);
   m_sim_ini = "[sim]\n";
   for (const auto& k : keys) m_sim_ini += k + " = " + ini.read_string("sim", k, "") + "\n";
+  decideExploring(src);
+}
+
+/// [explore] enabled: true (a robot the run can drive, or an InputError), false, or auto (explore
+/// a simulated robot spec, map anything else).
+void MappingRun::decideExploring(const std::string& src) {
+  const std::string& mode = m_mapper->stage<ExplorationStage>().exploreParams().enabled;
+  if (mode == "true" && m_source.type != "sim")
+    throwInputError(src + " [explore] enabled = true",
+                    "needs a robot the run can drive: [source] type = sim with a robot "
+                    "trajectory spec (got [source] type = " + m_source.type + ")");
+  m_exploring = mode == "true" ||
+                (mode == "auto" && m_source.type == "sim" && simTrajectoryIsRobot(m_sim_ini, src));
+  m_mapper->stage<ExplorationStage>().setExploring(m_exploring);
 }
 
 MappingRun::~MappingRun() = default;
@@ -127,8 +137,8 @@ std::string MappingRun::effectiveConfig() const {
 
 std::unique_ptr<io::FrameSource> MappingRun::openSource() const {
   if (m_source.type == "sim")
-    return openSimSource(m_sim_ini, m_config.source(), m_camera.intrinsics(),
-                         m_mapper->stage<ExplorationStage>().exploreParams().enabled);
+    return openSimSource(m_sim_ini, m_config.source(), m_camera.intrinsics(), m_exploring,
+                         m_mapper->stage<ExplorationStage>().exploreParams().camera_rate_hz);
   io::FrameSourceOptions opt;
   opt.intrinsics_override = m_camera.intrinsics();
   if (!fs::exists(m_source.path))
@@ -260,7 +270,7 @@ std::unique_ptr<io::FrameSource> MappingRun::openWrappedSource(double& preload_s
 #ifdef RASM_HAVE_SIM
   // Exploring: the run drives the robot, so each frame must be rendered after the commands the
   // previous one led to (no read-ahead).
-  if (m_mapper->stage<ExplorationStage>().exploreParams().enabled) {
+  if (m_exploring) {
     auto* sim_source = dynamic_cast<sim::SimFrameSource*>(source.get());
     m_explore = std::make_unique<ExplorationLoop>(*m_mapper, sim_source->sequence(), m_navigation);
     return source;

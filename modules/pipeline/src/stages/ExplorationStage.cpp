@@ -8,7 +8,8 @@ namespace rasm::pipeline {
 
 void TExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                         const std::string& s) {
-  MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
+  enabled = c.read_string(s, "enabled", enabled);
+  MRPT_LOAD_CONFIG_VAR(camera_rate_hz, double, c, s);
   MRPT_LOAD_CONFIG_VAR(octree_every_n_frames, int, c, s);
   MRPT_LOAD_CONFIG_VAR(replan_period_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(switch_ratio, double, c, s);
@@ -23,6 +24,9 @@ void TExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   const auto need = [&](bool ok, const char* key, const char* what) {
     if (!ok) throwInputError("[" + s + "] " + key, what);
   };
+  need(enabled == "true" || enabled == "false" || enabled == "auto", "enabled",
+       "expected true, false or auto");
+  need(camera_rate_hz > 0.0 && camera_rate_hz <= 1000.0, "camera_rate_hz", "expected (0, 1000] Hz");
   need(octree_every_n_frames >= 1, "octree_every_n_frames", "expected >= 1");
   need(replan_period_s >= 0.0, "replan_period_s", "expected >= 0 (0: replan on arrival only)");
   need(switch_ratio >= 1.0, "switch_ratio", "expected >= 1");
@@ -37,6 +41,7 @@ void TExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
 void TExploreParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                                       const std::string& s) const {
   MRPT_SAVE_CONFIG_VAR(enabled, c, s);
+  MRPT_SAVE_CONFIG_VAR(camera_rate_hz, c, s);
   MRPT_SAVE_CONFIG_VAR(octree_every_n_frames, c, s);
   MRPT_SAVE_CONFIG_VAR(replan_period_s, c, s);
   MRPT_SAVE_CONFIG_VAR(switch_ratio, c, s);
@@ -52,7 +57,13 @@ void TExploreParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 
 void ExplorationStage::configure(const TMapperParams& /*mapper*/) {
   m_params.validate("exploration");
-  if (m_explore.enabled) m_octree = std::make_unique<exploration::OccupancyOctree>(m_params);
+}
+
+void ExplorationStage::setExploring(bool exploring) {
+  if (!exploring)
+    m_octree.reset();
+  else if (!m_octree)
+    m_octree = std::make_unique<exploration::OccupancyOctree>(m_params);
 }
 
 void ExplorationStage::setWorkspace(const Eigen::AlignedBox3d& box) {

@@ -82,6 +82,7 @@ class MappingRun {
   struct Accumulated;  // what the frame loop gathers for the outputs
   /// Creates the output folder and writes config.ini (InputError when it cannot be used).
   void prepareOutputFolder() const;
+  void decideExploring(const std::string& src);
   /// The configured source with its read-ahead / preload wrapper; `preload_s` = seconds spent
   /// preloading. An exploring run ([explore] enabled) gets no read-ahead: the source's robot is
   /// driven by the exploration loop created here.
@@ -106,7 +107,8 @@ class MappingRun {
   std::string m_sim_ini;  ///< [sim] section text, handed to the simulator source
   navigation::TNavigationParams m_navigation;  ///< [navigation]: the exploring robot's navigator
   std::unique_ptr<Mapper> m_mapper;
-  std::unique_ptr<ExplorationLoop> m_explore;  ///< [explore] enabled: the closed loop (V, VI)
+  std::unique_ptr<ExplorationLoop> m_explore;  ///< exploring: the closed loop (V, VI)
+  bool m_exploring = false;                    ///< [explore] enabled and the source decide
 };
 
 }  // namespace rasm::pipeline

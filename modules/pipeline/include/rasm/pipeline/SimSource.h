@@ -16,6 +16,11 @@ namespace rasm::pipeline {
 std::unique_ptr<io::FrameSource> openSimSource(const std::string& sim_ini,
                                                const std::string& source,
                                                const std::optional<CameraIntrinsics>& camera,
-                                               bool commanded = false);
+                                               bool commanded = false,
+                                               double commanded_rate_hz = 0.0);
+
+/// Whether the [sim] section's trajectory is a robot spec (a robot the run could drive); false
+/// without a simulator. Throws InputError for an invalid section or an unknown spec.
+bool simTrajectoryIsRobot(const std::string& sim_ini, const std::string& source);
 
 }  // namespace rasm::pipeline

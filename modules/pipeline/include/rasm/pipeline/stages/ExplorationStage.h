@@ -17,8 +17,14 @@ namespace rasm::pipeline {
 
 /// [explore]: the closed loop of an exploring run (section V-VI; docs/exploration.md "The loop").
 struct TExploreParams : mrpt::config::CLoadableOptions {
-  /// Drive the robot by information gain (needs a robot: [source] type = sim with a robot spec).
-  bool enabled = false;
+  /// "true": drive the robot by information gain (needs a robot: [source] type = sim with a
+  /// robot spec; an InputError otherwise); "false": map the source as it comes; "auto" (the
+  /// embedded default): explore when the source is a simulated robot spec, map otherwise (a
+  /// rawlog, a hand-held path), so `rasm run --set source.path=...` maps without more keys.
+  std::string enabled = "false";
+  /// Camera rate (Hz) of a simulated robot the run drives, unless [sim] rate_hz sets one: 10 Hz
+  /// bridges a robot's motion with the odometry prior and makes the semantic loop fit 2 cores.
+  double camera_rate_hz = 10.0;
   /// Octree update from every n-th fused frame (the octree's 10 cm cells change little between
   /// consecutive frames of a robot; 2 halves its cost).
   int octree_every_n_frames = 2;
@@ -67,6 +73,10 @@ class ExplorationStage : public MapperStage {
 
   const exploration::TExplorationParams& params() const { return m_params; }
   const TExploreParams& exploreParams() const { return m_explore; }
+  /// Whether this run explores (MappingRun decides from [explore] enabled and the source): the
+  /// octree exists only then.
+  void setExploring(bool exploring);
+  bool exploring() const { return m_octree != nullptr; }
   /// Replaces the workspace box of V-A (before the first frame: the octree is rebuilt empty).
   void setWorkspace(const Eigen::AlignedBox3d& box);
   /// The octree (read it from the mapping thread, between frames).
