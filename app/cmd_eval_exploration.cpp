@@ -122,7 +122,8 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
   std::map<std::string, std::map<std::string, std::vector<const RunRow*>>> worlds;
   for (const auto& [key, runs] : by_group)
     for (const RunRow& r : runs)
-      worlds[r.world][r.planner + (r.poses == "groundtruth" ? " (gt poses)" : "")].push_back(&r);
+      worlds[r.world][r.planner + (r.poses == "groundtruth" ? " (gt poses)" : " (tracked)")]
+          .push_back(&r);
   const int W = 520, H = 340, L = 50, B = 45;
   cv::Mat img(H, W * int(std::max<std::size_t>(1, worlds.size())), CV_8UC3,
               cv::Scalar(255, 255, 255));
@@ -140,9 +141,20 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
     cv::line(img, px(0, 0.9), px(tmax, 0.9), cv::Scalar(180, 180, 180));
     cv::putText(img, world + ": coverage vs simulated time (0-" + std::to_string(int(tmax)) + " s)",
                 cv::Point(x0 + L, 18), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0));
+    cv::putText(img, "1", cv::Point(x0 + L - 14, px(0, 1).y + 4), cv::FONT_HERSHEY_SIMPLEX, 0.4,
+                cv::Scalar(0, 0, 0));
+    cv::putText(img, "0.9", cv::Point(x0 + L - 26, px(0, 0.9).y + 4), cv::FONT_HERSHEY_SIMPLEX,
+                0.4, cv::Scalar(0, 0, 0));
+    cv::putText(img, "0", cv::Point(x0 + L - 14, px(0, 0).y + 4), cv::FONT_HERSHEY_SIMPLEX, 0.4,
+                cv::Scalar(0, 0, 0));
     int k = 0;
     for (const auto& [planner, runs] : planners) {
-      const cv::Scalar c = colours[k % 6];
+      // One colour per planner in every panel; runs on tracked poses drawn thin.
+      const std::string base = planner.substr(0, planner.find(' '));
+      const int ci = base == "ig" ? 1 : base == "frontier" ? 0 : base == "random" ? 3
+                     : base == "lawnmower" ? 2 : 5;
+      const cv::Scalar c = colours[ci];
+      const int thickness = planner.find("gt poses") != std::string::npos ? 2 : 1;
       cv::putText(img, planner, cv::Point(x0 + L + 8, 38 + 16 * k), cv::FONT_HERSHEY_SIMPLEX, 0.45,
                   c, 1);
       ++k;
@@ -153,7 +165,7 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
         for (const RunRow* r : runs) v += Series::at(r->series.t, r->series.coverage, t);
         v /= double(runs.size());
         const cv::Point p = px(t, v);
-        if (i > 0) cv::line(img, prev, p, c, 2);
+        if (i > 0) cv::line(img, prev, p, c, thickness);
         prev = p;
       }
     }
