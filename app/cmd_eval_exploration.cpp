@@ -127,8 +127,8 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
   const int W = 520, H = 340, L = 50, B = 45;
   cv::Mat img(H, W * int(std::max<std::size_t>(1, worlds.size())), CV_8UC3,
               cv::Scalar(255, 255, 255));
-  const cv::Scalar colours[] = {{200, 80, 0}, {0, 0, 200}, {0, 150, 0}, {150, 0, 150},
-                                {0, 140, 255}, {90, 90, 90}};
+  const cv::Scalar colours[] = {{200, 80, 0},  {0, 0, 200},   {0, 150, 0},
+                                {150, 0, 150}, {0, 140, 255}, {90, 90, 90}};
   int panel = 0;
   for (const auto& [world, planners] : worlds) {
     const int x0 = panel++ * W;
@@ -143,16 +143,19 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
                 cv::Point(x0 + L, 18), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0));
     cv::putText(img, "1", cv::Point(x0 + L - 14, px(0, 1).y + 4), cv::FONT_HERSHEY_SIMPLEX, 0.4,
                 cv::Scalar(0, 0, 0));
-    cv::putText(img, "0.9", cv::Point(x0 + L - 26, px(0, 0.9).y + 4), cv::FONT_HERSHEY_SIMPLEX,
-                0.4, cv::Scalar(0, 0, 0));
+    cv::putText(img, "0.9", cv::Point(x0 + L - 26, px(0, 0.9).y + 4), cv::FONT_HERSHEY_SIMPLEX, 0.4,
+                cv::Scalar(0, 0, 0));
     cv::putText(img, "0", cv::Point(x0 + L - 14, px(0, 0).y + 4), cv::FONT_HERSHEY_SIMPLEX, 0.4,
                 cv::Scalar(0, 0, 0));
     int k = 0;
     for (const auto& [planner, runs] : planners) {
       // One colour per planner in every panel; runs on tracked poses drawn thin.
       const std::string base = planner.substr(0, planner.find(' '));
-      const int ci = base == "ig" ? 1 : base == "frontier" ? 0 : base == "random" ? 3
-                     : base == "lawnmower" ? 2 : 5;
+      const int ci = base == "ig"          ? 1
+                     : base == "frontier"  ? 0
+                     : base == "random"    ? 3
+                     : base == "lawnmower" ? 2
+                                           : 5;
       const cv::Scalar c = colours[ci];
       const int thickness = planner.find("gt poses") != std::string::npos ? 2 : 1;
       cv::putText(img, planner, cv::Point(x0 + L + 8, 38 + 16 * k), cv::FONT_HERSHEY_SIMPLEX, 0.45,
@@ -248,10 +251,12 @@ int evalExploration(const std::vector<std::string>& args) {
       if (r.ate_m >= 0) ate_cm.push_back(100.0 * r.ate_m);
       ++reasons[r.stop_reason];
     }
-    md << "| " << runs.front().world << " | " << runs.front().poses << " | "
-       << runs.front().planner << " | " << runs.size() << " |";
-    nlohmann::json j = {{"world", runs.front().world}, {"poses", runs.front().poses},
-                        {"planner", runs.front().planner}, {"runs", runs.size()}};
+    md << "| " << runs.front().world << " | " << runs.front().poses << " | " << runs.front().planner
+       << " | " << runs.size() << " |";
+    nlohmann::json j = {{"world", runs.front().world},
+                        {"poses", runs.front().poses},
+                        {"planner", runs.front().planner},
+                        {"runs", runs.size()}};
     for (double t : times) {
       std::vector<double> v;
       for (const RunRow& r : runs) v.push_back(Series::at(r.series.t, r.series.coverage, t));
@@ -273,8 +278,7 @@ int evalExploration(const std::vector<std::string>& args) {
     for (const auto& [reason, n] : reasons)
       why += (why.empty() ? "" : ", ") + reason + (n > 1 ? " x" + std::to_string(n) : "");
     md << " " << fmt(stat(path), 1) << " | " << fmt(stat(sim), 0) << " | " << fmt(stat(wall), 0)
-       << " | " << fmt(stat(lost), 3) << " | " << fmt(stat(ate_cm), 1) << " | " << why
-       << " |\n";
+       << " | " << fmt(stat(lost), 3) << " | " << fmt(stat(ate_cm), 1) << " | " << why << " |\n";
     j["coverage_final"] = stat(cov_final).mean;
     j["time_to_90_coverage_s"] = t90.empty() ? nlohmann::json() : nlohmann::json(stat(t90).mean);
     j["runs_reaching_90"] = reached90;
@@ -285,10 +289,15 @@ int evalExploration(const std::vector<std::string>& args) {
     j["stop_reasons"] = reasons;
     nlohmann::json seeds = nlohmann::json::array();
     for (const RunRow& r : runs)
-      seeds.push_back({{"dir", r.dir}, {"seed", r.seed}, {"coverage", r.coverage},
-                       {"objects_correct_fraction", r.objects}, {"path_length_m", r.path_m},
-                       {"sim_time_s", r.sim_s}, {"stop_reason", r.stop_reason},
-                       {"time_to_90_coverage_s", r.t90 < 0 ? nlohmann::json() : nlohmann::json(r.t90)}});
+      seeds.push_back(
+          {{"dir", r.dir},
+           {"seed", r.seed},
+           {"coverage", r.coverage},
+           {"objects_correct_fraction", r.objects},
+           {"path_length_m", r.path_m},
+           {"sim_time_s", r.sim_s},
+           {"stop_reason", r.stop_reason},
+           {"time_to_90_coverage_s", r.t90 < 0 ? nlohmann::json() : nlohmann::json(r.t90)}});
     j["per_run"] = seeds;
     out.push_back(j);
   }

@@ -44,9 +44,12 @@ RunConfig smallExploringRun(const std::string& out, double budget_s) {
   cfg.set("explore", "metrics_period_s", "5");
   cfg.set("sim", "rate_hz", "10");
   cfg.set("camera", "preset", "");
-  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{
-           {"fx", "262.5"}, {"fy", "262.5"}, {"cx", "159.5"}, {"cy", "119.5"},
-           {"width", "320"}, {"height", "240"}})
+  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{{"fx", "262.5"},
+                                                                             {"fy", "262.5"},
+                                                                             {"cx", "159.5"},
+                                                                             {"cy", "119.5"},
+                                                                             {"width", "320"},
+                                                                             {"height", "240"}})
     cfg.set("camera", k, v);
   cfg.set("output", "write_3dscene", "false");
   cfg.set("output", "write_rawlog", "false");
@@ -165,9 +168,9 @@ TEST(ExplorationLoop, PlannerThreadPlansWhileMappingGoesOn) {
 
 TEST(ExplorationLoop, NeedsARobotItCanDrive) {
   {
-    RunConfig cfg = RunConfig::fromString(
-        "[source]\ntype = rawlog\npath = " RASM_MRPT_TEST_RAWLOG "\n[explore]\nenabled = true\n",
-        "test");
+    RunConfig cfg = RunConfig::fromString("[source]\ntype = rawlog\npath = " RASM_MRPT_TEST_RAWLOG
+                                          "\n[explore]\nenabled = true\n",
+                                          "test");
     try {
       MappingRun run(cfg);
       FAIL() << "a rawlog cannot be driven";

@@ -23,7 +23,9 @@
 namespace rasm::pipeline {
 
 namespace {
-double wrapAngle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
+double wrapAngle(double a) {
+  return std::atan2(std::sin(a), std::cos(a));
+}
 
 /// SE(2) composition a (+) b.
 Eigen::Vector3d compose(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
@@ -37,15 +39,21 @@ Eigen::Vector3d between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return {c * d.x() + s * d.y(), -s * d.x() + c * d.y(), wrapAngle(b.z() - a.z())};
 }
 
-nlohmann::json poseJson(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
+nlohmann::json poseJson(const Eigen::Vector3d& p) {
+  return {p.x(), p.y(), p.z()};
+}
 
 const char* sourceName(exploration::ViewCandidate::Source s) {
   using S = exploration::ViewCandidate::Source;
   switch (s) {
-    case S::Object: return "object";
-    case S::Frontier: return "frontier";
-    case S::Sweep: return "sweep";
-    case S::Random: break;
+    case S::Object:
+      return "object";
+    case S::Frontier:
+      return "frontier";
+    case S::Sweep:
+      return "sweep";
+    case S::Random:
+      break;
   }
   return "random";
 }
@@ -55,20 +63,21 @@ ExplorationLoop::ExplorationLoop(Mapper& mapper, sim::SimulatedSequence& seq,
                                  const navigation::TNavigationParams& nav_params)
     : m_mapper(mapper), m_stage(mapper.stage<ExplorationStage>()), m_seq(seq) {
   if (!seq.robot())
-    throwInputError("[explore] enabled", "needs a simulated robot ([sim] trajectory: a robot spec)");
+    throwInputError("[explore] enabled",
+                    "needs a simulated robot ([sim] trajectory: a robot spec)");
   m_T_base_cam = mapper.stage<TrackingStage>().robotParams().T_base_cam();
   if (m_stage.exploreParams().workspace_from_world) {
     const Eigen::AlignedBox3f b = seq.scene().world().bounds();
     const auto& p = m_stage.params();
-    m_stage.setWorkspace(Eigen::AlignedBox3d(
-        Eigen::Vector3d(b.min().x(), b.min().y(), p.workspace_min_z_m),
-        Eigen::Vector3d(b.max().x(), b.max().y(), std::min<double>(b.max().z(), p.workspace_max_z_m))));
+    m_stage.setWorkspace(
+        Eigen::AlignedBox3d(Eigen::Vector3d(b.min().x(), b.min().y(), p.workspace_min_z_m),
+                            Eigen::Vector3d(b.max().x(), b.max().y(),
+                                            std::min<double>(b.max().z(), p.workspace_max_z_m))));
   }
   m_planner = exploration::makePlanner(m_stage.params());
   sim::SimulatedDiffDriveRobot& robot = *seq.robot();
-  m_nav = std::make_unique<navigation::Navigator>(robot, nav_params,
-                                                  robot.params().footprintPolygon(),
-                                                  [this] { return estimatedBasePose(); });
+  m_nav = std::make_unique<navigation::Navigator>(
+      robot, nav_params, robot.params().footprintPolygon(), [this] { return estimatedBasePose(); });
   seq.setSubstepHook([this] { m_nav->update(); });
   // Coverage counts the surface this robot's camera could see (its height, pitch, field of view
   // and the mapper's depth range), not the ceiling or the undersides of desks.
@@ -81,7 +90,9 @@ ExplorationLoop::ExplorationLoop(Mapper& mapper, sim::SimulatedSequence& seq,
   if (m_stage.exploreParams().planner_thread) m_worker = std::thread([this] { plannerThread(); });
 }
 
-ExplorationLoop::~ExplorationLoop() { release(); }
+ExplorationLoop::~ExplorationLoop() {
+  release();
+}
 
 void ExplorationLoop::release() {
   if (m_worker.joinable()) {
@@ -228,8 +239,10 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
                         {"while_driving", out.driving}};
   if (!p.ranked.empty()) {
     const auto& b = p.ranked.front();
-    log["best"] = {{"pose", poseJson(b.pose)}, {"source", sourceName(b.source)},
-                   {"gain", b.gain},           {"rate", b.rate},
+    log["best"] = {{"pose", poseJson(b.pose)},
+                   {"source", sourceName(b.source)},
+                   {"gain", b.gain},
+                   {"rate", b.rate},
                    {"path_length_m", b.path_length_m}};
   }
   if (out.current_goal_score >= 0) log["current_goal_score"] = out.current_goal_score;
@@ -239,8 +252,8 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
   // or a frontier the obstacle growth hid for a moment gets another chance).
   const TExploreParams& xp = m_stage.exploreParams();
   const bool ig = m_planner->name() == "ig";
-  const bool low = p.ranked.empty() ||
-                   (ig && best_dH < xp.stop_entropy_nats && best_dIC < xp.stop_information);
+  const bool low =
+      p.ranked.empty() || (ig && best_dH < xp.stop_entropy_nats && best_dIC < xp.stop_information);
   m_low_plans = low ? m_low_plans + 1 : 0;
   log["low"] = low;
   m_plan_log.push_back(log);
@@ -262,7 +275,8 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
   const exploration::ViewCandidate& best = p.ranked.front();
   if (idle) return startGoal(best, m_t);
   // Mid-way switch: only for the goal this plan scored, and only when clearly better.
-  if (!ig || !m_goal || !out.goal || *out.goal != m_goal->goal || out.current_goal_score < 0) return;
+  if (!ig || !m_goal || !out.goal || *out.goal != m_goal->goal || out.current_goal_score < 0)
+    return;
   const double best_score = m_stage.params().rank_by_rate ? best.rate : best.gain;
   if (best_score > xp.switch_ratio * out.current_goal_score) {
     reportOutcome(m_goal->goal, false);
@@ -364,10 +378,11 @@ void ExplorationLoop::measure(double t) {
     objects.push_back(
         {w.instance_id, w.class_name, w.name, w.size_m, w.is_structure || w.class_id == 0});
   classification::ClassificationMetricsParams mp;
-  for (int id = 1; id <= sim::kNumCocoClasses; ++id) mp.detectable_classes.insert(sim::className(id));
+  for (int id = 1; id <= sim::kNumCocoClasses; ++id)
+    mp.detectable_classes.insert(sim::className(id));
   const auto m = classification::computeClassificationMetrics(
-      segment, instance,
-      m_mapper.stage<ClassificationStage>().segmentClassNames(m_mapper.map()), objects, mp);
+      segment, instance, m_mapper.stage<ClassificationStage>().segmentClassNames(m_mapper.map()),
+      objects, mp);
   for (const auto& o : m.per_object)
     if (o.detectable) {
       ++row.objects_total;
@@ -397,7 +412,8 @@ std::string ExplorationLoop::progressText() const {
   char buf[160];
   const double cov = m_metrics.empty() ? 0.0 : m_metrics.back().coverage;
   std::snprintf(buf, sizeof buf, "t %.0fs path %.1fm coverage %.2f goals %zu %s", m_t, m_path_m,
-                cov, m_goals.size() + (m_goal ? 1 : 0), navigation::toString(m_nav ? m_nav->state() : m_nav_final));
+                cov, m_goals.size() + (m_goal ? 1 : 0),
+                navigation::toString(m_nav ? m_nav->state() : m_nav_final));
   return buf;
 }
 
@@ -416,18 +432,19 @@ void ExplorationLoop::report(nlohmann::json& rep) const {
     }
   int reached = 0, failed = 0;
   for (const GoalRecord& g : m_goals) (g.outcome == "reached" ? reached : failed) += 1;
-  rep["exploration"] = {{"planner", m_planner->name()},
-                        {"plans", m_plans},
-                        {"goals", m_goals.size()},
-                        {"goals_reached", reached},
-                        {"goals_not_reached", failed},
-                        {"objects_correct", last.objects_ok},
-                        {"objects_detectable", last.objects_total},
-                        {"time_to_90_coverage_s", t90 < 0 ? nlohmann::json() : nlohmann::json(t90)},
-                        {"metrics_cover",
-                         "coverage: fraction of the world's observable surface within 2 cm of a stable "
-                         "surfel; objects: detectable (COCO) objects of the world carrying their "
-                         "class, unseen ones included"}};
+  rep["exploration"] = {
+      {"planner", m_planner->name()},
+      {"plans", m_plans},
+      {"goals", m_goals.size()},
+      {"goals_reached", reached},
+      {"goals_not_reached", failed},
+      {"objects_correct", last.objects_ok},
+      {"objects_detectable", last.objects_total},
+      {"time_to_90_coverage_s", t90 < 0 ? nlohmann::json() : nlohmann::json(t90)},
+      {"metrics_cover",
+       "coverage: fraction of the world's observable surface within 2 cm of a stable "
+       "surfel; objects: detectable (COCO) objects of the world carrying their "
+       "class, unseen ones included"}};
 }
 
 void ExplorationLoop::writeOutputs(const std::string& dir) const {
@@ -482,7 +499,8 @@ void ExplorationLoop::writeOutputs(const std::string& dir) const {
   }
   char label[96];
   std::snprintf(label, sizeof label, "simulated time 0 - %.0f s", tmax);
-  cv::putText(img, label, cv::Point(L, H - 12), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0));
+  cv::putText(img, label, cv::Point(L, H - 12), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+              cv::Scalar(0, 0, 0));
   cv::putText(img, "coverage", cv::Point(L + 10, 35), cv::FONT_HERSHEY_SIMPLEX, 0.5,
               cv::Scalar(200, 80, 0));
   cv::putText(img, "objects correct", cv::Point(L + 110, 35), cv::FONT_HERSHEY_SIMPLEX, 0.5,

@@ -114,7 +114,8 @@ void MappingRun::decideExploring(const std::string& src) {
   if (mode == "true" && m_source.type != "sim")
     throwInputError(src + " [explore] enabled = true",
                     "needs a robot the run can drive: [source] type = sim with a robot "
-                    "trajectory spec (got [source] type = " + m_source.type + ")");
+                    "trajectory spec (got [source] type = " +
+                        m_source.type + ")");
   m_exploring = mode == "true" ||
                 (mode == "auto" && m_source.type == "sim" && simTrajectoryIsRobot(m_sim_ini, src));
   m_mapper->stage<ExplorationStage>().setExploring(m_exploring);

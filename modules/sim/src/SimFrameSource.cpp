@@ -17,7 +17,8 @@ void TSimParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, cons
   MRPT_LOAD_CONFIG_VAR_CS(max_frames, int);
   MRPT_LOAD_CONFIG_VAR_CS(rate_hz, double);
   if (!(rate_hz >= 0.0) || rate_hz > 1000.0)
-    throwInputError("[" + s + "] rate_hz", "expected 0 (the spec's rate) or a rate in (0, 1000] Hz");
+    throwInputError("[" + s + "] rate_hz",
+                    "expected 0 (the spec's rate) or a rate in (0, 1000] Hz");
   if (world.empty()) throwInputError("[" + s + "] world", "empty; expected a world name or file");
   if (trajectory.empty())
     throwInputError("[" + s + "] trajectory", "empty; expected a spec name or file");

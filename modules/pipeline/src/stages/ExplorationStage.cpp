@@ -98,13 +98,11 @@ void ExplorationStage::csvValues(const FrameContext& /*ctx*/, CsvRow& row) const
 void ExplorationStage::report(nlohmann::json& rep) const {
   if (!m_octree) return;
   const auto counts = m_octree->countCells();
-  rep["occupancy"] = {{"frames_inserted", m_inserted},
-                      {"resolution_m", m_params.resolution_m},
-                      {"entropy_nats", m_octree->entropy()},
-                      {"workspace_cells", m_octree->workspaceCells()},
-                      {"cells_free", counts.free},
-                      {"cells_occupied", counts.occupied},
-                      {"cells_unknown", counts.unknown}};
+  rep["occupancy"] = {
+      {"frames_inserted", m_inserted},       {"resolution_m", m_params.resolution_m},
+      {"entropy_nats", m_octree->entropy()}, {"workspace_cells", m_octree->workspaceCells()},
+      {"cells_free", counts.free},           {"cells_occupied", counts.occupied},
+      {"cells_unknown", counts.unknown}};
 }
 
 }  // namespace rasm::pipeline

@@ -142,7 +142,7 @@ class Mapper {
   mutable std::condition_variable m_phase_cv;
   std::uint64_t m_write_phases = 0;
   std::atomic<std::thread::id> m_mapping_thread{};  ///< the thread of the last processFrame
-  int m_lock_timer = 0;  ///< index of "map_lock_wait" in FrameResult::ms
+  int m_lock_timer = 0;                             ///< index of "map_lock_wait" in FrameResult::ms
   TMapperParams m_mapper;
   TComputeParams m_compute;  ///< [compute]: simd = false runs the kernel bodies alone
   maps::CSurfelMap::TCreationOptions m_map_options;

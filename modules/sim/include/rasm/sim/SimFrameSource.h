@@ -19,8 +19,8 @@ struct TSimParams : public mrpt::config::CLoadableOptions {
   std::string world = "office";                ///< shipped world name or YAML path
   std::string trajectory = "office_handheld";  ///< shipped trajectory spec name or YAML path
   std::uint64_t seed = 0;
-  bool noise = true;    ///< false: exact depth, no dropouts ([sim_sensor] noise and dropouts)
-  int max_frames = -1;  ///< < 0: the whole trajectory
+  bool noise = true;     ///< false: exact depth, no dropouts ([sim_sensor] noise and dropouts)
+  int max_frames = -1;   ///< < 0: the whole trajectory
   double rate_hz = 0.0;  ///< camera frame rate; 0: the trajectory spec's
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
