@@ -3,12 +3,14 @@
 # build-tsan/ (RelWithDebInfo, -fsanitize=thread, no CUDA, no benchmarks) and runs, with one
 # OpenMP thread (libgomp is not instrumented: its own barriers would be reported), the snapshot
 # test (issue 13, 3), the classification stage's late-result test and the detector workers
-# (issue 17: results for frame t fused with frame t's L^p while mapping goes on).
-#   scripts/tsan.sh [gtest filter for test_pipeline, default MapSnapshot.*:ClassificationStage.*]
+# (issue 17: results for frame t fused with frame t's L^p while mapping goes on), and the
+# exploration planner thread (issue 18: snapshots and an octree copy while mapping goes on; ~2 min).
+#   scripts/tsan.sh [gtest filter for test_pipeline, default
+#                    MapSnapshot.*:ClassificationStage.*:ExplorationLoop.PlannerThread*]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD_DIR=${RASM_TSAN_BUILD_DIR:-build-tsan}
-FILTER=${1:-MapSnapshot.*:ClassificationStage.*}
+FILTER=${1:-MapSnapshot.*:ClassificationStage.*:ExplorationLoop.PlannerThread*}
 GEN=()
 command -v ninja >/dev/null && GEN=(-G Ninja)
 if [[ ! -f "$BUILD_DIR/CMakeCache.txt" ]]; then
