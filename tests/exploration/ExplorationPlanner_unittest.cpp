@@ -248,6 +248,33 @@ TEST(FrontierPlanner, GoalIsNextToTheOpeningIntoUnknownSpaceAndReachable) {
     EXPECT_GT(f.centroid.x(), 1.5) << f.centroid.transpose();
 }
 
+// ig with frontier_candidates: the door's frontier view joins the random views and is scored by
+// IG like them (the empty surfel store predicts no surface, so no ranking between views is
+// asserted here: every predicted ray runs to max range).
+TEST(IgPlanner, FrontierCandidatesJoinTheViewsAndAreScored) {
+  TExplorationParams p = roomParams();
+  p.random_candidates = 8;
+  const auto octree = roomOctree(p, /*door_px=*/true, /*door_mx=*/false);
+  maps::SurfelStore store;
+  const std::vector<segmentation::SegmentStats> segments;
+  PlannerInputs in = inputsFor(*octree, Eigen::Vector3d::Zero());
+  in.store = &store;
+  in.segments = &segments;
+  const Plan without = ViewPlanner(p).plan(in);
+  p.frontier_candidates = true;
+  const Plan with = ViewPlanner(p).plan(in);
+  EXPECT_EQ(with.ranked.size(), without.ranked.size() + 1);  // one frontier: the door
+  const ViewCandidate* door = nullptr;
+  for (const ViewCandidate& c : with.ranked)
+    if (c.source == ViewCandidate::Source::Frontier) door = &c;
+  ASSERT_NE(door, nullptr);
+  EXPECT_GT(door->pose.x(), 1.0);  // at the door (x = 2), facing out through it
+  EXPECT_LT(std::abs(door->pose.z()), 0.5);
+  EXPECT_GT(door->entropy_reduction, 0.0);  // the unknown beyond the door
+  EXPECT_GT(door->gain, 0.0);
+  EXPECT_TRUE(door->reachable);
+}
+
 TEST(FrontierPlanner, ClosedKnownRoomHasNoFrontierAndAnEmptyPlan) {
   TExplorationParams p = roomParams();
   const auto octree = roomOctree(p, false, false);

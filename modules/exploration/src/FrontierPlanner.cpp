@@ -78,6 +78,27 @@ std::vector<FrontierCluster> findFrontiers(const mrpt::maps::COccupancyGridMap2D
   return clusters;
 }
 
+std::vector<FrontierView> frontierViews(const mrpt::maps::COccupancyGridMap2D& grid,
+                                        const ReachableCells& reach,
+                                        const Eigen::Vector3d& robot_pose,
+                                        const TExplorationParams& params) {
+  std::vector<FrontierView> views;
+  for (const FrontierCluster& f : findFrontiers(grid, params.frontier_min_cells)) {
+    const std::optional<Eigen::Vector2d> goal = nearestReachableCell(
+        grid, reach, f.centroid.x(), f.centroid.y(), params.frontier_goal_radius_m);
+    // Face the unknown side: a point 0.5 m past the centroid along the frontier's outward normal.
+    const Eigen::Vector2d at = goal ? *goal : f.centroid;
+    Eigen::Vector2d look = f.centroid + 0.5 * f.outward - at;
+    if (look.norm() < 1e-6) look = Eigen::Vector2d(std::cos(robot_pose.z()), std::sin(robot_pose.z()));
+    FrontierView v;
+    v.view.source = ViewCandidate::Source::Frontier;
+    v.view.pose = Eigen::Vector3d(at.x(), at.y(), std::atan2(look.y(), look.x()));
+    v.found = goal.has_value();
+    views.push_back(v);
+  }
+  return views;
+}
+
 FrontierPlanner::FrontierPlanner(const TExplorationParams& params)
     : ExplorationPlanner(GoalBlacklist(params.blacklist_radius_m)), m_params(params) {
   m_params.validate();
@@ -97,17 +118,10 @@ Plan FrontierPlanner::plan(const PlannerInputs& in) {
   const ReachableCells reach =
       reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
   std::vector<ViewCandidate> candidates;
-  for (const FrontierCluster& f : findFrontiers(plan.grid, m_params.frontier_min_cells)) {
-    const std::optional<Eigen::Vector2d> goal = nearestReachableCell(
-        plan.grid, reach, f.centroid.x(), f.centroid.y(), m_params.frontier_goal_radius_m);
-    // Face the unknown side: a point 0.5 m past the centroid along the frontier's outward normal.
-    const Eigen::Vector2d at = goal ? *goal : f.centroid;
-    Eigen::Vector2d look = f.centroid + 0.5 * f.outward - at;
-    if (look.norm() < 1e-6)
-      look = Eigen::Vector2d(std::cos(in.robot_pose.z()), std::sin(in.robot_pose.z()));
-    ViewCandidate c = detail::baselineCandidate(at, std::atan2(look.y(), look.x()),
-                                                ViewCandidate::Source::Frontier, in);
-    if (!goal)
+  for (const FrontierView& f : frontierViews(plan.grid, reach, in.robot_pose, m_params)) {
+    const ViewCandidate c = detail::baselineCandidate(f.view.pose.head<2>(), f.view.pose.z(),
+                                                      ViewCandidate::Source::Frontier, in);
+    if (!f.found)
       plan.unreachable.push_back(c);
     else if (m_blacklist.contains(c.pose))
       plan.blacklisted.push_back(c);

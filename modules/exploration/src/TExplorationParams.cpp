@@ -46,6 +46,7 @@ void TExplorationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
   MRPT_LOAD_CONFIG_VAR(planner, string, c, s);
   MRPT_LOAD_CONFIG_VAR(blacklist_radius_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(taken_view_radius_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(frontier_candidates, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(taken_view_heading_deg, double, c, s);
   MRPT_LOAD_CONFIG_VAR(frontier_min_cells, int, c, s);
   MRPT_LOAD_CONFIG_VAR(frontier_goal_radius_m, double, c, s);
@@ -152,6 +153,7 @@ void TExplorationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(planner, c, s);
   MRPT_SAVE_CONFIG_VAR(blacklist_radius_m, c, s);
   MRPT_SAVE_CONFIG_VAR(taken_view_radius_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(frontier_candidates, c, s);
   MRPT_SAVE_CONFIG_VAR(taken_view_heading_deg, c, s);
   MRPT_SAVE_CONFIG_VAR(frontier_min_cells, c, s);
   MRPT_SAVE_CONFIG_VAR(frontier_goal_radius_m, c, s);

@@ -4,6 +4,7 @@
 #include <random>
 
 #include "rasm/core/Error.h"
+#include "rasm/exploration/ExplorationPlanners.h"
 #include "rasm/exploration/PlanningGrid.h"
 
 namespace rasm::exploration {
@@ -22,6 +23,12 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
   std::vector<ViewCandidate> candidates = sampleRandomViews(plan.grid, m_params, rng);
   const std::vector<ViewCandidate> objects = objectViews(*in.segments, plan.grid, m_params);
   candidates.insert(candidates.end(), objects.begin(), objects.end());
+  if (m_params.frontier_candidates) {  // (c) views at the map's frontiers, scored like the rest
+    const ReachableCells reach =
+        reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
+    for (const FrontierView& f : frontierViews(plan.grid, reach, in.robot_pose, m_params))
+      if (f.found) candidates.push_back(f.view);
+  }
   planPaths(plan.grid, in.robot_pose, m_params, candidates);
 
   ViewPredictor predictor(m_params, in.model);

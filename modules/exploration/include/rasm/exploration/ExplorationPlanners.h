@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "rasm/exploration/ExplorationPlanner.h"
+#include "rasm/exploration/PlanningGrid.h"
 #include "rasm/exploration/ViewPlanner.h"
 
 namespace rasm::exploration {
@@ -42,6 +43,19 @@ struct FrontierCluster {
 };
 
 /// The frontiers of `grid` with at least min_cells cells (row-major discovery order).
+/// One view per frontier of `grid` (frontier_min_cells): the base at the reachable cell nearest
+/// the cluster's centroid within frontier_goal_radius_m (at the centroid when there is none:
+/// `found` false), facing a point 0.5 m past the centroid on the unknown side. Only pose and
+/// source (Frontier) are set.
+struct FrontierView {
+  ViewCandidate view;
+  bool found = false;
+};
+std::vector<FrontierView> frontierViews(const mrpt::maps::COccupancyGridMap2D& grid,
+                                        const ReachableCells& reach,
+                                        const Eigen::Vector3d& robot_pose,
+                                        const TExplorationParams& params);
+
 std::vector<FrontierCluster> findFrontiers(const mrpt::maps::COccupancyGridMap2D& grid,
                                            int min_cells);
 

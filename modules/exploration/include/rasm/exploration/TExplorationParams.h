@@ -53,6 +53,10 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   /// (b) object views: segments whose largest upright extent is within [min, max] m.
   double object_min_extent_m = 0.15, object_max_extent_m = 2.0;
   double object_standoff_m = 1.0;  ///< distance from the segment's side to the robot centre
+  /// (c) also a view at each frontier of the projection (as the frontier baseline's goals,
+  /// frontier_min_cells / frontier_goal_radius_m), scored by IG like the others: random views
+  /// lie in known free space only, so without these the planner never proposes the map's edge.
+  bool frontier_candidates = false;
   /// Predicted maps (depth for dH, surfel index for dIC) are rendered at this size (the camera's
   /// intrinsics scaled).
   int predict_width = 160, predict_height = 120;
