@@ -12,8 +12,11 @@
 //                 planner has nothing left, or a time / path budget is spent;
 //   metrics       with the simulator's ground truth: surface coverage and the fraction of the
 //                 world's detectable objects carrying their right class, over time.
-// Deterministic: the planner runs on the mapping thread at simulated times, so a seed gives one
-// run. It starts with one turn in place (the map of one frame has no free space to plan in).
+// Threads ([explore] planner_thread): true, the planner runs in a thread of its own on map
+// snapshots and a copy of the octree while mapping goes on, and its plan is applied on a later
+// frame (a robot); false, it runs on the mapping thread between frames at simulated times, so a
+// seed gives one run (the simulated embedded default, the evaluation, the tests).
+// It starts with one turn in place (the map of one frame has no free space to plan in).
 
 #include <condition_variable>
 #include <memory>
