@@ -41,7 +41,7 @@ bool IgPlanner::isTakenView(const Eigen::Vector3d& pose) const {
   if (m_params.taken_view_radius_m <= 0.0) return false;
   const double max_dyaw = m_params.taken_view_heading_deg * M_PI / 180.0;
   for (const Eigen::Vector3d& t : m_taken) {
-    const double dyaw = std::abs(std::remainder(pose.z() - t.z(), 2.0 * M_PI));
+    const double dyaw = std::abs(mrpt::math::wrapToPi(pose.z() - t.z()));
     if ((pose.head<2>() - t.head<2>()).norm() <= m_params.taken_view_radius_m && dyaw <= max_dyaw)
       return true;
   }

@@ -2,6 +2,7 @@
 
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/Clock.h>
+#include <mrpt/math/wrap2pi.h>
 #include <mrpt/nav/reactive/CReactiveNavigationSystem.h>
 #include <mrpt/nav/reactive/TWaypoint.h>
 
@@ -22,10 +23,6 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 // Simulated-clock epoch: robot time 0 maps to this (a zero timestamp is MRPT's INVALID_TIMESTAMP).
 constexpr double kEpoch_s = 1.0e9;
-
-double wrapAngle(double a) {
-  return std::atan2(std::sin(a), std::cos(a));
-}
 
 /// MRPT's navigator reads mrpt::Clock::now(): while alive, the process clock is the simulated one
 /// at the robot's time; the previous source is restored on exit (IRobot.h, MRPT-NOTES: with the
@@ -179,7 +176,7 @@ void Navigator::Impl::stepNavigating(double t, const Eigen::Vector3d& pose) {
     state = NavState::Aligning;
     return;
   }
-  const double bearing = wrapAngle(std::atan2(to_goal.y(), to_goal.x()) - pose.z());
+  const double bearing = mrpt::math::wrapToPi(std::atan2(to_goal.y(), to_goal.x()) - pose.z());
   if (escape != Escape::None) return stepEscape(t, pose);
   if (d < best_dist - params.stuck_distance_m) {
     best_dist = d;
@@ -261,8 +258,9 @@ double Navigator::Impl::clearanceAlong_m(double bearing_rad) const {
 double Navigator::Impl::mostOpenBearing(double goal_bearing_rad) const {
   double best = goal_bearing_rad, best_clear = -1.0, best_off = 0.0;
   for (int k = 0; k < 36; ++k) {
-    const double b = wrapAngle(k * 10.0 * kDeg);
-    const double clear = clearanceAlong_m(b), off = std::abs(wrapAngle(b - goal_bearing_rad));
+    const double b = mrpt::math::wrapToPi(k * 10.0 * kDeg);
+    const double clear = clearanceAlong_m(b),
+                 off = std::abs(mrpt::math::wrapToPi(b - goal_bearing_rad));
     if (clear > best_clear + 0.05 || (clear > best_clear - 0.05 && off < best_off)) {
       best = b;
       best_clear = std::max(best_clear, clear);
@@ -276,7 +274,7 @@ void Navigator::Impl::startEscape(double t, const Eigen::Vector3d& pose, double 
   stopMrpt();
   ++escapes;
   escape = Escape::Turning;
-  escape_heading = wrapAngle(pose.z() + mostOpenBearing(goal_bearing_rad));
+  escape_heading = mrpt::math::wrapToPi(pose.z() + mostOpenBearing(goal_bearing_rad));
   escape_from = pose.head<2>();
   escape_t = t;
 }
@@ -284,7 +282,7 @@ void Navigator::Impl::startEscape(double t, const Eigen::Vector3d& pose, double 
 /// Turn to the escape heading, drive straight until escape_distance_m, an obstacle ahead or
 /// stuck_timeout_s; then navigation resumes with a fresh progress check.
 void Navigator::Impl::stepEscape(double t, const Eigen::Vector3d& pose) {
-  const double e = wrapAngle(escape_heading - pose.z());
+  const double e = mrpt::math::wrapToPi(escape_heading - pose.z());
   const bool done = t - escape_t > params.stuck_timeout_s ||
                     (pose.head<2>() - escape_from).norm() >= params.escape_distance_m;
   // Turn to 2 degrees, not the goal's heading tolerance: the open direction may pass a wall at
@@ -309,7 +307,7 @@ void Navigator::Impl::stepEscape(double t, const Eigen::Vector3d& pose) {
 void Navigator::Impl::driveDirect(const Eigen::Vector3d& pose, const Eigen::Vector2d& target) {
   const Eigen::Vector2d to = target - pose.head<2>();
   const double d = to.norm();
-  const double bearing = wrapAngle(std::atan2(to.y(), to.x()) - pose.z());
+  const double bearing = mrpt::math::wrapToPi(std::atan2(to.y(), to.x()) - pose.z());
   const double max_w = params.max_w_degps * kDeg;
   const double w = std::clamp(2.0 * bearing, -max_w, max_w);
   if (std::abs(bearing) > 30.0 * kDeg) return robot.setVelocityCommand(0.0, w);
@@ -328,7 +326,7 @@ void Navigator::Impl::rotate(double heading_error_rad, double max_w_radps) {
 }
 
 void Navigator::Impl::stepAligning(const Eigen::Vector3d& pose) {
-  const double e = wrapAngle(goal.z() - pose.z());
+  const double e = mrpt::math::wrapToPi(goal.z() - pose.z());
   if (std::abs(e) <= params.heading_tolerance_deg * kDeg) return finish(NavState::Reached, "");
   rotate(e, params.align_w_degps * kDeg);
 }
@@ -349,7 +347,7 @@ void Navigator::setGoal(const Eigen::Vector3d& goal_xyyaw) {
   Impl& m = *m_impl;
   m.stopMrpt();
   m.goal = goal_xyyaw;
-  m.goal.z() = wrapAngle(m.goal.z());
+  m.goal.z() = mrpt::math::wrapToPi(m.goal.z());
   m.state = NavState::Navigating;
   m.reason.clear();
   m.goal_t = m.best_t = m.robot.time_s();
@@ -357,8 +355,8 @@ void Navigator::setGoal(const Eigen::Vector3d& goal_xyyaw) {
   m.last_step_t = -std::numeric_limits<double>::infinity();  // step at the next update()
   const Eigen::Vector3d pose = m.localisation();
   const Eigen::Vector2d to = m.goal.head<2>() - pose.head<2>();
-  m.facing =
-      std::abs(wrapAngle(std::atan2(to.y(), to.x()) - pose.z())) > m.params.face_goal_deg * kDeg;
+  m.facing = std::abs(mrpt::math::wrapToPi(std::atan2(to.y(), to.x()) - pose.z())) >
+             m.params.face_goal_deg * kDeg;
   m.escape = Impl::Escape::None;
   m.escapes = 0;
 }

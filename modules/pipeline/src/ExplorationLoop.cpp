@@ -1,5 +1,7 @@
 #include "rasm/pipeline/ExplorationLoop.h"
 
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/poses/CPose2D.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -23,20 +25,8 @@
 namespace rasm::pipeline {
 
 namespace {
-double wrapAngle(double a) {
-  return std::atan2(std::sin(a), std::cos(a));
-}
-
-/// SE(2) composition a (+) b.
-Eigen::Vector3d compose(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const double c = std::cos(a.z()), s = std::sin(a.z());
-  return {a.x() + c * b.x() - s * b.y(), a.y() + s * b.x() + c * b.y(), wrapAngle(a.z() + b.z())};
-}
-/// SE(2) b relative to a: a^-1 (+) b.
-Eigen::Vector3d between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const double c = std::cos(a.z()), s = std::sin(a.z());
-  const Eigen::Vector2d d = b.head<2>() - a.head<2>();
-  return {c * d.x() + s * d.y(), -s * d.x() + c * d.y(), wrapAngle(b.z() - a.z())};
+mrpt::poses::CPose2D pose2D(const Eigen::Vector3d& p) {
+  return {p.x(), p.y(), p.z()};
 }
 
 nlohmann::json poseJson(const Eigen::Vector3d& p) {
@@ -112,7 +102,9 @@ void ExplorationLoop::release() {
 Eigen::Vector3d ExplorationLoop::estimatedBasePose() const {
   const Eigen::Vector3d odo = m_seq.robot()->odometry();
   if (!m_have_est) return odo;  // before the first frame: the odometry starts at the true pose
-  return compose(m_est_base, between(m_odo_at_est, odo));
+  // The estimate at the last frame composed with the odometry increment since it (SE(2)).
+  const mrpt::poses::CPose2D p = pose2D(m_est_base) + (pose2D(odo) - pose2D(m_odo_at_est));
+  return {p.x(), p.y(), p.phi()};
 }
 
 void ExplorationLoop::afterFrame(const RgbdFrame& frame, const FrameResult& r) {
@@ -152,7 +144,7 @@ void ExplorationLoop::afterFrame(const RgbdFrame& frame, const FrameResult& r) {
     if (m_spin_goals_left > 0) {  // the initial turn in place, a third at a time
       --m_spin_goals_left;
       Eigen::Vector3d g = estimatedBasePose();
-      g.z() = wrapAngle(g.z() + 2.0 * M_PI / 3.0);
+      g.z() = mrpt::math::wrapToPi(g.z() + 2.0 * M_PI / 3.0);
       m_nav->setGoal(g);
       return;
     }
@@ -267,7 +259,7 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
   if (p.ranked.empty()) {
     if (idle) {  // nothing reachable now: turn a little and look again
       Eigen::Vector3d g = estimatedBasePose();
-      g.z() = wrapAngle(g.z() + M_PI / 2.0);
+      g.z() = mrpt::math::wrapToPi(g.z() + M_PI / 2.0);
       m_nav->setGoal(g);
     }
     return;
