@@ -1,7 +1,8 @@
 #pragma once
-// The "objects" array of a run folder's objects.json (section IV; ClassificationStage writes it),
-// read by `rasm objects` and `rasm eval classification`. Throws InputError naming the file when it
-// is missing, not JSON, or has no "objects" array.
+// Reading a run folder's JSON files for the app's commands: readRunJson (any of them: InputError
+// naming the file when it is missing or not JSON) and the "objects" array of objects.json
+// (section IV; ClassificationStage writes it), read by `rasm objects` and `rasm eval
+// classification` (InputError also when it has no "objects" array).
 
 #include <filesystem>
 #include <fstream>
@@ -12,19 +13,23 @@
 
 namespace rasm::app {
 
-inline nlohmann::json readRunObjects(const std::string& run_dir) {
-  const std::string path = (std::filesystem::path(run_dir) / "objects.json").string();
+/// The JSON document at `path`; `expected` says what the file should be when it is missing.
+inline nlohmann::json readRunJson(const std::string& path, const std::string& expected) {
   std::ifstream f(path);
-  if (!f)
-    rasm::throwInputError(path,
-                          "missing; expected the objects.json that `rasm run` writes "
-                          "([classification] enabled)");
+  if (!f) rasm::throwInputError(path, "missing; " + expected);
   nlohmann::json j;
   try {
     f >> j;
   } catch (const std::exception& e) {
     rasm::throwInputError(path, std::string("is not valid JSON: ") + e.what());
   }
+  return j;
+}
+
+inline nlohmann::json readRunObjects(const std::string& run_dir) {
+  const std::string path = (std::filesystem::path(run_dir) / "objects.json").string();
+  nlohmann::json j = readRunJson(
+      path, "expected the objects.json that `rasm run` writes ([classification] enabled)");
   if (!j.contains("objects") || !j["objects"].is_array())
     rasm::throwInputError(path, "expected an \"objects\" array");
   return j["objects"];

@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "EvalExploration.h"
+#include "RunObjects.h"
 #include "rasm/core/Error.h"
 
 namespace fs = std::filesystem;
@@ -49,13 +50,7 @@ struct RunRow {
 };
 
 nlohmann::json readJson(const fs::path& p) {
-  std::ifstream f(p);
-  if (!f) throwInputError(p.string(), "missing; expected the file an exploring `rasm run` writes");
-  try {
-    return nlohmann::json::parse(f);
-  } catch (const std::exception& e) {
-    throwInputError(p.string(), std::string("is not valid JSON: ") + e.what());
-  }
+  return readRunJson(p.string(), "expected the file an exploring `rasm run` writes");
 }
 
 RunRow readRun(const std::string& dir) {
