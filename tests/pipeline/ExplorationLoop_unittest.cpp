@@ -9,30 +9,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "pipeline/RunTestFiles.h"
 #include "rasm/core/Error.h"
 #include "rasm/pipeline/MappingRun.h"
 
 namespace fs = std::filesystem;
 using namespace rasm;
 using namespace rasm::pipeline;
+using namespace rasm::pipeline::testing;
 
 namespace {
-std::string tempDir(const std::string& name) {
-  const fs::path p =
-      fs::temp_directory_path() / ("rasm_test_explore_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  return p.string();
-}
-nlohmann::json readJson(const std::string& path) {
-  std::ifstream f(path);
-  return nlohmann::json::parse(f);
-}
-std::string readText(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
 
 /// The embedded default (the exploring office) at a quarter of VGA and 10 Hz, without the
 /// outputs the loop does not need: a closed-loop run of tens of simulated seconds in seconds.
@@ -43,14 +29,7 @@ RunConfig smallExploringRun(const std::string& out, double budget_s) {
   cfg.set("explore", "time_budget_s", std::to_string(budget_s));
   cfg.set("explore", "metrics_period_s", "5");
   cfg.set("sim", "rate_hz", "10");
-  cfg.set("camera", "preset", "");
-  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{{"fx", "262.5"},
-                                                                             {"fy", "262.5"},
-                                                                             {"cx", "159.5"},
-                                                                             {"cy", "119.5"},
-                                                                             {"width", "320"},
-                                                                             {"height", "240"}})
-    cfg.set("camera", k, v);
+  setQuarterVgaCamera(cfg);
   cfg.set("output", "write_3dscene", "false");
   cfg.set("output", "write_rawlog", "false");
   return cfg;
@@ -63,7 +42,7 @@ RunConfig smallExploringRun(const std::string& out, double budget_s) {
 // loop (octree, planner, navigator, stopping, metrics); a drifting pose moves surfaces already
 // covered by more than the 2 cm of the coverage test, which the next test bounds separately.
 TEST(ExplorationLoop, ShortOfficeRunGainsCoverageAndStopsByItsRule) {
-  const std::string out = tempDir("short");
+  const std::string out = tempDir("explore_short");
   RunConfig cfg = smallExploringRun(out, 60.0);
   cfg.set("mapper", "poses", "groundtruth");
   MappingRun run(cfg);
@@ -98,7 +77,7 @@ TEST(ExplorationLoop, ShortOfficeRunGainsCoverageAndStopsByItsRule) {
 // rejects (the camera a few decimetres from a blank wall or desk side while the navigator turns
 // there: statuses degenerate / inconsistent) are detected, not fused: at most 5% of them.
 TEST(ExplorationLoop, TrackedOfficeRunStaysWithinTheRobotTarget) {
-  const std::string out = tempDir("tracked");
+  const std::string out = tempDir("explore_tracked");
   MappingRun run(smallExploringRun(out, 40.0));
   const RunSummary s = run.run();
   EXPECT_EQ(s.report.at("stop_reason").get<std::string>(), "time_budget");
@@ -112,7 +91,7 @@ TEST(ExplorationLoop, TrackedOfficeRunStaysWithinTheRobotTarget) {
 // Deliverable 5: the information-gain rule. With thresholds no view can fall under, the run
 // ends after stop_plans consecutive plans, before its budget.
 TEST(ExplorationLoop, StopsWhenTheBestViewGainsTooLittle) {
-  const std::string out = tempDir("threshold");
+  const std::string out = tempDir("explore_threshold");
   RunConfig cfg = smallExploringRun(out, 120.0);
   cfg.set("explore", "stop_entropy_nats", "1e12");
   cfg.set("explore", "stop_information", "1e12");
@@ -131,7 +110,7 @@ TEST(ExplorationLoop, StopsWhenTheBestViewGainsTooLittle) {
 TEST(ExplorationLoop, SameSeedGivesTheSameRun) {
   std::string traj[2], goals[2];
   for (int k = 0; k < 2; ++k) {
-    const std::string out = tempDir("seed" + std::to_string(k));
+    const std::string out = tempDir("explore_seed" + std::to_string(k));
     MappingRun run(smallExploringRun(out, 15.0));  // the spin and the first plans and goals
     run.run();
     traj[k] = readText(out + "/trajectory.txt");
@@ -147,7 +126,7 @@ TEST(ExplorationLoop, SameSeedGivesTheSameRun) {
 // mapping goes on; goals are planned, driven to and reached, and the run ends by its budget.
 // Not deterministic (the plan arrives after as many frames as the machine's speed gives).
 TEST(ExplorationLoop, PlannerThreadPlansWhileMappingGoesOn) {
-  const std::string out = tempDir("thread");
+  const std::string out = tempDir("explore_thread");
   RunConfig cfg = smallExploringRun(out, 30.0);
   cfg.set("explore", "planner_thread", "true");
   cfg.set("mapper", "poses", "groundtruth");
@@ -179,7 +158,7 @@ TEST(ExplorationLoop, NeedsARobotItCanDrive) {
     }
   }
   {
-    RunConfig cfg = smallExploringRun(tempDir("handheld"), 10.0);
+    RunConfig cfg = smallExploringRun(tempDir("explore_handheld"), 10.0);
     cfg.set("sim", "trajectory", "office_handheld");
     MappingRun run(cfg);
     try {
@@ -188,6 +167,6 @@ TEST(ExplorationLoop, NeedsARobotItCanDrive) {
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("robot spec"), std::string::npos) << e.what();
     }
-    fs::remove_all(tempDir("handheld"));
+    fs::remove_all(tempDir("explore_handheld"));
   }
 }

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "pipeline/RunTestFiles.h"
 #include "rasm/core/ComputeOptions.h"
 #include "rasm/core/Error.h"
 #include "rasm/io/Trajectory.h"
@@ -16,19 +17,7 @@
 namespace fs = std::filesystem;
 using namespace rasm;
 using namespace rasm::pipeline;
-
-namespace {
-std::string tempDir(const std::string& name) {
-  const fs::path p =
-      fs::temp_directory_path() / ("rasm_test_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  return p.string();
-}
-nlohmann::json readJson(const std::string& path) {
-  std::ifstream f(path);
-  return nlohmann::json::parse(f);
-}
-}  // namespace
+using namespace rasm::pipeline::testing;
 
 TEST(MappingRun, RealKinectFrameBuildsAMapAndWritesOutputs) {
   const std::string out = tempDir("kinect");
@@ -116,14 +105,7 @@ TEST_P(MappingRunModes, SimulatedOfficeDefaultTracksWithinTarget) {
   cfg.set("output", "dir", out);
   cfg.set("compute", "simd", GetParam() ? "true" : "false");
   cfg.set("source", "max_frames", "60");
-  cfg.set("camera", "preset", "");
-  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{{"fx", "262.5"},
-                                                                             {"fy", "262.5"},
-                                                                             {"cx", "159.5"},
-                                                                             {"cy", "119.5"},
-                                                                             {"width", "320"},
-                                                                             {"height", "240"}})
-    cfg.set("camera", k, v);
+  setQuarterVgaCamera(cfg);
   cfg.set("output", "write_3dscene", "false");
   MappingRun run(cfg);
   const RunSummary s = run.run();

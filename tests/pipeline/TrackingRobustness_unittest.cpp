@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "pipeline/RunTestFiles.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/SE3.h"
 #include "rasm/io/Trajectory.h"
@@ -18,14 +19,9 @@
 namespace fs = std::filesystem;
 using namespace rasm;
 using namespace rasm::pipeline;
+using namespace rasm::pipeline::testing;
 
 namespace {
-std::string tempDir(const std::string& name) {
-  const fs::path p =
-      fs::temp_directory_path() / ("rasm_test_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  return p.string();
-}
 
 /// The embedded default (simulated office) at 320x240, outputs limited to what the tests read.
 RunConfig smallSimConfig(const std::string& out, const std::string& trajectory, int frames) {
@@ -34,14 +30,7 @@ RunConfig smallSimConfig(const std::string& out, const std::string& trajectory, 
   cfg.set("explore", "enabled", "false");  // the scripted path, not an exploring robot
   cfg.set("sim", "trajectory", trajectory);
   cfg.set("source", "max_frames", std::to_string(frames));
-  cfg.set("camera", "preset", "");
-  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{{"fx", "262.5"},
-                                                                             {"fy", "262.5"},
-                                                                             {"cx", "159.5"},
-                                                                             {"cy", "119.5"},
-                                                                             {"width", "320"},
-                                                                             {"height", "240"}})
-    cfg.set("camera", k, v);
+  setQuarterVgaCamera(cfg);
   cfg.set("output", "write_3dscene", "false");
   cfg.set("output", "write_ply", "false");
   cfg.set("output", "preview_png", "false");
