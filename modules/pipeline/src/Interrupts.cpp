@@ -86,11 +86,15 @@ void installInterruptHandlers() {
   sa.sa_flags = SA_RESTART;
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  // A file size limit (ulimit -f) then fails the write (EFBIG) as a full disk does, and the
+  // run reports it, instead of the process being killed with a partial file.
+  std::signal(SIGXFSZ, SIG_IGN);
 }
 
 void uninstallInterruptHandlers() {
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
+  std::signal(SIGXFSZ, SIG_DFL);
   g_signals.store(0);
   g_stop_signal.store(0);
   g_report_set.store(false);

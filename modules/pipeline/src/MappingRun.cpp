@@ -271,7 +271,6 @@ OutputFolder MappingRun::prepareOutputFolder() const {
                  m_output.dir.c_str());
   setAbortReport(out.path("report.json"));
   setFramesDone(0);
-  out.writeText("config.ini", effectiveConfig());
   return out;
 }
 
@@ -572,7 +571,7 @@ void MappingRun::finishFrames(Accumulated& acc) {
     } catch (const std::exception& e) {
       if (acc.error.empty()) acc.error = validUtf8(e.what());
     }
-  if (acc.processed == 0 && acc.error.empty() && stopSignal() == 0)
+  if (acc.processed == 0 && acc.error.empty() && acc.output_error.empty() && stopSignal() == 0)
     acc.error = noFrameReason(acc);
   acc.cpu_s = processCpuSeconds() - acc.cpu_start_s;
 }
@@ -602,13 +601,18 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   if (!m_mapper->mapperParams().load_map.empty())
     m_mapper->loadMap(m_mapper->mapperParams().load_map);
   OutputFolder out = prepareOutputFolder();
+  try {
+    out.writeText("config.ini", effectiveConfig());
+  } catch (const std::exception& e) {
+    acc.output_error = validUtf8(e.what());  // then no frame: report.json says why
+  }
   source = wrapSource(std::move(source), acc.preload_s);
   // Frame rate and CPU time count the mapping (not a preload before it).
   acc.t_start = std::chrono::steady_clock::now();
   acc.cpu_start_s = processCpuSeconds();
   std::fprintf(stderr, "rasm run: %s -> %s\n", source->describe().c_str(), m_output.dir.c_str());
 
-  frameLoop(*source, acc, out, on_frame);
+  if (acc.output_error.empty()) frameLoop(*source, acc, out, on_frame);
   finishFrames(acc);
   RunSummary sum = summarise(acc);
   // Outputs of the frames done (none without a frame: no map of nothing), report.json last.

@@ -57,13 +57,17 @@ class GzOutput : public mrpt::io::CStream {
   size_t Read(void*, size_t) override { throw std::logic_error("GzOutput: write only"); }
   size_t Write(const void* buf, size_t n) override {
     if (n == 0) return 0;
-    if (gzwrite(m_f, buf, unsigned(n)) != int(n)) throw std::runtime_error("write failed");
+    if (gzwrite(m_f, buf, unsigned(n)) != int(n)) {
+      m_failed = true;
+      throw std::runtime_error("write failed");
+    }
     m_pos += n;
     return n;
   }
   uint64_t Seek(int64_t, TSeekOrigin) override { throw std::logic_error("GzOutput: no seek"); }
   uint64_t getTotalBytesCount() const override { return m_pos; }
   uint64_t getPosition() const override { return m_pos; }
+  bool failed() const { return m_failed; }
   void close() {
     const int r = gzclose(m_f);
     m_f = nullptr;
@@ -73,6 +77,7 @@ class GzOutput : public mrpt::io::CStream {
  private:
   gzFile m_f;
   uint64_t m_pos = 0;
+  bool m_failed = false;
 };
 
 std::string pngBytes(const std::string& path, const cv::Mat& image) {
@@ -118,7 +123,13 @@ void writeImageAtomically(const std::string& path, const cv::Mat& image) {
 void writeGzArchive(const std::string& path, const mrpt::serialization::CSerializable& obj) {
   GzOutput f(path);
   auto a = mrpt::serialization::archiveFrom(f);
-  a << obj;
+  try {
+    a << obj;
+  } catch (const std::exception&) {
+    // MRPT wraps the stream's exception in pages of backtrace: say what failed instead.
+    if (f.failed()) throw std::runtime_error("write failed");
+    throw;
+  }
   f.close();
 }
 

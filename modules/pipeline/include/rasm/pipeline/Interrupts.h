@@ -12,7 +12,8 @@
 
 namespace rasm::pipeline {
 
-/// Installs the handlers of SIGINT and SIGTERM (for `rasm run`; tests may call it too).
+/// Installs the handlers of SIGINT and SIGTERM (for `rasm run`; tests may call it too), and
+/// ignores SIGXFSZ: a write beyond a file size limit then fails like one on a full disk.
 void installInterruptHandlers();
 /// Restores the default actions and forgets a stop request (tests).
 void uninstallInterruptHandlers();

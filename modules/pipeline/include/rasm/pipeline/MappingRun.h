@@ -91,8 +91,8 @@ class MappingRun {
 
  private:
   struct Accumulated;  // what the frame loop gathers for the outputs
-  /// Creates the output folder, removes an earlier run's files from it and writes config.ini
-  /// (InputError when it cannot be used).
+  /// Creates the output folder and removes an earlier run's files from it (InputError when it
+  /// cannot be used).
   OutputFolder prepareOutputFolder() const;
   void decideExploring(const std::string& src);
   /// The opened source with its read-ahead / preload wrapper; `preload_s` = seconds spent
