@@ -638,6 +638,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
     const std::string first = acc.output_error.empty() ? acc.error : acc.output_error;
     throw OutputError(std::string(e.what()) + (first.empty() ? "" : "; before it: " + first));
   }
+  setAbortReport("");  // from here a second signal must not replace the complete report
   if (!acc.output_error.empty()) throw OutputError(acc.output_error + note);
   if (!acc.error.empty()) throw InputError(acc.error + note);
   return sum;
