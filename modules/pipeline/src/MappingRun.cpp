@@ -567,7 +567,9 @@ void MappingRun::finishFrames(Accumulated& acc) {
   }
   // The exploration loop lets go of the source's robot here, while the source still lives.
   if (m_explore) try {
-      m_explore->finish(acc.error.empty() ? "source_end" : "error");
+      m_explore->finish(!acc.error.empty() ? "error"
+                        : stopSignal() != 0 ? "interrupted"
+                                            : "source_end");
     } catch (const std::exception& e) {
       if (acc.error.empty()) acc.error = validUtf8(e.what());
     }
