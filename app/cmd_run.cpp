@@ -105,9 +105,10 @@ int runMain(const std::vector<std::string>& args) {
         "the tracked ones\n",
         lost_pct, s.lost, s.frames);
   if (s.interrupted_by != 0) {
-    std::printf("INTERRUPTED by %s: the outputs hold the %zu frames done (report.json: status "
-                "interrupted)\n",
-                signalName(s.interrupted_by).c_str(), s.frames);
+    std::printf(
+        "INTERRUPTED by %s: the outputs hold the %zu frames done (report.json: status "
+        "interrupted)\n",
+        signalName(s.interrupted_by).c_str(), s.frames);
     return 128 + s.interrupted_by;
   }
   return 0;

@@ -30,26 +30,16 @@ struct Child {
 Child startRun(const std::string& name, const std::vector<std::string>& extra = {}) {
   Child c;
   c.out = tempDir("signals_" + name);
-  std::vector<std::string> args = {RASM_BINARY,
-                                   "run",
-                                   "--out",
-                                   c.out,
-                                   "--set",
-                                   "sim.trajectory=office_handheld",
-                                   "--set",
-                                   "camera.preset=",
-                                   "--set",
-                                   "camera.fx=262.5",
-                                   "--set",
-                                   "camera.fy=262.5",
-                                   "--set",
-                                   "camera.cx=159.5",
-                                   "--set",
-                                   "camera.cy=119.5",
-                                   "--set",
-                                   "camera.width=320",
-                                   "--set",
-                                   "camera.height=240"};
+  std::vector<std::string> args = {RASM_BINARY, "run",
+                                   "--out",     c.out,
+                                   "--set",     "sim.trajectory=office_handheld",
+                                   "--set",     "camera.preset=",
+                                   "--set",     "camera.fx=262.5",
+                                   "--set",     "camera.fy=262.5",
+                                   "--set",     "camera.cx=159.5",
+                                   "--set",     "camera.cy=119.5",
+                                   "--set",     "camera.width=320",
+                                   "--set",     "camera.height=240"};
   args.insert(args.end(), extra.begin(), extra.end());
   const std::string log = c.out + ".log";
   std::fflush(stdout);  // else the child's freopen flushes our buffer a second time

@@ -85,7 +85,8 @@ TEST(OutputFiles, DevFullIsAWriteErrorNamingTheFile) {
 
 TEST(OutputFiles, ValidUtf8ReplacesOnlyInvalidBytes) {
   EXPECT_EQ(validUtf8("plain"), "plain");
-  EXPECT_EQ(validUtf8("caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x98\x80"), "caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x98\x80");
+  EXPECT_EQ(validUtf8("caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x98\x80"),
+            "caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x98\x80");
   // PNG's signature byte, a lone continuation byte, an overlong '/', a surrogate, a cut sequence.
   EXPECT_EQ(validUtf8("\x89PNG"), "\xEF\xBF\xBDPNG");
   EXPECT_EQ(validUtf8("a\x80z"), "a\xEF\xBF\xBDz");
@@ -102,9 +103,9 @@ TEST(OutputFiles, FolderWritesOnlyKnownNamesAndClearsAnEarlierRun) {
   EXPECT_THROW(out.writeText("surprise.txt", "x"), std::logic_error);
   std::vector<std::string> removed = out.clearPreviousRun();
   std::sort(removed.begin(), removed.end());
-  EXPECT_EQ(removed, (std::vector<std::string>{"annotated.rawlog", "exploration.png",
-                                               "groundtruth.txt", "map.ply", "map.surfelmap.part",
-                                               "report.json"}));
+  EXPECT_EQ(removed,
+            (std::vector<std::string>{"annotated.rawlog", "exploration.png", "groundtruth.txt",
+                                      "map.ply", "map.surfelmap.part", "report.json"}));
   EXPECT_EQ(filesIn(dir), std::vector<std::string>{"notes.txt"});  // the user's stays
   out.writeText("frames.csv", "a\n");
   EXPECT_EQ(out.written(), std::vector<std::string>{"frames.csv"});
@@ -286,8 +287,8 @@ TEST_P(FullDisk, NamesTheFileAndLeavesOnlyCompleteFiles) {
   const std::string prefix = "output file '" + out + "/";
   const std::size_t at = error.find(prefix);
   ASSERT_NE(at, std::string::npos) << error;
-  const std::string name = error.substr(at + prefix.size(), error.find('\'', at + prefix.size()) -
-                                                               (at + prefix.size()));
+  const std::string name =
+      error.substr(at + prefix.size(), error.find('\'', at + prefix.size()) - (at + prefix.size()));
   EXPECT_FALSE(fs::exists(out + "/" + name)) << name;
   EXPECT_NE(error.find("File too large"), std::string::npos) << error;
   EXPECT_NE(rep["error"].get<std::string>().find(name), std::string::npos) << rep["error"];

@@ -101,7 +101,9 @@ void uninstallInterruptHandlers() {
   g_frames_done.store(0);
 }
 
-int stopSignal() { return g_stop_signal.load(); }
+int stopSignal() {
+  return g_stop_signal.load();
+}
 
 std::string signalName(int sig) {
   if (sig == SIGINT || sig == SIGTERM) return nameOf(sig);
@@ -134,6 +136,8 @@ void setAbortReport(const std::string& report_path) {
   g_report_set.store(true);
 }
 
-void setFramesDone(long long frames) { g_frames_done.store(frames); }
+void setFramesDone(long long frames) {
+  g_frames_done.store(frames);
+}
 
 }  // namespace rasm::pipeline

@@ -244,7 +244,7 @@ struct MappingRun::Accumulated {
   std::string output_error;  ///< an output file that could not be written (full disk, ...)
   long long read = 0;        ///< frames the source yielded (before start / step / drop)
   std::size_t processed = 0;
-  int interrupted_by = 0;        ///< the stopping signal, 0 = none
+  int interrupted_by = 0;  ///< the stopping signal, 0 = none
   bool interrupted_in_frames = false;
   CameraIntrinsics last_K;
   bool have_K = false;
@@ -567,7 +567,7 @@ void MappingRun::finishFrames(Accumulated& acc) {
   }
   // The exploration loop lets go of the source's robot here, while the source still lives.
   if (m_explore) try {
-      m_explore->finish(!acc.error.empty() ? "error"
+      m_explore->finish(!acc.error.empty()  ? "error"
                         : stopSignal() != 0 ? "interrupted"
                                             : "source_end");
     } catch (const std::exception& e) {
@@ -626,8 +626,8 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   acc.interrupted_by = stopSignal();
   sum.interrupted_by = acc.interrupted_by;
   sum.status = !acc.error.empty() || !acc.output_error.empty() ? "failed"
-               : acc.interrupted_by != 0                      ? "interrupted"
-                                                              : "ok";
+               : acc.interrupted_by != 0                       ? "interrupted"
+                                                               : "ok";
   nlohmann::json rep = reportJson(*source, acc, sum);
   rep["files"] = out.written();
   sum.report = rep;

@@ -1,14 +1,14 @@
 #include "rasm/pipeline/OutputFiles.h"
 
+#include <mrpt/io/CStream.h>
+#include <mrpt/serialization/CArchive.h>
+#include <zlib.h>
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <mrpt/io/CStream.h>
-#include <mrpt/serialization/CArchive.h>
 #include <opencv2/imgcodecs.hpp>
-#include <zlib.h>
 
 #include "rasm/pipeline/Interrupts.h"
 
@@ -143,8 +143,10 @@ std::string validUtf8(const std::string& s) {
     // (overlong forms, surrogates and code points above U+10FFFF are invalid).
     std::size_t n = 0;
     unsigned char lo = 0x80, hi = 0xBF;
-    if (c < 0x80) n = 1;
-    else if (c >= 0xC2 && c <= 0xDF) n = 2;
+    if (c < 0x80)
+      n = 1;
+    else if (c >= 0xC2 && c <= 0xDF)
+      n = 2;
     else if (c >= 0xE0 && c <= 0xEF) {
       n = 3;
       if (c == 0xE0) lo = 0xA0;
@@ -175,12 +177,13 @@ const std::vector<std::string>& OutputFolder::knownNames() {
   // Every file MappingRun, the Mapper's stages and the exploration loop write (README "Outputs
   // of rasm run"); OutputFolder::write refuses others.
   static const std::vector<std::string> names = {
-      "config.ini",          "report.json",          "frames.csv",           "trajectory.txt",
-      "groundtruth.txt",     "map.ply",              "map.3Dscene",          "map.surfelmap",
-      "preview.png",         "preview_segments.png", "preview_classes.png",  "segments.json",
-      "map_segments.ply",    "map_segments.3Dscene", "classes.json",         "objects.json",
-      "map_classes.ply",     "map_classes.3Dscene",  "exploration.json",     "exploration.png",
-      "annotated.rawlog"};
+      "config.ini",           "report.json",          "frames.csv",
+      "trajectory.txt",       "groundtruth.txt",      "map.ply",
+      "map.3Dscene",          "map.surfelmap",        "preview.png",
+      "preview_segments.png", "preview_classes.png",  "segments.json",
+      "map_segments.ply",     "map_segments.3Dscene", "classes.json",
+      "objects.json",         "map_classes.ply",      "map_classes.3Dscene",
+      "exploration.json",     "exploration.png",      "annotated.rawlog"};
   return names;
 }
 

@@ -231,12 +231,12 @@ void ClassificationStage::writeOutputs(OutputFolder& folder, const maps::CSurfel
                        {"name", m_classes.name(id)},
                        {"source", m_classes.classes()[std::size_t(id - 1)].source}});
   folder.writeText("classes.json",
-                      nlohmann::json{{"comment",
-                                      "the map's class list (IV): surfel class evidence ids, "
-                                      "source = where the name came from"},
-                                     {"classes", classes}}
-                              .dump(1) +
-                          "\n");
+                   nlohmann::json{{"comment",
+                                   "the map's class list (IV): surfel class evidence ids, "
+                                   "source = where the name came from"},
+                                  {"classes", classes}}
+                           .dump(1) +
+                       "\n");
   const std::vector<SegmentClass> seg_classes = segmentClasses(map.store().arrays());
   m_objects_by_class.clear();
   m_objects_counted = true;

@@ -53,8 +53,8 @@ struct RunSummary {
   std::optional<double> ate_rmse_m;  ///< over every frame (lost ones at their propagated pose)
   std::optional<double> ate_tracked_rmse_m;  ///< over the tracked frames alone
   nlohmann::json report;                     ///< what report.json holds
-  bool explored = false;  ///< [explore] enabled: report holds the exploration's fields
-  std::string status;     ///< report.json "status": ok, failed or interrupted
+  bool explored = false;   ///< [explore] enabled: report holds the exploration's fields
+  std::string status;      ///< report.json "status": ok, failed or interrupted
   int interrupted_by = 0;  ///< the signal that stopped the run (SIGINT, SIGTERM), 0 = none
 };
 

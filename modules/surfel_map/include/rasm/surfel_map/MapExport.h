@@ -25,7 +25,7 @@
 namespace mrpt::opengl {
 class CSetOfObjects;
 class COpenGLScene;
-}
+}  // namespace mrpt::opengl
 
 namespace rasm::maps {
 
