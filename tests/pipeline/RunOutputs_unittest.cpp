@@ -328,3 +328,19 @@ TEST(RunOutputs, SigintAfterTheThirdFrameWritesTheOutputsOfThreeFrames) {
   EXPECT_TRUE(fs::exists(out + "/annotated.rawlog"));
   fs::remove_all(out);
 }
+
+TEST(RunOutputs, SignalBeforeTheRunBeganLeavesTheFolderAsItWas) {
+  const std::string out = tempDir("sigearly");
+  fillWithEarlierRun(out);
+  const std::vector<std::string> before = filesIn(out);
+  MappingRun run(rawlogConfig(kSimRawlog, out));
+  installInterruptHandlers();
+  std::raise(SIGTERM);  // e.g. Ctrl-C while the detectors load
+  const RunSummary s = run.run();
+  uninstallInterruptHandlers();
+  EXPECT_EQ(s.status, "interrupted");
+  EXPECT_EQ(s.interrupted_by, SIGTERM);
+  EXPECT_EQ(s.frames, 0u);
+  EXPECT_EQ(filesIn(out), before);
+  fs::remove_all(out);
+}

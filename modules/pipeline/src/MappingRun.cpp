@@ -487,7 +487,7 @@ void MappingRun::writePreviews(const Accumulated& acc, OutputFolder& out) const 
   if (classMapView(view, classes)) out.writeImage("preview_classes.png", classes);
 }
 
-nlohmann::json MappingRun::reportJson(const io::FrameSource& source, const Accumulated& acc,
+nlohmann::json MappingRun::reportJson(const std::string& source, const Accumulated& acc,
                                       RunSummary& sum) const {
   const std::size_t processed = acc.processed;
   nlohmann::json rep;
@@ -499,7 +499,7 @@ nlohmann::json MappingRun::reportJson(const io::FrameSource& source, const Accum
     rep["interrupted_during"] = acc.interrupted_in_frames ? "frames" : "outputs";
   }
   rep["config_source"] = m_config.source();
-  rep["source"] = source.describe();
+  rep["source"] = source;
   rep["frames"] = processed;
   rep["frames_read"] = acc.read;
   rep["frames_lost"] = sum.lost;
@@ -602,19 +602,32 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   std::unique_ptr<io::FrameSource> source = openSource();
   if (!m_mapper->mapperParams().load_map.empty())
     m_mapper->loadMap(m_mapper->mapperParams().load_map);
+  if (stopSignal() != 0) {  // stopped before it began: the folder stays as it was
+    RunSummary sum;
+    sum.out_dir = m_output.dir;
+    sum.status = "interrupted";
+    sum.interrupted_by = stopSignal();
+    return sum;
+  }
   OutputFolder out = prepareOutputFolder();
   try {
     out.writeText("config.ini", effectiveConfig());
   } catch (const std::exception& e) {
     acc.output_error = validUtf8(e.what());  // then no frame: report.json says why
   }
-  source = wrapSource(std::move(source), acc.preload_s);
+  const std::string described = source->describe();
+  try {
+    source = wrapSource(std::move(source), acc.preload_s);
+  } catch (const std::exception& e) {
+    acc.error = validUtf8(e.what());
+    source.reset();
+  }
   // Frame rate and CPU time count the mapping (not a preload before it).
   acc.t_start = std::chrono::steady_clock::now();
   acc.cpu_start_s = processCpuSeconds();
-  std::fprintf(stderr, "rasm run: %s -> %s\n", source->describe().c_str(), m_output.dir.c_str());
+  std::fprintf(stderr, "rasm run: %s -> %s\n", described.c_str(), m_output.dir.c_str());
 
-  if (acc.output_error.empty()) frameLoop(*source, acc, out, on_frame);
+  if (source && acc.output_error.empty()) frameLoop(*source, acc, out, on_frame);
   finishFrames(acc);
   RunSummary sum = summarise(acc);
   // Outputs of the frames done (none without a frame: no map of nothing), report.json last.
@@ -628,7 +641,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   sum.status = !acc.error.empty() || !acc.output_error.empty() ? "failed"
                : acc.interrupted_by != 0                       ? "interrupted"
                                                                : "ok";
-  nlohmann::json rep = reportJson(*source, acc, sum);
+  nlohmann::json rep = reportJson(described, acc, sum);
   rep["files"] = out.written();
   sum.report = rep;
   const std::string note = " (" + std::to_string(acc.processed) + " frames mapped; " +

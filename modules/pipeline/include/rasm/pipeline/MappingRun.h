@@ -120,8 +120,8 @@ class MappingRun {
   void writeOutputs(const Accumulated& acc, OutputFolder& out);
   void writeMapFiles(OutputFolder& out) const;
   void writePreviews(const Accumulated& acc, OutputFolder& out) const;
-  /// report.json's fields (and the summary's ATE).
-  nlohmann::json reportJson(const io::FrameSource& source, const Accumulated& acc,
+  /// report.json's fields (and the summary's ATE); `source` describes the source.
+  nlohmann::json reportJson(const std::string& source, const Accumulated& acc,
                             RunSummary& sum) const;
   void addAte(const Accumulated& acc, nlohmann::json& rep, RunSummary& sum) const;
 
