@@ -56,10 +56,14 @@ class GzOutput : public mrpt::io::CStream {
   }
   size_t Read(void*, size_t) override { throw std::logic_error("GzOutput: write only"); }
   size_t Write(const void* buf, size_t n) override {
-    if (n == 0) return 0;
-    if (gzwrite(m_f, buf, unsigned(n)) != int(n)) {
-      m_failed = true;
-      throw std::runtime_error("write failed");
+    const auto* p = static_cast<const char*>(buf);
+    for (size_t done = 0; done < n;) {  // gzwrite takes at most INT_MAX bytes a call
+      const unsigned chunk = unsigned(std::min<size_t>(n - done, size_t(1) << 30));
+      if (gzwrite(m_f, p + done, chunk) != int(chunk)) {
+        m_failed = true;
+        throw std::runtime_error("write failed");
+      }
+      done += chunk;
     }
     m_pos += n;
     return n;
