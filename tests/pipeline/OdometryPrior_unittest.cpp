@@ -146,3 +146,31 @@ TEST(OdometryPrior, UnderRotatedTurnIsExposedAndAnAgreeingOneIsNot) {
     }
   }
 }
+
+TEST(OdometryPrior, LostFramesWidenTheNextPrediction) {
+  // A turn in place at 5 deg per frame. While frames are lost their poses are odometry
+  // propagations: after 3 lost frames the 4th prediction carries 4 increments' variance, so a
+  // right ICP result 4 increments' noise off the propagated pose is within its sigmas; once a
+  // frame is tracked, one increment again.
+  const TRobotParams p;
+  OdometryPrior op(p);
+  Eigen::Vector3d odo(0, 0, 0);
+  const Eigen::Isometry3d cam = base(0, 0, 0) * p.T_base_cam();
+  op.start(cam, odo);
+  auto yawSigma = [](const tracking::MotionPrior& m) {
+    return 1.0 / std::sqrt(m.information(5, 5));  // world z = the floor normal here
+  };
+  odo.z() += 5 * kDeg;
+  const double one = yawSigma(*op.predict(odo, cam));
+  op.frameDone(true);
+  for (int k = 0; k < 3; ++k) {
+    odo.z() += 5 * kDeg;
+    EXPECT_NEAR(yawSigma(*op.predict(odo, cam)), one * std::sqrt(k + 1.0), 1e-9);
+    op.frameDone(false);
+  }
+  odo.z() += 5 * kDeg;
+  EXPECT_NEAR(yawSigma(*op.predict(odo, cam)), 2.0 * one, 1e-9);
+  op.frameDone(true);
+  odo.z() += 5 * kDeg;
+  EXPECT_NEAR(yawSigma(*op.predict(odo, cam)), one, 1e-9);
+}

@@ -26,18 +26,19 @@ void OdometryPrior::start(const Eigen::Isometry3d& T_world_cam0,
                           const std::optional<Eigen::Vector3d>& odometry) {
   m_T_world_floor = T_world_cam0 * m_T_base_cam.inverse();
   m_last = odometry;
+  m_lost = m_pending = Variances{};
 }
 
 std::optional<tracking::MotionPrior> OdometryPrior::predict(
     const std::optional<Eigen::Vector3d>& odometry, const Eigen::Isometry3d& T_world_cam_prev) {
   const std::optional<Eigen::Vector3d> last = m_last;
   m_last = odometry;
+  m_pending = Variances{};
   if (!m_params.use_odometry || !odometry || !last) return std::nullopt;
   const Eigen::Isometry3d T_base_delta = planar((*last).x(), (*last).y(), (*last).z()).inverse() *
                                          planar(odometry->x(), odometry->y(), odometry->z());
-  Eigen::Isometry3d T_pred =
+  const Eigen::Isometry3d T_pred =
       T_world_cam_prev * m_T_base_cam.inverse() * T_base_delta * m_T_base_cam;
-  if (m_params.floor_prior) T_pred = projectToFloor(T_pred);
 
   // One increment's noise along the base's axes at t-1: random walks in distance and angle.
   const double d = T_base_delta.translation().head<2>().norm();
@@ -48,15 +49,27 @@ std::optional<tracking::MotionPrior> OdometryPrior::predict(
                        p.odometry_sigma_yaw_per_sqrt_m * std::sqrt(d);
   // The camera is off the base's rotation centre: a yaw error moves it by lever * s_yaw.
   const double lever = m_T_base_cam.translation().head<2>().norm();
-  const double s_xy = std::hypot(
-      p.odometry_sigma_xy_m + p.odometry_sigma_xy_per_sqrt_m * std::sqrt(d), lever * s_yaw);
+  const double s_xy_inc = p.odometry_sigma_xy_m + p.odometry_sigma_xy_per_sqrt_m * std::sqrt(d);
+  // After lost frames the previous pose is itself an odometry propagation: its error adds up
+  // (frameDone), and a heading error accumulated while lost moves the camera over the distance.
+  Variances v;
+  v.yaw = m_lost.yaw + s_yaw * s_yaw;
+  v.xy = m_lost.xy + s_xy_inc * s_xy_inc + m_lost.yaw * d * d;
   const double s_tilt = p.odometry_sigma_tilt_deg * kDeg;
-  m_last_sigma_yaw = s_yaw;
+  v.tilt = m_lost.tilt + s_tilt * s_tilt;
+  v.z = m_lost.z + p.odometry_sigma_z_m * p.odometry_sigma_z_m;
+  m_pending = v;
+  m_last_sigma_yaw = std::sqrt(v.yaw);
+  const double s_xy = std::sqrt(v.xy + lever * lever * v.yaw);
   const Eigen::Matrix3d R_world_base =
       T_world_cam_prev.linear() * m_T_base_cam.linear().transpose();
-  return tracking::MotionPrior::fromStdDevs(T_pred, R_world_base,
-                                            Eigen::Vector3d(s_xy, s_xy, p.odometry_sigma_z_m),
-                                            Eigen::Vector3d(s_tilt, s_tilt, s_yaw));
+  return tracking::MotionPrior::fromStdDevs(
+      T_pred, R_world_base, Eigen::Vector3d(s_xy, s_xy, std::sqrt(v.z)),
+      Eigen::Vector3d(std::sqrt(v.tilt), std::sqrt(v.tilt), m_last_sigma_yaw));
+}
+
+void OdometryPrior::frameDone(bool tracked) {
+  m_lost = tracked ? Variances{} : m_pending;
 }
 
 double OdometryPrior::addHeadingResidual(const tracking::MotionPrior& prior,

@@ -66,6 +66,7 @@ void TrackingStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
   } else {
     track(ctx, map);
   }
+  m_odometry.frameDone(r.tracked);
   m_T_prev_frame = r.T_world_cam;
 }
 

@@ -34,6 +34,12 @@ class OdometryPrior {
   std::optional<tracking::MotionPrior> predict(const std::optional<Eigen::Vector3d>& odometry,
                                                const Eigen::Isometry3d& T_world_cam_prev);
 
+  /// Whether the frame of the last predict() was tracked. While frames are lost, their poses
+  /// are odometry propagations, so the next prediction's uncertainty is the increments' summed
+  /// (without this, a turn lost for a few frames left the odometry 3-5 degrees off and every
+  /// right ICP result after it was refused as prior_conflict).
+  void frameDone(bool tracked);
+
   /// Heading drift (issue 14): the disagreement of the tracked heading with the odometry's,
   /// accumulated over the last TRobotParams::heading_drift_window_frames frames with a prior.
   /// Each frame passes the per-frame prior test, but a turn under-rotated by a fraction of a
@@ -59,6 +65,11 @@ class OdometryPrior {
   Eigen::Isometry3d m_T_world_floor = Eigen::Isometry3d::Identity();
   std::optional<Eigen::Vector3d> m_last;  ///< reading of the previous frame
   double m_last_sigma_yaw = 0.0;          ///< of the last predict()
+  struct Variances {                      ///< of the predicted pose, along the base's axes
+    double xy = 0, z = 0, tilt = 0, yaw = 0;
+  };
+  Variances m_pending;  ///< of the last predict()
+  Variances m_lost;     ///< of the last propagated (lost) pose; zero after a tracked frame
   /// (heading residual rad, its variance rad^2) of the frames in the window, oldest first.
   std::deque<std::pair<double, double>> m_heading;
 };

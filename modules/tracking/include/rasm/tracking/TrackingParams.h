@@ -60,7 +60,7 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   /// turning in place in a room whose walls are beyond the depth range). Measured on exploring
   /// robot runs (docs/slam-eval.md, "Exploring robot"); hand-held frames (no prior) keep
   /// photometric_weight, which made real hand-held sequences worse.
-  double photometric_weight_with_prior = 0.0;
+  double photometric_weight_with_prior = 0.003;
   /// The photometric weight align() uses: photometric_weight_with_prior with a prior.
   double photometricWeight(bool with_prior) const {
     return with_prior ? photometric_weight_with_prior : photometric_weight;
@@ -171,11 +171,15 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   double check_gate_m = 0.01;
   double check_noise_sigmas = 3.0;
   double check_max_normal_angle_deg = 45.0;
-  /// Frame points more than this in front of the model's surface are a new object before a
-  /// mapped one (a chair before a wall), not a pose error, and are left out of the overlap: with
-  /// them, an exploring robot turning to furniture in front of mapped walls lost correct frames
-  /// as inconsistent, and those frames, not fused, kept the furniture out of the map. A pose
-  /// error that large is caught by ICP's gates (max_jump_*, the inlier rules, the prior).
+  /// Frame points more than this in front of the model's surface are something the map does not
+  /// hold yet before a mapped surface (a chair before a wall: the model is rendered from reliable
+  /// surfels only), not a pose error, and are left out of the overlap. Counted as disagreement,
+  /// exploring robots lost correct frames as inconsistent whenever they turned to such objects,
+  /// and those frames, not fused, kept the objects out of the map (docs/slam-eval.md, "Exploring
+  /// robot"). Not smaller: a pose 6 cm too high puts the floor 6 cm in front, and at 0 (every
+  /// point in front ignored) PoseCheck.TellsTheRightPoseFromWrongOnes passes a wrong pose. Objects
+  /// lower than this before a reliable surface (a box on the floor, a book on a desk) still
+  /// count against a right pose until they are fused.
   double check_occluder_margin_m = 0.15;
   /// Of the frame pixels that land on the model's surface, at least this fraction must agree
   /// with it, and at most check_max_behind may lie behind it (seeing through mapped space);

@@ -88,7 +88,7 @@ struct PoseCheckKernel {
       const float d = nm.dot(pm - qm);
       if (d < -gate)
         ++c.behind;
-      else if (d > occluder_margin_m)
+      else if (d > gate && d > occluder_margin_m)
         ++c.occluding;
       else if (d > gate)
         ++c.front;
