@@ -4,6 +4,7 @@
 
 #include "Command.h"
 #include "rasm/core/Error.h"
+#include "rasm/pipeline/Interrupts.h"
 #include "rasm/pipeline/MappingRun.h"
 
 namespace {
@@ -42,6 +43,8 @@ int runMain(const std::vector<std::string>& args) {
   RunConfig cfg = ini_path.empty() ? RunConfig::embeddedDefault() : RunConfig::fromFile(ini_path);
   for (const auto& o : overrides) cfg.applyOverride(o);
   MappingRun run(cfg);
+  // SIGINT / SIGTERM: stop after the current frame and write its outputs; again: abort at once.
+  installInterruptHandlers();
   const RunSummary s = run.run();
   const double lost_pct = s.frames ? 100.0 * double(s.lost) / double(s.frames) : 0.0;
   std::printf(
@@ -101,6 +104,13 @@ int runMain(const std::vector<std::string>& args) {
         "map holds only "
         "the tracked ones\n",
         lost_pct, s.lost, s.frames);
+  if (s.interrupted_by != 0) {
+    std::printf(
+        "INTERRUPTED by %s: the outputs hold the %zu frames done (report.json: status "
+        "interrupted)\n",
+        signalName(s.interrupted_by).c_str(), s.frames);
+    return 128 + s.interrupted_by;
+  }
   return 0;
 }
 

@@ -2,17 +2,27 @@
 // What the pipeline's run tests share: a fresh temporary output folder per process, reading the
 // files a run writes, and the quarter-VGA camera the simulated runs use to stay fast.
 
+#include <gtest/gtest.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/serialization/CArchive.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "rasm/io/FrameSource.h"
+#include "rasm/io/Trajectory.h"
 #include "rasm/pipeline/RunConfig.h"
+#include "rasm/surfel_map/CSurfelMap.h"
+#include "rasm/surfel_map/MapExport.h"
 
 namespace rasm::pipeline::testing {
 
@@ -46,6 +56,66 @@ inline void setQuarterVgaCamera(RunConfig& cfg) {
                                                                              {"width", "320"},
                                                                              {"height", "240"}})
     cfg.set("camera", k, v);
+}
+
+/// The names of the files in `dir`, sorted.
+inline std::vector<std::string> filesIn(const std::string& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+/// Checks that a run folder holds only complete files of one run (docs/io.md "Runs that never
+/// lie"): no temporary; report.json parses and, unless the run was aborted, lists exactly the
+/// other files; every file reads back whole (JSON, PLY, gzip archives, PNG, TUM trajectories and
+/// the annotated rawlog with one pose / frame per frame done). Returns report.json.
+inline nlohmann::json expectCompleteRunFolder(const std::string& dir) {
+  namespace fs = std::filesystem;
+  const nlohmann::json rep = readJson(dir + "/report.json");
+  const long long frames = rep["frames"].get<long long>();
+  std::vector<std::string> others;
+  for (const std::string& f : filesIn(dir)) {
+    EXPECT_NE(fs::path(f).extension(), ".part") << dir << ": temporary left: " << f;
+    if (f != "report.json") others.push_back(f);
+  }
+  if (rep["status"] != "aborted") {
+    std::vector<std::string> listed = rep["files"].get<std::vector<std::string>>();
+    std::sort(listed.begin(), listed.end());
+    EXPECT_EQ(listed, others) << dir << ": report.json \"files\" and the folder differ";
+  }
+  for (const std::string& f : others) {
+    const std::string p = dir + "/" + f;
+    const std::string ext = fs::path(f).extension().string();
+    SCOPED_TRACE(p);
+    if (ext == ".json") {
+      EXPECT_NO_THROW((void)readJson(p));
+    } else if (ext == ".ply") {
+      maps::PlySurfels ply;
+      EXPECT_NO_THROW(ply = maps::readSurfelPly(p));
+    } else if (ext == ".3Dscene") {
+      mrpt::opengl::COpenGLScene scene;
+      EXPECT_TRUE(scene.loadFromFile(p));
+    } else if (ext == ".surfelmap") {
+      maps::CSurfelMap map;
+      mrpt::io::CFileGZInputStream in(p);
+      EXPECT_NO_THROW(mrpt::serialization::archiveFrom(in) >> map);
+    } else if (ext == ".png") {
+      EXPECT_FALSE(cv::imread(p, cv::IMREAD_UNCHANGED).empty());
+    } else if (f == "trajectory.txt") {
+      EXPECT_EQ((long long)io::readTumTrajectory(p).size(), frames);
+    } else if (f == "frames.csv") {
+      const std::string text = readText(p);
+      EXPECT_EQ((long long)std::count(text.begin(), text.end(), '\n'), frames + 1);
+    } else if (f == "annotated.rawlog") {
+      auto src = io::openFrameSource(p);
+      long long n = 0;
+      while (src->next()) ++n;
+      EXPECT_EQ(n, frames);
+    }
+  }
+  return rep;
 }
 
 }  // namespace rasm::pipeline::testing

@@ -439,7 +439,7 @@ void ExplorationLoop::report(nlohmann::json& rep) const {
        "class, unseen ones included"}};
 }
 
-void ExplorationLoop::writeOutputs(const std::string& dir) const {
+void ExplorationLoop::writeOutputs(OutputFolder& folder) const {
   nlohmann::json goals = nlohmann::json::array();
   for (const GoalRecord& g : m_goals)
     goals.push_back({{"goal", poseJson(g.goal)},
@@ -470,7 +470,7 @@ void ExplorationLoop::writeOutputs(const std::string& dir) const {
                         {"plans", m_plan_log},
                         {"goals", goals},
                         {"metrics", metrics}};
-  writeFileAtomically(dir + "/exploration.json", out.dump(1) + "\n");
+  folder.writeText("exploration.json", out.dump(1) + "\n");
 
   // exploration.png: coverage (blue) and objects correct (red) against simulated time.
   if (m_metrics.size() < 2) return;
@@ -501,7 +501,7 @@ void ExplorationLoop::writeOutputs(const std::string& dir) const {
               cv::Scalar(0, 0, 0));
   cv::putText(img, "0", cv::Point(L - 15, px(0, 0).y + 5), cv::FONT_HERSHEY_SIMPLEX, 0.45,
               cv::Scalar(0, 0, 0));
-  cv::imwrite(dir + "/exploration.png", img);
+  folder.writeImage("exploration.png", img);
 }
 
 }  // namespace rasm::pipeline

@@ -183,9 +183,9 @@ void Mapper::finishRun() {
   for (const auto& s : m_stages) s->finishRun(*m_map);
 }
 
-void Mapper::writeOutputs(const std::string& dir) {
+void Mapper::writeOutputs(OutputFolder& out) {
   std::unique_lock<std::shared_mutex> writing(m_map_mutex);  // stages may refresh their tables
-  for (const auto& s : m_stages) s->writeOutputs(dir, *m_map);
+  for (const auto& s : m_stages) s->writeOutputs(out, *m_map);
 }
 
 std::size_t Mapper::relocalisations() const {

@@ -1,9 +1,9 @@
 #include "rasm/pipeline/MappingRun.h"
 
 #include <mrpt/img/TCamera.h>
-#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationImage.h>
+#include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <chrono>
@@ -14,7 +14,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "rasm/core/Error.h"
@@ -27,6 +26,7 @@
 #include "rasm/io/RgbdObservation.h"
 #include "rasm/io/TrajectoryEvaluator.h"
 #include "rasm/pipeline/ExplorationLoop.h"
+#include "rasm/pipeline/Interrupts.h"
 #include "rasm/pipeline/Progress.h"
 #include "rasm/pipeline/SimSource.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
@@ -240,8 +240,12 @@ struct MappingRun::Accumulated {
   LossIntervals loss;
   std::vector<double> ms_sum, ms_max;  ///< per Mapper timer
   std::string frames_csv;              ///< frames.csv: one row per processed frame
-  std::string error;                   ///< what ended the loop early, empty = the source ended
+  std::string error;         ///< what ended the run early (bad input), empty = the source ended
+  std::string output_error;  ///< an output file that could not be written (full disk, ...)
+  long long read = 0;        ///< frames the source yielded (before start / step / drop)
   std::size_t processed = 0;
+  int interrupted_by = 0;  ///< the stopping signal, 0 = none
+  bool interrupted_in_frames = false;
   CameraIntrinsics last_K;
   bool have_K = false;
   std::chrono::steady_clock::time_point t_start;
@@ -249,19 +253,29 @@ struct MappingRun::Accumulated {
   double cpu_s = 0.0;  ///< CPU seconds of the frame loop
 };
 
-void MappingRun::prepareOutputFolder() const {
+OutputFolder MappingRun::prepareOutputFolder() const {
   std::error_code ec;
   fs::create_directories(m_output.dir, ec);
   if (ec)
     throwInputError("[output] dir '" + m_output.dir + "'", "cannot be created: " + ec.message());
+  if (!fs::is_directory(m_output.dir))
+    throwInputError("[output] dir '" + m_output.dir + "'", "is not a folder");
   if (!m_output.overwrite && !fs::is_empty(m_output.dir))
     throwInputError("[output] dir '" + m_output.dir + "'",
                     "is not empty and [output] overwrite = false");
-  writeFileAtomically(m_output.dir + "/config.ini", effectiveConfig());
+  // One run per folder: the files an earlier run left here go before this one writes any.
+  OutputFolder out(m_output.dir);
+  const std::vector<std::string> removed = out.clearPreviousRun();
+  if (!removed.empty())
+    std::fprintf(stderr, "rasm run: removed %zu files of an earlier run from %s\n", removed.size(),
+                 m_output.dir.c_str());
+  setAbortReport(out.path("report.json"));
+  setFramesDone(0);
+  return out;
 }
 
-std::unique_ptr<io::FrameSource> MappingRun::openWrappedSource(double& preload_s) {
-  std::unique_ptr<io::FrameSource> source = openSource();
+std::unique_ptr<io::FrameSource> MappingRun::wrapSource(std::unique_ptr<io::FrameSource> source,
+                                                        double& preload_s) {
 #ifdef RASM_HAVE_SIM
   // The simulated detector's occlusion test casts rays into the scene the frames come from.
   if (const auto* sim_source = dynamic_cast<const sim::SimFrameSource*>(source.get()))
@@ -295,8 +309,7 @@ std::unique_ptr<io::FrameSource> MappingRun::openWrappedSource(double& preload_s
   return source;
 }
 
-void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc,
-                           const std::function<void(const FrameResult&)>& on_frame) {
+long long MappingRun::expectedFrames(const io::FrameSource& source) const {
   long long total = source.sizeHint();
   if (total > 0) {
     total = std::max<long long>(0, total - m_source.start_frame);
@@ -305,32 +318,53 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc,
   } else if (m_source.max_frames > 0) {
     total = m_source.max_frames;
   }
+#ifdef RASM_HAVE_SIM
   if (m_explore && total <= 0) {
     const double budget = m_mapper->stage<ExplorationStage>().exploreParams().time_budget_s;
     const auto* sim_source = dynamic_cast<const sim::SimFrameSource*>(&source);
     if (budget > 0 && sim_source)
       total = (long long)(budget / sim_source->sequence().frameInterval()) + 1;
   }
-  Progress progress("frames", total);
+#endif
+  return total;
+}
+
+void MappingRun::recordFrame(Accumulated& acc, const RgbdFrame& f, const FrameResult& r) {
+  ++acc.processed;
+  setFramesDone((long long)acc.processed);
+  acc.last_K = f.intrinsics;
+  acc.have_K = true;
+  // Every frame has a pose (propagated while lost: pose_source in frames.csv).
+  acc.estimate.push_back({r.timestamp_s, r.T_world_cam});
+  if (r.tracked) acc.estimate_tracked.push_back({r.timestamp_s, r.T_world_cam});
+  acc.loss.add(r.tracked);
+  if (f.gt_T_world_cam) acc.groundtruth.push_back({f.timestamp_s, *f.gt_T_world_cam});
+  for (std::size_t s = 0; s < acc.ms_sum.size(); ++s) {
+    acc.ms_sum[s] += r.ms[s];
+    acc.ms_max[s] = std::max(acc.ms_max[s], r.ms[s]);
+  }
+  acc.frames_csv += m_mapper->csvRow();
+  acc.frames_csv += "\n";
+}
+
+void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFolder& out,
+                           const std::function<void(const FrameResult&)>& on_frame) {
+  Progress progress("frames", expectedFrames(source));
   // annotated.rawlog: each input observation with the ESTIMATED camera pose as sensorPose (MRPT
   // sensor frame), followed by a CObservationImage "MAP_VIEW" of the map rendered from that pose.
+  // Its writer renames "annotated.rawlog.part" at close() and removes it when destroyed open.
   std::unique_ptr<io::RawlogWriter> annotated;
-  if (m_output.write_rawlog) {
-    io::RawlogWriterOptions wo;
-    wo.sensor_label = "RGBD";
-    wo.sensor_pose_from_ground_truth = false;
-    annotated = std::make_unique<io::RawlogWriter>(m_output.dir + "/annotated.rawlog", wo);
-  }
+  const ScopedTemporary annotated_part(out.path("annotated.rawlog"));
   const std::size_t n_timers = m_mapper->timerNames().size();
   acc.ms_sum.assign(n_timers, 0.0);
   acc.ms_max.assign(n_timers, 0.0);
   acc.frames_csv = m_mapper->csvHeader() + "\n";
-  long long read = 0;
   try {
     while (m_source.max_frames == 0 || acc.processed < std::size_t(m_source.max_frames)) {
+      if (stopSignal() != 0) break;  // SIGINT / SIGTERM: no further frame
       std::optional<RgbdFrame> f = source.next();
       if (!f) break;
-      const long long idx = read++;
+      const long long idx = acc.read++;
       if (idx < m_source.start_frame || (idx - m_source.start_frame) % m_source.frame_step != 0)
         continue;
       if (m_source.dropped(idx)) continue;
@@ -340,22 +374,18 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc,
       }
       const FrameResult r = m_mapper->processFrame(*f);
       if (m_explore) m_explore->afterFrame(*f, r);
-      ++acc.processed;
-      acc.last_K = f->intrinsics;
-      acc.have_K = true;
-      // Every frame has a pose (propagated while lost: pose_source in frames.csv).
-      acc.estimate.push_back({r.timestamp_s, r.T_world_cam});
-      if (r.tracked) acc.estimate_tracked.push_back({r.timestamp_s, r.T_world_cam});
-      acc.loss.add(r.tracked);
-      if (f->gt_T_world_cam) acc.groundtruth.push_back({f->timestamp_s, *f->gt_T_world_cam});
-      for (std::size_t s = 0; s < n_timers; ++s) {
-        acc.ms_sum[s] += r.ms[s];
-        acc.ms_max[s] = std::max(acc.ms_max[s], r.ms[s]);
-      }
+      recordFrame(acc, *f, r);
       if (on_frame) on_frame(r);
-      if (annotated) writeAnnotated(*annotated, *f, r);
-      acc.frames_csv += m_mapper->csvRow();
-      acc.frames_csv += "\n";
+      if (m_output.write_rawlog) {
+        try {
+          if (!annotated) annotated = openAnnotated(out);
+          writeAnnotated(*annotated, *f, r);
+        } catch (const std::exception& e) {
+          annotated.reset();  // removes its temporary
+          acc.output_error = validUtf8(e.what());
+          break;
+        }
+      }
       char extra[160];
       std::snprintf(extra, sizeof extra, "surfels %d lost %zu %s", m_mapper->map().size(),
                     m_mapper->framesLost(), r.tracked ? "" : tracking::toString(r.tracking.status));
@@ -363,84 +393,115 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc,
                       m_explore ? std::string(extra) + " | " + m_explore->progressText() : extra);
     }
   } catch (const std::exception& e) {
-    acc.error = e.what();
+    acc.error = validUtf8(e.what());
   }
+  acc.interrupted_in_frames = stopSignal() != 0;
   progress.finish(static_cast<long long>(acc.processed), "done");
-  if (annotated) annotated->close();
+  if (annotated) try {
+      annotated->close();
+      out.recordWritten("annotated.rawlog");
+    } catch (const std::exception& e) {
+      if (acc.output_error.empty()) acc.output_error = validUtf8(e.what());
+    }
 }
 
-void MappingRun::writeOutputs(const Accumulated& acc) {
-  const std::string dir = m_output.dir;
-  writeFileAtomically(dir + "/frames.csv", acc.frames_csv);
-  io::writeTumTrajectory(dir + "/trajectory.txt", acc.estimate,
-                         "rasm estimate (T_world_cam, optical frame)");
+std::unique_ptr<io::RawlogWriter> MappingRun::openAnnotated(const OutputFolder& out) const {
+  io::RawlogWriterOptions wo;
+  wo.sensor_label = "RGBD";
+  wo.sensor_pose_from_ground_truth = false;
+  return std::make_unique<io::RawlogWriter>(out.path("annotated.rawlog"), wo);
+}
+
+std::string MappingRun::noFrameReason(const Accumulated& acc) const {
+  std::string why = "the source (" + m_source.type + ") yielded no frame to map: it ended after " +
+                    std::to_string(acc.read) + " frames";
+  if (acc.read > 0 && acc.read <= m_source.start_frame)
+    why += ", before [source] start_frame = " + std::to_string(m_source.start_frame);
+  else if (acc.read > 0)
+    why += ", all of them skipped by [source] frame_step / drop_frames";
+  return why;
+}
+
+void MappingRun::writeOutputs(const Accumulated& acc, OutputFolder& out) {
+  out.writeText("frames.csv", acc.frames_csv);
+  out.write("trajectory.txt", [&](const std::string& part) {
+    io::writeTumTrajectory(part, acc.estimate, "rasm estimate (T_world_cam, optical frame)");
+  });
   if (!acc.groundtruth.empty())
-    io::writeTumTrajectory(dir + "/groundtruth.txt", acc.groundtruth, "ground truth of the source");
-  if (m_output.write_ply) m_mapper->map().saveToPly(dir + "/map.ply");
+    out.write("groundtruth.txt", [&](const std::string& part) {
+      io::writeTumTrajectory(part, acc.groundtruth, "ground truth of the source");
+    });
+  writeMapFiles(out);
+  m_mapper->writeOutputs(out);
+  if (m_explore) m_explore->writeOutputs(out);
+  if (m_output.preview_png && acc.have_K && acc.processed > 0) writePreviews(acc, out);
+}
+
+void MappingRun::writeMapFiles(OutputFolder& out) const {
+  const maps::CSurfelMap& map = m_mapper->map();
+  if (m_output.write_ply) out.write("map.ply", [&](const std::string& p) { map.saveToPly(p); });
   if (m_output.write_3dscene) {
-    m_mapper->map().saveTo3DScene(dir + "/map.3Dscene");
+    const maps::SurfelArrays a = map.store().arrays();
+    auto scene = [&](const char* name, maps::SurfelColouring colouring) {
+      maps::SurfelVisualOptions vis = map.renderingOptions.visual;
+      if (colouring != maps::SurfelColouring::Rgb) vis.colouring = colouring;
+      out.write(name, [&](const std::string& p) {
+        writeGzArchive(p, *maps::surfelScene(map.store(), vis));
+      });
+    };
+    scene("map.3Dscene", maps::SurfelColouring::Rgb);
     // The same scene coloured by segment (III) when the map has segments: SceneViewer3D shows
     // the objects the segmentation found.
-    const maps::SurfelArrays a = m_mapper->map().store().arrays();
     bool segmented = false;
     for (int i = 0; i < a.size && !segmented; ++i) segmented = a.alive(i) && a.segment[i] != 0;
-    if (segmented) {
-      maps::SurfelVisualOptions vis = m_mapper->map().renderingOptions.visual;
-      vis.colouring = maps::SurfelColouring::Segment;
-      maps::writeSurfelScene(m_mapper->map().store(), dir + "/map_segments.3Dscene", vis);
-    }
+    if (segmented) scene("map_segments.3Dscene", maps::SurfelColouring::Segment);
     // And coloured by class (IV) when any surfel carries one.
     bool classified = false;
     for (int i = 0; i < a.size && !classified && a.n_classes > 0; ++i)
       classified = a.alive(i) && maps::bestClass(a, i).id != 0;
-    if (classified) {
-      maps::SurfelVisualOptions vis = m_mapper->map().renderingOptions.visual;
-      vis.colouring = maps::SurfelColouring::Class;
-      maps::writeSurfelScene(m_mapper->map().store(), dir + "/map_classes.3Dscene", vis);
-    }
+    if (classified) scene("map_classes.3Dscene", maps::SurfelColouring::Class);
   }
-  if (m_output.save_map) {
-    const std::string p = dir + "/map.surfelmap";
-    {
-      mrpt::io::CFileGZOutputStream f(p + ".part");
-      auto a = mrpt::serialization::archiveFrom(f);
-      a << m_mapper->map();
-    }
-    fs::rename(p + ".part", p);
-  }
-  m_mapper->writeOutputs(dir);
-  if (m_explore) m_explore->writeOutputs(dir);
-  if (m_output.preview_png && acc.have_K && acc.processed > 0) {
-    maps::RenderedMaps view;
-    m_mapper->renderView(m_mapper->pose(), acc.last_K, view);
-    cv::Mat img(view.colour.height(), view.colour.width(), CV_8UC3, view.colour.data(),
-                view.colour.pitchBytes());
-    cv::imwrite(dir + "/preview.png", img);
-    // The same view coloured by segment (III), when the map has segments.
-    bool any = false;
-    cv::Mat seg(img.rows, img.cols, CV_8UC3, cv::Scalar(0, 0, 0));
-    for (int y = 0; y < view.segment.height(); ++y)
-      for (int x = 0; x < view.segment.width(); ++x) {
-        if (view.index(x, y) < 0) continue;
-        const std::uint32_t l = view.segment(x, y);
-        any = any || l != 0;
-        const Bgr8 c = maps::labelColour(l);
-        seg.at<cv::Vec3b>(y, x) = cv::Vec3b(c.b, c.g, c.r);
-      }
-    if (any) cv::imwrite(dir + "/preview_segments.png", seg);
-    cv::Mat classes;
-    if (classMapView(view, classes)) cv::imwrite(dir + "/preview_classes.png", classes);
-  }
+  if (m_output.save_map)
+    out.write("map.surfelmap", [&](const std::string& p) { writeGzArchive(p, map); });
 }
 
-void MappingRun::writeReport(const io::FrameSource& source, Accumulated& acc, RunSummary& sum) {
+void MappingRun::writePreviews(const Accumulated& acc, OutputFolder& out) const {
+  maps::RenderedMaps view;
+  m_mapper->renderView(m_mapper->pose(), acc.last_K, view);
+  cv::Mat img(view.colour.height(), view.colour.width(), CV_8UC3, view.colour.data(),
+              view.colour.pitchBytes());
+  out.writeImage("preview.png", img);
+  // The same view coloured by segment (III), when the map has segments.
+  bool any = false;
+  cv::Mat seg(img.rows, img.cols, CV_8UC3, cv::Scalar(0, 0, 0));
+  for (int y = 0; y < view.segment.height(); ++y)
+    for (int x = 0; x < view.segment.width(); ++x) {
+      if (view.index(x, y) < 0) continue;
+      const std::uint32_t l = view.segment(x, y);
+      any = any || l != 0;
+      const Bgr8 c = maps::labelColour(l);
+      seg.at<cv::Vec3b>(y, x) = cv::Vec3b(c.b, c.g, c.r);
+    }
+  if (any) out.writeImage("preview_segments.png", seg);
+  cv::Mat classes;
+  if (classMapView(view, classes)) out.writeImage("preview_classes.png", classes);
+}
+
+nlohmann::json MappingRun::reportJson(const std::string& source, const Accumulated& acc,
+                                      RunSummary& sum) const {
   const std::size_t processed = acc.processed;
   nlohmann::json rep;
-  rep["status"] = acc.error.empty() ? "ok" : "failed";
-  if (!acc.error.empty()) rep["error"] = acc.error;
+  rep["status"] = sum.status;
+  const std::string& error = !acc.error.empty() ? acc.error : acc.output_error;
+  if (!error.empty()) rep["error"] = error;
+  if (acc.interrupted_by != 0) {
+    rep["interrupted_by"] = signalName(acc.interrupted_by);
+    rep["interrupted_during"] = acc.interrupted_in_frames ? "frames" : "outputs";
+  }
   rep["config_source"] = m_config.source();
-  rep["source"] = source.describe();
+  rep["source"] = source;
   rep["frames"] = processed;
+  rep["frames_read"] = acc.read;
   rep["frames_lost"] = sum.lost;
   rep["seconds"] = sum.seconds;
   // With [source] preload the frames were decoded before the clock started (preload_seconds).
@@ -455,7 +516,7 @@ void MappingRun::writeReport(const io::FrameSource& source, Accumulated& acc, Ru
   rep["peak_rss_mb"] = peakRssMb();
   nlohmann::json st;
   const std::vector<std::string>& timers = m_mapper->timerNames();
-  for (std::size_t s = 0; s < timers.size(); ++s)
+  for (std::size_t s = 0; s < timers.size() && s < acc.ms_sum.size(); ++s)
     st[timers[s]] = {{"mean_ms", processed ? acc.ms_sum[s] / double(processed) : 0.0},
                      {"max_ms", acc.ms_max[s]}};
   rep["stages"] = st;
@@ -465,9 +526,13 @@ void MappingRun::writeReport(const io::FrameSource& source, Accumulated& acc, Ru
   rep["lost_intervals"] = acc.loss.intervals;
   rep["longest_lost_interval_frames"] = acc.loss.longest;
   m_mapper->report(rep);  // the stages' fields (relocalisations, keyframes, ...)
-
-  io::Trajectory groundtruth = acc.groundtruth;
   if (m_explore) m_explore->report(rep);
+  addAte(acc, rep, sum);
+  return rep;
+}
+
+void MappingRun::addAte(const Accumulated& acc, nlohmann::json& rep, RunSummary& sum) const {
+  io::Trajectory groundtruth = acc.groundtruth;
   if (!m_source.groundtruth.empty()) {
     try {
       groundtruth = io::readTumTrajectory(m_source.groundtruth);
@@ -492,37 +557,28 @@ void MappingRun::writeReport(const io::FrameSource& source, Accumulated& acc, Ru
   };
   sum.ate_rmse_m = ate(acc.estimate, "ate");
   sum.ate_tracked_rmse_m = ate(acc.estimate_tracked, "ate_tracked");
-  sum.report = rep;
-  writeFileAtomically(m_output.dir + "/report.json", rep.dump(2) + "\n");
 }
 
-RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_frame) {
-  if (m_mapper->framesProcessed() > 0)
-    throw std::logic_error("MappingRun::run: once per MappingRun");
-  Accumulated acc;
-  prepareOutputFolder();
-  std::unique_ptr<io::FrameSource> source = openWrappedSource(acc.preload_s);
-  // Frame rate and CPU time count the mapping (not a preload before it).
-  acc.t_start = std::chrono::steady_clock::now();
-  acc.cpu_start_s = processCpuSeconds();
-  if (!m_mapper->mapperParams().load_map.empty())
-    m_mapper->loadMap(m_mapper->mapperParams().load_map);
-  std::fprintf(stderr, "rasm run: %s -> %s\n", source->describe().c_str(), m_output.dir.c_str());
-
-  frameLoop(*source, acc, on_frame);
+void MappingRun::finishFrames(Accumulated& acc) {
   try {
     m_mapper->finishRun();
   } catch (const std::exception& e) {
-    if (acc.error.empty()) acc.error = e.what();
+    if (acc.error.empty()) acc.error = validUtf8(e.what());
   }
-  // The exploration loop lets go of the source's robot here, while `source` still lives.
+  // The exploration loop lets go of the source's robot here, while the source still lives.
   if (m_explore) try {
-      m_explore->finish(acc.error.empty() ? "source_end" : "error");
+      m_explore->finish(!acc.error.empty()  ? "error"
+                        : stopSignal() != 0 ? "interrupted"
+                                            : "source_end");
     } catch (const std::exception& e) {
-      if (acc.error.empty()) acc.error = e.what();
+      if (acc.error.empty()) acc.error = validUtf8(e.what());
     }
-
+  if (acc.processed == 0 && acc.error.empty() && acc.output_error.empty() && stopSignal() == 0)
+    acc.error = noFrameReason(acc);
   acc.cpu_s = processCpuSeconds() - acc.cpu_start_s;
+}
+
+RunSummary MappingRun::summarise(const Accumulated& acc) const {
   RunSummary sum;
   sum.out_dir = m_output.dir;
   sum.seconds =
@@ -534,11 +590,72 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   sum.relocalisations = m_mapper->relocalisations();
   sum.surfels = std::size_t(m_mapper->map().size());
   sum.explored = m_explore != nullptr;
-  writeOutputs(acc);
-  writeReport(*source, acc, sum);
-  if (!acc.error.empty())
-    throw InputError(acc.error + " (outputs of the " + std::to_string(acc.processed) +
-                     " frames before it were written to " + m_output.dir + ")");
+  return sum;
+}
+
+RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_frame) {
+  if (m_mapper->framesProcessed() > 0)
+    throw std::logic_error("MappingRun::run: once per MappingRun");
+  Accumulated acc;
+  // What can be checked without a frame is checked before the output folder changes: a run that
+  // fails here leaves an earlier run's files as they were.
+  std::unique_ptr<io::FrameSource> source = openSource();
+  if (!m_mapper->mapperParams().load_map.empty())
+    m_mapper->loadMap(m_mapper->mapperParams().load_map);
+  if (stopSignal() != 0) {  // stopped before it began: the folder stays as it was
+    RunSummary sum;
+    sum.out_dir = m_output.dir;
+    sum.status = "interrupted";
+    sum.interrupted_by = stopSignal();
+    return sum;
+  }
+  OutputFolder out = prepareOutputFolder();
+  try {
+    out.writeText("config.ini", effectiveConfig());
+  } catch (const std::exception& e) {
+    acc.output_error = validUtf8(e.what());  // then no frame: report.json says why
+  }
+  const std::string described = source->describe();
+  try {
+    source = wrapSource(std::move(source), acc.preload_s);
+  } catch (const std::exception& e) {
+    acc.error = validUtf8(e.what());
+    source.reset();
+  }
+  // Frame rate and CPU time count the mapping (not a preload before it).
+  acc.t_start = std::chrono::steady_clock::now();
+  acc.cpu_start_s = processCpuSeconds();
+  std::fprintf(stderr, "rasm run: %s -> %s\n", described.c_str(), m_output.dir.c_str());
+
+  if (source && acc.output_error.empty()) frameLoop(*source, acc, out, on_frame);
+  finishFrames(acc);
+  RunSummary sum = summarise(acc);
+  // Outputs of the frames done (none without a frame: no map of nothing), report.json last.
+  if (acc.processed > 0 && acc.output_error.empty()) try {
+      writeOutputs(acc, out);
+    } catch (const std::exception& e) {
+      acc.output_error = validUtf8(e.what());
+    }
+  acc.interrupted_by = stopSignal();
+  sum.interrupted_by = acc.interrupted_by;
+  sum.status = !acc.error.empty() || !acc.output_error.empty() ? "failed"
+               : acc.interrupted_by != 0                       ? "interrupted"
+                                                               : "ok";
+  nlohmann::json rep = reportJson(described, acc, sum);
+  rep["files"] = out.written();
+  sum.report = rep;
+  const std::string note = " (" + std::to_string(acc.processed) + " frames mapped; " +
+                           m_output.dir + "/report.json lists the files written)";
+  try {
+    out.writeText("report.json",
+                  rep.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  } catch (const std::exception& e) {
+    const std::string first = acc.output_error.empty() ? acc.error : acc.output_error;
+    throw OutputError(std::string(e.what()) + (first.empty() ? "" : "; before it: " + first));
+  }
+  setAbortReport("");  // from here a second signal must not replace the complete report
+  if (!acc.output_error.empty()) throw OutputError(acc.output_error + note);
+  if (!acc.error.empty()) throw InputError(acc.error + note);
   return sum;
 }
 

@@ -35,8 +35,9 @@ std::optional<tracking::MotionPrior> OdometryPrior::predict(
   if (!m_params.use_odometry || !odometry || !last) return std::nullopt;
   const Eigen::Isometry3d T_base_delta = planar((*last).x(), (*last).y(), (*last).z()).inverse() *
                                          planar(odometry->x(), odometry->y(), odometry->z());
-  const Eigen::Isometry3d T_pred =
+  Eigen::Isometry3d T_pred =
       T_world_cam_prev * m_T_base_cam.inverse() * T_base_delta * m_T_base_cam;
+  if (m_params.floor_prior) T_pred = projectToFloor(T_pred);
 
   // One increment's noise along the base's axes at t-1: random walks in distance and angle.
   const double d = T_base_delta.translation().head<2>().norm();
@@ -59,7 +60,8 @@ std::optional<tracking::MotionPrior> OdometryPrior::predict(
 }
 
 double OdometryPrior::addHeadingResidual(const tracking::MotionPrior& prior,
-                                         const Eigen::Isometry3d& T_tracked, double& correction_rad) {
+                                         const Eigen::Isometry3d& T_tracked,
+                                         double& correction_rad) {
   // Rotation from the predicted to the tracked orientation (world frame), about the floor normal.
   const Eigen::AngleAxisd d(T_tracked.linear() * prior.T_world_cam.linear().transpose());
   const double e = d.angle() * d.axis().dot(up());

@@ -173,6 +173,7 @@ void writeSurfelPly(const SurfelStore& map, const std::string& path, bool stable
     f.write(buf.data(), std::streamsize(n * kPlyRecordBytes));
     k += n;
   }
+  f.close();  // the last buffer is flushed here: a full disk may show only now
   if (!f) throwInputError("PLY file " + path, "write failed (disk full?)");
 }
 
@@ -261,14 +262,20 @@ void surfelsToOpenGL(const SurfelStore& map, const SurfelVisualOptions& opt,
   o.insert(cloud);
 }
 
-void writeSurfelScene(const SurfelStore& map, const std::string& path,
-                      const SurfelVisualOptions& opt) {
-  mrpt::opengl::COpenGLScene scene;
+std::shared_ptr<mrpt::opengl::COpenGLScene> surfelScene(const SurfelStore& map,
+                                                        const SurfelVisualOptions& opt) {
+  auto scene = std::make_shared<mrpt::opengl::COpenGLScene>();
   auto objs = mrpt::opengl::CSetOfObjects::Create();
   surfelsToOpenGL(map, opt, *objs);
-  scene.insert(mrpt::opengl::CGridPlaneXY::Create(-10, 10, -10, 10, 0, 1));
-  scene.insert(objs);
-  if (!scene.saveToFile(path)) throwInputError(".3Dscene file " + path, "cannot be written");
+  scene->insert(mrpt::opengl::CGridPlaneXY::Create(-10, 10, -10, 10, 0, 1));
+  scene->insert(objs);
+  return scene;
+}
+
+void writeSurfelScene(const SurfelStore& map, const std::string& path,
+                      const SurfelVisualOptions& opt) {
+  if (!surfelScene(map, opt)->saveToFile(path))
+    throwInputError(".3Dscene file " + path, "cannot be written");
 }
 
 }  // namespace rasm::maps

@@ -173,6 +173,7 @@ kernels::PoseCheckCounts checkPoseCounts(const FrameLevel& F,
   k.base_gate_m = float(P.check_gate_m);
   k.noise_sigmas = float(P.check_noise_sigmas);
   k.min_normal_cos = float(std::cos(P.check_max_normal_angle_deg * kDegToRad));
+  k.occluder_margin_m = float(P.check_occluder_margin_m);
   return compute::reduce1D<kernels::PoseCheckCounts>(k.rows(), k);
 }
 
@@ -366,8 +367,9 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
                         std::to_string(model_frame_level.depth_m.width()) + "x" +
                         std::to_string(model_frame_level.depth_m.height()));
   // Photometric term: only with both colour images (and a model to render them from).
+  const double kappa = P.photometricWeight(prior != nullptr);
   const bool photometric =
-      P.photometric_weight > 0 && !model_empty && !model.colour.empty() && !frame_colour.empty();
+      kappa > 0 && !model_empty && !model.colour.empty() && !frame_colour.empty();
   if (photometric) {
     if (model.colour.width != model.vertex_world.width ||
         model.colour.height != model.vertex_world.height)
@@ -475,7 +477,7 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
                 ? std::sqrt(acc_photo.s[kernels::IcpAccumulator::kR2] / acc_photo.inliers())
                 : 0.0;
       }
-      const IcpSystem sys(acc, photometric ? &acc_photo : nullptr, P.photometric_weight);
+      const IcpSystem sys(acc, photometric ? &acc_photo : nullptr, kappa);
       ++st.iterations;
       ++res.iterations;
       st.inliers = int(sys.inliers);

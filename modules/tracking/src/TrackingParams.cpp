@@ -41,6 +41,7 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR_CS(depth_noise_weighting, bool);
   MRPT_LOAD_CONFIG_VAR_CS(confidence_full, double);
   MRPT_LOAD_CONFIG_VAR_CS(photometric_weight, double);
+  MRPT_LOAD_CONFIG_VAR_CS(photometric_weight_with_prior, double);
   MRPT_LOAD_CONFIG_VAR_CS(photometric_huber, double);
   MRPT_LOAD_CONFIG_VAR_CS(photometric_min_gradient, double);
   MRPT_LOAD_CONFIG_VAR_CS(model_min_confidence, double);
@@ -69,6 +70,7 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR_CS(check_gate_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(check_noise_sigmas, double);
   MRPT_LOAD_CONFIG_VAR_CS(check_max_normal_angle_deg, double);
+  MRPT_LOAD_CONFIG_VAR_CS(check_occluder_margin_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(check_min_agreement, double);
   MRPT_LOAD_CONFIG_VAR_CS(check_max_behind, double);
   MRPT_LOAD_CONFIG_VAR_CS(check_min_overlap, double);
@@ -99,6 +101,8 @@ void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
       "weight residuals by min(1, surfel confidence / this), 0 = off");
   put(c, s, "photometric_weight", photometric_weight,
       "photometric cost weight (m^2 per intensity^2), 0 = off");
+  put(c, s, "photometric_weight_with_prior", photometric_weight_with_prior,
+      "photometric cost weight for frames with an odometry prior, 0 = off");
   put(c, s, "photometric_huber", photometric_huber,
       "Huber threshold on intensity residuals, 0 = none");
   put(c, s, "photometric_min_gradient", photometric_min_gradient,
@@ -134,6 +138,8 @@ void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
       "pose check: plus this many depth-noise sigmas");
   put(c, s, "check_max_normal_angle_deg", check_max_normal_angle_deg,
       "pose check: normal angle limit (deg)");
+  put(c, s, "check_occluder_margin_m", check_occluder_margin_m,
+      "frame points this far in front of the model are new objects, not errors (m)");
   put(c, s, "check_min_agreement", check_min_agreement,
       "lost if fewer overlapping pixels agree with the model");
   put(c, s, "check_max_behind", check_max_behind,
@@ -158,6 +164,7 @@ void TTrackingParams::validate(const std::string& s) const {
   requireInRange(huber_delta_m, 0.0, 10.0, s, "huber_delta_m");
   requireInRange(confidence_full, 0.0, 1e6, s, "confidence_full");
   requireInRange(photometric_weight, 0.0, 100.0, s, "photometric_weight");
+  requireInRange(photometric_weight_with_prior, 0.0, 100.0, s, "photometric_weight_with_prior");
   requireInRange(photometric_huber, 0.0, 1.0, s, "photometric_huber");
   requireInRange(photometric_min_gradient, 0.0, 1.0, s, "photometric_min_gradient");
   requireInRange(model_min_confidence, 0.0, 1e6, s, "model_min_confidence");
@@ -179,6 +186,7 @@ void TTrackingParams::validate(const std::string& s) const {
   requireInRange(check_gate_m, 0.0, 1.0, s, "check_gate_m");
   requireInRange(check_noise_sigmas, 0.0, 100.0, s, "check_noise_sigmas");
   requireInRange(check_max_normal_angle_deg, 0.0, 180.0, s, "check_max_normal_angle_deg");
+  requireInRange(check_occluder_margin_m, 0.0, 100.0, s, "check_occluder_margin_m");
   requireInRange(check_min_agreement, 0.0, 1.0, s, "check_min_agreement");
   requireInRange(check_max_behind, 0.0, 1.0, s, "check_max_behind");
   requireInRange(check_min_overlap, 0.0, 1.0, s, "check_min_overlap");

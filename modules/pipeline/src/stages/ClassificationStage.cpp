@@ -223,20 +223,20 @@ nlohmann::json orientedBox(const segmentation::SegmentStats& s) {
 
 }  // namespace
 
-void ClassificationStage::writeOutputs(const std::string& dir, const maps::CSurfelMap& map) {
+void ClassificationStage::writeOutputs(OutputFolder& folder, const maps::CSurfelMap& map) {
   if (!m_params.enabled || !m_started) return;
   nlohmann::json classes = nlohmann::json::array();
   for (int id = 1; id <= m_classes.size(); ++id)
     classes.push_back({{"id", id},
                        {"name", m_classes.name(id)},
                        {"source", m_classes.classes()[std::size_t(id - 1)].source}});
-  writeFileAtomically(dir + "/classes.json",
-                      nlohmann::json{{"comment",
-                                      "the map's class list (IV): surfel class evidence ids, "
-                                      "source = where the name came from"},
-                                     {"classes", classes}}
-                              .dump(1) +
-                          "\n");
+  folder.writeText("classes.json",
+                   nlohmann::json{{"comment",
+                                   "the map's class list (IV): surfel class evidence ids, "
+                                   "source = where the name came from"},
+                                  {"classes", classes}}
+                           .dump(1) +
+                       "\n");
   const std::vector<SegmentClass> seg_classes = segmentClasses(map.store().arrays());
   m_objects_by_class.clear();
   m_objects_counted = true;
@@ -279,10 +279,10 @@ void ClassificationStage::writeOutputs(const std::string& dir, const maps::CSurf
       "reaches [classification] min_object_probability, else \"none\"; world "
       "frame, metres; oriented_box: upright axes (z up) and extents about the box centre";
   out["objects"] = objects;
-  writeFileAtomically(dir + "/objects.json", out.dump(1) + "\n");
-  const std::string ply = dir + "/map_classes.ply";
-  maps::writeSurfelPly(map.store(), ply + ".part", false, maps::SurfelColouring::Class);
-  std::filesystem::rename(ply + ".part", ply);
+  folder.writeText("objects.json", out.dump(1) + "\n");
+  folder.write("map_classes.ply", [&](const std::string& part) {
+    maps::writeSurfelPly(map.store(), part, false, maps::SurfelColouring::Class);
+  });
 }
 
 std::map<std::uint32_t, std::string> ClassificationStage::segmentClassNames(

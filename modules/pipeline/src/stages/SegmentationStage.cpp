@@ -133,7 +133,7 @@ void SegmentationStage::report(nlohmann::json& rep) const {
   rep["segmentation"] = j;
 }
 
-void SegmentationStage::writeOutputs(const std::string& dir, const maps::CSurfelMap& map) {
+void SegmentationStage::writeOutputs(OutputFolder& folder, const maps::CSurfelMap& map) {
   if (!m_params.enabled) return;
   m_table.compute(map.store().arrays());  // the final map (no renumbering: the map is const here)
   const maps::SurfelArrays a = map.store().arrays();
@@ -169,10 +169,10 @@ void SegmentationStage::writeOutputs(const std::string& dir, const maps::CSurfel
   out["segments"] = segs;
   out["stable_surfels"] = stable;
   out["label_changes_stable"] = m_label_changes_stable;
-  writeFileAtomically(dir + "/segments.json", out.dump(1) + "\n");
-  const std::string ply = dir + "/map_segments.ply";
-  maps::writeSurfelPly(map.store(), ply + ".part", false, maps::SurfelColouring::Segment);
-  std::filesystem::rename(ply + ".part", ply);
+  folder.writeText("segments.json", out.dump(1) + "\n");
+  folder.write("map_segments.ply", [&](const std::string& part) {
+    maps::writeSurfelPly(map.store(), part, false, maps::SurfelColouring::Segment);
+  });
 }
 
 }  // namespace rasm::pipeline

@@ -94,12 +94,13 @@ void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
   // The model is rendered where the guess starts from: the previous frame's pose when odometry
   // carries the estimate on (also through lost frames), else the last good pose.
   auto t = Clock::now();
+  const bool photometric =
+      m_tracking.photometricWeight(prior.has_value()) > 0 && !frame.colour.empty();
   const tracking::ModelMaps model =
-      renderModel(ctx, map, prior ? m_T_prev_frame : m_tracker.lastGoodPose(), r);
+      renderModel(ctx, map, prior ? m_T_prev_frame : m_tracker.lastGoodPose(), photometric, r);
   recordMs(ctx, kRenderModel, msSince(t));
 
   t = Clock::now();
-  const bool photometric = m_tracking.photometric_weight > 0 && !frame.colour.empty();
   r.tracking = m_tracker.track(ctx.pyramid, model,
                                photometric ? frame.colour.cview() : ImageView<const Bgr8>(),
                                prior ? &*prior : nullptr);
@@ -140,7 +141,8 @@ void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
 }
 
 tracking::ModelMaps TrackingStage::renderModel(FrameContext& ctx, const maps::CSurfelMap& map,
-                                               const Eigen::Isometry3d& T_model, FrameResult& r) {
+                                               const Eigen::Isometry3d& T_model, bool with_colour,
+                                               FrameResult& r) {
   // II-C: model = the map rendered at the previous pose from its reliable surfels: those with
   // confidence >= [tracking] model_min_confidence, or the ones fusion flagged stable when that is
   // 0. Until enough of them exist (the first frames of a run, or a newly seen area), that model
@@ -154,7 +156,7 @@ tracking::ModelMaps TrackingStage::renderModel(FrameContext& ctx, const maps::CS
   ro.min_confidence = float(tp.model_min_confidence);
   ro.outputs = maps::kRenderVertex | maps::kRenderNormal;
   // Optional inputs of the tracker: colour for its photometric term, surfel confidence weights.
-  if (tp.photometric_weight > 0 && !frame.colour.empty()) ro.outputs |= maps::kRenderColour;
+  if (with_colour) ro.outputs |= maps::kRenderColour;
   if (tp.confidence_full > 0) ro.outputs |= maps::kRenderConfidence;
   // Rendered at pyramid level [tracking] model_level (intrinsics of that level); a pixel a
   // surfel won has that surfel's normal: the render counts the valid model pixels.
@@ -192,7 +194,8 @@ void TrackingStage::relocalise(FrameContext& ctx, const maps::CSurfelMap& map) {
     // Verify: ICP from the candidate against the map rendered there, every quality rule and
     // the pose check applied (no prior: the candidate is independent of the lost estimate).
     FrameResult probe;
-    const tracking::ModelMaps model = renderModel(ctx, map, cand->T_world_cam, probe);
+    const tracking::ModelMaps model =
+        renderModel(ctx, map, cand->T_world_cam, m_tracking.photometricWeight(false) > 0, probe);
     const tracking::TrackingResult v = m_tracker.align(ctx.pyramid, model, cand->T_world_cam);
     if (v.ok && v.check_overlap >= m_tracking.check_min_overlap) {
       m_tracker.reset(v.T_world_cam);

@@ -68,7 +68,7 @@ class ExplorationLoop {
   void report(nlohmann::json& rep) const;
   /// exploration.json (plans, goals, metrics over time) and exploration.png (coverage and
   /// objects against simulated time).
-  void writeOutputs(const std::string& dir) const;
+  void writeOutputs(OutputFolder& out) const;
 
  private:
   struct GoalRecord {

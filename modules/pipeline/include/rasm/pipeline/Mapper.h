@@ -78,8 +78,8 @@ class Mapper {
   std::string csvRow() const;
   /// Fields of the stages for report.json.
   void report(nlohmann::json& rep) const;
-  /// The stages' own output files in `dir`.
-  void writeOutputs(const std::string& dir);
+  /// The stages' own output files in the run's folder.
+  void writeOutputs(OutputFolder& out);
   /// Ends a run: every stage's finishRun (work in flight lands in the map). Call after the last
   /// frame and before saving the map or writing outputs.
   void finishRun();

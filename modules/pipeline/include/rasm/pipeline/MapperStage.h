@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "rasm/pipeline/FrameContext.h"
+#include "rasm/pipeline/OutputFiles.h"
 #include "rasm/pipeline/RunParams.h"
 #include "rasm/surfel_map/CSurfelMap.h"
 
@@ -86,8 +87,9 @@ class MapperStage {
   /// report.json: fields of the whole run (counts, rates); called once at the end.
   virtual void report(nlohmann::json& /*rep*/) const {}
   /// The stage's own files in the run's output folder (e.g. segments.json), at the end of a run
-  /// and after report(); written through writeFileAtomically (OutputFiles.h) or a temporary name.
-  virtual void writeOutputs(const std::string& /*dir*/, const maps::CSurfelMap& /*map*/) {}
+  /// and after report(); written through the folder (OutputFiles.h: atomically, and recorded for
+  /// report.json and for clearing by the next run; a new file name goes into knownNames()).
+  virtual void writeOutputs(OutputFolder& /*out*/, const maps::CSurfelMap& /*map*/) {}
 
  protected:
   /// Records part `part` (index into parts()) of this frame's time.

@@ -2,9 +2,16 @@
 // One `rasm run`: configuration -> frame source -> Mapper -> output folder (DESIGN.md "Outputs of
 // a run"). app/cmd_run.cpp is a thin layer over it, and the end-to-end tests drive it directly.
 //
-// Output files are written under temporary names and renamed when complete. When a frame fails
-// (corrupt rawlog, bad depth), the outputs of the frames before it are still written, report.json
-// says "status": "failed" with the error, and the error is rethrown.
+// The output folder holds the files of one run (docs/io.md "Runs that never lie"): nothing in it
+// changes until the configuration, the source and a map to continue are checked; then the files
+// of an earlier run are removed, config.ini is written, and every file is written under a
+// temporary name and renamed when complete (OutputFiles.h). When a frame fails (corrupt rawlog,
+// bad depth), the outputs of the frames before it are still written, report.json says "status":
+// "failed" with the error, and the error is rethrown (InputError); a source that yields no frame
+// is such an error, and then only config.ini and report.json are written. An output file that
+// cannot be written (full disk) ends the writing: report.json names it and OutputError is thrown.
+// After a SIGINT / SIGTERM (Interrupts.h) the run reads no further frame and writes the outputs
+// of the frames done with "status": "interrupted". report.json is written last, always.
 
 #include <functional>
 #include <memory>
@@ -46,7 +53,9 @@ struct RunSummary {
   std::optional<double> ate_rmse_m;  ///< over every frame (lost ones at their propagated pose)
   std::optional<double> ate_tracked_rmse_m;  ///< over the tracked frames alone
   nlohmann::json report;                     ///< what report.json holds
-  bool explored = false;  ///< [explore] enabled: report holds the exploration's fields
+  bool explored = false;   ///< [explore] enabled: report holds the exploration's fields
+  std::string status;      ///< report.json "status": ok, failed or interrupted
+  int interrupted_by = 0;  ///< the signal that stopped the run (SIGINT, SIGTERM), 0 = none
 };
 
 class ExplorationLoop;
@@ -61,9 +70,11 @@ class MappingRun {
   /// [sim]) and the Mapper's and its stages' (Mapper::sectionNames).
   std::vector<std::string> knownSections() const;
 
-  /// Runs to the end of the source (or [source] max_frames) and writes the output folder. Once
-  /// per MappingRun (the Mapper and its map are the run's). `on_frame` (optional) sees every
-  /// result, e.g. for tests.
+  /// Runs to the end of the source (or [source] max_frames, or a SIGINT / SIGTERM when
+  /// installInterruptHandlers() was called) and writes the output folder. Once per MappingRun
+  /// (the Mapper and its map are the run's). `on_frame` (optional) sees every result, e.g. for
+  /// tests. InputError for bad input (no frame at all included), OutputError when an output
+  /// cannot be written; report.json is written before either is thrown.
   RunSummary run(const std::function<void(const FrameResult&)>& on_frame = {});
 
   const TSourceParams& sourceParams() const { return m_source; }
@@ -80,25 +91,39 @@ class MappingRun {
 
  private:
   struct Accumulated;  // what the frame loop gathers for the outputs
-  /// Creates the output folder and writes config.ini (InputError when it cannot be used).
-  void prepareOutputFolder() const;
+  /// Creates the output folder and removes an earlier run's files from it (InputError when it
+  /// cannot be used).
+  OutputFolder prepareOutputFolder() const;
   void decideExploring(const std::string& src);
-  /// The configured source with its read-ahead / preload wrapper; `preload_s` = seconds spent
+  /// The opened source with its read-ahead / preload wrapper; `preload_s` = seconds spent
   /// preloading. An exploring run ([explore] enabled) gets no read-ahead: the source's robot is
   /// driven by the exploration loop created here.
-  std::unique_ptr<io::FrameSource> openWrappedSource(double& preload_s);
-  /// Maps frames until the source or [source] max_frames ends; an exception of a frame ends the
-  /// loop and is kept in acc.error.
-  void frameLoop(io::FrameSource& source, Accumulated& acc,
+  std::unique_ptr<io::FrameSource> wrapSource(std::unique_ptr<io::FrameSource> source,
+                                              double& preload_s);
+  /// Frames the run expects (progress display), 0 when unknown.
+  long long expectedFrames(const io::FrameSource& source) const;
+  /// Maps frames until the source or [source] max_frames ends or a signal asks to stop; an
+  /// exception of a frame ends the loop and is kept in acc.error.
+  void frameLoop(io::FrameSource& source, Accumulated& acc, OutputFolder& out,
                  const std::function<void(const FrameResult&)>& on_frame);
+  void recordFrame(Accumulated& acc, const RgbdFrame& f, const FrameResult& r);
+  std::unique_ptr<io::RawlogWriter> openAnnotated(const OutputFolder& out) const;
   void writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, const FrameResult& r);
+  /// The stages' finishRun and the exploration's end; the error of a run without any frame.
+  void finishFrames(Accumulated& acc);
+  std::string noFrameReason(const Accumulated& acc) const;
+  RunSummary summarise(const Accumulated& acc) const;
   /// The class map (IV) of a rendered view (grey where no class rose above 0.5); false when no
   /// class evidence has been fused into the map yet (nothing to show).
   bool classMapView(const maps::RenderedMaps& view, cv::Mat& out) const;
-  /// frames.csv, trajectory, ground truth, map files, preview.
-  void writeOutputs(const Accumulated& acc);
-  /// report.json (and the summary's ATE), written last.
-  void writeReport(const io::FrameSource& source, Accumulated& acc, RunSummary& sum);
+  /// frames.csv, trajectory, ground truth, map files, the stages' files, previews.
+  void writeOutputs(const Accumulated& acc, OutputFolder& out);
+  void writeMapFiles(OutputFolder& out) const;
+  void writePreviews(const Accumulated& acc, OutputFolder& out) const;
+  /// report.json's fields (and the summary's ATE); `source` describes the source.
+  nlohmann::json reportJson(const std::string& source, const Accumulated& acc,
+                            RunSummary& sum) const;
+  void addAte(const Accumulated& acc, nlohmann::json& rep, RunSummary& sum) const;
 
   RunConfig m_config;
   TSourceParams m_source;

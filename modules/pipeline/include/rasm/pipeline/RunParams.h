@@ -102,6 +102,12 @@ struct TRobotParams : mrpt::config::CLoadableOptions {
   /// Constrain the camera to the SE(2) motion of a ground robot: every tracked pose is projected
   /// to the floor plane of the first frame's base (fixed height, roll and pitch of the mount).
   bool planar_motion = false;
+  /// Softer than planar_motion: the odometry prior predicts the camera at the mount's height,
+  /// roll and pitch over the first frame's floor (absolute, not relative to the previous frame),
+  /// with odometry_sigma_z_m / odometry_sigma_tilt_deg, so a floor that the depth noise bends a
+  /// little per frame cannot carry the map up or tilt it over a run; the data still decide when
+  /// they disagree by more (a ramp, a bump).
+  bool floor_prior = false;
 
   /// T_base_cam of the mount (optical camera frame in the base frame).
   Eigen::Isometry3d T_base_cam() const;

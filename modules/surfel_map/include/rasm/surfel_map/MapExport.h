@@ -16,6 +16,7 @@
 //   uchar stable           0/1
 // MeshLab / CloudCompare / Open3D read it (radius, confidence, ... as scalar fields).
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,8 @@
 
 namespace mrpt::opengl {
 class CSetOfObjects;
-}
+class COpenGLScene;
+}  // namespace mrpt::opengl
 
 namespace rasm::maps {
 
@@ -77,8 +79,13 @@ PlySurfels readSurfelPly(const std::string& path);
 void surfelsToOpenGL(const SurfelStore& map, const SurfelVisualOptions& opt,
                      mrpt::opengl::CSetOfObjects& o);
 
-/// Saves a .3Dscene (mrpt::opengl::COpenGLScene::saveToFile) with the coloured cloud and a grid;
-/// SceneViewer3D opens it. Throws InputError naming the path on failure.
+/// The scene of a .3Dscene: the coloured cloud and a grid.
+std::shared_ptr<mrpt::opengl::COpenGLScene> surfelScene(const SurfelStore& map,
+                                                        const SurfelVisualOptions& opt = {});
+
+/// Saves surfelScene (mrpt::opengl::COpenGLScene::saveToFile); SceneViewer3D opens it. Throws
+/// InputError naming the path on failure (MRPT does not check the last gzip flush: `rasm run`
+/// writes its scenes through pipeline::writeGzArchive instead).
 void writeSurfelScene(const SurfelStore& map, const std::string& path,
                       const SurfelVisualOptions& opt = {});
 

@@ -54,6 +54,17 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   /// point-to-plane residual of sqrt(photometric_weight) m. 0 = geometry only. Used only when
   /// the caller passes both the frame's colour and the model's rendered colour.
   double photometric_weight = 0.0;
+  /// The photometric weight for frames with a motion prior (odometry): there the prior holds the
+  /// directions the geometry leaves free, and the texture of a floor or a far wall constrains the
+  /// yaw and the in-plane translation the prior alone lets drift with the wheels' noise (a robot
+  /// turning in place in a room whose walls are beyond the depth range). Measured on exploring
+  /// robot runs (docs/slam-eval.md, "Exploring robot"); hand-held frames (no prior) keep
+  /// photometric_weight, which made real hand-held sequences worse.
+  double photometric_weight_with_prior = 0.0;
+  /// The photometric weight align() uses: photometric_weight_with_prior with a prior.
+  double photometricWeight(bool with_prior) const {
+    return with_prior ? photometric_weight_with_prior : photometric_weight;
+  }
   /// Huber threshold on the intensity residual (intensity units); 0 = least squares.
   double photometric_huber = 0.0;
   /// Samples whose frame intensity gradient is below this (intensity per pixel of the level)
@@ -160,6 +171,12 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   double check_gate_m = 0.01;
   double check_noise_sigmas = 3.0;
   double check_max_normal_angle_deg = 45.0;
+  /// Frame points more than this in front of the model's surface are a new object before a
+  /// mapped one (a chair before a wall), not a pose error, and are left out of the overlap: with
+  /// them, an exploring robot turning to furniture in front of mapped walls lost correct frames
+  /// as inconsistent, and those frames, not fused, kept the furniture out of the map. A pose
+  /// error that large is caught by ICP's gates (max_jump_*, the inlier rules, the prior).
+  double check_occluder_margin_m = 0.15;
   /// Of the frame pixels that land on the model's surface, at least this fraction must agree
   /// with it, and at most check_max_behind may lie behind it (seeing through mapped space);
   /// otherwise the pose is lost (status inconsistent). The check needs check_min_overlap of the

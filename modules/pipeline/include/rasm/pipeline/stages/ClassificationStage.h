@@ -41,7 +41,7 @@ class ClassificationStage : public MapperStage {
   void csvColumns(std::vector<std::string>& columns) const override;
   void csvValues(const FrameContext& ctx, CsvRow& row) const override;
   void report(nlohmann::json& rep) const override;
-  void writeOutputs(const std::string& dir, const maps::CSurfelMap& map) override;
+  void writeOutputs(OutputFolder& out, const maps::CSurfelMap& map) override;
 
   /// Adds a detector besides the configured ones (tests, programs embedding the Mapper); before
   /// the first frame.

@@ -36,7 +36,7 @@ class SegmentationStage : public MapperStage {
   void csvColumns(std::vector<std::string>& columns) const override;
   void csvValues(const FrameContext& ctx, CsvRow& row) const override;
   void report(nlohmann::json& rep) const override;
-  void writeOutputs(const std::string& dir, const maps::CSurfelMap& map) override;
+  void writeOutputs(OutputFolder& out, const maps::CSurfelMap& map) override;
 
   const segmentation::TSegmentationParams& params() const { return m_params; }
   const segmentation::FrameSegments& lastSegments() const { return m_segmenter.last(); }

@@ -57,9 +57,11 @@ class TrackingStage : public MapperStage {
   void initialise(FrameContext& ctx);
   void track(FrameContext& ctx, const maps::CSurfelMap& map);
   /// The tracking model: the map rendered at T_model (reliable surfels, all of them while too
-  /// few), as the tracker sees it (valid until the next render).
+  /// few), as the tracker sees it (valid until the next render); with its colour when the
+  /// tracker's photometric term needs it.
   tracking::ModelMaps renderModel(FrameContext& ctx, const maps::CSurfelMap& map,
-                                  const Eigen::Isometry3d& T_model, FrameResult& r);
+                                  const Eigen::Isometry3d& T_model, bool with_colour,
+                                  FrameResult& r);
   /// While lost: the pose from the map's keyframes, verified by ICP against the map rendered
   /// there; on success the tracker restarts from it (the frame becomes Relocalised).
   void relocalise(FrameContext& ctx, const maps::CSurfelMap& map);

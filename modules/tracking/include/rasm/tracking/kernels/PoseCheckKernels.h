@@ -21,6 +21,10 @@ struct PoseCheckCounts {
   long long front = 0;       ///< on the model pixel but nearer the camera than its surface
   long long behind = 0;      ///< behind the model surface: seeing through mapped space
   long long misaligned = 0;  ///< at the model surface's depth but off the gate or normal test
+  /// Far in front of the model surface (beyond PoseCheckKernel::occluder_margin_m): something the
+  /// map does not hold yet stands before a mapped surface (a chair before a wall the robot turns
+  /// to). Says nothing about the pose, like new space: not part of the overlap.
+  long long occluding = 0;
   long long overlap() const { return agree + front + behind + misaligned; }
   RASM_HD_INLINE PoseCheckCounts& operator+=(const PoseCheckCounts& o) {
     valid += o.valid;
@@ -28,6 +32,7 @@ struct PoseCheckCounts {
     front += o.front;
     behind += o.behind;
     misaligned += o.misaligned;
+    occluding += o.occluding;
     return *this;
   }
 };
@@ -45,6 +50,8 @@ struct PoseCheckKernel {
   float base_gate_m = 0.01f;
   float noise_sigmas = 3.0f;
   float min_normal_cos = 0.7f;
+  /// Frame points further than this in front of the model surface are occluders, not errors.
+  float occluder_margin_m = 0.15f;
   int stride = 1;
 
   RASM_HD_INLINE int rows() const { return (frame_vertex.height + stride - 1) / stride; }
@@ -70,16 +77,23 @@ struct PoseCheckKernel {
       const Vec3f n = model_normal(ui, vi);
       if (!(q.x() == q.x()) || !(n.x() == n.x())) continue;
       const float gate = base_gate_m + noise_sigmas * depthNoiseSigma(pm.z());
-      const Vec3f p = T_world_cam.apply(v);
-      // Depth of the model surface along the model camera's ray through the moved point.
+      // Point-to-plane, as ICP's association: the signed distance of the moved point from the
+      // model surface's tangent plane, the normal turned towards the model camera (> 0: in
+      // front). The model pixel a frame point lands on holds a neighbouring point of the same
+      // surface, up to half a pixel away: on a surface seen at a grazing angle (a robot's floor)
+      // that is centimetres along the surface, which a point-to-point gate would count.
       const Vec3f qm = T_model_world.apply(q);
-      const float dz = pm.z() - qm.z();  // > 0: the frame point is behind the model surface
-      if ((p - q).squaredNorm() <= gate * gate && T_world_cam.rotate(nc).dot(n) >= min_normal_cos)
-        ++c.agree;
-      else if (dz > gate)
+      Vec3f nm = T_model_world.rotate(n);
+      if (nm.dot(qm) > 0.0f) nm = -nm;
+      const float d = nm.dot(pm - qm);
+      if (d < -gate)
         ++c.behind;
-      else if (dz < -gate)
+      else if (d > occluder_margin_m)
+        ++c.occluding;
+      else if (d > gate)
         ++c.front;
+      else if (T_world_cam.rotate(nc).dot(n) >= min_normal_cos)
+        ++c.agree;
       else
         ++c.misaligned;
     }

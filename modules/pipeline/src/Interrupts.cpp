@@ -1,0 +1,143 @@
+#include "rasm/pipeline/Interrupts.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+
+namespace rasm::pipeline {
+
+namespace {
+constexpr int kSlots = 16;
+constexpr std::size_t kPathBytes = 4096;
+
+/// A temporary the handler removes: state 0 free, 1 being filled, 2 registered.
+struct Slot {
+  std::atomic<int> state{0};
+  char path[kPathBytes] = {};
+};
+Slot g_slots[kSlots];
+
+std::atomic<int> g_signals{0};      // signals received
+std::atomic<int> g_stop_signal{0};  // the first one
+std::atomic<long long> g_frames_done{0};
+std::atomic<bool> g_report_set{false};
+char g_report_path[kPathBytes] = {};
+char g_report_part[kPathBytes] = {};
+
+void put(int fd, const char* s) {
+  ssize_t r = ::write(fd, s, std::strlen(s));
+  (void)r;
+}
+
+/// Decimal digits of v >= 0 into buf (async-signal-safe).
+const char* digits(long long v, char (&buf)[24]) {
+  char* p = buf + sizeof buf - 1;
+  *p = '\0';
+  do {
+    *--p = char('0' + v % 10);
+    v /= 10;
+  } while (v > 0 && p > buf);
+  return p;
+}
+
+const char* nameOf(int sig) {
+  return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal";
+}
+
+void writeAbortReport(int sig) {
+  if (!g_report_set.load()) return;
+  const int fd = ::open(g_report_part, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd < 0) return;
+  char buf[24];
+  put(fd, "{\n  \"status\": \"aborted\",\n  \"error\": \"a second ");
+  put(fd, nameOf(sig));
+  put(fd,
+      " aborted the run at once: the files of this run in this folder are complete, the others "
+      "were not written\",\n  \"frames\": ");
+  put(fd, digits(g_frames_done.load(), buf));
+  put(fd, "\n}\n");
+  if (::close(fd) == 0) ::rename(g_report_part, g_report_path);
+}
+
+void onSignal(int sig) {
+  if (g_signals.fetch_add(1) == 0) {
+    g_stop_signal.store(sig);
+    put(2, "\nrasm: ");
+    put(2, nameOf(sig));
+    put(2, ": finishing the current frame and writing the outputs (again to abort)\n");
+    return;
+  }
+  for (Slot& s : g_slots)
+    if (s.state.load() == 2) ::unlink(s.path);
+  writeAbortReport(sig);
+  put(2, "\nrasm: aborted\n");
+  ::_exit(128 + sig);
+}
+}  // namespace
+
+void installInterruptHandlers() {
+  struct sigaction sa {};
+  sa.sa_handler = onSignal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESTART;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  // A file size limit (ulimit -f) then fails the write (EFBIG) as a full disk does, and the
+  // run reports it, instead of the process being killed with a partial file.
+  std::signal(SIGXFSZ, SIG_IGN);
+}
+
+void uninstallInterruptHandlers() {
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  std::signal(SIGXFSZ, SIG_DFL);
+  g_signals.store(0);
+  g_stop_signal.store(0);
+  g_report_set.store(false);
+  g_frames_done.store(0);
+}
+
+int stopSignal() {
+  return g_stop_signal.load();
+}
+
+std::string signalName(int sig) {
+  if (sig == SIGINT || sig == SIGTERM) return nameOf(sig);
+  return "signal " + std::to_string(sig);
+}
+
+ScopedTemporary::ScopedTemporary(const std::string& final_path) {
+  const std::string part = final_path + ".part";
+  if (part.size() >= kPathBytes) return;
+  for (int i = 0; i < kSlots; ++i) {
+    int expected = 0;
+    if (!g_slots[i].state.compare_exchange_strong(expected, 1)) continue;
+    std::memcpy(g_slots[i].path, part.c_str(), part.size() + 1);
+    g_slots[i].state.store(2);
+    m_slot = i;
+    return;
+  }
+}
+
+ScopedTemporary::~ScopedTemporary() {
+  if (m_slot >= 0) g_slots[m_slot].state.store(0);
+}
+
+void setAbortReport(const std::string& report_path) {
+  g_report_set.store(false);
+  const std::string part = report_path + ".part";
+  if (report_path.empty() || part.size() >= kPathBytes) return;
+  std::memcpy(g_report_path, report_path.c_str(), report_path.size() + 1);
+  std::memcpy(g_report_part, part.c_str(), part.size() + 1);
+  g_report_set.store(true);
+}
+
+void setFramesDone(long long frames) {
+  g_frames_done.store(frames);
+}
+
+}  // namespace rasm::pipeline

@@ -1,0 +1,346 @@
+// Runs that never lie (issue 15, docs/io.md): atomic outputs, one run per folder, report.json
+// always, sources without a frame, a full disk (a file size limit), SIGINT in the frame loop.
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+
+#include "pipeline/RunTestFiles.h"
+#include "rasm/core/Error.h"
+#include "rasm/pipeline/Interrupts.h"
+#include "rasm/pipeline/MappingRun.h"
+#include "rasm/pipeline/OutputFiles.h"
+
+namespace fs = std::filesystem;
+using namespace rasm;
+using namespace rasm::pipeline;
+using namespace rasm::pipeline::testing;
+
+namespace {
+/// The simulated hand-held office rawlog of the repository: 20 frames at 320x240 with ground truth.
+const std::string kSimRawlog =
+    std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
+
+RunConfig rawlogConfig(const std::string& path, const std::string& out) {
+  RunConfig cfg = RunConfig::fromString("[source]\ntype = rawlog\npath = " + path + "\n", "test");
+  cfg.set("output", "dir", out);
+  return cfg;
+}
+
+void writeBytes(const std::string& path, const std::string& bytes) {
+  std::ofstream f(path, std::ios::binary);
+  f << bytes;
+}
+
+/// Files an earlier run into the same folder would have left (and one of the user's).
+void fillWithEarlierRun(const std::string& dir) {
+  fs::create_directories(dir);
+  for (const char* f : {"map.ply", "groundtruth.txt", "annotated.rawlog", "map.surfelmap.part",
+                        "report.json", "exploration.png"})
+    writeBytes(dir + "/" + f, "from an earlier run");
+  writeBytes(dir + "/notes.txt", "the user's");
+}
+}  // namespace
+
+// ---- OutputFiles ----------------------------------------------------------------------------
+TEST(OutputFiles, FailingWriterLeavesNeitherFinalNorTemporaryAndNamesTheFile) {
+  const std::string dir = tempDir("atomic");
+  fs::create_directories(dir);
+  writeBytes(dir + "/map.ply", "complete old file");
+  try {
+    writeAtomically(dir + "/map.ply", [](const std::string& part) {
+      writeBytes(part, std::string(1000, 'x'));  // half written, then the disk is full
+      throw std::runtime_error("write failed");
+    });
+    FAIL() << "no error";
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find(dir + "/map.ply"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(filesIn(dir), std::vector<std::string>{"map.ply"});
+  EXPECT_EQ(readText(dir + "/map.ply"), "complete old file");  // the old one, untouched
+  writeFileAtomically(dir + "/map.ply", "new");
+  EXPECT_EQ(readText(dir + "/map.ply"), "new");
+  fs::remove_all(dir);
+}
+
+TEST(OutputFiles, DevFullIsAWriteErrorNamingTheFile) {
+  // /dev/full: every write fails with ENOSPC. Written through a link in the folder, so that the
+  // temporary is the device itself.
+  const std::string dir = tempDir("devfull");
+  fs::create_directories(dir);
+  fs::create_symlink("/dev/full", dir + "/frames.csv.part");
+  try {
+    writeFileAtomically(dir + "/frames.csv", std::string(100000, 'x'));
+    FAIL() << "a write to /dev/full succeeded";
+  } catch (const OutputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(dir + "/frames.csv"), std::string::npos) << m;
+    EXPECT_NE(m.find("No space left on device"), std::string::npos) << m;
+  }
+  EXPECT_FALSE(fs::exists(dir + "/frames.csv"));
+  fs::remove_all(dir);
+}
+
+TEST(OutputFiles, ValidUtf8ReplacesOnlyInvalidBytes) {
+  EXPECT_EQ(validUtf8("plain"), "plain");
+  EXPECT_EQ(validUtf8("caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x98\x80"),
+            "caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x98\x80");
+  // PNG's signature byte, a lone continuation byte, an overlong '/', a surrogate, a cut sequence.
+  EXPECT_EQ(validUtf8("\x89PNG"), "\xEF\xBF\xBDPNG");
+  EXPECT_EQ(validUtf8("a\x80z"), "a\xEF\xBF\xBDz");
+  EXPECT_EQ(validUtf8("\xC0\xAF"), "\xEF\xBF\xBD\xEF\xBF\xBD");
+  EXPECT_EQ(validUtf8("\xED\xA0\x80"), "\xEF\xBF\xBD\xEF\xBF\xBD\xEF\xBF\xBD");
+  EXPECT_EQ(validUtf8("ab\xE2\x82"), "ab\xEF\xBF\xBD\xEF\xBF\xBD");
+  EXPECT_NO_THROW((void)nlohmann::json(validUtf8("\xFF\xFE bad")).dump());
+}
+
+TEST(OutputFiles, FolderWritesOnlyKnownNamesAndClearsAnEarlierRun) {
+  const std::string dir = tempDir("folder");
+  fillWithEarlierRun(dir);
+  OutputFolder out(dir);
+  EXPECT_THROW(out.writeText("surprise.txt", "x"), std::logic_error);
+  std::vector<std::string> removed = out.clearPreviousRun();
+  std::sort(removed.begin(), removed.end());
+  EXPECT_EQ(removed,
+            (std::vector<std::string>{"annotated.rawlog", "exploration.png", "groundtruth.txt",
+                                      "map.ply", "map.surfelmap.part", "report.json"}));
+  EXPECT_EQ(filesIn(dir), std::vector<std::string>{"notes.txt"});  // the user's stays
+  out.writeText("frames.csv", "a\n");
+  EXPECT_EQ(out.written(), std::vector<std::string>{"frames.csv"});
+  fs::remove_all(dir);
+}
+
+// ---- sources without a frame ----------------------------------------------------------------
+struct NoFrameCase {
+  std::string name;
+  std::string path;     ///< made by the test when `bytes` is set
+  std::string bytes;    ///< content of the file, when the test makes it
+  std::string expect;   ///< in the error
+  long long start = 0;  ///< [source] start_frame
+};
+
+class NoFrameSource : public ::testing::TestWithParam<NoFrameCase> {};
+
+TEST_P(NoFrameSource, FailsWithTheReasonWritesReportAndNoMap) {
+  const NoFrameCase& c = GetParam();
+  const std::string out = tempDir("noframe_" + c.name);
+  fillWithEarlierRun(out);
+  std::string path = c.path;
+  if (path.empty()) {
+    path = out + "_input.rawlog";
+    writeBytes(path, c.bytes);
+  }
+  if (!fs::exists(path)) GTEST_SKIP() << "absent: " << path;
+  RunConfig cfg = rawlogConfig(path, out);
+  cfg.set("source", "start_frame", std::to_string(c.start));
+  MappingRun run(cfg);
+  try {
+    run.run();
+    FAIL() << "a run without a frame succeeded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(c.expect), std::string::npos) << e.what();
+  }
+  // Only this run's config.ini and report.json, and the user's file.
+  EXPECT_EQ(filesIn(out), (std::vector<std::string>{"config.ini", "notes.txt", "report.json"}));
+  fs::remove(out + "/notes.txt");
+  const nlohmann::json rep = expectCompleteRunFolder(out);
+  EXPECT_EQ(rep["status"], "failed");
+  EXPECT_EQ(rep["frames"], 0);
+  EXPECT_NE(rep["error"].get<std::string>().find(c.expect), std::string::npos) << rep["error"];
+  fs::remove_all(out);
+  fs::remove(out + "_input.rawlog");
+}
+
+std::string truncatedSimRawlog() {
+  std::ifstream f(kSimRawlog, std::ios::binary);
+  std::string head(100, '\0');
+  f.read(head.data(), 100);
+  return head;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, NoFrameSource,
+    ::testing::Values(
+        NoFrameCase{"empty", "", "", "no CObservation3DRangeScan in 0 rawlog entries"},
+        NoFrameCase{"text", "", "hello, I am not a rawlog\n", "corrupt or truncated rawlog"},
+        NoFrameCase{"png", "", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16),
+                    "corrupt or truncated rawlog"},
+        NoFrameCase{"truncated", "", truncatedSimRawlog(), "no CObservation3DRangeScan"},
+        NoFrameCase{"laser_only", "/usr/share/mrpt/datasets/rot_scan_2d.rawlog", "",
+                    "no CObservation3DRangeScan in 1 rawlog entries"},
+        NoFrameCase{"start_beyond_end", kSimRawlog, "",
+                    "yielded no frame to map: it ended after 20 frames, before [source] "
+                    "start_frame = 1000",
+                    1000}),
+    [](const auto& info) { return info.param.name; });
+
+TEST(RunOutputs, OneFrameWorks) {
+  const std::string out = tempDir("oneframe");
+  RunConfig cfg = rawlogConfig(kSimRawlog, out);
+  cfg.set("source", "start_frame", "19");  // the last of 20
+  MappingRun run(cfg);
+  const RunSummary s = run.run();
+  EXPECT_EQ(s.frames, 1u);
+  EXPECT_GT(s.surfels, 10000u);
+  const nlohmann::json rep = expectCompleteRunFolder(out);
+  EXPECT_EQ(rep["status"], "ok");
+  EXPECT_EQ(rep["frames"], 1);
+  EXPECT_EQ(rep["frames_read"], 20);
+  EXPECT_EQ(maps::readSurfelPly(out + "/map.ply").size(), s.surfels);
+  fs::remove_all(out);
+}
+
+// ---- one run per folder ---------------------------------------------------------------------
+TEST(RunOutputs, SecondRunLeavesNoFileOfTheFirst) {
+  const std::string out = tempDir("mixed");
+  {  // ground truth and the annotated rawlog
+    RunConfig cfg = rawlogConfig(kSimRawlog, out);
+    cfg.set("source", "max_frames", "3");
+    cfg.set("output", "write_rawlog", "true");
+    MappingRun(cfg).run();
+    EXPECT_TRUE(fs::exists(out + "/groundtruth.txt"));
+    EXPECT_TRUE(fs::exists(out + "/annotated.rawlog"));
+    (void)expectCompleteRunFolder(out);
+  }
+  {  // a frame without ground truth, no rawlog, no 3-D scene
+    RunConfig cfg = rawlogConfig(RASM_MRPT_TEST_RAWLOG, out);
+    cfg.set("output", "write_3dscene", "false");
+    MappingRun(cfg).run();
+  }
+  EXPECT_FALSE(fs::exists(out + "/annotated.rawlog"));
+  EXPECT_FALSE(fs::exists(out + "/map.3Dscene"));
+  EXPECT_FALSE(fs::exists(out + "/map_segments.3Dscene"));
+  const nlohmann::json rep = expectCompleteRunFolder(out);  // the folder is report's list exactly
+  EXPECT_EQ(rep["frames"], 1);
+  // The first run's 3 ground-truth poses are gone (this run's frame may carry one of its own).
+  if (fs::exists(out + "/groundtruth.txt")) {
+    EXPECT_EQ(io::readTumTrajectory(out + "/groundtruth.txt").size(), 1u) << "stale ground truth";
+  }
+  fs::remove_all(out);
+}
+
+TEST(RunOutputs, RunRejectedBeforeAnyFrameLeavesTheEarlierRunAsItWas) {
+  const std::string out = tempDir("rejected");
+  {
+    RunConfig cfg = rawlogConfig(kSimRawlog, out);
+    cfg.set("source", "max_frames", "2");
+    MappingRun(cfg).run();
+  }
+  const std::vector<std::string> before = filesIn(out);
+  const std::string config = readText(out + "/config.ini"), report = readText(out + "/report.json");
+  RunConfig cfg = rawlogConfig("/nonexistent/seq.rawlog", out);
+  cfg.set("source", "max_frames", "7");
+  MappingRun run(cfg);
+  EXPECT_THROW(run.run(), InputError);
+  EXPECT_EQ(filesIn(out), before);
+  EXPECT_EQ(readText(out + "/config.ini"), config);
+  EXPECT_EQ(readText(out + "/report.json"), report);
+  fs::remove_all(out);
+}
+
+// ---- a full disk ----------------------------------------------------------------------------
+/// RLIMIT_FSIZE makes every write beyond `bytes` in any file fail (EFBIG, with SIGXFSZ ignored):
+/// a full disk reached in whichever file crosses it.
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    getrlimit(RLIMIT_FSIZE, &m_old);
+    m_old_handler = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit l = m_old;
+    l.rlim_cur = bytes;
+    setrlimit(RLIMIT_FSIZE, &l);
+  }
+  ~FileSizeLimit() {
+    setrlimit(RLIMIT_FSIZE, &m_old);
+    std::signal(SIGXFSZ, m_old_handler);
+  }
+
+ private:
+  rlimit m_old{};
+  void (*m_old_handler)(int) = nullptr;
+};
+
+class FullDisk : public ::testing::TestWithParam<std::pair<long, std::string>> {};
+
+TEST_P(FullDisk, NamesTheFileAndLeavesOnlyCompleteFiles) {
+  const auto& [limit, setting] = GetParam();
+  const std::string out = tempDir("fulldisk");
+  RunConfig cfg = rawlogConfig(kSimRawlog, out);
+  cfg.set("source", "max_frames", "10");
+  if (!setting.empty()) cfg.set("output", setting, "false");
+  MappingRun run(cfg);
+  std::string error;
+  {
+    const FileSizeLimit full(rlim_t(limit) * 1024);
+    try {
+      run.run();
+    } catch (const OutputError& e) {
+      error = e.what();
+    }
+  }
+  ASSERT_FALSE(error.empty()) << "no write failed under a " << limit << " KiB limit";
+  const nlohmann::json rep = expectCompleteRunFolder(out);
+  EXPECT_EQ(rep["status"], "failed");
+  // The error names the file, which is absent.
+  const std::string prefix = "output file '" + out + "/";
+  const std::size_t at = error.find(prefix);
+  ASSERT_NE(at, std::string::npos) << error;
+  const std::string name =
+      error.substr(at + prefix.size(), error.find('\'', at + prefix.size()) - (at + prefix.size()));
+  EXPECT_FALSE(fs::exists(out + "/" + name)) << name;
+  EXPECT_NE(error.find("File too large"), std::string::npos) << error;
+  EXPECT_NE(rep["error"].get<std::string>().find(name), std::string::npos) << rep["error"];
+  fs::remove_all(out);
+}
+
+// 8 KiB: config.ini (13 KB) fails; 64 KiB: map.ply; 500 KiB without the PLY: map.3Dscene (about
+// 0.6 MB at 10 frames), in gzip's last flush or before it; 2 MiB without PLY and scenes:
+// map.surfelmap.
+INSTANTIATE_TEST_SUITE_P(Limits, FullDisk,
+                         ::testing::Values(std::make_pair(8L, std::string()),
+                                           std::make_pair(64L, std::string()),
+                                           std::make_pair(500L, std::string("write_ply")),
+                                           std::make_pair(1000L, std::string("write_ply"))));
+
+// ---- SIGINT in the frame loop (in-process; the binary's tests send them from outside) -------
+TEST(RunOutputs, SigintAfterTheThirdFrameWritesTheOutputsOfThreeFrames) {
+  const std::string out = tempDir("sigint");
+  RunConfig cfg = rawlogConfig(kSimRawlog, out);
+  cfg.set("output", "write_rawlog", "true");
+  MappingRun run(cfg);
+  installInterruptHandlers();
+  int seen = 0;
+  const RunSummary s = run.run([&](const FrameResult&) {
+    if (++seen == 3) std::raise(SIGINT);  // a real signal, while frame 3 finishes
+  });
+  uninstallInterruptHandlers();
+  EXPECT_EQ(s.frames, 3u);
+  EXPECT_EQ(s.status, "interrupted");
+  EXPECT_EQ(s.interrupted_by, SIGINT);
+  const nlohmann::json rep = expectCompleteRunFolder(out);  // 3 poses, 3 rows, 3 rawlog frames
+  EXPECT_EQ(rep["status"], "interrupted");
+  EXPECT_EQ(rep["interrupted_by"], "SIGINT");
+  EXPECT_EQ(rep["interrupted_during"], "frames");
+  EXPECT_EQ(rep["frames"], 3);
+  EXPECT_TRUE(fs::exists(out + "/map.ply"));
+  EXPECT_TRUE(fs::exists(out + "/annotated.rawlog"));
+  fs::remove_all(out);
+}
+
+TEST(RunOutputs, SignalBeforeTheRunBeganLeavesTheFolderAsItWas) {
+  const std::string out = tempDir("sigearly");
+  fillWithEarlierRun(out);
+  const std::vector<std::string> before = filesIn(out);
+  MappingRun run(rawlogConfig(kSimRawlog, out));
+  installInterruptHandlers();
+  std::raise(SIGTERM);  // e.g. Ctrl-C while the detectors load
+  const RunSummary s = run.run();
+  uninstallInterruptHandlers();
+  EXPECT_EQ(s.status, "interrupted");
+  EXPECT_EQ(s.interrupted_by, SIGTERM);
+  EXPECT_EQ(s.frames, 0u);
+  EXPECT_EQ(filesIn(out), before);
+  fs::remove_all(out);
+}
