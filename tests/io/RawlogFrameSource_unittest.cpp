@@ -435,3 +435,20 @@ TEST(RawlogFrameSource, CorruptStringLengthIsAnErrorNotAnAllocation) {
   EXPECT_EQ(h, "hello");
   EXPECT_EQ(e, "");
 }
+
+/// A corrupt JPEG stored inside a rawlog (MRPT's CImage JPEG serialization) made libjpeg call
+/// exit(1) ("Not a JPEG file: starts with 0x00 0x07"): `rasm run` died without a report. Found by
+/// fuzz_rawlog; the 489-byte input is tests/io/data/corrupt_jpeg_in_rawlog.rawlog.
+TEST(RawlogFrameSource, CorruptEmbeddedJpegIsAnError) {
+  const std::string path = std::string(RASM_SOURCE_DIR) + "/tests/io/data/corrupt_jpeg_in_rawlog.rawlog";
+  try {
+    RawlogFrameSource src(path);
+    while (src.next()) {
+    }
+    FAIL() << "corrupt JPEG accepted";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(path), std::string::npos) << m;
+    EXPECT_NE(m.find("mrpt::img::CImage"), std::string::npos) << m;  // not exit(1)
+  }
+}
