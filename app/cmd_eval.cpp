@@ -62,10 +62,27 @@ double parseNumber(const std::string& opt, const std::string& text) {
   try {
     std::size_t n = 0;
     const double v = std::stod(text, &n);
-    if (n == text.size()) return v;
+    if (n == text.size() && std::isfinite(v)) return v;
   } catch (const std::exception&) {
   }
-  rasm::throwInputError(opt, "'" + text + "' is not a number");
+  rasm::throwInputError(opt, "'" + text + "' is not a finite number");
+}
+
+/// A number > 0 (seconds, frames).
+double parsePositive(const std::string& opt, const std::string& text, const char* unit) {
+  const double v = parseNumber(opt, text);
+  if (!(v > 0)) rasm::throwInputError(opt + " " + text, std::string("expected a value > 0 ") + unit);
+  return v;
+}
+
+/// A TUM trajectory file with at least one pose (a folder, an empty or comment-only file are
+/// errors naming it).
+rasm::io::Trajectory readTrajectoryFile(const std::string& path, const char* role) {
+  auto t = rasm::io::readTumTrajectory(path);
+  if (t.empty())
+    rasm::throwInputError(std::string(role) + " " + path,
+                          "holds no pose (expected TUM lines 'timestamp tx ty tz qx qy qz qw')");
+  return t;
 }
 
 void printStats(const char* name, const char* unit, const rasm::io::ErrorStats& s) {
@@ -591,11 +608,11 @@ int eval(const std::vector<std::string>& args) {
     else if (a == "--scale")
       ate.scale = true;
     else if (a == "--max-dt")
-      ate.max_dt_s = parseNumber(a, value());
+      ate.max_dt_s = parsePositive(a, value(), "s");
     else if (a == "--offset")
       ate.offset_s = rpe.offset_s = parseNumber(a, value());
     else if (a == "--delta")
-      rpe.delta = parseNumber(a, value());
+      rpe.delta = parsePositive(a, value(), "(s, or frames with --frames)");
     else if (a == "--frames")
       rpe.delta_in_frames = true;
     else if (a == "--json")
@@ -608,8 +625,11 @@ int eval(const std::vector<std::string>& args) {
   if (pos.size() != 3)
     throw rasm::InputError("expected ate|rpe <groundtruth> <estimate>\n" + std::string(kUsage));
   if (!ate.align && ate.scale) throw rasm::InputError("--scale needs alignment (drop --no-align)");
-  const auto gt = rasm::io::readTumTrajectory(pos[1]);
-  const auto est = rasm::io::readTumTrajectory(pos[2]);
+  if (rpe.delta_in_frames && (rpe.delta < 1 || rpe.delta != std::floor(rpe.delta)))
+    rasm::throwInputError("--delta " + std::to_string(rpe.delta),
+                          "expected a whole number of frames >= 1 with --frames");
+  const auto gt = readTrajectoryFile(pos[1], "ground truth");
+  const auto est = readTrajectoryFile(pos[2], "estimate");
 
   if (pos[0] == "ate") {
     const auto r = rasm::io::TrajectoryEvaluator::computeAte(gt, est, ate);

@@ -14,6 +14,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev googletest
   xvfb xauth netpbm x11-apps xdotool         # optional: screenshots of RawLogViewer / SceneViewer3D
   clang-format clang-tidy                    # scripts/format.sh, scripts/tidy.sh
+  clang libclang-rt-14-dev libomp-14-dev     # scripts/fuzz.sh: libFuzzer + ASan/UBSan, OpenMP for clang
 )
 
 SUDO=""

@@ -86,3 +86,90 @@ TEST(CameraIntrinsics, TCameraRoundTripAndPresets) {
   EXPECT_EQ(l1.width, 320);
   EXPECT_NEAR(l1.cx, (318.6 + 0.5) / 2 - 0.5, 1e-12);
 }
+
+namespace {
+std::string loadError(const mrpt::config::CConfigFileBase& cfg, const std::string& source) {
+  TDemoParams p;
+  try {
+    loadParamsStrict(cfg, "demo", p, source);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+/// Values are checked as text before MRPT's atoi/atof read them: "three" was reported as
+/// "value 0 out of range", 99999999999999999999 as "value -1".
+TEST(Params, ValueTextIsCheckedBeforeRanges) {
+  const auto err = [](const std::string& ini) {
+    return loadError(mrpt::config::CConfigFileMemory(ini), "test.ini");
+  };
+  std::string e = err("[demo]\nlevels = three\n");
+  EXPECT_NE(e.find("'three' is not an integer"), std::string::npos) << e;
+  EXPECT_NE(e.find("[demo] levels"), std::string::npos) << e;
+  EXPECT_EQ(e.find("value 0"), std::string::npos) << e;
+  e = err("[demo]\nlevels = 99999999999999999999\n");
+  EXPECT_NE(e.find("too large"), std::string::npos) << e;
+  EXPECT_EQ(e.find("-1"), std::string::npos) << e;
+  e = err("[demo]\nlevels = 3000000000\n");
+  EXPECT_NE(e.find("too large"), std::string::npos) << e;
+  for (const char* v : {"nan", "inf", "-inf", "1e999"}) {
+    e = err(std::string("[demo]\nsigma = ") + v + "\n");
+    EXPECT_NE(e.find("is not a finite number"), std::string::npos) << v << ": " << e;
+    EXPECT_NE(e.find("sigma"), std::string::npos) << e;
+  }
+  e = err("[demo]\nsigma = three\n");
+  EXPECT_NE(e.find("'three' is not a number"), std::string::npos) << e;
+  EXPECT_EQ(err("[demo]\nsigma = 1e-1\nlevels = 7\n"), "");
+}
+
+/// A ConfigWithOrigins names where a bad key came from: file:line or the command line.
+TEST(Params, ErrorsBlameTheKeysOrigin) {
+  ConfigWithOrigins cfg(std::string("[demo]\nsigma = 20\nlevels = x\nbogus = 1\n"));
+  cfg.setOrigin("demo", "sigma", "my.ini:2");
+  cfg.setOrigin("demo", "levels", "command line (demo.levels=x)");
+  cfg.setOrigin("demo", "bogus", "command line (demo.bogus=1)");
+  std::string e = loadError(cfg, "my.ini");
+  EXPECT_NE(e.find("command line (demo.bogus=1) [demo] bogus: unknown key"), std::string::npos)
+      << e;
+  ConfigWithOrigins two(std::string("[demo]\nsigma = 20\nlevels = x\n"));
+  two.setOrigin("demo", "sigma", "my.ini:2");
+  two.setOrigin("demo", "levels", "command line (demo.levels=x)");
+  e = loadError(two, "my.ini");
+  EXPECT_NE(e.find("command line (demo.levels=x) [demo] levels: 'x' is not an integer"),
+            std::string::npos)
+      << e;
+  ConfigWithOrigins range(std::string("[demo]\nsigma = 20\n"));
+  range.setOrigin("demo", "sigma", "my.ini:2");
+  e = loadError(range, "my.ini");
+  EXPECT_NE(e.find("my.ini:2"), std::string::npos) << e;
+  EXPECT_NE(e.find("out of range"), std::string::npos) << e;
+}
+
+TEST(CameraIntrinsics, ProblemNamesTheBadValue) {
+  EXPECT_EQ(CameraIntrinsics(525, 525, 319.5, 239.5, 640, 480).problem(), "");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_NE(CameraIntrinsics(nan, 525, 319.5, 239.5, 640, 480).problem().find("fx = nan"),
+            std::string::npos);
+  EXPECT_NE(CameraIntrinsics(525, inf, 319.5, 239.5, 640, 480).problem().find("fy = inf"),
+            std::string::npos);
+  EXPECT_NE(CameraIntrinsics(-517, 525, 319.5, 239.5, 640, 480).problem().find("fx = -517"),
+            std::string::npos);
+  EXPECT_NE(CameraIntrinsics(525, 525, 900, 239.5, 640, 480).problem().find("cx = 900"),
+            std::string::npos);
+  EXPECT_NE(CameraIntrinsics(525, 525, 319.5, nan, 640, 480).problem().find("cy = nan"),
+            std::string::npos);
+  EXPECT_FALSE(CameraIntrinsics(525, 525, 319.5, 239.5, 0, 480).valid());
+  RgbdFrame f;
+  f.intrinsics = CameraIntrinsics(100, 100, 40.0, 11.5, 32, 24);
+  f.depth_m = Image<float>(32, 24, 1.0f);
+  try {
+    f.validate("seq.rawlog frame 3");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cx = 40"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("seq.rawlog frame 3"), std::string::npos) << e.what();
+  }
+}

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/io/CMemoryStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
@@ -392,4 +393,62 @@ TEST(PreloadedFrameSource, StopsWithAClearErrorOverItsMemoryLimit) {
   PreloadedFrameSource fits(std::make_unique<RawlogFrameSource>(path), 1, {}, std::size_t(1) << 20);
   EXPECT_EQ(fits.loaded(), 1);
   EXPECT_GE(fits.bytes(), std::size_t(320 * 240 * 7));
+}
+
+/// A corrupt string length in a rawlog (found by fuzz_rawlog: TCamera's name) allocated up to
+/// 4 GB in MRPT's deserializer; rasm_io bounds archive strings (MrptStringLimit.cpp).
+TEST(RawlogFrameSource, CorruptStringLengthIsAnErrorNotAnAllocation) {
+  ScratchDir dir("strlen");
+  mrpt::obs::CObservation3DRangeScan obs;
+  observationFromFrame(syntheticFrame(0, 8, 6), obs);
+  obs.sensorLabel = "LABELXYZ";
+  mrpt::io::CMemoryStream mem;
+  {
+    auto a = mrpt::serialization::archiveFrom(mem);
+    a << obs;
+  }
+  std::string bytes(static_cast<const char*>(mem.getRawBufferData()), mem.getTotalBytesCount());
+  const std::string needle = std::string("\x08\0\0\0", 4) + "LABELXYZ";
+  const auto at = bytes.find(needle);
+  ASSERT_NE(at, std::string::npos);
+  const std::string huge("\xff\xff\xff\x7f", 4);  // 2147483647 bytes
+  bytes.replace(at, 4, huge);
+  const std::string path = dir / "corrupt.rawlog";
+  std::ofstream(path, std::ios::binary) << bytes;
+  try {
+    RawlogFrameSource src(path);
+    while (src.next()) {
+    }
+    FAIL() << "corrupt string length accepted";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(path), std::string::npos) << m;
+    EXPECT_NE(m.find("serialized string of 2147483647 bytes"), std::string::npos) << m;
+  }
+  // Strings of sane length still read (the same wire format as MRPT's).
+  mrpt::io::CMemoryStream ok;
+  auto a = mrpt::serialization::archiveFrom(ok);
+  a << std::string("hello") << std::string();
+  ok.Seek(0);
+  std::string h = "x", e = "y";
+  a >> h >> e;
+  EXPECT_EQ(h, "hello");
+  EXPECT_EQ(e, "");
+}
+
+/// A corrupt JPEG stored inside a rawlog (MRPT's CImage JPEG serialization) made libjpeg call
+/// exit(1) ("Not a JPEG file: starts with 0x00 0x07"): `rasm run` died without a report. Found by
+/// fuzz_rawlog; the 489-byte input is tests/io/data/corrupt_jpeg_in_rawlog.rawlog.
+TEST(RawlogFrameSource, CorruptEmbeddedJpegIsAnError) {
+  const std::string path = std::string(RASM_SOURCE_DIR) + "/tests/io/data/corrupt_jpeg_in_rawlog.rawlog";
+  try {
+    RawlogFrameSource src(path);
+    while (src.next()) {
+    }
+    FAIL() << "corrupt JPEG accepted";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(path), std::string::npos) << m;
+    EXPECT_NE(m.find("mrpt::img::CImage"), std::string::npos) << m;  // not exit(1)
+  }
 }

@@ -42,7 +42,7 @@ void writeFrame(const std::string& folder, int k, bool with_pose = true) {
 
 TEST(SevenScenesFrameSource, ReadsDepthColourPoseIntrinsicsAndTimestamps) {
   ScratchDir dir("7s");
-  for (int k : {0, 1, 2, 5}) writeFrame(dir.str(), k, k != 2);
+  for (int k : {0, 1, 2, 5}) writeFrame(dir.str(), k);
   std::ofstream(dir / "camera-intrinsics.txt") << "5.9e+02 0 3.1e+00\n0 5.8e+02 2.5e+00\n0 0 1\n";
   SevenScenesSourceOptions opt;
   opt.register_colour = false;  // the tiny images have no colour calibration
@@ -65,10 +65,8 @@ TEST(SevenScenesFrameSource, ReadsDepthColourPoseIntrinsicsAndTimestamps) {
     EXPECT_EQ(f->depth_m(3, 2), 0.0f);  // 65535 = invalid
     EXPECT_EQ(f->colour(4, 4).b, k);
     EXPECT_EQ(f->colour(4, 4).r, 3 * k);
-    ASSERT_EQ(f->gt_T_world_cam.has_value(), k != 2);
-    if (k != 2) {
-      EXPECT_LT(translationDistance(*f->gt_T_world_cam, testPose(k)), 1e-12);
-    }
+    ASSERT_TRUE(f->gt_T_world_cam.has_value());
+    EXPECT_LT(translationDistance(*f->gt_T_world_cam, testPose(k)), 1e-12);
   }
   EXPECT_FALSE(src->next().has_value());
 }
@@ -102,6 +100,7 @@ TEST(SevenScenesFrameSource, ErrorsNameTheFolder) {
     EXPECT_NE(m.find("seq-NN"), std::string::npos) << m;
   }
   writeFrame(dir.str(), 0);
+  std::ofstream(dir / "camera-intrinsics.txt") << "8 0 3.5\n0 8 2.5\n0 0 1\n";
   std::ofstream(dir / "frame-000000.pose.txt") << "1 0 0\n";
   SevenScenesFrameSource src(dir.str());
   try {
@@ -110,6 +109,54 @@ TEST(SevenScenesFrameSource, ErrorsNameTheFolder) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("frame-000000.pose.txt"), std::string::npos) << e.what();
   }
+}
+
+namespace {
+/// The InputError message of reading every frame of `folder` ("" when none).
+std::string readAllError(const std::string& folder) {
+  try {
+    SevenScenesSourceOptions opt;
+    opt.register_colour = false;
+    SevenScenesFrameSource src(folder, opt);
+    while (src.next()) {
+    }
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+/// Non-finite, non-rigid and missing poses are errors naming the file (and line), as the TUM
+/// reader's; a sequence without any pose file has no ground truth.
+TEST(SevenScenesFrameSource, BadOrMissingPosesAreNamed) {
+  ScratchDir dir("7spose");
+  for (int k : {0, 1, 2}) writeFrame(dir.str(), k);
+  std::ofstream(dir / "camera-intrinsics.txt") << "8 0 3.5\n0 8 2.5\n0 0 1\n";
+  EXPECT_EQ(readAllError(dir.str()), "");
+
+  std::ofstream(dir / "frame-000001.pose.txt") << "1 0 0 0.5\n0 1 0 nan\n0 0 1 0\n0 0 0 1\n";
+  std::string e = readAllError(dir.str());
+  EXPECT_NE(e.find("frame-000001.pose.txt:2"), std::string::npos) << e;
+  EXPECT_NE(e.find("'nan'"), std::string::npos) << e;
+
+  std::ofstream(dir / "frame-000001.pose.txt") << "1 0 0 0.5\n0 1 0 0\n0 0 1 -inf\n0 0 0 1\n";
+  e = readAllError(dir.str());
+  EXPECT_NE(e.find("frame-000001.pose.txt:3"), std::string::npos) << e;
+
+  std::ofstream(dir / "frame-000001.pose.txt") << "2 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n";
+  e = readAllError(dir.str());
+  EXPECT_NE(e.find("frame-000001.pose.txt"), std::string::npos) << e;
+  EXPECT_NE(e.find("not a rigid transform"), std::string::npos) << e;
+
+  fs::remove(dir / "frame-000001.pose.txt");
+  e = readAllError(dir.str());
+  EXPECT_NE(e.find("missing"), std::string::npos) << e;
+  EXPECT_NE(e.find("frame-000001.pose.txt"), std::string::npos) << e;
+  EXPECT_NE(e.find("frame 1"), std::string::npos) << e;
+
+  for (int k : {0, 2}) fs::remove(dir / ("frame-00000" + std::to_string(k) + ".pose.txt"));
+  EXPECT_EQ(readAllError(dir.str()), "");  // no pose at all: no ground truth, not an error
 }
 
 TEST(SevenScenesFrameSource, RealRedkitchenExcerpt) {

@@ -2,11 +2,34 @@
 
 #include <mrpt/img/TCamera.h>
 
+#include <cmath>
 #include <sstream>
 
 #include "rasm/core/Error.h"
 
 namespace rasm {
+
+std::string CameraIntrinsics::problem() const {
+  std::ostringstream s;
+  const auto focal = [&](const char* name, double f) {
+    if (!(std::isfinite(f) && f > 0))
+      s << name << " = " << f << ": expected a finite focal length > 0 (pixels)";
+  };
+  focal("fx", fx);
+  if (!s.str().empty()) return s.str();
+  focal("fy", fy);
+  if (!s.str().empty()) return s.str();
+  if (width <= 0 || height <= 0) {
+    s << "image size " << width << "x" << height << ": expected a width and height > 0";
+  } else if (!(std::isfinite(cx) && cx >= -0.5 && cx <= width - 0.5)) {
+    s << "cx = " << cx << ": expected the principal point inside the image, in [-0.5, "
+      << width - 0.5 << "] for a width of " << width;
+  } else if (!(std::isfinite(cy) && cy >= -0.5 && cy <= height - 0.5)) {
+    s << "cy = " << cy << ": expected the principal point inside the image, in [-0.5, "
+      << height - 0.5 << "] for a height of " << height;
+  }
+  return s.str();
+}
 
 CameraIntrinsics CameraIntrinsics::level(int lvl) const {
   CameraIntrinsics k = *this;

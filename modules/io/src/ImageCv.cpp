@@ -1,6 +1,8 @@
 #include "ImageCv.h"
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -58,22 +60,60 @@ void depthFromU16(const cv::Mat& raw, double metres_per_unit, Image<float>& out,
   }
 }
 
-static void requireFile(const std::string& path, const std::string& what) {
-  if (!std::filesystem::is_regular_file(path)) throwInputError(what + " " + path, "file not found");
+std::string truncationProblem(const std::vector<unsigned char>& b) {
+  const std::size_t n = b.size();
+  if (n >= 2 && b[0] == 0xFF && b[1] == 0xD8) {
+    // JPEG: the stream ends with the end-of-image marker FF D9 (padding after it is tolerated).
+    std::size_t e = n;
+    while (e > 2 && (b[e - 1] == 0x00 || b[e - 1] == 0x0A || b[e - 1] == 0x0D || b[e - 1] == 0x20))
+      --e;
+    if (e < 4 || b[e - 2] != 0xFF || b[e - 1] != 0xD9)
+      return "truncated JPEG: no end-of-image marker (FF D9) after " + std::to_string(n) +
+             " bytes (libjpeg would only warn \"Premature end of JPEG file\" and fill the rest "
+             "grey)";
+    return "";
+  }
+  static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+  if (n >= 8 && std::equal(kPng, kPng + 8, b.begin())) {
+    // PNG: the last chunk is IEND (length 0, type "IEND", CRC).
+    if (n < 8 + 12 || !std::equal(b.end() - 8, b.end() - 4, "IEND"))
+      return "truncated PNG: the file does not end with the IEND chunk (" + std::to_string(n) +
+             " bytes)";
+  }
+  return "";
 }
 
-cv::Mat readColourImage(const std::string& path, const std::string& what) {
-  requireFile(path, what);
-  // IMREAD_COLOR decodes to 8-bit BGR, the order of rasm::Bgr8 (grey files are expanded).
-  cv::Mat m = cv::imread(path, cv::IMREAD_COLOR);
+namespace {
+/// The bytes of an image file, checked for truncation, decoded by OpenCV.
+cv::Mat decodeFile(const std::string& path, const std::string& what, int flags) {
+  if (std::filesystem::is_directory(path))
+    throwInputError(what + " " + path, "is a folder, expected an image file");
+  if (!std::filesystem::is_regular_file(path)) throwInputError(what + " " + path, "file not found");
+  std::ifstream f(path, std::ios::binary);
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(f)),
+                                   std::istreambuf_iterator<char>());
+  if (!f.eof() && f.fail()) throwInputError(what + " " + path, "cannot read the file");
+  if (bytes.empty()) throwInputError(what + " " + path, "empty file, expected an image");
+  const std::string truncated = truncationProblem(bytes);
+  if (!truncated.empty()) throwInputError(what + " " + path, truncated);
+  cv::Mat m;
+  try {
+    m = cv::imdecode(bytes, flags);
+  } catch (const cv::Exception& e) {
+    throwInputError(what + " " + path, std::string("cannot decode the image: ") + e.what());
+  }
   if (m.empty()) throwInputError(what + " " + path, "cannot decode the image");
   return m;
 }
+}  // namespace
+
+cv::Mat readColourImage(const std::string& path, const std::string& what) {
+  // IMREAD_COLOR decodes to 8-bit BGR, the order of rasm::Bgr8 (grey files are expanded).
+  return decodeFile(path, what, cv::IMREAD_COLOR);
+}
 
 cv::Mat readDepthU16(const std::string& path, const std::string& what) {
-  requireFile(path, what);
-  cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);
-  if (m.empty()) throwInputError(what + " " + path, "cannot decode the image");
+  cv::Mat m = decodeFile(path, what, cv::IMREAD_UNCHANGED);
   if (m.type() != CV_16UC1)
     throwInputError(
         what + " " + path,

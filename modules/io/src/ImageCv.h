@@ -4,6 +4,7 @@
 
 #include <opencv2/core.hpp>
 #include <string>
+#include <vector>
 
 #include "rasm/compute/Types.h"
 #include "rasm/core/Image.h"
@@ -24,8 +25,13 @@ void depthFromU16(const cv::Mat& raw, double metres_per_unit, Image<float>& out,
                   std::uint16_t also_invalid = 0);
 
 /// cv::imread that throws InputError "<what> <path>: missing / unreadable / not 16-bit...".
+/// A truncated JPEG or PNG (no end-of-image marker / IEND chunk) is an error, not the partly grey
+/// image libjpeg returns with only a warning on stderr.
 cv::Mat readColourImage(const std::string& path, const std::string& what);
 cv::Mat readDepthU16(const std::string& path, const std::string& what);
+
+/// "" for a complete JPEG / PNG (or another format, not checked), else what is missing.
+std::string truncationProblem(const std::vector<unsigned char>& bytes);
 
 /// Flips rows in place (negative-fy cameras).
 template <typename T>

@@ -104,7 +104,7 @@ std::optional<RgbdFrame> RawlogFrameSource::Impl::handle(const mrpt::obs::CObser
   }
   const auto scan = std::dynamic_pointer_cast<CObservation3DRangeScan>(o);
   if (!scan) return std::nullopt;
-  range_scan_labels.insert(scan->sensorLabel);
+  range_scan_labels.insert(detail::printable(scan->sensorLabel));
   if (!opt.sensor_label.empty() && scan->sensorLabel != opt.sensor_label) return std::nullopt;
 
   const std::string ctx = frameContext();

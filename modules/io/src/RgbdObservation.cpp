@@ -7,6 +7,7 @@
 
 #include "ColourRegistration.h"
 #include "ImageCv.h"
+#include "MrptErrors.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/SE3.h"
 
@@ -28,7 +29,7 @@ bool sameIntrinsics(const CameraIntrinsics& a, const CameraIntrinsics& b) {
 RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs,
                                const std::string& source, const ObservationToFrameOptions& opt) {
   if (!obs.hasRangeImage)
-    throwInputError(source, "CObservation3DRangeScan '" + obs.sensorLabel +
+    throwInputError(source, "CObservation3DRangeScan '" + detail::printable(obs.sensorLabel) +
                                 "' has no range image (hasRangeImage = false)");
   const int W = int(obs.rangeImage.cols()), H = int(obs.rangeImage.rows());
   if (W == 0 || H == 0) throwInputError(source, "empty range image");
@@ -39,7 +40,8 @@ RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs,
   f.intrinsics = CameraIntrinsics::fromTCamera(obs.cameraParams);
   if (!f.intrinsics.valid())
     throwInputError(
-        source, "depth camera intrinsics (cameraParams) are invalid: " + f.intrinsics.toString());
+        source, "depth camera intrinsics (cameraParams) are invalid: " + f.intrinsics.toString() + " (" +
+                    f.intrinsics.problem() + ")");
 
   // Depth (II-A, D_t). rangeImage is row-major (r, c).
   f.depth_m.resize(W, H);
@@ -67,8 +69,8 @@ RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs,
       const std::string file = obs.intensityImage.isExternallyStored()
                                    ? obs.intensityImage.getExternalStorageFileAbsolutePath()
                                    : std::string("(in memory)");
-      throwInputError(source, "cannot load the intensity image " + file + ": " +
-                                  std::string(e.what()).substr(0, 200));
+      throwInputError(source, "cannot load the intensity image " + detail::printable(file) + ": " +
+                                  detail::shortMrptMessage(e.what()).substr(0, 200));
     }
     Image<Bgr8> colour;
     detail::colourFromMat(m, colour, source);
@@ -82,7 +84,8 @@ RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs,
     } else {
       if (!Kc.valid())
         throwInputError(source, "colour camera intrinsics (cameraParamsIntensity) are invalid: " +
-                                    Kc.toString() + ", needed to register colour to depth");
+                                    Kc.toString() + " (" + Kc.problem() +
+                                    "), needed to register colour to depth");
       // relativePoseIntensityWRTDepth = T_depthSensor_colourOptical (depthSensor: MRPT +X forward).
       const Eigen::Isometry3d T_depthOpt_colourOpt =
           T_mrptSensor_optical().inverse() * fromCPose3D(obs.relativePoseIntensityWRTDepth);

@@ -44,32 +44,30 @@ CameraIntrinsics readIntrinsicsFile(const std::string& path) {
   return K;
 }
 
-/// frame-NNNNNN.pose.txt: 4x4 T_world_cam. Non-finite entries (tracking failures in some
-/// sequences) mean "no ground truth" for that frame.
-std::optional<Eigen::Isometry3d> readPoseFile(const std::string& path) {
-  if (!fs::is_regular_file(path)) return std::nullopt;
+/// frame-NNNNNN.pose.txt: 4x4 T_world_cam, finite and rigid. A missing file, a non-finite entry
+/// (NaN, Inf) or a matrix that is not a rigid transform is an error naming the file (and line):
+/// the TUM reader treats its ground truth the same way.
+Eigen::Isometry3d readPoseFile(const std::string& path, const std::string& ctx) {
+  if (!fs::is_regular_file(path))
+    throwInputError(ctx, "missing " + path +
+                             " (the sequence's first frame has a pose file, so every frame needs "
+                             "one: a 4x4 camera-to-world matrix)");
   std::vector<double> v;
   for (const auto& l : detail::readFieldLines(path, "7-Scenes pose"))
-    for (const auto& f : l.fields) {
-      char* e = nullptr;
-      const double x = std::strtod(f.c_str(), &e);
-      if (e == f.c_str() || *e != '\0')
-        throwInputError(detail::where(path, l.number), "'" + f + "' is not a number");
-      v.push_back(x);
-    }
+    for (const auto& f : l.fields) v.push_back(detail::parseDouble(f, path, l.number, "pose entry"));
   if (v.size() != 16)
     throwInputError(path, "expected a 4x4 matrix (16 numbers), got " + std::to_string(v.size()));
-  if (!std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }))
-    return std::nullopt;
   Eigen::Matrix4d M;
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) M(r, c) = v[r * 4 + c];
   const Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
-  if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-3 ||
-      R.determinant() < 0 ||
+  const double ortho = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (ortho > 1e-3 || R.determinant() < 0 ||
       (M.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-6)
     throwInputError(path,
-                    "not a rigid transform (rotation not orthonormal or last row not 0 0 0 1)");
+                    "not a rigid transform (rotation not orthonormal: |R^T R - I| = " +
+                        std::to_string(ortho) + ", det " + std::to_string(R.determinant()) +
+                        ", or last row not 0 0 0 1); expected a 4x4 camera-to-world matrix");
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.matrix() = M;
   return orthonormalize(T);
@@ -103,6 +101,7 @@ struct SevenScenesFrameSource::Impl {
   };
   std::vector<Entry> frames;
   std::string colour_ext;  // ".color.png" or ".color.jpg"
+  bool has_poses = false;  // the first frame has a pose.txt: then every frame must
   std::size_t next = 0;
 };
 
@@ -149,6 +148,7 @@ SevenScenesFrameSource::SevenScenesFrameSource(const std::string& folder,
   if (m.colour_ext.empty())
     throwInputError(what, "missing " + m.frames[0].stem + ".color.png (or .color.jpg)");
 
+  m.has_poses = fs::exists(first.string() + ".pose.txt");
   const fs::path kfile = fs::path(folder) / "camera-intrinsics.txt";
   if (opt.intrinsics_override)
     m.K = *opt.intrinsics_override;
@@ -159,7 +159,8 @@ SevenScenesFrameSource::SevenScenesFrameSource(const std::string& folder,
   const cv::Mat d0 = detail::readDepthU16(first.string() + ".depth.png", "7-Scenes depth image");
   m.K.width = d0.cols;
   m.K.height = d0.rows;
-  if (!m.K.valid()) throwInputError(what, "invalid intrinsics " + m.K.toString());
+  if (!m.K.valid())
+    throwInputError(what, "invalid intrinsics " + m.K.toString() + ": " + m.K.problem());
 }
 
 SevenScenesFrameSource::~SevenScenesFrameSource() = default;
@@ -187,9 +188,10 @@ std::optional<RgbdFrame> SevenScenesFrameSource::next() {
   f.timestamp_s = double(e.index) / m.opt.frame_rate_hz;
   f.intrinsics = m.K;
   // Millimetres; 0 and 65535 mark missing measurements.
-  detail::depthFromU16(detail::readDepthU16(base + ".depth.png", "7-Scenes depth image"), 1e-3,
+  const std::string frame = "7-Scenes frame " + std::to_string(i) + ",";
+  detail::depthFromU16(detail::readDepthU16(base + ".depth.png", frame + " depth image"), 1e-3,
                        f.depth_m, 65535);
-  const cv::Mat bgr = detail::readColourImage(base + m.colour_ext, "7-Scenes colour image");
+  const cv::Mat bgr = detail::readColourImage(base + m.colour_ext, frame + " colour image");
   if (m.opt.register_colour) {
     Image<Bgr8> raw;
     detail::colourFromMat(bgr, raw, ctx);
@@ -204,7 +206,7 @@ std::optional<RgbdFrame> SevenScenesFrameSource::next() {
   } else {
     detail::colourFromMat(bgr, f.colour, ctx);
   }
-  f.gt_T_world_cam = readPoseFile(base + ".pose.txt");
+  if (m.has_poses) f.gt_T_world_cam = readPoseFile(base + ".pose.txt", ctx);
   f.validate(ctx);
   return f;
 }

@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 
 #include "rasm/core/Error.h"
@@ -14,6 +15,8 @@ std::string where(const std::string& path, int line) {
 }
 
 std::vector<TextLine> readFieldLines(const std::string& path, const std::string& what) {
+  if (std::filesystem::is_directory(path))
+    throwInputError(what + " " + path, "is a folder, expected a text file");
   std::ifstream in(path);
   if (!in) throwInputError(what + " " + path, "file not found or not readable");
   std::vector<TextLine> out;
@@ -72,6 +75,23 @@ std::string shortMrptMessage(const std::string& what) {
     pos = e + 1;
   }
   if (out.empty()) out = what.substr(0, what.find('\n'));
+  return printable(out);
+}
+
+std::string printable(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char ch : text) {
+    const auto u = static_cast<unsigned char>(ch);
+    if (u >= 0x20 && u < 0x7f) {
+      out.push_back(ch);
+    } else {
+      static const char* hex = "0123456789abcdef";
+      out += "\\x";
+      out.push_back(hex[u >> 4]);
+      out.push_back(hex[u & 15]);
+    }
+  }
   return out;
 }
 

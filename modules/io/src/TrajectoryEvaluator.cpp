@@ -92,6 +92,11 @@ double medianPeriod(const std::vector<double>& sorted) {
 
 AteResult TrajectoryEvaluator::computeAte(const Trajectory& ground_truth,
                                           const Trajectory& estimate, const AteOptions& opt) {
+  if (!(std::isfinite(opt.max_dt_s) && opt.max_dt_s > 0))
+    throwInputError("ATE max_dt_s " + std::to_string(opt.max_dt_s),
+                    "expected a finite association tolerance > 0 s");
+  if (!std::isfinite(opt.offset_s))
+    throwInputError("ATE offset_s", "expected a finite time offset (s)");
   const auto pairs =
       associateTimestamps(stampsOf(ground_truth), stampsOf(estimate), opt.max_dt_s, opt.offset_s);
   const std::size_t need = opt.align ? 3 : 1;
@@ -125,7 +130,9 @@ AteResult TrajectoryEvaluator::computeAte(const Trajectory& ground_truth,
 
 RpeResult TrajectoryEvaluator::computeRpe(const Trajectory& ground_truth_in,
                                           const Trajectory& estimate_in, const RpeOptions& opt) {
-  if (!(opt.delta > 0)) throwInputError("RPE", "delta must be > 0");
+  if (!(std::isfinite(opt.delta) && opt.delta > 0))
+    throwInputError("RPE", "delta must be a finite value > 0");
+  if (!std::isfinite(opt.offset_s)) throwInputError("RPE offset_s", "expected a finite offset (s)");
   const Trajectory gt = sortedByTime(ground_truth_in), est = sortedByTime(estimate_in);
   if (gt.size() < 2 || est.size() < 2)
     throwInputError("RPE", "needs >= 2 poses in each trajectory; ground truth: " + span(gt) +

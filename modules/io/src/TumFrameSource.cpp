@@ -152,11 +152,12 @@ std::optional<RgbdFrame> TumFrameSource::next() {
   RgbdFrame f;
   f.index = idx;
   f.timestamp_s = p.depth.t;
+  const std::string frame = "TUM frame " + std::to_string(idx) + ",";
   const cv::Mat raw =
-      detail::readDepthU16((fs::path(m.folder) / p.depth.file).string(), "TUM depth image");
+      detail::readDepthU16((fs::path(m.folder) / p.depth.file).string(), frame + " depth image");
   detail::depthFromU16(raw, 1.0 / m.opt.depth_factor, f.depth_m);
   const cv::Mat bgr =
-      detail::readColourImage((fs::path(m.folder) / p.rgb.file).string(), "TUM colour image");
+      detail::readColourImage((fs::path(m.folder) / p.rgb.file).string(), frame + " colour image");
   detail::colourFromMat(bgr, f.colour, ctx);
 
   f.intrinsics = m.K;

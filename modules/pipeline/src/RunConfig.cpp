@@ -1,8 +1,13 @@
 #include "rasm/pipeline/RunConfig.h"
 
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "rasm/core/CameraIntrinsics.h"
 #include "rasm/core/Error.h"
 #include "rasm_default_ini.h"  // generated: kDefaultIni
 
@@ -13,6 +18,8 @@ RunConfig RunConfig::embeddedDefault() {
 }
 
 RunConfig RunConfig::fromFile(const std::string& path) {
+  if (std::filesystem::is_directory(path))
+    throwInputError("config file '" + path + "'", "is a folder (expected an INI file)");
   std::ifstream f(path);
   if (!f) throwInputError("config file '" + path + "'", "cannot be opened (expected an INI file)");
   std::stringstream ss;
@@ -25,16 +32,36 @@ RunConfig RunConfig::fromString(const std::string& ini_text, const std::string& 
   c.m_source = source_name;
   // Reject lines that are neither sections, assignments, comments nor blank: MRPT's parser would
   // skip them silently.
+  // Records where each section and key is (file:line) for later messages.
   std::istringstream in(ini_text);
-  std::string line;
+  std::string line, section;
   int lineno = 0;
+  const auto trim = [](const std::string& t) {
+    const auto b = t.find_first_not_of(" \t\r");
+    if (b == std::string::npos) return std::string();
+    return t.substr(b, t.find_last_not_of(" \t\r") - b + 1);
+  };
   while (std::getline(in, line)) {
     ++lineno;
+    const std::string where = source_name + ":" + std::to_string(lineno);
     const auto b = line.find_first_not_of(" \t\r");
     if (b == std::string::npos) continue;
     const char ch = line[b];
-    if (ch == ';' || ch == '#' || ch == '[' || line.find('=') != std::string::npos) continue;
-    throwInputError(source_name + ":" + std::to_string(lineno),
+    if (ch == ';' || ch == '#') continue;
+    if (ch == '[') {
+      const auto e = line.find(']', b);
+      if (e != std::string::npos) {
+        section = trim(line.substr(b + 1, e - b - 1));
+        if (c.m_ini.originOfSection(section).empty()) c.m_ini.setOrigin(section, "", where);
+      }
+      continue;
+    }
+    const auto eq = line.find('=');
+    if (eq != std::string::npos) {
+      c.m_ini.setOrigin(section, trim(line.substr(0, eq)), where);
+      continue;
+    }
+    throwInputError(where,
                     "cannot parse '" + line + "' (expected [section], key = value, or a comment)");
   }
   c.m_ini.setContent(ini_text);
@@ -46,8 +73,17 @@ void RunConfig::applyOverride(const std::string& a) {
   const auto dot = a.find('.');
   if (eq == std::string::npos || dot == std::string::npos || dot > eq || dot == 0 || dot + 1 == eq)
     throwInputError("override '" + a + "'", "expected section.key=value");
-  set(a.substr(0, dot), a.substr(dot + 1, eq - dot - 1), a.substr(eq + 1));
+  const std::string section = a.substr(0, dot), key = a.substr(dot + 1, eq - dot - 1);
+  set(section, key, a.substr(eq + 1));
+  const std::string origin = "command line (" + a + ")";
+  m_ini.setOrigin(section, key, origin);
+  if (m_ini.originOfSection(section).empty()) m_ini.setOrigin(section, "", origin);
   m_overrides.push_back(a);
+}
+
+std::string RunConfig::originOf(const std::string& section, const std::string& key) const {
+  const std::string o = m_ini.originOf(section, key);
+  return o.empty() ? m_source : o;
 }
 
 void RunConfig::set(const std::string& section, const std::string& key, const std::string& value) {
@@ -64,9 +100,81 @@ void RunConfig::checkSections(const std::vector<std::string>& known) const {
     if (!ok) {
       std::string list;
       for (const auto& k : known) list += " [" + k + "]";
-      throwInputError(m_source + " [" + s + "]", "unknown section; this build knows" + list);
+      const std::string o = m_ini.originOfSection(s);
+      throwInputError((o.empty() ? m_source : o) + " [" + s + "]",
+                      "unknown section; this build knows" + list);
     }
   }
+  checkCamera();
+}
+
+void RunConfig::checkCamera() const {
+  const std::string sec = "camera";
+  const auto text = [&](const char* key) {
+    std::string v = m_ini.read_string(sec, key, "");
+    const auto b = v.find_first_not_of(" \t\r\"");
+    if (b == std::string::npos) return std::string();
+    return v.substr(b, v.find_last_not_of(" \t\r\"") - b + 1);
+  };
+  const auto fail = [&](const char* key, const std::string& expected) {
+    throwInputError(std::string("camera.") + key + " = " + text(key) + " in " + originOf(sec, key),
+                    expected);
+  };
+  const auto number = [&](const char* key, const char* what) {
+    const std::string t = text(key);
+    if (t.empty()) return 0.0;
+    const char* b = t.c_str();
+    char* e = nullptr;
+    errno = 0;
+    const double v = std::strtod(b, &e);
+    if (e == b || *e != '\0' || errno == ERANGE || !std::isfinite(v))
+      fail(key, std::string("expected a finite ") + what);
+    return v;
+  };
+  const auto size = [&](const char* key) {
+    const double v = number(key, "image size in pixels");
+    if (v < 0 || v > 65535 || v != std::floor(v))
+      fail(key, "expected an image size in pixels, a whole number in [1, 65535] (0 = the preset's)");
+    return int(v);
+  };
+  const double fx = number("fx", "focal length > 0 (pixels)");
+  const double fy = number("fy", "focal length > 0 (pixels)");
+  const double cx = number("cx", "principal point (pixels)");
+  const double cy = number("cy", "principal point (pixels)");
+  int width = size("width"), height = size("height");
+  const std::string preset = text("preset");
+  if (fx == 0 && fy == 0 && cx == 0 && cy == 0) return;  // not set: the preset's or the source's
+  if (!(fx > 0))
+    fail("fx",
+         "expected a finite focal length > 0 (pixels); leave fx, fy, cx, cy all 0 (or unset) to "
+         "use the preset or the source's own intrinsics");
+  if (fy < 0)
+    fail("fy",
+         "expected a focal length > 0 (pixels), or 0 for fy = fx (a negative fy, ICL-NUIM's "
+         "flipped rows, is supported through preset = icl_nuim)");
+  if (!preset.empty()) {
+    CameraIntrinsics p;
+    try {
+      p = CameraIntrinsics::preset(preset);
+    } catch (const InputError& e) {
+      fail("preset", e.what());
+    }
+    if (width == 0) width = p.width;
+    if (height == 0) height = p.height;
+  }
+  if (width == 0 || height == 0)
+    fail(width == 0 ? "width" : "height",
+         "fx is given: expected width and height (pixels) or a preset giving them");
+  for (const char* key : {"cx", "cy"})
+    if (text(key).empty())
+      throwInputError(std::string("camera.") + key + " in " + originOf(sec, "fx"),
+                      "missing: fx is given, so the principal point cx, cy must be too (pixels)");
+  if (!(cx >= -0.5 && cx <= width - 0.5))
+    fail("cx", "expected the principal point inside the image, in [-0.5, " +
+                   std::to_string(width - 0.5) + "] for a width of " + std::to_string(width));
+  if (!(cy >= -0.5 && cy <= height - 0.5))
+    fail("cy", "expected the principal point inside the image, in [-0.5, " +
+                   std::to_string(height - 0.5) + "] for a height of " + std::to_string(height));
 }
 
 std::string RunConfig::text() const {

@@ -248,6 +248,27 @@ namespace {
 // of a huge allocation.
 constexpr uint32_t kMaxKeyframeFeatures = 1u << 20;
 constexpr int32_t kMaxThumbnailSide = 4096;
+/// Sanity caps of a map read back: surfel count (the store indexes surfels with int) and the
+/// extent of surfel positions (voxel block coordinates are ints).
+constexpr uint64_t kMaxSerializedSurfels = 1u << 28;
+constexpr float kMaxSurfelCoordinateM = 1e5f;
+/// Longest fusion key, value or class name read back (they are a few dozen characters).
+constexpr uint32_t kMaxSerializedString = 1u << 16;
+/// At most this many fusion keys (the [fusion] section has about thirty).
+constexpr uint32_t kMaxFusionKeys = 4096;
+
+/// A std::string as MRPT's CArchive writes it (uint32 length, then the bytes), refusing a length
+/// over kMaxSerializedString: MRPT's own operator>> would allocate whatever a corrupt length says.
+std::string readBoundedString(mrpt::serialization::CArchive& in, const std::string& what) {
+  uint32_t n;
+  in >> n;
+  if (n > kMaxSerializedString)
+    throwInputError(what, "string of " + std::to_string(n) + " bytes (corrupt file?), expected at most " +
+                              std::to_string(kMaxSerializedString));
+  std::string s(n, '\0');
+  if (n > 0) in.ReadBuffer(s.data(), n);
+  return s;
+}
 // The per-feature arrays are written as flat float buffers.
 static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float) &&
               sizeof(Eigen::Vector2f) == 2 * sizeof(float));
@@ -294,11 +315,16 @@ void readKeyframes(mrpt::serialization::CArchive& in, std::vector<Keyframe>& kfs
     Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 4; ++c) in >> M(r, c);
+    if (!M.allFinite() || !std::isfinite(kf.timestamp_s))
+      throwInputError(what, "non-finite pose or timestamp (corrupt file?)");
     kf.T_world_cam.matrix() = M;
     int32_t w, h;
     in >> kf.intrinsics.fx >> kf.intrinsics.fy >> kf.intrinsics.cx >> kf.intrinsics.cy >> w >> h;
     kf.intrinsics.width = w;
     kf.intrinsics.height = h;
+    if (!kf.intrinsics.valid())
+      throwInputError(what, "intrinsics " + kf.intrinsics.toString() + ": " +
+                                kf.intrinsics.problem() + " (corrupt file?)");
     uint32_t n;
     in >> n;
     if (n > kMaxKeyframeFeatures)
@@ -442,6 +468,9 @@ void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t versio
       TCreationOptions co;
       in >> nc >> az >> el >> co.block_size_m;
       const std::string what = "CSurfelMap (serialization version " + std::to_string(version) + ")";
+      if (!(co.block_size_m >= 0.01 && co.block_size_m <= 100.0))
+        throwInputError(what, "block size " + std::to_string(co.block_size_m) +
+                                  " m (corrupt file?), expected [0.01, 100] m");
       if (nc < 0 || nc > (version >= 2 ? kMaxClassId : 4096) || az < 0 || az > 256 || el < 0 ||
           el > 64)
         throwInputError(what, "layout n_classes = " + std::to_string(nc) + ", view bins " +
@@ -453,8 +482,15 @@ void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t versio
       co.view_bins_elevation = el;
       uint32_t nkeys;
       in >> nkeys;
-      insertionOptions.fusion_keys.assign(nkeys, {});
-      for (auto& kv : insertionOptions.fusion_keys) in >> kv.first >> kv.second;
+      if (nkeys > kMaxFusionKeys)
+        throwInputError(what, std::to_string(nkeys) + " fusion keys (corrupt file?), expected at most " +
+                                  std::to_string(kMaxFusionKeys));
+      insertionOptions.fusion_keys.clear();
+      for (uint32_t k = 0; k < nkeys; ++k) {
+        std::string key = readBoundedString(in, what + " fusion key");
+        insertionOptions.fusion_keys.emplace_back(std::move(key),
+                                                  readBoundedString(in, what + " fusion value"));
+      }
       int32_t dec, colouring;
       in >> likelihoodOptions.sigma_m >> dec >> likelihoodOptions.max_depth_m;
       likelihoodOptions.decimation = dec;
@@ -469,11 +505,35 @@ void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t versio
       m_store.setTimeOrigin(t0);
       uint64_t n;
       in >> n;
+      if (n > uint64_t(kMaxSerializedSurfels))
+        throwInputError(what, std::to_string(n) + " surfels (corrupt file?), expected at most " +
+                                  std::to_string(kMaxSerializedSurfels));
+      // The first array is read in chunks before the store is allocated, so a corrupt count in a
+      // short file fails at its end instead of allocating ~100 bytes per surfel it claims.
+      std::vector<float> pos_conf;
+      for (uint64_t k = 0; k < n; k += kClassChunk) {
+        const std::size_t m = std::size_t(std::min<uint64_t>(n - k, kClassChunk));
+        pos_conf.resize(pos_conf.size() + 4 * m);
+        in.ReadBufferFixEndianness(pos_conf.data() + pos_conf.size() - 4 * m, 4 * m);
+      }
+      for (std::size_t i = 0; i < pos_conf.size(); ++i)
+        if (!(std::fabs(pos_conf[i]) <= (i % 4 == 3 ? 1e30f : kMaxSurfelCoordinateM)))
+          throwInputError(what + " surfel " + std::to_string(i / 4),
+                          "position or confidence " + std::to_string(pos_conf[i]) +
+                              " is not finite or beyond " + std::to_string(kMaxSurfelCoordinateM) +
+                              " m (corrupt file?)");
       m_store.allocate(int(n));
       const SurfelArrays a = m_store.arrays();
       if (n > 0) {
-        in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.pos_conf), 4 * n);
+        std::copy(pos_conf.begin(), pos_conf.end(), reinterpret_cast<float*>(a.pos_conf));
+        pos_conf = {};
         in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.normal_radius), 4 * n);
+        const float* nr = reinterpret_cast<const float*>(a.normal_radius);
+        for (std::size_t i = 0; i < 4 * n; ++i)
+          if (!(std::fabs(nr[i]) <= 1e6f))
+            throwInputError(what + " surfel " + std::to_string(i / 4),
+                            "normal or radius " + std::to_string(nr[i]) +
+                                " is not finite (corrupt file?)");
         in.ReadBufferFixEndianness(a.colour_flags, n);
         in.ReadBufferFixEndianness(a.t_init, n);
         in.ReadBufferFixEndianness(a.t_last, n);
@@ -514,7 +574,10 @@ void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t versio
                                     " names (at most " + std::to_string(kMaxClassId) +
                                     "; corrupt file?)");
         m_classes.resize(nclasses);
-        for (MapClass& c : m_classes) in >> c.name >> c.source;
+        for (MapClass& c : m_classes) {
+          c.name = readBoundedString(in, what + " class name");
+          c.source = readBoundedString(in, what + " class source");
+        }
       }
     } break;
     default:

@@ -29,7 +29,10 @@ struct CameraIntrinsics {
   CameraIntrinsics level(int level) const;
   /// Mean focal length (f in the radius formula of II-B).
   double focal() const { return 0.5 * (fx + fy); }
-  bool valid() const { return fx > 0 && fy > 0 && width > 0 && height > 0; }
+  /// Finite focal lengths > 0, an image size > 0 and the principal point inside the image.
+  bool valid() const { return problem().empty(); }
+  /// "" when valid(), else what is wrong ("fx = nan: expected a finite focal length > 0 (pixels)").
+  std::string problem() const;
 
   static CameraIntrinsics fromTCamera(const mrpt::img::TCamera& c);
   void toTCamera(mrpt::img::TCamera& c) const;

@@ -8,17 +8,39 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <map>
 #include <set>
 #include <string>
 
 namespace rasm {
+
+/// An INI held in memory that remembers where each key came from: "x.ini:12" for a key read from
+/// a file, "command line (mapper.max_depth_m=3)" for a `--set` override. loadParamsStrict blames
+/// a bad or unknown key on its origin instead of on the configuration as a whole.
+class ConfigWithOrigins : public mrpt::config::CConfigFileMemory {
+ public:
+  using mrpt::config::CConfigFileMemory::CConfigFileMemory;
+  void setOrigin(const std::string& section, const std::string& key, const std::string& origin);
+  /// Where `section.key` came from; empty when unknown (a default).
+  std::string originOf(const std::string& section, const std::string& key) const;
+  /// Where `[section]` was first named (its header line or the first override into it).
+  std::string originOfSection(const std::string& section) const;
+
+ private:
+  std::map<std::string, std::string> m_origins;  ///< "section\nkey" (lower case) -> origin
+};
 
 /// Keys params.saveToConfigFile(section) writes.
 std::set<std::string> knownKeys(const mrpt::config::CLoadableOptions& params,
                                 const std::string& section);
 
 /// Loads `params` from `section` of `cfg`; unknown keys and unparsable values throw InputError
-/// "<source> [section] key: ...". Missing keys keep their defaults.
+/// "<source> [section] key: ...", where <source> is the key's origin when `cfg` is a
+/// ConfigWithOrigins ("x.ini:12", "command line (s.k=v)"). Missing keys keep their defaults.
+/// Values are checked as text before the struct reads them: a number key takes a finite number
+/// ("nan", "inf", "three" are errors), an integer key an integer literal that fits.
 void loadParamsStrict(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
                       mrpt::config::CLoadableOptions& params, const std::string& source);
 

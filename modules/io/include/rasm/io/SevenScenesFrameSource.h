@@ -2,7 +2,8 @@
 // Frames from one Microsoft 7-Scenes sequence folder (Shotton et al. 2013):
 //   frame-NNNNNN.color.png|jpg  640x480 colour
 //   frame-NNNNNN.depth.png      16-bit millimetres; 0 and 65535 are invalid
-//   frame-NNNNNN.pose.txt       4x4 camera-to-world (T_world_cam), metres
+//   frame-NNNNNN.pose.txt       4x4 camera-to-world (T_world_cam), metres: finite and rigid;
+//                               when frame 0 has one every frame must (else an error naming it)
 //   camera-intrinsics.txt       optional 3x3 K (default: fx = fy = 585, cx 320, cy 240)
 // Timestamps are index / 30 Hz (the Kinect's rate; the dataset has no stamps).
 //
