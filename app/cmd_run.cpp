@@ -104,6 +104,12 @@ int runMain(const std::vector<std::string>& args) {
         "map holds only "
         "the tracked ones\n",
         lost_pct, s.lost, s.frames);
+  if (s.report.contains("frames_off_floor") && s.report["frames_off_floor"].get<long long>() > 0)
+    std::printf(
+        "WARNING: %lld tracked frames put the robot's camera off the first frame's floor (beyond "
+        "[robot] floor_max_height_m / floor_max_tilt_deg; frames.csv floor_height_m, "
+        "floor_tilt_deg): the map's floor drifted\n",
+        s.report["frames_off_floor"].get<long long>());
   if (s.interrupted_by != 0) {
     std::printf(
         "INTERRUPTED by %s: the outputs hold the %zu frames done (report.json: status "

@@ -174,3 +174,21 @@ TEST(OdometryPrior, LostFramesWidenTheNextPrediction) {
   odo.z() += 5 * kDeg;
   EXPECT_NEAR(yawSigma(*op.predict(odo, cam)), one, 1e-9);
 }
+
+TEST(OdometryPrior, FloorDeviationMeasuresHeightAndTiltOffTheFirstFloor) {
+  // The drift report: a ground robot's camera stays at the mount's height and tilt over the
+  // first frame's floor, wherever it drives and turns; a map whose floor rose or tilted moves it.
+  const TRobotParams p;
+  OdometryPrior op(p);
+  op.start(base(0, 0, 0) * p.T_base_cam(), Eigen::Vector3d(0, 0, 0));
+  const Eigen::Isometry3d driven = base(2.0, -1.0, 1.2) * p.T_base_cam();
+  auto [h0, t0] = op.floorDeviation(driven);
+  EXPECT_NEAR(h0, 0.0, 1e-9);
+  EXPECT_NEAR(t0, 0.0, 1e-9);
+  Eigen::Isometry3d risen = driven;
+  risen.translation().z() += 0.04;
+  EXPECT_NEAR(op.floorDeviation(risen).first, 0.04, 1e-9);
+  const Eigen::Isometry3d tilted =
+      driven * Eigen::Isometry3d(Eigen::AngleAxisd(2.0 * kDeg, Eigen::Vector3d::UnitX()));
+  EXPECT_NEAR(op.floorDeviation(tilted).second / kDeg, 2.0, 1e-6);
+}

@@ -89,6 +89,15 @@ double OdometryPrior::addHeadingResidual(const tracking::MotionPrior& prior,
   return var > 0.0 ? std::abs(sum) / std::sqrt(var) : 0.0;
 }
 
+std::pair<double, double> OdometryPrior::floorDeviation(
+    const Eigen::Isometry3d& T_world_cam) const {
+  const Eigen::Isometry3d T_floor = projectToFloor(T_world_cam);
+  const double height = up().dot(T_world_cam.translation() - T_floor.translation());
+  const double tilt =
+      Eigen::AngleAxisd(T_world_cam.linear() * T_floor.linear().transpose()).angle();
+  return {height, tilt};
+}
+
 Eigen::Isometry3d OdometryPrior::projectToFloor(const Eigen::Isometry3d& T_world_cam) const {
   // The camera's position is what ICP estimates best: keep it (in the floor plane) and the yaw
   // of the base; drop the height, roll and pitch the base cannot have. (Projecting the implied

@@ -162,8 +162,12 @@ void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(heading_drift_window_frames, int, c, s);
   MRPT_LOAD_CONFIG_VAR(heading_drift_max_sigmas, double, c, s);
   MRPT_LOAD_CONFIG_VAR(planar_motion, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(floor_max_height_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(floor_max_tilt_deg, double, c, s);
   requireInRange(heading_drift_window_frames, 1, 10000, s, "heading_drift_window_frames");
   requireInRange(heading_drift_max_sigmas, 0.0, 1000.0, s, "heading_drift_max_sigmas");
+  requireInRange(floor_max_height_m, 0.0, 10.0, s, "floor_max_height_m");
+  requireInRange(floor_max_tilt_deg, 0.0, 90.0, s, "floor_max_tilt_deg");
   requireInRange(camera_x_m, -10.0, 10.0, s, "camera_x_m");
   requireInRange(camera_y_m, -10.0, 10.0, s, "camera_y_m");
   requireInRange(camera_z_m, -10.0, 10.0, s, "camera_z_m");
@@ -198,6 +202,8 @@ void TRobotParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
   MRPT_SAVE_CONFIG_VAR(heading_drift_window_frames, c, s);
   MRPT_SAVE_CONFIG_VAR(heading_drift_max_sigmas, c, s);
   MRPT_SAVE_CONFIG_VAR(planar_motion, c, s);
+  MRPT_SAVE_CONFIG_VAR(floor_max_height_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(floor_max_tilt_deg, c, s);
 }
 
 void TOutputParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,

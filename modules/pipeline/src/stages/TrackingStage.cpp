@@ -134,11 +134,22 @@ void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
       r.T_world_cam = m_odometry.projectToFloor(r.T_world_cam);
       m_tracker.correctLastPose(r.T_world_cam);
     }
+    if (prior) reportFloorDeviation(r);
   } else {
     r.pose_source = prior ? PoseSource::Odometry : PoseSource::MotionModel;
     r.T_world_cam = prior ? prior->T_world_cam : r.tracking.T_world_cam_guess;
     relocalise(ctx, map);
   }
+}
+
+void TrackingStage::reportFloorDeviation(FrameResult& r) {
+  const auto [height, tilt] = m_odometry.floorDeviation(r.T_world_cam);
+  r.floor_height_m = height;
+  r.floor_tilt_deg = tilt * 180.0 / M_PI;
+  const bool high = m_robot.floor_max_height_m > 0 && std::abs(height) > m_robot.floor_max_height_m;
+  const bool tilted =
+      m_robot.floor_max_tilt_deg > 0 && r.floor_tilt_deg > m_robot.floor_max_tilt_deg;
+  if (high || tilted) ++m_frames_off_floor;
 }
 
 tracking::ModelMaps TrackingStage::renderModel(FrameContext& ctx, const maps::CSurfelMap& map,
@@ -220,10 +231,11 @@ void TrackingStage::finishFrame(FrameContext& ctx, maps::CSurfelMap& map) {
 }
 
 void TrackingStage::csvColumns(std::vector<std::string>& c) const {
-  c.insert(c.end(), {"status", "inliers", "inlier_fraction", "rms_m", "model_pixels",
-                     "model_all_surfels", "icp_iterations", "icp_iterations_level0", "pose_source",
-                     "check_overlap", "check_agreement", "check_behind", "used_prior",
-                     "prior_sigmas", "heading_drift_sigmas", "relocalisation_failure"});
+  c.insert(c.end(),
+           {"status", "inliers", "inlier_fraction", "rms_m", "model_pixels", "model_all_surfels",
+            "icp_iterations", "icp_iterations_level0", "pose_source", "check_overlap",
+            "check_agreement", "check_behind", "used_prior", "prior_sigmas", "heading_drift_sigmas",
+            "floor_height_m", "floor_tilt_deg", "relocalisation_failure"});
 }
 
 void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
@@ -233,11 +245,15 @@ void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
   row.add(r.model_valid_pixels).add(r.model_all_surfels).add(t.iterations);
   row.add(t.levels.empty() ? 0 : t.levels.back().iterations).add(toString(r.pose_source));
   row.add(t.check_overlap, 4).add(t.check_agreement, 4).add(t.check_behind, 4).add(t.used_prior);
-  row.add(t.prior_sigmas, 4).add(r.heading_drift_sigmas, 3).add(r.relocalisation_failure);
+  row.add(t.prior_sigmas, 4).add(r.heading_drift_sigmas, 3).add(r.floor_height_m, 4);
+  row.add(r.floor_tilt_deg, 3).add(r.relocalisation_failure);
 }
 
 void TrackingStage::report(nlohmann::json& rep) const {
   rep["relocalisations"] = m_relocalisations;
+  // Tracked frames with odometry whose camera left the first frame's floor ([robot]
+  // floor_max_*): the map drifted, though each frame agreed with it.
+  rep["frames_off_floor"] = m_frames_off_floor;
 }
 
 }  // namespace rasm::pipeline

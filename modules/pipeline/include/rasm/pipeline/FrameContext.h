@@ -1,4 +1,5 @@
 #pragma once
+#include <limits>
 // What one frame carries through the Mapper's stages (DESIGN.md "Stages, threads and the map they
 // share"): the frame, its pyramid (II-A), the pose and how it was obtained (II-C), the 4x index map
 // at T_t (II-D), label maps (III) and the per-stage timings. Each stage reads what the stages
@@ -44,6 +45,10 @@ struct FrameResult {
   std::string relocalisation_failure;
   /// With odometry: the accumulated heading disagreement with it, in sigmas (OdometryPrior).
   double heading_drift_sigmas = 0.0;
+  /// A robot's tracked camera against the first frame's floor (OdometryPrior::floorDeviation):
+  /// height above the mount's (m) and tilt (deg); NaN without odometry.
+  double floor_height_m = std::numeric_limits<double>::quiet_NaN();
+  double floor_tilt_deg = std::numeric_limits<double>::quiet_NaN();
   int model_valid_pixels = 0;      ///< valid pixels of the rendered model ICP aligned to
   bool model_all_surfels = false;  ///< the stable-only model was too sparse: all surfels used
   /// Milliseconds per timer, in the order of Mapper::timerNames() (stages, their parts, "total").

@@ -54,6 +54,12 @@ class OdometryPrior {
   /// The floor normal in world coordinates.
   Eigen::Vector3d up() const { return m_T_world_floor.linear().col(2); }
 
+  /// How far a camera pose is off the first frame's floor: its height above the mount's (m, the
+  /// floor normal's direction) and the angle (rad) between its orientation and the mount's at
+  /// the same heading. A ground robot on a flat floor keeps both near 0; a map whose floor
+  /// bends or rises (slow drift no single frame shows) moves them.
+  std::pair<double, double> floorDeviation(const Eigen::Isometry3d& T_world_cam) const;
+
   /// The pose moved onto the floor plane (SE(2) of the base at the mount's height and tilt).
   Eigen::Isometry3d projectToFloor(const Eigen::Isometry3d& T_world_cam) const;
 

@@ -65,6 +65,9 @@ class TrackingStage : public MapperStage {
   /// While lost: the pose from the map's keyframes, verified by ICP against the map rendered
   /// there; on success the tracker restarts from it (the frame becomes Relocalised).
   void relocalise(FrameContext& ctx, const maps::CSurfelMap& map);
+  /// floor_height_m / floor_tilt_deg of a tracked robot frame, counted when beyond [robot]
+  /// floor_max_*.
+  void reportFloorDeviation(FrameResult& r);
 
   tracking::TTrackingParams m_tracking;
   TRobotParams m_robot;
@@ -78,6 +81,7 @@ class TrackingStage : public MapperStage {
   bool m_localise_in_map = false;
   Eigen::Isometry3d m_T_prev_frame = Eigen::Isometry3d::Identity();
   std::size_t m_relocalisations = 0;
+  std::size_t m_frames_off_floor = 0;  ///< see report()
 };
 
 }  // namespace rasm::pipeline
