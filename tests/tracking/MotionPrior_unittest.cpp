@@ -21,17 +21,19 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 const CameraIntrinsics K = CameraIntrinsics::preset("kinect_v1");
 
-std::vector<FrameLevel> pyramidOf(const Image<float>& depth) {
+std::vector<FrameLevel> pyramidOf(const Image<float>& depth,
+                                  const CameraIntrinsics& intrinsics = K) {
   std::vector<FrameLevel> pyr;
-  buildFramePyramid(depth, K, TTrackingParams::kMaxLevels, pyr);
+  buildFramePyramid(depth, intrinsics, TTrackingParams::kMaxLevels, pyr);
   return pyr;
 }
 
-ModelMaps modelOf(const WorldMaps& m, const Eigen::Isometry3d& T_world_model) {
+ModelMaps modelOf(const WorldMaps& m, const Eigen::Isometry3d& T_world_model,
+                  const CameraIntrinsics& intrinsics = K) {
   ModelMaps mm;
   mm.vertex_world = m.vertex.view();
   mm.normal_world = m.normal.view();
-  mm.K = K;
+  mm.K = intrinsics;
   mm.T_world_model = T_world_model;
   return mm;
 }
@@ -180,15 +182,9 @@ TEST(PoseCheck, ARightPoseOnAGrazingFloorAgrees) {
   scene.planes.push_back({{1, 0, 0}, 6.0});
   const Eigen::Isometry3d T_a = lookAt({0.0, 0.0, 0.55}, {3.0, 0.0, 0.02});
   const Eigen::Isometry3d T_c = T_a * motion({0.02, 0.0, 0.06}, {0, 1, 0}, 3.0);
-  std::vector<FrameLevel> pyr_a, pyr_c;
-  buildFramePyramid(scene.render(Ks, T_a, 0.0, 1, 4.0), Ks, TTrackingParams::kMaxLevels, pyr_a);
-  buildFramePyramid(scene.render(Ks, T_c, 0.002, 7, 4.0), Ks, TTrackingParams::kMaxLevels, pyr_c);
-  const WorldMaps model(pyr_a[0], T_a);
-  ModelMaps mm;
-  mm.vertex_world = model.vertex.view();
-  mm.normal_world = model.normal.view();
-  mm.K = Ks;
-  mm.T_world_model = T_a;
+  const std::vector<FrameLevel> pyr_c = pyramidOf(scene.render(Ks, T_c, 0.002, 7, 4.0), Ks);
+  const WorldMaps model(pyramidOf(scene.render(Ks, T_a, 0.0, 1, 4.0), Ks)[0], T_a);
+  const ModelMaps mm = modelOf(model, T_a, Ks);
   IcpTracker tr;
   const IcpTracker::PoseCheck right = tr.checkPose(pyr_c, mm, T_c);
   EXPECT_TRUE(right.passed);
