@@ -14,7 +14,7 @@
 #include <optional>
 
 #include "Command.h"
-#include "EvalExploration.h"
+#include "EvalCommands.h"
 #include "RunObjects.h"
 #include "rasm/core/Error.h"
 #include "rasm/io/EvaluationJson.h"
@@ -48,6 +48,7 @@ const char* kUsage =
     "                     [--max-dist-m 0.05] [--min-size-m 0.10] [--min-surfels 50]\n"
     "       rasm eval exploration <run folder>... [--times 60,120,180] [--json out.json]\n"
     "                     [--markdown out.md] [--plot out.png]\n"
+    "       rasm eval memory <run folder> [--json out.json] [--plot out.png] [--max-growth 0.05]\n"
     "Trajectories in TUM format (timestamp tx ty tz qx qy qz qw). ATE aligns the estimate to the\n"
     "ground truth (Horn/Umeyama, SE(3); --scale: Sim(3)); RPE uses intervals of D s (default 1) "
     "or\n"
@@ -586,6 +587,8 @@ int eval(const std::vector<std::string>& args) {
   }
   if (args[0] == "exploration")
     return rasm::app::evalExploration(std::vector<std::string>(args.begin() + 1, args.end()));
+  if (args[0] == "memory")
+    return rasm::app::evalMemory(std::vector<std::string>(args.begin() + 1, args.end()));
   if (args[0] == "classification") {
 #ifdef RASM_EVAL_CLASSIFICATION
     return evalClassification(std::vector<std::string>(args.begin() + 1, args.end()));

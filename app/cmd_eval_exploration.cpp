@@ -14,7 +14,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
-#include "EvalExploration.h"
+#include "EvalCommands.h"
 #include "RunObjects.h"
 #include "rasm/core/Error.h"
 

@@ -397,34 +397,49 @@ TEST(PreloadedFrameSource, StopsWithAClearErrorOverItsMemoryLimit) {
 
 /// A corrupt string length in a rawlog (found by fuzz_rawlog: TCamera's name) allocated up to
 /// 4 GB in MRPT's deserializer; rasm_io bounds archive strings (MrptStringLimit.cpp).
-TEST(RawlogFrameSource, CorruptStringLengthIsAnErrorNotAnAllocation) {
-  ScratchDir dir("strlen");
-  mrpt::obs::CObservation3DRangeScan obs;
-  observationFromFrame(syntheticFrame(0, 8, 6), obs);
-  obs.sensorLabel = "LABELXYZ";
+namespace {
+/// `obs` serialized as a one-observation rawlog at `path`, with the first occurrence of `field`
+/// replaced by `corrupt` (the same length): a size field a corrupt file could hold.
+void writeWithCorruptField(const mrpt::obs::CObservation3DRangeScan& obs, const std::string& field,
+                           const std::string& corrupt, const std::string& path) {
   mrpt::io::CMemoryStream mem;
   {
     auto a = mrpt::serialization::archiveFrom(mem);
     a << obs;
   }
   std::string bytes(static_cast<const char*>(mem.getRawBufferData()), mem.getTotalBytesCount());
-  const std::string needle = std::string("\x08\0\0\0", 4) + "LABELXYZ";
-  const auto at = bytes.find(needle);
+  const auto at = bytes.find(field);
   ASSERT_NE(at, std::string::npos);
-  const std::string huge("\xff\xff\xff\x7f", 4);  // 2147483647 bytes
-  bytes.replace(at, 4, huge);
-  const std::string path = dir / "corrupt.rawlog";
+  ASSERT_EQ(field.size(), corrupt.size());
+  bytes.replace(at, corrupt.size(), corrupt);
   std::ofstream(path, std::ios::binary) << bytes;
+}
+
+/// Reading `path` to its end throws an InputError naming the file and containing `reason`.
+void expectReadError(const std::string& path, const std::string& reason) {
   try {
     RawlogFrameSource src(path);
     while (src.next()) {
     }
-    FAIL() << "corrupt string length accepted";
+    ADD_FAILURE() << "corrupt " << path << " accepted";
   } catch (const InputError& e) {
     const std::string m = e.what();
     EXPECT_NE(m.find(path), std::string::npos) << m;
-    EXPECT_NE(m.find("serialized string of 2147483647 bytes"), std::string::npos) << m;
+    EXPECT_NE(m.find(reason), std::string::npos) << m;
   }
+}
+
+std::string u32(std::uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); }
+}  // namespace
+
+TEST(RawlogFrameSource, CorruptStringLengthIsAnErrorNotAnAllocation) {
+  ScratchDir dir("strlen");
+  mrpt::obs::CObservation3DRangeScan obs;
+  observationFromFrame(syntheticFrame(0, 8, 6), obs);
+  obs.sensorLabel = "LABELXYZ";
+  const std::string path = dir / "corrupt.rawlog";
+  writeWithCorruptField(obs, u32(8) + "LABELXYZ", u32(2147483647) + "LABELXYZ", path);
+  expectReadError(path, "serialized string of 2147483647 bytes");
   // Strings of sane length still read (the same wire format as MRPT's).
   mrpt::io::CMemoryStream ok;
   auto a = mrpt::serialization::archiveFrom(ok);
@@ -434,6 +449,32 @@ TEST(RawlogFrameSource, CorruptStringLengthIsAnErrorNotAnAllocation) {
   a >> h >> e;
   EXPECT_EQ(h, "hello");
   EXPECT_EQ(e, "");
+}
+
+/// A corrupt range-image size made MRPT 2.5's CObservation3DRangeScan::serializeFrom allocate
+/// rows x cols before reading a pixel (12 PB seen; found by fuzz_rawlog): MrptSizeLimits.cpp
+/// bounds it, and valid sizes still read through MRPT's own code.
+TEST(RawlogFrameSource, CorruptRangeImageSizeIsAnErrorNotAnAllocation) {
+  ScratchDir dir("rangesize");
+  mrpt::obs::CObservation3DRangeScan obs;
+  observationFromFrame(syntheticFrame(0, 32, 24), obs);
+  ASSERT_TRUE(obs.hasRangeImage);
+  // serializeFrom v9+: rangeUnits (float), rows, cols, then the pixels.
+  std::string units(4, '\0');
+  std::memcpy(units.data(), &obs.rangeUnits, 4);
+  const std::string path = dir / "corrupt.rawlog";
+  writeWithCorruptField(obs, units + u32(24) + u32(32), units + u32(1u << 20) + u32(1u << 20), path);
+  expectReadError(path, "range image of 1048576 x 1048576 pixels");
+  // Below the limit, a size that does not match the data fails at the end of the stream as before.
+  writeWithCorruptField(obs, units + u32(24) + u32(32), units + u32(600) + u32(800), path);
+  expectReadError(path, "");
+  // The intact observation reads, range image and all.
+  writeWithCorruptField(obs, units + u32(24) + u32(32), units + u32(24) + u32(32), path);
+  RawlogFrameSource src(path);
+  const auto f = src.next();
+  ASSERT_TRUE(f.has_value());
+  EXPECT_EQ(f->width(), 32);
+  EXPECT_EQ(f->height(), 24);
 }
 
 /// A corrupt JPEG stored inside a rawlog (MRPT's CImage JPEG serialization) made libjpeg call

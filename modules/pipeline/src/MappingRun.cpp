@@ -15,6 +15,7 @@
 #include <fstream>
 #include <iomanip>
 #include <sstream>
+#include <unistd.h>
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
@@ -170,6 +171,15 @@ double peakRssMb() {
   while (std::getline(f, line))
     if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
   return 0.0;
+}
+
+/// Resident set size of this process now (/proc/self/statm), MB; 0 when unknown. Read once per
+/// frame for frames.csv rss_mb (a few microseconds): the memory curve of long runs (issue 15, 6).
+double currentRssMb() {
+  std::ifstream f("/proc/self/statm");
+  unsigned long long size_pages = 0, resident_pages = 0;
+  if (!(f >> size_pages >> resident_pages)) return 0.0;
+  return double(resident_pages) * double(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
 }
 
 /// Runs of consecutive lost frames (issue 14's honest loss reporting).
@@ -344,7 +354,10 @@ void MappingRun::recordFrame(Accumulated& acc, const RgbdFrame& f, const FrameRe
     acc.ms_max[s] = std::max(acc.ms_max[s], r.ms[s]);
   }
   acc.frames_csv += m_mapper->csvRow();
-  acc.frames_csv += "\n";
+  char memory[64];  // the run's own columns after the stages': memory now (rasm eval memory)
+  std::snprintf(memory, sizeof memory, ",%.1f,%zu\n", currentRssMb(),
+                m_mapper->map().store().memoryBytes());
+  acc.frames_csv += memory;
 }
 
 void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFolder& out,
@@ -358,7 +371,7 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFold
   const std::size_t n_timers = m_mapper->timerNames().size();
   acc.ms_sum.assign(n_timers, 0.0);
   acc.ms_max.assign(n_timers, 0.0);
-  acc.frames_csv = m_mapper->csvHeader() + "\n";
+  acc.frames_csv = m_mapper->csvHeader() + ",rss_mb,map_memory_bytes\n";
   try {
     while (m_source.max_frames == 0 || acc.processed < std::size_t(m_source.max_frames)) {
       if (stopSignal() != 0) break;  // SIGINT / SIGTERM: no further frame

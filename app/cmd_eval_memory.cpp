@@ -1,0 +1,186 @@
+// `rasm eval memory <run folder>`: does a run's memory plateau (issue 15, deliverable 6)? Reads
+// the run's frames.csv (timestamp_s, surfels, rss_mb, map_memory_bytes: one row per frame) and
+// reports, for surfels, RSS and the map store, the value at the run's half time, at its end, the
+// largest value over the second half and the growth over the second half ((max over the second
+// half - value at half time) / value at half time; the criterion is < 5%), plus bytes per
+// surfel (map store / surfels; RSS / surfels). --plot draws the three curves against time.
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "EvalCommands.h"
+#include "rasm/core/Error.h"
+
+namespace rasm::app {
+namespace {
+
+const char* kUsage =
+    "usage: rasm eval memory <run folder> [--json out.json] [--plot out.png] [--max-growth 0.05]\n"
+    "Memory of a run against time from its frames.csv (surfels, rss_mb, map_memory_bytes): value\n"
+    "at half time, at the end, growth over the second half; exit 1 when surfels or RSS grow\n"
+    "more than --max-growth over the second half.\n";
+
+/// The columns of frames.csv this command reads, one value per frame.
+struct MemoryCurves {
+  std::vector<double> t, surfels, rss_mb, map_mb;
+};
+
+MemoryCurves readFramesCsv(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throwInputError(path, "cannot be opened (expected the frames.csv of a `rasm run`)");
+  std::string line;
+  if (!std::getline(f, line)) throwInputError(path, "is empty (expected a header line)");
+  std::map<std::string, std::size_t> col;
+  {
+    std::stringstream ss(line);
+    std::string name;
+    for (std::size_t i = 0; std::getline(ss, name, ','); ++i) col[name] = i;
+  }
+  for (const char* c : {"timestamp_s", "surfels", "rss_mb", "map_memory_bytes"})
+    if (!col.count(c))
+      throwInputError(path, std::string("has no column '") + c +
+                                "' (written by `rasm run` since issue 15's memory curve)");
+  MemoryCurves m;
+  for (long long row = 2; std::getline(f, line); ++row) {
+    std::vector<std::string> v;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) v.push_back(x);
+    auto num = [&](const char* c) {
+      const std::size_t i = col[c];
+      char* end = nullptr;
+      const double x = i < v.size() ? std::strtod(v[i].c_str(), &end) : NAN;
+      if (i >= v.size() || end == v[i].c_str() || !std::isfinite(x))
+        throwInputError(path + ":" + std::to_string(row), std::string("column ") + c + " is not a number");
+      return x;
+    };
+    m.t.push_back(num("timestamp_s"));
+    m.surfels.push_back(num("surfels"));
+    m.rss_mb.push_back(num("rss_mb"));
+    m.map_mb.push_back(num("map_memory_bytes") / (1024.0 * 1024.0));
+  }
+  if (m.t.size() < 2) throwInputError(path, "has fewer than 2 frames: no curve");
+  return m;
+}
+
+/// Half-time value, end value, maximum over the second half and growth over it.
+nlohmann::json secondHalf(const std::vector<double>& t, const std::vector<double>& v) {
+  const double t_half = 0.5 * (t.front() + t.back());
+  std::size_t h = 0;
+  while (h + 1 < t.size() && t[h + 1] <= t_half) ++h;
+  const double at_half = v[h], peak = *std::max_element(v.begin() + long(h), v.end());
+  return {{"at_half_time", at_half},
+          {"at_end", v.back()},
+          {"max_second_half", peak},
+          {"growth_second_half", at_half > 0 ? (peak - at_half) / at_half : 0.0}};
+}
+
+void plotCurves(const std::string& path, const MemoryCurves& m, const std::string& title) {
+  const int W = 760, H = 400, L = 60, R = 20, T = 50, B = 40;
+  cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
+  const double t0 = m.t.front(), t1 = std::max(m.t.back(), t0 + 1e-6);
+  auto px = [&](double t, double frac) {
+    return cv::Point(L + int((W - L - R) * (t - t0) / (t1 - t0)), H - B - int((H - B - T) * frac));
+  };
+  cv::rectangle(img, px(t0, 0), px(t1, 1), cv::Scalar(0, 0, 0));
+  const double t_half = 0.5 * (t0 + t1);
+  cv::line(img, px(t_half, 0), px(t_half, 1), cv::Scalar(200, 200, 200));
+  cv::putText(img, title, cv::Point(L, 18), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0));
+  cv::putText(img, "time " + std::to_string(int(t0)) + "-" + std::to_string(int(t1)) +
+                       " s; each curve scaled to its own maximum (0 at the bottom)",
+              cv::Point(L, H - 12), cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(0, 0, 0));
+  struct Curve {
+    const std::vector<double>* v;
+    const char* name;
+    cv::Scalar colour;
+  };
+  const Curve curves[] = {{&m.surfels, "surfels", {200, 80, 0}},
+                          {&m.rss_mb, "RSS (MB)", {0, 0, 200}},
+                          {&m.map_mb, "map store (MB)", {0, 150, 0}}};
+  int k = 0;
+  for (const Curve& c : curves) {
+    const double top = std::max(1e-9, *std::max_element(c.v->begin(), c.v->end()));
+    char label[96];
+    std::snprintf(label, sizeof label, "%s, max %.4g", c.name, top);
+    cv::putText(img, label, cv::Point(L + 8, T + 16 + 16 * k++), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+                c.colour);
+    for (std::size_t i = 1; i < m.t.size(); ++i)
+      cv::line(img, px(m.t[i - 1], (*c.v)[i - 1] / top), px(m.t[i], (*c.v)[i] / top), c.colour, 1);
+  }
+  if (!cv::imwrite(path, img)) throwInputError("--plot " + path, "cannot be written");
+}
+
+}  // namespace
+
+int evalMemory(const std::vector<std::string>& args) {
+  std::string dir, json_path, plot_path;
+  double max_growth = 0.05;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) throwInputError(a, "needs a value\n" + std::string(kUsage));
+      return args[++i];
+    };
+    if (a == "--help" || a == "-h") {
+      std::printf("%s", kUsage);
+      return 0;
+    } else if (a == "--json") {
+      json_path = value();
+    } else if (a == "--plot") {
+      plot_path = value();
+    } else if (a == "--max-growth") {
+      const std::string& v = value();
+      char* end = nullptr;
+      max_growth = std::strtod(v.c_str(), &end);
+      if (end == v.c_str() || *end != 0 || !(max_growth >= 0) || !std::isfinite(max_growth))
+        throwInputError("--max-growth", "'" + v + "' is not a non-negative fraction");
+    } else if (a.rfind("--", 0) == 0 || !dir.empty()) {
+      throw InputError("unexpected argument '" + a + "'\n" + std::string(kUsage));
+    } else {
+      dir = a;
+    }
+  }
+  if (dir.empty()) throw InputError("expected a run folder\n" + std::string(kUsage));
+  const MemoryCurves m = readFramesCsv(dir + "/frames.csv");
+  nlohmann::json out;
+  out["run"] = dir;
+  out["frames"] = m.t.size();
+  out["seconds"] = m.t.back() - m.t.front();
+  out["surfels"] = secondHalf(m.t, m.surfels);
+  out["rss_mb"] = secondHalf(m.t, m.rss_mb);
+  out["map_memory_mb"] = secondHalf(m.t, m.map_mb);
+  const double n = std::max(1.0, m.surfels.back());
+  out["map_bytes_per_surfel"] = m.map_mb.back() * 1024.0 * 1024.0 / n;
+  out["rss_bytes_per_surfel"] = m.rss_mb.back() * 1024.0 * 1024.0 / n;
+  const bool plateau = out["surfels"]["growth_second_half"].get<double>() <= max_growth &&
+                       out["rss_mb"]["growth_second_half"].get<double>() <= max_growth;
+  out["plateau"] = plateau;
+  out["max_growth"] = max_growth;
+  std::printf(
+      "memory over %zu frames (%.0f s): surfels %.0f -> %.0f (+%.1f%% over the second half), RSS "
+      "%.0f -> %.0f MB (+%.1f%%), map store %.0f MB = %.0f bytes/surfel (RSS %.0f bytes/surfel): "
+      "%s\n",
+      m.t.size(), out["seconds"].get<double>(), out["surfels"]["at_half_time"].get<double>(),
+      m.surfels.back(), 100 * out["surfels"]["growth_second_half"].get<double>(),
+      out["rss_mb"]["at_half_time"].get<double>(), m.rss_mb.back(),
+      100 * out["rss_mb"]["growth_second_half"].get<double>(), m.map_mb.back(),
+      out["map_bytes_per_surfel"].get<double>(), out["rss_bytes_per_surfel"].get<double>(),
+      plateau ? "plateau" : "STILL GROWING");
+  if (!json_path.empty()) {
+    std::ofstream f(json_path);
+    f << out.dump(2) << "\n";
+    if (!f) throwInputError("--json " + json_path, "cannot be written");
+  }
+  if (!plot_path.empty()) plotCurves(plot_path, m, "memory of " + dir);
+  return plateau ? 0 : 1;
+}
+
+}  // namespace rasm::app
