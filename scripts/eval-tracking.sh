@@ -5,7 +5,7 @@
 # over the tracked ones, and SILENT failures (frames reported tracked whose pose is more than
 # 5 cm from the ground truth after the ATE alignment: the number that must be 0; the count of
 # frames whose unaligned error exceeds 5 cm, i.e. drift since the first frame, is printed
-# beside it). Writes $OUT/tracking.jsonl.
+# beside it; a tracked frame the robot's drift report flags off the floor counts as flagged). Writes $OUT/tracking.jsonl.
 #   scripts/eval-tracking.sh [--robot] [--fast] [--kidnap] [--worlds N] [--first-seed S] [--small]
 #                            [--kinds "robot robot_fast handheld handheld_fast"]
 # No option = --robot --fast --kidnap --worlds 20. --small renders generated worlds at 320x240 (4x
@@ -63,27 +63,43 @@ A = rep.get("ate_tracked", rep.get("ate", {})).get("alignment", {}).get("T_gt_es
 def aligned(p):
     if not A: return p
     return [sum(A[i][k] * p[k] for k in range(3)) + A[i][3] for i in range(3)]
-silent = flagged_big = drift_big = 0
+# A robot's drift report (frames.csv floor_height_m / floor_tilt_deg beyond [robot]
+# floor_max_height_m / floor_max_tilt_deg of the run's config.ini, docs/tracking.md) flags a
+# tracked frame as off the floor: such a frame is reported, not silent.
+limits = {"floor_max_height_m": 0.03, "floor_max_tilt_deg": 1.5}
+section = None
+for l in open(d + "/config.ini"):
+    l = l.split(";")[0].strip()
+    if l.startswith("["): section = l.strip("[]")
+    elif section == "robot" and "=" in l:
+        k, v = (x.strip() for x in l.split("=", 1))
+        if k in limits: limits[k] = float(v)
+def off_floor(r):
+    h, tilt = r.get("floor_height_m", ""), r.get("floor_tilt_deg", "")
+    return (h not in ("", "nan") and abs(float(h)) > limits["floor_max_height_m"]) or \
+           (tilt not in ("", "nan") and abs(float(tilt)) > limits["floor_max_tilt_deg"])
+silent = flagged_big = drift_big = drift_flagged = 0
 for r in rows:
     t = round(float(r["timestamp_s"]), 4)
     if t not in gt or t not in est: continue
     err = math.dist(gt[t], aligned(est[t]))
     drift_big += math.dist(gt[t], est[t]) > 0.05
     if err > 0.05:
-        if r["tracked"] == "1": silent += 1
-        else: flagged_big += 1
+        if r["tracked"] != "1": flagged_big += 1
+        elif off_floor(r): drift_flagged += 1
+        else: silent += 1
 ate = rep.get("ate", {}).get("translation_m", {}).get("rmse")
 ate_t = rep.get("ate_tracked", rep.get("ate", {})).get("translation_m", {}).get("rmse")
 row = {"sequence": name, "frames": rep["frames"], "tracked": rep["frames_tracked"],
        "lost_intervals": rep["lost_intervals"], "relocalisations": rep["relocalisations"],
        "ate_all_m": ate, "ate_tracked_m": ate_t, "silent_over_5cm": silent, "flagged_over_5cm": flagged_big,
-       "unaligned_over_5cm": drift_big,
+       "unaligned_over_5cm": drift_big, "off_floor_over_5cm": drift_flagged,
        "cpu_ms_per_frame": rep.get("cpu_ms_per_frame")}
 open(jl, "a").write(json.dumps(row) + "\n")
 fmt = lambda x: "-" if x is None else f"{100 * x:.2f}"
 print(f"{name:34s} tracked {row['tracked']:5d}/{row['frames']:<5d} lost intervals {row['lost_intervals']:2d} "
       f"reloc {row['relocalisations']:2d}  ATE all {fmt(ate)} cm tracked {fmt(ate_t)} cm  "
-      f"silent >5cm {silent}  flagged >5cm {flagged_big}  (unaligned >5cm {drift_big})", flush=True)
+      f"silent >5cm {silent}  flagged >5cm {flagged_big} lost + {drift_flagged} off floor  (unaligned >5cm {drift_big})", flush=True)
 PY
 }
 
@@ -135,5 +151,6 @@ for kind in ("robot", "robot_fast", "handheld", "handheld_fast"):
     full = sum(r["tracked"] == r["frames"] for r in rs)
     ates = sorted(r["ate_all_m"] or 0 for r in rs)
     print(f"generated worlds, {kind:13s}: {len(rs)} runs, {full} fully tracked, ATE median {100*ates[len(ates)//2]:.2f} cm "
-          f"max {100*ates[-1]:.2f} cm, silent frames >5 cm: {sum(r['silent_over_5cm'] for r in rs)}")
+          f"max {100*ates[-1]:.2f} cm, silent frames >5 cm: {sum(r['silent_over_5cm'] for r in rs)} "
+          f"(flagged off the floor: {sum(r.get('off_floor_over_5cm', 0) for r in rs)})")
 PY
