@@ -1,6 +1,9 @@
 // rasm run [file.ini] [--set section.key=value ...] [--out DIR] [--max-frames N]
 #include <cstdio>
+#include <initializer_list>
 #include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
 
 #include "Command.h"
 #include "rasm/core/Error.h"
@@ -8,6 +11,18 @@
 #include "rasm/pipeline/MappingRun.h"
 
 namespace {
+
+/// " (a, b)": those of `names` the run wrote (report.json "files"), so that the summary names only
+/// files that exist ([output] write_ply = false and the like); "" when none.
+std::string writtenAmong(const nlohmann::json& report, std::initializer_list<const char*> names) {
+  std::string list;
+  const auto files = report.find("files");
+  if (files == report.end() || !files->is_array()) return list;
+  for (const char* n : names)
+    for (const auto& f : *files)
+      if (f.is_string() && f.get<std::string>() == n) list += (list.empty() ? "" : ", ") + std::string(n);
+  return list.empty() ? list : " (" + list + ")";
+}
 
 int runMain(const std::vector<std::string>& args) {
   using namespace rasm::pipeline;
@@ -68,20 +83,20 @@ int runMain(const std::vector<std::string>& args) {
   std::printf("outputs in %s\n", s.out_dir.c_str());
   if (const auto seg = s.report.find("segmentation");
       seg != s.report.end() && seg->contains("segments"))
-    std::printf(
-        "segments: %d (segments.json, map_segments.ply, map_segments.3Dscene with the 3-D scene, "
-        "preview_segments.png)\n",
-        (*seg)["segments"].get<int>());
+    std::printf("segments: %d%s\n", (*seg)["segments"].get<int>(),
+                writtenAmong(s.report, {"segments.json", "map_segments.ply", "map_segments.3Dscene",
+                                        "preview_segments.png"})
+                    .c_str());
   if (const auto cls = s.report.find("classification");
       cls != s.report.end() && cls->contains("objects")) {
     std::string by_class;
     for (const auto& [name, n] : (*cls)["objects_by_class"].items())
       by_class += (by_class.empty() ? "" : ", ") + name + " " + std::to_string(n.get<int>());
-    std::printf(
-        "objects: %d named%s%s%s (objects.json, map_classes.ply, preview_classes.png; "
-        "rasm objects %s)\n",
-        (*cls)["objects"].get<int>(), by_class.empty() ? "" : " (", by_class.c_str(),
-        by_class.empty() ? "" : ")", s.out_dir.c_str());
+    std::printf("objects: %d named%s%s%s%s; rasm objects %s\n", (*cls)["objects"].get<int>(),
+                by_class.empty() ? "" : " (", by_class.c_str(), by_class.empty() ? "" : ")",
+                writtenAmong(s.report, {"objects.json", "map_classes.ply", "preview_classes.png"})
+                    .c_str(),
+                s.out_dir.c_str());
     for (const auto& d : (*cls)["detectors"])
       if (d.contains("disabled"))
         std::printf("WARNING: %s\n", d["disabled"].get<std::string>().c_str());

@@ -6,9 +6,9 @@
 # 5 cm from the ground truth after the ATE alignment: the number that must be 0; the count of
 # frames whose unaligned error exceeds 5 cm, i.e. drift since the first frame, is printed
 # beside it; a tracked frame the robot's drift report flags off the floor counts as flagged). Writes $OUT/tracking.jsonl.
-#   scripts/eval-tracking.sh [--robot] [--fast] [--kidnap] [--worlds N] [--first-seed S] [--small]
+#   scripts/eval-tracking.sh [--robot] [--fast] [--kidnap] [--real] [--worlds N] [--first-seed S] [--small]
 #                            [--kinds "robot robot_fast handheld handheld_fast"]
-# No option = --robot --fast --kidnap --worlds 20. --small renders generated worlds at 320x240 (4x
+# No option = --robot --fast --kidnap --real --worlds 20. --small renders generated worlds at 320x240 (4x
 # faster; the shipped-world sequences stay 640x480). Seeds are fixed: runs are reproducible.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,13 +16,14 @@ RASM=${RASM:-build/rasm}
 OUT=${OUT:-eval_out/tracking}
 [[ -x "$RASM" ]] || { echo "build first: scripts/build.sh" >&2; exit 1; }
 mkdir -p "$OUT"
-robot=0 fast=0 kidnap=0 worlds=0 first_seed=1 small=0 kinds="robot robot_fast handheld handheld_fast"
-if [[ $# -eq 0 ]]; then robot=1 fast=1 kidnap=1 worlds=20; fi
+robot=0 fast=0 kidnap=0 real=0 worlds=0 first_seed=1 small=0 kinds="robot robot_fast handheld handheld_fast"
+if [[ $# -eq 0 ]]; then robot=1 fast=1 kidnap=1 real=1 worlds=20; fi
 while [[ $# -gt 0 ]]; do
   case $1 in
     --robot) robot=1 ;;
     --fast) fast=1 ;;
     --kidnap) kidnap=1 ;;
+    --real) real=1 ;;
     --worlds) worlds=$2; shift ;;
     --first-seed) first_seed=$2; shift ;;
     --small) small=1 ;;
@@ -37,10 +38,11 @@ record() {  # world trajectory out.rawlog seed [extra record args]
   [[ -f "$o" ]] || "$RASM" sim record "$w" "$t" "$o" --seed "$s" "$@" > "$o.log" 2>&1
 }
 
-evaluate() {  # name rawlog [--set overrides...]
-  local name=$1 rawlog=$2; shift 2
+evaluate() {  # name rawlog|tum:FOLDER|7scenes:FOLDER [--set overrides...]
+  local name=$1 src=$2 type=rawlog; shift 2
+  case $src in tum:* | 7scenes:*) type=${src%%:*} src=${src#*:} ;; esac
   local out="$OUT/$name"
-  "$RASM" run --set source.type=rawlog --set source.path="$rawlog" --out "$out" \
+  "$RASM" run --set source.type=$type --set source.path="$src" --out "$out" \
     --set output.write_ply=false --set output.write_3dscene=false --set output.preview_png=false "$@" \
     > "$out.log" 2>&1 || { echo "$name: run failed (see $out.log)"; return; }
   python3 - "$out" "$name" "$OUT/tracking.jsonl" <<'PY'
@@ -126,6 +128,16 @@ if [[ $kidnap -eq 1 ]]; then
   evaluate office_handheld_long_kidnap "$OUT/office_handheld_long.rawlog" \
     --set source.drop_frames=1230-1289 --set source.blank_frames=1500-1529
   evaluate office_handheld_long "$OUT/office_handheld_long.rawlog"
+fi
+if [[ $real -eq 1 ]]; then
+  # Real data (../shared/data; skipped when absent): two hand-held sequences and the 58 sparse
+  # keyframes of fr3/cabinet (large motions between keyframes: relocalisation on real data).
+  DATA=${RASM_SHARED_DATA:-../shared/data}
+  for seq in tum:tum/fr1_xyz_first37 7scenes:7scenes/redkitchen_first300 tum:tum/fr3_cabinet_keyframes; do
+    folder=$DATA/${seq#*:}
+    if [[ -d $folder ]]; then evaluate "$(basename "$folder")" "${seq%%:*}:$folder"
+    else echo "$(basename "$folder"): skipped ($folder not found)"; fi
+  done
 fi
 if [[ $worlds -gt 0 ]]; then
   small_args=()
