@@ -1,9 +1,9 @@
 // `rasm eval memory <run folder>`: does a run's memory plateau (issue 15, deliverable 6)? Reads
 // the run's frames.csv (timestamp_s, surfels, rss_mb, map_memory_bytes: one row per frame) and
-// reports, for surfels, RSS and the map store, the value at the run's half time, at its end, the
-// largest value over the second half and the growth over the second half ((max over the second
-// half - value at half time) / value at half time; the criterion is < 5%), plus bytes per
-// surfel (map store / surfels; RSS / surfels). --plot draws the three curves against time.
+// reports, for surfels, RSS and the map store, the value at the run's half time and at its end
+// and the growth over the second half (max over the second half against the max over the
+// quarter before half time, see secondHalf; the criterion is < 5%), plus bytes per surfel (map
+// store / surfels; RSS / surfels). --plot draws the three curves against time.
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -71,16 +71,27 @@ MemoryCurves readFramesCsv(const std::string& path) {
   return m;
 }
 
-/// Half-time value, end value, maximum over the second half and growth over it.
-nlohmann::json secondHalf(const std::vector<double>& t, const std::vector<double>& v) {
-  const double t_half = 0.5 * (t.front() + t.back());
+/// Index of the last sample at or before time T.
+std::size_t indexAt(const std::vector<double>& t, double T) {
   std::size_t h = 0;
-  while (h + 1 < t.size() && t[h + 1] <= t_half) ++h;
-  const double at_half = v[h], peak = *std::max_element(v.begin() + long(h), v.end());
-  return {{"at_half_time", at_half},
+  while (h + 1 < t.size() && t[h + 1] <= T) ++h;
+  return h;
+}
+
+/// Growth over the second half of the run. The surfel count swings within every pass over a
+/// room (unstable surfels come and go), so the level the run had reached at half time is the
+/// maximum over the quarter before it ([T/4, T/2]), compared with the maximum over the second
+/// half: a curve that only swings gives 0, one that keeps rising gives its rise.
+nlohmann::json secondHalf(const std::vector<double>& t, const std::vector<double>& v) {
+  const double t0 = t.front(), t1 = t.back();
+  const std::size_t q = indexAt(t, t0 + 0.25 * (t1 - t0)), h = indexAt(t, 0.5 * (t0 + t1));
+  const double level = *std::max_element(v.begin() + long(q), v.begin() + long(h) + 1);
+  const double peak = *std::max_element(v.begin() + long(h), v.end());
+  return {{"at_half_time", v[h]},
           {"at_end", v.back()},
+          {"max_quarter_before_half_time", level},
           {"max_second_half", peak},
-          {"growth_second_half", at_half > 0 ? (peak - at_half) / at_half : 0.0}};
+          {"growth_second_half", level > 0 ? (peak - level) / level : 0.0}};
 }
 
 void plotCurves(const std::string& path, const MemoryCurves& m, const std::string& title) {
@@ -110,7 +121,7 @@ void plotCurves(const std::string& path, const MemoryCurves& m, const std::strin
     const double top = std::max(1e-9, *std::max_element(c.v->begin(), c.v->end()));
     char label[96];
     std::snprintf(label, sizeof label, "%s, max %.4g", c.name, top);
-    cv::putText(img, label, cv::Point(L + 8, T + 16 + 16 * k++), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+    cv::putText(img, label, cv::Point(L + 230 * k++, T - 10), cv::FONT_HERSHEY_SIMPLEX, 0.42,
                 c.colour);
     for (std::size_t i = 1; i < m.t.size(); ++i)
       cv::line(img, px(m.t[i - 1], (*c.v)[i - 1] / top), px(m.t[i], (*c.v)[i] / top), c.colour, 1);
@@ -165,12 +176,15 @@ int evalMemory(const std::vector<std::string>& args) {
   out["plateau"] = plateau;
   out["max_growth"] = max_growth;
   std::printf(
-      "memory over %zu frames (%.0f s): surfels %.0f -> %.0f (+%.1f%% over the second half), RSS "
-      "%.0f -> %.0f MB (+%.1f%%), map store %.0f MB = %.0f bytes/surfel (RSS %.0f bytes/surfel): "
-      "%s\n",
-      m.t.size(), out["seconds"].get<double>(), out["surfels"]["at_half_time"].get<double>(),
-      m.surfels.back(), 100 * out["surfels"]["growth_second_half"].get<double>(),
-      out["rss_mb"]["at_half_time"].get<double>(), m.rss_mb.back(),
+      "memory over %zu frames (%.0f s): surfels peak %.0f -> %.0f (+%.1f%% over the second half), "
+      "RSS %.0f -> %.0f MB (+%.1f%%), map store %.0f MB = %.0f bytes/surfel (RSS %.0f "
+      "bytes/surfel): %s\n",
+      m.t.size(), out["seconds"].get<double>(),
+      out["surfels"]["max_quarter_before_half_time"].get<double>(),
+      out["surfels"]["max_second_half"].get<double>(),
+      100 * out["surfels"]["growth_second_half"].get<double>(),
+      out["rss_mb"]["max_quarter_before_half_time"].get<double>(),
+      out["rss_mb"]["max_second_half"].get<double>(),
       100 * out["rss_mb"]["growth_second_half"].get<double>(), m.map_mb.back(),
       out["map_bytes_per_surfel"].get<double>(), out["rss_bytes_per_surfel"].get<double>(),
       plateau ? "plateau" : "STILL GROWING");
