@@ -3,6 +3,7 @@
 #include "rasm/io/RawlogFrameSource.h"
 
 #include <gtest/gtest.h>
+#include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -492,4 +493,63 @@ TEST(RawlogFrameSource, CorruptEmbeddedJpegIsAnError) {
     EXPECT_NE(m.find(path), std::string::npos) << m;
     EXPECT_NE(m.find("mrpt::img::CImage"), std::string::npos) << m;  // not exit(1)
   }
+}
+
+/// MRPT 2.5's CImage::serializeFrom sized a JPEG buffer from its uint32 byte count and zeroed it
+/// before reading (up to 4 GB; found by fuzz_rawlog as a 10 s timeout). rasm's definition of it
+/// (MrptSizeLimits.cpp) caps the count and grows the buffer as bytes arrive; the images MRPT
+/// writes still read back pixel for pixel (grey raw, colour JPEG, colour raw, empty).
+TEST(RawlogFrameSource, CorruptImageByteCountIsAnErrorNotAnAllocation) {
+  mrpt::img::CImage colour(8, 6, mrpt::img::CH_RGB);
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 8; ++x)
+      for (int c = 0; c < 3; ++c) *colour(x, y, c) = std::uint8_t(40 * c + 5 * x + 7 * y);
+  const bool raw_colour = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();  // process-wide
+  mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(false);
+  auto bytesOf = [](const mrpt::img::CImage& img) {
+    mrpt::io::CMemoryStream mem;
+    auto a = mrpt::serialization::archiveFrom(mem);
+    a << img;
+    return std::string(static_cast<const char*>(mem.getRawBufferData()), mem.getTotalBytesCount());
+  };
+  auto read = [](const std::string& bytes, mrpt::img::CImage& img) {
+    mrpt::io::CMemoryStream mem;
+    mem.assignMemoryNotOwn(bytes.data(), bytes.size());
+    auto a = mrpt::serialization::archiveFrom(mem);
+    a >> img;
+  };
+  std::string bytes = bytesOf(colour);
+  // v9 colour: width, height, then the JPEG byte count.
+  const auto at = bytes.find(u32(8) + u32(6));
+  ASSERT_NE(at, std::string::npos);
+  bytes.replace(at + 8, 4, u32(0xF0000000u));
+  mrpt::img::CImage img;
+  try {
+    read(bytes, img);
+    FAIL() << "a 4 GB JPEG byte count was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("serialized JPEG image of 4026531840 bytes"), std::string::npos)
+        << e.what();
+  }
+  // Intact images read back as MRPT wrote them.
+  read(bytesOf(colour), img);
+  ASSERT_EQ(img.getWidth(), 8u);
+  ASSERT_EQ(img.getHeight(), 6u);
+  EXPECT_TRUE(img.isColor());
+  EXPECT_NEAR(*img(3, 2, 1), *colour(3, 2, 1), 12);  // JPEG
+  mrpt::img::CImage grey(5, 4, mrpt::img::CH_GRAY);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 5; ++x) *grey(x, y) = std::uint8_t(11 * x + 3 * y);
+  read(bytesOf(grey), img);
+  ASSERT_EQ(img.getWidth(), 5u);
+  EXPECT_FALSE(img.isColor());
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 5; ++x) EXPECT_EQ(*img(x, y), *grey(x, y));
+  mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(true);  // v8 raw colour
+  const std::string raw = bytesOf(colour);
+  mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw_colour);
+  read(raw, img);
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(*img(7, 5, c), *colour(7, 5, c));
+  read(bytesOf(mrpt::img::CImage()), img);
+  EXPECT_TRUE(img.isEmpty());
 }

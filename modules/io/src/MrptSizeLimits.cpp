@@ -13,21 +13,38 @@
 // camera (kMaxPixels, 33.5 M pixels or points; a side of at most 32768) and then calls MRPT's own
 // definition, found with dlsym(RTLD_NEXT), so the behaviour for valid sizes is MRPT's.
 // tests/io/RawlogFrameSource_unittest.cpp (CorruptRangeImageSizeIsAnErrorNotAnAllocation).
+//
+// CImage::serializeFrom itself is defined here too: MRPT's sizes the buffer of a compressed
+// (JPEG) image from its uint32 byte count and zero-fills it before reading (up to 4 GB, and a
+// timeout of the fuzzer while it is zeroed), and its version-0 reader copies as many bytes as the
+// file says into the image it has just sized (a heap overflow for a corrupt count). This
+// definition reads MRPT 2.5's CImage format (versions 0-9 and 100; CImage.cpp of 2.5.8, the
+// writer rasm's rawlogs come from) through the class's public API, with the byte count capped at
+// kMaxCompressedBytes, the buffer grown only as bytes arrive, and a raw payload checked against
+// the image it fills (CorruptImageByteCountIsAnErrorNotAnAllocation).
 #include <mrpt/core/exceptions.h>
 #include <mrpt/img/CImage.h>
+#include <mrpt/io/CMemoryStream.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <opencv2/core/mat.hpp>
 
 #include <dlfcn.h>
 
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace rasm::io {
 /// Largest image (width x height) or point cloud accepted from an MRPT archive.
 constexpr std::uint64_t kMaxPixels = std::uint64_t(1) << 25;
 /// Largest image side: a corrupt 1 x 2^24 image is as suspicious as a huge square one.
 constexpr std::uint64_t kMaxSide = std::uint64_t(1) << 15;
+/// Largest compressed (JPEG) image read from an MRPT archive (a 32 M pixel image compresses to
+/// far less).
+constexpr std::uint32_t kMaxCompressedBytes = 256u << 20;
 
 namespace {
 /// MRPT's definition of the interposed symbol (the next one after rasm_io's in lookup order).
@@ -80,6 +97,115 @@ void CImage::resize(std::size_t width, std::size_t height, TImageChannels nChann
   rasm::io::checkImageSize("image", static_cast<std::int64_t>(std::min<std::size_t>(height, 1u << 31)),
                            static_cast<std::int64_t>(std::min<std::size_t>(width, 1u << 31)));
   mrpt(this, width, height, nChannels, depth);
+}
+
+namespace {
+/// A JPEG of n bytes from the archive into img: n capped, the buffer grown as bytes arrive.
+void readJpeg(mrpt::serialization::CArchive& in, std::uint32_t n, CImage& img) {
+  if (n > rasm::io::kMaxCompressedBytes)
+    THROW_EXCEPTION_FMT("serialized JPEG image of %u bytes (corrupt file?); rasm reads at most %u",
+                        unsigned(n), unsigned(rasm::io::kMaxCompressedBytes));
+  std::vector<std::uint8_t> buf;
+  constexpr std::uint32_t kChunk = 1u << 20;
+  for (std::uint32_t done = 0; done < n;) {
+    const std::uint32_t m = std::min(kChunk, n - done);
+    buf.resize(std::size_t(done) + m);
+    if (in.ReadBuffer(buf.data() + done, m) != m) THROW_EXCEPTION("truncated JPEG image data");
+    done += m;
+  }
+  mrpt::io::CMemoryStream aux;
+  aux.assignMemoryNotOwn(buf.data(), buf.size());
+  aux.Seek(0);
+  img.loadFromStreamAsJPEG(aux);
+}
+
+/// `bytes` raw bytes from the archive into img's pixels, which must hold at least that many.
+void readRaw(mrpt::serialization::CArchive& in, std::size_t bytes, CImage& img) {
+  cv::Mat& m = img.asCvMatRef();
+  const std::size_t have = m.isContinuous() ? m.total() * m.elemSize() : 0;
+  if (bytes > have)
+    THROW_EXCEPTION_FMT("serialized image of %zu bytes for a %d x %d image of %zu bytes (corrupt file?)",
+                        bytes, m.cols, m.rows, have);
+  if (bytes > 0 && in.ReadBuffer(m.data, bytes) != bytes) THROW_EXCEPTION("truncated image data");
+}
+
+/// Version 2-9, not externally stored: grey raw bytes or a colour JPEG / raw RGB image.
+void readInMemory(mrpt::serialization::CArchive& in, std::uint8_t version, CImage& img) {
+  std::uint8_t has_colour = 0;
+  in >> has_colour;
+  if (!has_colour) {
+    std::int32_t width = 0, height = 0, origin = 0, image_size = 0;
+    in >> width >> height >> origin >> image_size;
+    PixelDepth depth = PixelDepth::D8U;
+    if (version >= 9) {
+      std::int32_t d = 0;
+      in >> d;
+      depth = PixelDepth(d);
+    }
+    img.resize(std::uint32_t(width), std::uint32_t(height), CH_GRAY, depth);
+    const bool empty = width == 0 || height == 0;  // no pixels to reach (asCvMatRef throws)
+    const std::uint32_t step = empty ? 0u : std::uint32_t(img.asCvMatRef().step[0]);
+    ASSERT_EQUAL_(std::uint32_t(image_size), std::uint32_t(height) * step);
+    bool zip = version != 2;
+    if (version == 4 && image_size <= 16 * 1024) zip = false;
+    if (version >= 5) in >> zip;
+    if (zip) THROW_EXCEPTION("ZIP image deserialization not supported anymore");  // as MRPT 2.5
+    if (!empty) readRaw(in, std::uint32_t(image_size), img);
+    return;
+  }
+  if (version >= 7) {
+    std::int32_t width = 0, height = 0;
+    in >> width >> height;
+    if (width < 1 || height < 1) {
+      if (width < 0 && height < 0) {  // v8: raw RGB, sizes negated
+        img.resize(std::size_t(-std::int64_t(width)), std::size_t(-std::int64_t(height)), CH_RGB);
+        const cv::Mat& m = img.asCvMatRef();
+        readRaw(in, std::size_t(m.cols) * 3 * std::size_t(m.rows), img);
+      } else {  // 0 x N or N x 0: nothing follows
+        img.resize(std::uint32_t(width), std::uint32_t(height), CH_RGB);  // bounded: corrupt sizes throw
+      }
+      return;
+    }
+  }
+  std::uint32_t n = 0;
+  in >> n;
+  readJpeg(in, n, img);
+}
+}  // namespace
+
+void CImage::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
+  clear();
+  switch (version) {
+    case 100:  // written by an MRPT built without OpenCV: an external file name at most
+      in >> m_imgIsExternalStorage;
+      if (m_imgIsExternalStorage) in >> m_externalFile;
+      return;
+    case 0: {
+      std::uint32_t width = 0, height = 0, channels = 0, length = 0;
+      std::uint8_t origin_top_left = 0;
+      in >> width >> height >> channels >> origin_top_left >> length;
+      resize(width, height, static_cast<TImageChannels>(channels));
+      readRaw(in, length, *this);
+      return;
+    }
+    case 1: {
+      std::uint32_t n = 0;
+      in >> n;
+      readJpeg(in, n, *this);
+      return;
+    }
+    case 2: case 3: case 4: case 5: case 6: case 7: case 8: case 9:
+      m_imgIsExternalStorage = false;
+      if (version >= 6) in >> m_imgIsExternalStorage;
+      if (m_imgIsExternalStorage) {
+        in >> m_externalFile;
+        return;
+      }
+      readInMemory(in, version, *this);
+      return;
+    default:
+      MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+  }
 }
 
 }  // namespace mrpt::img
