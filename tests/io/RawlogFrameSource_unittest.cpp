@@ -553,3 +553,24 @@ TEST(RawlogFrameSource, CorruptImageByteCountIsAnErrorNotAnAllocation) {
   read(bytesOf(mrpt::img::CImage()), img);
   EXPECT_TRUE(img.isEmpty());
 }
+
+/// MRPT reads a bool as its byte, so a corrupt rawlog can leave 30 in hasIntensityImage (found by
+/// fuzz_rawlog under UBSan: loading it is undefined behaviour); the frame conversion reads each
+/// flag as a byte and names the bad one.
+TEST(RawlogFrameSource, CorruptObservationFlagIsNamed) {
+  mrpt::obs::CObservation3DRangeScan obs;
+  observationFromFrame(syntheticFrame(0), obs);
+  const unsigned char corrupt = 30;
+  std::memcpy(static_cast<void*>(&obs.hasIntensityImage), &corrupt, 1);
+  try {
+    frameFromObservation(obs, "test entry 7");
+    FAIL() << "a flag byte of 30 was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("test entry 7"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("flag hasIntensityImage holds the byte 30"), std::string::npos)
+        << e.what();
+  }
+  const unsigned char one = 1;
+  std::memcpy(static_cast<void*>(&obs.hasIntensityImage), &one, 1);
+  EXPECT_EQ(frameFromObservation(obs, "test entry 7").colour.width(), 32);
+}

@@ -129,6 +129,15 @@ void readRaw(mrpt::serialization::CArchive& in, std::size_t bytes, CImage& img) 
   if (bytes > 0 && in.ReadBuffer(m.data, bytes) != bytes) THROW_EXCEPTION("truncated image data");
 }
 
+/// A serialized bool, read as its byte: anything but 0 or 1 is a corrupt file (loading such a
+/// byte as a bool, as MRPT's `in >> flag` leaves it, is undefined behaviour).
+bool readFlag(mrpt::serialization::CArchive& in, const char* name) {
+  std::uint8_t byte = 0;
+  in >> byte;
+  if (byte > 1) THROW_EXCEPTION_FMT("corrupt CImage: flag %s holds the byte %u", name, unsigned(byte));
+  return byte == 1;
+}
+
 /// Version 2-9, not externally stored: grey raw bytes or a colour JPEG / raw RGB image.
 void readInMemory(mrpt::serialization::CArchive& in, std::uint8_t version, CImage& img) {
   std::uint8_t has_colour = 0;
@@ -148,7 +157,7 @@ void readInMemory(mrpt::serialization::CArchive& in, std::uint8_t version, CImag
     ASSERT_EQUAL_(std::uint32_t(image_size), std::uint32_t(height) * step);
     bool zip = version != 2;
     if (version == 4 && image_size <= 16 * 1024) zip = false;
-    if (version >= 5) in >> zip;
+    if (version >= 5) zip = readFlag(in, "imageIsZIP");
     if (zip) THROW_EXCEPTION("ZIP image deserialization not supported anymore");  // as MRPT 2.5
     if (!empty) readRaw(in, std::uint32_t(image_size), img);
     return;
@@ -177,7 +186,7 @@ void CImage::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
   clear();
   switch (version) {
     case 100:  // written by an MRPT built without OpenCV: an external file name at most
-      in >> m_imgIsExternalStorage;
+      m_imgIsExternalStorage = readFlag(in, "m_imgIsExternalStorage");
       if (m_imgIsExternalStorage) in >> m_externalFile;
       return;
     case 0: {
@@ -195,8 +204,7 @@ void CImage::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
       return;
     }
     case 2: case 3: case 4: case 5: case 6: case 7: case 8: case 9:
-      m_imgIsExternalStorage = false;
-      if (version >= 6) in >> m_imgIsExternalStorage;
+      m_imgIsExternalStorage = version >= 6 && readFlag(in, "m_imgIsExternalStorage");
       if (m_imgIsExternalStorage) {
         in >> m_externalFile;
         return;

@@ -3,6 +3,7 @@
 #include <mrpt/obs/CObservation3DRangeScan.h>
 
 #include <cmath>
+#include <cstring>
 #include <sstream>
 
 #include "ColourRegistration.h"
@@ -24,11 +25,26 @@ bool sameIntrinsics(const CameraIntrinsics& a, const CameraIntrinsics& b) {
          a.height == b.height;
 }
 
+/// A bool flag of a deserialized observation, checked: MRPT reads a bool as its byte, so a
+/// corrupt rawlog can leave any value in it (found by fuzz_rawlog: 30), and loading a bool that
+/// is neither 0 nor 1 is undefined behaviour. The byte is read as a byte.
+bool flag(const bool& b, const char* name, const std::string& source) {
+  unsigned char byte = 0;
+  std::memcpy(&byte, &b, 1);
+  if (byte > 1)
+    throwInputError(source, std::string("corrupt CObservation3DRangeScan: its flag ") + name +
+                                " holds the byte " + std::to_string(int(byte)) + " (expected 0 or 1)");
+  return byte == 1;
+}
+
 }  // namespace
 
 RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs,
                                const std::string& source, const ObservationToFrameOptions& opt) {
-  if (!obs.hasRangeImage)
+  const bool has_range = flag(obs.hasRangeImage, "hasRangeImage", source);
+  const bool range_is_depth = flag(obs.range_is_depth, "range_is_depth", source);
+  const bool has_intensity = flag(obs.hasIntensityImage, "hasIntensityImage", source);
+  if (!has_range)
     throwInputError(source, "CObservation3DRangeScan '" + detail::printable(obs.sensorLabel) +
                                 "' has no range image (hasRangeImage = false)");
   const int W = int(obs.rangeImage.cols()), H = int(obs.rangeImage.rows());
@@ -51,7 +67,7 @@ RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs,
     float* row = f.depth_m.row(y);
     for (int x = 0; x < W; ++x) {
       float d = float(obs.rangeImage(y, x)) * units;
-      if (!obs.range_is_depth && d > 0.0f) {
+      if (!range_is_depth && d > 0.0f) {
         // Range along the ray -> z: |p| = z |K^-1 (u, v, 1)|.
         const float xn = (float(x) - K.cx) / K.fx, yn = (float(y) - K.cy) / K.fy;
         d /= std::sqrt(1.0f + xn * xn + yn * yn);
@@ -61,7 +77,7 @@ RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs,
   }
 
   // Colour, registered to depth.
-  if (obs.hasIntensityImage) {
+  if (has_intensity) {
     cv::Mat m;
     try {
       m = obs.intensityImage.asCvMat<cv::Mat>(mrpt::img::SHALLOW_COPY);
