@@ -35,13 +35,9 @@ for t in "${TARGETS[@]}"; do
   log="$BUILD_DIR/findings/$t.log"
   echo "fuzz.sh: fuzz_$t for ${SECONDS_EACH} s (corpus $corpus, log $log)"
   # -rss_limit_mb / -malloc_limit_mb: a size field taken on trust (GBs for a corrupt header)
-  # is a finding; -timeout: a hang is one too. The rawlog target gets 4 GB: MRPT 2.5's
-  # CImage::serializeFrom allocates a compressed image's buffer from its uint32 size field before
-  # reading it (up to 4 GB, transient; an open finding, docs/io.md "Bad input and fuzzing"); the
-  # sizes that were unbounded (range images, point clouds, raw images: up to 12 PB) are bounded
-  # by modules/io/src/MrptSizeLimits.cpp, so anything beyond 4 GB is still a finding.
+  # is a finding; -timeout: a hang is one too. MRPT's own size fields are bounded by
+  # modules/io/src/MrptSizeLimits.cpp (docs/io.md "Bad input and fuzzing").
   limit_mb=1024
-  [[ $t == rawlog ]] && limit_mb=4096
   if ! "$BUILD_DIR/fuzz/fuzz_$t" "$corpus" -max_total_time="$SECONDS_EACH" -timeout=10 \
       -rss_limit_mb=$((limit_mb * 2)) -malloc_limit_mb=$limit_mb -max_len=262144 -print_final_stats=1 \
       -artifact_prefix="$findings/" >"$log" 2>&1; then

@@ -17,6 +17,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
 
@@ -573,4 +574,31 @@ TEST(RawlogFrameSource, CorruptObservationFlagIsNamed) {
   const unsigned char one = 1;
   std::memcpy(static_cast<void*>(&obs.hasIntensityImage), &one, 1);
   EXPECT_EQ(frameFromObservation(obs, "test entry 7").colour.width(), 32);
+}
+
+/// A NaN in the colour camera's pose reached the registration's float-to-int pixel conversion
+/// (found by fuzz_rawlog under UBSan); a NaN ground-truth pose would have reached the ATE. Both
+/// are named now.
+TEST(RawlogFrameSource, NonFinitePosesInAnObservationAreNamed) {
+  mrpt::obs::CObservation3DRangeScan obs;
+  observationFromFrame(syntheticFrame(0), obs);
+  obs.relativePoseIntensityWRTDepth = mrpt::poses::CPose3D(0.02, std::nan(""), 0, 0, 0, 0);
+  try {
+    frameFromObservation(obs, "entry 3");
+    FAIL() << "a NaN colour camera pose was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("relativePoseIntensityWRTDepth) is not finite"), std::string::npos)
+        << e.what();
+  }
+  observationFromFrame(syntheticFrame(0), obs);
+  obs.sensorPose = mrpt::poses::CPose3D(1, 2, std::numeric_limits<double>::infinity(), 0, 0, 0);
+  ObservationToFrameOptions opt;
+  opt.sensor_pose_is_ground_truth = true;
+  try {
+    frameFromObservation(obs, "entry 4", opt);
+    FAIL() << "an infinite ground-truth pose was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("ground-truth pose (sensorPose) is not finite"), std::string::npos)
+        << e.what();
+  }
 }

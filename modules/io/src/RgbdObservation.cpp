@@ -103,14 +103,22 @@ RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs,
                                     Kc.toString() + " (" + Kc.problem() +
                                     "), needed to register colour to depth");
       // relativePoseIntensityWRTDepth = T_depthSensor_colourOptical (depthSensor: MRPT +X forward).
+      const Eigen::Isometry3d T_depthSensor_colourOpt = fromCPose3D(obs.relativePoseIntensityWRTDepth);
+      if (!T_depthSensor_colourOpt.matrix().allFinite())
+        throwInputError(source, "the colour camera's pose (relativePoseIntensityWRTDepth) is not finite: " +
+                                    obs.relativePoseIntensityWRTDepth.asString());
       const Eigen::Isometry3d T_depthOpt_colourOpt =
-          T_mrptSensor_optical().inverse() * fromCPose3D(obs.relativePoseIntensityWRTDepth);
+          T_mrptSensor_optical().inverse() * T_depthSensor_colourOpt;
       detail::registerColourToDepthFilled(f.depth_m, f.intrinsics, colour, Kc,
                                           T_depthOpt_colourOpt.inverse(), f.colour);
     }
   }
 
-  if (opt.sensor_pose_is_ground_truth) f.gt_T_world_cam = opticalFromMrptSensorPose(obs.sensorPose);
+  if (opt.sensor_pose_is_ground_truth) {
+    f.gt_T_world_cam = opticalFromMrptSensorPose(obs.sensorPose);
+    if (!f.gt_T_world_cam->matrix().allFinite())
+      throwInputError(source, "the ground-truth pose (sensorPose) is not finite: " + obs.sensorPose.asString());
+  }
   return f;
 }
 
