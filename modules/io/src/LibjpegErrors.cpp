@@ -22,6 +22,10 @@ using StdErrorFn = jpeg_error_mgr* (*)(jpeg_error_mgr*);
 [[noreturn]] void throwingErrorExit(j_common_ptr cinfo) {
   char msg[JMSG_LENGTH_MAX] = "";
   (*cinfo->err->format_message)(cinfo, msg);
+  // The caller never gets back to its jpeg_destroy_decompress (the exception unwinds past it):
+  // free the object's memory pools here, or every corrupt image leaks ~6 KB (LeakSanitizer,
+  // scripts/asan.sh). The error manager itself belongs to the caller and is not touched.
+  jpeg_destroy(cinfo);
   throw std::runtime_error(std::string("corrupt JPEG image: ") + msg);
 }
 
