@@ -7,6 +7,7 @@
 
 #include "rasm/compute/Device.h"
 #include "rasm/core/FrameProcessing.h"
+#include "rasm/core/RgbdFrame.h"
 #include "rasm/core/SurfelMath.h"
 #include "rasm/core/kernels/FrameKernels.h"
 
@@ -403,4 +404,24 @@ TEST(RoundHalfAway, EqualsLround) {
     const float x = (float(s >> 8) / float(1u << 24) - 0.5f) * 2000.0f;
     ASSERT_EQ(compute::roundHalfAway(x), int(std::lround(x))) << x;
   }
+}
+
+// Colour registration's projection (fuzz_rawlog found a NaN converted to int under UBSan): a
+// point in front projects to its rounded pixel; NaN, huge, behind-camera and outside points give
+// no pixel.
+TEST(NearestPixel, RoundsInsideAndRefusesNanHugeBehindAndOutside) {
+  const rasm::PinholeF K{500.0f, 500.0f, 319.5f, 239.5f, 640, 480};
+  int u = -1, v = -1;
+  ASSERT_TRUE(rasm::nearestPixel(K, Eigen::Vector3f(0.0f, 0.0f, 2.0f), 640, 480, u, v));
+  EXPECT_EQ(u, 320);  // 319.5 rounds half away from zero
+  EXPECT_EQ(v, 240);
+  ASSERT_TRUE(rasm::nearestPixel(K, Eigen::Vector3f(-1.2772f, -0.9572f, 2.0f), 640, 480, u, v));
+  EXPECT_EQ(u, 0);
+  EXPECT_EQ(v, 0);
+  const float nan = std::nanf(""), huge = 1e30f;
+  for (const Eigen::Vector3f& p : {Eigen::Vector3f(nan, 0, 1), Eigen::Vector3f(0, 0, nan),
+                                  Eigen::Vector3f(huge, 0, 1), Eigen::Vector3f(0, -huge, 1),
+                                  Eigen::Vector3f(0, 0, -1), Eigen::Vector3f(0, 0, 0),
+                                  Eigen::Vector3f(2.0f, 0, 1)})
+    EXPECT_FALSE(rasm::nearestPixel(K, p, 640, 480, u, v)) << p.transpose();
 }

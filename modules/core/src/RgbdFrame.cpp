@@ -53,14 +53,8 @@ void registerColourToDepth(const Image<float>& depth_m, const CameraIntrinsics& 
       const float z = depth_m(x, y);
       if (!(z > 0.0f)) continue;
       const Eigen::Vector3f pc = R * Kd.backProject(float(x), float(y), z) + t;
-      if (pc.z() <= 0.0f) continue;
-      const Eigen::Vector2f uv = Kc.project(pc);
-      // Bounds in float first: a NaN or huge uv (extreme intrinsics or pose) is not converted.
-      if (!(uv.x() > -1.0f && uv.y() > -1.0f && uv.x() < float(colour.width()) &&
-            uv.y() < float(colour.height())))
-        continue;
-      const int u = compute::roundHalfAway(uv.x()), v = compute::roundHalfAway(uv.y());
-      if (u >= 0 && v >= 0 && u < colour.width() && v < colour.height()) out(x, y) = colour(u, v);
+      int u = 0, v = 0;
+      if (nearestPixel(Kc, pc, colour.width(), colour.height(), u, v)) out(x, y) = colour(u, v);
     }
 }
 

@@ -29,10 +29,8 @@ void registerColourToDepthFilled(const Image<float>& depth_m, const CameraIntrin
     for (int x = 0; x < depth_m.width(); ++x) {
       if (depth_m(x, y) > 0.0f) continue;
       const Eigen::Vector3f pc = R * Kd.backProject(float(x), float(y), z_fill) + t;
-      if (pc.z() <= 0.0f) continue;
-      const Eigen::Vector2f uv = Kc.project(pc);
-      const int u = compute::roundHalfAway(uv.x()), v = compute::roundHalfAway(uv.y());
-      if (u >= 0 && v >= 0 && u < colour.width() && v < colour.height()) out(x, y) = colour(u, v);
+      int u = 0, v = 0;
+      if (nearestPixel(Kc, pc, colour.width(), colour.height(), u, v)) out(x, y) = colour(u, v);
     }
 }
 

@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 
+#include "rasm/compute/Platform.h"
 #include "rasm/compute/Types.h"
 #include "rasm/core/CameraIntrinsics.h"
 #include "rasm/core/Image.h"
@@ -47,5 +48,20 @@ struct RgbdFrame {
 void registerColourToDepth(const Image<float>& depth_m, const CameraIntrinsics& K_depth,
                            const Image<Bgr8>& colour, const CameraIntrinsics& K_colour,
                            const Eigen::Isometry3d& T_colour_depth, Image<Bgr8>& out);
+
+/// The nearest pixel (u, v) of a `width` x `height` image that the camera-frame point p_cam
+/// projects to, or false when it is behind the camera or outside the image. Bounds are checked
+/// before rounding, so a NaN or huge projection (extreme intrinsics or poses from a corrupt
+/// file) is never converted to int.
+inline bool nearestPixel(const PinholeF& K, const Eigen::Vector3f& p_cam, int width, int height,
+                         int& u, int& v) {
+  if (!(p_cam.z() > 0.0f)) return false;
+  const Eigen::Vector2f uv = K.project(p_cam);
+  if (!(uv.x() > -1.0f && uv.y() > -1.0f && uv.x() < float(width) && uv.y() < float(height)))
+    return false;
+  u = compute::roundHalfAway(uv.x());
+  v = compute::roundHalfAway(uv.y());
+  return u >= 0 && v >= 0 && u < width && v < height;
+}
 
 }  // namespace rasm
