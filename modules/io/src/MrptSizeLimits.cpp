@@ -24,11 +24,11 @@
 // the image it fills (CorruptImageByteCountIsAnErrorNotAnAllocation).
 #include <mrpt/core/exceptions.h>
 #include <mrpt/img/CImage.h>
-#include <mrpt/io/CMemoryStream.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <opencv2/core/mat.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include <dlfcn.h>
 
@@ -113,10 +113,15 @@ void readJpeg(mrpt::serialization::CArchive& in, std::uint32_t n, CImage& img) {
     if (in.ReadBuffer(buf.data() + done, m) != m) THROW_EXCEPTION("truncated JPEG image data");
     done += m;
   }
-  mrpt::io::CMemoryStream aux;
-  aux.assignMemoryNotOwn(buf.data(), buf.size());
-  aux.Seek(0);
-  img.loadFromStreamAsJPEG(aux);
+  // Decoded by OpenCV, not by CImage::loadFromStreamAsJPEG: MRPT's libjpeg source over a
+  // CMemoryStream lets a corrupt marker length skip past the end of the buffer, and the next
+  // read is a memcpy of negative size (ASan, fuzz_rawlog). OpenCV bounds its reads.
+  if (buf.size() < 2 || buf[0] != 0xFF || buf[1] != 0xD8)
+    THROW_EXCEPTION("corrupt JPEG image: no start-of-image marker (FF D8)");
+  const cv::Mat decoded = cv::imdecode(buf, cv::IMREAD_UNCHANGED);
+  if (decoded.empty() || decoded.depth() != CV_8U || (decoded.channels() != 1 && decoded.channels() != 3))
+    THROW_EXCEPTION_FMT("corrupt JPEG image (%zu bytes): OpenCV cannot decode it", buf.size());
+  img = CImage(decoded, DEEP_COPY);
 }
 
 /// `bytes` raw bytes from the archive into img's pixels, which must hold at least that many.
