@@ -467,8 +467,9 @@ struct CarveTest {
 };
 
 /// Update of the surfel a pixel was associated with, one frame pixel per call (II-D; Keller et al.
-/// 2013, ElasticFusion): when r <= ratio * r_s, position, normal, colour and radius become the
-/// confidence-weighted means (w_s p_s + w p) / (w_s + w); then w_s += w
+/// 2013, ElasticFusion): when r <= ratio * r_s, position, normal and colour become the
+/// confidence-weighted means (w_s p_s + w p) / (w_s + w), and the radius too when the new one is
+/// smaller (radii only shrink: see update()); then w_s += w
 /// (optionally capped), t_last = now, stable once w_s >= threshold. The basis follows the normal,
 /// b <- -n x (n x b) (V-B); the segment weight follows L^p (III); the view bin of the camera
 /// direction takes max(b_v, IC) (V-B). Optionally records the carving verdict on the updated
@@ -516,13 +517,12 @@ struct UpdateKernel {
       const float len = nn.norm();
       if (len > 1e-6f) ns = nn * (1.0f / len);
       cf = blendColour(x, y, cf, a0, a1);
-      // The radius is averaged like the rest (ElasticFusion). Averaging only the smaller radii
-      // ("radii only shrink") biased it down: each noisy sample below the mean pulled it in, none
-      // above pushed it out, so a room circled for 10 minutes kept shrinking its surfels and
-      // filling the gaps with new ones (+0.8% surfels per lap at a constant disc area; issue 15,
-      // docs/io.md "Memory on long runs"). A coarser view still cannot blur a finer surfel by
-      // more than the ratio gate allows.
-      rs = a0 * rs + a1 * r;
+      // Radii only shrink (a coarser view must not blur a finer surfel). This biases them down:
+      // a room circled for 10 minutes keeps shrinking its surfels and filling the gaps (+0.8%
+      // surfels per lap at a constant disc area). Averaging the radius like the rest
+      // (ElasticFusion) bounds the map, but made the exploring default run stop early on two
+      // seeds; kept until that is understood (docs/io.md "Memory on long runs").
+      if (r < rs) rs = a0 * rs + a1 * r;
       b = maps::kernels::updateBasis(ns, b);
       f |= kPixFused;
       if (crossedBlock(p_old, p, prm.inv_block_size)) f |= kPixCrossedBlock;
