@@ -147,7 +147,7 @@ void updateFour(const kernels::UpdateKernel& k, int y, const int* xs, int n,
   const __m128 ox = select(renorm, _mm_mul_ps(mx, inv_len), nx);
   const __m128 oy = select(renorm, _mm_mul_ps(my, inv_len), ny);
   const __m128 oz = select(renorm, _mm_mul_ps(mz, inv_len), nz);
-  const __m128 shrink = _mm_and_ps(fuse, _mm_cmplt_ps(r, rs));
+  const __m128 shrink = k.prm.average_radius ? fuse : _mm_and_ps(fuse, _mm_cmplt_ps(r, rs));
   const __m128 ors = select(shrink, _mm_add_ps(_mm_mul_ps(a0, rs), _mm_mul_ps(a1, r)), rs);
   // Basis (V-B): -n x (n x b), normalised; maps::kernels::updateBasis.
   __m128 tx, ty, tz, ux, uy, uz;

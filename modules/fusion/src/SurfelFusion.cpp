@@ -35,6 +35,7 @@ kernels::FusionKernelParams plainParams(const TFusionParams& p,
   k.assoc_dz_rel = p.assoc_max_depth_diff_rel;
   k.min_cos_normal = std::cos(p.assoc_max_normal_angle_deg * kDegToRad);
   k.radius_update_ratio = p.radius_update_ratio;
+  k.average_radius = p.average_radius;
   k.neighbour_coverage_check = p.neighbour_coverage_check;
   k.stable_confidence = p.stable_confidence;
   k.max_confidence = p.max_confidence;

@@ -16,6 +16,7 @@ void TFusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(assoc_max_depth_diff_rel, float, c, s);
   MRPT_LOAD_CONFIG_VAR(assoc_max_normal_angle_deg, float, c, s);
   MRPT_LOAD_CONFIG_VAR(radius_update_ratio, float, c, s);
+  MRPT_LOAD_CONFIG_VAR(average_radius, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(neighbour_coverage_check, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(stable_confidence, float, c, s);
   MRPT_LOAD_CONFIG_VAR(max_confidence, float, c, s);
@@ -65,6 +66,7 @@ void TFusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   c.write(s, "assoc_max_depth_diff_rel", assoc_max_depth_diff_rel);
   c.write(s, "assoc_max_normal_angle_deg", assoc_max_normal_angle_deg);
   c.write(s, "radius_update_ratio", radius_update_ratio);
+  c.write(s, "average_radius", average_radius);
   c.write(s, "neighbour_coverage_check", neighbour_coverage_check);
   c.write(s, "stable_confidence", stable_confidence);
   c.write(s, "max_confidence", max_confidence);

@@ -39,6 +39,12 @@ struct TFusionParams : public mrpt::config::CLoadableOptions {
   /// when the new radius is < ratio * the surfel radius (a finer or equal measurement); otherwise
   /// only confidence and time are updated.
   float radius_update_ratio = 1.5f;
+  /// Within that gate the radius is averaged like position and normal (true, ElasticFusion), or
+  /// only with smaller measurements (false: "radii only shrink", a coarser view never blurs a
+  /// finer surfel). Shrinking only biases radii down: a room circled for 10 minutes keeps
+  /// shrinking its surfels and filling the gaps with new ones (+0.8% surfels per lap at a constant
+  /// disc area; docs/io.md "Memory on long runs", issue 15).
+  bool average_radius = false;
   /// A pixel without a candidate in its own 4x4 block adds no surfel when a surfel of a
   /// neighbouring block covers its ray within the gates (kernels::AssociateUpdateKernel::
   /// coveredByNeighbour): prevents duplicates caused by the one-pixel-per-surfel association.

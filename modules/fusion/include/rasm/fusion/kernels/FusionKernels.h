@@ -38,6 +38,7 @@ struct FusionKernelParams {
   float assoc_dz_abs_m = 0.03f, assoc_dz_rel = 0.01f;
   float min_cos_normal = 0.94f;
   float radius_update_ratio = 1.5f;
+  bool average_radius = false;  ///< TFusionParams::average_radius
   bool neighbour_coverage_check = true;
   float stable_confidence = 10.0f;
   float max_confidence = 0.0f;  ///< 0 = no cap
@@ -517,12 +518,9 @@ struct UpdateKernel {
       const float len = nn.norm();
       if (len > 1e-6f) ns = nn * (1.0f / len);
       cf = blendColour(x, y, cf, a0, a1);
-      // Radii only shrink (a coarser view must not blur a finer surfel). This biases them down:
-      // a room circled for 10 minutes keeps shrinking its surfels and filling the gaps (+0.8%
-      // surfels per lap at a constant disc area). Averaging the radius like the rest
-      // (ElasticFusion) bounds the map, but made the exploring default run stop early on two
-      // seeds; kept until that is understood (docs/io.md "Memory on long runs").
-      if (r < rs) rs = a0 * rs + a1 * r;
+      // The radius: averaged like the rest (ElasticFusion), or only with smaller measurements
+      // (TFusionParams::average_radius).
+      if (prm.average_radius || r < rs) rs = a0 * rs + a1 * r;
       b = maps::kernels::updateBasis(ns, b);
       f |= kPixFused;
       if (crossedBlock(p_old, p, prm.inv_block_size)) f |= kPixCrossedBlock;
