@@ -31,6 +31,10 @@ void TRelocalisationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR_CS(max_depth_step_ratio, double);
   MRPT_LOAD_CONFIG_VAR_CS(thumbnail_width, int);
   MRPT_LOAD_CONFIG_VAR_CS(ranking_features, int);
+  MRPT_LOAD_CONFIG_VAR_CS(use_last_fused_frame, bool);
+  MRPT_LOAD_CONFIG_VAR_CS(last_fused_min_inliers, int);
+  MRPT_LOAD_CONFIG_VAR_CS(last_fused_min_inlier_ratio, double);
+  MRPT_LOAD_CONFIG_VAR_CS(last_fused_min_depth_agreeing, int);
   MRPT_LOAD_CONFIG_VAR_CS(candidate_keyframes, int);
   MRPT_LOAD_CONFIG_VAR_CS(match_ratio, double);
   MRPT_LOAD_CONFIG_VAR_CS(max_hamming_distance, int);
@@ -70,6 +74,13 @@ void TRelocalisationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
       "skip keypoints on depth edges (3x3 range / depth)");
   put(c, s, "thumbnail_width", thumbnail_width, "grey thumbnail width per keyframe (px), 0 = none");
   put(c, s, "ranking_features", ranking_features, "frame features used to rank keyframes");
+  put(c, s, "use_last_fused_frame", use_last_fused_frame,
+      "try the last fused frame before the map's keyframes");
+  put(c, s, "last_fused_min_inliers", last_fused_min_inliers, "min_inliers against that frame");
+  put(c, s, "last_fused_min_inlier_ratio", last_fused_min_inlier_ratio,
+      "min_inlier_ratio against that frame");
+  put(c, s, "last_fused_min_depth_agreeing", last_fused_min_depth_agreeing,
+      "min_depth_agreeing against that frame");
   put(c, s, "candidate_keyframes", candidate_keyframes, "best-ranked keyframes tried with PnP");
   put(c, s, "match_ratio", match_ratio, "Lowe ratio test (best / second-best distance)");
   put(c, s, "max_hamming_distance", max_hamming_distance, "discard matches above (bits of 256)");
@@ -118,6 +129,17 @@ void TRelocalisationParams::validate(const std::string& s) const {
   requireInRange(depth_check_relative, 0.0, 1.0, s, "depth_check_relative");
   requireInRange(min_depth_agreement, 0.0, 1.0, s, "min_depth_agreement");
   requireInRange(min_depth_agreeing, 0, 1e6, s, "min_depth_agreeing");
+  requireInRange(last_fused_min_inliers, 6, 1e6, s, "last_fused_min_inliers");
+  requireInRange(last_fused_min_inlier_ratio, 0.0, 1.0, s, "last_fused_min_inlier_ratio");
+  requireInRange(last_fused_min_depth_agreeing, 0, 1e6, s, "last_fused_min_depth_agreeing");
+}
+
+TRelocalisationParams TRelocalisationParams::forLastFusedFrame() const {
+  TRelocalisationParams p = *this;
+  p.min_inliers = last_fused_min_inliers;
+  p.min_inlier_ratio = last_fused_min_inlier_ratio;
+  p.min_depth_agreeing = last_fused_min_depth_agreeing;
+  return p;
 }
 
 }  // namespace rasm::tracking

@@ -38,6 +38,7 @@ void TrackingStage::configure(const TMapperParams& mapper) {
   m_tracker = tracking::IcpTracker(m_tracking);
   m_odometry = OdometryPrior(m_robot);
   m_reloc = tracking::Relocaliser(m_relocalisation);
+  m_reloc_last_fused = tracking::Relocaliser(m_relocalisation.forLastFusedFrame());
 }
 
 void TrackingStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
@@ -195,39 +196,72 @@ tracking::ModelMaps TrackingStage::renderModel(FrameContext& ctx, const maps::CS
 }
 
 void TrackingStage::relocalise(FrameContext& ctx, const maps::CSurfelMap& map) {
-  if (map.keyframes().empty()) return;
-  FrameResult& r = ctx.result;
+  const bool reference = m_relocalisation.use_last_fused_frame && m_last_fused.valid;
+  if (map.keyframes().empty() && !reference) return;
   const auto t = Clock::now();
-  const std::optional<tracking::RelocalisationResult> cand =
-      m_reloc.relocalise(*ctx.frame, map.keyframes());
-  if (!cand) {
-    r.relocalisation_failure = m_reloc.lastStats().reason;
-  } else {
-    // Verify: ICP from the candidate against the map rendered there, every quality rule and
-    // the pose check applied (no prior: the candidate is independent of the lost estimate).
-    FrameResult probe;
-    const tracking::ModelMaps model =
-        renderModel(ctx, map, cand->T_world_cam, m_tracking.photometricWeight(false) > 0, probe);
-    const tracking::TrackingResult v = m_tracker.align(ctx.pyramid, model, cand->T_world_cam);
-    if (v.ok && v.check_overlap >= m_tracking.check_min_overlap) {
-      m_tracker.reset(v.T_world_cam);
-      r.tracking = v;
-      r.tracked = true;
-      r.relocalised = true;
-      r.pose_source = PoseSource::Relocalised;
-      r.T_world_cam = v.T_world_cam;
-      r.model_valid_pixels = probe.model_valid_pixels;
-      ++m_relocalisations;
-    } else {
-      r.relocalisation_failure = std::string("rejected by ICP: ") + tracking::toString(v.status);
-    }
-  }
+  const bool found = (reference && !lastFusedKeyframe().empty() &&
+                      relocaliseAgainst(ctx, map, lastFusedKeyframe(), m_reloc_last_fused)) ||
+                     (!map.keyframes().empty() &&
+                      relocaliseAgainst(ctx, map, map.keyframes(), m_reloc));
+  (void)found;  // the frame's result says it (relocalised, or relocalisation_failure)
   recordMs(ctx, kRelocalise, msSince(t));
 }
 
+bool TrackingStage::relocaliseAgainst(FrameContext& ctx, const maps::CSurfelMap& map,
+                                      const std::vector<maps::Keyframe>& db,
+                                      tracking::Relocaliser& reloc) {
+  FrameResult& r = ctx.result;
+  const std::optional<tracking::RelocalisationResult> cand = reloc.relocalise(*ctx.frame, db);
+  if (!cand) {
+    r.relocalisation_failure = reloc.lastStats().reason;
+    return false;
+  }
+  // Verify: ICP from the candidate against the map rendered there, every quality rule and the
+  // pose check applied (no prior: the candidate is independent of the lost estimate).
+  FrameResult probe;
+  const tracking::ModelMaps model =
+      renderModel(ctx, map, cand->T_world_cam, m_tracking.photometricWeight(false) > 0, probe);
+  const tracking::TrackingResult v = m_tracker.align(ctx.pyramid, model, cand->T_world_cam);
+  if (!v.ok || v.check_overlap < m_tracking.check_min_overlap) {
+    r.relocalisation_failure = std::string("rejected by ICP: ") + tracking::toString(v.status);
+    return false;
+  }
+  m_tracker.reset(v.T_world_cam);
+  r.tracking = v;
+  r.tracked = true;
+  r.relocalised = true;
+  r.relocalisation_failure.clear();
+  r.pose_source = PoseSource::Relocalised;
+  r.T_world_cam = v.T_world_cam;
+  r.model_valid_pixels = probe.model_valid_pixels;
+  ++m_relocalisations;
+  return true;
+}
+
+const std::vector<maps::Keyframe>& TrackingStage::lastFusedKeyframe() {
+  LastFused& lf = m_last_fused;
+  if (!lf.attempted) {
+    lf.attempted = true;
+    lf.keyframe.clear();
+    if (auto kf = m_reloc.makeKeyframe(lf.frame, lf.T_world_cam)) lf.keyframe.push_back(*kf);
+  }
+  return lf.keyframe;
+}
+
 void TrackingStage::finishFrame(FrameContext& ctx, maps::CSurfelMap& map) {
-  if (ctx.result.fused)
-    m_reloc.maybeAddKeyframe(*ctx.frame, ctx.result.T_world_cam, map.keyframes());
+  if (!ctx.result.fused) return;
+  m_reloc.maybeAddKeyframe(*ctx.frame, ctx.result.T_world_cam, map.keyframes());
+  const RgbdFrame& f = *ctx.frame;
+  if (!m_relocalisation.use_last_fused_frame || f.colour.empty()) return;
+  LastFused& lf = m_last_fused;  // copies into buffers of the same size: no allocation
+  lf.frame.index = f.index;
+  lf.frame.timestamp_s = f.timestamp_s;
+  lf.frame.intrinsics = f.intrinsics;
+  lf.frame.depth_m = f.depth_m;
+  lf.frame.colour = f.colour;
+  lf.T_world_cam = ctx.result.T_world_cam;
+  lf.valid = true;
+  lf.attempted = false;
 }
 
 void TrackingStage::csvColumns(std::vector<std::string>& c) const {

@@ -62,9 +62,16 @@ class TrackingStage : public MapperStage {
   tracking::ModelMaps renderModel(FrameContext& ctx, const maps::CSurfelMap& map,
                                   const Eigen::Isometry3d& T_model, bool with_colour,
                                   FrameResult& r);
-  /// While lost: the pose from the map's keyframes, verified by ICP against the map rendered
+  /// While lost: the pose from the last fused frame ([relocalisation] use_last_fused_frame),
+  /// then from the map's keyframes, each candidate verified by ICP against the map rendered
   /// there; on success the tracker restarts from it (the frame becomes Relocalised).
   void relocalise(FrameContext& ctx, const maps::CSurfelMap& map);
+  /// One keyframe database tried: true when its candidate passed the ICP verification.
+  bool relocaliseAgainst(FrameContext& ctx, const maps::CSurfelMap& map,
+                         const std::vector<maps::Keyframe>& db, tracking::Relocaliser& reloc);
+  /// The last fused frame as a one-keyframe database (its features detected on first use);
+  /// empty when there is none or it has too few features.
+  const std::vector<maps::Keyframe>& lastFusedKeyframe();
   /// floor_height_m / floor_tilt_deg of a tracked robot frame, counted when beyond [robot]
   /// floor_max_*.
   void reportFloorDeviation(FrameResult& r);
@@ -76,9 +83,18 @@ class TrackingStage : public MapperStage {
   tracking::IcpTracker m_tracker;
   OdometryPrior m_odometry;
   tracking::Relocaliser m_reloc;
+  tracking::Relocaliser m_reloc_last_fused;  ///< with [relocalisation] last_fused_* acceptance
   maps::SurfelRenderer m_renderer;
   maps::RenderedMaps m_model;
   bool m_localise_in_map = false;
+  /// The last fused frame (depth, colour, intrinsics, index) and its pose: ORB-SLAM's reference
+  /// keyframe, made into `keyframe` only when a lost frame needs it.
+  struct LastFused {
+    RgbdFrame frame;
+    Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
+    bool valid = false, attempted = false;
+    std::vector<maps::Keyframe> keyframe;  ///< 0 or 1
+  } m_last_fused;
   Eigen::Isometry3d m_T_prev_frame = Eigen::Isometry3d::Identity();
   std::size_t m_relocalisations = 0;
   std::size_t m_frames_off_floor = 0;  ///< see report()
