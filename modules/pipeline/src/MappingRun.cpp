@@ -6,6 +6,7 @@
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <unistd.h>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -15,7 +16,6 @@
 #include <fstream>
 #include <iomanip>
 #include <sstream>
-#include <unistd.h>
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
@@ -29,9 +29,11 @@
 #include "rasm/pipeline/ExplorationLoop.h"
 #include "rasm/pipeline/Interrupts.h"
 #include "rasm/pipeline/Progress.h"
+#include "rasm/pipeline/RobotFrameSource.h"
 #include "rasm/pipeline/SimSource.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
 #include "rasm/pipeline/stages/ExplorationStage.h"
+#include "rasm/pipeline/stages/TrackingStage.h"
 #include "rasm/surfel_map/MapExport.h"
 #ifdef RASM_HAVE_SIM
 #include "rasm/sim/SimFrameSource.h"
@@ -84,7 +86,7 @@ void TCameraParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
 std::vector<std::string> MappingRun::knownSections() const {
   std::vector<std::string> known = {"source", "camera"};
   for (const std::string& s : m_mapper->sectionNames()) known.push_back(s);
-  known.insert(known.end(), {"navigation", "output", "sim"});
+  known.insert(known.end(), {"navigation", "output", "sim", "openni2", "segway_rmp"});
   return known;
 }
 
@@ -99,6 +101,8 @@ MappingRun::MappingRun(const RunConfig& config) : m_config(config) {
   loadParamsStrict(ini, "camera", m_camera, src);
   loadParamsStrict(ini, "output", m_output, src);
   loadParamsStrict(ini, "navigation", m_navigation, src);
+  loadParamsStrict(ini, "openni2", m_openni2, src);
+  loadParamsStrict(ini, "segway_rmp", m_segway, src);
   (void)m_camera.intrinsics();  // validates
   // [sim] belongs to the simulator; it is parsed strictly when the sim source is opened.
   std::vector<std::string> keys;
@@ -109,16 +113,26 @@ MappingRun::MappingRun(const RunConfig& config) : m_config(config) {
 }
 
 /// [explore] enabled: true (a robot the run can drive, or an InputError), false, or auto (explore
-/// a simulated robot spec, map anything else).
+/// a simulated robot spec, map anything else). [robot] type must fit the source.
 void MappingRun::decideExploring(const std::string& src) {
   const std::string& mode = m_mapper->stage<ExplorationStage>().exploreParams().enabled;
-  if (mode == "true" && m_source.type != "sim")
+  const std::string& robot = m_mapper->stage<TrackingStage>().robotParams().type;
+  if (robot == "sim" && m_source.type != "sim")
+    throwInputError(src + " [robot] type = sim",
+                    "needs [source] type = sim (got " + m_source.type + ")");
+  if (robot == "segway_rmp" && m_source.type != "openni2")
+    throwInputError(
+        src + " [robot] type = segway_rmp",
+        "needs a live camera on the robot: [source] type = openni2 (got " + m_source.type + ")");
+  m_explore_real = mode == "true" && robot == "segway_rmp";
+  if (mode == "true" && !m_explore_real && (m_source.type != "sim" || robot == "none"))
     throwInputError(src + " [explore] enabled = true",
                     "needs a robot the run can drive: [source] type = sim with a robot "
-                    "trajectory spec (got [source] type = " +
-                        m_source.type + ")");
-  m_exploring = mode == "true" ||
-                (mode == "auto" && m_source.type == "sim" && simTrajectoryIsRobot(m_sim_ini, src));
+                    "trajectory spec, or [robot] type = segway_rmp (got [source] type = " +
+                        m_source.type + ", [robot] type = " + robot + ")");
+  m_exploring = !m_explore_real && robot != "none" &&
+                (mode == "true" || (mode == "auto" && m_source.type == "sim" &&
+                                    simTrajectoryIsRobot(m_sim_ini, src)));
   m_mapper->stage<ExplorationStage>().setExploring(m_exploring);
 }
 
@@ -130,6 +144,8 @@ std::string MappingRun::effectiveConfig() const {
   m_camera.saveToConfigFile(mem, "camera");
   m_mapper->saveParams(mem);
   m_navigation.saveToConfigFile(mem, "navigation");
+  m_openni2.saveToConfigFile(mem, "openni2");
+  m_segway.saveToConfigFile(mem, "segway_rmp");
   m_output.saveToConfigFile(mem, "output");
   std::string text;
   mem.getContent(text);
@@ -141,6 +157,8 @@ std::unique_ptr<io::FrameSource> MappingRun::openSource() const {
   if (m_source.type == "sim")
     return openSimSource(m_sim_ini, m_config.source(), m_camera.intrinsics(), m_exploring,
                          m_mapper->stage<ExplorationStage>().exploreParams().camera_rate_hz);
+  if (m_source.type == "openni2")  // opens at its first frame (a missing camera: report.json)
+    return std::make_unique<io::OpenNI2FrameSource>(m_openni2, m_camera.intrinsics());
   io::FrameSourceOptions opt;
   opt.intrinsics_override = m_camera.intrinsics();
   if (!fs::exists(m_source.path))
@@ -301,6 +319,7 @@ std::unique_ptr<io::FrameSource> MappingRun::wrapSource(std::unique_ptr<io::Fram
     return source;
   }
 #endif
+  if (m_source.type == "openni2" || m_source.real_time) return wrapLive(std::move(source));
   if (m_source.preload) {
     const auto t0 = std::chrono::steady_clock::now();
     long long limit = 0;
@@ -317,6 +336,69 @@ std::unique_ptr<io::FrameSource> MappingRun::wrapSource(std::unique_ptr<io::Fram
         std::make_unique<io::PrefetchingFrameSource>(std::move(source), m_source.prefetch_frames);
   }
   return source;
+}
+
+std::unique_ptr<io::FrameSource> MappingRun::wrapLive(std::unique_ptr<io::FrameSource> source) {
+  if (m_mapper->stage<TrackingStage>().robotParams().type == "segway_rmp") {
+    auto robot = std::make_unique<robot::SegwayRmpRobot>(
+        m_segway, m_mapper->stage<TrackingStage>().robotParams().T_base_cam());
+    if (m_explore_real)
+      throwInputError(robot->describe() + " [explore] enabled = true",
+                      "the closed exploration loop drives the simulated robot only so far "
+                      "(docs/hardware.md); set [explore] enabled = false to map while the robot "
+                      "is driven otherwise");
+    auto on_robot = std::make_unique<RobotFrameSource>(std::move(source), std::move(robot));
+    m_robot_source = on_robot.get();
+    source = std::move(on_robot);
+  }
+  // A camera paces itself (pace = false); a replay is paced by its timestamps.
+  auto rt =
+      std::make_unique<io::RealTimeFrameSource>(std::move(source), m_source.type != "openni2");
+  m_realtime = rt.get();
+  return rt;
+}
+
+/// Ranges "a-b,c" of sorted indices.
+static std::string indexRanges(const std::vector<long long>& v) {
+  std::string out;
+  for (std::size_t i = 0; i < v.size();) {
+    std::size_t j = i;
+    while (j + 1 < v.size() && v[j + 1] == v[j] + 1) ++j;
+    out += (out.empty() ? "" : ",") + std::to_string(v[i]) +
+           (j > i ? "-" + std::to_string(v[j]) : std::string());
+    i = j + 1;
+  }
+  return out;
+}
+
+void MappingRun::liveReport(nlohmann::json& rep, std::size_t processed, double seconds) const {
+  if (m_realtime) {
+    const io::RealTimeStats s = m_realtime->stats();
+    nlohmann::json rt;
+    rt["paced_by"] = m_source.type == "openni2" ? "camera" : "timestamps";
+    rt["frames_offered"] = s.offered;
+    rt["frames_dropped"] = s.dropped;
+    rt["frames_processed"] = processed;
+    rt["offered_fps"] = s.offered_span_s > 0 ? double(s.offered - 1) / s.offered_span_s : 0.0;
+    rt["processed_fps"] = seconds > 0 ? double(processed) / seconds : 0.0;
+    rt["dropped_frames"] = indexRanges(s.dropped_indices);  // RgbdFrame::index (frames.csv)
+    rep["real_time"] = rt;
+  }
+  if (m_robot_source) {
+    const robot::SegwayRmpRobot::Status st = m_robot_source->robot().status();
+    const Eigen::Vector3d odo = m_robot_source->robot().odometry();
+    rep["robot"] = {{"type", "segway_rmp"},
+                    {"address", m_robot_source->robot().describe()},
+                    {"link_ok", st.link_ok},
+                    {"commands_sent", st.commands_sent},
+                    {"responses", st.responses},
+                    {"bad_responses", st.bad_responses},
+                    {"watchdog_stops", st.watchdog_stops},
+                    {"operational_state", st.operational_state},
+                    {"fault_status", st.fault_status},
+                    {"battery_soc_pct", st.battery_soc_pct},
+                    {"odometry_xyyaw", {odo.x(), odo.y(), odo.z()}}};
+  }
 }
 
 long long MappingRun::expectedFrames(const io::FrameSource& source) const {
@@ -540,6 +622,7 @@ nlohmann::json MappingRun::reportJson(const std::string& source, const Accumulat
   rep["longest_lost_interval_frames"] = acc.loss.longest;
   m_mapper->report(rep);  // the stages' fields (relocalisations, keyframes, ...)
   if (m_explore) m_explore->report(rep);
+  liveReport(rep, processed, sum.seconds);
   addAte(acc, rep, sum);
   return rep;
 }

@@ -66,12 +66,21 @@ void TSourceParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(preload_max_mib, int, c, s);
   MRPT_LOAD_CONFIG_VAR(drop_frames, string, c, s);
   MRPT_LOAD_CONFIG_VAR(blank_frames, string, c, s);
+  MRPT_LOAD_CONFIG_VAR(real_time, bool, c, s);
   (void)parseRanges(drop_frames, s, "drop_frames");
   (void)parseRanges(blank_frames, s, "blank_frames");
-  if (type != "sim" && type != "rawlog" && type != "tum" && type != "7scenes" && type != "auto")
+  if (type != "sim" && type != "rawlog" && type != "tum" && type != "7scenes" && type != "auto" &&
+      type != "openni2")
     throwInputError("[" + s + "] type",
-                    "'" + type + "' is not one of sim, rawlog, tum, 7scenes, auto");
-  if (type != "sim" && path.empty())
+                    "'" + type + "' is not one of sim, rawlog, tum, 7scenes, auto, openni2");
+  // Real time offers frames by the clock: the frame-index selections below count source frames,
+  // which a real-time run drops by its own timing.
+  if ((real_time || type == "openni2") &&
+      (start_frame != 0 || frame_step != 1 || !drop_frames.empty() || !blank_frames.empty()))
+    throwInputError("[" + s + "] real_time",
+                    "start_frame, frame_step, drop_frames and blank_frames need a replay at full "
+                    "speed (real_time = false, not a live source)");
+  if (type != "sim" && type != "openni2" && path.empty())
     throwInputError("[" + s + "] path", "required for type = " + type);
   requireInRange(max_frames, 0, 1e9, s, "max_frames");
   requireInRange(start_frame, 0, 1e9, s, "start_frame");
@@ -92,6 +101,7 @@ void TSourceParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(preload_max_mib, c, s);
   MRPT_SAVE_CONFIG_VAR(drop_frames, c, s);
   MRPT_SAVE_CONFIG_VAR(blank_frames, c, s);
+  MRPT_SAVE_CONFIG_VAR(real_time, c, s);
 }
 
 void TMapperParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
@@ -145,6 +155,7 @@ Eigen::Isometry3d TRobotParams::T_base_cam() const {
 
 void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                       const std::string& s) {
+  MRPT_LOAD_CONFIG_VAR(type, string, c, s);
   MRPT_LOAD_CONFIG_VAR(use_odometry, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(camera_x_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(camera_y_m, double, c, s);
@@ -164,6 +175,8 @@ void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(planar_motion, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(floor_max_height_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(floor_max_tilt_deg, double, c, s);
+  if (type != "auto" && type != "none" && type != "sim" && type != "segway_rmp")
+    throwInputError("[" + s + "] type", "'" + type + "' is not one of auto, none, sim, segway_rmp");
   requireInRange(heading_drift_window_frames, 1, 10000, s, "heading_drift_window_frames");
   requireInRange(heading_drift_max_sigmas, 0.0, 1000.0, s, "heading_drift_max_sigmas");
   requireInRange(floor_max_height_m, 0.0, 10.0, s, "floor_max_height_m");
@@ -185,6 +198,7 @@ void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
 }
 
 void TRobotParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+  MRPT_SAVE_CONFIG_VAR(type, c, s);
   MRPT_SAVE_CONFIG_VAR(use_odometry, c, s);
   MRPT_SAVE_CONFIG_VAR(camera_x_m, c, s);
   MRPT_SAVE_CONFIG_VAR(camera_y_m, c, s);

@@ -23,12 +23,15 @@
 #include <opencv2/core/mat.hpp>
 
 #include "rasm/io/FrameSource.h"
+#include "rasm/io/OpenNI2FrameSource.h"
 #include "rasm/io/RawlogWriter.h"
+#include "rasm/io/RealTimeFrameSource.h"
 #include "rasm/io/Trajectory.h"
 #include "rasm/navigation/TNavigationParams.h"
 #include "rasm/pipeline/Mapper.h"
 #include "rasm/pipeline/OutputFiles.h"
 #include "rasm/pipeline/RunConfig.h"
+#include "rasm/robot/SegwayRmpRobot.h"
 
 namespace rasm::pipeline {
 
@@ -59,6 +62,7 @@ struct RunSummary {
 };
 
 class ExplorationLoop;
+class RobotFrameSource;
 
 class MappingRun {
  public:
@@ -100,6 +104,11 @@ class MappingRun {
   /// driven by the exploration loop created here.
   std::unique_ptr<io::FrameSource> wrapSource(std::unique_ptr<io::FrameSource> source,
                                               double& preload_s);
+  /// A live source or a real-time replay: the robot's odometry ([robot] type = segway_rmp, which
+  /// connects here) and the real-time offering of frames (docs/hardware.md).
+  std::unique_ptr<io::FrameSource> wrapLive(std::unique_ptr<io::FrameSource> source);
+  /// report.json "real_time" (frames offered / dropped / processed, rates) and "robot".
+  void liveReport(nlohmann::json& rep, std::size_t processed, double seconds) const;
   /// Frames the run expects (progress display), 0 when unknown.
   long long expectedFrames(const io::FrameSource& source) const;
   /// Maps frames until the source or [source] max_frames ends or a signal asks to stop; an
@@ -131,6 +140,11 @@ class MappingRun {
   TOutputParams m_output;
   std::string m_sim_ini;  ///< [sim] section text, handed to the simulator source
   navigation::TNavigationParams m_navigation;  ///< [navigation]: the exploring robot's navigator
+  io::TOpenNI2Params m_openni2;                ///< [openni2]: the live camera ([source] openni2)
+  robot::TSegwayRmpParams m_segway;            ///< [segway_rmp]: [robot] type = segway_rmp
+  bool m_explore_real = false;  ///< [explore] enabled = true on a real robot (segway_rmp)
+  const io::RealTimeFrameSource* m_realtime = nullptr;  ///< in the source chain, when real time
+  const RobotFrameSource* m_robot_source = nullptr;     ///< in the source chain, segway_rmp
   std::unique_ptr<Mapper> m_mapper;
   std::unique_ptr<ExplorationLoop> m_explore;  ///< exploring: the closed loop (V, VI)
   bool m_exploring = false;                    ///< [explore] enabled and the source decide

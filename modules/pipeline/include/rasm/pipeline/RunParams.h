@@ -13,8 +13,9 @@ namespace rasm::pipeline {
 /// [source]: the frame stream of a run.
 struct TSourceParams : mrpt::config::CLoadableOptions {
   /// sim | rawlog | tum | 7scenes | auto (auto: rawlog file, TUM or 7-Scenes folder by inspection)
+  /// | openni2 (a live camera, section [openni2]; docs/hardware.md)
   std::string type = "sim";
-  std::string path;     ///< rawlog file or dataset folder (not for sim)
+  std::string path;     ///< rawlog file or dataset folder (not for sim, openni2)
   int max_frames = 0;   ///< 0 = all
   int start_frame = 0;  ///< frames before this are skipped
   int frame_step = 1;   ///< use every n-th frame
@@ -36,6 +37,11 @@ struct TSourceParams : mrpt::config::CLoadableOptions {
   /// covered lens). Indices count every frame of the source, before start_frame / frame_step.
   std::string drop_frames;
   std::string blank_frames;
+  /// Replays (rawlog, tum, 7scenes): offer frames at their timestamps, as a camera would; a frame
+  /// that arrives while the mapper is busy is dropped (io::RealTimeFrameSource; report.json
+  /// "real_time"). false: every frame at full speed (deterministic). Live sources (openni2) are
+  /// real time whatever this says.
+  bool real_time = false;
 
   /// Whether source frame `index` lies in the ranges of drop_frames / blank_frames.
   bool dropped(long long index) const;
@@ -74,6 +80,11 @@ struct TMapperParams : mrpt::config::CLoadableOptions {
 /// convention). The defaults are the simulated robot's mount ([sim_robot] camera_x_m,
 /// camera_height_m, camera_pitch_deg), so its rawlogs track without an INI.
 struct TRobotParams : mrpt::config::CLoadableOptions {
+  /// The robot the camera rides on: auto (the simulated robot of a [source] type = sim robot
+  /// spec, none otherwise), none (hand-held or a replay: nothing to drive, no exploration), sim
+  /// (the simulator's), segway_rmp (a Segway RMP over UDP, section [segway_rmp]: its odometry
+  /// stamps each live frame; docs/hardware.md).
+  std::string type = "auto";
   bool use_odometry = true;  ///< false: ignore the source's odometry
   // Camera mount: position (m) and yaw, pitch (positive = looking up), roll (deg) of the camera's
   // viewing direction in the base frame.
