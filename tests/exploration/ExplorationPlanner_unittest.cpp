@@ -219,6 +219,52 @@ TEST(PlanningGrid, ReachableCellsAgreeWithPlannerSimple2D) {
   EXPECT_GT(beyond, std::hypot(2.0, 4.0) + std::hypot(1.0, 4.0) - 0.3);
 }
 
+TEST(PlanningGrid, ARobotInsideTheGrownObstaclesBacksOffInsteadOfReachingNothing) {
+  // A free 6 x 6 m grid (0.1 m cells) with a wall in column 30 (x in [3.0, 3.1]). The robot
+  // stands 0.15 m from its face (after a collision; the octree's 0.1 m cells also bring a wall up
+  // to a cell nearer): its cell and every neighbour lie within the 3-cell growth of the 0.25 m
+  // footprint, so no neighbour is traversable.
+  mrpt::maps::COccupancyGridMap2D g;
+  g.setSize(0.0f, 6.0f, 0.0f, 6.0f, 0.1f, 1.0f);
+  for (int iy = 0; iy < 60; ++iy) g.setCell(30, iy, 0.0f);
+  const TExplorationParams p;
+  const Eigen::Vector3d robot(2.85, 3.0, 0.0);
+  const Eigen::Vector2d start = planningStart(g, robot, p.footprint_radius_m);
+  // The nearest traversable cell: column 26 (centre 2.65; 4 cells from the wall), same row.
+  EXPECT_NEAR(start.x(), 2.65, 1e-6);
+  EXPECT_NEAR(start.y(), g.idx2y(g.y2idx(3.0)), 1e-6);
+  const double leg = std::hypot(start.x() - robot.x(), start.y() - robot.y());
+  const ReachableCells reach = reachableCells(g, robot, p.footprint_radius_m);
+  ASSERT_TRUE(reach.reachable(g.x2idx(1.0), g.y2idx(3.0)));
+  EXPECT_NEAR(reach.distance(g.x2idx(1.0), g.y2idx(3.0)), leg + 2.65 - g.idx2x(g.x2idx(1.0)), 0.1);
+  EXPECT_GT(reach.count(), 25 * 55);  // the free half of the room left of the wall
+  EXPECT_FALSE(reach.reachable(g.x2idx(4.0), g.y2idx(3.0)));  // not through the wall
+  std::vector<ViewCandidate> c(1);
+  c[0].pose = Eigen::Vector3d(1.0, 3.0, M_PI);
+  planPaths(g, robot, p, c);
+  ASSERT_TRUE(c[0].reachable);
+  EXPECT_NEAR(c[0].path_length_m, leg + 1.65, 0.15);  // the leg to the start cell included
+  // A robot away from obstacles starts where it stands.
+  EXPECT_TRUE(planningStart(g, Eigen::Vector3d(1.5, 3.0, 0.0), p.footprint_radius_m)
+                  .isApprox(Eigen::Vector2d(1.5, 3.0)));
+}
+
+TEST(PlanningGrid, TheBackOffNeverCrossesAnObstacle) {
+  // The robot in a closed 0.6 m pen (walls at columns 10 and 16, rows 10 and 16): no cell inside
+  // is 4 cells from the walls, and the escape does not pass through them.
+  mrpt::maps::COccupancyGridMap2D g;
+  g.setSize(0.0f, 3.0f, 0.0f, 3.0f, 0.1f, 1.0f);
+  for (int k = 10; k <= 16; ++k) {
+    g.setCell(10, k, 0.0f), g.setCell(16, k, 0.0f);
+    g.setCell(k, 10, 0.0f), g.setCell(k, 16, 0.0f);
+  }
+  const TExplorationParams p;
+  const Eigen::Vector3d robot(1.35, 1.35, 0.0);
+  EXPECT_TRUE(planningStart(g, robot, p.footprint_radius_m).isApprox(robot.head<2>()));
+  const ReachableCells reach = reachableCells(g, robot, p.footprint_radius_m);
+  EXPECT_EQ(reach.count(), 1);  // its own cell only
+}
+
 // ---- frontier ----
 
 TEST(FrontierPlanner, GoalIsNextToTheOpeningIntoUnknownSpaceAndReachable) {

@@ -39,7 +39,62 @@ std::vector<std::uint8_t> blockedCells(const mrpt::maps::COccupancyGridMap2D& gr
   return blocked;
 }
 
+/// The cell plans start from (planningStart): (sx, sy) when a neighbour of it is traversable,
+/// else the traversable cell nearest the robot among those reached from it within
+/// `escape_cells` through cells that are not obstacles themselves; (sx, sy) when none is.
+std::pair<int, int> startCell(const mrpt::maps::COccupancyGridMap2D& grid,
+                              const std::vector<std::uint8_t>& blocked, int sx, int sy,
+                              int escape_cells) {
+  const int nx = int(grid.getSizeX()), ny = int(grid.getSizeY());
+  const auto inside = [&](int x, int y) { return x >= 0 && y >= 0 && x < nx && y < ny; };
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if ((dx || dy) && inside(sx + dx, sy + dy) &&
+          !blocked[std::size_t(sy + dy) * nx + sx + dx])
+        return {sx, sy};
+  std::vector<std::uint8_t> seen(blocked.size(), 0);
+  std::queue<std::pair<int, int>> open;
+  open.push({sx, sy});
+  seen[std::size_t(sy) * nx + sx] = 1;
+  std::pair<int, int> best{sx, sy};
+  int best_d2 = std::numeric_limits<int>::max();
+  while (!open.empty()) {
+    const auto [cx, cy] = open.front();
+    open.pop();
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int x = cx + dx, y = cy + dy;
+        if (!inside(x, y) || std::max(std::abs(x - sx), std::abs(y - sy)) > escape_cells) continue;
+        const std::size_t n = std::size_t(y) * nx + x;
+        if (seen[n] || !(grid.getCell(x, y) > 0.5f)) continue;  // obstacles and unknown stop it
+        seen[n] = 1;
+        const int d2 = (x - sx) * (x - sx) + (y - sy) * (y - sy);
+        if (!blocked[n]) {
+          if (d2 < best_d2) best = {x, y}, best_d2 = d2;
+          continue;  // the escape ends at the first traversable cell of a path
+        }
+        open.push({x, y});
+      }
+  }
+  return best;
+}
+
+int growthCells(const mrpt::maps::COccupancyGridMap2D& grid, double footprint_radius_m) {
+  return int(std::ceil(footprint_radius_m / grid.getResolution()));
+}
+
 }  // namespace
+
+Eigen::Vector2d planningStart(const mrpt::maps::COccupancyGridMap2D& grid,
+                              const Eigen::Vector3d& robot_pose, double footprint_radius_m) {
+  const int sx = grid.x2idx(robot_pose.x()), sy = grid.y2idx(robot_pose.y());
+  if (sx < 0 || sy < 0 || sx >= int(grid.getSizeX()) || sy >= int(grid.getSizeY()))
+    return robot_pose.head<2>();
+  const int r = growthCells(grid, footprint_radius_m);
+  const auto [ix, iy] = startCell(grid, blockedCells(grid, r), sx, sy, 2 * r);
+  if (ix == sx && iy == sy) return robot_pose.head<2>();
+  return {grid.idx2x(ix), grid.idx2y(iy)};
+}
 
 void planningGrid(const OccupancyOctree& octree, const Eigen::Vector3d& robot_pose,
                   double footprint_radius_m, mrpt::maps::COccupancyGridMap2D& grid) {
@@ -67,14 +122,22 @@ ReachableCells reachableCells(const mrpt::maps::COccupancyGridMap2D& grid,
   out.distance_m.assign(std::size_t(out.size_x) * out.size_y, kInf);
   const int sx = grid.x2idx(robot_pose.x()), sy = grid.y2idx(robot_pose.y());
   if (!out.inside(sx, sy)) return out;
-  const int r = int(std::ceil(footprint_radius_m / grid.getResolution()));
+  const int r = growthCells(grid, footprint_radius_m);
   const std::vector<std::uint8_t> blocked = blockedCells(grid, r);
-  // Dijkstra, 8-connected (PlannerSimple2D's wavefront weighs diagonals 3/2; exact sqrt 2 here).
+  // Dijkstra, 8-connected (PlannerSimple2D's wavefront weighs diagonals 3/2; exact sqrt 2 here),
+  // from the robot's cell and, when the robot stands inside the grown obstacles, from the cell
+  // it escapes to (planningStart).
   const float res = grid.getResolution(), diag = float(M_SQRT2) * res;
   using Item = std::pair<float, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
   out.distance_m[std::size_t(sy) * out.size_x + sx] = 0.0f;
   open.push({0.0f, sy * out.size_x + sx});
+  const auto [ex, ey] = startCell(grid, blocked, sx, sy, 2 * r);
+  if (ex != sx || ey != sy) {
+    const float d = res * float(std::hypot(ex - sx, ey - sy));
+    out.distance_m[std::size_t(ey) * out.size_x + ex] = d;
+    open.push({d, ey * out.size_x + ex});
+  }
   while (!open.empty()) {
     const auto [d, cell] = open.top();
     open.pop();

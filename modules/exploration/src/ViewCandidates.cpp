@@ -1,5 +1,7 @@
 #include "rasm/exploration/ViewCandidates.h"
 
+#include "rasm/exploration/PlanningGrid.h"
+
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/nav/planners/PlannerSimple2D.h>
 #include <mrpt/poses/CPose2D.h>
@@ -143,7 +145,11 @@ void planPaths(const mrpt::maps::COccupancyGridMap2D& grid, const Eigen::Vector3
   planner.robotRadius = float(params.footprint_radius_m);
   planner.occupancyThreshold = 0.5f;  // unknown (0.5) counts as an obstacle
   planner.minStepInReturnedPath = float(2.0 * grid.getResolution());
-  const mrpt::poses::CPose2D origin(robot_pose.x(), robot_pose.y(), robot_pose.z());
+  // From the robot, or from the cell it backs off to when it stands inside the grown obstacles
+  // (planningStart): that first leg is part of the path measured.
+  const Eigen::Vector2d start = planningStart(grid, robot_pose, params.footprint_radius_m);
+  const bool escape = (start - robot_pose.head<2>()).norm() > 1e-9;
+  const mrpt::poses::CPose2D origin(start.x(), start.y(), robot_pose.z());
   const double turn_rate = params.turn_rate_degps * M_PI / 180.0;
   for (ViewCandidate& c : candidates) {
     c.reachable = false;
@@ -155,6 +161,7 @@ void planPaths(const mrpt::maps::COccupancyGridMap2D& grid, const Eigen::Vector3
     planner.computePath(grid, origin, mrpt::poses::CPose2D(c.pose.x(), c.pose.y(), c.pose.z()),
                         path, not_found);
     if (not_found) continue;
+    if (escape) path.push_front({start.x(), start.y()});
     c.reachable = true;
     measurePath(robot_pose, path, c.pose.z(), c);
     c.travel_time_s = c.path_length_m / params.speed_mps + c.rotation_rad / turn_rate;

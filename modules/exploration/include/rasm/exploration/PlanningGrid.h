@@ -25,7 +25,18 @@ namespace rasm::exploration {
 void planningGrid(const OccupancyOctree& octree, const Eigen::Vector3d& robot_pose,
                   double footprint_radius_m, mrpt::maps::COccupancyGridMap2D& grid);
 
-/// Shortest 8-connected path lengths (m) from the robot's cell over the traversable cells.
+/// Where plans start: the robot's position, or, when the grown obstacles leave its cell no
+/// traversable neighbour (the robot stands closer to an obstacle than its footprint radius: after
+/// a collision, or squeezed past a chair by the reactive navigator, which sees the real
+/// obstacles), the centre of the nearest traversable cell within 2 growth radii that it reaches
+/// through cells which are not obstacles or unknown themselves. Without this every view was
+/// unreachable from such a spot and the exploring run stopped (no_reachable_views) where the
+/// robot could have backed off (issue 15, 6: seen at 145 s of the office run after a collision).
+Eigen::Vector2d planningStart(const mrpt::maps::COccupancyGridMap2D& grid,
+                              const Eigen::Vector3d& robot_pose, double footprint_radius_m);
+
+/// Shortest 8-connected path lengths (m) from the robot's cell over the traversable cells (and
+/// from planningStart's cell, at its straight-line distance, when that differs).
 struct ReachableCells {
   int size_x = 0, size_y = 0;
   std::vector<float> distance_m;  ///< row-major; +infinity where not reachable
