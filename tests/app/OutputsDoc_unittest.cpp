@@ -21,9 +21,9 @@ class OutputsDoc : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = freshDir("outputs_doc");
-    const Result r = rasm("run --out " + dir_ + " " + shortRunArgs(6));
+    const Result r = runRasm("run --out " + dir_ + " " + shortRunArgs(6));
     ASSERT_EQ(r.status, 0) << r.output;
-    doc_ = rasm("help outputs", true);
+    doc_ = runRasm("help outputs", true);
     ASSERT_EQ(doc_.status, 0) << doc_.output;
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
@@ -91,7 +91,7 @@ TEST_F(OutputsDoc, ReportSaysItsSchemaBinaryAndDate) {
   const nlohmann::json rep = nlohmann::json::parse(readFile(dir_ + "/report.json"));
   EXPECT_EQ(rep["report_schema"], 1);
   EXPECT_EQ(rep["frames_schema"], 1);
-  const Result version = rasm("--version");
+  const Result version = runRasm("--version");
   EXPECT_EQ(version.output, "rasm " + rep["rasm"]["version"].get<std::string>() + "\ncommit " +
                                 rep["rasm"]["commit"].get<std::string>() + "\nbuilt " +
                                 rep["rasm"]["build_date"].get<std::string>() + "\n");
@@ -113,7 +113,7 @@ TEST_F(OutputsDoc, PlyFilesTypeTheirIdsAsInt32) {
     EXPECT_EQ(header.find("uint"), std::string::npos) << name << ":\n" << header;
   }
   // The project's readers take them back.
-  const Result check = rasm("sim check-map office " + dir_ + "/map.ply");
+  const Result check = runRasm("sim check-map office " + dir_ + "/map.ply");
   EXPECT_EQ(check.status, 0) << check.output;
   EXPECT_NE(check.output.find("surfels"), std::string::npos) << check.output;
 }

@@ -32,7 +32,7 @@ inline Result shell(const std::string& command, bool keep_stderr_apart = false) 
 }
 
 /// `rasm <args>`.
-inline Result rasm(const std::string& args, bool keep_stderr_apart = false) {
+inline Result runRasm(const std::string& args, bool keep_stderr_apart = false) {
   return shell(std::string(RASM_BINARY) + " " + args, keep_stderr_apart);
 }
 

@@ -91,7 +91,7 @@ TEST(Sweep, SlurmArrayFileIsWrittenAndNothingRuns) {
       << tasks[4];
   EXPECT_TRUE(fs::is_empty(dir + "/runs"));
   // Gathered before any task ran: one row per task, each missing; not an error.
-  const Result g = rasm("sweep gather " + dir);
+  const Result g = runRasm("sweep gather " + dir);
   EXPECT_EQ(g.status, 0) << g.output;
   const nlohmann::json j = nlohmann::json::parse(readFile(dir + "/results.json"));
   ASSERT_EQ(j["rows"].size(), 4u);
@@ -102,7 +102,7 @@ TEST(Sweep, SlurmArrayFileIsWrittenAndNothingRuns) {
 }
 
 TEST(Sweep, BadInputIsNamed) {
-  Result r = rasm("sweep gather /nonexistent/sweep");
+  Result r = runRasm("sweep gather /nonexistent/sweep");
   EXPECT_EQ(r.status, 3);
   EXPECT_NE(r.output.find("/nonexistent/sweep: is not a folder"), std::string::npos) << r.output;
   r = shell(sweep("--jobs zero --dry-run --out /tmp/rasm_sweep_bad_" + std::to_string(getpid())));
