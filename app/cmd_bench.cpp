@@ -13,6 +13,13 @@
 
 namespace {
 
+const char* kUsage =
+    "usage: rasm bench [file.ini | rawlog | dataset folder] [--frames N] [--preload]\n"
+    "                  [--set section.key=value ...]\n"
+    "Maps without writing map outputs and prints one JSON object: frames/s, per-stage mean/max\n"
+    "ms, surfels, map bytes, peak RSS (report.json's fields). Without an input: the embedded\n"
+    "default on its scripted path (no exploration). --preload decodes every frame first.\n";
+
 int benchMain(const std::vector<std::string>& args) {
   using namespace rasm::pipeline;
   std::string input;
@@ -63,6 +70,6 @@ int benchMain(const std::vector<std::string>& args) {
 const rasm::app::Registrar reg(
     "bench",
     "frame rate and per-stage ms as JSON: rasm bench <ini|rawlog|folder> [--frames N] [--preload]",
-    benchMain);
+    benchMain, kUsage);
 
 }  // namespace

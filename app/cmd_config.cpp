@@ -9,6 +9,11 @@
 
 namespace {
 
+const char* kUsage =
+    "usage: rasm config [file.ini] [--set section.key=value ...]\n"
+    "Prints the effective configuration (every section and key, defaults included) without\n"
+    "running anything; unknown sections or keys and bad values stop it as they stop rasm run.\n";
+
 int configMain(const std::vector<std::string>& args) {
   using namespace rasm::pipeline;
   std::string ini_path;
@@ -29,7 +34,7 @@ int configMain(const std::vector<std::string>& args) {
 }
 
 const rasm::app::Registrar reg(
-    "config", "print the effective configuration: rasm config [file.ini] [--set s.k=v]",
-    configMain);
+    "config", "print the effective configuration: rasm config [file.ini] [--set s.k=v]", configMain,
+    kUsage);
 
 }  // namespace

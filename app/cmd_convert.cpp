@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -82,9 +83,9 @@ class Progress {
 };
 
 int convert(const std::vector<std::string>& args) {
-  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+  if (args.empty()) {
     std::cout << kUsage;
-    return args.empty() ? 1 : 0;
+    return 1;
   }
   std::vector<std::string> pos;
   std::optional<rasm::CameraIntrinsics> K;
@@ -143,6 +144,15 @@ int convert(const std::vector<std::string>& args) {
     throw rasm::InputError("unknown format '" + format + "' (expected tum or 7scenes)\n" + kUsage);
   }
 
+  // The output folder is created when missing, as `rasm run --out` does.
+  const std::filesystem::path out_dir = std::filesystem::path(pos[2]).parent_path();
+  std::error_code ec;
+  if (!out_dir.empty() && !std::filesystem::is_directory(out_dir)) {
+    std::filesystem::create_directories(out_dir, ec);
+    if (ec)
+      rasm::throwInputError("output folder '" + out_dir.string() + "'",
+                            "cannot be created: " + ec.message());
+  }
   Progress progress;
   const auto res = rasm::io::convertToRawlog(*src, pos[2], copt, std::ref(progress));
   progress.finish();
@@ -154,6 +164,6 @@ int convert(const std::vector<std::string>& args) {
 }
 
 const rasm::app::Registrar reg{"convert", "dataset folder (tum | 7scenes) -> rawlog + ground truth",
-                               &convert};
+                               &convert, kUsage};
 
 }  // namespace

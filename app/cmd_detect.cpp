@@ -190,10 +190,7 @@ int detectMain(const std::vector<std::string>& args) {
       cv::setNumThreads(positiveInt(a, value("a thread count")));
     else if (a == "--repeat")
       repeat = positiveInt(a, value("a count"));
-    else if (a == "--help" || a == "-h") {
-      std::cout << kUsage;
-      return 0;
-    } else if (!a.empty() && a[0] == '-')
+    else if (!a.empty() && a[0] == '-')
       rasm::throwInputError("option '" + a + "'", "unknown");
     else
       positional.push_back(a);
@@ -250,7 +247,7 @@ const rasm::app::Registrar reg(
     "detect",
     "2-D detections on one image as JSON: rasm detect <image> [file.ini] [--set s.k=v] "
     "[--out boxes.png]",
-    detectMain);
+    detectMain, kUsage);
 
 }  // namespace
 

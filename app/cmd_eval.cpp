@@ -573,9 +573,9 @@ int evalClassification(const std::vector<std::string>& args) {
 #endif  // RASM_EVAL_CLASSIFICATION
 
 int eval(const std::vector<std::string>& args) {
-  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+  if (args.empty()) {
     std::cout << kUsage;
-    return args.empty() ? 1 : 0;
+    return 1;
   }
   if (args[0] == "segmentation") {
 #ifdef RASM_EVAL_SEGMENTATION
@@ -663,6 +663,6 @@ const rasm::app::Registrar reg{
     "eval",
     "trajectory metrics: ate | rpe <groundtruth.txt> <estimate.txt>; segmentation | classification "
     "<run folder>",
-    &eval};
+    &eval, kUsage};
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "Command.h"
 #include "EvalCommands.h"
 #include "RunObjects.h"
 #include "rasm/core/Error.h"
@@ -30,6 +31,8 @@ const char* kUsage =
     "exploration.json\nand config.ini ([sim] world and seed). Runs are grouped by world and "
     "planner; values are means\nover the seeds (min-max in brackets). A run that stopped before "
     "a time keeps its final values.\n";
+
+const UsageRegistrar usage{"eval exploration", kUsage};  // rasm eval exploration --help
 
 struct Series {
   std::vector<double> t, coverage, objects;
@@ -184,10 +187,7 @@ int evalExploration(const std::vector<std::string>& args) {
       if (i + 1 >= args.size()) throwInputError(a, "needs a value\n" + std::string(kUsage));
       return args[++i];
     };
-    if (a == "--help" || a == "-h") {
-      std::printf("%s", kUsage);
-      return 0;
-    } else if (a == "--json") {
+    if (a == "--json") {
       json = value();
     } else if (a == "--markdown") {
       markdown = value();

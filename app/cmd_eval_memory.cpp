@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "Command.h"
 #include "EvalCommands.h"
 #include "rasm/core/Error.h"
 
@@ -28,6 +29,8 @@ const char* kUsage =
     "Memory of a run against time from its frames.csv (surfels, rss_mb, map_memory_bytes): value\n"
     "at half time, at the end, growth over the second half; exit 1 when surfels or RSS grow\n"
     "more than --max-growth over the second half.\n";
+
+const UsageRegistrar usage{"eval memory", kUsage};  // rasm eval memory --help
 
 /// The columns of frames.csv this command reads, one value per frame.
 struct MemoryCurves {
@@ -140,10 +143,7 @@ int evalMemory(const std::vector<std::string>& args) {
       if (i + 1 >= args.size()) throwInputError(a, "needs a value\n" + std::string(kUsage));
       return args[++i];
     };
-    if (a == "--help" || a == "-h") {
-      std::printf("%s", kUsage);
-      return 0;
-    } else if (a == "--json") {
+    if (a == "--json") {
       json_path = value();
     } else if (a == "--plot") {
       plot_path = value();

@@ -25,10 +25,7 @@ int objects(const std::vector<std::string>& args) {
   for (const std::string& a : args) {
     if (a == "--all")
       all = true;
-    else if (a == "--help" || a == "-h") {
-      std::printf("%s", kUsage);
-      return 0;
-    } else if (a.rfind("--", 0) == 0)
+    else if (a.rfind("--", 0) == 0)
       throw rasm::InputError("unknown option '" + a + "'\n" + kUsage);
     else
       run = a;
@@ -64,6 +61,6 @@ int objects(const std::vector<std::string>& args) {
 }
 
 const rasm::app::Registrar reg{"objects", "the objects of a run: rasm objects <run folder>",
-                               &objects};
+                               &objects, kUsage};
 
 }  // namespace

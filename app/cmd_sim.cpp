@@ -350,7 +350,7 @@ int cmdSim(const Args& args) {
   if (args[0] == "make-models") return cmdMakeModels(rest);
   if (args[0] == "generate") return cmdGenerate(rest);
   if (args[0] == "check-map") return cmdCheckMap(rest);
-  if (args[0] == "help" || args[0] == "--help") {
+  if (args[0] == "help") {
     std::cout << kUsage;
     return 0;
   }
@@ -361,6 +361,6 @@ const rasm::app::Registrar kRegistrar{
     "sim",
     "simulator: record rawlogs from worlds, render previews, generate rooms, check maps against "
     "the ground truth (rasm sim help)",
-    &cmdSim};
+    &cmdSim, kUsage};
 
 }  // namespace

@@ -153,7 +153,7 @@ int zscMain(const Args& args) {
 const rasm::app::Registrar reg(
     "zsc",
     "zero-shot classifier (IV-A): rasm zsc train <models.yaml> <bank> | detect <bank> <image>",
-    zscMain);
+    zscMain, kUsage);
 
 }  // namespace
 #endif  // RASM_HAVE_MODULE_CLASSIFICATION

@@ -20,24 +20,28 @@ int main(int argc, char** argv) {
   }
   using namespace rasm::app;
   const auto& cmds = commands();
-  if (argc < 2 || std::string(argv[1]) == "help" || std::string(argv[1]) == "--help" ||
-      std::string(argv[1]) == "-h") {
-    std::cout << "usage: rasm <command> [args]\n\ncommands:\n";
-    for (const auto& [name, info] : cmds) std::cout << "  " << name << "\t" << info.help << "\n";
+  if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
+    printCommandList(std::cout);
     return argc < 2 ? 1 : 0;
   }
-  const auto it = cmds.find(argv[1]);
+  const std::string name = std::string(argv[1]) == "--version" ? "version" : argv[1];
+  const auto it = cmds.find(name);
   if (it == cmds.end()) {
     std::cerr << "rasm: unknown command '" << argv[1] << "' (try `rasm help`)\n";
     return 2;
   }
+  const std::vector<std::string> args(argv + 2, argv + argc);
+  if (const std::string usage = usageOf(name, args); !usage.empty() && wantsHelp(args)) {
+    std::cout << usage;
+    return 0;
+  }
   try {
-    return it->second.fn(std::vector<std::string>(argv + 2, argv + argc));
+    return it->second.fn(args);
   } catch (const rasm::InputError& e) {
-    std::cerr << "rasm " << argv[1] << ": error: " << e.what() << "\n";
+    std::cerr << "rasm " << name << ": error: " << e.what() << "\n";
     return 3;
   } catch (const std::exception& e) {
-    std::cerr << "rasm " << argv[1] << ": failed: " << e.what() << "\n";
+    std::cerr << "rasm " << name << ": failed: " << e.what() << "\n";
     return 4;
   }
 }

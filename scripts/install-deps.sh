@@ -15,6 +15,7 @@ PACKAGES=(
   xvfb xauth netpbm x11-apps xdotool         # optional: screenshots of RawLogViewer / SceneViewer3D
   clang-format clang-tidy                    # scripts/format.sh, scripts/tidy.sh
   clang libclang-rt-14-dev libomp-14-dev     # scripts/fuzz.sh: libFuzzer + ASan/UBSan, OpenMP for clang
+  parallel                                   # GNU parallel: scripts/sweep.sh runs a sweep's tasks locally
 )
 
 SUDO=""

@@ -12,8 +12,10 @@
 #include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <random>
 
 #include "rasm/core/Error.h"
@@ -202,9 +204,12 @@ TEST(CSurfelMap, PlyWrittenAndReadBack) {
   std::fclose(f);
   const std::string h(head);
   EXPECT_NE(h.find("format binary_little_endian 1.0"), std::string::npos);
-  EXPECT_NE(h.find("property uchar class\nproperty float class_probability\nproperty uchar "
-                   "stable\nend_header"),
-            std::string::npos);
+  // Integer ids as int32, which every common reader takes (Open3D's tensor reader drops uint).
+  EXPECT_NE(h.find("property float confidence\nproperty int segment\nproperty int class\n"
+                   "property float class_probability\nproperty uchar stable\nend_header"),
+            std::string::npos)
+      << h;
+  EXPECT_EQ(h.find("uint"), std::string::npos) << h;
   // Stable-only export.
   map.saveToPly(path, true);
   int stable = 0;
@@ -212,6 +217,45 @@ TEST(CSurfelMap, PlyWrittenAndReadBack) {
   EXPECT_EQ(int(readSurfelPly(path).size()), stable);
   std::filesystem::remove(path);
   EXPECT_THROW(readSurfelPly(path), InputError);
+}
+
+TEST(CSurfelMap, PlyOfTheEarlierUintLayoutStillReads) {
+  // Maps written before segment and class became int32: uint segment, uchar class.
+  const std::string path = tmpPath("uint_layout.ply");
+  {
+    std::ofstream f(path, std::ios::binary);
+    f << "ply\nformat binary_little_endian 1.0\nelement vertex 1\n";
+    for (const char* p :
+         {"float x", "float y", "float z", "float nx", "float ny", "float nz", "uchar red",
+          "uchar green", "uchar blue", "float radius", "float confidence", "uint segment",
+          "uchar class", "float class_probability", "uchar stable"})
+      f << "property " << p << "\n";
+    f << "end_header\n";
+    const float xyz_n[6] = {1.f, 2.f, 3.f, 0.f, 0.f, 1.f};
+    f.write(reinterpret_cast<const char*>(xyz_n), sizeof xyz_n);
+    const unsigned char rgb[3] = {10, 20, 30};
+    f.write(reinterpret_cast<const char*>(rgb), 3);
+    const float radius_conf[2] = {0.01f, 7.f};
+    f.write(reinterpret_cast<const char*>(radius_conf), sizeof radius_conf);
+    const std::uint32_t segment = 3000000000u;
+    f.write(reinterpret_cast<const char*>(&segment), 4);
+    const unsigned char cls = 57;
+    f.write(reinterpret_cast<const char*>(&cls), 1);
+    const float p = 0.75f;
+    f.write(reinterpret_cast<const char*>(&p), 4);
+    const unsigned char stable = 1;
+    f.write(reinterpret_cast<const char*>(&stable), 1);
+  }
+  const PlySurfels s = readSurfelPly(path);
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_EQ(s.position[0], Vec3f(1.f, 2.f, 3.f));
+  EXPECT_EQ(s.colour[0].r, 10);
+  EXPECT_EQ(s.confidence[0], 7.f);
+  EXPECT_EQ(s.segment[0], 3000000000u);
+  EXPECT_EQ(s.class_id[0], 57);
+  EXPECT_EQ(s.class_probability[0], 0.75f);
+  EXPECT_EQ(s.stable[0], 1);
+  std::filesystem::remove(path);
 }
 
 TEST(CSurfelMap, VisualizationAndSceneFile) {

@@ -8,6 +8,9 @@
 #include <cstdio>
 #include <cstring>
 
+#include "rasm/pipeline/BuildInfo.h"
+#include "rasm/pipeline/OutputsDoc.h"
+
 namespace rasm::pipeline {
 
 namespace {
@@ -27,6 +30,7 @@ std::atomic<long long> g_frames_done{0};
 std::atomic<bool> g_report_set{false};
 char g_report_path[kPathBytes] = {};
 char g_report_part[kPathBytes] = {};
+char g_report_head[512] = {};  // the schema and binary fields, formatted by setAbortReport
 
 void put(int fd, const char* s) {
   ssize_t r = ::write(fd, s, std::strlen(s));
@@ -53,7 +57,9 @@ void writeAbortReport(int sig) {
   const int fd = ::open(g_report_part, O_WRONLY | O_CREAT | O_TRUNC, 0644);
   if (fd < 0) return;
   char buf[24];
-  put(fd, "{\n  \"status\": \"aborted\",\n  \"error\": \"a second ");
+  put(fd, "{\n");
+  put(fd, g_report_head);
+  put(fd, "  \"status\": \"aborted\",\n  \"error\": \"a second ");
   put(fd, nameOf(sig));
   put(fd,
       " aborted the run at once: the files of this run in this folder are complete, the others "
@@ -133,6 +139,11 @@ void setAbortReport(const std::string& report_path) {
   if (report_path.empty() || part.size() >= kPathBytes) return;
   std::memcpy(g_report_path, report_path.c_str(), report_path.size() + 1);
   std::memcpy(g_report_part, part.c_str(), part.size() + 1);
+  const BuildInfo& b = buildInfo();
+  std::snprintf(g_report_head, sizeof g_report_head,
+                "  \"report_schema\": %d,\n  \"frames_schema\": %d,\n  \"rasm\": {\"version\": "
+                "\"%s\", \"commit\": \"%s\", \"build_date\": \"%s\"},\n",
+                kReportSchema, kFramesSchema, b.version.c_str(), b.commit.c_str(), b.date.c_str());
   g_report_set.store(true);
 }
 

@@ -26,8 +26,10 @@
 #include "rasm/io/RawlogWriter.h"
 #include "rasm/io/RgbdObservation.h"
 #include "rasm/io/TrajectoryEvaluator.h"
+#include "rasm/pipeline/BuildInfo.h"
 #include "rasm/pipeline/ExplorationLoop.h"
 #include "rasm/pipeline/Interrupts.h"
+#include "rasm/pipeline/OutputsDoc.h"
 #include "rasm/pipeline/Progress.h"
 #include "rasm/pipeline/RobotFrameSource.h"
 #include "rasm/pipeline/SimSource.h"
@@ -213,6 +215,16 @@ struct LossIntervals {
   }
 };
 
+/// Now as ISO 8601 UTC, "2025-01-31T14:05:09Z" (report.json started_utc / finished_utc).
+std::string utcNow() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
 nlohmann::json poseJson(const Eigen::Isometry3d& T) {
   const Eigen::Quaterniond q(T.linear());
   return {{"t", {T.translation().x(), T.translation().y(), T.translation().z()}},
@@ -277,6 +289,7 @@ struct MappingRun::Accumulated {
   CameraIntrinsics last_K;
   bool have_K = false;
   std::chrono::steady_clock::time_point t_start;
+  std::string started_utc = utcNow();  ///< report.json started_utc
   double cpu_start_s = 0.0, preload_s = 0.0;
   double cpu_s = 0.0;  ///< CPU seconds of the frame loop
 };
@@ -436,7 +449,7 @@ void MappingRun::recordFrame(Accumulated& acc, const RgbdFrame& f, const FrameRe
     acc.ms_max[s] = std::max(acc.ms_max[s], r.ms[s]);
   }
   acc.frames_csv += m_mapper->csvRow();
-  char memory[64];  // the run's own columns after the stages': memory now (rasm eval memory)
+  char memory[64];  // runCsvColumns() after the stages': memory now (rasm eval memory)
   std::snprintf(memory, sizeof memory, ",%.1f,%zu\n", currentRssMb(),
                 m_mapper->map().store().memoryBytes());
   acc.frames_csv += memory;
@@ -453,7 +466,9 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFold
   const std::size_t n_timers = m_mapper->timerNames().size();
   acc.ms_sum.assign(n_timers, 0.0);
   acc.ms_max.assign(n_timers, 0.0);
-  acc.frames_csv = m_mapper->csvHeader() + ",rss_mb,map_memory_bytes\n";
+  acc.frames_csv = m_mapper->csvHeader();
+  for (const std::string& c : runCsvColumns()) acc.frames_csv += "," + c;  // recordFrame's
+  acc.frames_csv += "\n";
   try {
     while (m_source.max_frames == 0 || acc.processed < std::size_t(m_source.max_frames)) {
       if (stopSignal() != 0) break;  // SIGINT / SIGTERM: no further frame
@@ -586,6 +601,13 @@ nlohmann::json MappingRun::reportJson(const std::string& source, const Accumulat
                                       RunSummary& sum) const {
   const std::size_t processed = acc.processed;
   nlohmann::json rep;
+  // What wrote this report and when (docs/outputs.md "Schema versions").
+  rep["report_schema"] = kReportSchema;
+  rep["frames_schema"] = kFramesSchema;
+  const BuildInfo& build = buildInfo();
+  rep["rasm"] = {{"version", build.version}, {"commit", build.commit}, {"build_date", build.date}};
+  rep["started_utc"] = acc.started_utc;
+  rep["finished_utc"] = utcNow();
   rep["status"] = sum.status;
   const std::string& error = !acc.error.empty() ? acc.error : acc.output_error;
   if (!error.empty()) rep["error"] = error;

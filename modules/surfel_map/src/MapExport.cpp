@@ -20,8 +20,19 @@ namespace rasm::maps {
 
 namespace {
 
-// Property list of the PLY (order, type, name) — the reader accepts exactly this layout.
+// Property list of the PLY (order, type, name) — the reader accepts exactly this layout, or
+// kPlyPropertiesUint (before segment and class became int32: Open3D's tensor reader drops uint).
 const char* const kPlyProperties[] = {
+    "float x",          "float y",
+    "float z",          "float nx",
+    "float ny",         "float nz",
+    "uchar red",        "uchar green",
+    "uchar blue",       "float radius",
+    "float confidence", "int segment",
+    "int class",        "float class_probability",
+    "uchar stable",
+};
+const char* const kPlyPropertiesUint[] = {
     "float x",          "float y",
     "float z",          "float nx",
     "float ny",         "float nz",
@@ -31,7 +42,9 @@ const char* const kPlyProperties[] = {
     "uchar class",      "float class_probability",
     "uchar stable",
 };
-constexpr std::size_t kPlyRecordBytes = 6 * 4 + 3 + 4 + 4 + 4 + 1 + 4 + 1;
+constexpr std::size_t kPlyPropertyCount = sizeof(kPlyProperties) / sizeof(kPlyProperties[0]);
+constexpr std::size_t kPlyRecordBytes = 6 * 4 + 3 + 4 + 4 + 4 + 4 + 4 + 1;
+constexpr std::size_t kPlyRecordBytesUint = 6 * 4 + 3 + 4 + 4 + 4 + 1 + 4 + 1;
 
 template <typename T>
 void put(char*& p, const T& v) {
@@ -164,9 +177,9 @@ void writeSurfelPly(const SurfelStore& map, const std::string& path, bool stable
       put(p, c.b);
       put(p, nr.w());
       put(p, pc.w());
-      put(p, a.segment[i]);
+      put(p, std::int32_t(a.segment[i]));
       const BestClass b = bestClass(a, i);
-      put(p, std::uint8_t(b.id));
+      put(p, std::int32_t(b.id));
       put(p, b.probability);
       put(p, std::uint8_t(a.stable(i) ? 1 : 0));
     }
@@ -205,14 +218,17 @@ PlySurfels readSurfelPly(const std::string& path) {
     }
   }
   if (!format_ok) throwInputError(what, "expected format binary_little_endian");
-  const std::size_t np = sizeof(kPlyProperties) / sizeof(kPlyProperties[0]);
-  if (props.size() != np)
+  if (props.size() != kPlyPropertyCount)
     throwInputError(what, "expected the rasm surfel property layout (MapExport.h)");
-  for (std::size_t i = 0; i < np; ++i)
-    if (props[i] != kPlyProperties[i])
+  // The earlier layout (uint segment, uchar class) is told by its segment property.
+  const bool uint_ids = props[11] == kPlyPropertiesUint[11];
+  const char* const* expected = uint_ids ? kPlyPropertiesUint : kPlyProperties;
+  for (std::size_t i = 0; i < kPlyPropertyCount; ++i)
+    if (props[i] != expected[i])
       throwInputError(what, "property " + std::to_string(i) + " is '" + props[i] + "', expected '" +
-                                kPlyProperties[i] + "'");
-  std::vector<char> buf(n * kPlyRecordBytes);
+                                expected[i] + "'");
+  const std::size_t record_bytes = uint_ids ? kPlyRecordBytesUint : kPlyRecordBytes;
+  std::vector<char> buf(n * record_bytes);
   f.read(buf.data(), std::streamsize(buf.size()));
   if (std::size_t(f.gcount()) != buf.size())
     throwInputError(what, "truncated: expected " + std::to_string(n) + " vertices");
@@ -236,8 +252,13 @@ PlySurfels readSurfelPly(const std::string& path) {
     out.colour[i] = Bgr8{b, g, r};
     out.radius[i] = get<float>(p);
     out.confidence[i] = get<float>(p);
-    out.segment[i] = get<std::uint32_t>(p);
-    out.class_id[i] = get<std::uint8_t>(p);
+    if (uint_ids) {
+      out.segment[i] = get<std::uint32_t>(p);
+      out.class_id[i] = get<std::uint8_t>(p);
+    } else {
+      out.segment[i] = std::uint32_t(get<std::int32_t>(p));
+      out.class_id[i] = get<std::int32_t>(p);
+    }
     out.class_probability[i] = get<float>(p);
     out.stable[i] = get<std::uint8_t>(p);
   }

@@ -9,12 +9,14 @@
 //   uchar red green blue   colour
 //   float radius           m
 //   float confidence       w
-//   uint  segment          l (0 = none)
-//   uchar class            best class id (ClassEvidence.h bestClass: 1..80 COCO, 81.. project),
+//   int   segment          l (0 = none)
+//   int   class            best class id (ClassEvidence.h bestClass: 1..80 COCO, 81.. project),
 //                          0 when n_classes = 0 or no class rose above the 0.5 prior
 //   float class_probability  p of that class (0.5 when class = 0)
 //   uchar stable           0/1
-// MeshLab / CloudCompare / Open3D read it (radius, confidence, ... as scalar fields).
+// MeshLab / CloudCompare / Open3D read it (radius, confidence, ... as scalar fields). Integer ids
+// are `int` (int32): Open3D's tensor reader (o3d.t.io) drops `uint` columns. The reader also
+// takes the layout before that change (`uint segment`, `uchar class`).
 
 #include <memory>
 #include <string>
@@ -72,7 +74,8 @@ struct PlySurfels {
   std::vector<std::uint8_t> stable;
   std::size_t size() const { return position.size(); }
 };
-/// Reads a PLY with exactly the layout above; throws InputError naming the path otherwise.
+/// Reads a PLY with exactly the layout above (or the earlier one with `uint segment`, `uchar
+/// class`); throws InputError naming the path otherwise.
 PlySurfels readSurfelPly(const std::string& path);
 
 /// Appends a coloured point cloud (mrpt::opengl::CPointCloudColoured, one point per surfel) to `o`.

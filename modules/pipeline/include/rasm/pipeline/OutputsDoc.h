@@ -1,0 +1,40 @@
+#pragma once
+// The documentation of a run folder (`rasm help outputs`, docs/outputs.md): every file, every
+// report.json field, every frames.csv column, the JSON files of the stages and the PLY layout.
+// The frames.csv part is derived from the assembled Mapper's stage list (each stage's columns and
+// timers), so a stage's new column shows up at once; its meaning comes from the table in
+// OutputsDoc.cpp, and tests/app/OutputsDoc_unittest.cpp checks that every column and report field
+// of a real run is described there.
+
+#include <string>
+#include <vector>
+
+namespace rasm::pipeline {
+
+class Mapper;
+
+/// report.json "report_schema" and "frames_schema": raised when a field or column is renamed,
+/// removed or changes its meaning or unit (new fields and columns keep the version: read columns
+/// by name).
+constexpr int kReportSchema = 1;
+constexpr int kFramesSchema = 1;
+
+/// The columns MappingRun appends to each frames.csv row after the Mapper's (memory now).
+inline const std::vector<std::string>& runCsvColumns() {
+  static const std::vector<std::string> c = {"rss_mb", "map_memory_bytes"};
+  return c;
+}
+
+/// One frames.csv column: who writes it (a stage's name, "mapper" or "run") and what it holds
+/// (empty: not documented in OutputsDoc.cpp).
+struct CsvColumnDoc {
+  std::string name, writer, meaning;
+};
+
+/// Every frames.csv column of a run of `mapper`, in file order.
+std::vector<CsvColumnDoc> framesCsvColumns(const Mapper& mapper);
+
+/// The whole documentation as Markdown (docs/outputs.md is this text).
+std::string outputsDocumentation(const Mapper& mapper);
+
+}  // namespace rasm::pipeline

@@ -1,0 +1,121 @@
+// The command line as a new user meets it (issue 19, 4): `rasm --version`, `--help` / `-h` on
+// every command and subcommand (usage, exit 0, nothing run), and `rasm convert` creating its
+// output folder as `rasm run --out` does.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <regex>
+#include <sstream>
+
+#include "RasmProcess.h"
+
+namespace fs = std::filesystem;
+using namespace rasm::app::testing;
+
+TEST(RasmCli, VersionPrintsVersionCommitAndBuildDate) {
+  const Result flag = runRasm("--version"), cmd = runRasm("version");
+  EXPECT_EQ(flag.status, 0) << flag.output;
+  EXPECT_EQ(flag.output, cmd.output);
+  std::smatch m;
+  ASSERT_TRUE(std::regex_match(flag.output, m,
+                               std::regex("rasm ([0-9]+\\.[0-9]+\\.[0-9]+)\n"
+                                          "commit ([0-9a-f]{40}(-dirty)?|unknown)\n"
+                                          "built (20[0-9]{2}-[01][0-9]-[0-3][0-9])\n")))
+      << flag.output;
+  // Built from this checkout: the commit is its HEAD (the build records it at every build).
+  const Result head = shell("git -C " RASM_SOURCE_DIR " rev-parse HEAD", true);
+  if (head.status == 0 && head.output.size() >= 40) {
+    EXPECT_EQ(m[2].str().substr(0, 40), head.output.substr(0, 40))
+        << "the binary was built from another commit: rebuild (scripts/build.sh)";
+  }
+  EXPECT_NE(runRasm("version extra").status, 0);
+}
+
+namespace {
+/// The commands `rasm help` lists.
+std::vector<std::string> listedCommands() {
+  const Result r = runRasm("help");
+  EXPECT_EQ(r.status, 0) << r.output;
+  std::vector<std::string> names;
+  std::istringstream in(r.output);
+  std::string line;
+  bool in_list = false;
+  while (std::getline(in, line)) {
+    if (line == "commands:") in_list = true;
+    if (in_list && line.rfind("  ", 0) == 0) names.push_back(line.substr(2, line.find('\t') - 2));
+  }
+  return names;
+}
+}  // namespace
+
+TEST(RasmCli, EveryCommandAndSubcommandPrintsItsUsageOnHelp) {
+  const std::vector<std::string> commands = listedCommands();
+  for (const char* expected : {"run", "convert", "eval", "sim", "sweep", "version", "help"})
+    EXPECT_NE(std::find(commands.begin(), commands.end(), expected), commands.end()) << expected;
+  std::vector<std::string> invocations(commands.begin(), commands.end());
+  for (const char* sub :
+       {"convert tum", "convert 7scenes", "eval ate", "eval rpe", "eval segmentation",
+        "eval classification", "eval exploration", "eval memory", "sim record", "sim render",
+        "sim info", "sim make-models", "sim generate", "sim check-map", "zsc train", "zsc detect",
+        "sweep gather", "run my.ini --set a.b=c"})
+    invocations.emplace_back(sub);
+  for (const std::string& inv : invocations) {
+    const std::string command = inv.substr(0, inv.find(' '));
+    const bool top = command == inv;  // -h too (each call starts the binary: keep the list short)
+    for (const char* flag : {"--help", "-h"}) {
+      if (!top && std::string(flag) == "-h") continue;
+      const Result r = runRasm(inv + " " + flag);
+      EXPECT_EQ(r.status, 0) << "rasm " << inv << " " << flag << ":\n" << r.output;
+      EXPECT_EQ(r.output.rfind("usage:", 0), 0u) << "rasm " << inv << " " << flag << ":\n"
+                                                 << r.output;
+      EXPECT_NE(r.output.find("rasm " + command), std::string::npos) << inv << ":\n" << r.output;
+    }
+  }
+  // A subcommand with its own usage prints that one.
+  EXPECT_EQ(runRasm("eval exploration --help").output.rfind("usage: rasm eval exploration", 0), 0u);
+  EXPECT_EQ(runRasm("help convert").output, runRasm("convert tum --help").output);
+  EXPECT_EQ(runRasm("help eval memory").output, runRasm("eval memory -h").output);
+}
+
+TEST(RasmCli, UnknownCommandsAndHelpTopicsAreNamed) {
+  Result r = runRasm("frobnicate");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("unknown command 'frobnicate'"), std::string::npos) << r.output;
+  r = runRasm("help frobnicate");
+  EXPECT_EQ(r.status, 3);
+  EXPECT_NE(r.output.find("rasm help frobnicate"), std::string::npos) << r.output;
+  r = runRasm("sweep frobnicate");
+  EXPECT_EQ(r.status, 3);
+  EXPECT_NE(r.output.find("rasm sweep frobnicate"), std::string::npos) << r.output;
+}
+
+TEST(RasmCli, ConvertCreatesItsOutputFolder) {
+  // A two-frame TUM sequence (8x6 images).
+  const std::string dir = freshDir("convert");
+  fs::create_directories(dir + "/seq/rgb");
+  fs::create_directories(dir + "/seq/depth");
+  std::ofstream rgb(dir + "/seq/rgb.txt"), depth(dir + "/seq/depth.txt");
+  for (int k = 0; k < 2; ++k) {
+    const std::string name = std::to_string(k) + ".png";
+    cv::imwrite(dir + "/seq/rgb/" + name, cv::Mat(6, 8, CV_8UC3, cv::Scalar(10, 20, 30)));
+    cv::imwrite(dir + "/seq/depth/" + name, cv::Mat(6, 8, CV_16UC1, cv::Scalar(5000 + k)));
+    rgb << 1.0 + k / 30.0 << " rgb/" << name << "\n";
+    depth << 1.0 + k / 30.0 << " depth/" << name << "\n";
+  }
+  rgb.close();
+  depth.close();
+  const std::string out = dir + "/not/yet/there/seq.rawlog";
+  const Result r = runRasm("convert tum " + dir + "/seq " + out + " --intrinsics 10,10,4,3");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::is_regular_file(out)) << r.output;
+  EXPECT_NE(r.output.find("2 frames"), std::string::npos) << r.output;
+  // A folder that cannot be created is named.
+  std::ofstream(dir + "/file") << "x";
+  const Result bad = runRasm("convert tum " + dir + "/seq " + dir + "/file/sub/seq.rawlog");
+  EXPECT_EQ(bad.status, 3) << bad.output;
+  EXPECT_NE(bad.output.find(dir + "/file/sub"), std::string::npos) << bad.output;
+  fs::remove_all(dir);
+}
