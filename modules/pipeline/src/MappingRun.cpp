@@ -2,10 +2,13 @@
 
 #include <mrpt/img/TCamera.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CObservationImage.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <unistd.h>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -15,7 +18,6 @@
 #include <fstream>
 #include <iomanip>
 #include <sstream>
-#include <unistd.h>
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
@@ -23,15 +25,19 @@
 #include "rasm/io/EvaluationJson.h"
 #include "rasm/io/PrefetchingFrameSource.h"
 #include "rasm/io/PreloadedFrameSource.h"
+#include "rasm/io/RawlogFrameSource.h"
 #include "rasm/io/RawlogWriter.h"
 #include "rasm/io/RgbdObservation.h"
 #include "rasm/io/TrajectoryEvaluator.h"
 #include "rasm/pipeline/ExplorationLoop.h"
 #include "rasm/pipeline/Interrupts.h"
 #include "rasm/pipeline/Progress.h"
+#include "rasm/pipeline/RunPlots.h"
+#include "rasm/pipeline/RunScene.h"
 #include "rasm/pipeline/SimSource.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
 #include "rasm/pipeline/stages/ExplorationStage.h"
+#include "rasm/pipeline/stages/TrackingStage.h"
 #include "rasm/surfel_map/MapExport.h"
 #ifdef RASM_HAVE_SIM
 #include "rasm/sim/SimFrameSource.h"
@@ -219,11 +225,35 @@ bool MappingRun::classMapView(const maps::RenderedMaps& view, cv::Mat& out) cons
 }
 
 void MappingRun::writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, const FrameResult& r) {
+  // MRPT's robot convention, which RawLogViewer draws a path from ("Maps & Paths", its travelled
+  // distance): the estimated robot base on the floor (T_world_cam T_base_cam^-1: x, y, yaw) as a
+  // CObservationOdometry before the frame, labelled with the tracking status, and the camera's
+  // pose on that base as the scan's sensorPose; odometry + sensorPose = the estimated T_world_cam.
+  const Eigen::Isometry3d T_base =
+      r.T_world_cam * m_mapper->stage<TrackingStage>().robotParams().T_base_cam().inverse();
+  const Eigen::Matrix3d R = T_base.linear();
+  const mrpt::poses::CPose2D base(T_base.translation().x(), T_base.translation().y(),
+                                  std::atan2(R(1, 0), R(0, 0)));
+  mrpt::obs::CObservationOdometry odo;
+  odo.sensorLabel = !r.tracked                                 ? "POSE_LOST"
+                    : r.pose_source == PoseSource::Relocalised ? "POSE_RELOCALISED"
+                                                               : "POSE_TRACKED";
+  odo.timestamp = mrpt::Clock::fromDouble(frame.timestamp_s);
+  odo.odometry = base;
+  if (!r.tracked) {  // why, next to the pose (RawLogViewer lists comments in its tree)
+    mrpt::obs::CObservationComment c;
+    c.sensorLabel = "TRACKING";
+    c.timestamp = odo.timestamp;
+    c.text = "frame " + std::to_string(r.index) + ": tracking lost (" +
+             tracking::toString(r.tracking.status) + "), pose from " + toString(r.pose_source);
+    w.writeObject(c);
+  }
+  w.writeObject(odo);
   mrpt::obs::CObservation3DRangeScan obs;
   io::FrameToObservationOptions fo;
   fo.sensor_pose_from_ground_truth = false;
   io::observationFromFrame(frame, obs, fo);
-  obs.sensorPose = mrptSensorPoseFromOptical(r.T_world_cam);
+  obs.sensorPose = mrptSensorPoseFromOptical(r.T_world_cam) - mrpt::poses::CPose3D(base);
   w.writeObject(obs);
   maps::RenderedMaps view;
   m_mapper->renderView(r.T_world_cam, frame.intrinsics, view);
@@ -363,8 +393,8 @@ void MappingRun::recordFrame(Accumulated& acc, const RgbdFrame& f, const FrameRe
 void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFolder& out,
                            const std::function<void(const FrameResult&)>& on_frame) {
   Progress progress("frames", expectedFrames(source));
-  // annotated.rawlog: each input observation with the ESTIMATED camera pose as sensorPose (MRPT
-  // sensor frame), followed by a CObservationImage "MAP_VIEW" of the map rendered from that pose.
+  // annotated.rawlog: each input observation with the ESTIMATED pose (writeAnnotated), followed
+  // by a CObservationImage "MAP_VIEW" of the map rendered from that pose.
   // Its writer renames "annotated.rawlog.part" at close() and removes it when destroyed open.
   std::unique_ptr<io::RawlogWriter> annotated;
   const ScopedTemporary annotated_part(out.path("annotated.rawlog"));
@@ -422,7 +452,17 @@ std::unique_ptr<io::RawlogWriter> MappingRun::openAnnotated(const OutputFolder& 
   io::RawlogWriterOptions wo;
   wo.sensor_label = "RGBD";
   wo.sensor_pose_from_ground_truth = false;
-  return std::make_unique<io::RawlogWriter>(out.path("annotated.rawlog"), wo);
+  auto w = std::make_unique<io::RawlogWriter>(out.path("annotated.rawlog"), wo);
+  mrpt::obs::CObservationComment c;  // rasm's reader then takes no sensorPose as ground truth
+  c.sensorLabel = "rasm";
+  c.text = std::string(io::kRawlogNoGroundTruthMarker) +
+           ". rasm annotated rawlog: per frame a CObservationOdometry (POSE_TRACKED, POSE_LOST or "
+           "POSE_RELOCALISED) with the estimated robot base pose (x, y, yaw), then the observation "
+           "with the camera's pose on that base as sensorPose (their composition is the estimated "
+           "camera pose), then the map rendered from that pose (MAP_VIEW) and, once the map has "
+           "classes, the class map (CLASS_VIEW)";
+  w->writeObject(c);
+  return w;
 }
 
 std::string MappingRun::noFrameReason(const Accumulated& acc) const {
@@ -444,22 +484,37 @@ void MappingRun::writeOutputs(const Accumulated& acc, OutputFolder& out) {
     out.write("groundtruth.txt", [&](const std::string& part) {
       io::writeTumTrajectory(part, acc.groundtruth, "ground truth of the source");
     });
-  writeMapFiles(out);
+  writeMapFiles(acc, out);
   m_mapper->writeOutputs(out);
   if (m_explore) m_explore->writeOutputs(out);
   if (m_output.preview_png && acc.have_K && acc.processed > 0) writePreviews(acc, out);
+  if (m_output.preview_png) writePlots(acc, out);
 }
 
-void MappingRun::writeMapFiles(OutputFolder& out) const {
+void MappingRun::writePlots(const Accumulated& acc, OutputFolder& out) const {
+  const CsvColumns frames = parseCsvColumns(acc.frames_csv);
+  if (!acc.estimate.empty())
+    out.writeImage("plot_trajectory.png", trajectoryPlot(acc.estimate, acc.groundtruth, frames));
+  const cv::Mat timing = timingPlot(frames);
+  if (!timing.empty()) out.writeImage("plot_timing.png", timing);
+}
+
+void MappingRun::writeMapFiles(const Accumulated& acc, OutputFolder& out) const {
   const maps::CSurfelMap& map = m_mapper->map();
   if (m_output.write_ply) out.write("map.ply", [&](const std::string& p) { map.saveToPly(p); });
   if (m_output.write_3dscene) {
     const maps::SurfelArrays a = map.store().arrays();
+    // The map with the paths, the last camera and the exploration's views (RunScene.h).
+    RunOverlay overlay;
+    overlay.estimate = acc.estimate;
+    overlay.groundtruth = acc.groundtruth;
+    if (acc.have_K) overlay.K = acc.last_K;
+    if (m_explore) overlay.views = m_explore->sceneViews();
     auto scene = [&](const char* name, maps::SurfelColouring colouring) {
       maps::SurfelVisualOptions vis = map.renderingOptions.visual;
       if (colouring != maps::SurfelColouring::Rgb) vis.colouring = colouring;
       out.write(name, [&](const std::string& p) {
-        writeGzArchive(p, *maps::surfelScene(map.store(), vis));
+        writeGzArchive(p, *runScene(map.store(), vis, overlay));
       });
     };
     scene("map.3Dscene", maps::SurfelColouring::Rgb);

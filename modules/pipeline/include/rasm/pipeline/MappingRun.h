@@ -118,7 +118,9 @@ class MappingRun {
   bool classMapView(const maps::RenderedMaps& view, cv::Mat& out) const;
   /// frames.csv, trajectory, ground truth, map files, the stages' files, previews.
   void writeOutputs(const Accumulated& acc, OutputFolder& out);
-  void writeMapFiles(OutputFolder& out) const;
+  void writeMapFiles(const Accumulated& acc, OutputFolder& out) const;
+  /// plot_trajectory.png and plot_timing.png (RunPlots.h), with [output] preview_png.
+  void writePlots(const Accumulated& acc, OutputFolder& out) const;
   void writePreviews(const Accumulated& acc, OutputFolder& out) const;
   /// report.json's fields (and the summary's ATE); `source` describes the source.
   nlohmann::json reportJson(const std::string& source, const Accumulated& acc,
