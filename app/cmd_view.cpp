@@ -30,8 +30,9 @@ using rasm::maps::SurfelColouring;
 const char* kUsage =
     "usage: rasm view <run folder> [--colour rgb|segments|classes] [--png out.png]\n"
     "                 [--size WIDTHxHEIGHT] [--no-views]\n"
-    "Shows the run's map (map.surfelmap) with the estimated camera path (blue), the ground truth\n"
-    "(green), the last camera (frustum) and the exploration's candidate views (arrows coloured by\n"
+    "Shows the run's map (map.surfelmap) with the estimated camera path (orange), the ground\n"
+    "truth (green), the last camera (white frustum) and the exploration's candidate views (arrows "
+    "coloured by\n"
     "information gain, blue low .. red high, grey unreachable; goals driven to in magenta).\n"
     "With a display (DISPLAY set) and no --png: MRPT's 3-D window; keys 1 colour, 2 segments,\n"
     "3 classes, v views, p paths, q or Esc quits; the mouse turns (left), zooms (wheel) and pans\n"
@@ -126,6 +127,8 @@ mrpt::opengl::COpenGLScene::Ptr viewScene(const rasm::maps::CSurfelMap& map,
 void renderPng(const mrpt::opengl::COpenGLScene& scene, const ViewArgs& v) {
   const std::string path = v.png.empty() ? "view.png" : v.png;
   mrpt::opengl::CFBORender render(v.width, v.height);
+  // CFBORender renders from a camera of its own, not the viewport's: hand it the scene's.
+  render.setCamera(scene, scene.getViewport("main")->getCamera());
   mrpt::img::CImage img;
   render.render_RGB(scene, img);
   const std::string part = path + ".part.png";

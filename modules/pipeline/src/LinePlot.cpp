@@ -37,6 +37,10 @@ void dataRange(const std::vector<PlotSeries>& series, bool x, double& lo, double
     const double pad = std::max(0.5, 0.05 * std::abs(lo));
     if (lo_open) lo -= pad;
     if (hi_open || !(hi > lo)) hi = lo + 2 * pad;
+  } else {  // a margin of 3% where the data sets the bound, so no curve runs along the frame
+    const double pad = 0.03 * (hi - lo);
+    if (lo_open) lo -= pad;
+    if (hi_open) hi += pad;
   }
 }
 
@@ -97,10 +101,10 @@ void drawLinePlot(cv::Mat& img, const cv::Rect& panel, const PlotAxes& axes,
   const std::string xs = number(x1);
   cv::putText(img, xs, cv::Point(area.x + area.width - textWidth(xs), by + 15), kFont, kTextScale,
               kBlack);
-  auto yLabel = [&](double v) {
+  auto yLabel = [&](double v) {  // the top one below the frame's edge, clear of the axis name
     const std::string t = number(v);
-    cv::putText(img, t, cv::Point(area.x - 5 - textWidth(t), px(x0, v).y + 5), kFont, kTextScale,
-                kBlack);
+    const int y = std::max(px(x0, v).y + 5, area.y + 12);
+    cv::putText(img, t, cv::Point(area.x - 5 - textWidth(t), y), kFont, kTextScale, kBlack);
   };
   yLabel(y0);
   yLabel(y1);
@@ -111,7 +115,7 @@ void drawLinePlot(cv::Mat& img, const cv::Rect& panel, const PlotAxes& axes,
                 cv::Point(area.x + (area.width - textWidth(axes.x_label)) / 2, by + 30), kFont,
                 kTextScale, kBlack);
   if (!axes.y_label.empty())
-    cv::putText(img, axes.y_label, cv::Point(panel.x + 4, area.y - 6), kFont, kTextScale, kBlack);
+    cv::putText(img, axes.y_label, cv::Point(panel.x + 4, area.y - 3), kFont, kTextScale, kBlack);
   cv::Mat clip = img(area);  // curves stay inside the frame
   const cv::Point o(area.x, area.y);
   for (const PlotSeries& s : series) {

@@ -240,14 +240,10 @@ void MappingRun::writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, con
                                                                : "POSE_TRACKED";
   odo.timestamp = mrpt::Clock::fromDouble(frame.timestamp_s);
   odo.odometry = base;
-  if (!r.tracked) {  // why, next to the pose (RawLogViewer lists comments in its tree)
-    mrpt::obs::CObservationComment c;
-    c.sensorLabel = "TRACKING";
-    c.timestamp = odo.timestamp;
-    c.text = "frame " + std::to_string(r.index) + ": tracking lost (" +
-             tracking::toString(r.tracking.status) + "), pose from " + toString(r.pose_source);
-    w.writeObject(c);
-  }
+  if (!r.tracked && m_annotated_lost.size() < 200)  // why: in the closing comment
+    m_annotated_lost.push_back("frame " + std::to_string(r.index) + ": " +
+                               tracking::toString(r.tracking.status) + ", pose from " +
+                               toString(r.pose_source));
   w.writeObject(odo);
   mrpt::obs::CObservation3DRangeScan obs;
   io::FrameToObservationOptions fo;
@@ -441,6 +437,7 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFold
   acc.interrupted_in_frames = stopSignal() != 0;
   progress.finish(static_cast<long long>(acc.processed), "done");
   if (annotated) try {
+      annotated->writeObject(annotatedComment(true));
       annotated->close();
       out.recordWritten("annotated.rawlog");
     } catch (const std::exception& e) {
@@ -453,16 +450,25 @@ std::unique_ptr<io::RawlogWriter> MappingRun::openAnnotated(const OutputFolder& 
   wo.sensor_label = "RGBD";
   wo.sensor_pose_from_ground_truth = false;
   auto w = std::make_unique<io::RawlogWriter>(out.path("annotated.rawlog"), wo);
-  mrpt::obs::CObservationComment c;  // rasm's reader then takes no sensorPose as ground truth
+  w->writeObject(annotatedComment(false));  // rasm's reader takes no sensorPose as ground truth
+  return w;
+}
+
+mrpt::obs::CObservationComment MappingRun::annotatedComment(bool closing) const {
+  mrpt::obs::CObservationComment c;
   c.sensorLabel = "rasm";
   c.text = std::string(io::kRawlogNoGroundTruthMarker) +
-           ". rasm annotated rawlog: per frame a CObservationOdometry (POSE_TRACKED, POSE_LOST or "
-           "POSE_RELOCALISED) with the estimated robot base pose (x, y, yaw), then the observation "
-           "with the camera's pose on that base as sensorPose (their composition is the estimated "
-           "camera pose), then the map rendered from that pose (MAP_VIEW) and, once the map has "
-           "classes, the class map (CLASS_VIEW)";
-  w->writeObject(c);
-  return w;
+           ".\nrasm annotated rawlog: per frame a CObservationOdometry (label POSE_TRACKED, "
+           "POSE_LOST or POSE_RELOCALISED) with the estimated robot base pose (x, y, yaw; "
+           "RawLogViewer: \"Raw-map\" > \"Map from odometry\" draws the path), then the "
+           "observation with the camera's pose on that base as sensorPose (odometry + sensorPose "
+           "= the estimated camera pose, trajectory.txt), then the map rendered from that pose "
+           "(MAP_VIEW) and, once the map has classes, the class map (CLASS_VIEW).\n";
+  if (closing) {  // RawLogViewer shows the last comment: the frames tracking lost, and why
+    c.text += "Frames tracking lost: " + std::to_string(m_mapper->framesLost()) + "\n";
+    for (const std::string& l : m_annotated_lost) c.text += l + "\n";
+  }
+  return c;
 }
 
 std::string MappingRun::noFrameReason(const Accumulated& acc) const {

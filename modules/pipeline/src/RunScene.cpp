@@ -36,7 +36,8 @@ mrpt::opengl::CSetOfLines::Ptr lineStrip(const io::Trajectory& path, const char*
   auto lines = mrpt::opengl::CSetOfLines::Create();
   lines->setName(name);
   lines->setColor_u8(r, g, b);
-  lines->setLineWidth(2.5f);
+  lines->setLineWidth(3.0f);
+  lines->setVerticesPointSize(4.0f);  // wide lines are not drawn everywhere: points at the poses
   for (std::size_t i = 1; i < path.size(); ++i) {
     const Eigen::Vector3d a = path[i - 1].T_world_cam.translation();
     const Eigen::Vector3d c = path[i].T_world_cam.translation();
@@ -53,7 +54,7 @@ mrpt::opengl::CSetOfObjects::Ptr cameraObject(const Eigen::Isometry3d& T_world_c
   const float hfov = float(2.0 * std::atan2(0.5 * K.width, K.fx) * 180.0 / M_PI);
   const float vfov = float(2.0 * std::atan2(0.5 * K.height, K.fy) * 180.0 / M_PI);
   auto frustum = mrpt::opengl::CFrustum::Create(0.05f, 0.4f, hfov, vfov, 2.0f, true, false);
-  frustum->setColor_u8(255, 200, 0);
+  frustum->setColor_u8(255, 255, 255);
   cam->insert(frustum);
   cam->insert(mrpt::opengl::stock_objects::CornerXYZSimple(0.15f, 2.0f));
   cam->setPose(mrptSensorPoseFromOptical(T_world_cam));  // MRPT's sensor frame: +X forward
@@ -140,7 +141,7 @@ RunOverlay readRunOverlay(const std::string& dir) {
 
 void addRunOverlay(mrpt::opengl::COpenGLScene& scene, const RunOverlay& o) {
   if (o.groundtruth.size() > 1) scene.insert(lineStrip(o.groundtruth, "groundtruth", 0, 170, 0));
-  if (o.estimate.size() > 1) scene.insert(lineStrip(o.estimate, "trajectory", 30, 80, 255));
+  if (o.estimate.size() > 1) scene.insert(lineStrip(o.estimate, "trajectory", 255, 140, 0));
   if (!o.estimate.empty()) scene.insert(cameraObject(o.estimate.back().T_world_cam, o.K));
   if (!o.views.empty()) scene.insert(viewArrows(o.views));
 }
@@ -176,9 +177,9 @@ void pointCameraAt(mrpt::opengl::COpenGLScene& scene, const Eigen::AlignedBox3d&
   const Eigen::Vector3d c = box.center(), e = box.sizes();
   mrpt::opengl::CCamera& cam = scene.getViewport("main")->getCamera();
   cam.setPointingAt(float(c.x()), float(c.y()), float(c.z()));
-  // The viewers' perspective field of view is 30 degrees: at 2.2 x the larger horizontal
-  // extent the whole box is in view from 50 degrees above.
-  cam.setZoomDistance(float(std::max(1.0, 2.2 * std::max({e.x(), e.y(), 0.5 * e.z()}))));
+  // The viewers' perspective field of view is 30 degrees: at 1.7 x the larger horizontal
+  // extent the box fills most of the view from 50 degrees above.
+  cam.setZoomDistance(float(std::max(1.0, 1.7 * std::max({e.x(), e.y(), 0.5 * e.z()}))));
   cam.setElevationDegrees(50.0f);
   cam.setAzimuthDegrees(-60.0f);
   scene.enableFollowCamera(true);

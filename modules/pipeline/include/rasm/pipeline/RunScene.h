@@ -4,9 +4,9 @@
 // camera that starts on the map.
 //
 // Objects, by name (COpenGLScene::getByName):
-//   "trajectory"       the estimated camera path, a blue line strip
+//   "trajectory"       the estimated camera path, an orange line strip with a dot per pose
 //   "groundtruth"      the ground-truth camera path, a green line strip (when the run has it)
-//   "camera"           the last estimated camera: its frustum (MRPT's +X forward) and axes
+//   "camera"           the last estimated camera: its frustum (white; MRPT's +X forward), axes
 //   "candidate_views"  exploration views as arrows from the camera centre along its optical axis
 //                      (the paper's Fig. 6): the last plan's candidates coloured by information
 //                      gain (jet: blue low, red high; grey = unreachable), the goals driven to
@@ -64,9 +64,9 @@ void addRunOverlay(mrpt::opengl::COpenGLScene& scene, const RunOverlay& overlay)
 /// not move the camera away), grown to hold the estimated path; empty box when both are empty.
 Eigen::AlignedBox3d sceneBounds(const maps::SurfelStore& map, const RunOverlay& overlay);
 
-/// Points the main viewport's camera at the centre of `box`, looking down at 50 degrees from a
-/// distance that shows its horizontal extent whole, and sets followCamera so that viewers take
-/// it. An empty box leaves the camera alone.
+/// Points the main viewport's camera at the centre of `box`, looking down at 50 degrees from 1.7
+/// times its larger horizontal extent (it fills most of the view), and sets followCamera so that
+/// viewers take it. An empty box leaves the camera alone.
 void pointCameraAt(mrpt::opengl::COpenGLScene& scene, const Eigen::AlignedBox3d& box);
 
 /// surfelScene(map, vis) + addRunOverlay + pointCameraAt(sceneBounds): a .3Dscene of the run.
