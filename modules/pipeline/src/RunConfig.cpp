@@ -134,8 +134,7 @@ void RunConfig::checkCamera() const {
   const auto size = [&](const char* key) {
     const double v = number(key, "image size in pixels");
     if (v < 0 || v > 65535 || v != std::floor(v))
-      fail(key,
-           "expected an image size in pixels, a whole number in [1, 65535] (0 = the preset's)");
+      fail(key, "expected an image size in pixels, a whole number in [1, 65535] (0 = the preset's)");
     return int(v);
   };
   const double fx = number("fx", "focal length > 0 (pixels)");
