@@ -83,6 +83,8 @@ void drawLinePlot(cv::Mat& img, const cv::Rect& panel, const PlotAxes& axes,
   };
   for (double g : axes.y_guides)
     if (g > y0 && g < y1) cv::line(img, px(x0, g), px(x1, g), kGuide);
+  for (double g : axes.x_guides)
+    if (g > x0 && g < x1) cv::line(img, px(g, y0), px(g, y1), kGuide);
   cv::rectangle(img, area, kBlack);
   if (!axes.title.empty())
     cv::putText(img, axes.title, cv::Point(panel.x + L, panel.y + 18), kFont, 0.48, kBlack);

@@ -1,8 +1,8 @@
 #pragma once
 // The one PNG line plotter of rasm's outputs (exploration.png, plot_trajectory.png,
-// plot_timing.png, `rasm eval memory --plot`): a white panel with a frame, guide lines, the axis
-// ranges printed at its corners, a legend, and each series as a polyline (or dots). OpenCV only,
-// so every module and app/ can draw with it.
+// plot_timing.png, `rasm eval memory --plot`, `rasm eval exploration --plot`): a white panel with a
+// frame, guide lines, the axis ranges printed at its corners, a legend, and each series as a
+// polyline (or dots). OpenCV only, so every module and app/ can draw with it.
 
 #include <limits>
 #include <opencv2/core.hpp>
@@ -28,7 +28,8 @@ struct PlotAxes {
   double y_max = std::numeric_limits<double>::quiet_NaN();
   /// One data unit is as long on both axes (a top view in metres); the ranges are widened.
   bool equal_aspect = false;
-  std::vector<double> y_guides;  ///< horizontal guide lines (light grey)
+  std::vector<double> y_guides;  ///< horizontal guide lines (light grey), their values printed
+  std::vector<double> x_guides;  ///< vertical guide lines (light grey)
 };
 
 /// Draws the plot into `panel` of `img` (CV_8UC3); points outside the ranges are clipped.
