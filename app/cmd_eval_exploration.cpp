@@ -11,13 +11,13 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "Command.h"
 #include "EvalCommands.h"
 #include "RunObjects.h"
 #include "rasm/core/Error.h"
+#include "rasm/pipeline/LinePlot.h"
 
 namespace fs = std::filesystem;
 
@@ -122,30 +122,14 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
     for (const RunRow& r : runs)
       worlds[r.world][r.planner + (r.poses == "groundtruth" ? " (gt poses)" : " (tracked)")]
           .push_back(&r);
-  const int W = 520, H = 340, L = 50, B = 45;
+  const int W = 520, H = 340;
   cv::Mat img(H, W * int(std::max<std::size_t>(1, worlds.size())), CV_8UC3,
               cv::Scalar(255, 255, 255));
   const cv::Scalar colours[] = {{200, 80, 0},  {0, 0, 200},   {0, 150, 0},
                                 {150, 0, 150}, {0, 140, 255}, {90, 90, 90}};
   int panel = 0;
   for (const auto& [world, planners] : worlds) {
-    const int x0 = panel++ * W;
-    auto px = [&](double t, double v) {
-      return cv::Point(x0 + L + int((W - L - 20) * t / tmax), H - B - int((H - B - 30) * v));
-    };
-    cv::rectangle(img, px(0, 0), px(tmax, 1), cv::Scalar(0, 0, 0));
-    for (double v = 0.25; v < 1.0; v += 0.25)
-      cv::line(img, px(0, v), px(tmax, v), cv::Scalar(225, 225, 225));
-    cv::line(img, px(0, 0.9), px(tmax, 0.9), cv::Scalar(180, 180, 180));
-    cv::putText(img, world + ": coverage vs simulated time (0-" + std::to_string(int(tmax)) + " s)",
-                cv::Point(x0 + L, 18), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0));
-    cv::putText(img, "1", cv::Point(x0 + L - 14, px(0, 1).y + 4), cv::FONT_HERSHEY_SIMPLEX, 0.4,
-                cv::Scalar(0, 0, 0));
-    cv::putText(img, "0.9", cv::Point(x0 + L - 26, px(0, 0.9).y + 4), cv::FONT_HERSHEY_SIMPLEX, 0.4,
-                cv::Scalar(0, 0, 0));
-    cv::putText(img, "0", cv::Point(x0 + L - 14, px(0, 0).y + 4), cv::FONT_HERSHEY_SIMPLEX, 0.4,
-                cv::Scalar(0, 0, 0));
-    int k = 0;
+    std::vector<rasm::pipeline::PlotSeries> series;
     for (const auto& [planner, runs] : planners) {
       // One colour per planner in every panel; runs on tracked poses drawn thin.
       const std::string base = planner.substr(0, planner.find(' '));
@@ -154,22 +138,25 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
                      : base == "random"    ? 3
                      : base == "lawnmower" ? 2
                                            : 5;
-      const cv::Scalar c = colours[ci];
-      const int thickness = planner.find("gt poses") != std::string::npos ? 2 : 1;
-      cv::putText(img, planner, cv::Point(x0 + L + 8, 38 + 16 * k), cv::FONT_HERSHEY_SIMPLEX, 0.45,
-                  c, 1);
-      ++k;
-      cv::Point prev;
+      rasm::pipeline::PlotSeries s{
+          planner, {}, {}, colours[ci], planner.find("gt poses") != std::string::npos ? 2 : 1};
       for (int i = 0; i <= 100; ++i) {
         const double t = tmax * i / 100.0;
         double v = 0;
         for (const RunRow* r : runs) v += Series::at(r->series.t, r->series.coverage, t);
-        v /= double(runs.size());
-        const cv::Point p = px(t, v);
-        if (i > 0) cv::line(img, prev, p, c, thickness);
-        prev = p;
+        s.x.push_back(t);
+        s.y.push_back(v / double(runs.size()));
       }
+      series.push_back(std::move(s));
     }
+    rasm::pipeline::PlotAxes axes;
+    axes.title = world + ": coverage vs simulated time (s)";
+    axes.x_min = 0.0;
+    axes.x_max = tmax;
+    axes.y_min = 0.0;
+    axes.y_max = 1.0;
+    axes.y_guides = {0.25, 0.5, 0.75, 0.9};
+    rasm::pipeline::drawLinePlot(img, cv::Rect(panel++ * W, 0, W, H), axes, series);
   }
   if (!cv::imwrite(path, img)) throwInputError("--plot " + path, "cannot be written");
   std::printf("wrote %s\n", path.c_str());

@@ -5,7 +5,6 @@
 // quarter before half time, see secondHalf; the criterion is < 5%), plus bytes per surfel (map
 // store / surfels; RSS / surfels). --plot draws the three curves against time.
 #include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -20,6 +19,7 @@
 #include "Command.h"
 #include "EvalCommands.h"
 #include "rasm/core/Error.h"
+#include "rasm/pipeline/LinePlot.h"
 
 namespace rasm::app {
 namespace {
@@ -62,7 +62,8 @@ MemoryCurves readFramesCsv(const std::string& path) {
       char* end = nullptr;
       const double x = i < v.size() ? std::strtod(v[i].c_str(), &end) : NAN;
       if (i >= v.size() || end == v[i].c_str() || !std::isfinite(x))
-        throwInputError(path + ":" + std::to_string(row), std::string("column ") + c + " is not a number");
+        throwInputError(path + ":" + std::to_string(row),
+                        std::string("column ") + c + " is not a number");
       return x;
     };
     m.t.push_back(num("timestamp_s"));
@@ -98,19 +99,7 @@ nlohmann::json secondHalf(const std::vector<double>& t, const std::vector<double
 }
 
 void plotCurves(const std::string& path, const MemoryCurves& m, const std::string& title) {
-  const int W = 760, H = 400, L = 60, R = 20, T = 50, B = 40;
-  cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
-  const double t0 = m.t.front(), t1 = std::max(m.t.back(), t0 + 1e-6);
-  auto px = [&](double t, double frac) {
-    return cv::Point(L + int((W - L - R) * (t - t0) / (t1 - t0)), H - B - int((H - B - T) * frac));
-  };
-  cv::rectangle(img, px(t0, 0), px(t1, 1), cv::Scalar(0, 0, 0));
-  const double t_half = 0.5 * (t0 + t1);
-  cv::line(img, px(t_half, 0), px(t_half, 1), cv::Scalar(200, 200, 200));
-  cv::putText(img, title, cv::Point(L, 18), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0));
-  cv::putText(img, "time " + std::to_string(int(t0)) + "-" + std::to_string(int(t1)) +
-                       " s; each curve scaled to its own maximum (0 at the bottom)",
-              cv::Point(L, H - 12), cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(0, 0, 0));
+  // Each curve scaled to its own maximum (0 at the bottom); the legend gives the maximum.
   struct Curve {
     const std::vector<double>* v;
     const char* name;
@@ -119,16 +108,25 @@ void plotCurves(const std::string& path, const MemoryCurves& m, const std::strin
   const Curve curves[] = {{&m.surfels, "surfels", {200, 80, 0}},
                           {&m.rss_mb, "RSS (MB)", {0, 0, 200}},
                           {&m.map_mb, "map store (MB)", {0, 150, 0}}};
-  int k = 0;
+  std::vector<rasm::pipeline::PlotSeries> series;
   for (const Curve& c : curves) {
     const double top = std::max(1e-9, *std::max_element(c.v->begin(), c.v->end()));
     char label[96];
     std::snprintf(label, sizeof label, "%s, max %.4g", c.name, top);
-    cv::putText(img, label, cv::Point(L + 230 * k++, T - 10), cv::FONT_HERSHEY_SIMPLEX, 0.42,
-                c.colour);
-    for (std::size_t i = 1; i < m.t.size(); ++i)
-      cv::line(img, px(m.t[i - 1], (*c.v)[i - 1] / top), px(m.t[i], (*c.v)[i] / top), c.colour, 1);
+    rasm::pipeline::PlotSeries s{label, m.t, {}, c.colour, 1};
+    for (double v : *c.v) s.y.push_back(v / top);
+    series.push_back(std::move(s));
   }
+  rasm::pipeline::PlotAxes axes;
+  axes.title = title;
+  axes.x_label = "time (s); each curve scaled to its own maximum";
+  axes.x_min = m.t.front();
+  axes.x_max = std::max(m.t.back(), m.t.front() + 1e-6);
+  axes.y_min = 0.0;
+  axes.y_max = 1.0;
+  axes.y_guides = {0.5};
+  axes.x_guides = {0.5 * (axes.x_min + axes.x_max)};  // the halves the growth compares
+  const cv::Mat img = rasm::pipeline::linePlot(axes, series, 760, 400);
   if (!cv::imwrite(path, img)) throwInputError("--plot " + path, "cannot be written");
 }
 

@@ -12,6 +12,7 @@
 #include "pipeline/RunTestFiles.h"
 #include "rasm/core/Error.h"
 #include "rasm/pipeline/MappingRun.h"
+#include "rasm/pipeline/RunScene.h"
 
 namespace fs = std::filesystem;
 using namespace rasm;
@@ -69,6 +70,18 @@ TEST(ExplorationLoop, ShortOfficeRunGainsCoverageAndStopsByItsRule) {
   const double last = metrics.back().at("coverage").get<double>();
   EXPECT_GT(last, first + 0.1) << "a minute of exploring adds at least a tenth of the office";
   EXPECT_TRUE(fs::is_regular_file(out + "/exploration.png"));
+  // The views map*.3Dscene and `rasm view` draw as arrows (RunScene.h): the last plan's
+  // candidates with their gain, and every goal driven to.
+  const std::vector<SceneView> views =
+      sceneViewsFromJson(ex.at("candidate_views"), "exploration.json candidate_views");
+  std::size_t goals = 0, reachable = 0;
+  for (const SceneView& v : views) {
+    goals += v.goal;
+    reachable += !v.goal && v.reachable;
+    EXPECT_NEAR(v.direction.norm(), 1.0, 1e-6);
+  }
+  EXPECT_EQ(goals, ex.at("goals").size());
+  EXPECT_GE(reachable, 1u);
   fs::remove_all(out);
 }
 

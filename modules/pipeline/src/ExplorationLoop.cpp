@@ -2,8 +2,6 @@
 
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPose2D.h>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -13,6 +11,7 @@
 #include "rasm/core/Timing.h"
 #include "rasm/exploration/ExplorationPlanner.h"
 #include "rasm/exploration/ViewPredictor.h"
+#include "rasm/pipeline/LinePlot.h"
 #include "rasm/pipeline/OutputFiles.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
 #include "rasm/pipeline/stages/FusionStages.h"
@@ -238,6 +237,7 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
                    {"path_length_m", b.path_length_m}};
   }
   if (out.current_goal_score >= 0) log["current_goal_score"] = out.current_goal_score;
+  if (!p.ranked.empty()) m_last_views = candidateViews(p);
 
   // Stopping rule (V): over stop_plans consecutive plans, too little left to gain (ig) or nothing
   // offered (every planner; the robot turns a quarter between them, so a view hidden behind it
@@ -469,39 +469,58 @@ void ExplorationLoop::writeOutputs(OutputFolder& folder) const {
                         {"stop_reason", m_stop_reason},
                         {"plans", m_plan_log},
                         {"goals", goals},
-                        {"metrics", metrics}};
+                        {"metrics", metrics},
+                        {"candidate_views", sceneViewsJson(sceneViews())}};
   folder.writeText("exploration.json", out.dump(1) + "\n");
 
   // exploration.png: coverage (blue) and objects correct (red) against simulated time.
   if (m_metrics.size() < 2) return;
-  const int W = 640, H = 360, L = 50, B = 40;
-  cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
-  const double tmax = std::max(1.0, m_metrics.back().t);
-  auto px = [&](double t, double v) {
-    return cv::Point(L + int((W - L - 20) * t / tmax), H - B - int((H - B - 20) * v));
-  };
-  cv::rectangle(img, px(0, 0), px(tmax, 1), cv::Scalar(0, 0, 0));
-  for (double v = 0.25; v < 1.0; v += 0.25)
-    cv::line(img, px(0, v), px(tmax, v), cv::Scalar(220, 220, 220));
-  for (std::size_t i = 1; i < m_metrics.size(); ++i) {
-    cv::line(img, px(m_metrics[i - 1].t, m_metrics[i - 1].coverage),
-             px(m_metrics[i].t, m_metrics[i].coverage), cv::Scalar(200, 80, 0), 2);
-    cv::line(img, px(m_metrics[i - 1].t, m_metrics[i - 1].objects_correct),
-             px(m_metrics[i].t, m_metrics[i].objects_correct), cv::Scalar(0, 0, 200), 2);
+  PlotSeries coverage{"coverage", {}, {}, cv::Scalar(200, 80, 0), 2};
+  PlotSeries objects{"objects correct", {}, {}, cv::Scalar(0, 0, 200), 2};
+  for (const MetricsRow& r : m_metrics) {
+    coverage.x.push_back(r.t);
+    coverage.y.push_back(r.coverage);
+    objects.x.push_back(r.t);
+    objects.y.push_back(r.objects_correct);
   }
-  char label[96];
-  std::snprintf(label, sizeof label, "simulated time 0 - %.0f s", tmax);
-  cv::putText(img, label, cv::Point(L, H - 12), cv::FONT_HERSHEY_SIMPLEX, 0.45,
-              cv::Scalar(0, 0, 0));
-  cv::putText(img, "coverage", cv::Point(L + 10, 35), cv::FONT_HERSHEY_SIMPLEX, 0.5,
-              cv::Scalar(200, 80, 0));
-  cv::putText(img, "objects correct", cv::Point(L + 110, 35), cv::FONT_HERSHEY_SIMPLEX, 0.5,
-              cv::Scalar(0, 0, 200));
-  cv::putText(img, "1", cv::Point(L - 15, px(0, 1).y + 5), cv::FONT_HERSHEY_SIMPLEX, 0.45,
-              cv::Scalar(0, 0, 0));
-  cv::putText(img, "0", cv::Point(L - 15, px(0, 0).y + 5), cv::FONT_HERSHEY_SIMPLEX, 0.45,
-              cv::Scalar(0, 0, 0));
-  folder.writeImage("exploration.png", img);
+  PlotAxes axes;
+  axes.title = "exploration: fractions of the world's surface and objects";
+  axes.x_label = "simulated time (s)";
+  axes.x_min = 0.0;
+  axes.x_max = std::max(1.0, m_metrics.back().t);
+  axes.y_min = 0.0;
+  axes.y_max = 1.0;
+  axes.y_guides = {0.25, 0.5, 0.75};
+  folder.writeImage("exploration.png", linePlot(axes, {coverage, objects}));
+}
+
+std::vector<SceneView> ExplorationLoop::candidateViews(const exploration::Plan& p) {
+  std::vector<SceneView> views;
+  auto add = [&](const exploration::ViewCandidate& c, bool reachable) {
+    SceneView v;
+    v.position = c.T_world_cam.translation();
+    v.direction = c.T_world_cam.linear().col(2);  // the optical axis
+    v.gain = c.gain;
+    v.reachable = reachable;
+    views.push_back(v);
+  };
+  for (const auto& c : p.ranked) add(c, true);
+  for (const auto& c : p.unreachable) add(c, false);
+  return views;
+}
+
+std::vector<SceneView> ExplorationLoop::sceneViews() const {
+  std::vector<SceneView> views = m_last_views;
+  for (const GoalRecord& g : m_goals) {
+    const Eigen::Isometry3d T = exploration::cameraPoseOf(g.goal, m_T_base_cam);
+    SceneView v;
+    v.position = T.translation();
+    v.direction = T.linear().col(2);
+    v.gain = g.gain;
+    v.goal = true;
+    views.push_back(v);
+  }
+  return views;
 }
 
 }  // namespace rasm::pipeline

@@ -2,7 +2,9 @@
 
 #include <mrpt/img/TCamera.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CObservationImage.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/serialization/CArchive.h>
 
@@ -23,6 +25,7 @@
 #include "rasm/io/EvaluationJson.h"
 #include "rasm/io/PrefetchingFrameSource.h"
 #include "rasm/io/PreloadedFrameSource.h"
+#include "rasm/io/RawlogFrameSource.h"
 #include "rasm/io/RawlogWriter.h"
 #include "rasm/io/RgbdObservation.h"
 #include "rasm/io/TrajectoryEvaluator.h"
@@ -32,6 +35,8 @@
 #include "rasm/pipeline/OutputsDoc.h"
 #include "rasm/pipeline/Progress.h"
 #include "rasm/pipeline/RobotFrameSource.h"
+#include "rasm/pipeline/RunPlots.h"
+#include "rasm/pipeline/RunScene.h"
 #include "rasm/pipeline/SimSource.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
 #include "rasm/pipeline/stages/ExplorationStage.h"
@@ -249,11 +254,31 @@ bool MappingRun::classMapView(const maps::RenderedMaps& view, cv::Mat& out) cons
 }
 
 void MappingRun::writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, const FrameResult& r) {
+  // MRPT's robot convention, which RawLogViewer draws a path from ("Maps & Paths", its travelled
+  // distance): the estimated robot base on the floor (T_world_cam T_base_cam^-1: x, y, yaw) as a
+  // CObservationOdometry before the frame, labelled with the tracking status, and the camera's
+  // pose on that base as the scan's sensorPose; odometry + sensorPose = the estimated T_world_cam.
+  const Eigen::Isometry3d T_base =
+      r.T_world_cam * m_mapper->stage<TrackingStage>().robotParams().T_base_cam().inverse();
+  const Eigen::Matrix3d R = T_base.linear();
+  const mrpt::poses::CPose2D base(T_base.translation().x(), T_base.translation().y(),
+                                  std::atan2(R(1, 0), R(0, 0)));
+  mrpt::obs::CObservationOdometry odo;
+  odo.sensorLabel = !r.tracked                                 ? "POSE_LOST"
+                    : r.pose_source == PoseSource::Relocalised ? "POSE_RELOCALISED"
+                                                               : "POSE_TRACKED";
+  odo.timestamp = mrpt::Clock::fromDouble(frame.timestamp_s);
+  odo.odometry = base;
+  if (!r.tracked && m_annotated_lost.size() < 200)  // why: in the closing comment
+    m_annotated_lost.push_back("frame " + std::to_string(r.index) + ": " +
+                               tracking::toString(r.tracking.status) + ", pose from " +
+                               toString(r.pose_source));
+  w.writeObject(odo);
   mrpt::obs::CObservation3DRangeScan obs;
   io::FrameToObservationOptions fo;
   fo.sensor_pose_from_ground_truth = false;
   io::observationFromFrame(frame, obs, fo);
-  obs.sensorPose = mrptSensorPoseFromOptical(r.T_world_cam);
+  obs.sensorPose = mrptSensorPoseFromOptical(r.T_world_cam) - mrpt::poses::CPose3D(base);
   w.writeObject(obs);
   maps::RenderedMaps view;
   m_mapper->renderView(r.T_world_cam, frame.intrinsics, view);
@@ -458,8 +483,8 @@ void MappingRun::recordFrame(Accumulated& acc, const RgbdFrame& f, const FrameRe
 void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFolder& out,
                            const std::function<void(const FrameResult&)>& on_frame) {
   Progress progress("frames", expectedFrames(source));
-  // annotated.rawlog: each input observation with the ESTIMATED camera pose as sensorPose (MRPT
-  // sensor frame), followed by a CObservationImage "MAP_VIEW" of the map rendered from that pose.
+  // annotated.rawlog: each input observation with the ESTIMATED pose (writeAnnotated), followed
+  // by a CObservationImage "MAP_VIEW" of the map rendered from that pose.
   // Its writer renames "annotated.rawlog.part" at close() and removes it when destroyed open.
   std::unique_ptr<io::RawlogWriter> annotated;
   const ScopedTemporary annotated_part(out.path("annotated.rawlog"));
@@ -508,6 +533,7 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFold
   acc.interrupted_in_frames = stopSignal() != 0;
   progress.finish(static_cast<long long>(acc.processed), "done");
   if (annotated) try {
+      annotated->writeObject(annotatedComment(true));
       annotated->close();
       out.recordWritten("annotated.rawlog");
     } catch (const std::exception& e) {
@@ -519,7 +545,26 @@ std::unique_ptr<io::RawlogWriter> MappingRun::openAnnotated(const OutputFolder& 
   io::RawlogWriterOptions wo;
   wo.sensor_label = "RGBD";
   wo.sensor_pose_from_ground_truth = false;
-  return std::make_unique<io::RawlogWriter>(out.path("annotated.rawlog"), wo);
+  auto w = std::make_unique<io::RawlogWriter>(out.path("annotated.rawlog"), wo);
+  w->writeObject(annotatedComment(false));  // rasm's reader takes no sensorPose as ground truth
+  return w;
+}
+
+mrpt::obs::CObservationComment MappingRun::annotatedComment(bool closing) const {
+  mrpt::obs::CObservationComment c;
+  c.sensorLabel = "rasm";
+  c.text = std::string(io::kRawlogNoGroundTruthMarker) +
+           ".\nrasm annotated rawlog: per frame a CObservationOdometry (label POSE_TRACKED, "
+           "POSE_LOST or POSE_RELOCALISED) with the estimated robot base pose (x, y, yaw; "
+           "RawLogViewer: \"Raw-map\" > \"Map from odometry\" draws the path), then the "
+           "observation with the camera's pose on that base as sensorPose (odometry + sensorPose "
+           "= the estimated camera pose, trajectory.txt), then the map rendered from that pose "
+           "(MAP_VIEW) and, once the map has classes, the class map (CLASS_VIEW).\n";
+  if (closing) {  // RawLogViewer shows the last comment: the frames tracking lost, and why
+    c.text += "Frames tracking lost: " + std::to_string(m_mapper->framesLost()) + "\n";
+    for (const std::string& l : m_annotated_lost) c.text += l + "\n";
+  }
+  return c;
 }
 
 std::string MappingRun::noFrameReason(const Accumulated& acc) const {
@@ -541,22 +586,37 @@ void MappingRun::writeOutputs(const Accumulated& acc, OutputFolder& out) {
     out.write("groundtruth.txt", [&](const std::string& part) {
       io::writeTumTrajectory(part, acc.groundtruth, "ground truth of the source");
     });
-  writeMapFiles(out);
+  writeMapFiles(acc, out);
   m_mapper->writeOutputs(out);
   if (m_explore) m_explore->writeOutputs(out);
   if (m_output.preview_png && acc.have_K && acc.processed > 0) writePreviews(acc, out);
+  if (m_output.preview_png) writePlots(acc, out);
 }
 
-void MappingRun::writeMapFiles(OutputFolder& out) const {
+void MappingRun::writePlots(const Accumulated& acc, OutputFolder& out) const {
+  const CsvColumns frames = parseCsvColumns(acc.frames_csv);
+  if (!acc.estimate.empty())
+    out.writeImage("plot_trajectory.png", trajectoryPlot(acc.estimate, acc.groundtruth, frames));
+  const cv::Mat timing = timingPlot(frames);
+  if (!timing.empty()) out.writeImage("plot_timing.png", timing);
+}
+
+void MappingRun::writeMapFiles(const Accumulated& acc, OutputFolder& out) const {
   const maps::CSurfelMap& map = m_mapper->map();
   if (m_output.write_ply) out.write("map.ply", [&](const std::string& p) { map.saveToPly(p); });
   if (m_output.write_3dscene) {
     const maps::SurfelArrays a = map.store().arrays();
+    // The map with the paths, the last camera and the exploration's views (RunScene.h).
+    RunOverlay overlay;
+    overlay.estimate = acc.estimate;
+    overlay.groundtruth = acc.groundtruth;
+    if (acc.have_K) overlay.K = acc.last_K;
+    if (m_explore) overlay.views = m_explore->sceneViews();
     auto scene = [&](const char* name, maps::SurfelColouring colouring) {
       maps::SurfelVisualOptions vis = map.renderingOptions.visual;
       if (colouring != maps::SurfelColouring::Rgb) vis.colouring = colouring;
       out.write(name, [&](const std::string& p) {
-        writeGzArchive(p, *maps::surfelScene(map.store(), vis));
+        writeGzArchive(p, *runScene(map.store(), vis, overlay));
       });
     };
     scene("map.3Dscene", maps::SurfelColouring::Rgb);

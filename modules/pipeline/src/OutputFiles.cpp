@@ -187,7 +187,8 @@ const std::vector<std::string>& OutputFolder::knownNames() {
       "preview_segments.png", "preview_classes.png",  "segments.json",
       "map_segments.ply",     "map_segments.3Dscene", "classes.json",
       "objects.json",         "map_classes.ply",      "map_classes.3Dscene",
-      "exploration.json",     "exploration.png",      "annotated.rawlog"};
+      "exploration.json",     "exploration.png",      "annotated.rawlog",
+      "plot_trajectory.png",  "plot_timing.png"};
   return names;
 }
 

@@ -34,6 +34,7 @@
 #include "rasm/fusion/TFusionParams.h"
 #include "rasm/navigation/Navigator.h"
 #include "rasm/pipeline/Mapper.h"
+#include "rasm/pipeline/RunScene.h"
 #include "rasm/pipeline/stages/ExplorationStage.h"
 
 namespace rasm::sim {
@@ -69,6 +70,10 @@ class ExplorationLoop {
   /// exploration.json (plans, goals, metrics over time) and exploration.png (coverage and
   /// objects against simulated time).
   void writeOutputs(OutputFolder& out) const;
+  /// The views to draw over the map (RunScene.h, exploration.json "candidate_views"): the
+  /// candidates of the last plan that offered any (reachable ones with their gain, unreachable
+  /// ones), then every goal driven to.
+  std::vector<SceneView> sceneViews() const;
 
  private:
   struct GoalRecord {
@@ -112,6 +117,7 @@ class ExplorationLoop {
   void startGoal(const exploration::ViewCandidate& c, double t);
   void endGoal(double t, const std::string& outcome);
   void measure(double t);
+  static std::vector<SceneView> candidateViews(const exploration::Plan& p);
   void stop(const std::string& reason);
   void release();
 
@@ -135,6 +141,7 @@ class ExplorationLoop {
   std::optional<GoalRecord> m_goal;
   double m_goal_rate = 0.0;  ///< rate of the current goal when chosen (for switching)
   std::vector<GoalRecord> m_goals;
+  std::vector<SceneView> m_last_views;  ///< candidateViews of the last plan that offered any
   nlohmann::json m_plan_log = nlohmann::json::array();
   std::vector<MetricsRow> m_metrics;
   std::string m_stop_reason;

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include <mrpt/obs/CObservationComment.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/core/mat.hpp>
 
@@ -118,6 +119,8 @@ class MappingRun {
   void recordFrame(Accumulated& acc, const RgbdFrame& f, const FrameResult& r);
   std::unique_ptr<io::RawlogWriter> openAnnotated(const OutputFolder& out) const;
   void writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, const FrameResult& r);
+  /// annotated.rawlog's comment: what it holds (first), and at its end the frames lost and why.
+  mrpt::obs::CObservationComment annotatedComment(bool closing) const;
   /// The stages' finishRun and the exploration's end; the error of a run without any frame.
   void finishFrames(Accumulated& acc);
   std::string noFrameReason(const Accumulated& acc) const;
@@ -127,7 +130,9 @@ class MappingRun {
   bool classMapView(const maps::RenderedMaps& view, cv::Mat& out) const;
   /// frames.csv, trajectory, ground truth, map files, the stages' files, previews.
   void writeOutputs(const Accumulated& acc, OutputFolder& out);
-  void writeMapFiles(OutputFolder& out) const;
+  void writeMapFiles(const Accumulated& acc, OutputFolder& out) const;
+  /// plot_trajectory.png and plot_timing.png (RunPlots.h), with [output] preview_png.
+  void writePlots(const Accumulated& acc, OutputFolder& out) const;
   void writePreviews(const Accumulated& acc, OutputFolder& out) const;
   /// report.json's fields (and the summary's ATE); `source` describes the source.
   nlohmann::json reportJson(const std::string& source, const Accumulated& acc,
@@ -148,6 +153,7 @@ class MappingRun {
   std::unique_ptr<Mapper> m_mapper;
   std::unique_ptr<ExplorationLoop> m_explore;  ///< exploring: the closed loop (V, VI)
   bool m_exploring = false;                    ///< [explore] enabled and the source decide
+  std::vector<std::string> m_annotated_lost;   ///< annotated.rawlog: lost frames and why (200)
 };
 
 }  // namespace rasm::pipeline

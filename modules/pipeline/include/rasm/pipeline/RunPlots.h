@@ -1,0 +1,35 @@
+#pragma once
+// The plots of a run folder (issue 19, 3), drawn with LinePlot.h:
+//   plot_trajectory.png  top view (x, y in m, equal scales) of the estimated camera path against
+//                        the ground truth; frames tracking lost (frames.csv tracked = 0) in red
+//   plot_timing.png      milliseconds per frame of the Mapper's timers (frames.csv ms_* columns)
+//                        that take at least 5% of the total, and the total in black, as
+//                        10-frame running means over the frame index (legend: each timer's
+//                        mean); the y range ends at the 99th percentile of the total
+// (exploration.png, coverage and objects correct over simulated time, is ExplorationLoop's.)
+
+#include <map>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "rasm/io/Trajectory.h"
+
+namespace rasm::pipeline {
+
+/// A CSV text with a header row (frames.csv): columns by name, every value as a number (NaN
+/// where a cell is not one).
+struct CsvColumns {
+  std::vector<std::string> names;  ///< in file order
+  std::map<std::string, std::vector<double>> values;
+  std::size_t rows = 0;
+};
+CsvColumns parseCsvColumns(const std::string& text);
+
+/// plot_trajectory.png. `frames` = frames.csv (for the tracked column; may be empty).
+cv::Mat trajectoryPlot(const io::Trajectory& estimate, const io::Trajectory& groundtruth,
+                       const CsvColumns& frames);
+/// plot_timing.png; an empty image when frames.csv has no ms_total column or no row.
+cv::Mat timingPlot(const CsvColumns& frames);
+
+}  // namespace rasm::pipeline

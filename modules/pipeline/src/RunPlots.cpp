@@ -1,0 +1,145 @@
+#include "rasm/pipeline/RunPlots.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+#include "rasm/pipeline/LinePlot.h"
+
+namespace rasm::pipeline {
+
+namespace {
+std::vector<std::string> splitRow(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream s(line);
+  std::string cell;
+  while (std::getline(s, cell, ',')) cells.push_back(cell);
+  return cells;
+}
+
+double toNumber(const std::string& cell) {
+  char* end = nullptr;
+  const double v = std::strtod(cell.c_str(), &end);
+  return end != cell.c_str() && *end == '\0' ? v : std::nan("");
+}
+
+const cv::Scalar kStageColours[] = {{200, 80, 0},  {0, 0, 200},   {0, 150, 0},
+                                    {150, 0, 150}, {0, 140, 255}, {140, 140, 0},
+                                    {90, 60, 200}, {0, 90, 140},  {120, 120, 120}};
+constexpr int kRunningMean = 10;
+constexpr double kMinShareOfTotal = 0.05;
+
+double finiteMean(const std::vector<double>& v) {
+  double sum = 0.0;
+  int n = 0;
+  for (double t : v)
+    if (std::isfinite(t)) sum += t, ++n;
+  return n > 0 ? sum / n : 0.0;
+}
+
+/// A timer's curve: the running mean over kRunningMean frames (a frame's own time jumps with the
+/// load of the machine); its legend gives the timer's mean.
+PlotSeries timerSeries(const std::string& name, double mean, const std::vector<double>& x,
+                       const std::vector<double>& ms, const cv::Scalar& colour, int thickness) {
+  char label[96];
+  std::snprintf(label, sizeof label, "%s %.1f", name.c_str(), mean);
+  PlotSeries s{label, x, {}, colour, thickness};
+  double sum = 0.0;
+  int n = 0;
+  for (std::size_t i = 0; i < ms.size(); ++i) {
+    if (std::isfinite(ms[i])) sum += ms[i], ++n;
+    if (i >= std::size_t(kRunningMean) && std::isfinite(ms[i - kRunningMean]))
+      sum -= ms[i - kRunningMean], --n;
+    s.y.push_back(n > 0 ? sum / n : std::nan(""));
+  }
+  return s;
+}
+}  // namespace
+
+CsvColumns parseCsvColumns(const std::string& text) {
+  CsvColumns c;
+  std::stringstream s(text);
+  std::string line;
+  if (!std::getline(s, line)) return c;
+  c.names = splitRow(line);
+  for (const std::string& n : c.names) c.values[n];
+  while (std::getline(s, line)) {
+    if (line.empty()) continue;
+    const std::vector<std::string> cells = splitRow(line);
+    for (std::size_t k = 0; k < c.names.size(); ++k)
+      c.values[c.names[k]].push_back(k < cells.size() ? toNumber(cells[k]) : std::nan(""));
+    ++c.rows;
+  }
+  return c;
+}
+
+cv::Mat trajectoryPlot(const io::Trajectory& estimate, const io::Trajectory& groundtruth,
+                       const CsvColumns& frames) {
+  PlotSeries gt{"ground truth", {}, {}, cv::Scalar(120, 220, 120), 4};  // wide, under the estimate
+  for (const io::StampedPose& p : groundtruth) {
+    gt.x.push_back(p.T_world_cam.translation().x());
+    gt.y.push_back(p.T_world_cam.translation().y());
+  }
+  PlotSeries est{"estimate", {}, {}, cv::Scalar(200, 60, 0), 1};
+  PlotSeries lost{"tracking lost", {}, {}, cv::Scalar(0, 0, 220), 2, true};
+  const auto tracked = frames.values.find("tracked");
+  for (std::size_t i = 0; i < estimate.size(); ++i) {
+    const Eigen::Vector3d t = estimate[i].T_world_cam.translation();
+    est.x.push_back(t.x());
+    est.y.push_back(t.y());
+    if (tracked != frames.values.end() && i < tracked->second.size() && tracked->second[i] == 0)
+      lost.x.push_back(t.x()), lost.y.push_back(t.y());
+  }
+  PlotAxes axes;
+  axes.title = "camera path, top view (world x, y)";
+  axes.x_label = "x (m)";
+  axes.y_label = "y (m)";
+  axes.equal_aspect = true;
+  std::vector<PlotSeries> series;
+  if (!gt.x.empty()) series.push_back(gt);
+  series.push_back(est);
+  if (!lost.x.empty()) series.push_back(lost);
+  return linePlot(axes, series, 560, 560);
+}
+
+cv::Mat timingPlot(const CsvColumns& frames) {
+  const auto index = frames.values.find("index");
+  const auto total = frames.values.find("ms_total");
+  if (frames.rows == 0 || total == frames.values.end()) return {};
+  std::vector<double> x;
+  for (std::size_t i = 0; i < frames.rows; ++i)
+    x.push_back(index != frames.values.end() ? index->second[i] : double(i));
+  const double total_mean = finiteMean(total->second);
+  std::vector<PlotSeries> series;
+  int k = 0;
+  for (const std::string& name : frames.names) {
+    if (name.rfind("ms_", 0) != 0 || name == "ms_total") continue;
+    const double mean = finiteMean(frames.values.at(name));
+    if (mean < kMinShareOfTotal * total_mean) continue;  // the small ones would only clutter
+    series.push_back(
+        timerSeries(name.substr(3), mean, x, frames.values.at(name), kStageColours[k++ % 9], 1));
+  }
+  series.push_back(timerSeries("total", total_mean, x, total->second, cv::Scalar(0, 0, 0), 2));
+  std::vector<double> sorted;
+  for (double t : series.back().y)
+    if (std::isfinite(t)) sorted.push_back(t);
+  PlotAxes axes;
+  axes.title = "ms per frame (frames.csv ms_*, " + std::to_string(kRunningMean) +
+               "-frame running mean; legend: mean), timers over " +
+               std::to_string(int(100 * kMinShareOfTotal)) + "% of the total";
+  axes.x_label = "frame";
+  axes.x_min = x.front();
+  axes.x_max = x.back();
+  axes.y_label = "ms";
+  axes.y_min = 0.0;
+  if (!sorted.empty()) {
+    std::sort(sorted.begin(), sorted.end());
+    axes.y_max =
+        1.1 * std::max(1e-3, sorted[std::min(sorted.size() - 1, sorted.size() * 99 / 100)]);
+  }
+  return linePlot(axes, series, 900, 420);
+}
+
+}  // namespace rasm::pipeline

@@ -1,0 +1,264 @@
+// What people open of a run (issue 19, 3-4): the 3-D scenes carry the paths, the last camera and
+// the exploration's candidate views and start on the map; annotated.rawlog carries the path as
+// odometry (RawLogViewer draws it) with the tracking status; the plots; the plotter itself.
+#include <gtest/gtest.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationComment.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/opengl/CArrow.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CSetOfLines.h>
+#include <mrpt/opengl/CSetOfObjects.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+
+#include "pipeline/RunTestFiles.h"
+#include "rasm/core/Error.h"
+#include "rasm/core/SE3.h"
+#include "rasm/pipeline/LinePlot.h"
+#include "rasm/pipeline/MappingRun.h"
+#include "rasm/pipeline/RunPlots.h"
+#include "rasm/pipeline/RunScene.h"
+
+namespace fs = std::filesystem;
+using namespace rasm;
+using namespace rasm::pipeline;
+using namespace rasm::pipeline::testing;
+
+namespace {
+int countColour(const cv::Mat& img, const cv::Vec3b& bgr) {
+  int n = 0;
+  for (int y = 0; y < img.rows; ++y)
+    for (int x = 0; x < img.cols; ++x) n += img.at<cv::Vec3b>(y, x) == bgr;
+  return n;
+}
+
+/// Pixels whose channel `c` (0 blue, 1 green, 2 red) exceeds both others by 60 (anti-aliased
+/// lines blend into the white).
+int countDominant(const cv::Mat& img, int c) {
+  int n = 0;
+  for (int y = 0; y < img.rows; ++y)
+    for (int x = 0; x < img.cols; ++x) {
+      const cv::Vec3b p = img.at<cv::Vec3b>(y, x);
+      n += p[c] > p[(c + 1) % 3] + 60 && p[c] > p[(c + 2) % 3] + 60;
+    }
+  return n;
+}
+
+io::Trajectory straightPath(int n, double step_m) {
+  io::Trajectory t;
+  for (int i = 0; i < n; ++i) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(step_m * i, 0.5, 0.3);
+    t.push_back({0.1 * i, T});
+  }
+  return t;
+}
+}  // namespace
+
+TEST(LinePlot, DrawsEachSeriesInItsColourInsideTheFrame) {
+  PlotSeries up{"up", {0, 1, 2}, {0, 1, 2}, cv::Scalar(255, 0, 0), 2};
+  PlotSeries flat{"flat", {0, 2}, {1, 1}, cv::Scalar(0, 0, 255), 1};
+  PlotSeries legend_only{"flat", {}, {}, cv::Scalar(0, 0, 255), 1};
+  PlotAxes axes;
+  axes.y_min = 0;
+  axes.y_max = 2;
+  const cv::Mat img = linePlot(axes, {up, flat}, 400, 300);
+  ASSERT_EQ(img.cols, 400);
+  ASSERT_EQ(img.rows, 300);
+  const int legend = countDominant(linePlot(axes, {up, legend_only}, 400, 300), 2);
+  // The diagonal is drawn in blue, the flat line in red across the plot (~320 px).
+  EXPECT_GT(countDominant(img, 0), 400);
+  EXPECT_GT(countDominant(img, 2), legend + 250);
+  // Above y_max it is clipped: only its legend entry stays.
+  flat.y = {5, 5};
+  EXPECT_EQ(countDominant(linePlot(axes, {up, flat}, 400, 300), 2), legend);
+}
+
+TEST(LinePlot, EqualAspectKeepsMetresSquare) {
+  // A 4 m x 1 m rectangle in a square image: with equal scales its drawn height is a quarter
+  // of its drawn width.
+  PlotSeries box{"", {0, 4, 4, 0, 0}, {0, 0, 1, 1, 0}, cv::Scalar(0, 200, 0), 1};
+  PlotAxes axes;
+  axes.equal_aspect = true;
+  const cv::Mat img = linePlot(axes, {box}, 500, 500);
+  int x0 = img.cols, x1 = -1, y0 = img.rows, y1 = -1;
+  for (int y = 0; y < img.rows; ++y)
+    for (int x = 0; x < img.cols; ++x)
+      if (img.at<cv::Vec3b>(y, x)[1] > img.at<cv::Vec3b>(y, x)[0] + 60)
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+  ASSERT_GT(x1, x0);
+  EXPECT_NEAR(double(y1 - y0) / double(x1 - x0), 0.25, 0.02);
+}
+
+TEST(RunPlots, TimingPlotHasOneCurvePerStageAndSkipsNonStageColumns) {
+  const CsvColumns c = parseCsvColumns(
+      "index,timestamp_s,tracked,icp_iterations,ms_tracking,ms_total\n"
+      "0,0.0,1,3,10.5,20\n1,0.1,0,x,12,25\n2,0.2,1,4,11,22\n");
+  ASSERT_EQ(c.rows, 3u);
+  EXPECT_EQ(c.values.at("ms_tracking"), (std::vector<double>{10.5, 12, 11}));
+  EXPECT_TRUE(std::isnan(c.values.at("icp_iterations")[1])) << "'x' is no number";
+  const cv::Mat img = timingPlot(c);
+  ASSERT_FALSE(img.empty());
+  EXPECT_EQ(img.cols, 900);
+  EXPECT_GT(countColour(img, cv::Vec3b(0, 0, 0)), 1500) << "the total, thick black, and the frame";
+  EXPECT_TRUE(timingPlot(parseCsvColumns("index,tracked\n0,1\n")).empty());
+}
+
+TEST(RunPlots, TrajectoryPlotMarksLostFrames) {
+  const io::Trajectory est = straightPath(20, 0.1);
+  const CsvColumns frames = parseCsvColumns(
+      "index,tracked\n0,1\n1,1\n2,1\n3,1\n4,1\n5,0\n6,0\n7,1\n8,1\n9,1\n10,1\n11,1\n12,1\n"
+      "13,1\n14,1\n15,1\n16,1\n17,1\n18,1\n19,1\n");
+  const cv::Mat with_lost = trajectoryPlot(est, {}, frames);
+  const cv::Mat none_lost = trajectoryPlot(est, {}, parseCsvColumns(""));
+  // The lost frames are red dots (BGR 0, 0, 220) beyond the legend entry.
+  EXPECT_GT(countDominant(with_lost, 2), countDominant(none_lost, 2) + 10);
+}
+
+TEST(RunScene, ViewsSurviveJsonAndABadEntryIsNamed) {
+  SceneView a;
+  a.position = {1, 2, 0.5};
+  a.direction = {0, 1, 0};
+  a.gain = 0.7;
+  SceneView b = a;
+  b.reachable = false;
+  b.goal = true;
+  const auto back = sceneViewsFromJson(sceneViewsJson({a, b}), "x");
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_EQ(back[0].position, a.position);
+  EXPECT_EQ(back[0].direction, a.direction);
+  EXPECT_DOUBLE_EQ(back[0].gain, 0.7);
+  EXPECT_TRUE(back[0].reachable);
+  EXPECT_FALSE(back[1].reachable);
+  EXPECT_TRUE(back[1].goal);
+  try {
+    sceneViewsFromJson(nlohmann::json::parse(R"([{"position": [1, 2], "direction": [0, 0, 1]}])"),
+                       "exploration.json candidate_views");
+    FAIL() << "a 2-vector position accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("exploration.json candidate_views[0].position"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(RunScene, SceneHoldsPathsCameraViewsAndStartsOnTheMap) {
+  maps::SurfelStore store;
+  // A 4 m x 2 m floor patch centred on (5, 3, 0), far from the origin.
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 20; ++j) {
+      maps::Surfel s;
+      s.position = Vec3f(3.0f + 0.1f * i, 2.0f + 0.1f * j, 0.0f);
+      s.radius = 0.05f;
+      s.confidence = 5.0f;
+      store.append(s);
+    }
+  RunOverlay o;
+  o.estimate = straightPath(10, 0.2);
+  o.groundtruth = straightPath(10, 0.21);
+  SceneView v;
+  v.position = {4, 3, 0.5};
+  v.gain = 1.0;
+  o.views = {v, v};
+  o.views[1].goal = true;
+  const auto scene = runScene(store, {}, o);
+  const std::string path = tempDir("scene") + ".3Dscene";
+  ASSERT_TRUE(scene->saveToFile(path));
+  mrpt::opengl::COpenGLScene back;  // what SceneViewer3D reads
+  ASSERT_TRUE(back.loadFromFile(path));
+  fs::remove(path);
+  auto traj = std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(back.getByName("trajectory"));
+  ASSERT_TRUE(traj);
+  EXPECT_EQ(traj->size(), 9u) << "one segment between each two of the 10 poses";
+  EXPECT_TRUE(back.getByName("groundtruth"));
+  auto cam = std::dynamic_pointer_cast<mrpt::opengl::CSetOfObjects>(back.getByName("camera"));
+  ASSERT_TRUE(cam);
+  EXPECT_NEAR(cam->getPose().x, 1.8, 1e-5) << "at the last pose";
+  auto views =
+      std::dynamic_pointer_cast<mrpt::opengl::CSetOfObjects>(back.getByName("candidate_views"));
+  ASSERT_TRUE(views);
+  EXPECT_EQ(std::distance(views->begin(), views->end()), 2);
+  // The camera looks at the middle of the map and the path (x 0-6.9, y 0.5-3.9), not at (0,0,0).
+  EXPECT_TRUE(back.followCamera());
+  const mrpt::opengl::CCamera& c = back.getViewport("main")->getCamera();
+  EXPECT_NEAR(c.getPointingAtX(), 3.45, 0.06);
+  EXPECT_NEAR(c.getPointingAtY(), 2.2, 0.06);
+  EXPECT_GT(c.getZoomDistance(), 6.9) << "far enough to see most of the 6.9 m extent";
+  EXPECT_LT(c.getZoomDistance(), 20.0);
+}
+
+// A short simulated hand-held replay (20 frames with ground truth): the scenes, the annotated
+// rawlog's odometry and the plots.
+TEST(RunScene, RunWritesScenesRawlogPathAndPlots) {
+  const std::string out = tempDir("scene_run");
+  RunConfig cfg = RunConfig::fromString("[source]\ntype = rawlog\npath = " RASM_SOURCE_DIR
+                                        "/rawlogs/sim_office_handheld_320x240.rawlog\n",
+                                        "test");
+  cfg.set("output", "dir", out);
+  cfg.set("output", "write_rawlog", "true");
+  MappingRun run(cfg);
+  const RunSummary s = run.run();
+  ASSERT_EQ(s.frames, 20u);
+  expectCompleteRunFolder(out);
+  const io::Trajectory est = io::readTumTrajectory(out + "/trajectory.txt");
+
+  mrpt::opengl::COpenGLScene scene;
+  ASSERT_TRUE(scene.loadFromFile(out + "/map.3Dscene"));
+  auto traj = std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(scene.getByName("trajectory"));
+  ASSERT_TRUE(traj);
+  EXPECT_EQ(traj->size(), 19u);
+  EXPECT_TRUE(scene.getByName("groundtruth")) << "the simulated rawlog has ground truth";
+  EXPECT_TRUE(scene.getByName("camera"));
+  EXPECT_TRUE(scene.followCamera());
+  const mrpt::opengl::CCamera& cam = scene.getViewport("main")->getCamera();
+  const maps::PlySurfels ply = maps::readSurfelPly(out + "/map.ply");
+  Eigen::AlignedBox3f box;
+  for (const Vec3f& p : ply.position) box.extend(p);
+  EXPECT_TRUE(box.contains(
+      Eigen::Vector3f(cam.getPointingAtX(), cam.getPointingAtY(), cam.getPointingAtZ())))
+      << "the camera points into the map";
+
+  // annotated.rawlog: per frame a CObservationOdometry labelled with the status, then the scan;
+  // odometry + sensorPose is the estimated camera pose of trajectory.txt.
+  mrpt::io::CFileGZInputStream in(out + "/annotated.rawlog");
+  auto ar = mrpt::serialization::archiveFrom(in);
+  std::optional<mrpt::poses::CPose2D> odo;
+  std::size_t frames = 0, comments = 0;
+  for (;;) {
+    mrpt::serialization::CSerializable::Ptr obj;
+    try {
+      ar >> obj;
+    } catch (const mrpt::serialization::CExceptionEOF&) {
+      break;
+    }
+    if (auto c = std::dynamic_pointer_cast<mrpt::obs::CObservationComment>(obj)) ++comments;
+    if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obj)) {
+      EXPECT_TRUE(o->sensorLabel == "POSE_TRACKED" || o->sensorLabel == "POSE_LOST" ||
+                  o->sensorLabel == "POSE_RELOCALISED")
+          << o->sensorLabel;
+      odo = o->odometry;
+    }
+    auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(obj);
+    if (!scan) continue;
+    ASSERT_TRUE(odo) << "frame " << frames << " without its odometry before it";
+    ASSERT_LT(frames, est.size());
+    const Eigen::Isometry3d T =
+        opticalFromMrptSensorPose(mrpt::poses::CPose3D(*odo) + scan->sensorPose);
+    EXPECT_LT((T.translation() - est[frames].T_world_cam.translation()).norm(), 1e-4);
+    EXPECT_LT((T.linear() - est[frames].T_world_cam.linear()).norm(), 1e-4);
+    odo.reset();
+    ++frames;
+  }
+  EXPECT_EQ(frames, 20u);
+  EXPECT_GE(comments, 1u) << "the header saying the poses are estimates";
+
+  const cv::Mat tp = cv::imread(out + "/plot_trajectory.png");
+  const cv::Mat tm = cv::imread(out + "/plot_timing.png");
+  EXPECT_EQ(tp.cols, 560);
+  EXPECT_EQ(tm.cols, 900);
+  fs::remove_all(out);
+}
