@@ -190,6 +190,7 @@ int view(const std::vector<std::string>& args) {
 }
 
 const rasm::app::Registrar kRegistrar{
-    "view", "a run's map, paths and candidate views in a 3-D window, or offscreen to a PNG", &view};
+    "view", "a run's map, paths and candidate views in a 3-D window, or offscreen to a PNG", &view,
+    kUsage};
 
 }  // namespace

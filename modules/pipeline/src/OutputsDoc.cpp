@@ -48,6 +48,12 @@ const Doc kFiles[] = {
     {"map_classes.3Dscene", "map.3Dscene coloured by class, when a surfel carries one"},
     {"exploration.json", "an exploring run's plans, goals and ground-truth metrics (below)"},
     {"exploration.png", "coverage (blue) and objects correct (red) against simulated time"},
+    {"plot_trajectory.png",
+     "top view of the estimated path over the ground truth (when there is one), lost frames "
+     "in red"},
+    {"plot_timing.png",
+     "ms per frame of each stage above 5% of the total (10-frame running means), from "
+     "frames.csv"},
     {"annotated.rawlog",
      "`[output] write_rawlog`: each input observation with the estimated pose "
      "as sensorPose, followed by `MAP_VIEW` (the map rendered from it) and, "
@@ -131,6 +137,14 @@ const Doc kReport[] = {
     {"objects_correct_fraction",
      "exploring run: detectable objects of the world carrying their "
      "class, at the end"},
+    {"real_time",
+     "`[source] real_time` or a live camera: `paced_by`, `frames_offered`, `frames_dropped` "
+     "(arrived while the mapper was busy), `frames_processed`, `offered_fps`, "
+     "`processed_fps`, `dropped_frames` (index ranges, e.g. \"3-5,9\")"},
+    {"robot",
+     "`[robot] type = segway_rmp`: `type`, `address`, `link_ok`, `commands_sent`, `responses`, "
+     "`bad_responses`, `watchdog_stops`, `operational_state`, `fault_status`, "
+     "`battery_soc_pct`, `odometry_xyyaw` (docs/hardware.md)"},
     {"path_length_m", "exploring run: distance the robot drove (m)"},
     {"sim_time_s", "exploring run: simulated time (s)"},
     {"stop_reason",
