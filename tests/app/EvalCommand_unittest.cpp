@@ -10,25 +10,16 @@
 #include <fstream>
 #include <string>
 
+#include "RasmProcess.h"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int status = -1;
-  std::string output;
-};
+using rasm::app::testing::Result;
 
 Result rasmCommand(const std::string& args) {
-  Result r;
-  const std::string cmd = std::string(RASM_BINARY) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), int(buf.size()), p)) r.output += buf.data();
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
+  return rasm::app::testing::runRasm(args);
 }
 
 class EvalCommand : public ::testing::Test {
@@ -86,8 +77,8 @@ void writeMemoryCsv(const fs::path& dir, int n, F surfels) {
   f << "index,timestamp_s,tracked,surfels,ms_total,rss_mb,map_memory_bytes\n";
   for (int i = 0; i < n; ++i) {
     const double s = surfels(i);
-    f << i << "," << 100.0 + 0.1 * i << ",1," << s << ",30," << 100.0 + 200.0 * s / 1048576.0
-      << "," << 64.0 * s << "\n";
+    f << i << "," << 100.0 + 0.1 * i << ",1," << s << ",30," << 100.0 + 200.0 * s / 1048576.0 << ","
+      << 64.0 * s << "\n";
   }
 }
 }  // namespace
@@ -117,7 +108,8 @@ TEST_F(EvalCommand, MemoryPlateausOnlyWhenTheSecondHalfStopsGrowing) {
 
 TEST_F(EvalCommand, MemoryNamesAFramesCsvWithoutItsColumns) {
   fs::create_directories(dir_ / "old");
-  std::ofstream((dir_ / "old" / "frames.csv").string()) << "index,timestamp_s,tracked,surfels\n0,1,1,5\n";
+  std::ofstream((dir_ / "old" / "frames.csv").string())
+      << "index,timestamp_s,tracked,surfels\n0,1,1,5\n";
   const Result r = rasmCommand("eval memory " + (dir_ / "old").string());
   EXPECT_NE(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("frames.csv: has no column 'rss_mb'"), std::string::npos) << r.output;

@@ -10,28 +10,18 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
+#include "RasmProcess.h"
 #include "pipeline/RunTestFiles.h"
 
 namespace fs = std::filesystem;
 using namespace rasm::pipeline::testing;
 
 namespace {
-struct Result {
-  int status = -1;
-  std::string output;
-};
+using rasm::app::testing::Result;
 
 /// `rasm <args>` without a display (DISPLAY unset), stdout and stderr together.
 Result rasmCommand(const std::string& args) {
-  Result r;
-  const std::string cmd = "env -u DISPLAY " + std::string(RASM_BINARY) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), int(buf.size()), p)) r.output += buf.data();
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
+  return rasm::app::testing::shell("env -u DISPLAY " + std::string(RASM_BINARY) + " " + args);
 }
 
 }  // namespace

@@ -417,14 +417,28 @@ TEST(Relocaliser, KeyframesFromASavedMapRelocaliseIdentically) {
 
 // ---- real data ----
 
-TEST(Relocaliser, Fr3CabinetLeaveOneOut) {
-  const fs::path dir = fs::path(RASM_SHARED_DATA) / "tum" / "fr3_cabinet_keyframes";
-  if (!fs::is_directory(dir)) GTEST_SKIP() << dir.string() << " absent";
-  // truth_cam_poses.txt: row k = keyframe k (original TUM timestamp, T_world_cam).
-  const io::Trajectory gt = io::readTumTrajectory((dir / "truth_cam_poses.txt").string());
-  std::vector<RgbdFrame> frames;
+namespace {
+
+fs::path fr3CabinetKeyframes() {
+  return fs::path(RASM_SHARED_DATA) / "tum" / "fr3_cabinet_keyframes";
+}
+
+/// The 58 keyframes and their poses (truth_cam_poses.txt: row k = keyframe k, T_world_cam).
+void readFr3CabinetKeyframes(const fs::path& dir, io::Trajectory& gt,
+                             std::vector<RgbdFrame>& frames) {
+  gt = io::readTumTrajectory((dir / "truth_cam_poses.txt").string());
   const std::unique_ptr<io::FrameSource> src = io::openFrameSource(dir.string());
   while (std::optional<RgbdFrame> f = src->next()) frames.push_back(std::move(*f));
+}
+
+}  // namespace
+
+TEST(Relocaliser, Fr3CabinetLeaveOneOut) {
+  const fs::path dir = fr3CabinetKeyframes();
+  if (!fs::is_directory(dir)) GTEST_SKIP() << dir.string() << " absent";
+  io::Trajectory gt;
+  std::vector<RgbdFrame> frames;
+  readFr3CabinetKeyframes(dir, gt, frames);
   ASSERT_EQ(frames.size(), 58u);
   ASSERT_EQ(gt.size(), frames.size());
 
@@ -474,12 +488,12 @@ TEST(Relocaliser, Fr3CabinetLeaveOneOut) {
 // reference a lost frame tries first), at the looser acceptance: measured 51 of 57 pairs, the
 // worst 7.6 cm / 3.8 deg; with the map-wide acceptance 33 of 57.
 TEST(Relocaliser, Fr3CabinetEachKeyframeAgainstThePreviousOne) {
-  const fs::path dir = fs::path(RASM_SHARED_DATA) / "tum" / "fr3_cabinet_keyframes";
+  const fs::path dir = fr3CabinetKeyframes();
   if (!fs::is_directory(dir)) GTEST_SKIP() << dir.string() << " absent";
-  const io::Trajectory gt = io::readTumTrajectory((dir / "truth_cam_poses.txt").string());
+  io::Trajectory gt;
   std::vector<RgbdFrame> frames;
-  const std::unique_ptr<io::FrameSource> src = io::openFrameSource(dir.string());
-  while (std::optional<RgbdFrame> f = src->next()) frames.push_back(std::move(*f));
+  readFr3CabinetKeyframes(dir, gt, frames);
+  ASSERT_EQ(frames.size(), 58u);
   ASSERT_EQ(gt.size(), frames.size());
   const TRelocalisationParams map_wide;
   Relocaliser strict(map_wide), loose(map_wide.forLastFusedFrame());
@@ -497,10 +511,11 @@ TEST(Relocaliser, Fr3CabinetEachKeyframeAgainstThePreviousOne) {
     EXPECT_TRUE(em < 0.15 && ed < 6.0) << "keyframe " << k << ": " << em << " m / " << ed << " deg";
     within += em < 0.10 && ed < 5.0;
   }
-  std::printf("fr3_cabinet, each keyframe against the previous one: %d of %zu (map-wide "
-              "acceptance: %d), %d within 10 cm / 5 deg\n",
-              found, frames.size() - 1, found_strict, within);
-  EXPECT_GE(found, 45);  // measured 51
+  std::printf(
+      "fr3_cabinet, each keyframe against the previous one: %d of %zu (map-wide "
+      "acceptance: %d), %d within 10 cm / 5 deg\n",
+      found, frames.size() - 1, found_strict, within);
+  EXPECT_GE(found, 45);                 // measured 51
   EXPECT_GT(found, found_strict + 10);  // measured 33
   EXPECT_EQ(within, found);
 }

@@ -49,8 +49,7 @@ std::pair<int, int> startCell(const mrpt::maps::COccupancyGridMap2D& grid,
   const auto inside = [&](int x, int y) { return x >= 0 && y >= 0 && x < nx && y < ny; };
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx)
-      if ((dx || dy) && inside(sx + dx, sy + dy) &&
-          !blocked[std::size_t(sy + dy) * nx + sx + dx])
+      if ((dx || dy) && inside(sx + dx, sy + dy) && !blocked[std::size_t(sy + dy) * nx + sx + dx])
         return {sx, sy};
   std::vector<std::uint8_t> seen(blocked.size(), 0);
   std::queue<std::pair<int, int>> open;
