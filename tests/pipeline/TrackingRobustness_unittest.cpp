@@ -98,6 +98,9 @@ TEST(TrackingRobustness, JumpAndCoveredLensAreLostThenRelocalised) {
     if (r.index >= 130 && r.index <= 139) {
       EXPECT_FALSE(r.tracked) << "frame " << r.index << " has no data";
       EXPECT_FALSE(r.fused) << "frame " << r.index;
+      // frames.csv `surfels` of a frame not fused is the map's size, not 0.
+      EXPECT_EQ(r.fusion.map_size, frames[i - 1].fusion.map_size) << "frame " << r.index;
+      EXPECT_GT(r.fusion.map_size, 0) << "frame " << r.index;
     }
     if (r.relocalised && r.index >= 80 && r.index < 130 && relocalised_after_jump < 0)
       relocalised_after_jump = int(r.index);

@@ -17,7 +17,10 @@ void FusionStage::configure(const TMapperParams& /*mapper*/) {
 }
 
 void FusionStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
-  if (!ctx.result.fusable()) return;
+  if (!ctx.result.fusable()) {
+    ctx.result.fusion.map_size = map.size();  // frames.csv `surfels`: the map, not 0
+    return;
+  }
   const fusion::FusionInput in = fusionInput(ctx);
   fusion::FusionStats& st = ctx.result.fusion;
   m_fusion.updateSurfels(map.store(), in, st);
