@@ -123,6 +123,47 @@ TEST(TrackingRobustness, JumpAndCoveredLensAreLostThenRelocalised) {
   fs::remove(traj);
 }
 
+/// [relocalisation] relocalise_only_after_lost_s: a hand-held camera (no odometry) behind a
+/// covered lens for 10 frames (0.33 s) is not tracked by ICP from its last pose once lost longer
+/// than 0.1 s; it comes back through relocalisation, within 10 frames of the lens opening.
+TEST(TrackingRobustness, LostLongerThanTheLimitComesBackOnlyByRelocalisation) {
+  const std::string out = tempDir("lost_limit");
+  fs::create_directories(out);
+  const std::string traj = out + "_out_and_back.yaml";
+  std::ofstream(traj) << kOutAndBack;
+  RunConfig cfg = smallSimConfig(out, traj, 150);
+  cfg.set("source", "blank_frames", "130-139");
+  cfg.set("relocalisation", "relocalise_only_after_lost_s", "0.1");
+  MappingRun run(cfg);
+  std::vector<FrameResult> frames;
+  run.run([&](const FrameResult& r) { frames.push_back(r); });
+  double lost_since = -1.0;
+  int back = -1, icp_skipped = 0;
+  for (const FrameResult& r : frames) {
+    if (r.index < 130) continue;
+    if (r.tracked)
+      lost_since = -1.0;
+    else if (lost_since < 0)
+      lost_since = r.timestamp_s;
+    const bool over = lost_since >= 0 && r.timestamp_s - lost_since > 0.1 + 1e-9;
+    if (!r.tracked) EXPECT_FALSE(r.fused) << "frame " << r.index;
+    if (over && !r.relocalised) {
+      EXPECT_EQ(r.tracking.status, tracking::TrackingStatus::NotInitialized)
+          << "frame " << r.index << ": ICP tried after the limit";
+      ++icp_skipped;
+    }
+    if (r.tracked && r.index >= 140 && back < 0) {
+      back = int(r.index);
+      EXPECT_TRUE(r.relocalised) << "frame " << r.index << " came back without relocalisation";
+    }
+  }
+  EXPECT_GE(icp_skipped, 5);  // frames 134-139 at least
+  EXPECT_GE(back, 140) << "not recovered after the covered lens";
+  EXPECT_LE(back, 140 + 10);
+  fs::remove_all(out);
+  fs::remove(traj);
+}
+
 /// A saved map (keyframes included) reloaded with [mapper] load_map (`rasm run --map`): a
 /// later stretch of the same sweep is localised in it before anything is fused, in the map's
 /// frame (ATE without re-anchoring at the ground truth stays small).

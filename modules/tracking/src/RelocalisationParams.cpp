@@ -35,6 +35,7 @@ void TRelocalisationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR_CS(last_fused_min_inliers, int);
   MRPT_LOAD_CONFIG_VAR_CS(last_fused_min_inlier_ratio, double);
   MRPT_LOAD_CONFIG_VAR_CS(last_fused_min_depth_agreeing, int);
+  MRPT_LOAD_CONFIG_VAR_CS(relocalise_only_after_lost_s, double);
   MRPT_LOAD_CONFIG_VAR_CS(candidate_keyframes, int);
   MRPT_LOAD_CONFIG_VAR_CS(match_ratio, double);
   MRPT_LOAD_CONFIG_VAR_CS(max_hamming_distance, int);
@@ -81,6 +82,8 @@ void TRelocalisationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
       "min_inlier_ratio against that frame");
   put(c, s, "last_fused_min_depth_agreeing", last_fused_min_depth_agreeing,
       "min_depth_agreeing against that frame");
+  put(c, s, "relocalise_only_after_lost_s", relocalise_only_after_lost_s,
+      "lost longer than this without odometry: relocalisation only (s; 0 = never)");
   put(c, s, "candidate_keyframes", candidate_keyframes, "best-ranked keyframes tried with PnP");
   put(c, s, "match_ratio", match_ratio, "Lowe ratio test (best / second-best distance)");
   put(c, s, "max_hamming_distance", max_hamming_distance, "discard matches above (bits of 256)");
@@ -132,6 +135,7 @@ void TRelocalisationParams::validate(const std::string& s) const {
   requireInRange(last_fused_min_inliers, 6, 1e6, s, "last_fused_min_inliers");
   requireInRange(last_fused_min_inlier_ratio, 0.0, 1.0, s, "last_fused_min_inlier_ratio");
   requireInRange(last_fused_min_depth_agreeing, 0, 1e6, s, "last_fused_min_depth_agreeing");
+  requireInRange(relocalise_only_after_lost_s, 0.0, 1e9, s, "relocalise_only_after_lost_s");
 }
 
 TRelocalisationParams TRelocalisationParams::forLastFusedFrame() const {

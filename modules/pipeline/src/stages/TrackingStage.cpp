@@ -69,6 +69,10 @@ void TrackingStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
   }
   m_odometry.frameDone(r.tracked);
   m_T_prev_frame = r.T_world_cam;
+  if (r.tracked)
+    m_lost_since_s.reset();
+  else if (!m_lost_since_s)
+    m_lost_since_s = ctx.frame->timestamp_s;
 }
 
 void TrackingStage::initialise(FrameContext& ctx) {
@@ -93,6 +97,17 @@ void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
   FrameResult& r = ctx.result;
   const std::optional<tracking::MotionPrior> prior =
       m_odometry.predict(frame.odometry_xyyaw, m_T_prev_frame);
+  const double lost_after = m_relocalisation.relocalise_only_after_lost_s;
+  if (!prior && lost_after > 0 && m_lost_since_s &&
+      frame.timestamp_s - *m_lost_since_s > lost_after) {
+    // Lost too long without odometry: no ICP from the stale pose, relocalisation only.
+    r.tracked = false;
+    r.tracking.status = tracking::TrackingStatus::NotInitialized;
+    r.pose_source = PoseSource::MotionModel;
+    r.T_world_cam = m_tracker.lastGoodPose();
+    relocalise(ctx, map);
+    return;
+  }
   // The model is rendered where the guess starts from: the previous frame's pose when odometry
   // carries the estimate on (also through lost frames), else the last good pose.
   auto t = Clock::now();

@@ -65,6 +65,12 @@ struct TRelocalisationParams : public mrpt::config::CLoadableOptions {
   int last_fused_min_inliers = 15;
   double last_fused_min_inlier_ratio = 0.2;
   int last_fused_min_depth_agreeing = 10;
+  /// While lost without odometry for longer than this (s, frame timestamps), ICP from the last
+  /// good pose is no longer tried; only relocalisation can find the camera again (status
+  /// not_initialized). The camera has moved on by then, and ICP from a stale pose can lock onto
+  /// a look-alike part of the map (fr3_cabinet: the cabinet's far side matched its front 2.4 m
+  /// from the truth). 0 = always try (the default until measured beyond fr3_cabinet).
+  double relocalise_only_after_lost_s = 0.0;
   /// Strongest frame features matched against every keyframe to rank them.
   int ranking_features = 300;
   /// Best-ranked keyframes whose matches go to PnP.

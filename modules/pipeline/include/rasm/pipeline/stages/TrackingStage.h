@@ -19,6 +19,7 @@
 // [relocalisation] (finishFrame).
 
 #include <memory>
+#include <optional>
 
 #include "rasm/pipeline/MapperStage.h"
 #include "rasm/pipeline/OdometryPrior.h"
@@ -87,6 +88,8 @@ class TrackingStage : public MapperStage {
   maps::SurfelRenderer m_renderer;
   maps::RenderedMaps m_model;
   bool m_localise_in_map = false;
+  /// Timestamp of the first frame of the current lost stretch (none while tracked).
+  std::optional<double> m_lost_since_s;
   /// The last fused frame (depth, colour, intrinsics, index) and its pose: ORB-SLAM's reference
   /// keyframe, made into `keyframe` only when a lost frame needs it.
   struct LastFused {
