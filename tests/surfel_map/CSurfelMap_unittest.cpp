@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 
 #include "rasm/core/Error.h"
@@ -217,6 +218,32 @@ TEST(CSurfelMap, PlyWrittenAndReadBack) {
   EXPECT_EQ(int(readSurfelPly(path).size()), stable);
   std::filesystem::remove(path);
   EXPECT_THROW(readSurfelPly(path), InputError);
+}
+
+TEST(CSurfelMap, PlyWithACorruptVertexCountIsAnErrorNotAnAllocation) {
+  CSurfelMap map;
+  fillRandom(map, 3, 0);
+  const std::string path = tmpPath("count.ply");
+  map.saveToPly(path, false);
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  const std::size_t at = bytes.find("element vertex 3\n");
+  ASSERT_NE(at, std::string::npos);
+  for (const char* count : {"30000000000000", "4", "18446744073709551615"}) {
+    std::string corrupt = bytes;
+    corrupt.replace(at, 17, std::string("element vertex ") + count + "\n");
+    std::ofstream(path, std::ios::binary) << corrupt;
+    try {
+      readSurfelPly(path);
+      ADD_FAILURE() << count << " vertices read from a file of 3";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("the header says ") + count + " vertices"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  std::filesystem::remove(path);
 }
 
 TEST(CSurfelMap, PlyOfTheEarlierUintLayoutStillReads) {

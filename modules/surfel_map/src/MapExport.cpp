@@ -228,6 +228,20 @@ PlySurfels readSurfelPly(const std::string& path) {
       throwInputError(what, "property " + std::to_string(i) + " is '" + props[i] + "', expected '" +
                                 expected[i] + "'");
   const std::size_t record_bytes = uint_ids ? kPlyRecordBytesUint : kPlyRecordBytes;
+  // The header's count is checked against the bytes the file holds before anything is allocated
+  // (a corrupt count must be an error, not a huge allocation).
+  const std::streamoff data_start = f.tellg();
+  f.seekg(0, std::ios::end);
+  const std::streamoff file_end = f.tellg();
+  f.seekg(data_start);
+  const std::size_t available = data_start >= 0 && file_end >= data_start
+                                    ? std::size_t(file_end - data_start)
+                                    : std::size_t(0);
+  if (n > available / record_bytes)
+    throwInputError(what, "truncated or corrupt: the header says " + std::to_string(n) +
+                              " vertices of " + std::to_string(record_bytes) +
+                              " bytes, the file holds " + std::to_string(available) +
+                              " bytes after its header");
   std::vector<char> buf(n * record_bytes);
   f.read(buf.data(), std::streamsize(buf.size()));
   if (std::size_t(f.gcount()) != buf.size())
