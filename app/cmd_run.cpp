@@ -20,7 +20,8 @@ std::string writtenAmong(const nlohmann::json& report, std::initializer_list<con
   if (files == report.end() || !files->is_array()) return list;
   for (const char* n : names)
     for (const auto& f : *files)
-      if (f.is_string() && f.get<std::string>() == n) list += (list.empty() ? "" : ", ") + std::string(n);
+      if (f.is_string() && f.get<std::string>() == n)
+        list += (list.empty() ? "" : ", ") + std::string(n);
   return list.empty() ? list : " (" + list + ")";
 }
 
@@ -94,7 +95,8 @@ int runMain(const std::vector<std::string>& args) {
       by_class += (by_class.empty() ? "" : ", ") + name + " " + std::to_string(n.get<int>());
     std::printf("objects: %d named%s%s%s%s; rasm objects %s\n", (*cls)["objects"].get<int>(),
                 by_class.empty() ? "" : " (", by_class.c_str(), by_class.empty() ? "" : ")",
-                writtenAmong(s.report, {"objects.json", "map_classes.ply", "preview_classes.png"})
+                writtenAmong(s.report, {"objects.json", "map_classes.ply", "map_classes.3Dscene",
+                                        "preview_classes.png"})
                     .c_str(),
                 s.out_dir.c_str());
     for (const auto& d : (*cls)["detectors"])
