@@ -74,6 +74,13 @@ keyframes:
   - {t: 5, position: [4.62, 2.22, 1.50], look_at: [5.9, 3.0, 0.75]}
 )";
 
+/// 150 frames of kOutAndBack (written to `traj`) into `out`.
+static RunConfig outAndBackConfig(const std::string& out, const std::string& traj) {
+  fs::create_directories(out);
+  std::ofstream(traj) << kOutAndBack;
+  return smallSimConfig(out, traj, 150);
+}
+
 /// A 2 s cut (the camera jumps from the way out to the way back) and a covered lens (all-zero
 /// depth, black colour): the frames without a trustworthy pose are lost and nothing is fused
 /// from them; after the jump the camera is found again by relocalisation once it sees mapped space
@@ -81,10 +88,8 @@ keyframes:
 /// is within 5 cm of the ground truth.
 TEST(TrackingRobustness, JumpAndCoveredLensAreLostThenRelocalised) {
   const std::string out = tempDir("kidnap");
-  fs::create_directories(out);
   const std::string traj = out + "_out_and_back.yaml";
-  std::ofstream(traj) << kOutAndBack;
-  RunConfig cfg = smallSimConfig(out, traj, 150);
+  RunConfig cfg = outAndBackConfig(out, traj);
   cfg.set("source", "drop_frames", "20-79");
   cfg.set("source", "blank_frames", "130-139");
   MappingRun run(cfg);
@@ -128,10 +133,8 @@ TEST(TrackingRobustness, JumpAndCoveredLensAreLostThenRelocalised) {
 /// than 0.1 s; it comes back through relocalisation, within 10 frames of the lens opening.
 TEST(TrackingRobustness, LostLongerThanTheLimitComesBackOnlyByRelocalisation) {
   const std::string out = tempDir("lost_limit");
-  fs::create_directories(out);
   const std::string traj = out + "_out_and_back.yaml";
-  std::ofstream(traj) << kOutAndBack;
-  RunConfig cfg = smallSimConfig(out, traj, 150);
+  RunConfig cfg = outAndBackConfig(out, traj);
   cfg.set("source", "blank_frames", "130-139");
   cfg.set("relocalisation", "relocalise_only_after_lost_s", "0.1");
   MappingRun run(cfg);
