@@ -214,11 +214,10 @@ void TrackingStage::relocalise(FrameContext& ctx, const maps::CSurfelMap& map) {
   const bool reference = m_relocalisation.use_last_fused_frame && m_last_fused.valid;
   if (map.keyframes().empty() && !reference) return;
   const auto t = Clock::now();
-  const bool found =
-      (reference && !lastFusedKeyframe().empty() &&
-       relocaliseAgainst(ctx, map, lastFusedKeyframe(), m_reloc_last_fused)) ||
-      (!map.keyframes().empty() && relocaliseAgainst(ctx, map, map.keyframes(), m_reloc));
-  (void)found;  // the frame's result says it (relocalised, or relocalisation_failure)
+  const bool by_reference = reference && !lastFusedKeyframe().empty() &&
+                            relocaliseAgainst(ctx, map, lastFusedKeyframe(), m_reloc_last_fused);
+  if (!by_reference && !map.keyframes().empty())
+    relocaliseAgainst(ctx, map, map.keyframes(), m_reloc);
   recordMs(ctx, kRelocalise, msSince(t));
 }
 
