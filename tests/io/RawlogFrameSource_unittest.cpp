@@ -3,6 +3,7 @@
 #include "rasm/io/RawlogFrameSource.h"
 
 #include <gtest/gtest.h>
+#include <mrpt/core/aligned_allocator.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CMemoryStream.h>
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -477,6 +479,35 @@ TEST(RawlogFrameSource, CorruptRangeImageSizeIsAnErrorNotAnAllocation) {
   ASSERT_TRUE(f.has_value());
   EXPECT_EQ(f->width(), 32);
   EXPECT_EQ(f->height(), 24);
+}
+
+/// A version-10 range scan's extra range layers are sized by CMatrixDynamic::resize(rows, cols)
+/// from the file before any pixel is read (a 7 EB request, found by fuzz_rawlog in CI; in a
+/// release build a null pointer written through). MrptSizeLimits.cpp bounds every allocation
+/// through mrpt::aligned_malloc; an intact layer still reads.
+TEST(RawlogFrameSource, CorruptRangeLayerSizeIsAnErrorNotAnAllocation) {
+  ScratchDir dir("layersize");
+  mrpt::obs::CObservation3DRangeScan obs;
+  observationFromFrame(syntheticFrame(0, 32, 24), obs);
+  mrpt::math::CMatrix_u16 layer(24, 32);
+  for (int r = 0; r < 24; ++r)
+    for (int c = 0; c < 32; ++c) layer(r, c) = std::uint16_t(100 * r + c);
+  obs.rangeImageOtherLayers["second"] = layer;
+  // serializeTo v10: the layer's name, then cols and rows (serializeFrom reads rows, then cols).
+  const std::string intact = u32(6) + "second" + u32(32) + u32(24);
+  const std::string path = dir / "corrupt.rawlog";
+  writeWithCorruptField(obs, intact, u32(6) + "second" + u32(1u << 20) + u32(1u << 20), path);
+  expectReadError(path, "MRPT allocation of 2199023255552 bytes");
+  writeWithCorruptField(obs, intact, intact, path);
+  RawlogFrameSource src(path);
+  const auto f = src.next();
+  ASSERT_TRUE(f.has_value());
+  EXPECT_EQ(f->width(), 32);
+  // An allocation of a sane size goes through MRPT's own allocator, aligned as asked.
+  void* p = mrpt::aligned_malloc(1000, 32);
+  ASSERT_NE(p, nullptr);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(p) % 32, 0u);
+  mrpt::aligned_free(p);
 }
 
 /// A corrupt JPEG stored inside a rawlog (MRPT's CImage JPEG serialization) made libjpeg call

@@ -22,6 +22,14 @@
 // writer rasm's rawlogs come from) through the class's public API, with the byte count capped at
 // kMaxCompressedBytes, the buffer grown only as bytes arrive, and a raw payload checked against
 // the image it fills (CorruptImageByteCountIsAnErrorNotAnAllocation).
+//
+// mrpt::aligned_malloc / aligned_calloc, the allocator under every MRPT matrix and aligned
+// vector, are bounded last: the sizes above are not the only ones MRPT takes from a file before
+// reading the data (a version-10 range scan's extra range layers are sized by
+// CMatrixDynamic::resize(rows, cols) from two uint32 in the file; found by fuzz_rawlog as a
+// 7 EB request). Any single MRPT allocation over kMaxAlignedBytes is an error naming its size,
+// and one the system refuses is std::bad_alloc instead of the null pointer MRPT's containers
+// would write through (CorruptRangeLayerSizeIsAnErrorNotAnAllocation).
 #include <mrpt/core/exceptions.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
@@ -35,6 +43,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <new>
 #include <vector>
 
 namespace rasm::io {
@@ -45,6 +54,10 @@ constexpr std::uint64_t kMaxSide = std::uint64_t(1) << 15;
 /// Largest compressed (JPEG) image read from an MRPT archive (a 32 M pixel image compresses to
 /// far less).
 constexpr std::uint32_t kMaxCompressedBytes = 256u << 20;
+/// Largest single allocation through mrpt::aligned_malloc: a kMaxPixels image of doubles; what
+/// rasm keeps in MRPT containers (poses, camera images' matrices, point maps of a few million
+/// points) is far smaller. Below the fuzzers' -malloc_limit_mb (scripts/fuzz.sh).
+constexpr std::size_t kMaxAlignedBytes = std::size_t(kMaxPixels) * sizeof(double);
 
 namespace {
 /// MRPT's definition of the interposed symbol (the next one after rasm_io's in lookup order).
@@ -222,3 +235,29 @@ void CImage::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
 }
 
 }  // namespace mrpt::img
+
+namespace mrpt {
+
+void* aligned_malloc(std::size_t size, std::size_t alignment) {
+  using Fn = void* (*)(std::size_t, std::size_t);
+  static const Fn mrpt = rasm::io::mrptDefinition<Fn>("_ZN4mrpt14aligned_mallocEmm");
+  if (size > rasm::io::kMaxAlignedBytes)
+    THROW_EXCEPTION_FMT("MRPT allocation of %zu bytes (corrupt file?); rasm allows at most %zu per block", size,
+                        rasm::io::kMaxAlignedBytes);
+  void* p = mrpt(size, alignment);
+  if (p == nullptr && size != 0) throw std::bad_alloc();
+  return p;
+}
+
+void* aligned_calloc(std::size_t bytes, std::size_t alignment) {
+  using Fn = void* (*)(std::size_t, std::size_t);
+  static const Fn mrpt = rasm::io::mrptDefinition<Fn>("_ZN4mrpt14aligned_callocEmm");
+  if (bytes > rasm::io::kMaxAlignedBytes)
+    THROW_EXCEPTION_FMT("MRPT allocation of %zu bytes (corrupt file?); rasm allows at most %zu per block", bytes,
+                        rasm::io::kMaxAlignedBytes);
+  void* p = mrpt(bytes, alignment);
+  if (p == nullptr && bytes != 0) throw std::bad_alloc();
+  return p;
+}
+
+}  // namespace mrpt
