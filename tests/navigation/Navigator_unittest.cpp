@@ -226,6 +226,46 @@ TEST(Navigator, EscapesOnceBeforeFailingStuck) {
   EXPECT_GT(time_s[1], time_s[0] + p.stuck_timeout_s);  // a second no-progress period
 }
 
+// A box lower than the robot's scan plane (0.2 m high, scan at 0.3 m) is invisible to the
+// navigator but inside the footprint's height band: the robot drives into it and the goal fails
+// "collision". The next goal first backs the robot up along the path it came by, for
+// escape_distance_m, in reverse (heading kept), without touching anything; then it navigates.
+TEST(Navigator, RetreatsAlongItsPathAfterACollision) {
+  const std::string low_box =
+      "  - {id: 2, class: box, primitive: box, size: [0.2, 1.0, 0.2], position: [1.1, 0, 0.1]}\n";
+  const TNavigationParams p = testParams();
+  Rig rig(floorWorld(low_box), Eigen::Vector3d(0, 0, 0), p);
+  ASSERT_LT(0.2, rig.robot.params().scan_height_m);
+  ASSERT_GT(0.2, rig.robot.params().ground_clearance_m);
+  rig.nav.setGoal(Eigen::Vector3d(2.0, 0.0, 0.0));
+  const Outcome hit = drive(rig.robot, rig.nav, p.goal_timeout_s);
+  ASSERT_EQ(hit.state, NavState::Failed);
+  ASSERT_EQ(hit.reason, "collision");
+  const Eigen::Vector3d at = rig.robot.pose();
+  // The disc (0.25 m) touches the box face at x = 1.0.
+  EXPECT_NEAR(at.x(), 0.75, 0.05);
+  rig.nav.setGoal(Eigen::Vector3d(0.2, 1.5, M_PI / 2));
+  Outcome next;
+  double min_x = at.x();
+  int steps = 0;
+  for (; steps < int(p.stuck_timeout_s / kDt); ++steps) {
+    rig.robot.step(kDt);
+    rig.nav.update();
+    ASSERT_FALSE(rig.robot.collided()) << "at step " << steps;
+    const Eigen::Vector3d q = rig.robot.pose();
+    if (q.x() < min_x) {
+      min_x = q.x();
+      EXPECT_LT(headingError(q.z(), at.z()), 10 * kDeg) << "reversing, not turning around";
+      EXPECT_NEAR(q.y(), at.y(), 0.05) << "along the path it came by";
+    }
+    if (std::abs(q.z() - at.z()) > 20 * kDeg) break;  // the retreat is over: facing the goal
+  }
+  EXPECT_NEAR(at.x() - min_x, p.escape_distance_m, 0.06);
+  const Outcome reached = drive(rig.robot, rig.nav, p.goal_timeout_s);
+  EXPECT_EQ(reached.state, NavState::Reached) << reached.reason;
+  EXPECT_FALSE(reached.collided);
+}
+
 TEST(Navigator, ReachesAPureRotationGoal) {
   Rig rig(floorWorld(), Eigen::Vector3d(1.0, -0.5, 0.2));
   const TNavigationParams p = testParams();

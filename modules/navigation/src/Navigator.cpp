@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <filesystem>
 #include <functional>
 #include <limits>
@@ -94,6 +95,16 @@ struct Navigator::Impl {
   int escapes = 0;
   double escape_heading = 0.0, escape_t = 0.0;
   Eigen::Vector2d escape_from = Eigen::Vector2d::Zero();
+  /// Retreat after a collision: the obstacle hit was one the robot's obstacle sensing did not
+  /// show (a 2-D scan misses a chair seat or a low box inside the footprint's height band), so
+  /// the most open direction of the scan may lead straight back into it. The goal that collided
+  /// fails "collision"; the next goal first backs the robot up along the path it came by (known
+  /// free: it was just driven) for escape_distance_m, then navigates.
+  std::deque<Eigen::Vector2d> trail;  ///< recent positions, newest last, ~2 cm apart
+  bool retreat_pending = false;
+  bool retreating = false;
+  double retreat_t = 0.0, retreat_driven_m = 0.0;
+  Eigen::Vector2d retreat_last = Eigen::Vector2d::Zero();
 
   void initialise();
   void step(double t);
@@ -107,6 +118,8 @@ struct Navigator::Impl {
   double mostOpenBearing(double goal_bearing_rad) const;
   void startEscape(double t, const Eigen::Vector3d& pose, double goal_bearing_rad);
   void stepEscape(double t, const Eigen::Vector3d& pose);
+  void recordTrail(const Eigen::Vector3d& pose);
+  void stepRetreat(double t, const Eigen::Vector3d& pose);
   void stopMrpt();
   void finish(NavState s, const std::string& why);
 };
@@ -161,9 +174,14 @@ void Navigator::Impl::step(double t) {
   path_m += (pose.head<2>() - last_pose.head<2>()).norm();
   last_pose = pose;
   if (state == NavState::Navigating || state == NavState::Aligning) {
-    if (robot.collided()) return finish(NavState::Failed, "collision");
+    if (robot.collided()) {
+      retreat_pending = true;
+      return finish(NavState::Failed, "collision");
+    }
     if (t - goal_t > params.goal_timeout_s) return finish(NavState::Failed, "timeout");
   }
+  if (state == NavState::Navigating && retreating) return stepRetreat(t, pose);
+  recordTrail(pose);
   if (state == NavState::Navigating) stepNavigating(t, pose);
   if (state == NavState::Aligning) stepAligning(pose);
 }
@@ -301,6 +319,42 @@ void Navigator::Impl::stepEscape(double t, const Eigen::Vector3d& pose) {
   robot.setVelocityCommand(v, std::clamp(2.0 * e, -0.5, 0.5));
 }
 
+/// Appends the position to the trail when it moved 2 cm from the last one; keeps about twice
+/// escape_distance_m of path.
+void Navigator::Impl::recordTrail(const Eigen::Vector3d& pose) {
+  if (!trail.empty() && (pose.head<2>() - trail.back()).norm() < 0.02) return;
+  trail.push_back(pose.head<2>());
+  const std::size_t keep = std::size_t(std::ceil(2.0 * params.escape_distance_m / 0.02)) + 1;
+  while (trail.size() > keep) trail.pop_front();
+}
+
+/// Backs up along the trail (newest point first) until escape_distance_m is driven, the trail
+/// ends, the scan shows something behind, or stuck_timeout_s passes; then normal navigation
+/// resumes facing the goal. Steering in reverse: the rear points at the trail point, and a
+/// positive turn rate turns the rear the same way as the front.
+void Navigator::Impl::stepRetreat(double t, const Eigen::Vector3d& pose) {
+  retreat_driven_m += (pose.head<2>() - retreat_last).norm();
+  retreat_last = pose.head<2>();
+  while (!trail.empty() && (trail.back() - pose.head<2>()).norm() < 0.05) trail.pop_back();
+  const double behind = clearanceAlong_m(M_PI);
+  if (trail.empty() || retreat_driven_m >= params.escape_distance_m || behind < 0.02 ||
+      t - retreat_t > params.stuck_timeout_s) {
+    robot.stop();
+    retreating = false;
+    best_dist = (goal.head<2>() - pose.head<2>()).norm();
+    best_t = t;
+    facing = true;
+    return;
+  }
+  const Eigen::Vector2d to = trail.back() - pose.head<2>();
+  const double rear = mrpt::math::wrapToPi(pose.z() + M_PI);
+  const double e = mrpt::math::wrapToPi(std::atan2(to.y(), to.x()) - rear);
+  const double max_w = params.max_w_degps * kDeg;
+  if (std::abs(e) > 45.0 * kDeg) return robot.setVelocityCommand(0.0, std::clamp(2.0 * e, -max_w, max_w));
+  const double v = std::min({0.5 * params.max_v_mps, behind, to.norm() / params.period_s});
+  robot.setVelocityCommand(-v * std::cos(e), std::clamp(2.0 * e, -max_w, max_w));
+}
+
 /// Own controller for near targets: turn toward the target, then drive with a speed that falls
 /// with the distance; stops short of obstacles in the corridor ahead (the stuck check then ends
 /// the goal).
@@ -359,6 +413,11 @@ void Navigator::setGoal(const Eigen::Vector3d& goal_xyyaw) {
              m.params.face_goal_deg * kDeg;
   m.escape = Impl::Escape::None;
   m.escapes = 0;
+  m.retreating = m.retreat_pending && !m.trail.empty();
+  m.retreat_pending = false;
+  m.retreat_t = m.goal_t;
+  m.retreat_driven_m = 0.0;
+  m.retreat_last = pose.head<2>();
 }
 
 void Navigator::cancel() {

@@ -200,6 +200,7 @@ void SimulatedDiffDriveRobot::setVelocityCommand(double v, double w) {
   m_cmd_v = std::clamp(v, -vmax, vmax);
   m_cmd_w = std::clamp(w, -wmax, wmax);
   m_sim->movementCommand(m_cmd_v, m_cmd_w);
+  m_collided = false;  // latched from the contact until the next command (IRobot::collided)
 }
 
 bool SimulatedDiffDriveRobot::collidesAt(const Eigen::Vector3d& p) const {
@@ -216,7 +217,6 @@ bool SimulatedDiffDriveRobot::collidesAt(const Eigen::Vector3d& p) const {
 void SimulatedDiffDriveRobot::step(double dt) {
   if (!(dt > 0)) return;
   m_time_s += dt;
-  m_collided = false;
   const int n = std::max(1, int(std::ceil(dt / m_params.max_substep_s - 1e-9)));
   const double h = dt / n;
   for (int i = 0; i < n; ++i) {

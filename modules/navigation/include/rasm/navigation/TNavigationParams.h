@@ -25,6 +25,8 @@ struct TNavigationParams : public mrpt::config::CLoadableOptions {
   /// a desk gets no motion from the reactive navigator, whose PTGs all start in collision with
   /// the margin-grown footprint; seen in the office with object views at 1 m standoff).
   int escape_attempts = 1;
+  /// Also the length of the retreat after a collision: the next goal first backs the robot up
+  /// this far along the path it came by (the obstacle it hit was not in its obstacle sensing).
   double escape_distance_m = 0.4;
   /// Targets nearer than this are driven to by the own controller: MRPT's PTGs fail on targets
   /// closer than their reach (MRPT-NOTES trap).

@@ -42,7 +42,8 @@ class IRobot {
 
   /// Obstacle points in the ROBOT frame (x forward, y left, z up), e.g. from a planar scan.
   virtual void senseObstacles(std::vector<Eigen::Vector3f>& points_robot) const = 0;
-  /// True when the last step() stopped the robot against an obstacle.
+  /// True when the robot stopped against an obstacle since the last velocity command (latched,
+  /// so a controller stepping slower than the robot still sees the contact).
   virtual bool collided() const = 0;
 
   /// T_world_cam of the robot's RGB-D camera (optical frame), from the current pose.
