@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdio>
 #include <csignal>
 #include <thread>
 
@@ -166,6 +167,15 @@ TEST(LiveRun, SegwayExploresWithNavigationInItsOwnThreadAndStopsOnCtrlC) {
   ASSERT_FALSE(rec.motion.empty());
   EXPECT_EQ(rec.motion.back().float1(), 0.0f);
   EXPECT_EQ(rec.motion.back().float2(), 0.0f);
+  std::printf(
+      "live exploration: %.1f s, frames %zu processed / %lld dropped, navigation %zu steps at "
+      "%.2f Hz, plans %d, goals %d, goal (%.2f, %.2f) at %.2f m from the start, %.2f m at the "
+      "end; motion commands %zu (%zu forward, %zu turning)\n",
+      ran_s, s.frames, rep.at("real_time").at("frames_dropped").get<long long>(),
+      ex.at("navigation").at("steps").get<std::size_t>(),
+      ex.at("navigation").at("rate_hz").get<double>(), ex.at("plans").get<int>(),
+      ex.at("goals").get<int>(), goal.x(), goal.y(), (goal - start.head<2>()).norm(),
+      (goal - end.head<2>()).norm(), rec.motion.size(), forward, turning);
   for (const char* f : {"trajectory.txt", "frames.csv", "exploration.json", "map.ply"})
     EXPECT_TRUE(fs::is_regular_file(out + "/" + f)) << f;
   fs::remove_all(out);
