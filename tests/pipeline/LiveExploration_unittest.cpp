@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "RunTestFiles.h"
+#include "rasm/core/Error.h"
 #include "rasm/pipeline/Interrupts.h"
 #include "rasm/pipeline/MappingRun.h"
 #include "rasm/pipeline/stages/TrackingStage.h"
@@ -82,17 +83,15 @@ class OfficeCameraOnFakeRmp : public io::FrameSource {
   std::size_t m_index = 0;
   std::chrono::steady_clock::time_point m_t0 = std::chrono::steady_clock::now();
 };
-}  // namespace
 
-// Deliverable 2 on the Segway: a goal is planned, the navigation thread sends velocity commands,
-// the base drives toward the goal, and Ctrl-C stops every thread and writes the outputs.
-TEST(LiveRun, SegwayExploresWithNavigationInItsOwnThreadAndStopsOnCtrlC) {
-  robot::test::FakeRmpServer rmp;
-  const std::string out = tempDir("live_explore");
+/// ini/segway_rmp_explore.ini with the RMP at the loopback stand-in, the office's box as the
+/// workspace, turns in place at 90 deg/s, and the map at the camera's true poses (these tests
+/// are about the loop's threads, not tracking).
+RunConfig segwayInOfficeConfig(const std::string& out, int rmp_port) {
   RunConfig cfg = RunConfig::fromFile(std::string(RASM_SOURCE_DIR) + "/ini/segway_rmp_explore.ini");
   cfg.set("output", "dir", out);
   cfg.set("segway_rmp", "host", "127.0.0.1");
-  cfg.set("segway_rmp", "port", std::to_string(rmp.port()));
+  cfg.set("segway_rmp", "port", std::to_string(rmp_port));
   cfg.set("segway_rmp", "max_w_degps", "90");
   cfg.set("navigation", "align_w_degps", "90");  // the initial turn in place in ~4 s
   cfg.set("navigation", "max_w_degps", "90");
@@ -101,17 +100,30 @@ TEST(LiveRun, SegwayExploresWithNavigationInItsOwnThreadAndStopsOnCtrlC) {
            {"workspace_min_x_m", "0"}, {"workspace_max_x_m", "8"},
            {"workspace_min_y_m", "0"}, {"workspace_max_y_m", "6"}})
     cfg.set("exploration", k, v);
-  // The map at the camera's true poses: this test is about the loop's threads, not tracking.
   cfg.set("mapper", "poses", "groundtruth");
   cfg.set("output", "write_rawlog", "false");
   cfg.set("output", "write_3dscene", "false");
-  MappingRun run(cfg);
+  return cfg;
+}
+
+/// The run's camera: the office seen from the fake RMP's base.
+void onFakeRmpInOffice(MappingRun& run, const robot::test::FakeRmpServer& rmp) {
   const Eigen::Isometry3d T_base_cam =
       run.mapper().stage<TrackingStage>().robotParams().T_base_cam();
-  run.setLiveCamera([&]() -> std::unique_ptr<io::FrameSource> {
+  run.setLiveCamera([&rmp, T_base_cam]() -> std::unique_ptr<io::FrameSource> {
     return std::make_unique<OfficeCameraOnFakeRmp>(
         rmp, T_base_cam, CameraIntrinsics(262.5, 262.5, 159.5, 119.5, 320, 240));
   });
+}
+}  // namespace
+
+// Deliverable 2 on the Segway: a goal is planned, the navigation thread sends velocity commands,
+// the base drives toward the goal, and Ctrl-C stops every thread and writes the outputs.
+TEST(LiveRun, SegwayExploresWithNavigationInItsOwnThreadAndStopsOnCtrlC) {
+  robot::test::FakeRmpServer rmp;
+  const std::string out = tempDir("live_explore");
+  MappingRun run(segwayInOfficeConfig(out, rmp.port()));
+  onFakeRmpInOffice(run, rmp);
   const auto basePose = [&] { return OfficeCameraOnFakeRmp::basePose(rmp); };
 
   // Ctrl-C once the base has driven 0.4 m from its start (toward a planned view: the initial
@@ -178,5 +190,34 @@ TEST(LiveRun, SegwayExploresWithNavigationInItsOwnThreadAndStopsOnCtrlC) {
       (goal - end.head<2>()).norm(), rec.motion.size(), forward, turning);
   for (const char* f : {"trajectory.txt", "frames.csv", "exploration.json", "map.ply"})
     EXPECT_TRUE(fs::is_regular_file(out + "/" + f)) << f;
+  fs::remove_all(out);
+}
+
+// The base stops answering mid-run: the navigation thread ends (zero velocity), the loop ends the
+// run as failed with the Segway's reason, and the outputs of the frames done are written.
+TEST(LiveRun, SegwayLinkLostMidExplorationFailsTheRunClearly) {
+  robot::test::FakeRmpServer rmp;
+  const std::string out = tempDir("live_explore_link");
+  MappingRun run(segwayInOfficeConfig(out, rmp.port()));
+  onFakeRmpInOffice(run, rmp);
+  std::size_t frames = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    run.run([&](const FrameResult&) {
+      if (++frames == 10) rmp.responsive = false;  // powered off after ten mapped frames
+    });
+    FAIL() << "a run whose robot stopped answering";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("navigation: segway_rmp 127.0.0.1:"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("no valid response"), std::string::npos) << e.what();
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 120.0);
+  const nlohmann::json rep = readJson(out + "/report.json");
+  EXPECT_EQ(rep.at("status"), "failed");
+  EXPECT_EQ(rep.at("stop_reason"), "error");
+  EXPECT_FALSE(rep.at("robot").at("link_ok").get<bool>());
+  EXPECT_GE(rep.at("frames").get<std::size_t>(), 10u);
+  EXPECT_TRUE(fs::is_regular_file(out + "/trajectory.txt"));
   fs::remove_all(out);
 }
