@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
-#include <cstdio>
 #include <csignal>
+#include <cstdio>
 #include <thread>
 
 #include "RunTestFiles.h"
@@ -99,9 +99,11 @@ RunConfig segwayInOfficeConfig(const std::string& out, int rmp_port) {
   cfg.set("navigation", "align_w_degps", "90");  // the initial turn in place in ~4 s
   cfg.set("navigation", "max_w_degps", "90");
   setQuarterVgaCamera(cfg);
-  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{
-           {"workspace_min_x_m", "0"}, {"workspace_max_x_m", "8"},
-           {"workspace_min_y_m", "0"}, {"workspace_max_y_m", "6"}})
+  for (const auto& [k, v] :
+       std::vector<std::pair<std::string, std::string>>{{"workspace_min_x_m", "0"},
+                                                        {"workspace_max_x_m", "8"},
+                                                        {"workspace_min_y_m", "0"},
+                                                        {"workspace_max_y_m", "6"}})
     cfg.set("exploration", k, v);
   cfg.set("mapper", "poses", "groundtruth");
   cfg.set("output", "write_rawlog", "false");
@@ -137,7 +139,8 @@ TEST(LiveRun, SegwayExploresWithNavigationInItsOwnThreadAndStopsOnCtrlC) {
   const RunSummary s = run.run([&](const FrameResult&) {
     if (std::isnan(start.x())) start = basePose();
     const double driven = (basePose().head<2>() - start.head<2>()).norm();
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if ((driven > 0.4 || wall > 150.0) && stopSignal() == 0) std::raise(SIGINT);
   });
   const double ran_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

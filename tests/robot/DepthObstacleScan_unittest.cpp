@@ -79,8 +79,7 @@ TEST(DepthObstacleScan, MountOffsetAndHeightBandApply) {
   EXPECT_TRUE(
       virtualScanFromDepth(wallFrame(0.5f), mount(0.0, 0.5, -90.0), TDepthScanParams{}).empty());
   // Out of range: a wall at 5 m is beyond max_range_m = 4.
-  EXPECT_TRUE(
-      virtualScanFromDepth(wallFrame(5.0f), mount(0.0, 0.5), TDepthScanParams{}).empty());
+  EXPECT_TRUE(virtualScanFromDepth(wallFrame(5.0f), mount(0.0, 0.5), TDepthScanParams{}).empty());
 }
 
 // The Segway's obstacle sensing: the scan of the last frame, moved by the odometry since it

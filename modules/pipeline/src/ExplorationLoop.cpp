@@ -514,8 +514,8 @@ void ExplorationLoop::report(nlohmann::json& rep) const {
       {"navigation",
        {{"stepping", m_driver->stepping()},
         {"steps", m_driver->steps()},
-        {"rate_hz", m_driver->seconds() > 0 ? double(m_driver->steps()) / m_driver->seconds()
-                                            : 0.0}}},
+        {"rate_hz",
+         m_driver->seconds() > 0 ? double(m_driver->steps()) / m_driver->seconds() : 0.0}}},
       {"metrics_cover",
        gt ? "coverage: fraction of the world's observable surface within 2 cm of a stable "
             "surfel; objects: detectable (COCO) objects of the world carrying their "
@@ -537,8 +537,10 @@ void ExplorationLoop::writeOutputs(OutputFolder& folder) const {
                      {"information", g.information}});
   nlohmann::json metrics = nlohmann::json::array();
   for (const MetricsRow& r : m_metrics) {
-    nlohmann::json row = {{"t", r.t},         {"frames", r.frames},
-                          {"path_m", r.path_m}, {"entropy_nats", r.entropy},
+    nlohmann::json row = {{"t", r.t},
+                          {"frames", r.frames},
+                          {"path_m", r.path_m},
+                          {"entropy_nats", r.entropy},
                           {"surfels", r.surfels}};
     if (groundTruth()) {
       row["coverage"] = r.coverage;

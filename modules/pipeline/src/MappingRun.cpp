@@ -380,7 +380,8 @@ std::unique_ptr<io::FrameSource> MappingRun::wrapSource(std::unique_ptr<io::Fram
 
 std::unique_ptr<io::FrameSource> MappingRun::wrapLive(std::unique_ptr<io::FrameSource> source) {
   if (m_mapper->stage<TrackingStage>().robotParams().type == "segway_rmp") {
-    const Eigen::Isometry3d T_base_cam = m_mapper->stage<TrackingStage>().robotParams().T_base_cam();
+    const Eigen::Isometry3d T_base_cam =
+        m_mapper->stage<TrackingStage>().robotParams().T_base_cam();
     auto robot = std::make_unique<robot::SegwayRmpRobot>(m_segway, T_base_cam);
     auto on_robot = std::make_unique<RobotFrameSource>(std::move(source), std::move(robot));
     m_robot_source = on_robot.get();
@@ -816,6 +817,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
     source = wrapSource(std::move(source), acc.preload_s);
   } catch (const std::exception& e) {
     acc.error = validUtf8(e.what());
+    m_explore.reset();  // its navigation thread drives the source's robot: it goes first
     source.reset();
   }
   // Frame rate and CPU time count the mapping (not a preload before it).

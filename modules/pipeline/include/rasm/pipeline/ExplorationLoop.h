@@ -163,7 +163,7 @@ class ExplorationLoop {
   bool m_have_est = false;
   double m_path_m = 0, m_t = 0, m_last_plan_t = -1e9, m_last_metrics_t = -1e9;
   std::optional<double> m_t0;  ///< the first frame's timestamp (times count from it)
-  int m_spin_goals_left = 3;  ///< the initial turn in place, in thirds
+  int m_spin_goals_left = 3;   ///< the initial turn in place, in thirds
   int m_low_plans = 0, m_plans = 0;
   std::optional<GoalRecord> m_goal;
   double m_goal_rate = 0.0;  ///< rate of the current goal when chosen (for switching)

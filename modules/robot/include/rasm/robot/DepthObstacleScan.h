@@ -24,8 +24,8 @@ struct TDepthScanParams {
   float min_z_m = 0.05f;  ///< lowest obstacle height above the floor (the floor itself is below)
   float max_z_m = 1.2f;   ///< highest (the robot's height)
   float max_range_m = 4.0f;
-  int bins = 180;    ///< bearing bins over 360 degrees (2 degrees each)
-  int stride = 4;    ///< every stride-th pixel in x and y
+  int bins = 180;  ///< bearing bins over 360 degrees (2 degrees each)
+  int stride = 4;  ///< every stride-th pixel in x and y
 };
 
 /// The virtual scan of `frame` in the base frame (x forward, y left, z up): at most one point per
