@@ -27,18 +27,25 @@ constexpr double kEpoch_s = 1.0e9;
 
 /// MRPT's navigator reads mrpt::Clock::now(): while alive, the process clock is the simulated one
 /// at the robot's time; the previous source is restored on exit (IRobot.h, MRPT-NOTES: with the
-/// real clock the navigator's waits never complete in simulation).
+/// real clock the navigator's waits never complete in simulation). A wall-clock robot (a real
+/// one, IRobot::wallClock()) keeps the real clock: its time is wall time, and other threads (a
+/// camera's) stamp their data with that clock meanwhile.
 class SimulatedClockScope {
  public:
-  explicit SimulatedClockScope(double robot_time_s) : m_prev(mrpt::Clock::getActiveClock()) {
+  explicit SimulatedClockScope(const sim::IRobot& robot)
+      : m_active(!robot.wallClock()), m_prev(mrpt::Clock::getActiveClock()) {
+    if (!m_active) return;
     mrpt::Clock::setActiveClock(mrpt::Clock::Simulated);
-    mrpt::Clock::setSimulatedTime(mrpt::Clock::fromDouble(kEpoch_s + robot_time_s));
+    mrpt::Clock::setSimulatedTime(mrpt::Clock::fromDouble(kEpoch_s + robot.time_s()));
   }
-  ~SimulatedClockScope() { mrpt::Clock::setActiveClock(m_prev); }
+  ~SimulatedClockScope() {
+    if (m_active) mrpt::Clock::setActiveClock(m_prev);
+  }
   SimulatedClockScope(const SimulatedClockScope&) = delete;
   SimulatedClockScope& operator=(const SimulatedClockScope&) = delete;
 
  private:
+  bool m_active;
   mrpt::Clock::Source m_prev;
 };
 
@@ -140,7 +147,7 @@ void Navigator::Impl::initialise() {
   const_cast<mrpt::system::CTimeLogger&>(nav.getDelaysTimeLogger())
       .setMinLoggingLevel(mrpt::system::LVL_ERROR);
   nav.enableRethrowNavExceptions(true);  // errors come back as exceptions: reason "mrpt: ..."
-  const SimulatedClockScope clock(robot.time_s());
+  const SimulatedClockScope clock(robot);
   nav.loadConfigFile(cfg);
   // MRPT trap: the ptg_cache_files_directory key is not read from the config in 2.5.8 and the
   // default "." writes ReacNavGrid_*.dat.gz into the cwd. The file names do not encode the PTG
@@ -155,7 +162,7 @@ void Navigator::Impl::initialise() {
 
 void Navigator::Impl::stopMrpt() {
   if (mrpt_active) {
-    const SimulatedClockScope clock(robot.time_s());
+    const SimulatedClockScope clock(robot);
     nav.cancel();
     if (nav.getCurrentState() == mrpt::nav::CAbstractNavigator::NAV_ERROR) nav.resetNavError();
   }
@@ -219,7 +226,7 @@ void Navigator::Impl::stepNavigating(double t, const Eigen::Vector3d& pose) {
 /// after every step (MRPT trap: an error is only visible there and in the event callbacks).
 void Navigator::Impl::stepReactive(const Eigen::Vector2d& target) {
   using mrpt::nav::CAbstractNavigator;
-  const SimulatedClockScope clock(robot.time_s());
+  const SimulatedClockScope clock(robot);
   try {
     if (!mrpt_active) {
       // navigateWaypoints(), not navigate(): see docs/navigation.md (MRPT trap).

@@ -48,13 +48,31 @@ const char* sourceName(exploration::ViewCandidate::Source s) {
 }
 }  // namespace
 
+namespace {
+/// The simulated robot stepped in the sequence's substeps between frames (RobotDriver.h), on the
+/// mapping thread at simulated times.
+class SimulatedRobotDriver : public RobotDriver {
+ public:
+  explicit SimulatedRobotDriver(sim::SimulatedSequence& seq) : m_seq(seq) {}
+  robot::IRobot& robot() override { return *m_seq.robot(); }
+  void start(std::function<void()> navigation_step) override {
+    m_seq.setSubstepHook(std::move(navigation_step));
+  }
+  void stop() override { m_seq.setSubstepHook({}); }
+  void endFrames() override { m_seq.finish(); }
+  const char* stepping() const override { return "substeps"; }
+
+ private:
+  sim::SimulatedSequence& m_seq;
+};
+}  // namespace
+
 ExplorationLoop::ExplorationLoop(Mapper& mapper, sim::SimulatedSequence& seq,
                                  const navigation::TNavigationParams& nav_params)
-    : m_mapper(mapper), m_stage(mapper.stage<ExplorationStage>()), m_seq(seq) {
+    : m_mapper(mapper), m_stage(mapper.stage<ExplorationStage>()), m_seq(&seq) {
   if (!seq.robot())
     throwInputError("[explore] enabled",
                     "needs a simulated robot ([sim] trajectory: a robot spec)");
-  m_T_base_cam = mapper.stage<TrackingStage>().robotParams().T_base_cam();
   if (m_stage.exploreParams().workspace_from_world) {
     const Eigen::AlignedBox3f b = seq.scene().world().bounds();
     const auto& p = m_stage.params();
@@ -63,11 +81,9 @@ ExplorationLoop::ExplorationLoop(Mapper& mapper, sim::SimulatedSequence& seq,
                             Eigen::Vector3d(b.max().x(), b.max().y(),
                                             std::min<double>(b.max().z(), p.workspace_max_z_m))));
   }
-  m_planner = exploration::makePlanner(m_stage.params());
-  sim::SimulatedDiffDriveRobot& robot = *seq.robot();
-  m_nav = std::make_unique<navigation::Navigator>(
-      robot, nav_params, robot.params().footprintPolygon(), [this] { return estimatedBasePose(); });
-  seq.setSubstepHook([this] { m_nav->update(); });
+  m_driver = std::make_unique<SimulatedRobotDriver>(seq);
+  const sim::SimulatedDiffDriveRobot& robot = *seq.robot();
+  start(robot.params().footprintPolygon(), nav_params);
   // Coverage counts the surface this robot's camera could see (its height, pitch, field of view
   // and the mapper's depth range), not the ceiling or the undersides of desks.
   m_coverage = std::make_unique<sim::SurfaceCoverage>(
@@ -75,7 +91,29 @@ ExplorationLoop::ExplorationLoop(Mapper& mapper, sim::SimulatedSequence& seq,
       sim::coverageOptionsForRobot(robot.params(), seq.sensor().intrinsics(),
                                    mapper.mapperParams().max_depth_m));
   m_instances = std::make_unique<sim::SurfaceInstanceQuery>(seq.scene());
-  m_fusion_params = mapper.stage<FusionStage>().params();
+}
+
+ExplorationLoop::ExplorationLoop(Mapper& mapper, std::unique_ptr<RobotDriver> driver,
+                                 const std::vector<Eigen::Vector2f>& footprint,
+                                 const navigation::TNavigationParams& nav_params)
+    : m_mapper(mapper), m_stage(mapper.stage<ExplorationStage>()), m_driver(std::move(driver)) {
+  start(footprint, nav_params);  // the workspace is [exploration] workspace_* as loaded
+}
+
+/// What both robots share: the planner, the navigator on the driver's robot, the driver's
+/// stepping, the planner thread.
+void ExplorationLoop::start(const std::vector<Eigen::Vector2f>& footprint,
+                            const navigation::TNavigationParams& nav_params) {
+  m_T_base_cam = m_mapper.stage<TrackingStage>().robotParams().T_base_cam();
+  m_planner = exploration::makePlanner(m_stage.params());
+  m_robot = &m_driver->robot();
+  m_nav = std::make_unique<navigation::Navigator>(*m_robot, nav_params, footprint,
+                                                  [this] { return estimatedBasePose(); });
+  m_driver->start([this] {
+    std::lock_guard<std::mutex> lock(m_nav_mx);
+    if (m_nav) m_nav->update();
+  });
+  m_fusion_params = m_mapper.stage<FusionStage>().params();
   if (m_stage.exploreParams().planner_thread) m_worker = std::thread([this] { plannerThread(); });
 }
 
@@ -93,13 +131,35 @@ void ExplorationLoop::release() {
     m_worker.join();
   }
   if (!m_nav) return;
-  m_seq.setSubstepHook({});
+  m_driver->stop();  // no step after this (the navigation thread has ended)
+  std::lock_guard<std::mutex> lock(m_nav_mx);
   m_nav_final = m_nav->state();
   m_nav.reset();  // MRPT's navigator stops the robot when destroyed: the robot must still exist
 }
 
+navigation::NavState ExplorationLoop::navState() const {
+  std::lock_guard<std::mutex> lock(m_nav_mx);
+  return m_nav ? m_nav->state() : m_nav_final;
+}
+
+std::string ExplorationLoop::navFailureReason() const {
+  std::lock_guard<std::mutex> lock(m_nav_mx);
+  return m_nav ? m_nav->failureReason() : std::string();
+}
+
+void ExplorationLoop::navSetGoal(const Eigen::Vector3d& goal) {
+  std::lock_guard<std::mutex> lock(m_nav_mx);
+  if (m_nav) m_nav->setGoal(goal);
+}
+
+void ExplorationLoop::navCancel() {
+  std::lock_guard<std::mutex> lock(m_nav_mx);
+  if (m_nav) m_nav->cancel();
+}
+
 Eigen::Vector3d ExplorationLoop::estimatedBasePose() const {
-  const Eigen::Vector3d odo = m_seq.robot()->odometry();
+  const Eigen::Vector3d odo = m_robot->odometry();
+  std::lock_guard<std::mutex> lock(m_loc_mx);
   if (!m_have_est) return odo;  // before the first frame: the odometry starts at the true pose
   // The estimate at the last frame composed with the odometry increment since it (SE(2)).
   const mrpt::poses::CPose2D p = pose2D(m_est_base) + (pose2D(odo) - pose2D(m_odo_at_est));
@@ -108,7 +168,11 @@ Eigen::Vector3d ExplorationLoop::estimatedBasePose() const {
 
 void ExplorationLoop::afterFrame(const RgbdFrame& frame, const FrameResult& r) {
   ++m_frames;
-  m_t = r.timestamp_s;
+  if (!m_t0) m_t0 = r.timestamp_s;  // a simulated run starts at 0; a live camera's at UNIX time
+  m_t = r.timestamp_s - *m_t0;
+  m_driver->frameArrived(frame);
+  const std::string driver_error = m_driver->error();
+  if (!driver_error.empty()) throw std::runtime_error("navigation: " + driver_error);
   // Localisation: the estimated camera pose of this frame, as a base pose on the floor.
   const Eigen::Isometry3d T_base = r.T_world_cam * m_T_base_cam.inverse();
   const Eigen::Matrix3d R = T_base.linear();
@@ -116,9 +180,13 @@ void ExplorationLoop::afterFrame(const RgbdFrame& frame, const FrameResult& r) {
                              std::atan2(R(1, 0), R(0, 0)));
   if (m_have_est) m_path_m += (base.head<2>() - m_last_base.head<2>()).norm();
   m_last_base = base;
-  m_est_base = base;
-  m_odo_at_est = frame.odometry_xyyaw.value_or(m_seq.robot()->odometry());
-  m_have_est = true;
+  {
+    const Eigen::Vector3d odo = frame.odometry_xyyaw.value_or(m_robot->odometry());
+    std::lock_guard<std::mutex> lock(m_loc_mx);
+    m_est_base = base;
+    m_odo_at_est = odo;
+    m_have_est = true;
+  }
   if (finished()) return;
 
   const TExploreParams& xp = m_stage.exploreParams();
@@ -126,25 +194,25 @@ void ExplorationLoop::afterFrame(const RgbdFrame& frame, const FrameResult& r) {
   if (xp.time_budget_s > 0 && m_t >= xp.time_budget_s) return stop("time_budget");
   if (xp.path_budget_m > 0 && m_path_m >= xp.path_budget_m) return stop("path_budget");
 
-  const navigation::NavState s = m_nav->state();
+  const navigation::NavState s = navState();
   if (s == navigation::NavState::Reached || s == navigation::NavState::Failed) {
     const bool ok = s == navigation::NavState::Reached;
     if (m_goal) {
       reportOutcome(m_goal->goal, ok);
-      endGoal(m_t, ok ? "reached" : m_nav->failureReason());
+      endGoal(m_t, ok ? "reached" : navFailureReason());
     }
-    m_nav->cancel();
+    navCancel();
   }
   if (xp.planner_thread) {
     takeThreadedPlan();
     if (finished()) return;
   }
-  if (m_nav->state() == navigation::NavState::Idle) {
+  if (navState() == navigation::NavState::Idle) {
     if (m_spin_goals_left > 0) {  // the initial turn in place, a third at a time
       --m_spin_goals_left;
       Eigen::Vector3d g = estimatedBasePose();
       g.z() = mrpt::math::wrapToPi(g.z() + 2.0 * M_PI / 3.0);
-      m_nav->setGoal(g);
+      navSetGoal(g);
       return;
     }
     plan(m_t, false);
@@ -250,7 +318,7 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
   log["low"] = low;
   m_plan_log.push_back(log);
   // What the robot does now (with the planner thread it may have arrived since the request).
-  const bool idle = m_nav->state() == navigation::NavState::Idle;
+  const bool idle = navState() == navigation::NavState::Idle;
   if (idle && m_low_plans >= xp.stop_plans) {
     stop(p.ranked.empty() ? (ig ? "no_reachable_views" : "planner_done")
                           : "information_gain_below_threshold");
@@ -260,7 +328,7 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
     if (idle) {  // nothing reachable now: turn a little and look again
       Eigen::Vector3d g = estimatedBasePose();
       g.z() = mrpt::math::wrapToPi(g.z() + M_PI / 2.0);
-      m_nav->setGoal(g);
+      navSetGoal(g);
     }
     return;
   }
@@ -331,7 +399,7 @@ void ExplorationLoop::startGoal(const exploration::ViewCandidate& c, double t) {
   g.entropy_reduction = c.entropy_reduction;
   g.information = c.information;
   m_goal = g;
-  m_nav->setGoal(c.pose);
+  navSetGoal(c.pose);
 }
 
 void ExplorationLoop::endGoal(double t, const std::string& outcome) {
@@ -360,13 +428,17 @@ void ExplorationLoop::measure(double t) {
       segment.push_back(a.segment[i]);
     }
   row.surfels = positions.size();
+  if (!groundTruth()) {  // a real robot: no world to compare with
+    m_metrics.push_back(row);
+    return;
+  }
   row.coverage = m_coverage->evaluate(positions).fraction;
   // Objects carrying their class: every detectable (COCO) object of the world counts, seen or not.
   const auto nearest = m_instances->nearest(positions, 0.05f);
   std::vector<std::uint32_t> instance(positions.size());
   for (std::size_t i = 0; i < positions.size(); ++i) instance[i] = nearest[i].instance_id;
   std::vector<classification::GtClassObject> objects;
-  for (const sim::WorldInstanceInfo& w : sim::worldInstances(m_seq.scene().world()))
+  for (const sim::WorldInstanceInfo& w : sim::worldInstances(m_seq->scene().world()))
     objects.push_back(
         {w.instance_id, w.class_name, w.name, w.size_m, w.is_structure || w.class_id == 0});
   classification::ClassificationMetricsParams mp;
@@ -389,30 +461,35 @@ void ExplorationLoop::stop(const std::string& reason) {
   if (!m_stop_reason.empty()) return;
   m_stop_reason = reason;
   if (m_goal) endGoal(m_t, "stopped");
-  if (m_nav) m_nav->cancel();
-  m_seq.finish();
+  navCancel();
+  m_driver->endFrames();
 }
 
 void ExplorationLoop::finish(const std::string& reason) {
   if (m_stop_reason.empty()) stop(reason);
+  release();  // first: the navigation thread ends even if the metrics below throw
   if (m_metrics.empty() || m_metrics.back().t < m_t || m_metrics.back().frames < m_frames)
     measure(m_t);
-  release();
 }
 
 std::string ExplorationLoop::progressText() const {
   char buf[160];
   const double cov = m_metrics.empty() ? 0.0 : m_metrics.back().coverage;
-  std::snprintf(buf, sizeof buf, "t %.0fs path %.1fm coverage %.2f goals %zu %s", m_t, m_path_m,
-                cov, m_goals.size() + (m_goal ? 1 : 0),
-                navigation::toString(m_nav ? m_nav->state() : m_nav_final));
+  const std::size_t goals = m_goals.size() + (m_goal ? 1 : 0);
+  const char* nav = navigation::toString(navState());
+  if (groundTruth())
+    std::snprintf(buf, sizeof buf, "t %.0fs path %.1fm coverage %.2f goals %zu %s", m_t, m_path_m,
+                  cov, goals, nav);
+  else  // a real robot: nothing to measure coverage against
+    std::snprintf(buf, sizeof buf, "t %.0fs path %.1fm goals %zu %s", m_t, m_path_m, goals, nav);
   return buf;
 }
 
 void ExplorationLoop::report(nlohmann::json& rep) const {
   const MetricsRow last = m_metrics.empty() ? MetricsRow{} : m_metrics.back();
-  rep["coverage_fraction"] = last.coverage;
-  rep["objects_correct_fraction"] = last.objects_correct;
+  const bool gt = groundTruth();  // a real robot: null, nothing to measure against
+  rep["coverage_fraction"] = gt ? nlohmann::json(last.coverage) : nlohmann::json();
+  rep["objects_correct_fraction"] = gt ? nlohmann::json(last.objects_correct) : nlohmann::json();
   rep["path_length_m"] = m_path_m;
   rep["sim_time_s"] = m_t;
   rep["stop_reason"] = m_stop_reason;
@@ -433,10 +510,18 @@ void ExplorationLoop::report(nlohmann::json& rep) const {
       {"objects_correct", last.objects_ok},
       {"objects_detectable", last.objects_total},
       {"time_to_90_coverage_s", t90 < 0 ? nlohmann::json() : nlohmann::json(t90)},
+      {"ground_truth", gt},
+      {"navigation",
+       {{"stepping", m_driver->stepping()},
+        {"steps", m_driver->steps()},
+        {"rate_hz",
+         m_driver->seconds() > 0 ? double(m_driver->steps()) / m_driver->seconds() : 0.0}}},
       {"metrics_cover",
-       "coverage: fraction of the world's observable surface within 2 cm of a stable "
-       "surfel; objects: detectable (COCO) objects of the world carrying their "
-       "class, unseen ones included"}};
+       gt ? "coverage: fraction of the world's observable surface within 2 cm of a stable "
+            "surfel; objects: detectable (COCO) objects of the world carrying their "
+            "class, unseen ones included"
+          : "none: no ground truth on a real robot (coverage and objects are not measured; "
+            "exploration.json metrics carry time, path, entropy and surfels)"}};
 }
 
 void ExplorationLoop::writeOutputs(OutputFolder& folder) const {
@@ -451,20 +536,25 @@ void ExplorationLoop::writeOutputs(OutputFolder& folder) const {
                      {"entropy_reduction", g.entropy_reduction},
                      {"information", g.information}});
   nlohmann::json metrics = nlohmann::json::array();
-  for (const MetricsRow& r : m_metrics)
-    metrics.push_back({{"t", r.t},
-                       {"frames", r.frames},
-                       {"path_m", r.path_m},
-                       {"coverage", r.coverage},
-                       {"objects_correct_fraction", r.objects_correct},
-                       {"objects_correct", r.objects_ok},
-                       {"objects_detectable", r.objects_total},
-                       {"entropy_nats", r.entropy},
-                       {"surfels", r.surfels}});
+  for (const MetricsRow& r : m_metrics) {
+    nlohmann::json row = {{"t", r.t},
+                          {"frames", r.frames},
+                          {"path_m", r.path_m},
+                          {"entropy_nats", r.entropy},
+                          {"surfels", r.surfels}};
+    if (groundTruth()) {
+      row["coverage"] = r.coverage;
+      row["objects_correct_fraction"] = r.objects_correct;
+      row["objects_correct"] = r.objects_ok;
+      row["objects_detectable"] = r.objects_total;
+    }
+    metrics.push_back(row);
+  }
   nlohmann::json out = {{"comment",
-                         "rasm exploration (V, VI): plans (t: simulated s; poses x, y, yaw rad in "
-                         "the map frame), goals driven to and their outcome, ground-truth metrics "
-                         "over time"},
+                         "rasm exploration (V, VI): plans (t: s since the first frame, simulated "
+                         "time on the simulator; poses x, y, yaw rad in the map frame), goals "
+                         "driven to and their outcome, metrics over time (ground truth on the "
+                         "simulator)"},
                         {"planner", m_planner->name()},
                         {"stop_reason", m_stop_reason},
                         {"plans", m_plan_log},
@@ -474,7 +564,7 @@ void ExplorationLoop::writeOutputs(OutputFolder& folder) const {
   folder.writeText("exploration.json", out.dump(1) + "\n");
 
   // exploration.png: coverage (blue) and objects correct (red) against simulated time.
-  if (m_metrics.size() < 2) return;
+  if (m_metrics.size() < 2 || !groundTruth()) return;
   PlotSeries coverage{"coverage", {}, {}, cv::Scalar(200, 80, 0), 2};
   PlotSeries objects{"objects correct", {}, {}, cv::Scalar(0, 0, 200), 2};
   for (const MetricsRow& r : m_metrics) {

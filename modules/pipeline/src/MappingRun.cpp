@@ -140,7 +140,8 @@ void MappingRun::decideExploring(const std::string& src) {
   m_exploring = !m_explore_real && robot != "none" &&
                 (mode == "true" || (mode == "auto" && m_source.type == "sim" &&
                                     simTrajectoryIsRobot(m_sim_ini, src)));
-  m_mapper->stage<ExplorationStage>().setExploring(m_exploring);
+  // The octree (V-A) for either loop: the simulated robot's or the real one's (wrapLive).
+  m_mapper->stage<ExplorationStage>().setExploring(m_exploring || m_explore_real);
 }
 
 MappingRun::~MappingRun() = default;
@@ -164,6 +165,7 @@ std::unique_ptr<io::FrameSource> MappingRun::openSource() const {
   if (m_source.type == "sim")
     return openSimSource(m_sim_ini, m_config.source(), m_camera.intrinsics(), m_exploring,
                          m_mapper->stage<ExplorationStage>().exploreParams().camera_rate_hz);
+  if (m_source.type == "openni2" && m_live_camera) return m_live_camera();
   if (m_source.type == "openni2")  // opens at its first frame (a missing camera: report.json)
     return std::make_unique<io::OpenNI2FrameSource>(m_openni2, m_camera.intrinsics());
   io::FrameSourceOptions opt;
@@ -378,15 +380,12 @@ std::unique_ptr<io::FrameSource> MappingRun::wrapSource(std::unique_ptr<io::Fram
 
 std::unique_ptr<io::FrameSource> MappingRun::wrapLive(std::unique_ptr<io::FrameSource> source) {
   if (m_mapper->stage<TrackingStage>().robotParams().type == "segway_rmp") {
-    auto robot = std::make_unique<robot::SegwayRmpRobot>(
-        m_segway, m_mapper->stage<TrackingStage>().robotParams().T_base_cam());
-    if (m_explore_real)
-      throwInputError(robot->describe() + " [explore] enabled = true",
-                      "the closed exploration loop drives the simulated robot only so far "
-                      "(docs/hardware.md); set [explore] enabled = false to map while the robot "
-                      "is driven otherwise");
+    const Eigen::Isometry3d T_base_cam =
+        m_mapper->stage<TrackingStage>().robotParams().T_base_cam();
+    auto robot = std::make_unique<robot::SegwayRmpRobot>(m_segway, T_base_cam);
     auto on_robot = std::make_unique<RobotFrameSource>(std::move(source), std::move(robot));
     m_robot_source = on_robot.get();
+    if (m_explore_real) startRealExploration(on_robot->robot(), T_base_cam);
     source = std::move(on_robot);
   }
   // A camera paces itself (pace = false); a replay is paced by its timestamps.
@@ -394,6 +393,24 @@ std::unique_ptr<io::FrameSource> MappingRun::wrapLive(std::unique_ptr<io::FrameS
       std::make_unique<io::RealTimeFrameSource>(std::move(source), m_source.type != "openni2");
   m_realtime = rt.get();
   return rt;
+}
+
+/// [explore] enabled = true on the Segway (VI): the navigator steps in a thread of its own at
+/// [navigation] period_s of wall time and senses obstacles in the camera's depth (the RMP has no
+/// laser); the planner runs on map snapshots ([explore] planner_thread); the workspace is
+/// [exploration] workspace_*; no ground truth.
+void MappingRun::startRealExploration(robot::SegwayRmpRobot& robot,
+                                      const Eigen::Isometry3d& T_base_cam) {
+#ifdef RASM_HAVE_SIM
+  auto driver = std::make_unique<WallClockRobotDriver>(robot, m_navigation.period_s);
+  driver->enableDepthScan(T_base_cam, m_segway.depthScanParams());
+  m_explore = std::make_unique<ExplorationLoop>(*m_mapper, std::move(driver),
+                                                m_segway.footprintPolygon(), m_navigation);
+#else
+  (void)T_base_cam;
+  throwInputError(robot.describe() + " [explore] enabled = true",
+                  "this build has no navigation module (it comes with modules/sim)");
+#endif
 }
 
 /// Ranges "a-b,c" of sorted indices.
@@ -497,6 +514,8 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFold
   try {
     while (m_source.max_frames == 0 || acc.processed < std::size_t(m_source.max_frames)) {
       if (stopSignal() != 0) break;  // SIGINT / SIGTERM: no further frame
+      // The exploration stopped by its rule (a live camera does not end by itself).
+      if (m_explore && m_explore->finished()) break;
       std::optional<RgbdFrame> f = source.next();
       if (!f) break;
       const long long idx = acc.read++;
@@ -798,6 +817,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
     source = wrapSource(std::move(source), acc.preload_s);
   } catch (const std::exception& e) {
     acc.error = validUtf8(e.what());
+    m_explore.reset();  // its navigation thread drives the source's robot: it goes first
     source.reset();
   }
   // Frame rate and CPU time count the mapping (not a preload before it).

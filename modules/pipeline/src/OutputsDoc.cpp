@@ -130,13 +130,16 @@ const Doc kReport[] = {
     {"exploration",
      "an exploring run: `planner`, `plans`, `goals`, `goals_reached`, "
      "`goals_not_reached`, `objects_correct`, `objects_detectable`, "
-     "`time_to_90_coverage_s` (null: not reached), `metrics_cover`"},
+     "`time_to_90_coverage_s` (null: not reached), `ground_truth` (false on a real robot: no "
+     "coverage or object metrics), `navigation` {`stepping` (`substeps`: the simulator's, "
+     "between frames; `thread`: a thread of its own on the wall clock), `steps` and `rate_hz` "
+     "(thread)}, `metrics_cover`"},
     {"coverage_fraction",
      "exploring run: fraction of the world's observable surface within 2 cm "
-     "of a stable surfel, at the end"},
+     "of a stable surfel, at the end (null on a real robot: no ground truth)"},
     {"objects_correct_fraction",
      "exploring run: detectable objects of the world carrying their "
-     "class, at the end"},
+     "class, at the end (null on a real robot)"},
     {"real_time",
      "`[source] real_time` or a live camera: `paced_by`, `frames_offered`, `frames_dropped` "
      "(arrived while the mapper was busy), `frames_processed`, `offered_fps`, "
@@ -146,7 +149,8 @@ const Doc kReport[] = {
      "`bad_responses`, `watchdog_stops`, `operational_state`, `fault_status`, "
      "`battery_soc_pct`, `odometry_xyyaw` (docs/hardware.md)"},
     {"path_length_m", "exploring run: distance the robot drove (m)"},
-    {"sim_time_s", "exploring run: simulated time (s)"},
+    {"sim_time_s",
+     "exploring run: seconds since the first frame (simulated time; wall time on a real robot)"},
     {"stop_reason",
      "exploring run: `time_budget`, `path_budget`, "
      "`information_gain_below_threshold`, `no_reachable_views`, `planner_done`, "
@@ -241,9 +245,10 @@ when planned), `applied_t`, `robot` [x, y, yaw rad], `reachable`, `unreachable`,
 (counts towards the stopping rule), `best` {`pose`, `source` (object, frontier, sweep, random),
 `gain`, `rate`, `path_length_m`}, `current_goal_score`}; `goals`: the goals driven to {`goal`
 [x, y, yaw], `t_start`, `t_end`, `source`, `outcome` (reached, switched, stopped or the
-navigator's failure), `gain`, `entropy_reduction`, `information`}; `metrics`: ground truth over
-time {`t`, `frames`, `path_m`, `coverage`, `objects_correct_fraction`, `objects_correct`,
-`objects_detectable`, `entropy_nats`, `surfels`}. Poses in the map frame.
+navigator's failure), `gain`, `entropy_reduction`, `information`}; `metrics`: over time {`t`,
+`frames`, `path_m`, `entropy_nats`, `surfels`, and with the simulator's ground truth `coverage`,
+`objects_correct_fraction`, `objects_correct`, `objects_detectable`}. Times in s since the first
+frame; poses in the map frame.
 
 ## map.ply, map_segments.ply, map_classes.ply
 

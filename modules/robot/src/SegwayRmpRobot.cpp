@@ -49,6 +49,11 @@ void TSegwayRmpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
   MRPT_LOAD_CONFIG_VAR(rmp_max_yaw_rate_radps, double, c, s);
   MRPT_LOAD_CONFIG_VAR(track_width_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(configure_rmp, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(footprint_length_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(footprint_width_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(obstacle_min_z_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(obstacle_max_z_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(obstacle_max_range_m, double, c, s);
   if (host.empty()) throwInputError("[" + s + "] host", "empty (expected the RMP's IP address)");
   requireInRange(port, 1, 65535, s, "port");
   requireInRange(local_port, 0, 65535, s, "local_port");
@@ -62,6 +67,24 @@ void TSegwayRmpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
   requireInRange(max_v_mps, 0, rmp_max_velocity_mps, s, "max_v_mps");
   requireInRange(max_w_degps, 0, rmp_max_yaw_rate_radps / kDeg, s, "max_w_degps");
   requireInRange(track_width_m, 0.2, 2.0, s, "track_width_m");
+  requireInRange(footprint_length_m, 0.1, 3.0, s, "footprint_length_m");
+  requireInRange(footprint_width_m, 0.1, 3.0, s, "footprint_width_m");
+  requireInRange(obstacle_min_z_m, 0.0, 3.0, s, "obstacle_min_z_m");
+  requireInRange(obstacle_max_z_m, obstacle_min_z_m, 5.0, s, "obstacle_max_z_m");
+  requireInRange(obstacle_max_range_m, 0.1, 20.0, s, "obstacle_max_range_m");
+}
+
+std::vector<Eigen::Vector2f> TSegwayRmpParams::footprintPolygon() const {
+  const float x = float(0.5 * footprint_length_m), y = float(0.5 * footprint_width_m);
+  return {{x, y}, {-x, y}, {-x, -y}, {x, -y}};
+}
+
+TDepthScanParams TSegwayRmpParams::depthScanParams() const {
+  TDepthScanParams p;
+  p.min_z_m = float(obstacle_min_z_m);
+  p.max_z_m = float(obstacle_max_z_m);
+  p.max_range_m = float(obstacle_max_range_m);
+  return p;
 }
 
 void TSegwayRmpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
@@ -79,6 +102,11 @@ void TSegwayRmpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(rmp_max_yaw_rate_radps, c, s);
   MRPT_SAVE_CONFIG_VAR(track_width_m, c, s);
   MRPT_SAVE_CONFIG_VAR(configure_rmp, c, s);
+  MRPT_SAVE_CONFIG_VAR(footprint_length_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(footprint_width_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(obstacle_min_z_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(obstacle_max_z_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(obstacle_max_range_m, c, s);
 }
 
 // ---------------------------------------------------------------------------------------------

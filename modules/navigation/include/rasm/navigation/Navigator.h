@@ -11,7 +11,9 @@
 //
 // Clock: MRPT's navigator reads mrpt::Clock. update() switches it to the simulated clock, set to
 // the robot's time, for the duration of the call and restores the previous clock source after,
-// so the rest of the process is unaffected. Only one Navigator at a time per process.
+// so the rest of the process is unaffected. Only one Navigator at a time per process. A
+// wall-clock robot (IRobot::wallClock(): the Segway) keeps MRPT's real clock. The Navigator is
+// not thread-safe: an owner stepping it in a thread of its own serialises every call.
 
 #include <Eigen/Core>
 #include <functional>

@@ -6,12 +6,18 @@
 //                 baseline) on a map snapshot and the occupancy octree of ExplorationStage, when
 //                 the robot has arrived or given up, and every replan_period_s while it drives
 //                 (a mid-way switch only when the new view is clearly better);
-//   navigation    MRPT's reactive navigator drives the robot to the chosen SE(2) view; it steps
-//                 in the simulator's substeps (SimulatedSequence::setSubstepHook);
+//   navigation    MRPT's reactive navigator drives the robot to the chosen SE(2) view; a
+//                 RobotDriver steps it (RobotDriver.h, VI): in the simulator's substeps
+//                 (SimulatedSequence::setSubstepHook), or in a thread of its own at [navigation]
+//                 period_s of wall time on a real robot (WallClockRobotDriver);
 //   stopping      [explore]'s rule: the best view gains too little for stop_plans plans, the
 //                 planner has nothing left, or a time / path budget is spent;
 //   metrics       with the simulator's ground truth: surface coverage and the fraction of the
-//                 world's detectable objects carrying their right class, over time.
+//                 world's detectable objects carrying their right class, over time. A real robot
+//                 has none: its metrics rows carry time, path, entropy and surfels only, and the
+//                 report's coverage fields are null.
+// Workspace (V-A): the simulated world's bounds ([explore] workspace_from_world), else (a real
+// robot) [exploration] workspace_*. Times are seconds since the first frame.
 // Threads ([explore] planner_thread): true, the planner runs in a thread of its own on map
 // snapshots and a copy of the octree while mapping goes on, and its plan is applied on a later
 // frame (a robot); false, it runs on the mapping thread between frames at simulated times, so a
@@ -34,6 +40,7 @@
 #include "rasm/fusion/TFusionParams.h"
 #include "rasm/navigation/Navigator.h"
 #include "rasm/pipeline/Mapper.h"
+#include "rasm/pipeline/RobotDriver.h"
 #include "rasm/pipeline/RunScene.h"
 #include "rasm/pipeline/stages/ExplorationStage.h"
 
@@ -47,8 +54,14 @@ namespace rasm::pipeline {
 
 class ExplorationLoop {
  public:
-  /// `seq`: the commanded simulated sequence the frames come from (its robot is driven).
+  /// `seq`: the commanded simulated sequence the frames come from (its robot is driven in its
+  /// substeps; ground-truth metrics).
   ExplorationLoop(Mapper& mapper, sim::SimulatedSequence& seq,
+                  const navigation::TNavigationParams& nav_params);
+  /// Any robot (a real one): `driver` steps the navigator (WallClockRobotDriver); `footprint`:
+  /// the robot's polygon (robot frame); no ground truth.
+  ExplorationLoop(Mapper& mapper, std::unique_ptr<RobotDriver> driver,
+                  const std::vector<Eigen::Vector2f>& footprint,
                   const navigation::TNavigationParams& nav_params);
   ~ExplorationLoop();
 
@@ -58,8 +71,9 @@ class ExplorationLoop {
   const std::string& stopReason() const { return m_stop_reason; }
   bool finished() const { return !m_stop_reason.empty(); }
   /// End of the run (after Mapper::finishRun): the final metrics; `reason` when no stopping rule
-  /// ended it (the source ended, an error). Releases the navigator and the substep hook: call it
-  /// while the source (which owns the robot) still exists; the destructor does the same if not.
+  /// ended it (the source ended, an error). Releases the navigator and its driver (the
+  /// substep hook, the navigation thread): call it while the source (which owns the robot) still
+  /// exists; the destructor does the same if not.
   void finish(const std::string& reason);
 
   /// One-line state for the progress line.
@@ -105,7 +119,15 @@ class ExplorationLoop {
     double current_goal_score = -1;  ///< the goal's score in this plan's units (-1: none)
     std::string error;               ///< the planner thread's exception
   };
+  void start(const std::vector<Eigen::Vector2f>& footprint,
+             const navigation::TNavigationParams& nav_params);
   Eigen::Vector3d estimatedBasePose() const;
+  // The navigator's calls from the mapping thread, serialised with the driver's stepping.
+  navigation::NavState navState() const;
+  std::string navFailureReason() const;
+  void navSetGoal(const Eigen::Vector3d& goal);
+  void navCancel();
+  bool groundTruth() const { return m_coverage != nullptr; }
   /// Plans now (deterministic mode) or asks the planner thread to ([explore] planner_thread).
   void plan(double t, bool driving);
   PlanOutput computePlan(const PlanRequest& req);
@@ -123,8 +145,12 @@ class ExplorationLoop {
 
   Mapper& m_mapper;
   ExplorationStage& m_stage;
-  sim::SimulatedSequence& m_seq;
+  sim::SimulatedSequence* m_seq = nullptr;  ///< the simulated sequence (ground truth), or null
+  std::unique_ptr<RobotDriver> m_driver;
+  robot::IRobot* m_robot = nullptr;  ///< the driver's robot
   Eigen::Isometry3d m_T_base_cam;
+  mutable std::mutex m_nav_mx;  ///< the navigator: driver stepping vs the mapping thread
+  mutable std::mutex m_loc_mx;  ///< the localisation estimate (read by the navigator)
   std::unique_ptr<navigation::Navigator> m_nav;  ///< null once released (finish())
   navigation::NavState m_nav_final = navigation::NavState::Idle;
   std::unique_ptr<exploration::ExplorationPlanner> m_planner;
@@ -136,7 +162,8 @@ class ExplorationLoop {
   Eigen::Vector3d m_last_base = Eigen::Vector3d::Zero();
   bool m_have_est = false;
   double m_path_m = 0, m_t = 0, m_last_plan_t = -1e9, m_last_metrics_t = -1e9;
-  int m_spin_goals_left = 3;  ///< the initial turn in place, in thirds
+  std::optional<double> m_t0;  ///< the first frame's timestamp (times count from it)
+  int m_spin_goals_left = 3;   ///< the initial turn in place, in thirds
   int m_low_plans = 0, m_plans = 0;
   std::optional<GoalRecord> m_goal;
   double m_goal_rate = 0.0;  ///< rate of the current goal when chosen (for switching)

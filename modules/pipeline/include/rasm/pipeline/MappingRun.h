@@ -93,6 +93,12 @@ class MappingRun {
 
   /// Opens the configured frame source.
   std::unique_ptr<io::FrameSource> openSource() const;
+  /// Replaces the OpenNI2 camera of [source] type = openni2 by `open()`'s live source (stamped
+  /// with UNIX time, paced by itself): a synthetic camera in tests, a camera rasm has no driver
+  /// for. Everything after it (the robot, real-time dropping, exploration) is as configured.
+  void setLiveCamera(std::function<std::unique_ptr<io::FrameSource>()> open) {
+    m_live_camera = std::move(open);
+  }
 
  private:
   struct Accumulated;  // what the frame loop gathers for the outputs
@@ -108,6 +114,8 @@ class MappingRun {
   /// A live source or a real-time replay: the robot's odometry ([robot] type = segway_rmp, which
   /// connects here) and the real-time offering of frames (docs/hardware.md).
   std::unique_ptr<io::FrameSource> wrapLive(std::unique_ptr<io::FrameSource> source);
+  /// [explore] enabled = true on the Segway: the closed loop on the wall clock (m_explore).
+  void startRealExploration(robot::SegwayRmpRobot& robot, const Eigen::Isometry3d& T_base_cam);
   /// report.json "real_time" (frames offered / dropped / processed, rates) and "robot".
   void liveReport(nlohmann::json& rep, std::size_t processed, double seconds) const;
   /// Frames the run expects (progress display), 0 when unknown.
@@ -154,6 +162,7 @@ class MappingRun {
   std::unique_ptr<ExplorationLoop> m_explore;  ///< exploring: the closed loop (V, VI)
   bool m_exploring = false;                    ///< [explore] enabled and the source decide
   std::vector<std::string> m_annotated_lost;   ///< annotated.rawlog: lost frames and why (200)
+  std::function<std::unique_ptr<io::FrameSource>()> m_live_camera;  ///< setLiveCamera
 };
 
 }  // namespace rasm::pipeline

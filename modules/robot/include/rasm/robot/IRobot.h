@@ -48,6 +48,10 @@ class IRobot {
 
   /// T_world_cam of the robot's RGB-D camera (optical frame), from the current pose.
   virtual Eigen::Isometry3d cameraPose() const = 0;
+
+  /// True when time_s() is wall time and step() waits it out (a real robot): the navigator then
+  /// leaves MRPT's process-wide clock alone (other threads, e.g. a camera's, stamp with it).
+  virtual bool wallClock() const { return false; }
 };
 
 }  // namespace rasm::robot

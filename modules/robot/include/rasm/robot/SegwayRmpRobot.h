@@ -20,8 +20,11 @@
 //    track_width_m; it starts at (0, 0, 0). pose() is the odometry (a real robot has no ground
 //    truth). Timestamps: this computer's clock at reception (UNIX seconds), so odometryAt()
 //    pairs camera frames (stamped by the same clock) with the odometry of their time.
-//  - No obstacle sensing: senseObstacles() returns nothing (a base without a laser); the reactive
-//    navigator then relies on the map only. collided() is always false.
+//  - No obstacle sensing of its own: senseObstacles() returns nothing (a base without a laser).
+//    An exploring run wraps it in a DepthScanRobot (DepthObstacleScan.h): a virtual scan from the
+//    camera's depth in the height band obstacle_min_z_m .. obstacle_max_z_m. collided() is
+//    always false.
+//  - Time: wall clock (wallClock() is true); step(dt) waits dt.
 
 #include <mrpt/config/CLoadableOptions.h>
 
@@ -35,7 +38,9 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <vector>
 
+#include "rasm/robot/DepthObstacleScan.h"
 #include "rasm/robot/IRobot.h"
 #include "rasm/robot/RmpProtocol.h"
 
@@ -65,6 +70,19 @@ struct TSegwayRmpParams : mrpt::config::CLoadableOptions {
   /// shutdown request standby. false: the RMP is configured already (bitmaps as
   /// rmp::FeedbackLayout) and only motion commands are sent.
   bool configure_rmp = true;
+  /// The base's footprint for the navigator: a rectangle centred on the rotation centre (m).
+  double footprint_length_m = 0.65;
+  double footprint_width_m = 0.78;
+  /// The virtual obstacle scan from the depth camera (DepthObstacleScan.h): heights above the
+  /// floor that are obstacles (the floor and what the base passes under are not), and its range.
+  double obstacle_min_z_m = 0.05;
+  double obstacle_max_z_m = 1.2;
+  double obstacle_max_range_m = 4.0;
+
+  /// The footprint polygon (robot frame, counter-clockwise).
+  std::vector<Eigen::Vector2f> footprintPolygon() const;
+  /// The depth scan's parameters from the obstacle_* keys.
+  TDepthScanParams depthScanParams() const;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -106,6 +124,7 @@ class SegwayRmpRobot : public IRobot {
   }
   bool collided() const override { return false; }
   Eigen::Isometry3d cameraPose() const override;
+  bool wallClock() const override { return true; }
 
   Status status() const;
   /// The odometry at UNIX time `t_s`, interpolated between the responses around it (the oldest
