@@ -294,22 +294,4 @@ void SimulatedDiffDriveRobot::senseObstacles(std::vector<Eigen::Vector3f>& pts) 
   }
 }
 
-std::vector<Eigen::Vector3f> obstaclePointsFromDepth(const RgbdFrame& f,
-                                                     const Eigen::Isometry3d& T_base_cam,
-                                                     float z_min, float z_max, int stride) {
-  std::vector<Eigen::Vector3f> pts;
-  const PinholeF K = f.intrinsics.plain();
-  const Eigen::Matrix3f R = T_base_cam.linear().cast<float>();
-  const Eigen::Vector3f t = T_base_cam.translation().cast<float>();
-  stride = std::max(1, stride);
-  for (int y = 0; y < f.depth_m.height(); y += stride)
-    for (int x = 0; x < f.depth_m.width(); x += stride) {
-      const float z = f.depth_m(x, y);
-      if (z <= 0.f) continue;
-      const Eigen::Vector3f p = R * K.backProject(float(x), float(y), z) + t;
-      if (p.z() >= z_min && p.z() <= z_max) pts.push_back(p);
-    }
-  return pts;
-}
-
 }  // namespace rasm::sim

@@ -103,10 +103,4 @@ class SimulatedDiffDriveRobot : public IRobot {
   double m_cmd_v = 0.0, m_cmd_w = 0.0;
 };
 
-/// Obstacle points in the robot frame from a depth image: valid pixels back-projected (every
-/// `stride`-th in x and y), moved by T_base_cam and kept when z_min_m <= z <= z_max_m.
-std::vector<Eigen::Vector3f> obstaclePointsFromDepth(const RgbdFrame& frame,
-                                                     const Eigen::Isometry3d& T_base_cam,
-                                                     float z_min_m, float z_max_m, int stride = 4);
-
 }  // namespace rasm::sim
