@@ -170,6 +170,9 @@ TEST(LiveRun, SegwayOdometryStampsTheFramesOfItsCamera) {
   robot::TSegwayRmpParams p;
   p.host = "127.0.0.1";
   p.port = rmp.port();
+  // A loaded 2-core machine starved the fake server for 0.54 s once (a linker running): the
+  // link's 0.5 s default would fail the test for nothing it checks.
+  p.response_timeout_s = 3.0;
   auto seg = std::make_unique<robot::SegwayRmpRobot>(p, Eigen::Isometry3d::Identity());
   robot::SegwayRmpRobot& robot = *seg;
   // Drive forward for 0.6 s, then stop.
