@@ -38,7 +38,7 @@ struct FusionKernelParams {
   float assoc_dz_abs_m = 0.03f, assoc_dz_rel = 0.01f;
   float min_cos_normal = 0.94f;
   float radius_update_ratio = 1.5f;
-  bool average_radius = false;  ///< TFusionParams::average_radius
+  bool average_radius = true;  ///< TFusionParams::average_radius
   bool neighbour_coverage_check = true;
   float stable_confidence = 10.0f;
   float max_confidence = 0.0f;  ///< 0 = no cap
@@ -469,8 +469,8 @@ struct CarveTest {
 
 /// Update of the surfel a pixel was associated with, one frame pixel per call (II-D; Keller et al.
 /// 2013, ElasticFusion): when r <= ratio * r_s, position, normal and colour become the
-/// confidence-weighted means (w_s p_s + w p) / (w_s + w), and the radius too when the new one is
-/// smaller (radii only shrink: see update()); then w_s += w
+/// confidence-weighted means (w_s p_s + w p) / (w_s + w), the radius too (or, with
+/// average_radius off, only when the new one is smaller: see update()); then w_s += w
 /// (optionally capped), t_last = now, stable once w_s >= threshold. The basis follows the normal,
 /// b <- -n x (n x b) (V-B); the segment weight follows L^p (III); the view bin of the camera
 /// direction takes max(b_v, IC) (V-B). Optionally records the carving verdict on the updated
