@@ -236,28 +236,31 @@ void CImage::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
 
 }  // namespace mrpt::img
 
-namespace mrpt {
-
-void* aligned_malloc(std::size_t size, std::size_t alignment) {
-  using Fn = void* (*)(std::size_t, std::size_t);
-  static const Fn mrpt = rasm::io::mrptDefinition<Fn>("_ZN4mrpt14aligned_mallocEmm");
-  if (size > rasm::io::kMaxAlignedBytes)
-    THROW_EXCEPTION_FMT("MRPT allocation of %zu bytes (corrupt file?); rasm allows at most %zu per block", size,
-                        rasm::io::kMaxAlignedBytes);
-  void* p = mrpt(size, alignment);
-  if (p == nullptr && size != 0) throw std::bad_alloc();
-  return p;
-}
-
-void* aligned_calloc(std::size_t bytes, std::size_t alignment) {
-  using Fn = void* (*)(std::size_t, std::size_t);
-  static const Fn mrpt = rasm::io::mrptDefinition<Fn>("_ZN4mrpt14aligned_callocEmm");
-  if (bytes > rasm::io::kMaxAlignedBytes)
-    THROW_EXCEPTION_FMT("MRPT allocation of %zu bytes (corrupt file?); rasm allows at most %zu per block", bytes,
-                        rasm::io::kMaxAlignedBytes);
+namespace rasm::io {
+namespace {
+using AlignedAllocFn = void* (*)(std::size_t, std::size_t);
+/// `bytes` from MRPT's allocator `mrpt`, bounded by kMaxAlignedBytes; a refusal is bad_alloc.
+void* boundedAlignedAlloc(AlignedAllocFn mrpt, std::size_t bytes, std::size_t alignment) {
+  if (bytes > kMaxAlignedBytes)
+    THROW_EXCEPTION_FMT("MRPT allocation of %zu bytes (corrupt file?); rasm allows at most %zu per block",
+                        bytes, kMaxAlignedBytes);
   void* p = mrpt(bytes, alignment);
   if (p == nullptr && bytes != 0) throw std::bad_alloc();
   return p;
+}
+}  // namespace
+}  // namespace rasm::io
+
+namespace mrpt {
+
+void* aligned_malloc(std::size_t size, std::size_t alignment) {
+  static const auto mrpt = rasm::io::mrptDefinition<rasm::io::AlignedAllocFn>("_ZN4mrpt14aligned_mallocEmm");
+  return rasm::io::boundedAlignedAlloc(mrpt, size, alignment);
+}
+
+void* aligned_calloc(std::size_t bytes, std::size_t alignment) {
+  static const auto mrpt = rasm::io::mrptDefinition<rasm::io::AlignedAllocFn>("_ZN4mrpt14aligned_callocEmm");
+  return rasm::io::boundedAlignedAlloc(mrpt, bytes, alignment);
 }
 
 }  // namespace mrpt
