@@ -110,6 +110,47 @@ TEST(OccupancyOctree, WallScanLowersEntropyByTheSensorModelOverTheFrustum) {
   EXPECT_GT(counts.free, volume * 0.5);
 }
 
+// insertDepthFrame casts its rays itself (OctoMap's computeUpdate shares one ray buffer per
+// tree, which the planner's threads cannot): the tree must be the one OctoMap's own
+// insertPointCloud (discretized) builds from the same points, cell for cell. The wall is slanted
+// so that its far part lies beyond max_range_m (those rays free their first 4 m only).
+TEST(OccupancyOctree, DepthFrameUpdatesTheCellsOctoMapsOwnInsertWould) {
+  OccupancyOctree octree(wallParams());
+  const TExplorationParams& p = octree.params();
+  Image<float> depth(kWallK.width, kWallK.height, 0.0f);
+  for (int y = 0; y < kWallK.height; ++y)
+    for (int x = 0; x < kWallK.width; ++x) depth(x, y) = float(1.2 + 0.08 * x);  // 1.2 .. 6.2 m
+  const Eigen::Isometry3d T = horizontalCamera(kEye, 0.3);
+  octree.insertDepthFrame(depth, kWallK, T);
+
+  octomap::OcTree ref(p.resolution_m);
+  ref.setProbHit(p.prob_hit);
+  ref.setProbMiss(p.prob_miss);
+  ref.setClampingThresMin(p.clamp_min);
+  ref.setClampingThresMax(p.clamp_max);
+  octomap::Pointcloud cloud;
+  for (int y = 0; y < kWallK.height; ++y)
+    for (int x = 0; x < kWallK.width; ++x) {
+      const Eigen::Vector3d ray((x - kWallK.cx) / kWallK.fx, (y - kWallK.cy) / kWallK.fy, 1.0);
+      const Eigen::Vector3d q = T * (ray * double(depth(x, y)));
+      cloud.push_back(float(q.x()), float(q.y()), float(q.z()));
+    }
+  const Eigen::Vector3d o = T.translation();
+  ref.insertPointCloud(cloud, octomap::point3d(float(o.x()), float(o.y()), float(o.z())),
+                       p.max_range_m, false, true);
+
+  const octomap::OcTree& tree = octree.tree();
+  ASSERT_GT(ref.getNumLeafNodes(), 1000u);
+  EXPECT_EQ(tree.getNumLeafNodes(), ref.getNumLeafNodes());
+  std::size_t compared = 0;
+  for (auto it = ref.begin_leafs(), end = ref.end_leafs(); it != end; ++it, ++compared) {
+    const octomap::OcTreeNode* n = tree.search(it.getKey(), it.getDepth());
+    ASSERT_NE(n, nullptr) << "cell " << it.getCoordinate() << " missing";
+    EXPECT_EQ(n->getLogOdds(), it->getLogOdds()) << "cell " << it.getCoordinate();
+  }
+  EXPECT_EQ(compared, ref.getNumLeafNodes());
+}
+
 TEST(OccupancyOctree, ViewIntoUnknownSpacePredictsMoreGainThanTheSeenWall) {
   OccupancyOctree octree(wallParams());
   Image<float> wall(kWallK.width, kWallK.height, float(kWallDepth));

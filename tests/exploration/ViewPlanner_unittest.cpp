@@ -2,6 +2,7 @@
 // hand-made grids and on an octree mapped from synthetic depth of a closed box room.
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -233,6 +234,25 @@ TEST_F(RoomPlanTest, PlansReachableRankedViewsAndTheSameSeedGivesTheSamePlan) {
     EXPECT_EQ(again.ranked[k].pose, plan.ranked[k].pose);
     EXPECT_EQ(again.ranked[k].rate, plan.ranked[k].rate);
   }
+}
+
+// The candidates are predicted on all threads, each by one thread: the plan must not depend on
+// the thread count (a run must replay the same on a laptop and on CI).
+TEST_F(RoomPlanTest, ThePlanDoesNotDependOnTheThreadCount) {
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const Plan one = ViewPlanner(params_).plan(in_);
+  omp_set_num_threads(3);
+  const Plan three = ViewPlanner(params_).plan(in_);
+  omp_set_num_threads(threads);
+  ASSERT_GE(one.ranked.size(), 8u);
+  ASSERT_EQ(three.ranked.size(), one.ranked.size());
+  for (std::size_t k = 0; k < one.ranked.size(); ++k) {
+    EXPECT_EQ(three.ranked[k].pose, one.ranked[k].pose);
+    EXPECT_EQ(three.ranked[k].entropy_reduction, one.ranked[k].entropy_reduction);
+    EXPECT_EQ(three.ranked[k].gain, one.ranked[k].gain);
+  }
+  EXPECT_EQ(three.unreachable.size(), one.unreachable.size());
 }
 
 TEST_F(RoomPlanTest, MissingInputIsAnInputError) {

@@ -1,10 +1,10 @@
 #include "rasm/exploration/OccupancyOctree.h"
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
-#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -14,17 +14,44 @@ namespace rasm::exploration {
 
 namespace {
 
-/// OctoMap's computeUpdate calls omp_set_num_threads(number of its key-ray buffers), which is 1
-/// for the Debian build (no OpenMP): that would leave the calling thread's later OpenMP regions
-/// (renderer, fusion) on one thread. This restores the caller's setting.
-class OmpThreadsGuard {
- public:
-  OmpThreadsGuard() : m_threads(omp_get_max_threads()) {}
-  ~OmpThreadsGuard() { omp_set_num_threads(m_threads); }
+/// The free and occupied keys of rays from `origin` to the points of `scan`, as OctoMap's
+/// OccupancyOcTreeBase::computeUpdate without a bounding box (a ray longer than max_range_m frees
+/// its first max_range_m only; occupied wins over free), in the same order, with a KeyRay of the
+/// caller's: OctoMap's own keeps one ray buffer in the tree, so two threads casting through one
+/// tree (the planner's candidates, ViewPlanner.cpp) would share it.
+void castRays(const octomap::OcTree& tree, const octomap::Pointcloud& scan,
+              const octomap::point3d& origin, double max_range_m, octomap::KeySet& free_keys,
+              octomap::KeySet& occupied_keys) {
+  octomap::KeyRay ray;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const octomap::point3d& p = scan[i];
+    if (max_range_m < 0.0 || (p - origin).norm() <= max_range_m) {
+      if (tree.computeRayKeys(origin, p, ray)) free_keys.insert(ray.begin(), ray.end());
+      octomap::OcTreeKey key;
+      if (tree.coordToKeyChecked(p, key)) occupied_keys.insert(key);
+    } else {
+      const octomap::point3d end = origin + (p - origin).normalized() * float(max_range_m);
+      if (tree.computeRayKeys(origin, end, ray)) free_keys.insert(ray.begin(), ray.end());
+    }
+  }
+  for (auto it = free_keys.begin(); it != free_keys.end();)
+    it = occupied_keys.count(*it) ? free_keys.erase(it) : std::next(it);
+}
 
- private:
-  int m_threads;
-};
+/// castRays to the centres of the distinct cells of the points, as OctoMap's
+/// computeDiscreteUpdate (the first point of a cell stands for it).
+void castRaysToCells(const octomap::OcTree& tree, const octomap::Pointcloud& scan,
+                     const octomap::point3d& origin, double max_range_m,
+                     octomap::KeySet& free_keys, octomap::KeySet& occupied_keys) {
+  octomap::Pointcloud cells;
+  cells.reserve(scan.size());
+  octomap::KeySet seen;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const octomap::OcTreeKey k = tree.coordToKey(scan[i]);
+    if (seen.insert(k).second) cells.push_back(tree.keyToCoord(k));
+  }
+  castRays(tree, cells, origin, max_range_m, free_keys, occupied_keys);
+}
 
 /// Log-odds after one update of `delta`, clamped as OctoMap's updateNode does.
 float updatedLogOdds(float l, float delta, float clamp_min, float clamp_max) {
@@ -105,11 +132,10 @@ void OccupancyOctree::computeUpdateKeys(const Image<float>& depth_m, const Camer
         no_returns.push_back(float(p.x()), float(p.y()), float(p.z()));
       }
     }
-  OmpThreadsGuard guard;
-  m_tree->computeDiscreteUpdate(returns, origin, free_keys, occupied_keys, m_params.max_range_m);
+  castRaysToCells(*m_tree, returns, origin, m_params.max_range_m, free_keys, occupied_keys);
   if (no_returns.size() == 0) return;
   octomap::KeySet free_beyond, none;
-  m_tree->computeUpdate(no_returns, origin, free_beyond, none, no_return_free_m);
+  castRays(*m_tree, no_returns, origin, no_return_free_m, free_beyond, none);
   for (const auto& k : free_beyond)
     if (!occupied_keys.count(k)) free_keys.insert(k);
 }

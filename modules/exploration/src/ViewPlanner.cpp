@@ -1,6 +1,7 @@
 #include "rasm/exploration/ViewPlanner.h"
 
 #include <algorithm>
+#include <exception>
 #include <random>
 
 #include "rasm/core/Error.h"
@@ -31,16 +32,41 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
   }
   planPaths(plan.grid, in.robot_pose, m_params, candidates);
 
-  ViewPredictor predictor(m_params, in.model);
-  for (ViewCandidate& c : candidates) {
+  std::vector<int> reachable;
+  for (int i = 0; i < int(candidates.size()); ++i) {
+    ViewCandidate& c = candidates[std::size_t(i)];
     c.T_world_cam = cameraPoseOf(c.pose, in.T_base_cam);
-    if (!c.reachable) {
+    if (c.reachable)
+      reachable.push_back(i);
+    else
       plan.unreachable.push_back(c);
-      continue;
+  }
+  // The predictions, candidates spread over the threads (one predictor each; the renderer's own
+  // parallel loops then run on the calling thread): each candidate is predicted by one thread
+  // alone, so its dH and dIC do not depend on the thread count.
+  const int n = int(reachable.size());
+  std::vector<ViewPrediction> predicted(static_cast<std::size_t>(n));
+  std::exception_ptr failure;  // (an exception must not leave an OpenMP region)
+#pragma omp parallel if (n > 1)
+  {
+    ViewPredictor predictor(m_params, in.model);
+#pragma omp for schedule(dynamic, 1)
+    for (int j = 0; j < n; ++j) {
+      try {
+        predicted[std::size_t(j)] = predictor.predict(
+            *in.store, *in.octree, candidates[std::size_t(reachable[std::size_t(j)])].T_world_cam,
+            in.K);
+      } catch (...) {
+#pragma omp critical(rasm_view_planner_failure)
+        if (!failure) failure = std::current_exception();
+      }
     }
-    const ViewPrediction p = predictor.predict(*in.store, *in.octree, c.T_world_cam, in.K);
-    c.entropy_reduction = p.entropy_reduction;
-    c.information = p.information.weighted;
+  }
+  if (failure) std::rethrow_exception(failure);
+  for (int j = 0; j < n; ++j) {
+    ViewCandidate c = candidates[std::size_t(reachable[std::size_t(j)])];
+    c.entropy_reduction = predicted[std::size_t(j)].entropy_reduction;
+    c.information = predicted[std::size_t(j)].information.weighted;
     plan.ranked.push_back(c);
   }
   rankCandidates(m_params, plan.ranked);
