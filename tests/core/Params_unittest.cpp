@@ -173,3 +173,44 @@ TEST(CameraIntrinsics, ProblemNamesTheBadValue) {
     EXPECT_NE(std::string(e.what()).find("seq.rawlog frame 3"), std::string::npos) << e.what();
   }
 }
+
+#include "rasm/core/ComputeOptions.h"
+
+// [compute] simd_off (issue 13, 5): a list of path names switches exactly those paths to their
+// kernel bodies; an unknown name fails at loading and the error names it and the known ones.
+TEST(ComputeParams, SimdOffSwitchesExactlyTheNamedPaths) {
+  mrpt::config::CConfigFileMemory cfg(
+      std::string("[compute]\nsimd = true\nsimd_off = fusion, splat ,culling\n"));
+  TComputeParams p;
+  loadParamsStrict(cfg, "compute", p, "test.ini");
+  p.apply();
+  for (compute::SimdPath path : compute::simdPaths()) {
+    const std::string name = compute::simdPathName(path);
+    const bool off = name == "fusion" || name == "splat" || name == "culling";
+    EXPECT_EQ(compute::simdEnabled(path), !off) << name;
+  }
+  TComputeParams all;  // defaults: everything back on
+  all.apply();
+  for (compute::SimdPath path : compute::simdPaths()) EXPECT_TRUE(compute::simdEnabled(path));
+
+  TComputeParams none;
+  none.simd = false;
+  none.apply();
+  for (compute::SimdPath path : compute::simdPaths()) EXPECT_FALSE(compute::simdEnabled(path));
+  compute::setSimdEnabled(true);
+  EXPECT_EQ(compute::simdPaths().size(), std::size_t(compute::SimdPath::kCount));
+}
+
+TEST(ComputeParams, UnknownSimdOffPathIsNamed) {
+  mrpt::config::CConfigFileMemory cfg(std::string("[compute]\nsimd_off = fusion,splatt\n"));
+  TComputeParams p;
+  try {
+    loadParamsStrict(cfg, "compute", p, "test.ini");
+    FAIL() << "unknown path accepted";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("simd_off"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("'splatt'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("icp_reduce"), std::string::npos) << msg;  // the known names are listed
+  }
+}

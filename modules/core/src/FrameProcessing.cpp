@@ -97,7 +97,7 @@ void computeVertexMap(const Image<float>& depth_m, const CameraIntrinsics& K, Im
   vertex.resize(w, h);
   const kernels::VertexMapKernel k{depth_m.view(), vertex.view(), K.plain(), opt.min_depth_m,
                                    opt.max_depth_m};
-  if (!compute::simdEnabled()) return compute::forEach2D(w, h, k);  // [compute] simd = false
+  if (!compute::simdEnabled(compute::SimdPath::VertexMap)) return compute::forEach2D(w, h, k);
   // The kernel four pixels at a time: the same float operations per pixel ((u - cx) / fx * z),
   // so the vertices are bit-identical.
   const PinholeF Kp = K.plain();
@@ -129,7 +129,7 @@ void computeNormalMap(const Image<Vec3f>& vertex, Image<Vec3f>& normal, float ma
   const int w = vertex.width(), h = vertex.height();
   normal.resize(w, h);
   const kernels::NormalMapKernel k{vertex.view(), normal.view(), max_jump_rel};
-  if (!compute::simdEnabled()) return compute::forEach2D(w, h, k);  // [compute] simd = false
+  if (!compute::simdEnabled(compute::SimdPath::NormalMap)) return compute::forEach2D(w, h, k);
   // The kernel at the borders and row ends, four pixels per SSE operation in between (the
   // level-0 normal map took ~20 ns per pixel through the kernel, branching on every test).
   compute::forEach1D(h, [&](int y) {
@@ -361,7 +361,7 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
   const int w = in.width(), h = in.height();
   out.resize(w, h);
   if (w == 0 || h == 0) return;
-  if (!compute::simdEnabled()) {  // [compute] simd = false: the kernel the CUDA path runs
+  if (!compute::simdEnabled(compute::SimdPath::BilateralFilter)) {  // the CUDA path's kernel
     const kernels::BilateralDepthKernel k{in.view(), out.view(), radius, sigma_space_px, sigma_depth_m};
     return compute::forEach2D(w, h, k);
   }

@@ -360,7 +360,7 @@ void SurfelFusion::updateSurfels(maps::SurfelStore& map, const FusionInput& in, 
     kernels::AssociateKernel<kernels::ListCandidates> ak;
     kernels::CoverageKernel<kernels::ListCandidates> ck;
     setUpKernels(ak, ck, lists);
-    if (!compute::simdEnabled()) {
+    if (!compute::simdEnabled(compute::SimdPath::Fusion)) {
       // [compute] simd = false: the kernel bodies alone, in the CUDA path's order (association
       // of every pixel, update, then the neighbour coverage over the updated surfels).
       compute::forEach2D(w, h, ak);

@@ -90,7 +90,7 @@ Mapper::Mapper(const mrpt::config::CConfigFileBase& ini, const std::string& sour
 Mapper::~Mapper() = default;
 
 void Mapper::configure() {
-  compute::setSimdEnabled(m_compute.simd);  // process-wide (ComputeOptions.h)
+  m_compute.apply();  // process-wide (ComputeOptions.h)
   for (const auto& s : m_stages) s->configure(m_mapper);
   m_map = std::make_unique<maps::CSurfelMap>(m_map_options);
 }

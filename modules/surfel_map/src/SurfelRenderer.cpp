@@ -217,9 +217,35 @@ inline void forVisibleMemberGroups(const kernels::VisibilityTest& test, bool att
   }
 }
 
+/// forVisibleMembers through the kernel's VisibilityTest, one surfel at a time ([compute]
+/// culling off): the same filters and float operations, so the same surfels, centres and
+/// projections.
+template <typename F>
+inline void forVisibleMembersKernel(const kernels::VisibilityTest& test, bool attribute_filters,
+                                    bool inside, bool want_normals, const int* m, int n, F&& f) {
+  constexpr int kAhead = 12;
+  const SurfelArrays& a = test.s;
+  for (int k = 0; k < n; ++k) {
+    if (k + kAhead < n) {
+      __builtin_prefetch(&a.pos_conf[m[k + kAhead]]);
+      if (want_normals) __builtin_prefetch(&a.normal_radius[m[k + kAhead]]);
+    }
+    const int i = m[k];
+    if (attribute_filters ? !test.attributes(i) : a.pos_conf[i].w() < test.min_confidence)
+      continue;
+    const Vec3f pc = test.T_cam_world.apply(a.position(i));
+    const float u = test.K.fx * pc.x() / pc.z() + test.K.cx;
+    const float v = test.K.fy * pc.y() / pc.z() + test.K.cy;
+    if (!inside && !test.inView(pc.z(), u, v)) continue;
+    f(i, pc, u, v);
+  }
+}
+
 template <typename F>
 inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribute_filters,
                               bool inside, bool want_normals, const int* members, int n, F&& f) {
+  if (!compute::simdEnabled(compute::SimdPath::Culling))
+    return forVisibleMembersKernel(test, attribute_filters, inside, want_normals, members, n, f);
   forVisibleMemberGroups(test, attribute_filters, inside, want_normals, members, n,
                          [&](const MemberGroup& grp) {
                            alignas(16) float px[4], py[4], pz[4], pu[4], pv[4];
@@ -675,7 +701,8 @@ void SurfelRenderer::splatCpu(const SurfelStore& map, const Eigen::Isometry3d& T
 void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_world_cam,
                             const CameraIntrinsics& K, const RenderOptions& opt, RenderedMaps& out,
                             RenderStats* stats) {
-  if (backend_ == compute::Backend::Cpu && opt.splat && compute::simdEnabled()) {
+  const bool sse = compute::simdEnabled(compute::SimdPath::Splat);
+  if (backend_ == compute::Backend::Cpu && opt.splat && sse) {
     splatCpu(map, T_world_cam, K, opt, out, stats);
     return;
   }
@@ -706,8 +733,8 @@ void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_w
 
   const kernels::ResolveKernel r = resolveKernel(arr, packed_, T_world_cam, Kp, opt, out);
   long long pixels = 0;
-  if (!compute::simdEnabled()) {
-    // [compute] simd = false: the resolve kernel itself (resolveRow is its tabulated-ray copy).
+  if (!sse) {
+    // The resolve kernel itself (resolveRow is its tabulated-ray copy).
     compute::forEach2D(w, h, r);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) pixels += out.index(x, y) >= 0;

@@ -191,7 +191,7 @@ void reduceSegmentSse(const IcpReduceKernel& k, int item, IcpAccumulator& acc) {
 }  // namespace
 
 kernels::IcpAccumulator reduceIcpCpu(const kernels::IcpReduceKernel& k) {
-  if (k.model_confidence.data || !compute::simdEnabled())  // (simd = false: the kernel alone)
+  if (k.model_confidence.data || !compute::simdEnabled(compute::SimdPath::IcpReduce))
     return compute::reduce1D<IcpAccumulator>(k.items(), k);
   return compute::reduce1D<IcpAccumulator>(k.items(), [&](int i, IcpAccumulator& acc) {
     reduceSegmentSse<IcpReduceKernel::kSegment>(k, i, acc);
@@ -270,7 +270,8 @@ void downsampleFour(const kernels::ModelDownsampleKernel& k, int x0, int y) {
 
 void downsampleModelCpu(const kernels::ModelDownsampleKernel& k) {
   const int ow = k.out_vertex.width, oh = k.out_vertex.height;
-  if (k.out_intensity.data || k.out_confidence.data || !compute::simdEnabled()) {
+  if (k.out_intensity.data || k.out_confidence.data ||
+      !compute::simdEnabled(compute::SimdPath::ModelDownsample)) {
     compute::forEach2D(ow, oh, k);
     return;
   }
