@@ -13,9 +13,7 @@ namespace rasm {
 
 namespace {
 constexpr int kPaths = int(compute::SimdPath::kCount);
-constexpr std::array<const char*, kPaths> kNames = {
-    "vertex_map", "normal_map", "bilateral_filter", "icp_reduce",
-    "model_downsample", "fusion", "culling", "splat"};
+constexpr std::array<const char*, kPaths> kNames = {"bilateral_filter", "fusion", "splat"};
 // One flag per path, set when the path runs its scalar kernel (static storage: all false, SIMD on).
 std::array<std::atomic<bool>, kPaths> g_scalar;
 

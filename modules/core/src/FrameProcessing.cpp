@@ -13,82 +13,9 @@
 #include <utility>
 #include <vector>
 
-#include "rasm/compute/Sse.h"
 #include "rasm/core/kernels/FrameKernels.h"
 
 namespace rasm {
-
-namespace {
-
-/// x, y and z of the four consecutive Vec3f at p (12 floats, any alignment).
-struct Vec3x4 {
-  __m128 x, y, z;
-};
-inline Vec3x4 load4(const Vec3f* p) {
-  const float* f = p->data();
-  const __m128 a = _mm_loadu_ps(f), b = _mm_loadu_ps(f + 4), c = _mm_loadu_ps(f + 8);
-  // a = x0 y0 z0 x1, b = y1 z1 x2 y2, c = z2 x3 y3 z3
-  const __m128 bc = _mm_shuffle_ps(b, c, _MM_SHUFFLE(1, 0, 3, 2));  // x2 y2 z2 x3
-  Vec3x4 v;
-  v.x = _mm_shuffle_ps(a, bc, _MM_SHUFFLE(3, 0, 3, 0));
-  v.y = _mm_shuffle_ps(_mm_shuffle_ps(a, b, _MM_SHUFFLE(0, 0, 1, 1)),
-                       _mm_shuffle_ps(b, c, _MM_SHUFFLE(2, 2, 3, 3)), _MM_SHUFFLE(2, 0, 2, 0));
-  v.z = _mm_shuffle_ps(_mm_shuffle_ps(a, b, _MM_SHUFFLE(1, 1, 2, 2)),
-                       _mm_shuffle_ps(c, c, _MM_SHUFFLE(3, 3, 0, 0)), _MM_SHUFFLE(2, 0, 2, 0));
-  return v;
-}
-
-/// The x, y, z planes of four Vec3f stored as the consecutive Vec3f at p (load4's inverse).
-inline void store4(Vec3f* p, __m128 x, __m128 y, __m128 z) {
-  // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3
-  const __m128 xy01 = _mm_unpacklo_ps(x, y), xy23 = _mm_unpackhi_ps(x, y);
-  float* f = p->data();
-  _mm_storeu_ps(f, _mm_shuffle_ps(xy01, _mm_shuffle_ps(z, x, _MM_SHUFFLE(1, 1, 0, 0)),
-                                  _MM_SHUFFLE(2, 0, 1, 0)));
-  _mm_storeu_ps(f + 4, _mm_shuffle_ps(_mm_shuffle_ps(y, z, _MM_SHUFFLE(1, 1, 1, 1)), xy23,
-                                      _MM_SHUFFLE(1, 0, 2, 0)));
-  _mm_storeu_ps(f + 8, _mm_shuffle_ps(_mm_shuffle_ps(z, xy23, _MM_SHUFFLE(2, 2, 2, 2)),
-                                      _mm_shuffle_ps(xy23, z, _MM_SHUFFLE(3, 3, 3, 3)),
-                                      _MM_SHUFFLE(2, 0, 2, 0)));
-}
-
-/// NormalMapKernel on pixels x .. x + 3 of an inner row (1 <= x, x + 3 <= width - 2): the same
-/// float operations in the same order per lane as the kernel (Eigen's cross, and its 3-term
-/// sums as a0 + (a1 + a2)), so the normals are bit-identical.
-inline void normals4(const Vec3f* up, const Vec3f* row, const Vec3f* down, int x,
-                     float max_jump_rel, Vec3f* out) {
-  const Vec3x4 c = load4(row + x), l = load4(row + x - 1), r = load4(row + x + 1),
-               u = load4(up + x), d = load4(down + x);
-  __m128 ok = _mm_and_ps(_mm_and_ps(_mm_cmpeq_ps(c.x, c.x), _mm_cmpeq_ps(l.x, l.x)),
-                         _mm_and_ps(_mm_cmpeq_ps(r.x, r.x),
-                                    _mm_and_ps(_mm_cmpeq_ps(u.x, u.x), _mm_cmpeq_ps(d.x, d.x))));
-  const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-  const __m128 lim = _mm_mul_ps(_mm_set1_ps(max_jump_rel), c.z);
-  const auto within = [&](__m128 z) {
-    return _mm_cmple_ps(_mm_and_ps(_mm_sub_ps(z, c.z), abs_mask), lim);
-  };
-  ok = _mm_and_ps(
-      ok, _mm_and_ps(_mm_and_ps(within(l.z), within(r.z)), _mm_and_ps(within(u.z), within(d.z))));
-  const __m128 ax = _mm_sub_ps(r.x, l.x), ay = _mm_sub_ps(r.y, l.y), az = _mm_sub_ps(r.z, l.z);
-  const __m128 bx = _mm_sub_ps(d.x, u.x), by = _mm_sub_ps(d.y, u.y), bz = _mm_sub_ps(d.z, u.z);
-  __m128 nx, ny, nz;
-  sse::cross(ax, ay, az, bx, by, bz, nx, ny, nz);
-  const __m128 len =
-      _mm_sqrt_ps(sse::sum3(_mm_mul_ps(nx, nx), _mm_mul_ps(ny, ny), _mm_mul_ps(nz, nz)));
-  ok = _mm_and_ps(ok, _mm_cmpgt_ps(len, _mm_setzero_ps()));
-  nx = _mm_div_ps(nx, len);
-  ny = _mm_div_ps(ny, len);
-  nz = _mm_div_ps(nz, len);
-  const __m128 dot = sse::sum3(_mm_mul_ps(nx, c.x), _mm_mul_ps(ny, c.y), _mm_mul_ps(nz, c.z));
-  const __m128 flip = _mm_and_ps(_mm_cmpgt_ps(dot, _mm_setzero_ps()), _mm_set1_ps(-0.0f));
-  const __m128 nan = _mm_set1_ps(compute::invalidFloat());
-  const auto pick = [&](__m128 v) {
-    return _mm_or_ps(_mm_and_ps(ok, _mm_xor_ps(v, flip)), _mm_andnot_ps(ok, nan));
-  };
-  store4(out + x, pick(nx), pick(ny), pick(nz));
-}
-
-}  // namespace
 
 void computeVertexMap(const Image<float>& depth_m, const CameraIntrinsics& K, Image<Vec3f>& vertex,
                       const VertexMapOptions& opt, compute::Backend backend) {
@@ -97,29 +24,7 @@ void computeVertexMap(const Image<float>& depth_m, const CameraIntrinsics& K, Im
   vertex.resize(w, h);
   const kernels::VertexMapKernel k{depth_m.view(), vertex.view(), K.plain(), opt.min_depth_m,
                                    opt.max_depth_m};
-  if (!compute::simdEnabled(compute::SimdPath::VertexMap)) return compute::forEach2D(w, h, k);
-  // The kernel four pixels at a time: the same float operations per pixel ((u - cx) / fx * z),
-  // so the vertices are bit-identical.
-  const PinholeF Kp = K.plain();
-  const Vec3f bad = kernels::invalidVec();
-  const __m128 zlo = _mm_set1_ps(opt.min_depth_m), zhi = _mm_set1_ps(opt.max_depth_m);
-  const __m128 cx = _mm_set1_ps(Kp.cx), fx = _mm_set1_ps(Kp.fx), lanes = _mm_setr_ps(0, 1, 2, 3);
-  const __m128 nx = _mm_set1_ps(bad.x()), ny = _mm_set1_ps(bad.y()), nz = _mm_set1_ps(bad.z());
-  compute::forEach1D(h, [&](int y) {
-    const float* d = depth_m.row(y);
-    Vec3f* out = vertex.row(y);
-    const __m128 ry = _mm_set1_ps((float(y) - Kp.cy) / Kp.fy);
-    int x = 0;
-    for (; x + 3 < w; x += 4) {
-      const __m128 z = _mm_loadu_ps(d + x);
-      const __m128 ok = _mm_and_ps(_mm_cmpge_ps(z, zlo), _mm_cmple_ps(z, zhi));
-      const __m128 rx = _mm_div_ps(_mm_sub_ps(_mm_add_ps(_mm_set1_ps(float(x)), lanes), cx), fx);
-      const __m128 X = sse::select(ok, _mm_mul_ps(rx, z), nx),
-                   Y = sse::select(ok, _mm_mul_ps(ry, z), ny), Z = sse::select(ok, z, nz);
-      store4(out + x, X, Y, Z);
-    }
-    for (; x < w; ++x) k(x, y);
-  });
+  compute::forEach2D(w, h, k);
 }
 
 void computeNormalMap(const Image<Vec3f>& vertex, Image<Vec3f>& normal, float max_jump_rel,
@@ -129,21 +34,7 @@ void computeNormalMap(const Image<Vec3f>& vertex, Image<Vec3f>& normal, float ma
   const int w = vertex.width(), h = vertex.height();
   normal.resize(w, h);
   const kernels::NormalMapKernel k{vertex.view(), normal.view(), max_jump_rel};
-  if (!compute::simdEnabled(compute::SimdPath::NormalMap)) return compute::forEach2D(w, h, k);
-  // The kernel at the borders and row ends, four pixels per SSE operation in between (the
-  // level-0 normal map took ~20 ns per pixel through the kernel, branching on every test).
-  compute::forEach1D(h, [&](int y) {
-    if (y < 1 || y >= h - 1) {
-      for (int x = 0; x < w; ++x) k(x, y);
-      return;
-    }
-    const Vec3f *up = vertex.row(y - 1), *row = vertex.row(y), *down = vertex.row(y + 1);
-    Vec3f* out = normal.row(y);
-    k(0, y);
-    int x = 1;
-    for (; x + 3 <= w - 2; x += 4) normals4(up, row, down, x, max_jump_rel, out);
-    for (; x < w; ++x) k(x, y);
-  });
+  compute::forEach2D(w, h, k);
 }
 
 void downsampleDepth(const Image<float>& in, Image<float>& out, float max_diff_m) {

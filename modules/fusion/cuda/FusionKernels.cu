@@ -1,8 +1,9 @@
 // CUDA launcher of the fusion association / update kernel (kernels/FusionKernels.h): the functor
-// bodies the CPU runs with [compute] simd = false (by default the CPU runs SSE row launchers;
-// the CPU cleanup also merges redundant surfels, which this path does not). Reference launcher: the
-// map is host-resident, so the arrays the kernel touches are copied to the device and back per
-// frame.
+// bodies the CPU runs with [compute] simd = false (by default the CPU runs SSE row launchers).
+// Cleanup (carving, merging, pruning) runs on the host for this backend too: merging is the CPU's
+// merge pass over the host-rendered candidate lists (SurfelFusion::renderIndexMap). Reference
+// launcher: the map is host-resident, so the arrays the kernel touches are copied to the device
+// and back per frame.
 #include <cuda_runtime.h>
 
 #include <memory>

@@ -259,10 +259,13 @@ IndexMapView SurfelFusion::renderIndexMap(maps::SurfelStore& map, const FusionIn
   ro.max_depth_m = m_params.max_depth_m * (1.0f + m_params.assoc_max_depth_diff_rel) +
                    m_params.assoc_max_depth_diff_m;
   ro.splat = false;
-  if (cpu())
+  // The CUDA backend associates on the packed 4x map; its merging runs the CPU's merge pass
+  // (mergeCpu, on the host-resident map) over the same candidate lists the CPU path renders here,
+  // so both backends merge the same pairs (the lists are rendered on the host: the cost of the
+  // CUDA backend's merging, docs/architecture.md).
+  if (cpu() || m_params.merge_redundant)
     m_renderer.renderCandidates4x(map, in.T_world_cam, in.K, ro, m_candidates, &st.render);
-  else
-    m_renderer.renderIndexMap4x(map, in.T_world_cam, in.K, ro, m_index4x, &st.render);
+  if (!cpu()) m_renderer.renderIndexMap4x(map, in.T_world_cam, in.K, ro, m_index4x, &st.render);
   m_index_fresh = true;
   m_pass = Pass::Rendered;
   st.ms_index_map = msSince(t0);
@@ -745,7 +748,7 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
   // Redundant-surfel merging over the view (Keller et al. 2013). Carved and demoted surfels take
   // no part (marked in m_remap_bits, all zero between frames).
   m_merged.clear();
-  if (m_params.merge_redundant && cpu() && index_fresh) {
+  if (m_params.merge_redundant && index_fresh) {  // (both backends: see renderIndexMap)
     if (m_remap_bits.size() < std::size_t(map.size() / 64 + 1))
       m_remap_bits.resize(map.size() / 64 + 1, 0);
     for (int i : removed) m_remap_bits[i >> 6] |= std::uint64_t(1) << (i & 63);

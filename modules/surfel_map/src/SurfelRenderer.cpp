@@ -128,14 +128,6 @@ void SurfelRenderer::cull(const SurfelStore& map, const Eigen::Isometry3d& T_wor
 
 namespace {
 
-/// forVisibleMembers calls f(i, pc, u, v) (forVisibleMemberGroups g(MemberGroup), four at a
-/// time) for every member i of a culled block that passes the render filters
-/// (VisibilityTest: attributes, then the geometric test unless the block lies inside the
-/// frustum), with its camera-frame centre pc and its projection (u, v). The spatial index holds
-/// live surfels only, so the flags are read only when an attribute filter is on. Member order is
-/// not memory order: the arrays of the members kAhead places on are prefetched (the flags twice
-/// as far ahead, so that with stable_only the geometry of unstable surfels is not fetched).
-/// `members`, `n`: the block's member list, or its stable prefix (membersToVisit).
 /// Four surfels of a render's visible members, after the filters: lanes set in `mask` passed,
 /// `idx[0..3]` their indices (unused lanes repeat a passing one), centres and projections.
 struct MemberGroup {
@@ -144,7 +136,11 @@ struct MemberGroup {
   __m128 x, y, z, u, v;
 };
 
-/// forVisibleMembers, handing on four surfels at a time (MemberGroup).
+/// The splat launcher's culling (SimdPath::Splat): forVisibleMembers' filters four surfels per
+/// SSE operation, handing on four at a time (MemberGroup). The arrays of the members kAhead
+/// places on are prefetched (the flags twice as far ahead, so that with stable_only the geometry
+/// of unstable surfels is not fetched); `members`, `n`: the block's member list, or its stable
+/// prefix (membersToVisit).
 template <typename G>
 inline void forVisibleMemberGroups(const kernels::VisibilityTest& test, bool attribute_filters,
                                    bool inside, bool want_normals, const int* members, int n,
@@ -217,12 +213,15 @@ inline void forVisibleMemberGroups(const kernels::VisibilityTest& test, bool att
   }
 }
 
-/// forVisibleMembers through the kernel's VisibilityTest, one surfel at a time ([compute]
-/// culling off): the same filters and float operations, so the same surfels, centres and
-/// projections.
+/// forVisibleMembers calls f(i, pc, u, v) for every member i of a culled block that passes the
+/// render filters: the kernel's VisibilityTest one surfel at a time (attributes, then the
+/// geometric test unless the block lies inside the frustum), with its camera-frame centre pc and
+/// its projection (u, v). Member order is not memory order: the arrays of the members kAhead
+/// places on are prefetched. (Its SSE copy earned 1.8% of redkitchen's frame time and was
+/// deleted: docs/slam-eval.md "SSE paths".)
 template <typename F>
-inline void forVisibleMembersKernel(const kernels::VisibilityTest& test, bool attribute_filters,
-                                    bool inside, bool want_normals, const int* m, int n, F&& f) {
+inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribute_filters,
+                              bool inside, bool want_normals, const int* m, int n, F&& f) {
   constexpr int kAhead = 12;
   const SurfelArrays& a = test.s;
   for (int k = 0; k < n; ++k) {
@@ -239,26 +238,6 @@ inline void forVisibleMembersKernel(const kernels::VisibilityTest& test, bool at
     if (!inside && !test.inView(pc.z(), u, v)) continue;
     f(i, pc, u, v);
   }
-}
-
-template <typename F>
-inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribute_filters,
-                              bool inside, bool want_normals, const int* members, int n, F&& f) {
-  if (!compute::simdEnabled(compute::SimdPath::Culling))
-    return forVisibleMembersKernel(test, attribute_filters, inside, want_normals, members, n, f);
-  forVisibleMemberGroups(test, attribute_filters, inside, want_normals, members, n,
-                         [&](const MemberGroup& grp) {
-                           alignas(16) float px[4], py[4], pz[4], pu[4], pv[4];
-                           _mm_store_ps(px, grp.x);
-                           _mm_store_ps(py, grp.y);
-                           _mm_store_ps(pz, grp.z);
-                           _mm_store_ps(pu, grp.u);
-                           _mm_store_ps(pv, grp.v);
-                           for (int mask = grp.mask; mask; mask &= mask - 1) {
-                             const int l = __builtin_ctz(unsigned(mask));
-                             f(grp.idx[l], Vec3f(px[l], py[l], pz[l]), pu[l], pv[l]);
-                           }
-                         });
 }
 
 /// SplatKernel::footprintAt of the four surfels of a group, four lanes per SSE operation: the

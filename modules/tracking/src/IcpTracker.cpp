@@ -11,7 +11,6 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/SE3.h"
 #include "rasm/tracking/IcpCuda.h"
-#include "rasm/tracking/TrackingCpu.h"
 #include "rasm/tracking/kernels/IcpKernels.h"
 #include "rasm/tracking/kernels/PoseCheckKernels.h"
 
@@ -308,7 +307,7 @@ void IcpTracker::buildModelPyramid(const ModelMaps& model, bool intensity, bool 
       k.in_confidence = l == 1 ? model.confidence : m_model_confidence[l - 2].cview();
       k.out_confidence = m_model_confidence[l - 1].view();
     }
-    downsampleModelCpu(k);  // (SSE, bit-identical)
+    compute::forEach2D(ov.width(), ov.height(), k);
     v = ov.view();
     n = on.view();
   }
@@ -463,7 +462,7 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
       } else if (P.use_cuda) {
         acc = m_cuda->reduce(l, k);
       } else {
-        acc = reduceIcpCpu(k);  // (SSE, bit-identical to reduce1D over the kernel)
+        acc = compute::reduce1D<kernels::IcpAccumulator>(k.items(), k);
       }
       kernels::IcpAccumulator acc_photo;
       if (photometric) {

@@ -1,5 +1,5 @@
 #pragma once
-// SSE helpers of the CPU launchers (FusionCpu, TrackingCpu): four lanes that each run the scalar
+// SSE helpers of the CPU launchers (FusionCpu, SurfelRenderer): four lanes that each run the scalar
 // kernel's float operations in the same order, so that the launchers are bit-identical to their
 // kernels. Orders: Eigen sums three terms (dot, squaredNorm of a Vector3f) as a0 + (a1 + a2);
 // RigidF::apply / rotate as ((m0 x + m1 y) + m2 z) + m3; Eigen's cross as

@@ -1,10 +1,11 @@
 #pragma once
-// [compute]: how the CPU runs the per-pixel and per-surfel work (issue 13, 5). A few CPU launchers
-// have a hand-written SSE path beside their stage's RASM_HD kernel body; with simd = false every
-// one of them runs the kernel body instead (the code the CUDA path runs), so the kernels are the
-// code that is tested: the end-to-end tests run in both modes. simd_off names single paths to run
-// through their kernels (the measurement of what each SSE path earns: docs/slam-eval.md "SSE
-// paths"). Process-wide: the Mapper sets it from its [compute] section.
+// [compute]: how the CPU runs the per-pixel and per-surfel work (issue 13, 5). Three CPU launchers
+// keep a hand-written SSE path beside their stage's RASM_HD kernel body, the three that earn at
+// least 3% of redkitchen's frame time (docs/slam-eval.md "SSE paths": the measurement, and the
+// five SSE paths deleted for earning less). With simd = false every one of them runs the kernel
+// body instead (the code the CUDA path runs), so the kernels are the code that is tested: the
+// end-to-end tests run in both modes. simd_off names single paths to run through their kernels.
+// Process-wide: the Mapper sets it from its [compute] section.
 
 #include <mrpt/config/CLoadableOptions.h>
 
@@ -14,15 +15,10 @@
 namespace rasm {
 
 namespace compute {
-/// The CPU launchers that have an SSE path (the kernel body each replaces in parentheses).
+/// The CPU launchers that have an SSE path (the kernel bodies it stands for in parentheses).
 enum class SimdPath : int {
-  VertexMap,        ///< vertex_map (VertexMapKernel): core, back-projection (II-A)
-  NormalMap,        ///< normal_map (NormalMapKernel): core, normals (II-A)
   BilateralFilter,  ///< bilateral_filter (BilateralDepthKernel): core, depth smoothing
-  IcpReduce,        ///< icp_reduce (IcpReduceKernel): tracking, the normal equations (II-C)
-  ModelDownsample,  ///< model_downsample (ModelDownsampleKernel): tracking, model pyramid
   Fusion,           ///< fusion (AssociateKernel, UpdateKernel, CoverageKernel): II-D
-  Culling,          ///< culling (VisibilityTest): surfel_map, the culled blocks' surfels in view
   Splat,            ///< splat (SplatKernel, ResolveKernel): surfel_map, renders and resolve
   kCount
 };

@@ -70,8 +70,7 @@ enum IcpPixel : int { kIcpInvalid = 0, kIcpRejected = 1, kIcpInlier = 2 };
 
 /// The sums of a row segment's n inliers (SoA buffers: J, w J, r, w), valid pixels and inlier
 /// depth sum into acc: dot products over the inliers (SIMD across pixels) in float over <=
-/// kSegment terms, then added to the double accumulator. Shared by reduceRowSegment and the SSE
-/// CPU launcher (TrackingCpu.h), so both sum in the same order.
+/// kSegment terms, then added to the double accumulator (reduceRowSegment's sums).
 template <int kSegment>
 inline void accumulateSegment(const float (&Jb)[6][kSegment], const float (&wJb)[6][kSegment],
                               const float (&rb)[kSegment], const float (&wb)[kSegment], int n,
