@@ -28,6 +28,7 @@ RunConfig smallExploringRun(const std::string& out, double budget_s) {
   cfg.set("output", "dir", out);
   cfg.set("explore", "enabled", "true");
   cfg.set("explore", "time_budget_s", std::to_string(budget_s));
+  cfg.set("explore", "wall_budget_s", "0");  // (the embedded default's 5-minute box: not here)
   cfg.set("explore", "metrics_period_s", "5");
   cfg.set("sim", "rate_hz", "10");
   setQuarterVgaCamera(cfg);
@@ -99,6 +100,34 @@ TEST(ExplorationLoop, TrackedOfficeRunStaysWithinTheRobotTarget) {
   EXPECT_LT(*s.ate_rmse_m, 0.02);
   EXPECT_GT(s.report.at("path_length_m").get<double>(), 1.0);
   fs::remove_all(out);
+}
+
+// [explore] wall_budget_s (the embedded default's 5 minutes on a slow machine): exploring ends
+// by the wall clock, long before the simulated budget, and the run still writes every output.
+TEST(ExplorationLoop, WallBudgetEndsTheRunByTheClock) {
+  const std::string out = tempDir("explore_wall");
+  RunConfig cfg = smallExploringRun(out, 600.0);
+  cfg.set("explore", "wall_budget_s", "4");
+  cfg.set("mapper", "poses", "groundtruth");
+  MappingRun run(cfg);
+  const RunSummary s = run.run();
+  EXPECT_EQ(s.report.at("stop_reason").get<std::string>(), "wall_budget");
+  EXPECT_EQ(s.report.at("status").get<std::string>(), "ok");
+  EXPECT_LT(s.report.at("sim_time_s").get<double>(), 600.0);
+  EXPECT_GE(s.report.at("seconds").get<double>(), 4.0) << "it ran its four seconds";
+  EXPECT_TRUE(fs::is_regular_file(out + "/exploration.json"));
+  EXPECT_TRUE(fs::is_regular_file(out + "/trajectory.txt"));
+  fs::remove_all(out);
+  // A negative budget is named.
+  RunConfig bad = smallExploringRun(tempDir("explore_wall_bad"), 10.0);
+  bad.set("explore", "wall_budget_s", "-1");
+  try {
+    MappingRun r(bad);
+    r.run();
+    FAIL() << "wall_budget_s = -1 accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("wall_budget_s"), std::string::npos) << e.what();
+  }
 }
 
 // Deliverable 5: the information-gain rule. With thresholds no view can fall under, the run

@@ -168,7 +168,10 @@ Eigen::Vector3d ExplorationLoop::estimatedBasePose() const {
 
 void ExplorationLoop::afterFrame(const RgbdFrame& frame, const FrameResult& r) {
   ++m_frames;
-  if (!m_t0) m_t0 = r.timestamp_s;  // a simulated run starts at 0; a live camera's at UNIX time
+  if (!m_t0) {
+    m_t0 = r.timestamp_s;  // a simulated run starts at 0; a live camera's at UNIX time
+    m_wall_t0 = Clock::now();
+  }
   m_t = r.timestamp_s - *m_t0;
   m_driver->frameArrived(frame);
   const std::string driver_error = m_driver->error();
@@ -193,6 +196,9 @@ void ExplorationLoop::afterFrame(const RgbdFrame& frame, const FrameResult& r) {
   if (xp.metrics_period_s > 0 && m_t - m_last_metrics_t >= xp.metrics_period_s) measure(m_t);
   if (xp.time_budget_s > 0 && m_t >= xp.time_budget_s) return stop("time_budget");
   if (xp.path_budget_m > 0 && m_path_m >= xp.path_budget_m) return stop("path_budget");
+  if (xp.wall_budget_s > 0 &&
+      std::chrono::duration<double>(Clock::now() - m_wall_t0).count() >= xp.wall_budget_s)
+    return stop("wall_budget");
 
   const navigation::NavState s = navState();
   if (s == navigation::NavState::Reached || s == navigation::NavState::Failed) {

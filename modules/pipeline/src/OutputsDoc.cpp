@@ -152,7 +152,7 @@ const Doc kReport[] = {
     {"sim_time_s",
      "exploring run: seconds since the first frame (simulated time; wall time on a real robot)"},
     {"stop_reason",
-     "exploring run: `time_budget`, `path_budget`, "
+     "exploring run: `time_budget`, `path_budget`, `wall_budget`, "
      "`information_gain_below_threshold`, `no_reachable_views`, `planner_done`, "
      "`source_end`, `interrupted` or `error`"},
 };

@@ -19,6 +19,7 @@ void TExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(stop_plans, int, c, s);
   MRPT_LOAD_CONFIG_VAR(time_budget_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(path_budget_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(wall_budget_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(workspace_from_world, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(metrics_period_s, double, c, s);
   const auto need = [&](bool ok, const char* key, const char* what) {
@@ -35,6 +36,7 @@ void TExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   need(stop_plans >= 1, "stop_plans", "expected >= 1");
   need(time_budget_s >= 0.0, "time_budget_s", "expected >= 0 (0: none)");
   need(path_budget_m >= 0.0, "path_budget_m", "expected >= 0 (0: none)");
+  need(wall_budget_s >= 0.0, "wall_budget_s", "expected >= 0 wall-clock seconds (0: none)");
   need(metrics_period_s >= 0.0, "metrics_period_s", "expected >= 0 (0: at the end only)");
 }
 
@@ -51,6 +53,7 @@ void TExploreParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(stop_plans, c, s);
   MRPT_SAVE_CONFIG_VAR(time_budget_s, c, s);
   MRPT_SAVE_CONFIG_VAR(path_budget_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(wall_budget_s, c, s);
   MRPT_SAVE_CONFIG_VAR(workspace_from_world, c, s);
   MRPT_SAVE_CONFIG_VAR(metrics_period_s, c, s);
 }

@@ -24,6 +24,7 @@
 // seed gives one run (the simulated embedded default, the evaluation, the tests).
 // It starts with one turn in place (the map of one frame has no free space to plan in).
 
+#include <chrono>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -163,6 +164,7 @@ class ExplorationLoop {
   bool m_have_est = false;
   double m_path_m = 0, m_t = 0, m_last_plan_t = -1e9, m_last_metrics_t = -1e9;
   std::optional<double> m_t0;  ///< the first frame's timestamp (times count from it)
+  std::chrono::steady_clock::time_point m_wall_t0;  ///< when the first frame arrived
   int m_spin_goals_left = 3;   ///< the initial turn in place, in thirds
   int m_low_plans = 0, m_plans = 0;
   std::optional<GoalRecord> m_goal;

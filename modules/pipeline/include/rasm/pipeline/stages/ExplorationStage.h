@@ -47,6 +47,11 @@ struct TExploreParams : mrpt::config::CLoadableOptions {
   int stop_plans = 3;
   double time_budget_s = 300.0;  ///< simulated seconds
   double path_budget_m = 0.0;
+  /// Wall-clock seconds from the first frame (0 = none): a time-boxed run (the embedded
+  /// default's 5 minutes on 2 cores, outputs included) ends exploring here on a slow machine,
+  /// with stop_reason wall_budget; on a fast one time_budget_s ends it first and the run stays
+  /// deterministic.
+  double wall_budget_s = 0.0;
   /// The workspace of V-A from the simulated world's bounds (walls included) when the source is
   /// the simulator, instead of [exploration] workspace_*.
   bool workspace_from_world = true;
