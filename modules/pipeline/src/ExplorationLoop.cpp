@@ -480,12 +480,12 @@ void ExplorationLoop::finish(const std::string& reason) {
 
 std::string ExplorationLoop::progressText() const {
   char buf[160];
-  const double cov = m_metrics.empty() ? 0.0 : m_metrics.back().coverage;
+  const MetricsRow last = m_metrics.empty() ? MetricsRow{} : m_metrics.back();
   const std::size_t goals = m_goals.size() + (m_goal ? 1 : 0);
   const char* nav = navigation::toString(navState());
-  if (groundTruth())
-    std::snprintf(buf, sizeof buf, "t %.0fs path %.1fm coverage %.2f goals %zu %s", m_t, m_path_m,
-                  cov, goals, nav);
+  if (groundTruth())  // (coverage and objects carrying their class: the last metrics sample)
+    std::snprintf(buf, sizeof buf, "t %.0fs path %.1fm coverage %.2f objects %zu/%zu goals %zu %s",
+                  m_t, m_path_m, last.coverage, last.objects_ok, last.objects_total, goals, nav);
   else  // a real robot: nothing to measure coverage against
     std::snprintf(buf, sizeof buf, "t %.0fs path %.1fm goals %zu %s", m_t, m_path_m, goals, nav);
   return buf;

@@ -500,6 +500,8 @@ void MappingRun::recordFrame(Accumulated& acc, const RgbdFrame& f, const FrameRe
 void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFolder& out,
                            const std::function<void(const FrameResult&)>& on_frame) {
   Progress progress("frames", expectedFrames(source));
+  if (m_explore)  // (a wall-clock budget ends the frames before the simulated one)
+    progress.setTimeLimit(m_mapper->stage<ExplorationStage>().exploreParams().wall_budget_s);
   // annotated.rawlog: each input observation with the ESTIMATED pose (writeAnnotated), followed
   // by a CObservationImage "MAP_VIEW" of the map rendered from that pose.
   // Its writer renames "annotated.rawlog.part" at close() and removes it when destroyed open.
