@@ -217,7 +217,7 @@ inline void forVisibleMemberGroups(const kernels::VisibilityTest& test, bool att
 /// render filters: the kernel's VisibilityTest one surfel at a time (attributes, then the
 /// geometric test unless the block lies inside the frustum), with its camera-frame centre pc and
 /// its projection (u, v). Member order is not memory order: the arrays of the members kAhead
-/// places on are prefetched. (Its SSE copy earned 1.8% of redkitchen's frame time and was
+/// places on are prefetched. (Its SSE copy earned 1.5% of redkitchen's frame time and was
 /// deleted: docs/slam-eval.md "SSE paths".)
 template <typename F>
 inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribute_filters,
