@@ -217,3 +217,10 @@ TEST(ComputeParams, UnknownSimdOffPathIsNamed) {
   mrpt::config::CConfigFileMemory gone(std::string("[compute]\nsimd_off = culling\n"));
   EXPECT_THROW(loadParamsStrict(gone, "compute", p, "test.ini"), InputError);
 }
+
+TEST(Params, SplitListTrimsAndSkipsEmptyItems) {
+  EXPECT_EQ(splitList(" a, b ,\tc,,  ,d"), (std::vector<std::string>{"a", "b", "c", "d"}));
+  EXPECT_TRUE(splitList("").empty());
+  EXPECT_TRUE(splitList(" , ").empty());
+  EXPECT_EQ(splitList("one word"), std::vector<std::string>{"one word"});
+}

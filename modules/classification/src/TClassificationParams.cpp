@@ -2,23 +2,13 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 
-#include <sstream>
-
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 
 namespace rasm::classification {
 
 std::vector<std::string> TClassificationParams::detectorList() const {
-  std::vector<std::string> out;
-  std::stringstream ss(detectors);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    const auto b = item.find_first_not_of(" \t"), e = item.find_last_not_of(" \t");
-    if (b == std::string::npos) continue;
-    out.push_back(item.substr(b, e - b + 1));
-  }
-  return out;
+  return splitList(detectors);
 }
 
 ScoreModel TClassificationParams::scoreModel() const {

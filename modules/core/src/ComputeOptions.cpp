@@ -4,10 +4,10 @@
 
 #include <array>
 #include <atomic>
-#include <sstream>
 #include <stdexcept>
 
 #include "rasm/core/Error.h"
+#include "rasm/core/Params.h"
 
 namespace rasm {
 
@@ -16,11 +16,6 @@ constexpr int kPaths = int(compute::SimdPath::kCount);
 constexpr std::array<const char*, kPaths> kNames = {"bilateral_filter", "fusion", "splat"};
 // One flag per path, set when the path runs its scalar kernel (static storage: all false, SIMD on).
 std::array<std::atomic<bool>, kPaths> g_scalar;
-
-std::string trimmed(const std::string& t) {
-  const auto b = t.find_first_not_of(" \t"), e = t.find_last_not_of(" \t");
-  return b == std::string::npos ? std::string() : t.substr(b, e - b + 1);
-}
 }  // namespace
 
 const char* compute::simdPathName(SimdPath path) { return kNames.at(std::size_t(path)); }
@@ -43,11 +38,7 @@ void compute::setSimdEnabled(SimdPath path, bool enabled) {
 
 std::vector<compute::SimdPath> TComputeParams::simdOff() const {
   std::vector<compute::SimdPath> off;
-  std::stringstream list(simd_off);
-  std::string item;
-  while (std::getline(list, item, ',')) {
-    const std::string name = trimmed(item);
-    if (name.empty()) continue;
+  for (const std::string& name : splitList(simd_off)) {
     int found = -1;
     for (int i = 0; i < kPaths; ++i)
       if (name == kNames[std::size_t(i)]) found = i;

@@ -203,6 +203,16 @@ void loadParamsStrict(const mrpt::config::CConfigFileBase& cfg, const std::strin
   }
 }
 
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  for (std::string item; std::getline(ss, item, ',');) {
+    const auto b = item.find_first_not_of(" \t"), e = item.find_last_not_of(" \t");
+    if (b != std::string::npos) out.push_back(item.substr(b, e - b + 1));
+  }
+  return out;
+}
+
 void requireInRange(double value, double lo, double hi, const std::string& section,
                     const std::string& key) {
   if (!(value >= lo && value <= hi)) {

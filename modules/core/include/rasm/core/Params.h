@@ -13,6 +13,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace rasm {
 
@@ -43,6 +44,10 @@ std::set<std::string> knownKeys(const mrpt::config::CLoadableOptions& params,
 /// ("nan", "inf", "three" are errors), an integer key an integer literal that fits.
 void loadParamsStrict(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
                       mrpt::config::CLoadableOptions& params, const std::string& source);
+
+/// The items of an INI list value "a, b,c": split at commas, blanks and tabs trimmed, empty
+/// items skipped.
+std::vector<std::string> splitList(const std::string& text);
 
 /// Helpers for range checks inside loadFromConfigFile implementations.
 void requireInRange(double value, double lo, double hi, const std::string& section,
