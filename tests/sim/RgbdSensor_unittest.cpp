@@ -207,6 +207,52 @@ TEST(RgbdSensor, RangeLimits) {
   }
 }
 
+/// RMS of the relative depth error (z - z_true) / z_true on a floor seen from 0.5 m by a
+/// horizontal camera, over rows whose ray slope s = (v - cy) / fy lies in [0.2, 0.8] (z_true =
+/// 0.5 / s), lateral noise only.
+double floorLateralRelativeRms(int width, int height, double f) {
+  const World w = loadWorldFromString(
+      "objects:\n  - {id: 1, class: floor, primitive: box, size: [60, 60, 0.2], position: [0, 0, "
+      "-0.1]}\n",
+      "floor");
+  const RayScene scene(w);
+  TSensorParams p;
+  p.dropouts = false;
+  p.disparity_subpixel = 0;
+  p.axial_sigma0_m = p.axial_sigma_quad = p.axial_sigma_angle = 0;
+  p.max_depth_m = 50;
+  p.width = width;
+  p.height = height;
+  p.fx = p.fy = f;
+  p.cx = (width - 1) / 2.0;
+  p.cy = (height - 1) / 2.0;
+  const RgbdSensor sensor(scene, p);
+  const RgbdFrame fr = sensor.render(cameraPoseFromHeading(Eigen::Vector3d(0, 0, 0.5), 0.0, 0.0), 3);
+  double sum2 = 0;
+  long n = 0;
+  for (int y = 0; y < fr.height(); ++y) {
+    const double s = (y - p.cy) / f;
+    if (s < 0.2 || s > 0.8) continue;
+    for (int x = width / 4; x < 3 * width / 4; ++x) {
+      const double zt = 0.5 / s, e = (fr.depth_m(x, y) - zt) / zt;
+      sum2 += e * e;
+      ++n;
+    }
+  }
+  return n > 0 ? std::sqrt(sum2 / n) : 0.0;
+}
+
+TEST(RgbdSensor, LateralNoiseIsTheSameAngleAtEveryResolution) {
+  // sigma_L is in pixels of the preset (Kinect 640x480, fx 525); a 320x240 render at fx 262.5 has
+  // pixels twice as wide, so the same angular noise is half the pixels. On the floor the depth
+  // error from a vertical offset dv is |dz/dv| dv, i.e. relative error dv / (f s): equal at both
+  // resolutions when sigma_L scales with f (it was twice as large at 320x240 before).
+  const double full = floorLateralRelativeRms(640, 480, 525.0);
+  const double half = floorLateralRelativeRms(320, 240, 262.5);
+  ASSERT_GT(full, 1e-3);  // lateral noise is on: 0.8 px / (525 * 0.8) = 0.2% at the least
+  EXPECT_NEAR(half / full, 1.0, 0.1) << "640x480 " << full << ", 320x240 " << half;
+}
+
 TEST(RgbdSensor, GrazingAnglesAreMissing) {
   // A floor seen from 0.5 m with a horizontal camera: rows near the horizon meet it at grazing
   // angles. Incidence theta = atan(1 / s) for the ray slope s = (v - cy) / fy in the centre column.

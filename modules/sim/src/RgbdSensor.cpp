@@ -36,8 +36,15 @@ DepthModelParams TSensorParams::depthModel() const {
   p.sigma_quad = float(axial_sigma_quad);
   p.sigma_z0_m = float(axial_z0_m);
   p.sigma_angle = float(axial_sigma_angle);
-  p.lateral_px = float(lateral_sigma_px);
-  p.lateral_angle = float(lateral_sigma_angle);
+  // Nguyen et al. measured sigma_L in pixels of the Kinect's 640x480 image: a render with another
+  // focal length (e.g. 320x240 at fx 262.5) has the same angular noise in its own pixels, i.e.
+  // sigma_L scaled by fx / the preset's fx. Unscaled, a 320x240 render had twice the Kinect's
+  // angular lateral noise and four times the depth bias it causes on grazing floors (the far
+  // floor sampled from rays nearer the horizon), which tilted robot maps by ~1 deg per 450
+  // frames against ~0.3 at 640x480 (docs/slam-eval.md, "Lateral noise and resolution").
+  const double lateral_scale = intrinsics().fx / CameraIntrinsics::preset(camera).fx;
+  p.lateral_px = float(lateral_sigma_px * lateral_scale);
+  p.lateral_angle = float(lateral_sigma_angle * lateral_scale);
   p.disparity_fb = float(disparity_focal_px * disparity_baseline_m);
   p.disparity_subpixel = noise ? float(disparity_subpixel) : 0.f;
   p.min_depth_m = float(min_depth_m);
@@ -92,7 +99,8 @@ void TSensorParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   RASM_SIM_SAVE(axial_sigma_quad, "b (1/m)");
   RASM_SIM_SAVE(axial_z0_m, "z0 (m)");
   RASM_SIM_SAVE(axial_sigma_angle, "c");
-  RASM_SIM_SAVE(lateral_sigma_px, "Nguyen 2012 sigma_L at theta = 0 (px); 0 = off");
+  RASM_SIM_SAVE(lateral_sigma_px,
+                "Nguyen 2012 sigma_L at theta = 0 (px of the preset; scaled by fx / its fx); 0 = off");
   RASM_SIM_SAVE(lateral_sigma_angle, "angle term of sigma_L (px)");
   RASM_SIM_SAVE(disparity_focal_px, "quantization: depth step z^2 / (f b) / subpixel");
   RASM_SIM_SAVE(disparity_baseline_m, "");

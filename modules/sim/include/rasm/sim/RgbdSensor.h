@@ -42,6 +42,8 @@ struct TSensorParams : public mrpt::config::CLoadableOptions {
   double axial_sigma_quad = 0.0019;
   double axial_z0_m = 0.4;
   double axial_sigma_angle = 0.0001;
+  /// sigma_L in pixels of the `camera` preset's image; a render with another fx gets it scaled by
+  /// fx / the preset's fx (the same angular noise), see depthModel().
   double lateral_sigma_px = 0.8;
   double lateral_sigma_angle = 0.035;
   // Disparity quantization (Kinect v1: 1/8 px at f = 580 px, b = 0.075 m); 0 subpixel = off.
