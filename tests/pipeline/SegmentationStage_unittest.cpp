@@ -130,6 +130,53 @@ TEST(SegmentationStage, ObjectSplitByAnOccluderMergesOnceSeenWhole) {
   EXPECT_GE(rep["segmentation"]["merges"].get<int>(), 1);
 }
 
+/// The label holding most surfels in a box, and its share.
+std::pair<std::uint32_t, double> majorityLabel(const maps::SurfelStore& store, const Box& b) {
+  std::uint32_t best = 0;
+  int best_n = 0, total = 0;
+  for (const auto& [l, n] : labelsIn(store, b)) {
+    total += n;
+    if (n > best_n) {
+      best_n = n;
+      best = l;
+    }
+  }
+  return {best, total ? double(best_n) / total : 0.0};
+}
+
+TEST(SegmentationStage, AnObjectFusedIntoItsSupportFromAfarGetsItsOwnLabelWhenSeenClose) {
+  // A 2 cm thick plate on the back wall. From 3 m its step is below delta_Gamma (1 cm + 1 cm/m^2
+  // z^2 = 10 cm) and below the concave margin (0.003 z^2 = 2.7 cm): plate and wall are one
+  // segment and the plate's surfels take the wall's label. From 0.7 m the step exceeds both
+  // (1.5 cm, 0.15 cm) and the plate holds 16% of the wall label's pixels in view: the split
+  // rule (split_max_share) gives it a label of its own, which its surfels take over.
+  const Box plate{{-0.15, -0.35, 2.98}, {0.15, -0.05, 3.0}};
+  const Box wall_patch{{0.3, -0.35, 2.99}, {0.6, -0.05, 3.01}};
+  for (const double share : {0.3, 0.0}) {
+    std::unique_ptr<Mapper> mp = mapperWith({{"split_max_share", std::to_string(share)},
+                                             {"remap_every_n_frames", "1000"}});
+    Mapper& mapper = *mp;
+    Eigen::Isometry3d near = at(0.0);
+    near.translation().z() = 2.28;
+    for (int k = 0; k < 10; ++k) mapper.processFrame(render({plate}, at(0.0), k));
+    const auto [far_plate, far_share] = majorityLabel(mapper.map().store(), plate);
+    const auto [far_wall, far_wall_share] = majorityLabel(mapper.map().store(), wall_patch);
+    ASSERT_NE(far_wall, 0u);
+    ASSERT_EQ(far_plate, far_wall) << "from 3 m the plate is part of the wall's segment";
+    for (int k = 10; k < 35; ++k) mapper.processFrame(render({plate}, near, k));
+    const auto [plate_label, plate_share] = majorityLabel(mapper.map().store(), plate);
+    const auto [wall_label, wall_share] = majorityLabel(mapper.map().store(), wall_patch);
+    EXPECT_EQ(wall_label, far_wall) << "the wall keeps its label";
+    if (share > 0.0) {
+      EXPECT_NE(plate_label, wall_label) << "the plate has a label of its own";
+      EXPECT_NE(plate_label, 0u);
+      EXPECT_GE(plate_share, 0.9) << "and its surfels carry it";
+    } else {
+      EXPECT_EQ(plate_label, wall_label) << "without the rule the plate keeps the wall's label";
+    }
+  }
+}
+
 TEST(SegmentationStage, RemappingLeavesNoGapsAndTheTableMatchesBruteForce) {
   const Box a{{-0.5, -0.2, 1.8}, {-0.1, 0.2, 1.82}}, b{{0.1, -0.2, 1.8}, {0.5, 0.2, 2.2}},
       pole{{-0.06, -1.0, 1.0}, {0.06, 1.0, 1.1}};

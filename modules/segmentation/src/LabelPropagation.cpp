@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 
 #include "rasm/compute/Parallel.h"
 
@@ -9,18 +10,22 @@ namespace rasm::segmentation {
 
 namespace {
 
-/// Pi restricted to one current label: a few (map label, pixels) pairs.
+/// Pi restricted to one current label: a few (map label, pixels) pairs, with the pixels' depth
+/// summed per pair (the merge evidence is range-gated, merge_max_depth_m).
 struct Overlaps {
   std::vector<std::pair<std::uint32_t, int>> counts;
-  int labelled = 0;  ///< pixels with a map label
-  void add(std::uint32_t r) {
+  std::vector<float> depth_sum;  ///< per entry of counts
+  int labelled = 0;              ///< pixels with a map label
+  void add(std::uint32_t r, float z) {
     ++labelled;
-    for (auto& c : counts)
-      if (c.first == r) {
-        ++c.second;
+    for (std::size_t i = 0; i < counts.size(); ++i)
+      if (counts[i].first == r) {
+        ++counts[i].second;
+        depth_sum[i] += z;
         return;
       }
     counts.emplace_back(r, 1);
+    depth_sum.push_back(z);
   }
 };
 
@@ -57,6 +62,61 @@ void renderLabels(const Image<Vec3f>& vertex_cam, const fusion::IndexMapView& vi
   });
 }
 
+/// Map label a current segment takes instead of its best one (0 = none: a new label), or
+/// kKeepBest, per current label (split_max_share). The best map label is another current
+/// segment's (that one holds most of its pixels in view) and this segment holds less than
+/// split_max_share of them, near enough to resolve the edge between the two (merge_max_depth_m):
+/// the map had joined it to its neighbour (an object first fused into the table's label from
+/// afar) and this view separates them. Without this rule the best-overlap rule hands the object
+/// its support's label in every later frame, for ever. The segment then takes the largest map
+/// label under it that no other segment holds most of (the label a previous split gave it), so a
+/// split does not mint a new label every frame.
+constexpr std::uint32_t kKeepBest = ~0u;
+std::vector<std::uint32_t> splitOffSegments(const std::vector<Overlaps>& pi,
+                                            const TSegmentationParams& p, int area) {
+  std::vector<std::uint32_t> take(pi.size(), kKeepBest);
+  if (p.split_max_share <= 0.0) return take;
+  // Per map label: pixels in view over all current segments, and the segment holding the most.
+  struct Owner {
+    int total = 0, best_n = 0, segment = 0;
+  };
+  std::unordered_map<std::uint32_t, Owner> owner;
+  for (std::size_t l = 1; l < pi.size(); ++l)
+    for (const auto& [r, n] : pi[l].counts) {
+      Owner& o = owner[r];
+      o.total += n;
+      if (n > o.best_n) {
+        o.best_n = n;
+        o.segment = int(l);
+      }
+    }
+  for (std::size_t l = 1; l < pi.size(); ++l) {
+    const Overlaps& o = pi[l];
+    if (o.counts.empty()) continue;
+    std::size_t bi = 0;
+    float depth = 0.f;
+    for (std::size_t i = 0; i < o.counts.size(); ++i) {
+      depth += o.depth_sum[i];
+      if (o.counts[i].second > o.counts[bi].second) bi = i;
+    }
+    const Owner& b = owner.at(o.counts[bi].first);
+    const bool near =
+        p.merge_max_depth_m <= 0.0 || depth <= float(p.merge_max_depth_m) * float(o.labelled);
+    if (!near || b.segment == int(l) || o.counts[bi].second >= p.split_max_share * b.total ||
+        o.labelled * area < p.split_min_px)
+      continue;
+    std::uint32_t own = 0;
+    int own_n = 0;
+    for (const auto& [r, n] : o.counts)
+      if (owner.at(r).segment == int(l) && n > own_n && n * area >= p.propagation_min_overlap_px) {
+        own = r;
+        own_n = n;
+      }
+    take[l] = own;
+  }
+  return take;
+}
+
 }  // namespace
 
 void propagateLabels(const FrameSegments& seg, const Image<Vec3f>& vertex_cam,
@@ -73,12 +133,14 @@ void propagateLabels(const FrameSegments& seg, const Image<Vec3f>& vertex_cam,
   for (int gy = 0; gy < out.rendered.height(); ++gy) {
     const std::uint32_t* l = seg.labels.row(gy * step);
     const std::uint32_t* r = out.rendered.row(gy);
+    const Vec3f* v = vertex_cam.row(gy * step);
     for (int gx = 0; gx < out.rendered.width(); ++gx) {
       const std::uint32_t lx = l[gx * step];
-      if (lx && r[gx]) pi[lx].add(r[gx]);
+      if (lx && r[gx]) pi[lx].add(r[gx], v[gx * step].z());
     }
   }
   const int area = step * step;
+  const std::vector<std::uint32_t> split = splitOffSegments(pi, p, area);
   out.label_of.assign(std::size_t(seg.count) + 1, 0u);
   out.matched = out.created = 0;
   out.cosegmented.clear();
@@ -88,20 +150,27 @@ void propagateLabels(const FrameSegments& seg, const Image<Vec3f>& vertex_cam,
     std::uint32_t best = 0;
     int best_n = 0;
     std::vector<std::uint32_t> shared;
-    for (auto [r, n] : o.counts) {
-      n *= area;
+    for (std::size_t i = 0; i < o.counts.size(); ++i) {
+      const std::uint32_t r = o.counts[i].first;
+      const int n = o.counts[i].second * area;
+      // Beyond merge_max_depth_m the edge test's noise margins (z^2) exceed the folds and steps
+      // between objects, so sharing a segment there is no evidence that two labels are one.
+      const bool near = p.merge_max_depth_m <= 0.0 ||
+                        o.depth_sum[i] <= float(p.merge_max_depth_m) * float(o.counts[i].second);
       visible_px.emplace_back(r, n);
       if (n > best_n) {
         best_n = n;
         best = r;
       }
-      if (n >= p.propagation_min_overlap_px && n >= p.merge_min_fraction * o.labelled * area)
+      if (near && n >= p.propagation_min_overlap_px &&
+          n >= p.merge_min_fraction * o.labelled * area)
         shared.push_back(r);
     }
     if (best && best_n >= p.propagation_min_overlap_px &&
         best_n >= p.propagation_min_overlap * o.labelled * area) {
-      out.label_of[l] = best;
-      ++out.matched;
+      const std::uint32_t taken = split[std::size_t(l)];
+      out.label_of[l] = taken == kKeepBest ? best : (taken ? taken : next_label++);
+      ++(taken == kKeepBest || taken ? out.matched : out.created);
     } else {
       out.label_of[l] = next_label++;
       ++out.created;

@@ -29,6 +29,9 @@ void TSegmentationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
   MRPT_LOAD_CONFIG_VAR(propagation_step_px, int, c, s);
   MRPT_LOAD_CONFIG_VAR(render_depth_gate_rel, double, c, s);
   MRPT_LOAD_CONFIG_VAR(merge_min_fraction, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(merge_max_depth_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(split_max_share, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(split_min_px, int, c, s);
   MRPT_LOAD_CONFIG_VAR(merge_threshold, int, c, s);
   MRPT_LOAD_CONFIG_VAR(remap_every_n_frames, int, c, s);
   requireInRange(level, 0, 3, s, "level");
@@ -51,6 +54,9 @@ void TSegmentationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
   requireInRange(propagation_step_px, 1, 8, s, "propagation_step_px");
   requireInRange(render_depth_gate_rel, 0.0, 1.0, s, "render_depth_gate_rel");
   requireInRange(merge_min_fraction, 0.0, 1.0, s, "merge_min_fraction");
+  requireInRange(merge_max_depth_m, 0.0, 100.0, s, "merge_max_depth_m");
+  requireInRange(split_max_share, 0.0, 1.0, s, "split_max_share");
+  requireInRange(split_min_px, 0, 1 << 24, s, "split_min_px");
   requireInRange(merge_threshold, 1, 1e6, s, "merge_threshold");
   requireInRange(remap_every_n_frames, 1, 1e6, s, "remap_every_n_frames");
 }
@@ -78,6 +84,9 @@ void TSegmentationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(propagation_step_px, c, s);
   MRPT_SAVE_CONFIG_VAR(render_depth_gate_rel, c, s);
   MRPT_SAVE_CONFIG_VAR(merge_min_fraction, c, s);
+  MRPT_SAVE_CONFIG_VAR(merge_max_depth_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(split_max_share, c, s);
+  MRPT_SAVE_CONFIG_VAR(split_min_px, c, s);
   MRPT_SAVE_CONFIG_VAR(merge_threshold, c, s);
   MRPT_SAVE_CONFIG_VAR(remap_every_n_frames, c, s);
 }
