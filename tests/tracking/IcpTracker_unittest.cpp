@@ -189,6 +189,32 @@ TEST(IcpTracker, SingleWallIsDegenerate) {
   EXPECT_FALSE(p.align(tr2, T_a).ok);
 }
 
+TEST(IcpTracker, ShortDegenerateRunsRideOnTheVelocityLongOnesAreLost) {
+  // Sliding along a single wall: every frame is degenerate (translation in the plane is not
+  // observable). With the inlier rule off, only the run rule can accept them: at most
+  // degenerate_max_run_frames in a row after a reset, then lost; 0 = none.
+  const Eigen::Isometry3d T0 = lookAt({0.3, 0, 1.3}, {0.5, 2, 1.0});
+  const Eigen::Isometry3d step = motion({0.01, 0.0, 0.0}, {0, 1, 0}, 0.0);
+  const Scene scene = Scene::wall();
+  for (const int run : {0, 3}) {
+    TTrackingParams P;
+    P.degenerate_min_inlier_fraction = 1.5;
+    P.degenerate_max_run_frames = run;
+    IcpTracker tr(P);
+    tr.reset(T0);
+    Eigen::Isometry3d T = T0;
+    for (int k = 1; k <= run + 2; ++k) {
+      T = T * step;
+      const WorldMaps model(pyramidOf(scene.render(K, tr.lastGoodPose()))[0], tr.lastGoodPose());
+      const TrackingResult r =
+          tr.track(pyramidOf(scene.render(K, T)), modelOf(model, tr.lastGoodPose()));
+      EXPECT_EQ(r.status, TrackingStatus::Degenerate) << "frame " << k;
+      EXPECT_EQ(r.ok, k <= run) << "run " << run << ", frame " << k;
+      EXPECT_EQ(r.on_motion_model, k <= run);
+    }
+  }
+}
+
 TEST(IcpTracker, EmptyModelIsLost) {
   const Pair p(Scene::room(), kRoomPose, kRoomPose);
   IcpTracker tr;
@@ -242,18 +268,59 @@ TEST(IcpTracker, ConstantVelocityLossAndRecovery) {
   // After two frames the velocity is known: the prediction is the next true pose.
   expectPoseNear(tr.predictPose(), gt[3], 2e-3, 0.1);
 
-  // Frame 3 is lost (no model); the state keeps the last good pose, the velocity is dropped.
+  // Frame 3 is lost (no model); the state keeps the last good pose and, for up to
+  // lost_velocity_frames, the velocity: the guess for frame 4 is two steps on.
   const TrackingResult lost =
       tr.track(pyramidOf(scene.render(K, gt[3])), modelMaps({}, {}, tr.lastGoodPose()));
   EXPECT_FALSE(lost.ok);
+  expectPoseNear(lost.T_world_cam_guess, gt[3], 2e-3, 0.1);
   expectPoseNear(tr.lastGoodPose(), gt[2], 1e-3, 0.05);
-  expectPoseNear(tr.predictPose(), tr.lastGoodPose(), 1e-9, 1e-9);
+  EXPECT_TRUE(tr.extrapolatingThroughLoss());
+  expectPoseNear(tr.predictPose(), gt[4], 3e-3, 0.15);
 
-  // Frame 4 (two steps from the last good pose) aligns again against the model rendered there.
-  const TrackingResult back = trackFrame(4);
+  // Frame 4 aligns again (against the model rendered at frame 3's guess, as the Mapper does).
+  const WorldMaps at3(pyramidOf(scene.render(K, lost.T_world_cam_guess))[0],
+                      lost.T_world_cam_guess);
+  const TrackingResult back =
+      tr.track(pyramidOf(scene.render(K, gt[4])), modelOf(at3, lost.T_world_cam_guess));
   EXPECT_TRUE(back.ok) << toString(back.status);
   expectPoseNear(back.T_world_cam, gt[4], 1e-3, 0.05);
   expectPoseNear(tr.lastGoodPose(), gt[4], 1e-3, 0.05);
+  // The velocity is frame 3's guess to frame 4, one step: the next guess is frame 5.
+  expectPoseNear(tr.predictPose(), gt[5], 3e-3, 0.15);
+}
+
+TEST(IcpTracker, VelocityThroughLossEndsAfterLostVelocityFrames) {
+  // A pan at 5 deg per frame (150 deg/s at 30 Hz): with zero velocity after a loss, the guess
+  // stays at the last good pose; with lost_velocity_frames it follows the pan, then stops.
+  const Scene scene = Scene::room();
+  const Eigen::Isometry3d step = motion({0.0, 0.0, 0.0}, {0, 1, 0}, 5.0);
+  for (const int keep : {0, 2}) {
+    TTrackingParams P;
+    P.lost_velocity_frames = keep;
+    IcpTracker tr(P);
+    tr.reset(kRoomPose);
+    Eigen::Isometry3d T = kRoomPose;
+    for (int i = 1; i <= 2; ++i) {
+      T = T * step;
+      const WorldMaps model(pyramidOf(scene.render(K, tr.lastGoodPose()))[0], tr.lastGoodPose());
+      ASSERT_TRUE(tr.track(pyramidOf(scene.render(K, T)), modelOf(model, tr.lastGoodPose())).ok);
+    }
+    const Eigen::Isometry3d last_good = tr.lastGoodPose();
+    for (int lost = 1; lost <= 3; ++lost) {
+      T = T * step;
+      EXPECT_FALSE(
+          tr.track(pyramidOf(scene.render(K, T)), modelMaps({}, {}, tr.lastGoodPose())).ok);
+      EXPECT_EQ(tr.lostFrames(), lost);
+      if (lost <= keep) {
+        EXPECT_TRUE(tr.extrapolatingThroughLoss());
+        expectPoseNear(tr.predictPose(), T * step, 3e-3, 0.3);  // the pan goes on
+      } else {
+        EXPECT_FALSE(tr.extrapolatingThroughLoss());
+        expectPoseNear(tr.predictPose(), last_good, 1e-9, 1e-9);  // zero velocity
+      }
+    }
+  }
 }
 
 TEST(IcpTracker, PreviousPoseMotionModel) {

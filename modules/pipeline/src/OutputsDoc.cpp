@@ -177,6 +177,8 @@ const Doc kColumns[] = {
     {"check_agreement", "of those, fraction agreeing with the model's surface"},
     {"check_behind", "of those, fraction lying behind it"},
     {"used_prior", "1 when the odometry motion prior was used"},
+    {"on_motion_model",
+     "1 when a degenerate frame was accepted on the constant-velocity guess alone (no prior)"},
     {"prior_sigmas", "Mahalanobis distance of the result from the prior"},
     {"heading_drift_sigmas", "accumulated heading disagreement with the odometry, in sigmas"},
     {"floor_height_m",

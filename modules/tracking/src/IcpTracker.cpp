@@ -195,14 +195,21 @@ IcpTracker::IcpTracker(IcpTracker&&) noexcept = default;
 IcpTracker& IcpTracker::operator=(IcpTracker&&) noexcept = default;
 
 void IcpTracker::reset(const Eigen::Isometry3d& T_world_cam) {
-  m_T_last = m_T_prev = T_world_cam;
+  m_T_last = m_T_prev = m_last_guess = T_world_cam;
+  m_lost_frames = 0;
+  m_degenerate_run = 0;
   m_initialized = true;
 }
 
 Eigen::Isometry3d IcpTracker::predictPose() const {
   if (m_params.motion_model == MotionModel::PreviousPose) return m_T_last;
-  // Constant velocity: apply the last inter-frame motion (in the camera frame) once more.
-  return orthonormalize(m_T_last * (m_T_prev.inverse() * m_T_last));
+  if (m_lost_frames > m_params.lost_velocity_frames) return m_T_last;
+  // Constant velocity: apply the last inter-frame motion (in the camera frame) once more, and
+  // once per frame lost since.
+  const Eigen::Isometry3d step = m_T_prev.inverse() * m_T_last;
+  Eigen::Isometry3d T = m_T_last;
+  for (int k = 0; k <= m_lost_frames; ++k) T = T * step;
+  return orthonormalize(T);
 }
 
 TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const ModelMaps& model,
@@ -212,19 +219,42 @@ TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const Mod
     r.status = TrackingStatus::NotInitialized;
     return r;
   }
-  TrackingResult r =
-      align(frame, model, prior ? prior->T_world_cam : predictPose(), frame_colour, prior);
+  const Eigen::Isometry3d guess = prior ? prior->T_world_cam : predictPose();
+  TrackingResult r = align(frame, model, guess, frame_colour, prior);
+  // A short run of degenerate frames after well-constrained ones rides on the velocity.
+  if (r.status == TrackingStatus::Ok) {
+    m_degenerate_run = 0;
+  } else if (r.status == TrackingStatus::Degenerate && !r.ok && !prior && m_lost_frames == 0 &&
+             m_params.motion_model == MotionModel::ConstantVelocity &&
+             m_degenerate_run < m_params.degenerate_max_run_frames) {
+    r.ok = true;
+    r.on_motion_model = true;
+    ++m_degenerate_run;
+  } else if (!r.ok) {
+    m_degenerate_run = m_params.degenerate_max_run_frames;  // no more until an Ok frame
+  }
   if (r.ok && r.check_overlap >= m_params.check_min_overlap) {
     m_recent_disagreement.push_back(1.0 - r.check_agreement);
     while (int(m_recent_disagreement.size()) > m_params.check_history)
       m_recent_disagreement.pop_front();
   }
   if (r.ok) {
-    m_T_prev = m_T_last;
+    // The velocity is the last frame-to-frame motion: after lost frames bridged by the
+    // extrapolation, from the previous frame's guess; after a longer loss, zero.
+    if (m_lost_frames == 0 || prior)
+      m_T_prev = m_T_last;
+    else if (extrapolatingThroughLoss())
+      m_T_prev = m_last_guess;
+    else
+      m_T_prev = r.T_world_cam;
     m_T_last = r.T_world_cam;
+    m_lost_frames = 0;
   } else {
-    m_T_prev = m_T_last;  // zero velocity: the next guess is the last good pose
+    ++m_lost_frames;
+    // Zero velocity once the extrapolation ends (or with a prior, which carries the motion).
+    if (prior || m_lost_frames > m_params.lost_velocity_frames) m_T_prev = m_T_last;
   }
+  m_last_guess = guess;
   return r;
 }
 

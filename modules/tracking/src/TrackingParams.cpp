@@ -56,6 +56,7 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   else
     throwInputError("[" + s + "] motion_model",
                     "unknown value '" + mm + "', expected constant_velocity or previous_pose");
+  MRPT_LOAD_CONFIG_VAR_CS(lost_velocity_frames, int);
   MRPT_LOAD_CONFIG_VAR_CS(min_inliers, int);
   MRPT_LOAD_CONFIG_VAR_CS(min_inlier_fraction, double);
   MRPT_LOAD_CONFIG_VAR_CS(max_rms_m, double);
@@ -63,6 +64,7 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR_CS(max_jump_rotation_deg, double);
   MRPT_LOAD_CONFIG_VAR_CS(min_eigenvalue, double);
   MRPT_LOAD_CONFIG_VAR_CS(degenerate_min_inlier_fraction, double);
+  MRPT_LOAD_CONFIG_VAR_CS(degenerate_max_run_frames, int);
   MRPT_LOAD_CONFIG_VAR_CS(prior_pixel_sigma_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(prior_min_eigenvalue, double);
   MRPT_LOAD_CONFIG_VAR_CS(max_prior_sigmas, double);
@@ -116,6 +118,8 @@ void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   put(c, s, "convergence_rotation_deg", convergence_rotation_deg, "early stop: and below (deg)");
   put(c, s, "motion_model", std::string(toString(motion_model)),
       "constant_velocity | previous_pose");
+  put(c, s, "lost_velocity_frames", lost_velocity_frames,
+      "lost frames through which the constant velocity is extrapolated (0 = zero velocity)");
   put(c, s, "min_inliers", min_inliers, "lost if fewer level-0 inliers");
   put(c, s, "min_inlier_fraction", min_inlier_fraction, "lost if inliers / valid pixels below");
   put(c, s, "max_rms_m", max_rms_m, "lost if RMS point-to-plane residual above (m)");
@@ -126,6 +130,8 @@ void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   put(c, s, "min_eigenvalue", min_eigenvalue, "degenerate below (normalised J^T J eigenvalue)");
   put(c, s, "degenerate_min_inlier_fraction", degenerate_min_inlier_fraction,
       "accept degenerate frames above (>1: never)");
+  put(c, s, "degenerate_max_run_frames", degenerate_max_run_frames,
+      "no prior: consecutive degenerate frames accepted on the constant-velocity guess");
   put(c, s, "prior_pixel_sigma_m", prior_pixel_sigma_m,
       "per-residual sigma (m) weighing ICP against a motion prior");
   put(c, s, "prior_min_eigenvalue", prior_min_eigenvalue,
@@ -176,8 +182,10 @@ void TTrackingParams::validate(const std::string& s) const {
   requireInRange(max_rms_m, 0.0, 10.0, s, "max_rms_m");
   requireInRange(max_jump_translation_m, 0.0, 1e3, s, "max_jump_translation_m");
   requireInRange(max_jump_rotation_deg, 0.0, 180.0, s, "max_jump_rotation_deg");
+  requireInRange(lost_velocity_frames, 0, 1000, s, "lost_velocity_frames");
   requireInRange(min_eigenvalue, 0.0, 1.0, s, "min_eigenvalue");
   requireInRange(degenerate_min_inlier_fraction, 0.0, 2.0, s, "degenerate_min_inlier_fraction");
+  requireInRange(degenerate_max_run_frames, 0, 1000, s, "degenerate_max_run_frames");
   requireInRange(prior_pixel_sigma_m, 1e-5, 10.0, s, "prior_pixel_sigma_m");
   requireInRange(prior_min_eigenvalue, 0.0, 1.0, s, "prior_min_eigenvalue");
   requireInRange(max_prior_sigmas, 0.0, 1e6, s, "max_prior_sigmas");

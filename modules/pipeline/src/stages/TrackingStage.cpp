@@ -109,12 +109,16 @@ void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
     return;
   }
   // The model is rendered where the guess starts from: the previous frame's pose when odometry
-  // carries the estimate on (also through lost frames), else the last good pose.
+  // or the extrapolated constant velocity carries the estimate on through lost frames, else the
+  // last good pose.
   auto t = Clock::now();
   const bool photometric =
       m_tracking.photometricWeight(prior.has_value()) > 0 && !frame.colour.empty();
   const tracking::ModelMaps model =
-      renderModel(ctx, map, prior ? m_T_prev_frame : m_tracker.lastGoodPose(), photometric, r);
+      renderModel(ctx, map,
+                  prior || m_tracker.extrapolatingThroughLoss() ? m_T_prev_frame
+                                                                : m_tracker.lastGoodPose(),
+                  photometric, r);
   recordMs(ctx, kRenderModel, msSince(t));
 
   t = Clock::now();
@@ -282,8 +286,8 @@ void TrackingStage::csvColumns(std::vector<std::string>& c) const {
   c.insert(c.end(),
            {"status", "inliers", "inlier_fraction", "rms_m", "model_pixels", "model_all_surfels",
             "icp_iterations", "icp_iterations_level0", "pose_source", "check_overlap",
-            "check_agreement", "check_behind", "used_prior", "prior_sigmas", "heading_drift_sigmas",
-            "floor_height_m", "floor_tilt_deg", "relocalisation_failure"});
+            "check_agreement", "check_behind", "used_prior", "on_motion_model", "prior_sigmas",
+            "heading_drift_sigmas", "floor_height_m", "floor_tilt_deg", "relocalisation_failure"});
 }
 
 void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
@@ -293,7 +297,7 @@ void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
   row.add(r.model_valid_pixels).add(r.model_all_surfels).add(t.iterations);
   row.add(t.levels.empty() ? 0 : t.levels.back().iterations).add(toString(r.pose_source));
   row.add(t.check_overlap, 4).add(t.check_agreement, 4).add(t.check_behind, 4).add(t.used_prior);
-  row.add(t.prior_sigmas, 4).add(r.heading_drift_sigmas, 3).add(r.floor_height_m, 4);
+  row.add(t.on_motion_model).add(t.prior_sigmas, 4).add(r.heading_drift_sigmas, 3).add(r.floor_height_m, 4);
   row.add(r.floor_tilt_deg, 3).add(r.relocalisation_failure);
 }
 

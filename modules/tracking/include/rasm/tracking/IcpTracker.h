@@ -85,8 +85,18 @@ class IcpTracker {
   /// touching the pose before it, so the velocity follows the corrected pose.
   void correctLastPose(const Eigen::Isometry3d& T_world_cam) { m_T_last = T_world_cam; }
 
-  /// Motion-model prediction for the next frame (constant velocity or previous pose).
+  /// Motion-model prediction for the next frame (constant velocity or previous pose). With
+  /// constant velocity after k lost frames (k <= lost_velocity_frames) the last velocity applied
+  /// k + 1 times; beyond that the last good pose.
   Eigen::Isometry3d predictPose() const;
+  /// Consecutive frames lost since the last good one.
+  int lostFrames() const { return m_lost_frames; }
+  /// Whether predictPose() extrapolates through lost frames (then the caller renders the model
+  /// at the previous frame's guess rather than at the last good pose).
+  bool extrapolatingThroughLoss() const {
+    return m_lost_frames > 0 && m_lost_frames <= m_params.lost_velocity_frames &&
+           m_params.motion_model == MotionModel::ConstantVelocity;
+  }
   /// Last pose of a frame tracked with ok = true (or of reset()).
   const Eigen::Isometry3d& lastGoodPose() const { return m_T_last; }
 
@@ -133,6 +143,9 @@ class IcpTracker {
   bool m_initialized = false;
   Eigen::Isometry3d m_T_last = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d m_T_prev = Eigen::Isometry3d::Identity();  ///< good pose before m_T_last
+  int m_lost_frames = 0;
+  int m_degenerate_run = 0;  ///< degenerate frames accepted on the velocity since the last Ok one
+  Eigen::Isometry3d m_last_guess = Eigen::Isometry3d::Identity();  ///< of the previous frame
   /// Scratch: model maps at levels >= 1 (level 0 is the caller's view).
   std::vector<Image<Vec3f>> m_model_vertex, m_model_normal;
   /// Scratch of the photometric term, all levels: model intensity, frame (I, dI/du, dI/dv).

@@ -115,6 +115,13 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
 
   // ---- initial guess ----
   MotionModel motion_model = MotionModel::ConstantVelocity;
+  /// Constant velocity through lost frames: for this many consecutive lost frames (without a
+  /// motion prior) the guess keeps extrapolating the last velocity, then it falls back to the last
+  /// good pose (0 = zero velocity from the first lost frame). A hand-held pan at 150 deg/s turns
+  /// 5 deg per frame: two lost frames with zero velocity leave the guess 15 deg behind, beyond
+  /// max_jump_rotation_deg, so every right ICP result after them was refused as excessive motion
+  /// and the camera stayed lost until it was relocalised (docs/slam-eval.md).
+  int lost_velocity_frames = 5;
 
   // ---- tracking-quality rules (a frame failing any of them is lost: ok = false) ----
   /// Minimum inliers at level 0 (after the stride) and minimum inliers / valid frame pixels.
@@ -137,6 +144,14 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   /// the remaining evidence. ICP that slid into a wrong minimum along a partially constrained
   /// direction also looks degenerate but agrees with far fewer pixels. > 1 = never accept.
   double degenerate_min_inlier_fraction = 0.7;
+  /// Without a prior, a degenerate frame that fails that fraction is still accepted (its weak
+  /// directions from the constant-velocity guess, every other rule and the pose check passed) for
+  /// at most this many consecutive frames after a well-constrained one (0 = never): a hand-held
+  /// pan from mapped into new space sees less and less of the model (inliers 0.59 -> 0.30 over 6
+  /// frames on a generated room, each pose within 1.2 deg) and, refused, never fused the new
+  /// space it turned to. The velocity is a good prior for a fraction of a second only, hence the
+  /// bound: 8 frames at 30 Hz.
+  int degenerate_max_run_frames = 8;
 
   // ---- motion prior (odometry or motion model, IcpTracker::track's `prior`) ----
   /// Standard deviation (m) assumed for one point-to-plane residual when the ICP data are

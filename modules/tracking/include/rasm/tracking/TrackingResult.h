@@ -46,6 +46,9 @@ struct TrackingResult {
   Eigen::Isometry3d T_world_cam_guess = Eigen::Isometry3d::Identity();
   bool ok = false;
   TrackingStatus status = TrackingStatus::NotInitialized;
+  /// A degenerate frame accepted on the constant-velocity guess alone (IcpTracker::track,
+  /// TTrackingParams::degenerate_max_run_frames); frames.csv `on_motion_model`.
+  bool on_motion_model = false;
 
   // Quality of the final (level 0) alignment.
   int inliers = 0;
