@@ -251,7 +251,9 @@ TEST(IcpTracker, ConstantVelocityLossAndRecovery) {
   std::vector<Eigen::Isometry3d> gt{kRoomPose};
   for (int i = 1; i < 6; ++i) gt.push_back(gt.back() * step);
 
-  IcpTracker tr;  // default: constant velocity
+  TTrackingParams P;  // default: constant velocity
+  P.lost_velocity_frames = 5;
+  IcpTracker tr(P);
   EXPECT_EQ(tr.track(pyramidOf(scene.render(K, gt[1])), ModelMaps{}).status,
             TrackingStatus::NotInitialized);
   tr.reset(gt[0]);

@@ -117,11 +117,15 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   MotionModel motion_model = MotionModel::ConstantVelocity;
   /// Constant velocity through lost frames: for this many consecutive lost frames (without a
   /// motion prior) the guess keeps extrapolating the last velocity, then it falls back to the last
-  /// good pose (0 = zero velocity from the first lost frame). A hand-held pan at 150 deg/s turns
-  /// 5 deg per frame: two lost frames with zero velocity leave the guess 15 deg behind, beyond
-  /// max_jump_rotation_deg, so every right ICP result after them was refused as excessive motion
-  /// and the camera stayed lost until it was relocalised (docs/slam-eval.md).
-  int lost_velocity_frames = 5;
+  /// good pose (0 = zero velocity from the first lost frame, the default). A hand-held pan at
+  /// 150 deg/s turns 5 deg per frame: two lost frames with zero velocity leave the guess 15 deg
+  /// behind, beyond max_jump_rotation_deg. Measured at 5 on one generated fast pan (no change:
+  /// its frames were refused as degenerate, not for the guess) and on the kidnapped
+  /// office_handheld_long together with degenerate_max_run_frames 8 (relocalised 19 frames after
+  /// the cut instead of 1; which of the two did it is not established), so it stays off.
+  /// Either way a frame tracked again after a loss restarts from zero velocity (the motion over
+  /// the gap is not applied again to the next frame).
+  int lost_velocity_frames = 0;
 
   // ---- tracking-quality rules (a frame failing any of them is lost: ok = false) ----
   /// Minimum inliers at level 0 (after the stride) and minimum inliers / valid frame pixels.
@@ -146,12 +150,15 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   double degenerate_min_inlier_fraction = 0.7;
   /// Without a prior, a degenerate frame that fails that fraction is still accepted (its weak
   /// directions from the constant-velocity guess, every other rule and the pose check passed) for
-  /// at most this many consecutive frames after a well-constrained one (0 = never): a hand-held
-  /// pan from mapped into new space sees less and less of the model (inliers 0.59 -> 0.30 over 6
-  /// frames on a generated room, each pose within 1.2 deg) and, refused, never fused the new
-  /// space it turned to. The velocity is a good prior for a fraction of a second only, hence the
-  /// bound: 8 frames at 30 Hz.
-  int degenerate_max_run_frames = 8;
+  /// at most this many consecutive frames after a well-constrained one (0 = never, the default).
+  /// A hand-held pan from mapped into new space sees less and less of the model (inliers 0.59 ->
+  /// 0.30 over 6 frames on a generated room, each pose within 1.2 deg) and, refused, never fuses
+  /// the new space it turned to: at 8 that run was tracked throughout (855 / 855, 0.22 cm). But
+  /// the velocity then feeds itself along the unconstrained directions: office_robot_loop without
+  /// odometry went from 5 / 743 tracked (honestly lost) to 743 / 743 "tracked" with a silent
+  /// 3.9 m jump along the room (docs/slam-eval.md). Off until the run is bounded by something
+  /// the data check.
+  int degenerate_max_run_frames = 0;
 
   // ---- motion prior (odometry or motion model, IcpTracker::track's `prior`) ----
   /// Standard deviation (m) assumed for one point-to-plane residual when the ICP data are
