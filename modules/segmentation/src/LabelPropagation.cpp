@@ -10,22 +10,38 @@ namespace rasm::segmentation {
 
 namespace {
 
-/// Pi restricted to one current label: a few (map label, pixels) pairs, with the pixels' depth
-/// summed per pair (the merge evidence is range-gated, merge_max_depth_m).
+/// Whether pixels whose depths sum to depth_sum lie, on average, within max_depth_m (0 = any
+/// range): the range gate of the merge evidence and of the split rule (merge_max_depth_m).
+bool withinDepth(float depth_sum, int pixels, double max_depth_m) {
+  return max_depth_m <= 0.0 || depth_sum <= float(max_depth_m) * float(pixels);
+}
+
+/// Pi restricted to one current label: a few map labels, each with its pixels and their depths
+/// summed (the merge evidence is range-gated, merge_max_depth_m).
 struct Overlaps {
-  std::vector<std::pair<std::uint32_t, int>> counts;
-  std::vector<float> depth_sum;  ///< per entry of counts
-  int labelled = 0;              ///< pixels with a map label
+  struct Entry {
+    std::uint32_t label;
+    int pixels;
+    float depth_sum;
+  };
+  std::vector<Entry> counts;
+  int labelled = 0;  ///< pixels with a map label
   void add(std::uint32_t r, float z) {
     ++labelled;
-    for (std::size_t i = 0; i < counts.size(); ++i)
-      if (counts[i].first == r) {
-        ++counts[i].second;
-        depth_sum[i] += z;
+    for (Entry& e : counts)
+      if (e.label == r) {
+        ++e.pixels;
+        e.depth_sum += z;
         return;
       }
-    counts.emplace_back(r, 1);
-    depth_sum.push_back(z);
+    counts.push_back({r, 1, z});
+  }
+  /// Index of the entry with the most pixels (the first of equals); counts must not be empty.
+  std::size_t best() const {
+    std::size_t bi = 0;
+    for (std::size_t i = 1; i < counts.size(); ++i)
+      if (counts[i].pixels > counts[bi].pixels) bi = i;
+    return bi;
   }
 };
 
@@ -82,35 +98,31 @@ std::vector<std::uint32_t> splitOffSegments(const std::vector<Overlaps>& pi,
   };
   std::unordered_map<std::uint32_t, Owner> owner;
   for (std::size_t l = 1; l < pi.size(); ++l)
-    for (const auto& [r, n] : pi[l].counts) {
-      Owner& o = owner[r];
-      o.total += n;
-      if (n > o.best_n) {
-        o.best_n = n;
+    for (const Overlaps::Entry& e : pi[l].counts) {
+      Owner& o = owner[e.label];
+      o.total += e.pixels;
+      if (e.pixels > o.best_n) {
+        o.best_n = e.pixels;
         o.segment = int(l);
       }
     }
   for (std::size_t l = 1; l < pi.size(); ++l) {
     const Overlaps& o = pi[l];
     if (o.counts.empty()) continue;
-    std::size_t bi = 0;
     float depth = 0.f;
-    for (std::size_t i = 0; i < o.counts.size(); ++i) {
-      depth += o.depth_sum[i];
-      if (o.counts[i].second > o.counts[bi].second) bi = i;
-    }
-    const Owner& b = owner.at(o.counts[bi].first);
-    const bool near =
-        p.merge_max_depth_m <= 0.0 || depth <= float(p.merge_max_depth_m) * float(o.labelled);
-    if (!near || b.segment == int(l) || o.counts[bi].second >= p.split_max_share * b.total ||
-        o.labelled * area < p.split_min_px)
+    for (const Overlaps::Entry& e : o.counts) depth += e.depth_sum;
+    const Overlaps::Entry& best = o.counts[o.best()];
+    const Owner& b = owner.at(best.label);
+    if (!withinDepth(depth, o.labelled, p.merge_max_depth_m) || b.segment == int(l) ||
+        best.pixels >= p.split_max_share * b.total || o.labelled * area < p.split_min_px)
       continue;
     std::uint32_t own = 0;
     int own_n = 0;
-    for (const auto& [r, n] : o.counts)
-      if (owner.at(r).segment == int(l) && n > own_n && n * area >= p.propagation_min_overlap_px) {
-        own = r;
-        own_n = n;
+    for (const Overlaps::Entry& e : o.counts)
+      if (owner.at(e.label).segment == int(l) && e.pixels > own_n &&
+          e.pixels * area >= p.propagation_min_overlap_px) {
+        own = e.label;
+        own_n = e.pixels;
       }
     take[l] = own;
   }
@@ -147,30 +159,24 @@ void propagateLabels(const FrameSegments& seg, const Image<Vec3f>& vertex_cam,
   std::vector<std::pair<std::uint32_t, int>> visible_px;
   for (int l = 1; l <= seg.count; ++l) {
     const Overlaps& o = pi[l];
-    std::uint32_t best = 0;
-    int best_n = 0;
     std::vector<std::uint32_t> shared;
-    for (std::size_t i = 0; i < o.counts.size(); ++i) {
-      const std::uint32_t r = o.counts[i].first;
-      const int n = o.counts[i].second * area;
+    for (const Overlaps::Entry& e : o.counts) {
+      const int n = e.pixels * area;
+      visible_px.emplace_back(e.label, n);
       // Beyond merge_max_depth_m the edge test's noise margins (z^2) exceed the folds and steps
       // between objects, so sharing a segment there is no evidence that two labels are one.
-      const bool near = p.merge_max_depth_m <= 0.0 ||
-                        o.depth_sum[i] <= float(p.merge_max_depth_m) * float(o.counts[i].second);
-      visible_px.emplace_back(r, n);
-      if (n > best_n) {
-        best_n = n;
-        best = r;
-      }
-      if (near && n >= p.propagation_min_overlap_px &&
-          n >= p.merge_min_fraction * o.labelled * area)
-        shared.push_back(r);
+      if (withinDepth(e.depth_sum, e.pixels, p.merge_max_depth_m) &&
+          n >= p.propagation_min_overlap_px && n >= p.merge_min_fraction * o.labelled * area)
+        shared.push_back(e.label);
     }
+    const Overlaps::Entry* top = o.counts.empty() ? nullptr : &o.counts[o.best()];
+    const std::uint32_t best = top ? top->label : 0u;
+    const int best_n = top ? top->pixels * area : 0;
+    const std::uint32_t split_to = split[std::size_t(l)];
     if (best && best_n >= p.propagation_min_overlap_px &&
-        best_n >= p.propagation_min_overlap * o.labelled * area) {
-      const std::uint32_t taken = split[std::size_t(l)];
-      out.label_of[l] = taken == kKeepBest ? best : (taken ? taken : next_label++);
-      ++(taken == kKeepBest || taken ? out.matched : out.created);
+        best_n >= p.propagation_min_overlap * o.labelled * area && split_to != 0u) {
+      out.label_of[l] = split_to == kKeepBest ? best : split_to;
+      ++out.matched;
     } else {
       out.label_of[l] = next_label++;
       ++out.created;
