@@ -7,7 +7,11 @@
 # frames whose unaligned error exceeds 5 cm, i.e. drift since the first frame, is printed
 # beside it; a tracked frame the robot's drift report flags off the floor counts as flagged). Writes $OUT/tracking.jsonl.
 #   scripts/eval-tracking.sh [--robot] [--fast] [--kidnap] [--real] [--worlds N] [--first-seed S] [--small]
-#                            [--kinds "robot robot_fast handheld handheld_fast"]
+#                            [--kinds "robot robot_fast handheld handheld_fast"] [--world-kidnaps]
+#                            [--set section.key=value ...]
+# --kidnap: the office kidnapping and, with --worlds, a kidnapped copy of each generated hand-held
+# run (2 s cut at half the sweep, 1 s of covered lens at three quarters); --world-kidnaps: only the
+# latter. --set passes an override to every run (ablations; repeatable).
 # No option = --robot --fast --kidnap --real --worlds 20. --small renders generated worlds at 320x240 (4x
 # faster; the shipped-world sequences stay 640x480). Seeds are fixed: runs are reproducible.
 set -euo pipefail
@@ -16,13 +20,16 @@ RASM=${RASM:-build/rasm}
 OUT=${OUT:-eval_out/tracking}
 [[ -x "$RASM" ]] || { echo "build first: scripts/build.sh" >&2; exit 1; }
 mkdir -p "$OUT"
+sets=() world_kidnaps=0
 robot=0 fast=0 kidnap=0 real=0 worlds=0 first_seed=1 small=0 kinds="robot robot_fast handheld handheld_fast"
-if [[ $# -eq 0 ]]; then robot=1 fast=1 kidnap=1 real=1 worlds=20; fi
+if [[ $# -eq 0 ]]; then robot=1 fast=1 kidnap=1 world_kidnaps=1 real=1 worlds=20; fi
 while [[ $# -gt 0 ]]; do
   case $1 in
     --robot) robot=1 ;;
     --fast) fast=1 ;;
-    --kidnap) kidnap=1 ;;
+    --kidnap) kidnap=1 world_kidnaps=1 ;;
+    --world-kidnaps) world_kidnaps=1 ;;
+    --set) sets+=(--set "$2"); shift ;;
     --real) real=1 ;;
     --worlds) worlds=$2; shift ;;
     --first-seed) first_seed=$2; shift ;;
@@ -43,7 +50,7 @@ evaluate() {  # name rawlog|tum:FOLDER|7scenes:FOLDER [--set overrides...]
   case $src in tum:* | 7scenes:*) type=${src%%:*} src=${src#*:} ;; esac
   local out="$OUT/$name"
   "$RASM" run --set source.type=$type --set source.path="$src" --out "$out" \
-    --set output.write_ply=false --set output.write_3dscene=false --set output.preview_png=false "$@" \
+    --set output.write_ply=false --set output.write_3dscene=false --set output.preview_png=false "${sets[@]}" "$@" \
     > "$out.log" 2>&1 || { echo "$name: run failed (see $out.log)"; return; }
   python3 - "$out" "$name" "$OUT/tracking.jsonl" <<'PY'
 import csv, json, math, sys
@@ -90,18 +97,32 @@ for r in rows:
         if r["tracked"] != "1": flagged_big += 1
         elif off_floor(r): drift_flagged += 1
         else: silent += 1
+# Lost stretches: [first frame index, frames lost, how the stretch ended] (the index is the
+# source's, so a stretch that starts right after a drop_frames cut starts at the cut's end; its
+# length is the relocalisation delay of (c)).
+stretches = []
+for r in rows:
+    if r["tracked"] != "1":
+        if stretches and stretches[-1][2] is None: stretches[-1][1] += 1
+        else: stretches.append([int(r["index"]), 1, None])
+    elif stretches and stretches[-1][2] is None:
+        stretches[-1][2] = r["pose_source"]
+for st in stretches:
+    if st[2] is None: st[2] = "end of run"
 ate = rep.get("ate", {}).get("translation_m", {}).get("rmse")
 ate_t = rep.get("ate_tracked", rep.get("ate", {})).get("translation_m", {}).get("rmse")
 row = {"sequence": name, "frames": rep["frames"], "tracked": rep["frames_tracked"],
        "lost_intervals": rep["lost_intervals"], "relocalisations": rep["relocalisations"],
        "ate_all_m": ate, "ate_tracked_m": ate_t, "silent_over_5cm": silent, "flagged_over_5cm": flagged_big,
        "unaligned_over_5cm": drift_big, "off_floor_over_5cm": drift_flagged,
+       "lost_stretches": stretches,
        "cpu_ms_per_frame": rep.get("cpu_ms_per_frame")}
 open(jl, "a").write(json.dumps(row) + "\n")
 fmt = lambda x: "-" if x is None else f"{100 * x:.2f}"
 print(f"{name:34s} tracked {row['tracked']:5d}/{row['frames']:<5d} lost intervals {row['lost_intervals']:2d} "
       f"reloc {row['relocalisations']:2d}  ATE all {fmt(ate)} cm tracked {fmt(ate_t)} cm  "
-      f"silent >5cm {silent}  flagged >5cm {flagged_big} lost + {drift_flagged} off floor  (unaligned >5cm {drift_big})", flush=True)
+      f"silent >5cm {silent}  flagged >5cm {flagged_big} lost + {drift_flagged} off floor  (unaligned >5cm {drift_big})"
+      + (f"  lost stretches (first frame, frames, ended by) {stretches}" if stretches else ""), flush=True)
 PY
 }
 
@@ -149,6 +170,12 @@ if [[ $worlds -gt 0 ]]; then
     for t in $kinds; do
       record "$w" "$OUT/gen_s${s}_$t.yaml" "$OUT/gen_s${s}_$t.rawlog" "$s" "${small_args[@]}"
       evaluate "gen_s${s}_$t" "$OUT/gen_s${s}_$t.rawlog"
+      if [[ $world_kidnaps -eq 1 && $t == handheld* ]]; then
+        # (c) on an unseen world: a 2 s cut at half the sweep, 1 s of covered lens at 3/4.
+        n=$(grep -vc '^#' "$OUT/gen_s${s}_${t}_groundtruth.txt")
+        evaluate "gen_s${s}_${t}_kidnap" "$OUT/gen_s${s}_$t.rawlog" \
+          --set source.drop_frames=$((n / 2))-$((n / 2 + 59)) --set source.blank_frames=$((3 * n / 4))-$((3 * n / 4 + 29))
+      fi
       rm -rf "$OUT/gen_s${s}_$t.rawlog" "$OUT/gen_s${s}_${t}_labels"
     done
   done

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <random>
 #include <tuple>
 
@@ -428,5 +429,70 @@ TEST(IcpTracker, HalfResolutionModelRecoversKnownMotion) {
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("model_level"), std::string::npos) << e.what();
+  }
+}
+
+// IcpTracker::track's denser_model: a frame the (stable-surfel) model cannot support for lack of
+// coverage is aligned once more against the denser model, from the same guess. Here the sparse
+// model keeps a 40 x 40 pixel window of the room (1600 points < min_inliers), the dense one all
+// of it; the retry must recover the true motion as an aligned frame would (1 mm / 0.05 deg), and
+// the hook is not called when the first alignment succeeds.
+TEST(IcpTracker, DenserModelRetriesAFrameTheSparseModelCannotSupport) {
+  const Eigen::Isometry3d T_b = kRoomPose * motion({0.02, 0.01, -0.02}, {0.2, 1, 0.1}, 2.0);
+  const Pair p(Scene::room(), kRoomPose, T_b);
+  WorldMaps sparse = *p.model;
+  const Vec3f nan = Vec3f::Constant(std::numeric_limits<float>::quiet_NaN());
+  for (int y = 0; y < K.height; ++y)
+    for (int x = 0; x < K.width; ++x)
+      if (std::abs(x - K.width / 2) >= 20 || std::abs(y - K.height / 2) >= 20)
+        sparse.vertex(x, y) = sparse.normal(x, y) = nan;
+
+  int calls = 0;
+  const IcpTracker::DenserModel dense = [&]() -> std::optional<ModelMaps> {
+    ++calls;
+    return modelOf(*p.model, kRoomPose);
+  };
+  {
+    IcpTracker tr;
+    tr.reset(kRoomPose);
+    const TrackingResult r = tr.track(p.pyr_b, modelOf(sparse, kRoomPose));
+    EXPECT_EQ(r.status, TrackingStatus::TooFewInliers) << "the sparse model alone fails";
+    EXPECT_FALSE(r.ok);
+  }
+  {
+    IcpTracker tr;
+    tr.reset(kRoomPose);
+    const TrackingResult r = tr.track(p.pyr_b, modelOf(sparse, kRoomPose), {}, nullptr, dense);
+    EXPECT_EQ(calls, 1);
+    EXPECT_EQ(r.status, TrackingStatus::Ok) << toString(r.status);
+    EXPECT_TRUE(r.denser_model);
+    expectPoseNear(r.T_world_cam, T_b, 1e-3, 0.05);
+    expectPoseNear(tr.lastGoodPose(), T_b, 1e-3, 0.05);
+  }
+  {  // a frame the first model supports never asks for the denser one
+    IcpTracker tr;
+    tr.reset(kRoomPose);
+    const TrackingResult r = tr.track(p.pyr_b, modelOf(*p.model, kRoomPose), {}, nullptr, dense);
+    EXPECT_EQ(calls, 1);
+    EXPECT_TRUE(r.ok);
+    EXPECT_FALSE(r.denser_model);
+  }
+  {  // no denser model to offer (nullopt): the first result stands
+    IcpTracker tr;
+    tr.reset(kRoomPose);
+    const TrackingResult r = tr.track(p.pyr_b, modelOf(sparse, kRoomPose), {}, nullptr,
+                                      [] { return std::optional<ModelMaps>(); });
+    EXPECT_EQ(r.status, TrackingStatus::TooFewInliers);
+    EXPECT_FALSE(r.denser_model);
+  }
+  {  // a denser model that does not agree either (the room seen from elsewhere) changes nothing
+    const Eigen::Isometry3d T_other = lookAt({-1.5, 1.5, 1.0}, {1.0, -1.0, 0.3});
+    const WorldMaps other(pyramidOf(Scene::room().render(K, T_other))[0], T_other);
+    IcpTracker tr;
+    tr.reset(kRoomPose);
+    const TrackingResult r = tr.track(p.pyr_b, modelOf(sparse, kRoomPose), {}, nullptr,
+                                      [&] { return std::optional(modelOf(other, kRoomPose)); });
+    EXPECT_FALSE(r.ok) << toString(r.status);
+    EXPECT_FALSE(r.denser_model);
   }
 }

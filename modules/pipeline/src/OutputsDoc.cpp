@@ -169,7 +169,9 @@ const Doc kColumns[] = {
     {"inlier_fraction", "inliers / valid frame pixels at full resolution"},
     {"rms_m", "RMS point-to-plane residual of the inliers (m)"},
     {"model_pixels", "valid pixels of the model rendered for ICP"},
-    {"model_all_surfels", "1 when the stable-only model was too sparse and every surfel was used"},
+    {"model_all_surfels",
+     "1 when the model was rendered from every surfel: the stable-only one was too sparse, or "
+     "the frame failed against it for lack of support and was retried (docs/tracking.md)"},
     {"icp_iterations", "ICP iterations, all pyramid levels"},
     {"icp_iterations_level0", "of those, at full resolution"},
     {"pose_source", "tracked, odometry, motion_model or relocalised"},

@@ -213,7 +213,8 @@ Eigen::Isometry3d IcpTracker::predictPose() const {
 }
 
 TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const ModelMaps& model,
-                                 ImageView<const Bgr8> frame_colour, const MotionPrior* prior) {
+                                 ImageView<const Bgr8> frame_colour, const MotionPrior* prior,
+                                 const DenserModel& denser_model) {
   if (!m_initialized) {
     TrackingResult r;
     r.status = TrackingStatus::NotInitialized;
@@ -221,6 +222,15 @@ TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const Mod
   }
   const Eigen::Isometry3d guess = prior ? prior->T_world_cam : predictPose();
   TrackingResult r = align(frame, model, guess, frame_colour, prior);
+  const bool unsupported = r.status == TrackingStatus::TooFewInliers ||
+                           (r.status == TrackingStatus::Degenerate && !r.ok);
+  if (unsupported && denser_model) {
+    if (const std::optional<ModelMaps> denser = denser_model()) {
+      TrackingResult r2 = align(frame, *denser, guess, frame_colour, prior);
+      r2.denser_model = true;
+      if (r2.ok) r = std::move(r2);
+    }
+  }
   // A short run of degenerate frames after well-constrained ones rides on the velocity.
   if (r.status == TrackingStatus::Ok) {
     m_degenerate_run = 0;

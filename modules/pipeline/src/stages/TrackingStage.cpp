@@ -122,10 +122,22 @@ void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
   recordMs(ctx, kRenderModel, msSince(t));
 
   t = Clock::now();
+  // A frame the stable surfels cannot support is tried once more against all surfels.
+  double ms_denser_render = 0.0;
+  const tracking::IcpTracker::DenserModel denser = [&]() -> std::optional<tracking::ModelMaps> {
+    if (r.model_all_surfels) return std::nullopt;
+    const auto tr = Clock::now();
+    FrameResult probe;
+    tracking::ModelMaps m = renderModel(ctx, map, model.T_world_model, photometric, probe, true);
+    ms_denser_render = msSince(tr);
+    return m;
+  };
   r.tracking = m_tracker.track(ctx.pyramid, model,
                                photometric ? frame.colour.cview() : ImageView<const Bgr8>(),
-                               prior ? &*prior : nullptr);
-  recordMs(ctx, kIcp, msSince(t));
+                               prior ? &*prior : nullptr, denser);
+  if (r.tracking.denser_model) r.model_all_surfels = true;
+  recordMs(ctx, kIcp, msSince(t) - ms_denser_render);
+  recordMs(ctx, kRenderModel, ms_denser_render);
   r.tracked = r.tracking.ok;
   if (r.tracked && prior) {
     double correction = 0.0;
@@ -174,7 +186,7 @@ void TrackingStage::reportFloorDeviation(FrameResult& r) {
 
 tracking::ModelMaps TrackingStage::renderModel(FrameContext& ctx, const maps::CSurfelMap& map,
                                                const Eigen::Isometry3d& T_model, bool with_colour,
-                                               FrameResult& r) {
+                                               FrameResult& r, bool all_surfels) {
   // II-C: model = the map rendered at the previous pose from its reliable surfels: those with
   // confidence >= [tracking] model_min_confidence, or the ones fusion flagged stable when that is
   // 0. Until enough of them exist (the first frames of a run, or a newly seen area), that model
@@ -184,8 +196,8 @@ tracking::ModelMaps TrackingStage::renderModel(FrameContext& ctx, const maps::CS
   maps::RenderOptions ro;
   ro.min_depth_m = float(m_mapper.min_depth_m);
   ro.max_depth_m = float(m_mapper.max_depth_m) * 1.5f;
-  ro.stable_only = tp.model_min_confidence <= 0;
-  ro.min_confidence = float(tp.model_min_confidence);
+  ro.stable_only = !all_surfels && tp.model_min_confidence <= 0;
+  ro.min_confidence = all_surfels ? 0.0f : float(tp.model_min_confidence);
   ro.outputs = maps::kRenderVertex | maps::kRenderNormal;
   // Optional inputs of the tracker: colour for its photometric term, surfel confidence weights.
   if (with_colour) ro.outputs |= maps::kRenderColour;
@@ -196,8 +208,9 @@ tracking::ModelMaps TrackingStage::renderModel(FrameContext& ctx, const maps::CS
   maps::RenderStats rs;
   m_renderer.render(map.store(), T_model, K_model, ro, m_model, &rs);
   r.model_valid_pixels = int(rs.pixels_drawn);
+  r.model_all_surfels = all_surfels;
   const int frame_valid = countValid(ctx.pyramid[tp.model_level].normal);
-  if (r.model_valid_pixels < 0.3 * frame_valid) {
+  if (!all_surfels && r.model_valid_pixels < 0.3 * frame_valid) {
     ro.stable_only = false;
     ro.min_confidence = 0.0f;
     m_renderer.render(map.store(), T_model, K_model, ro, m_model, &rs);

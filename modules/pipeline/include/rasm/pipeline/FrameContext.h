@@ -50,7 +50,7 @@ struct FrameResult {
   double floor_height_m = std::numeric_limits<double>::quiet_NaN();
   double floor_tilt_deg = std::numeric_limits<double>::quiet_NaN();
   int model_valid_pixels = 0;      ///< valid pixels of the rendered model ICP aligned to
-  bool model_all_surfels = false;  ///< the stable-only model was too sparse: all surfels used
+  bool model_all_surfels = false;  ///< model from all surfels: stable-only too sparse, or retried
   /// Milliseconds per timer, in the order of Mapper::timerNames() (stages, their parts, "total").
   std::vector<double> ms;
 

@@ -37,7 +37,9 @@
 
 #include <Eigen/Geometry>
 #include <deque>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "rasm/compute/ImageView.h"
@@ -108,8 +110,16 @@ class IcpTracker {
   /// term when params().photometric_weight > 0 and the model has a colour map.
   /// `prior` (optional): the pose predicted from odometry (or another source) with its
   /// uncertainty; it replaces the motion-model guess and enters the solve (MotionPrior.h).
+  /// `denser_model` (optional): called when the frame fails against `model` for lack of
+  /// support only (Degenerate not accepted, or TooFewInliers), it returns a model with more of
+  /// the map (the stage's all-surfel render; nullopt = none) and the frame is aligned again
+  /// from the same guess; the second result stands if it is ok. The stable-surfel model lags
+  /// the map by the frames a surfel needs to become stable: at the start of a run and where a
+  /// pan has just fused new space it covers too little of the view (docs/tracking.md).
+  using DenserModel = std::function<std::optional<ModelMaps>()>;
   TrackingResult track(const std::vector<FrameLevel>& frame, const ModelMaps& model,
-                       ImageView<const Bgr8> frame_colour = {}, const MotionPrior* prior = nullptr);
+                       ImageView<const Bgr8> frame_colour = {}, const MotionPrior* prior = nullptr,
+                       const DenserModel& denser_model = {});
 
   /// Aligns `frame` to `model` starting from an explicit guess; does not touch the motion state.
   /// The quality rules (including the jump vs. the guess) are applied as in track().

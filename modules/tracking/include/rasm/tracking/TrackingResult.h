@@ -49,6 +49,9 @@ struct TrackingResult {
   /// A degenerate frame accepted on the constant-velocity guess alone (IcpTracker::track,
   /// TTrackingParams::degenerate_max_run_frames); frames.csv `on_motion_model`.
   bool on_motion_model = false;
+  /// The result is the second alignment, against the denser (all-surfel) model, after the
+  /// stable-surfel model gave the frame too little support (IcpTracker::track's denser_model).
+  bool denser_model = false;
 
   // Quality of the final (level 0) alignment.
   int inliers = 0;

@@ -58,11 +58,11 @@ class TrackingStage : public MapperStage {
   void initialise(FrameContext& ctx);
   void track(FrameContext& ctx, const maps::CSurfelMap& map);
   /// The tracking model: the map rendered at T_model (reliable surfels, all of them while too
-  /// few), as the tracker sees it (valid until the next render); with its colour when the
-  /// tracker's photometric term needs it.
+  /// few, or with `all_surfels`), as the tracker sees it (valid until the next render); with
+  /// its colour when the tracker's photometric term needs it.
   tracking::ModelMaps renderModel(FrameContext& ctx, const maps::CSurfelMap& map,
                                   const Eigen::Isometry3d& T_model, bool with_colour,
-                                  FrameResult& r);
+                                  FrameResult& r, bool all_surfels = false);
   /// While lost: the pose from the last fused frame ([relocalisation] use_last_fused_frame),
   /// then from the map's keyframes, each candidate verified by ICP against the map rendered
   /// there; on success the tracker restarts from it (the frame becomes Relocalised).
