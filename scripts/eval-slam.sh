@@ -6,9 +6,14 @@
 # also the frame rate of the mapping alone (frames decoded before the clock starts: rasm bench
 # --preload). Prints one line per sequence and writes $OUT/summary.json (one object per line).
 #   scripts/eval-slam.sh [--quick]      (--quick: real sequences only)
+#   scripts/eval-slam.sh --tracking [eval-tracking.sh options]
+# --tracking runs the robust-tracking evaluation of issue 14 instead (robot paths, fast pans,
+# kidnapping, generated worlds, real data: scripts/eval-tracking.sh, which lists its options;
+# none = all of it, hours on 2 cores).
 # Frame rates depend on the machine and on what else runs on it; ATE does not.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+if [[ "${1:-}" == "--tracking" ]]; then shift; exec scripts/eval-tracking.sh "$@"; fi
 RASM=${RASM:-build/rasm}
 DATA=${RASM_SHARED_DATA:-../shared/data}
 OUT=${OUT:-eval_out}
