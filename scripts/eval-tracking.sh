@@ -97,7 +97,8 @@ for r in rows:
         if r["tracked"] != "1": flagged_big += 1
         elif off_floor(r): drift_flagged += 1
         else: silent += 1
-# Lost stretches: [first frame index, frames lost, how the stretch ended] (the index is the
+# Lost stretches: [first frame index, frames lost, how the stretch ended, frames until the view
+# showed mapped space again (below)] (the index is the
 # source's, so a stretch that starts right after a drop_frames cut starts at the cut's end; its
 # length is the relocalisation delay of (c)).
 stretches = []
@@ -109,6 +110,41 @@ for r in rows:
         stretches[-1][2] = r["pose_source"]
 for st in stretches:
     if st[2] is None: st[2] = "end of run"
+# Where the view shows mapped space again ((c): "relocalised within 10 frames of the view showing
+# mapped space again"): the first frame of a stretch whose true pose is within 0.3 m and 20 deg
+# (optical axes) of a frame fused before the stretch (the keyframe spacing: as close to a fused
+# view as keyframes are to each other; ORB matching fails well before 30-40 deg of change); its
+# offset in the stretch is appended to the stretch (None: the view never came back to mapped
+# space within those bounds), so frames - offset is the relocalisation delay of a stretch ended
+# by relocalisation. A frame with no ICP inliers and too few ORB features to relocalise (a covered
+# lens) shows nothing.
+def load_axes(p):
+    axes = {}
+    for l in open(p):
+        if l.startswith('#') or not l.strip(): continue
+        v = [float(x) for x in l.split()]
+        qx, qy, qz, qw = v[4:8]
+        axes[round(v[0], 4)] = (v[1:4], (2 * (qx * qz + qw * qy), 2 * (qy * qz - qw * qx), 1 - 2 * (qx * qx + qy * qy)))
+    return axes
+gt_axes = load_axes(d + "/groundtruth.txt")
+index_of = {int(r["index"]): k for k, r in enumerate(rows)}
+def near_fused(k, before):
+    t = round(float(rows[k]["timestamp_s"]), 4)
+    blind = rows[k]["inliers"] == "0" and rows[k]["relocalisation_failure"] == "too few features"
+    if t not in gt_axes or blind: return False
+    p, z = gt_axes[t]
+    for j in range(before):
+        if rows[j]["tracked"] != "1": continue
+        tj = round(float(rows[j]["timestamp_s"]), 4)
+        if tj not in gt_axes: continue
+        pj, zj = gt_axes[tj]
+        if math.dist(p, pj) < 0.3 and sum(a * b for a, b in zip(z, zj)) > math.cos(math.radians(20)):
+            return True
+    return False
+for st in stretches:
+    k0 = index_of[st[0]]
+    ends = st[1] + (k0 + st[1] < len(rows))  # the frame that ended the stretch counts too
+    st.append(next((o for o in range(ends) if near_fused(k0 + o, k0)), None))
 ate = rep.get("ate", {}).get("translation_m", {}).get("rmse")
 ate_t = rep.get("ate_tracked", rep.get("ate", {})).get("translation_m", {}).get("rmse")
 row = {"sequence": name, "frames": rep["frames"], "tracked": rep["frames_tracked"],
@@ -122,7 +158,7 @@ fmt = lambda x: "-" if x is None else f"{100 * x:.2f}"
 print(f"{name:34s} tracked {row['tracked']:5d}/{row['frames']:<5d} lost intervals {row['lost_intervals']:2d} "
       f"reloc {row['relocalisations']:2d}  ATE all {fmt(ate)} cm tracked {fmt(ate_t)} cm  "
       f"silent >5cm {silent}  flagged >5cm {flagged_big} lost + {drift_flagged} off floor  (unaligned >5cm {drift_big})"
-      + (f"  lost stretches (first frame, frames, ended by) {stretches}" if stretches else ""), flush=True)
+      + (f"  lost stretches (first frame, frames, ended by, mapped view after) {stretches}" if stretches else ""), flush=True)
 PY
 }
 

@@ -496,3 +496,40 @@ TEST(IcpTracker, DenserModelRetriesAFrameTheSparseModelCannotSupport) {
     EXPECT_FALSE(r.denser_model);
   }
 }
+
+// Without a prior, a retry that comes back degenerate is not taken: the denser model gives the
+// frame the inliers a degenerate frame needs, not the directions it lacks (a camera before a
+// single wall, sliding along it). With a prior, which holds those directions, it is.
+TEST(IcpTracker, DegenerateRetryIsTakenOnlyWithAPrior) {
+  const Eigen::Isometry3d T_a = lookAt({0.3, 0, 1.3}, {0.5, 2, 1.0});
+  const Eigen::Isometry3d T_b = T_a * motion({0.01, 0.0, 0.01}, {0, 1, 0}, 0.5);
+  const Pair p(Scene::wall(), T_a, T_b);
+  ASSERT_TRUE(IcpTracker().align(p.pyr_b, modelOf(*p.model, T_a), T_a).ok)
+      << "against the whole wall the frame is accepted as degenerate (SingleWallIsDegenerate)";
+  WorldMaps sparse = *p.model;
+  const Vec3f nan = Vec3f::Constant(std::numeric_limits<float>::quiet_NaN());
+  for (int y = 0; y < K.height; ++y)
+    for (int x = 0; x < K.width; ++x)
+      if (std::abs(x - K.width / 2) >= 20 || std::abs(y - K.height / 2) >= 20)
+        sparse.vertex(x, y) = sparse.normal(x, y) = nan;
+  const IcpTracker::DenserModel dense = [&] { return std::optional(modelOf(*p.model, T_a)); };
+
+  IcpTracker tr;
+  tr.reset(T_a);
+  const TrackingResult r = tr.track(p.pyr_b, modelOf(sparse, T_a), {}, nullptr, dense);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.status, TrackingStatus::TooFewInliers) << toString(r.status);
+  EXPECT_FALSE(r.denser_model);
+
+  // A prior at the true pose, 1 cm / 1 deg: the degenerate retry stands, at the true pose.
+  const MotionPrior prior = MotionPrior::fromStdDevs(
+      T_b, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Constant(0.01),
+      Eigen::Vector3d::Constant(kDeg));
+  IcpTracker tp;
+  tp.reset(T_a);
+  const TrackingResult rp = tp.track(p.pyr_b, modelOf(sparse, T_a), {}, &prior, dense);
+  EXPECT_TRUE(rp.ok) << toString(rp.status);
+  EXPECT_EQ(rp.status, TrackingStatus::Degenerate);
+  EXPECT_TRUE(rp.denser_model);
+  expectPoseNear(rp.T_world_cam, T_b, 2e-3, 0.1);
+}

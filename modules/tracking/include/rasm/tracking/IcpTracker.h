@@ -113,9 +113,10 @@ class IcpTracker {
   /// `denser_model` (optional): called when the frame fails against `model` for lack of
   /// support only (Degenerate not accepted, or TooFewInliers), it returns a model with more of
   /// the map (the stage's all-surfel render; nullopt = none) and the frame is aligned again
-  /// from the same guess; the second result stands if it is ok. The stable-surfel model lags
-  /// the map by the frames a surfel needs to become stable: at the start of a run and where a
-  /// pan has just fused new space it covers too little of the view (docs/tracking.md).
+  /// from the same guess; the second result stands if it is ok and, without a prior, not
+  /// degenerate (a degenerate retry has the inliers but not the directions). The stable-surfel
+  /// model lags the map by the frames a surfel needs to become stable: at the start of a run and
+  /// where a pan has just fused new space it covers too little of the view (docs/tracking.md).
   using DenserModel = std::function<std::optional<ModelMaps>()>;
   TrackingResult track(const std::vector<FrameLevel>& frame, const ModelMaps& model,
                        ImageView<const Bgr8> frame_colour = {}, const MotionPrior* prior = nullptr,
