@@ -208,7 +208,9 @@ TEST(Relocaliser, KeyframeSpacingRules) {
   const SimSweep& sim = SimSweep::office();
   RgbdFrame f = sim.frame(40);  // textured: plenty of features; its content does not matter here
   const Eigen::Isometry3d T0 = sim.pose(40);
-  TRelocalisationParams P;  // 0.3 m, 20 deg, >= 5 frames apart
+  TRelocalisationParams P;  // 0.3 m, 20 deg (the geometry below), >= 5 frames apart
+  P.keyframe_translation_m = 0.3;
+  P.keyframe_rotation_deg = 20.0;
   Relocaliser reloc(P);
   std::vector<maps::Keyframe> db;
   auto offer = [&](std::size_t index, const Eigen::Isometry3d& T) {
