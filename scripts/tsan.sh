@@ -9,16 +9,15 @@
 #                    MapSnapshot.*:ClassificationStage.*:ExplorationLoop.PlannerThread*]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/lib/build-env.sh
 BUILD_DIR=${RASM_TSAN_BUILD_DIR:-build-tsan}
 FILTER=${1:-MapSnapshot.*:ClassificationStage.*:ExplorationLoop.PlannerThread*}
-GEN=()
-command -v ninja >/dev/null && GEN=(-G Ninja)
 if [[ ! -f "$BUILD_DIR/CMakeCache.txt" ]]; then
-  cmake -S . -B "$BUILD_DIR" "${GEN[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRASM_WITH_CUDA=OFF \
+  cmake -S . -B "$BUILD_DIR" "${RASM_GENERATOR[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRASM_WITH_CUDA=OFF \
     -DRASM_BUILD_BENCH=OFF -DCMAKE_CXX_FLAGS="-fsanitize=thread" \
     -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=thread"
 fi
-cmake --build "$BUILD_DIR" -j "${RASM_JOBS:-$(nproc)}" --target test_pipeline test_classification
+cmake --build "$BUILD_DIR" -j "$RASM_JOBS" --target test_pipeline test_classification
 export OMP_NUM_THREADS=1
 export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$PWD/scripts/tsan.supp"
 "$BUILD_DIR/tests/test_pipeline" --gtest_filter="$FILTER"
