@@ -15,10 +15,10 @@ trap rasm_stage_report EXIT
 command -v ccache >/dev/null && ccache -z >/dev/null
 
 rasm_stage "build (Release, all targets)" scripts/build.sh --all
-run_ctest() {
+run_ctest() (
   cd "${RASM_BUILD_DIR:-build}"
   ctest --output-on-failure -j "$RASM_JOBS" --timeout 900
-}
+)
 rasm_stage "ctest (Release)" run_ctest
 
 sanitize=${RASM_SANITIZE:-}
