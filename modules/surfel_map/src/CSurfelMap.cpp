@@ -1,7 +1,6 @@
 #include "rasm/surfel_map/CSurfelMap.h"
 
 #include <mrpt/config/CConfigFileBase.h>
-#include <mrpt/core/initializer.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/poses/CPose3D.h>
@@ -29,9 +28,14 @@ MAP_DEFINITION_REGISTER("rasm::maps::CSurfelMap,surfelMap", rasm::maps::CSurfelM
 
 IMPLEMENTS_SERIALIZABLE(CSurfelMap, CMetricMap, rasm::maps)
 
-MRPT_INITIALIZER(rasm_surfel_map_register_classes) {
-  mrpt::rtti::registerClass(CLASS_ID(rasm::maps::CSurfelMap));
-}
+// Registered by a dynamic initializer defined after runtimeClassId, not by MRPT_INITIALIZER:
+// runtimeClassId holds a std::function, so it is itself dynamically initialized unless the
+// compiler folds it into constant data (GCC at -O2 does, clang does not), and an MRPT_INITIALIZER
+// (__attribute__((constructor))) may run before it and register a class without a name ("class
+// 'rasm::maps::CSurfelMap' is not registered" when a map is read). Initializers of one
+// translation unit run in the order they are defined.
+[[maybe_unused]] static const bool rasm_surfel_map_class_registered =
+    (mrpt::rtti::registerClass(CLASS_ID(rasm::maps::CSurfelMap)), true);
 
 namespace rasm::maps {
 
