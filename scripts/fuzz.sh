@@ -33,13 +33,21 @@ cmake --build "$BUILD_DIR" -j "$RASM_JOBS"
 [[ $mode == build ]] && exit 0
 
 if [[ $mode == tests ]]; then
-  # The same tests as the Release build, under the sanitizers: any report fails its test
-  # (halt_on_error; UBSan does not recover). Third-party leaks at exit: scripts/asan.supp.
+  # The unit tests of the readers, serialization, INI / YAML loading and the kernels under the
+  # sanitizers: any report fails its test (halt_on_error; UBSan does not recover). Third-party
+  # leaks at exit: scripts/asan.supp. Left to the Release stage (and to scripts/asan.sh, which runs
+  # them under the same sanitizers): the tests of tracking policy and relocalisation (IcpTracker,
+  # PoseCheck, LargeMotion, Relocaliser, RealSequences: ICP over whole sequences, 10-95 s each
+  # here) and of the simulator's ground truth and generators (SurfaceCoverage, WorldGenerator,
+  # TrajectoryGenerator, SimulatedDetector: 5-75 s each). CoarseToFineWidensBasinOfConvergence
+  # counts borderline trials that libomp's reduction order (clang) decides differently (13/16
+  # against 15/16 with libgomp): a numerical property, checked in the Release build.
+  SANITIZE_SKIP='IcpTracker\.|PoseCheck\.|LargeMotion\.|Relocaliser\.|RealSequences\.|SurfaceCoverage\.|WorldGenerator\.|TrajectoryGenerator\.|SimulatedDetector\.'
   export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:abort_on_error=0:strict_string_checks=1:detect_stack_use_after_return=0"
   export LSAN_OPTIONS="suppressions=$PWD/scripts/asan.supp:print_suppressions=0"
   export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
   cd "$BUILD_DIR"
-  exec ctest --output-on-failure -j "$RASM_JOBS" --timeout 900 "$@"
+  exec ctest --output-on-failure -j "$RASM_JOBS" --timeout 900 -E "$SANITIZE_SKIP" "$@"
 fi
 
 SECONDS_EACH=${1:-60}
