@@ -266,7 +266,7 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
   // are gathered in registers (GroupSums) and added to the band's accumulator rows once per group
   // and row, aligned (overlapping unaligned read-modify-writes stalled on store forwarding). The
   // sums' order differs from the kernel's, within float rounding; it does not depend on the
-  // thread count. Why not OpenCV's bilateralFilter: docs/slam-eval.md (its TBB threads competed
+  // thread count. Why not OpenCV's bilateralFilter: docs/history/slam-eval.md (its TBB threads competed
   // with the OpenMP team).
   //
   // Padded copy, invalid depths as 0: `radius` rows above and below, `radius` columns left and

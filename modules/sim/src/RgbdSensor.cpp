@@ -41,7 +41,7 @@ DepthModelParams TSensorParams::depthModel() const {
   // sigma_L scaled by fx / the preset's fx. Unscaled, a 320x240 render had twice the Kinect's
   // angular lateral noise and four times the depth bias it causes on grazing floors (the far
   // floor sampled from rays nearer the horizon), which tilted robot maps by ~1 deg per 450
-  // frames against ~0.3 at 640x480 (docs/slam-eval.md, "Lateral noise and resolution").
+  // frames against ~0.3 at 640x480 (docs/history/slam-eval.md, "Lateral noise and resolution").
   const double lateral_scale = intrinsics().fx / CameraIntrinsics::preset(camera).fx;
   p.lateral_px = float(lateral_sigma_px * lateral_scale);
   p.lateral_angle = float(lateral_sigma_angle * lateral_scale);

@@ -3,7 +3,8 @@
 // (YOLOv3, YOLOv3-tiny, YOLOv4, Yolo-Fastest) and ONNX models (NanoDet-m, YOLOv5 / YOLOv8 output
 // layouts). The paper runs YOLO on the GPU beside the CPU zero-shot classifier (IV, VI); each box
 // carries independent per-class probabilities p_{c,d} in [0, 1] that the map fuses with the Bayes
-// rule of IV. docs/classification.md "DNN detector" lists models, layouts, keys and timings.
+// rule of IV. docs/classification.md "DNN detector" lists models, layouts and keys (timings:
+// docs/results.md and docs/history/classification.md).
 //
 // One call: image -> network input (stretch or letterbox, InputTransform) -> forward -> decode the
 // layout into boxes in network-input pixels (decode* below, free functions so tests drive them on
