@@ -531,6 +531,25 @@ TEST(CSurfelMap, CorruptClassEvidenceIsAnError) {
   }
 }
 
+// A saved map holds live surfels only: a record flagged as a free slot (found by fuzz_surfelmap:
+// the store was left inconsistent, every later allocation could hand the slot out twice) is an
+// input error naming the surfel.
+TEST(CSurfelMap, SurfelMarkedFreeIsAnError) {
+  SerializationAccess map;
+  fillRandom(map, 5, 3);
+  map.arrays().colour_flags[3] |= kSurfelFree;
+  mrpt::io::CMemoryStream payload;
+  auto pout = mrpt::serialization::archiveFrom(payload);
+  map.serializeTo(pout);
+  try {
+    readMap(framed(3, streamBytes(payload)));
+    FAIL() << "a surfel flagged free was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("surfel 3: is marked as a free slot"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(CSurfelMap, ClassColouringShowsTheBestClassFadedByItsProbability) {
   CSurfelMap map;  // the default layout names the 80 COCO classes and the project's
   EXPECT_EQ(map.creationOptions().n_classes, kDefaultNumClasses);

@@ -539,6 +539,10 @@ void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t versio
                             "normal or radius " + std::to_string(nr[i]) +
                                 " is not finite (corrupt file?)");
         in.ReadBufferFixEndianness(a.colour_flags, n);
+        for (std::size_t i = 0; i < n; ++i)  // a saved map holds live surfels only
+          if (a.colour_flags[i] & kSurfelFree)
+            throwInputError(what + " surfel " + std::to_string(i),
+                            "is marked as a free slot (corrupt file?)");
         in.ReadBufferFixEndianness(a.t_init, n);
         in.ReadBufferFixEndianness(a.t_last, n);
         in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.basis), 3 * n);
