@@ -110,10 +110,13 @@ EXPLORATION = [
 ]
 
 # ---- speed and memory (every task): report.json, rasm eval memory (`mem`) -----------------------
+# Speed noise: the same binary's quick panel run twice an hour apart on the 2-core VM differed by
+# up to 21% in CPU ms/frame and frames/s (every task of the later run by about the same factor);
+# compare speed in paired runs (docs/slam-eval.md), not against a committed table.
 SPEED = [
-    Metric("fps", "frames/s", ".2f", "high", 0.0, 0.15),
-    Metric("cpu_ms_per_frame", "CPU ms/frame", ".0f", "low", 0.0, 0.15),
-    Metric("fps_preloaded", "frames/s preloaded", ".2f", "high", 0.0, 0.15),
+    Metric("fps", "frames/s", ".2f", "high", 0.0, 0.25),
+    Metric("cpu_ms_per_frame", "CPU ms/frame", ".0f", "low", 0.0, 0.25),
+    Metric("fps_preloaded", "frames/s preloaded", ".2f", "high", 0.0, 0.25),
     Metric("peak_rss_mb", "peak RSS (MB)", ".0f", "low", 0.0, 0.10),
     Metric("surfels", "surfels", "d", None),
     Metric("rss_growth_second_half", "RSS growth 2nd half", ".3f", "low", 0.02, 0.0),
