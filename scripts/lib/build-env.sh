@@ -10,7 +10,7 @@
 #   CCACHE_MAXSIZE   room for a Release, a sanitizer and a fuzz build of a few commits
 # RASM_ROOT is the checkout; RASM_JOBS the parallel jobs (default: the cores).
 RASM_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
-export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$RASM_ROOT}
+export CCACHE_BASEDIR=$RASM_ROOT  # always this checkout: one inherited from another clone misses
 export CCACHE_NOHASHDIR=${CCACHE_NOHASHDIR:-true}
 export CCACHE_SLOPPINESS=${CCACHE_SLOPPINESS:-pch_defines,time_macros,include_file_mtime,include_file_ctime}
 export CCACHE_MAXSIZE=${CCACHE_MAXSIZE:-12G}
