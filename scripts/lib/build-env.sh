@@ -5,14 +5,14 @@
 #                    build folder, so two clones at different places share entries
 #   CCACHE_NOHASHDIR the working directory is not hashed (Release builds carry no debug paths)
 #   CCACHE_DIR       outside the clone (ccache's default, ~/.cache/ccache), kept unless set
-#   CCACHE_SLOPPINESS what ccache may ignore to hit with precompiled headers (cmake_pch.hxx.gch)
-#                    and the build-date macro of BuildInfo.cpp
+#   CCACHE_SLOPPINESS what ccache may ignore: the build-date macro of BuildInfo.cpp, the times of
+#                    files checked out at another moment
 #   CCACHE_MAXSIZE   room for a Release, a sanitizer and a fuzz build of a few commits
 # RASM_ROOT is the checkout; RASM_JOBS the parallel jobs (default: the cores).
 RASM_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 export CCACHE_BASEDIR=$RASM_ROOT  # always this checkout: one inherited from another clone misses
 export CCACHE_NOHASHDIR=${CCACHE_NOHASHDIR:-true}
-export CCACHE_SLOPPINESS=${CCACHE_SLOPPINESS:-pch_defines,time_macros,include_file_mtime,include_file_ctime}
+export CCACHE_SLOPPINESS=${CCACHE_SLOPPINESS:-time_macros,include_file_mtime,include_file_ctime}
 export CCACHE_MAXSIZE=${CCACHE_MAXSIZE:-12G}
 RASM_JOBS=${RASM_JOBS:-$(nproc)}
 RASM_GENERATOR=()
