@@ -137,6 +137,7 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
                      : base == "frontier"  ? 0
                      : base == "random"    ? 3
                      : base == "lawnmower" ? 2
+                     : base == "ig_greedy" ? 4
                                            : 5;
       rasm::pipeline::PlotSeries s{
           planner, {}, {}, colours[ci], planner.find("gt poses") != std::string::npos ? 2 : 1};

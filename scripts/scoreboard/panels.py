@@ -60,6 +60,8 @@ MS_PER_FRAME = {         # wall ms per frame of `rasm run` (render + mapping), 2
 }
 EXPLORE_S_PER_SIM_S = {  # wall s per simulated s of an exploring run (10 Hz camera), by planner
     ("ig", "640x480"): 2.0, ("ig", "320x240"): 1.25, ("ig", "160x120"): 0.5,
+    ("ig_greedy", "640x480"): 2.0, ("ig_greedy", "320x240"): 1.25, ("ig_greedy", "160x120"): 0.5,
+    ("oracle", "640x480"): 1.5, ("oracle", "320x240"): 0.6, ("oracle", "160x120"): 0.4,
     ("frontier", "640x480"): 1.3, ("frontier", "320x240"): 0.45, ("frontier", "160x120"): 0.3,
     ("random", "640x480"): 1.3, ("random", "320x240"): 0.5, ("random", "160x120"): 0.3,
     ("lawnmower", "640x480"): 1.3, ("lawnmower", "320x240"): 0.5, ("lawnmower", "160x120"): 0.3,
@@ -161,15 +163,18 @@ class Panel:
             est += SEG_EVAL_S[res]
         self.add(name, group, evals, args, est, pool=pool)
 
-    def explore(self, name, world, planner, seed, budget_s, res, pool="", evals=("expl", "track")):
+    def explore(self, name, world, planner, seed, budget_s, res, pool="", evals=("expl", "track"),
+                poses="tracked"):
         """An exploring run: the robot explores `world` from its robot spec's start pose for
         `budget_s` simulated seconds (no wall-clock budget: the result must not depend on the
-        machine's speed), deterministic planning (the embedded default's planner_thread = false)."""
+        machine's speed), deterministic planning (the embedded default's planner_thread = false).
+        poses = "groundtruth" fuses at the true poses (compares the planners alone)."""
         args = ["--set", "source.type=sim", "--set", f"sim.world={world}",
                 "--set", f"sim.trajectory={robot_spec(world)}", "--set", f"sim.seed={seed}",
                 "--set", f"exploration.seed={seed}", "--set", f"exploration.planner={planner}",
                 "--set", "explore.enabled=true", "--set", f"explore.time_budget_s={budget_s}",
-                "--set", "explore.wall_budget_s=0", "--set", "output.write_ply=false"]
+                "--set", "explore.wall_budget_s=0", "--set", "output.write_ply=false",
+                "--set", f"mapper.poses={poses}"]
         args += OUTPUTS_OFF + RES[res]
         est = START_S + budget_s * EXPLORE_S_PER_SIM_S[(planner, res)]
         self.add(name, "exploration", evals, args, est, pool=pool)
@@ -255,10 +260,10 @@ def quick(p):
     # The mission's own path at the README default's resolution: the world-frame drift of a robot
     # map shows at 640x480.
     p.sim("sim_office_robot_loop_640", "office", "office_robot_loop", 1, "640x480", ("track",))
-    for planner in ("ig", "frontier", "random", "lawnmower"):
+    for planner in ("ig", "ig_greedy", "frontier", "random", "lawnmower"):
         p.explore(f"explore_gen1001_{planner}", p.gen(1001), planner, 1001, 180, "320x240",
                   pool="explore_gen_" + planner)
-    for planner in ("ig", "random"):
+    for planner in ("ig", "ig_greedy", "random"):
         p.explore(f"explore_office_{planner}", "office", planner, 1, 180, "320x240")
 
 

@@ -321,6 +321,50 @@ TEST(IgPlanner, FrontierCandidatesJoinTheViewsAndAreScored) {
   EXPECT_TRUE(door->reachable);
 }
 
+// "ig": the global planner offers its clusters first, in tour order, each at least the cluster
+// radius from the others; the door's frontier view is among the views although no key says so;
+// the same inputs give the same plan; the goal being driven to is scored alongside (same IG).
+TEST(TourIgPlanner, OffersClustersInTourOrderWithTheFrontierViewsAndIsDeterministic) {
+  TExplorationParams p = roomParams();
+  p.random_candidates = 10;
+  ASSERT_FALSE(p.frontier_candidates);
+  const auto octree = roomOctree(p, /*door_px=*/true, /*door_mx=*/false);
+  maps::SurfelStore store;
+  const std::vector<segmentation::SegmentStats> segments;
+  PlannerInputs in = inputsFor(*octree, Eigen::Vector3d::Zero());
+  in.store = &store;
+  in.segments = &segments;
+  in.current_goal = Eigen::Vector3d(-1.0, 0.0, M_PI);
+  TourIgPlanner planner(p);
+  EXPECT_EQ(planner.name(), "ig");
+  EXPECT_TRUE(planner.scoresInformation());
+  const Plan plan = planner.plan(in);
+  expectSoundGoals(plan, p);
+  ASSERT_GE(plan.tour_clusters, 1u);
+  ASSERT_LE(plan.tour_clusters, std::size_t(p.tour_max_clusters));
+  for (std::size_t i = 0; i < plan.tour_clusters; ++i)
+    for (std::size_t j = i + 1; j < plan.tour_clusters; ++j)
+      EXPECT_GT((plan.ranked[i].pose.head<2>() - plan.ranked[j].pose.head<2>()).norm(),
+                p.tour_cluster_radius_m);
+  const bool door = std::any_of(plan.ranked.begin(), plan.ranked.end(), [](const ViewCandidate& c) {
+    return c.source == ViewCandidate::Source::Frontier && c.pose.x() > 1.0;
+  });
+  EXPECT_TRUE(door) << "the frontier view at the door is a candidate";
+  ASSERT_TRUE(plan.current_goal.has_value());
+  EXPECT_TRUE(plan.current_goal->reachable);
+  EXPECT_GE(plan.current_goal->gain, 0.0);
+  EXPECT_LE(plan.current_goal->gain, p.w_entropy + p.w_ic + 1e-12);
+  EXPECT_NEAR(plan.current_goal->rate,
+              plan.current_goal->gain / (plan.current_goal->travel_time_s + p.min_travel_time_s),
+              1e-12);
+
+  TourIgPlanner again(p);
+  const Plan plan2 = again.plan(in);
+  ASSERT_EQ(plan2.ranked.size(), plan.ranked.size());
+  for (std::size_t i = 0; i < plan.ranked.size(); ++i)
+    EXPECT_TRUE(plan2.ranked[i].pose.isApprox(plan.ranked[i].pose)) << i;
+}
+
 TEST(FrontierPlanner, ClosedKnownRoomHasNoFrontierAndAnEmptyPlan) {
   TExplorationParams p = roomParams();
   const auto octree = roomOctree(p, false, false);
@@ -464,10 +508,11 @@ TEST(LawnmowerPlanner, WaypointsNeverReachableAreAbandonedAndTheSweepEnds) {
   EXPECT_TRUE(planner.plan(inputsFor(*octree, robot)).ranked.empty());
 }
 
-// ---- ig through the interface ----
+// ---- ig_greedy through the interface ----
 
 TEST(IgPlanner, SameRankingAsViewPlannerAndFailedGoalsAreBlacklisted) {
   TExplorationParams p = roomParams();
+  p.planner = "ig_greedy";
   p.pixel_stride = 4;
   p.random_candidates = 8;  // each IG candidate costs a render and a ray cast
   const auto octree = roomOctree(p, false, false);

@@ -16,14 +16,15 @@ void ExplorationPlanner::goalOutcome(const Eigen::Vector3d& goal_xyyaw, bool rea
 
 std::unique_ptr<ExplorationPlanner> makePlanner(const TExplorationParams& params) {
   params.validate();  // names [exploration] planner and the accepted names for an unknown one
-  if (params.planner == "ig") return std::make_unique<IgPlanner>(params);
+  if (params.planner == "ig") return std::make_unique<TourIgPlanner>(params);
+  if (params.planner == "ig_greedy") return std::make_unique<IgPlanner>(params);
   if (params.planner == "frontier") return std::make_unique<FrontierPlanner>(params);
   if (params.planner == "random") return std::make_unique<RandomPlanner>(params);
   if (params.planner == "lawnmower") return std::make_unique<LawnmowerPlanner>(params);
   throwInputError("[exploration] planner", "'" + params.planner + "' is not a planner");
 }
 
-// ---- "ig" ----
+// ---- "ig_greedy" ----
 
 IgPlanner::IgPlanner(const TExplorationParams& params)
     : ExplorationPlanner(GoalBlacklist(params.blacklist_radius_m)),
@@ -56,7 +57,8 @@ Plan IgPlanner::plan(const PlannerInputs& in) {
     for (const ViewCandidate& c : plan.ranked)
       (m_blacklist.contains(c.pose) || isTakenView(c.pose) ? plan.blacklisted : kept).push_back(c);
     // Re-rank what is offered: IG's normalisation (max dH, max dIC) runs over these views.
-    if (!plan.blacklisted.empty()) rankCandidates(m_params, kept);
+    if (!plan.blacklisted.empty())
+      rankCandidates(m_params, kept, plan.current_goal ? &*plan.current_goal : nullptr);
     plan.ranked = std::move(kept);
   }
   for (const ViewCandidate& c : plan.ranked) {

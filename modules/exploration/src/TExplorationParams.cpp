@@ -53,6 +53,9 @@ void TExplorationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
   MRPT_LOAD_CONFIG_VAR(lawnmower_spacing_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(lawnmower_step_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(lawnmower_axis, string, c, s);
+  MRPT_LOAD_CONFIG_VAR(tour_cluster_radius_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(tour_max_clusters, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(tour_min_gain_fraction, double, c, s);
   validate(s);
 }
 
@@ -104,6 +107,9 @@ void TExplorationParams::validate(const std::string& s) const {
   requireInRange(lawnmower_step_m, 0.05, 1000.0, s, "lawnmower_step_m");
   if (lawnmower_axis != "x" && lawnmower_axis != "y")
     throwInputError("[" + s + "] lawnmower_axis", "'" + lawnmower_axis + "' must be x or y");
+  requireInRange(tour_cluster_radius_m, 0.0, 100.0, s, "tour_cluster_radius_m");
+  requireInRange(tour_max_clusters, 1, 64, s, "tour_max_clusters");
+  requireInRange(tour_min_gain_fraction, 0.0, 1.0, s, "tour_min_gain_fraction");
   const auto requireBelow = [&s](double lo, double hi, const std::string& keys) {
     if (!(lo < hi)) throwInputError("[" + s + "] " + keys, "the minimum must be below the maximum");
   };
@@ -160,10 +166,13 @@ void TExplorationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(lawnmower_spacing_m, c, s);
   MRPT_SAVE_CONFIG_VAR(lawnmower_step_m, c, s);
   MRPT_SAVE_CONFIG_VAR(lawnmower_axis, c, s);
+  MRPT_SAVE_CONFIG_VAR(tour_cluster_radius_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(tour_max_clusters, c, s);
+  MRPT_SAVE_CONFIG_VAR(tour_min_gain_fraction, c, s);
 }
 
 std::vector<std::string> plannerNames() {
-  return {"ig", "frontier", "random", "lawnmower"};
+  return {"ig", "ig_greedy", "frontier", "random", "lawnmower"};
 }
 
 }  // namespace rasm::exploration

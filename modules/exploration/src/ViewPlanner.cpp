@@ -30,6 +30,14 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
     for (const FrontierView& f : frontierViews(plan.grid, reach, in.robot_pose, m_params))
       if (f.found) candidates.push_back(f.view);
   }
+  // The goal the robot drives to, last: measured and predicted like the candidates, scored
+  // alongside them (Plan::current_goal), never offered.
+  const int goal_index = in.current_goal ? int(candidates.size()) : -1;
+  if (in.current_goal) {
+    ViewCandidate g;
+    g.pose = *in.current_goal;
+    candidates.push_back(g);
+  }
   planPaths(plan.grid, in.robot_pose, m_params, candidates);
 
   std::vector<int> reachable;
@@ -38,6 +46,8 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
     c.T_world_cam = cameraPoseOf(c.pose, in.T_base_cam);
     if (c.reachable)
       reachable.push_back(i);
+    else if (i == goal_index)
+      plan.current_goal = c;  // not reachable now: gain 0
     else
       plan.unreachable.push_back(c);
   }
@@ -67,28 +77,45 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
     ViewCandidate c = candidates[std::size_t(reachable[std::size_t(j)])];
     c.entropy_reduction = predicted[std::size_t(j)].entropy_reduction;
     c.information = predicted[std::size_t(j)].information.weighted;
-    plan.ranked.push_back(c);
+    if (reachable[std::size_t(j)] == goal_index)
+      plan.current_goal = c;
+    else
+      plan.ranked.push_back(c);
   }
-  rankCandidates(m_params, plan.ranked);
+  rankCandidates(m_params, plan.ranked, plan.current_goal ? &*plan.current_goal : nullptr);
   return plan;
 }
 
-void rankCandidates(const TExplorationParams& params, std::vector<ViewCandidate>& candidates) {
-  double max_h = 0.0, max_ic = 0.0;
+double informationGain(const TExplorationParams& params, double entropy_reduction,
+                       double information, double max_entropy_reduction, double max_information) {
+  // IG(a) = w1 dH + w2 dIC (V), each term over its largest value in this plan.
+  return (max_entropy_reduction > 0.0
+              ? params.w_entropy * entropy_reduction / max_entropy_reduction
+              : 0.0) +
+         (max_information > 0.0 ? params.w_ic * information / max_information : 0.0);
+}
+
+double rankingKey(const TExplorationParams& params, const ViewCandidate& c) {
+  return params.rank_by_rate ? c.rate : c.gain;
+}
+
+void rankCandidates(const TExplorationParams& params, std::vector<ViewCandidate>& candidates,
+                    ViewCandidate* alongside) {
+  double max_h = alongside ? alongside->entropy_reduction : 0.0;
+  double max_ic = alongside ? alongside->information : 0.0;
   for (const ViewCandidate& c : candidates) {
     max_h = std::max(max_h, c.entropy_reduction);
     max_ic = std::max(max_ic, c.information);
   }
-  for (ViewCandidate& c : candidates) {
-    // IG(a) = w1 dH + w2 dIC (V), each term over its largest value in this plan.
-    c.gain = (max_h > 0.0 ? params.w_entropy * c.entropy_reduction / max_h : 0.0) +
-             (max_ic > 0.0 ? params.w_ic * c.information / max_ic : 0.0);
+  auto score = [&](ViewCandidate& c) {
+    c.gain = informationGain(params, c.entropy_reduction, c.information, max_h, max_ic);
     c.rate = c.gain / (c.travel_time_s + params.min_travel_time_s);
-  }
-  const bool by_rate = params.rank_by_rate;
+  };
+  for (ViewCandidate& c : candidates) score(c);
+  if (alongside) score(*alongside);
   std::stable_sort(candidates.begin(), candidates.end(),
-                   [by_rate](const ViewCandidate& a, const ViewCandidate& b) {
-                     return by_rate ? a.rate > b.rate : a.gain > b.gain;
+                   [&params](const ViewCandidate& a, const ViewCandidate& b) {
+                     return rankingKey(params, a) > rankingKey(params, b);
                    });
 }
 

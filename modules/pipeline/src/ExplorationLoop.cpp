@@ -10,7 +10,7 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/Timing.h"
 #include "rasm/exploration/ExplorationPlanner.h"
-#include "rasm/exploration/ViewPredictor.h"
+#include "rasm/exploration/ViewPlanner.h"
 #include "rasm/pipeline/LinePlot.h"
 #include "rasm/pipeline/OutputFiles.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
@@ -174,6 +174,7 @@ void ExplorationLoop::afterFrame(const RgbdFrame& frame, const FrameResult& r) {
   }
   m_t = r.timestamp_s - *m_t0;
   m_driver->frameArrived(frame);
+  m_K = frame.intrinsics;
   const std::string driver_error = m_driver->error();
   if (!driver_error.empty()) throw std::runtime_error("navigation: " + driver_error);
   // Localisation: the estimated camera pose of this frame, as a base pose on the floor.
@@ -234,8 +235,7 @@ void ExplorationLoop::plan(double t, bool driving) {
   req.t = t;
   req.driving = driving;
   req.robot = estimatedBasePose();
-  req.K = m_mapper.lastContext().frame ? m_mapper.lastContext().frame->intrinsics
-                                       : CameraIntrinsics::preset("kinect_v1");
+  req.K = m_K;  // the camera of the frames (set in afterFrame before any plan)
   if (m_goal && driving) req.goal = m_goal->goal;
   if (!m_stage.exploreParams().planner_thread) {
     req.octree = &m_stage.octree();  // the mapping thread plans between frames: no copy
@@ -262,6 +262,7 @@ ExplorationLoop::PlanOutput ExplorationLoop::computePlan(const PlanRequest& req)
   in.T_base_cam = m_T_base_cam;
   in.K = req.K;
   in.model = exploration::ViewInfoModel::of(m_fusion_params, m_snapshot.store.options());
+  if (m_planner->scoresInformation()) in.current_goal = req.goal;
   PlanOutput out;
   out.t = req.t;
   out.driving = req.driving;
@@ -269,20 +270,10 @@ ExplorationLoop::PlanOutput ExplorationLoop::computePlan(const PlanRequest& req)
   out.goal = req.goal;
   out.plan = m_planner->plan(in);
   const exploration::Plan& p = out.plan;
-  if (req.goal && !p.ranked.empty() && m_planner->name() == "ig") {
-    // Is the new best view clearly better than finishing the current goal? The current goal is
-    // scored in this plan's units (its dH and dIC predicted now, normalised by this plan's
-    // maxima, over the time still to drive).
-    const auto& P = m_stage.params();
-    exploration::ViewPredictor predictor(P, in.model);
-    const exploration::ViewPrediction cur = predictor.predict(
-        m_snapshot.store, *req.octree, exploration::cameraPoseOf(*req.goal, m_T_base_cam), in.K);
-    const double dH = p.best_entropy_reduction, dIC = p.best_information;
-    const double gain = (dH > 0 ? P.w_entropy * cur.entropy_reduction / dH : 0.0) +
-                        (dIC > 0 ? P.w_ic * cur.information.weighted / dIC : 0.0);
-    const double remaining = (req.goal->head<2>() - req.robot.head<2>()).norm() / P.speed_mps;
-    out.current_goal_score = P.rank_by_rate ? gain / (remaining + P.min_travel_time_s) : gain;
-  }
+  // Is the new best view clearly better than finishing the current goal? The planner scored the
+  // goal in this plan, with the same IG and normalisation (Plan::current_goal).
+  if (p.current_goal)
+    out.current_goal_score = exploration::rankingKey(m_stage.params(), *p.current_goal);
   out.ms = msSince(t0);
   return out;
 }
@@ -301,6 +292,7 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
                         {"best_entropy_reduction", best_dH},
                         {"best_information", best_dIC},
                         {"ms", out.ms},
+                        {"tour_clusters", p.tour_clusters},
                         {"while_driving", out.driving}};
   if (!p.ranked.empty()) {
     const auto& b = p.ranked.front();
@@ -317,7 +309,7 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
   // offered (every planner; the robot turns a quarter between them, so a view hidden behind it
   // or a frontier the obstacle growth hid for a moment gets another chance).
   const TExploreParams& xp = m_stage.exploreParams();
-  const bool ig = m_planner->name() == "ig";
+  const bool ig = m_planner->scoresInformation();
   const bool low =
       p.ranked.empty() || (ig && best_dH < xp.stop_entropy_nats && best_dIC < xp.stop_information);
   m_low_plans = low ? m_low_plans + 1 : 0;
@@ -343,7 +335,7 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
   // Mid-way switch: only for the goal this plan scored, and only when clearly better.
   if (!ig || !m_goal || !out.goal || *out.goal != m_goal->goal || out.current_goal_score < 0)
     return;
-  const double best_score = m_stage.params().rank_by_rate ? best.rate : best.gain;
+  const double best_score = exploration::rankingKey(m_stage.params(), best);
   if (best_score > xp.switch_ratio * out.current_goal_score) {
     reportOutcome(m_goal->goal, false);
     endGoal(m_t, "switched");

@@ -2,7 +2,11 @@
 // One interface for the exploration planners (issue 18 deliverable 6): the IG planner of
 // section V and the baselines it is compared with on the same worlds, octree, projection,
 // reachability and budget. makePlanner builds the one [exploration] planner names:
-//   "ig"        ViewPlanner (V) unchanged, plus a GoalBlacklist of failed goals;
+//   "ig"        the global planner: ViewPlanner's views (V) with frontier views always among
+//               them, clustered, visited in the order of a tour that collects the most IG per
+//               second over the whole route (TourIgPlanner, ViewTour.h);
+//   "ig_greedy" ViewPlanner (V) alone: the best single next view by IG per second (a baseline),
+//               plus a GoalBlacklist of failed goals;
 //   "frontier"  nearest-frontier exploration (Yamauchi 1997, "A frontier-based approach for
 //               autonomous exploration") on the projection: frontier cells are known-free cells
 //               4-adjacent to unknown ones, clustered 8-connected; goal = the reachable cell
@@ -23,6 +27,7 @@
 
 #include <Eigen/Geometry>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,6 +50,10 @@ struct PlannerInputs {
   Eigen::Isometry3d T_base_cam = Eigen::Isometry3d::Identity();       ///< the camera mount
   CameraIntrinsics K;   ///< the camera's (predicted maps use it scaled to the predict size)
   ViewInfoModel model;  ///< fusion's IC parameters and the map's bin layout
+  /// The goal (x, y, yaw) the robot is driving to, if any: "ig" and "ig_greedy" score it in the
+  /// same plan, with the same formula and normalisation (Plan::current_goal), so the loop can
+  /// ask whether the best new view is clearly better than finishing it.
+  std::optional<Eigen::Vector3d> current_goal;
 };
 
 struct Plan {
@@ -56,13 +65,21 @@ struct Plan {
   /// Largest dH (nats) and dIC over `ranked` ("ig" only; 0 for the baselines): what the best
   /// views could still gain, for a stopping rule.
   double best_entropy_reduction = 0.0, best_information = 0.0;
+  /// PlannerInputs::current_goal scored like the ranked views ("ig", "ig_greedy"; reachable
+  /// false and gain 0 when no path leads there now); empty for the baselines.
+  std::optional<ViewCandidate> current_goal;
+  /// "ig": the number of view clusters the tour visits (ranked starts with them, in tour order).
+  std::size_t tour_clusters = 0;
 };
 
 class ExplorationPlanner {
  public:
   virtual ~ExplorationPlanner() = default;
-  /// "ig", "frontier", "random" or "lawnmower" (the [exploration] planner value).
+  /// "ig", "ig_greedy", "frontier", "random" or "lawnmower" (the [exploration] planner value).
   virtual std::string name() const = 0;
+  /// Whether the plans carry the paper's IG (best_entropy_reduction / best_information and
+  /// current_goal are set: the loop's stopping rule and mid-way switch use them).
+  virtual bool scoresInformation() const { return false; }
   /// Goals for the robot at in.robot_pose, best first; empty ranked = nothing left. Throws
   /// InputError when an input the planner needs is null.
   virtual Plan plan(const PlannerInputs& in) = 0;

@@ -15,24 +15,54 @@
 
 namespace rasm::exploration {
 
-/// "ig": ViewPlanner (V) unchanged; candidates near a failed goal are moved to Plan::blacklisted
-/// and the rest re-ranked (rankCandidates: the normalisation runs over what is offered);
-/// best_entropy_reduction / best_information are the largest dH / dIC of the ranked views.
+/// "ig_greedy": ViewPlanner (V) unchanged; candidates near a failed goal are moved to
+/// Plan::blacklisted and the rest re-ranked (rankCandidates: the normalisation runs over what is
+/// offered); best_entropy_reduction / best_information are the largest dH / dIC of the ranked
+/// views.
 class IgPlanner : public ExplorationPlanner {
  public:
   explicit IgPlanner(const TExplorationParams& params);
-  std::string name() const override { return "ig"; }
+  std::string name() const override { return "ig_greedy"; }
+  bool scoresInformation() const override { return true; }
   Plan plan(const PlannerInputs& in) override;
   /// Failed goals are blacklisted; reached ones become taken views (taken_view_* params).
   void goalOutcome(const Eigen::Vector3d& goal_xyyaw, bool reached) override;
   /// Whether `pose` repeats a taken view (within taken_view_radius_m and taken_view_heading_deg).
   bool isTakenView(const Eigen::Vector3d& pose) const;
 
- private:
+ protected:
   TExplorationParams m_params;
   ViewPlanner m_planner;
   std::vector<Eigen::Vector3d> m_taken;  ///< reached goals (x, y, yaw)
 };
+
+/// "ig": the global planner. IgPlanner's views with the frontier views always among them
+/// (frontier_candidates on: the map's edge is where the unknown rooms are), scored by the same
+/// IG; then
+///   clusters: views by descending IG, each joining the first cluster whose best view lies
+///     within tour_cluster_radius_m, else starting one (at most tour_max_clusters; clusters
+///     below tour_min_gain_fraction of the best IG are left out). A cluster is visited at its
+///     best view (the local choice by the paper's IG);
+///   tour: the order of the clusters that collects the most IG per second over the whole route
+///     (solveTour, ViewTour.h), on travel times from the planning grid (reachableCells from each
+///     cluster's view: path length / speed plus the turns to and from the leg's bearing / turn
+///     rate; from the robot: planPaths' travel time);
+///   Plan::ranked: the clusters' views in tour order, then the other views by rank.
+/// The stopping rule and the mid-way switch of the loop see the same IG as with "ig_greedy".
+class TourIgPlanner : public IgPlanner {
+ public:
+  explicit TourIgPlanner(const TExplorationParams& params);
+  std::string name() const override { return "ig"; }
+  Plan plan(const PlannerInputs& in) override;
+};
+
+/// The cluster heads of `views` (indices, by descending gain; TourIgPlanner's clustering).
+std::vector<int> clusterViews(const std::vector<ViewCandidate>& views, double radius_m,
+                              int max_clusters, double min_gain_fraction);
+
+/// The travel-time matrix between `views` on `grid` (TourIgPlanner's legs; the diagonal is 0).
+Eigen::MatrixXd legTimes(const mrpt::maps::COccupancyGridMap2D& grid,
+                         const std::vector<ViewCandidate>& views, const TExplorationParams& params);
 
 /// A frontier of the projection: 8-connected known-free cells that are 4-adjacent to unknown.
 struct FrontierCluster {

@@ -70,9 +70,11 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   double min_travel_time_s = 2.0;
 
   // ---- planner and baselines (issue 18 deliverable 6; ExplorationPlanner.h) ----
-  /// Which planner makePlanner builds: "ig" (the IG planner of V), "frontier" (nearest frontier,
-  /// Yamauchi 1997), "random" (random reachable free cells), "lawnmower" (boustrophedon sweep).
-  /// The baselines run on the same octree, projection, reachability and budget as "ig".
+  /// Which planner makePlanner builds: "ig" (the IG planner of V with a global tour over view
+  /// clusters), "ig_greedy" (the IG planner's best next view alone), "frontier" (nearest
+  /// frontier, Yamauchi 1997), "random" (random reachable free cells), "lawnmower"
+  /// (boustrophedon sweep). The baselines run on the same octree, projection, reachability and
+  /// budget as "ig".
   std::string planner = "ig";
   /// A goal the robot failed to reach (and, for "frontier", a goal it reached) is blacklisted:
   /// candidates whose base lies within this distance (m) of it are not offered again. 0.5 m is
@@ -97,6 +99,18 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   /// so neighbouring lanes overlap a little.
   double lawnmower_spacing_m = 1.5, lawnmower_step_m = 1.5;
   std::string lawnmower_axis = "x";
+
+  // ---- the global tour of "ig" (TourIgPlanner, ViewTour.h) ----
+  /// Views whose bases lie within this distance (m) of a better view join its cluster; the
+  /// cluster is visited at its best view. 1 m: two views 1 m apart see most of the same surface
+  /// at the 4 m depth range, and the robot turns in place faster than it drives 1 m.
+  double tour_cluster_radius_m = 1.0;
+  /// The tour visits at most this many clusters (the best by IG): the exact solver is
+  /// exponential in it up to 11, a local search beyond.
+  int tour_max_clusters = 12;
+  /// Clusters whose IG is below this fraction of the best cluster's are left out of the tour
+  /// (crumbs the route would detour for; they come back when the big gains are collected).
+  double tour_min_gain_fraction = 0.1;
 
   /// Throws InputError naming [section] key for a value out of range or a min above its max.
   void validate(const std::string& section = "exploration") const;

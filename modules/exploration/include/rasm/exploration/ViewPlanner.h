@@ -41,8 +41,19 @@ class ViewPlanner {
   TExplorationParams m_params;
 };
 
+/// IG(a) = w1 dH / max dH + w2 dIC / max dIC (V, the score of a view; the normalisation of the
+/// header comment: a term whose maximum is 0 drops out). The one place the formula is written.
+double informationGain(const TExplorationParams& params, double entropy_reduction,
+                       double information, double max_entropy_reduction, double max_information);
+
+/// The key views are ranked by: rate (IG per second of travel) when params.rank_by_rate, else
+/// gain.
+double rankingKey(const TExplorationParams& params, const ViewCandidate& c);
+
 /// Sets gain and rate of each candidate from its dH, dIC and travel time (normalised as in the
-/// header comment) and sorts them best first (stable).
-void rankCandidates(const TExplorationParams& params, std::vector<ViewCandidate>& candidates);
+/// header comment) and sorts them best first (stable). `alongside` (the goal the robot drives to)
+/// is scored with the same maxima, its own dH and dIC included in them, and not sorted in.
+void rankCandidates(const TExplorationParams& params, std::vector<ViewCandidate>& candidates,
+                    ViewCandidate* alongside = nullptr);
 
 }  // namespace rasm::exploration

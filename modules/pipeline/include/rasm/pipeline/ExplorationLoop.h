@@ -150,6 +150,7 @@ class ExplorationLoop {
   std::unique_ptr<RobotDriver> m_driver;
   robot::IRobot* m_robot = nullptr;  ///< the driver's robot
   Eigen::Isometry3d m_T_base_cam;
+  CameraIntrinsics m_K;  ///< the intrinsics of the frames the run receives (planning predicts with them)
   mutable std::mutex m_nav_mx;  ///< the navigator: driver stepping vs the mapping thread
   mutable std::mutex m_loc_mx;  ///< the localisation estimate (read by the navigator)
   std::unique_ptr<navigation::Navigator> m_nav;  ///< null once released (finish())
