@@ -3,7 +3,7 @@
 // turns in place at two spots of the room (noise-free depth, 640x480). Prints one JSON line with
 // medians over repetitions: entropy() of the workspace, one candidate's dH and dIC (one render of
 // the surfel map + the octree ray cast + the bin sum) at 320x240 and 160x120, a whole IG plan and
-// one plan of each baseline (frontier, random, lawnmower) on the same octree.
+// one plan of each planner (ig, ig_greedy, frontier, random, lawnmower) on the same octree.
 //   bench_exploration
 #include <algorithm>
 #include <chrono>
@@ -120,12 +120,14 @@ int main() {
   });
   std::printf(",\"plan_160x120_ms\":%.1f,\"plan_candidates\":%zu,\"plan_pruned\":%zu", plan_ms,
               ranked, pruned);
-  // The baselines (issue 18 deliverable 6) on the same octree and robot pose.
-  for (const char* name : {"frontier", "random", "lawnmower"}) {
+  // Every planner through makePlanner on the same octree and robot pose ("ig": the views of the
+  // plan above plus the clusters and the tour).
+  for (const char* name : {"ig", "ig_greedy", "frontier", "random", "lawnmower"}) {
     ep.planner = name;
     const auto planner = exploration::makePlanner(ep);
     std::size_t offered = 0, grid_cells = 0;
-    const double ms = medianMs(5, [&] {
+    const bool predicts = planner->scoresInformation();
+    const double ms = medianMs(predicts ? 3 : 5, [&] {
       const exploration::Plan plan = planner->plan(in);
       offered = plan.ranked.size(), grid_cells = plan.grid.getSizeX() * plan.grid.getSizeY();
     });

@@ -122,23 +122,22 @@ TEST(ViewTour, BadProblemIsAnInputError) {
   EXPECT_THROW(solveTour(p), InputError);
 }
 
-ViewCandidate viewAt(double x, double y, double gain) {
+ViewCandidate viewAt(double x, double y) {
   ViewCandidate c;
   c.pose = Eigen::Vector3d(x, y, 0.0);
-  c.gain = gain;
   return c;
 }
 
 TEST(ViewTour, ClustersJoinViewsWithinTheRadiusAtTheirBestViewAndDropCrumbs) {
-  const std::vector<ViewCandidate> views = {viewAt(0, 0, 0.5), viewAt(0.5, 0, 0.9),
-                                            viewAt(5, 0, 0.4), viewAt(5.2, 0.3, 0.3),
-                                            viewAt(9, 0, 0.05), viewAt(3, 3, 0.0)};
+  const std::vector<ViewCandidate> views = {viewAt(0, 0),   viewAt(0.5, 0), viewAt(5, 0),
+                                            viewAt(5.2, 0.3), viewAt(9, 0), viewAt(3, 3)};
+  const std::vector<double> gains = {0.5, 0.9, 0.4, 0.3, 0.05, 0.0};
   // Heads by descending gain: 1 (0.9), then 0 is within 1 m of it, 2 (0.4) starts a cluster,
   // 3 joins it; 4 is below 0.1 x 0.9; 5 has no gain.
-  EXPECT_EQ(clusterViews(views, 1.0, 12, 0.1), (std::vector<int>{1, 2}));
-  EXPECT_EQ(clusterViews(views, 1.0, 1, 0.1), (std::vector<int>{1}));
-  EXPECT_EQ(clusterViews(views, 1.0, 12, 0.0), (std::vector<int>{1, 2, 4}));
-  EXPECT_TRUE(clusterViews({}, 1.0, 12, 0.1).empty());
+  EXPECT_EQ(clusterViews(views, gains, 1.0, 12, 0.1), (std::vector<int>{1, 2}));
+  EXPECT_EQ(clusterViews(views, gains, 1.0, 1, 0.1), (std::vector<int>{1}));
+  EXPECT_EQ(clusterViews(views, gains, 1.0, 12, 0.0), (std::vector<int>{1, 2, 4}));
+  EXPECT_TRUE(clusterViews({}, {}, 1.0, 12, 0.1).empty());
 }
 
 }  // namespace

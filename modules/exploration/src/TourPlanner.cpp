@@ -21,19 +21,21 @@ TExplorationParams withFrontierViews(TExplorationParams params) {
 TourIgPlanner::TourIgPlanner(const TExplorationParams& params)
     : IgPlanner(withFrontierViews(params)) {}
 
-std::vector<int> clusterViews(const std::vector<ViewCandidate>& views, double radius_m,
-                              int max_clusters, double min_gain_fraction) {
+std::vector<int> clusterViews(const std::vector<ViewCandidate>& views,
+                              const std::vector<double>& gains, double radius_m, int max_clusters,
+                              double min_gain_fraction) {
   std::vector<int> order(views.size());
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&views](int a, int b) {
-    return views[std::size_t(a)].gain > views[std::size_t(b)].gain;
+  std::stable_sort(order.begin(), order.end(), [&gains](int a, int b) {
+    return gains[std::size_t(a)] > gains[std::size_t(b)];
   });
   std::vector<int> heads;
   if (order.empty()) return heads;
-  const double floor_gain = min_gain_fraction * views[std::size_t(order.front())].gain;
+  const double floor_gain = min_gain_fraction * gains[std::size_t(order.front())];
   for (const int i : order) {
     const ViewCandidate& v = views[std::size_t(i)];
-    if (v.gain <= 0.0 || v.gain < floor_gain || int(heads.size()) >= max_clusters) break;
+    const double gain = gains[std::size_t(i)];
+    if (gain <= 0.0 || gain < floor_gain || int(heads.size()) >= max_clusters) break;
     const bool joins = std::any_of(heads.begin(), heads.end(), [&](int h) {
       return (views[std::size_t(h)].pose.head<2>() - v.pose.head<2>()).norm() <= radius_m;
     });
@@ -71,10 +73,29 @@ Eigen::MatrixXd legTimes(const mrpt::maps::COccupancyGridMap2D& grid,
   return t;
 }
 
+double TourIgPlanner::objectWeight(const OccupancyOctree& octree) {
+  const double entropy = octree.entropy();
+  if (m_first_entropy_nats < 0.0) m_first_entropy_nats = entropy;
+  if (!(m_first_entropy_nats > 0.0)) return 1.0;
+  return std::clamp(1.0 - entropy / m_first_entropy_nats, 0.0, 1.0);
+}
+
 Plan TourIgPlanner::plan(const PlannerInputs& in) {
   Plan plan = IgPlanner::plan(in);
+  // The tour's weights: IG with the object term scaled by how far the map's entropy has fallen.
+  TExplorationParams tour_params = m_params;
+  tour_params.w_ic *= objectWeight(*in.octree);
+  double max_h = 0.0, max_ic = 0.0;
+  for (const ViewCandidate& v : plan.ranked) {
+    max_h = std::max(max_h, v.entropy_reduction);
+    max_ic = std::max(max_ic, v.information);
+  }
+  std::vector<double> gains;
+  for (const ViewCandidate& v : plan.ranked)
+    gains.push_back(
+        informationGain(tour_params, v.entropy_reduction, v.information, max_h, max_ic));
   const std::vector<int> heads =
-      clusterViews(plan.ranked, m_params.tour_cluster_radius_m, m_params.tour_max_clusters,
+      clusterViews(plan.ranked, gains, m_params.tour_cluster_radius_m, m_params.tour_max_clusters,
                    m_params.tour_min_gain_fraction);
   if (heads.empty()) return plan;
   std::vector<ViewCandidate> head_views;
@@ -83,7 +104,7 @@ Plan TourIgPlanner::plan(const PlannerInputs& in) {
     const ViewCandidate& v = plan.ranked[std::size_t(h)];
     head_views.push_back(v);
     tour.start_time_s.push_back(v.travel_time_s);
-    tour.weight.push_back(v.gain);
+    tour.weight.push_back(gains[std::size_t(h)]);
   }
   tour.time_s = legTimes(plan.grid, head_views, m_params);
   const std::vector<int> order = solveTour(tour);

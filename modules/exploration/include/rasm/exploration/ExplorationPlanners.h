@@ -39,10 +39,13 @@ class IgPlanner : public ExplorationPlanner {
 /// "ig": the global planner. IgPlanner's views with the frontier views always among them
 /// (frontier_candidates on: the map's edge is where the unknown rooms are), scored by the same
 /// IG; then
-///   clusters: views by descending IG, each joining the first cluster whose best view lies
+///   weights: IG with the object term w2 dIC scaled by the map's saturation 1 - H(m) / H(m) at
+///     the first plan (0 at the start, rising as the octree's entropy falls): geometric
+///     exploration first, the object views of V-B weighing more as the map fills in;
+///   clusters: views by descending weight, each joining the first cluster whose best view lies
 ///     within tour_cluster_radius_m, else starting one (at most tour_max_clusters; clusters
-///     below tour_min_gain_fraction of the best IG are left out). A cluster is visited at its
-///     best view (the local choice by the paper's IG);
+///     below tour_min_gain_fraction of the best weight are left out). A cluster is visited at
+///     its best view (the local choice);
 ///   tour: the order of the clusters that collects the most IG per second over the whole route
 ///     (solveTour, ViewTour.h), on travel times from the planning grid (reachableCells from each
 ///     cluster's view: path length / speed plus the turns to and from the leg's bearing / turn
@@ -54,11 +57,17 @@ class TourIgPlanner : public IgPlanner {
   explicit TourIgPlanner(const TExplorationParams& params);
   std::string name() const override { return "ig"; }
   Plan plan(const PlannerInputs& in) override;
+
+ private:
+  /// The factor on w2 for the tour's weights: 1 - H(m) now / H(m) at the first plan, in [0, 1].
+  double objectWeight(const OccupancyOctree& octree);
+  double m_first_entropy_nats = -1.0;
 };
 
-/// The cluster heads of `views` (indices, by descending gain; TourIgPlanner's clustering).
-std::vector<int> clusterViews(const std::vector<ViewCandidate>& views, double radius_m,
-                              int max_clusters, double min_gain_fraction);
+/// The cluster heads of `views` (indices, by descending gains[i]; TourIgPlanner's clustering).
+std::vector<int> clusterViews(const std::vector<ViewCandidate>& views,
+                              const std::vector<double>& gains, double radius_m, int max_clusters,
+                              double min_gain_fraction);
 
 /// The travel-time matrix between `views` on `grid` (TourIgPlanner's legs; the diagonal is 0).
 Eigen::MatrixXd legTimes(const mrpt::maps::COccupancyGridMap2D& grid,
