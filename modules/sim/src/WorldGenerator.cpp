@@ -60,6 +60,8 @@ int flatRowRooms(int rooms) {
   return flatRows(rooms) == 2 ? rooms - rooms / 2 : rooms;
 }
 constexpr double kWall_m = 0.1, kMaxHallway_m = 1.8;
+/// Plain sides: nothing stands or hangs within this distance of the wall.
+constexpr double kPlainKeep_m = 0.3;
 
 /// The flat's options and, when given, its size.
 void validateFlat(const TWorldGenParams& p) {
@@ -1205,7 +1207,19 @@ void Generator::roomStructure(const RoomPlan& p) {
 
 /// The room's furniture: the counter first (break rooms), then units on random sides that are
 /// neither plain nor the counter's (rejection sampling), wall items, clutter along the walls.
+/// Nothing comes within kPlainKeep_m of a plain side (not even from a neighbouring wall's band).
 void Generator::furnish(RoomPlan& p) {
+  for (int s = 0; s < 4; ++s) {
+    if (!p.plain[s]) continue;
+    Box3 k;
+    for (double v : {0.0, kPlainKeep_m})
+      for (double u : {0.0, m_sides[s].length}) {
+        const V2 q = m_sides[s].at(v, u);
+        k.extend(V3(q.x(), q.y(), 0.0));
+        k.extend(V3(q.x(), q.y(), m_h));
+      }
+    m_keepout.push_back(k);
+  }
   if (p.counter_side >= 0 && !counterUnit(p.counter_side, p.counter)) p.counter_side = -1;
   std::vector<int> sides;
   for (int s = 0; s < 4; ++s)
@@ -1329,6 +1343,14 @@ void Generator::runRoom(GeneratedWorld& g) {
       << " m high; the robot's free area (centres) is x " << num(g.free_area.x0) << ".."
       << num(g.free_area.x1) << ", y " << num(g.free_area.y0) << ".." << num(g.free_area.y1)
       << ".\n";
+  const char* side_names[4] = {"south", "east", "north", "west"};
+  if (p.counter_side >= 0 || !g.rooms[0].plain_sides.empty()) {
+    out << "# Plain sides:";
+    for (int s : g.rooms[0].plain_sides) out << " " << side_names[s];
+    if (g.rooms[0].plain_sides.empty()) out << " none";
+    if (p.counter_side >= 0) out << "; a counter along the " << side_names[p.counter_side] << " wall";
+    out << ".\n";
+  }
   m_header = out.str();
   m_description = "random " + std::string(roomKindName(m_p.kind)) + " room " + num(m_w) + " x " +
                   num(m_d) + " m, seed " + std::to_string(m_p.seed);
