@@ -630,7 +630,10 @@ TEST(WorldGenerator, RoomLayoutTextIsUnchanged) {
 
 TEST(WorldGenerator, FlatRoomsAreReachableFromTheHallwayThroughTheirDoorways) {
   for (int n = 2; n <= 5; ++n) {
-    const GeneratedWorld g = generateWorld(flatParams(std::uint64_t(20 + n), n));
+    // A flat of break rooms (plain sides, counters) and a mixed one of each size.
+    TWorldGenParams fp = flatParams(std::uint64_t(20 + n), n, RoomKind::BreakRoom);
+    if (n % 2 == 0) fp.kind = RoomKind::Mixed;
+    const GeneratedWorld g = generateWorld(fp);
     ASSERT_EQ(int(g.rooms.size()), n) << g.name;
     const World w = loadWorldFromString(g.yaml, g.name);
     EXPECT_GE(g.params.width_m, 8.0);
@@ -662,8 +665,10 @@ TEST(WorldGenerator, FlatRoomsAreReachableFromTheHallwayThroughTheirDoorways) {
 }
 
 TEST(WorldGenerator, FlatFootprintsKeepOffDoorwaysAndEachOther) {
-  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
-    const GeneratedWorld g = generateWorld(flatParams(seed, 2 + int(seed % 4)));
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    TWorldGenParams fp = flatParams(seed, 2 + int(seed % 4));
+    if (seed % 3 == 0) fp.plain_walls = 2;
+    const GeneratedWorld g = generateWorld(fp);
     const World w = loadWorldFromString(g.yaml, g.name);
     std::vector<std::pair<std::string, GenRect>> feet;
     for (const auto& p : g.placements) {
@@ -781,7 +786,10 @@ TEST(WorldGenerator, PlainSidesStayBareAndBreakRoomsHaveTheirCounter) {
       const double depth = along_wall_x ? b.max().y() - b.min().y() : b.max().x() - b.min().x();
       const double wall = along_wall_x ? room.interior.width() : room.interior.depth();
       EXPECT_NEAR(depth, 0.6, 1e-3) << g.name;
-      EXPECT_GE(len, std::min(3.0, wall - 0.2) - 1e-3) << g.name;
+      // Plain sides at its ends keep it kPlainKeep (0.3 m) shorter; it shrinks in 0.3 m steps.
+      double usable = wall;
+      for (int s : room.plain_sides) usable -= s % 2 != room.counter_side % 2 ? 0.3 : 0.0;
+      EXPECT_GE(len, std::min(3.0, usable - 0.5) - 1e-3) << g.name;
       EXPECT_LE(len, 5.0 + 1e-3) << g.name;
       EXPECT_TRUE(o.material.pattern == Pattern::Solid) << g.name;
       for (const auto& other : g.placements)
