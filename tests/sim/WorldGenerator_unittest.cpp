@@ -686,8 +686,8 @@ TEST(WorldGenerator, FlatFootprintsKeepOffDoorwaysAndEachOther) {
       for (const auto& room : g.rooms) {
         const GenRect door{room.doorway.x0, room.doorway.y0 - 0.6, room.doorway.x1,
                            room.doorway.y1 + 0.6};
-        EXPECT_FALSE(door.overlaps(r)) << g.name << ": " << p.id << " " << p.name << " in "
-                                       << room.name << "'s doorway";
+        EXPECT_FALSE(door.overlaps(r))
+            << g.name << ": " << p.id << " " << p.name << " in " << room.name << "'s doorway";
       }
       if (p.furniture) feet.emplace_back(std::to_string(p.id) + " " + p.name, r);
     }
@@ -695,8 +695,8 @@ TEST(WorldGenerator, FlatFootprintsKeepOffDoorwaysAndEachOther) {
     for (std::size_t i = 0; i < feet.size(); ++i)
       for (std::size_t j = i + 1; j < feet.size(); ++j) {
         const GenRect &a = feet[i].second, &b = feet[j].second;
-        const bool overlap = a.x0 < b.x1 - 1e-3 && b.x0 < a.x1 - 1e-3 && a.y0 < b.y1 - 1e-3 &&
-                             b.y0 < a.y1 - 1e-3;
+        const bool overlap =
+            a.x0 < b.x1 - 1e-3 && b.x0 < a.x1 - 1e-3 && a.y0 < b.y1 - 1e-3 && b.y0 < a.y1 - 1e-3;
         EXPECT_FALSE(overlap) << g.name << ": " << feet[i].first << " and " << feet[j].first;
       }
   }
@@ -795,8 +795,7 @@ TEST(WorldGenerator, PlainSidesStayBareAndBreakRoomsHaveTheirCounter) {
       for (const auto& other : g.placements)
         EXPECT_FALSE(other.rest == GeneratedWorld::Rest::Surface && other.support_id == pl.id)
             << g.name << ": " << other.name << " on the counter";
-      EXPECT_EQ(std::count(room.plain_sides.begin(), room.plain_sides.end(), room.counter_side),
-                0);
+      EXPECT_EQ(std::count(room.plain_sides.begin(), room.plain_sides.end(), room.counter_side), 0);
     }
     EXPECT_EQ(counters, c.kind == RoomKind::BreakRoom ? 1 : 0) << g.name;
     EXPECT_EQ(room.counter_side >= 0, c.kind == RoomKind::BreakRoom) << g.name;

@@ -660,7 +660,8 @@ std::string robotYaml(const TTrajectoryGenParams& p, const GeneratedWorld& g, co
     << comment;
   o << "type: robot\n";
   o << "description: " << (p.fast ? "robot loop with 90 deg/s turns in place" : "robot loop")
-    << (g.params.layout == WorldLayout::Flat ? " along the hallway of " : " through the free area of ")
+    << (g.params.layout == WorldLayout::Flat ? " along the hallway of "
+                                             : " through the free area of ")
     << g.name << "\n";
   if (!p.world_ref.empty()) o << "world: " << p.world_ref << "\n";
   o << "rate_hz: " << num(p.rate_hz) << "\n";
@@ -876,12 +877,11 @@ GenerateFilesResult generateWorldFiles(const TWorldGenParams& wp, const std::str
                   world.objects.size() - statics, num(g.free_area.width(), 2).c_str(),
                   num(g.free_area.depth(), 2).c_str());
   else
-    std::snprintf(line, sizeof(line),
-                  "%s: %s room %s x %s m, %zu static + %zu objects, free area %s x %s m",
-                  res.world_path.c_str(), roomKindName(g.params.kind),
-                  num(g.params.width_m).c_str(), num(g.params.depth_m).c_str(), statics,
-                  world.objects.size() - statics, num(g.free_area.width(), 2).c_str(),
-                  num(g.free_area.depth(), 2).c_str());
+    std::snprintf(
+        line, sizeof(line), "%s: %s room %s x %s m, %zu static + %zu objects, free area %s x %s m",
+        res.world_path.c_str(), roomKindName(g.params.kind), num(g.params.width_m).c_str(),
+        num(g.params.depth_m).c_str(), statics, world.objects.size() - statics,
+        num(g.free_area.width(), 2).c_str(), num(g.free_area.depth(), 2).c_str());
   res.summary.push_back(line);
 
   const fs::path traj_dir = fs::path(prefix).parent_path();

@@ -72,7 +72,8 @@ void validateFlat(const TWorldGenParams& p) {
                     "expected 0.9-1.6 m (a 0.25 m robot with clearance)");
   if (p.width_m <= 0.0 && p.depth_m <= 0.0) return;
   const std::string what = "--size " + gen::num(p.width_m, 2) + "x" + gen::num(p.depth_m, 2);
-  if (!std::isfinite(p.width_m) || !std::isfinite(p.depth_m) || p.width_m <= 0.0 || p.depth_m <= 0.0)
+  if (!std::isfinite(p.width_m) || !std::isfinite(p.depth_m) || p.width_m <= 0.0 ||
+      p.depth_m <= 0.0)
     throwInputError(what, "expected two positive sizes in metres, WxD (e.g. 12x8)");
   const int k = flatRowRooms(p.rooms), rows = flatRows(p.rooms);
   const double min_w = k * TWorldGenParams::kMinFlatRoom_m + (k - 1) * kWall_m;
@@ -81,8 +82,8 @@ void validateFlat(const TWorldGenParams& p) {
     throwInputError(what, "too small for a flat of " + std::to_string(p.rooms) +
                               " rooms: expected at least " + gen::num(min_w, 2) + "x" +
                               gen::num(min_d, 2) + " m (" + std::to_string(k) +
-                              " rooms of at least " + gen::num(TWorldGenParams::kMinFlatRoom_m) + " m a side in " +
-                              (rows == 2 ? "each of two rows" : "a row") +
+                              " rooms of at least " + gen::num(TWorldGenParams::kMinFlatRoom_m) +
+                              " m a side in " + (rows == 2 ? "each of two rows" : "a row") +
                               " beside a hallway of up to " + gen::num(kMaxHallway_m) + " m)");
   if (std::max(p.width_m, p.depth_m) > TWorldGenParams::kMaxFlatSide_m)
     throwInputError(what, "too large: each side of a flat must be at most " +
@@ -90,7 +91,6 @@ void validateFlat(const TWorldGenParams& p) {
 }
 
 }  // namespace
-
 
 void TWorldGenParams::validate() const {
   if (plain_walls < -1 || plain_walls > 2)
@@ -203,8 +203,8 @@ const std::vector<Rgb>& chairColours() {
   return v;
 }
 const std::vector<Rgb>& counterColours() {
-  static const std::vector<Rgb> v = {{235, 235, 230}, {150, 150, 155}, {170, 140, 100},
-                                     {60, 60, 65}};
+  static const std::vector<Rgb> v = {
+      {235, 235, 230}, {150, 150, 155}, {170, 140, 100}, {60, 60, 65}};
   return v;
 }
 const std::vector<Mat>& doorMats() {
@@ -492,8 +492,7 @@ void Generator::poseOnSide(Entry& e, int side, double v, double u, double yaw_lo
 
 bool Generator::insideRoom(const Box3& b, double m) const {
   return b.lo.x() >= m_room.x0 + m && b.lo.y() >= m_room.y0 + m && b.hi.x() <= m_room.x1 - m &&
-         b.hi.y() <= m_room.y1 - m &&
-         b.hi.z() <= m_h - 0.05;
+         b.hi.y() <= m_room.y1 - m && b.hi.z() <= m_h - 0.05;
 }
 
 double Generator::inward(const Box3& b, int side) const {
@@ -721,8 +720,8 @@ bool Generator::counterUnit(int side, GenRect& footprint) {
       c.side = side;
       c.shape = box(0.6, len, 0.9);
       c.mat = mat;
-      poseOnSide(c, side, 0.01 + 0.3, m_rng.uniform(len / 2 + 0.02, s.length - len / 2 - 0.02),
-                 0.0, 0.0);
+      poseOnSide(c, side, 0.01 + 0.3, m_rng.uniform(len / 2 + 0.02, s.length - len / 2 - 0.02), 0.0,
+                 0.0);
       if (!floorOk(c, {})) continue;
       c.name = nextName("counter");
       footprint = c.foot;
@@ -1135,7 +1134,7 @@ RoomPlan Generator::planRoom(const GenRect& r, RoomKind kind) {
     p.budget[b] = std::min(1.6, avail * (1 - f));
   }
   p.chair = m_rng.pick(chairColours());
-  const int plain_sides = m_p.plain_walls >= 0             ? m_p.plain_walls
+  const int plain_sides = m_p.plain_walls >= 0          ? m_p.plain_walls
                           : kind == RoomKind::BreakRoom ? 1 + m_rng.index(2)
                                                         : 0;
   if (plain_sides > 0 || kind == RoomKind::BreakRoom) planPlainSides(p, plain_sides);
@@ -1196,8 +1195,8 @@ void Generator::roomStructure(const RoomPlan& p) {
   const double H = m_h;
   addStructure("floor", "floor", box(m_w + 0.2, m_d + 0.2, 0.1), V3(m_w / 2, m_d / 2, -0.05),
                floor_mat);
-  addStructure("ceiling", "ceiling", box(m_w + 0.2, m_d + 0.2, 0.1),
-               V3(m_w / 2, m_d / 2, H + 0.05), ceiling);
+  addStructure("ceiling", "ceiling", box(m_w + 0.2, m_d + 0.2, 0.1), V3(m_w / 2, m_d / 2, H + 0.05),
+               ceiling);
   addStructure("wall_south", "wall", box(m_w + 0.2, 0.1, H), V3(m_w / 2, -0.05, H / 2), wall[0]);
   addStructure("wall_north", "wall", box(m_w + 0.2, 0.1, H), V3(m_w / 2, m_d + 0.05, H / 2),
                wall[2]);
@@ -1348,7 +1347,8 @@ void Generator::runRoom(GeneratedWorld& g) {
     out << "# Plain sides:";
     for (int s : g.rooms[0].plain_sides) out << " " << side_names[s];
     if (g.rooms[0].plain_sides.empty()) out << " none";
-    if (p.counter_side >= 0) out << "; a counter along the " << side_names[p.counter_side] << " wall";
+    if (p.counter_side >= 0)
+      out << "; a counter along the " << side_names[p.counter_side] << " wall";
     out << ".\n";
   }
   m_header = out.str();
@@ -1393,9 +1393,9 @@ std::vector<RoomPlan> Generator::planFlatRooms(double hy0, double hy1) {
         std::clamp(m_w / k - kWall_m - TWorldGenParams::kMinFlatRoom_m - 0.1, 0.0, 0.6);
     double xa = 0.0;
     for (int i = 0; i < k; ++i) {
-      const double xb = i + 1 == k ? m_w
-                                   : r3((i + 1) * m_w / k + m_rng.uniform(-0.5, 0.5) * jitter) -
-                                         kWall_m / 2;
+      const double xb =
+          i + 1 == k ? m_w
+                     : r3((i + 1) * m_w / k + m_rng.uniform(-0.5, 0.5) * jitter) - kWall_m / 2;
       const RoomKind kind = m_p.kind == RoomKind::Mixed
                                 ? kinds[std::size_t(m_rng.weighted({0.3, 0.2, 0.2, 0.3}))]
                                 : m_p.kind;
@@ -1419,8 +1419,8 @@ void Generator::flatStructure(const std::vector<RoomPlan>& plans, double hy0, do
   const double H = m_h, t = kWall_m, half = m_p.doorway_width_m / 2, lintel = H - 2.05;
   addStructure("floor", "floor", box(m_w + 0.2, m_d + 0.2, 0.1), V3(m_w / 2, m_d / 2, -0.05),
                floor_mat);
-  addStructure("ceiling", "ceiling", box(m_w + 0.2, m_d + 0.2, 0.1),
-               V3(m_w / 2, m_d / 2, H + 0.05), ceiling);
+  addStructure("ceiling", "ceiling", box(m_w + 0.2, m_d + 0.2, 0.1), V3(m_w / 2, m_d / 2, H + 0.05),
+               ceiling);
   addStructure("wall_south", "wall", box(m_w + 0.2, t, H), V3(m_w / 2, -t / 2, H / 2), outer);
   addStructure("wall_north", "wall", box(m_w + 0.2, t, H), V3(m_w / 2, m_d + t / 2, H / 2), outer);
   addStructure("wall_west", "wall", box(t, m_d, H), V3(-t / 2, m_d / 2, H / 2), outer);
@@ -1488,14 +1488,14 @@ void Generator::runFlat(GeneratedWorld& g) {
          "edit.\n# Flat interior x 0.."
       << num(m_w) << ", y 0.." << num(m_d) << " m, " << num(m_h) << " m high; hallway y "
       << num(hy0) << ".." << num(hy1) << ", the robot's free area in it (centres) x "
-      << num(g.free_area.x0) << ".." << num(g.free_area.x1) << ", y " << num(g.free_area.y0)
-      << ".." << num(g.free_area.y1) << ".\n";
+      << num(g.free_area.x0) << ".." << num(g.free_area.x1) << ", y " << num(g.free_area.y0) << ".."
+      << num(g.free_area.y1) << ".\n";
   for (const GeneratedWorld::Room& r : g.rooms)
     out << "# " << r.name << " (" << roomKindName(r.kind) << "): x " << num(r.interior.x0) << ".."
         << num(r.interior.x1) << ", y " << num(r.interior.y0) << ".." << num(r.interior.y1)
         << ", doorway x " << num(r.doorway.x0) << ".." << num(r.doorway.x1) << ", "
-        << r.plain_sides.size() << " plain side(s)"
-        << (r.counter_side >= 0 ? ", a counter" : "") << ".\n";
+        << r.plain_sides.size() << " plain side(s)" << (r.counter_side >= 0 ? ", a counter" : "")
+        << ".\n";
   m_header = out.str();
   m_description = "random flat of " + std::to_string(m_p.rooms) + " rooms " + num(m_w) + " x " +
                   num(m_d) + " m, seed " + std::to_string(m_p.seed);
@@ -1514,8 +1514,8 @@ void Generator::drawSize() {
   Rng size_rng(m_p.seed ^ 0xBE5466CF34E90C6Cull);
   const int k = flatRowRooms(m_p.rooms);
   m_p.width_m = r1(size_rng.uniform(std::max(8.0, 3.6 * k), 14.0));
-  m_p.depth_m = flatRows(m_p.rooms) == 2 ? r1(size_rng.uniform(9.0, 11.0))
-                                         : r1(size_rng.uniform(6.0, 10.0));
+  m_p.depth_m =
+      flatRows(m_p.rooms) == 2 ? r1(size_rng.uniform(9.0, 11.0)) : r1(size_rng.uniform(6.0, 10.0));
 }
 
 GeneratedWorld Generator::run() {
