@@ -6,7 +6,8 @@
 //                   [--seed N] [--noise on|off] [--camera preset]
 //   rasm sim info <world>
 //   rasm sim make-models [dir]
-//   rasm sim generate <out.yaml> --seed N [--size WxD] [--kind office|lab|mixed]
+//   rasm sim generate <out.yaml> --seed N [--size WxD] [--kind office|lab|mixed|break_room]
+//                     [--layout room|flat] [--rooms N] [--plain-walls N]
 //                     [--trajectories DIR_OR_PREFIX] [--fast]
 //   rasm sim check-map <world> <map.ply> [--max-dist-m 0.05] [--cap-m 0.5] [--stable-only]
 //                      [--json out.json]
@@ -53,7 +54,8 @@ const char* kUsage =
     "                  [--seed N] [--noise on|off] [--camera preset]\n"
     "  rasm sim info <world>\n"
     "  rasm sim make-models [dir]\n"
-    "  rasm sim generate <out.yaml> --seed N [--size WxD] [--kind office|lab|mixed]\n"
+    "  rasm sim generate <out.yaml> --seed N [--size WxD] [--kind office|lab|mixed|break_room]\n"
+    "                    [--layout room|flat] [--rooms N] [--plain-walls N]\n"
     "                    [--trajectories DIR_OR_PREFIX] [--fast]\n"
     "  rasm sim check-map <world> <map.ply> [--max-dist-m 0.05] [--cap-m 0.5] [--stable-only]\n"
     "                     [--json out.json]\n"
@@ -249,8 +251,25 @@ void parseSize(const std::string& s, double& w, double& d) {
     rasm::throwInputError("--size " + s, "expected WxD in metres, e.g. 7x5 or 6.5x4.8");
 }
 
+/// An integer option (`--rooms`, `--plain-walls`) within [lo, hi]; `expected` says what it is.
+int parseIntOption(const Parsed& p, const std::string& key, int lo, int hi,
+                   const std::string& expected) {
+  const std::string& v = p.options.at(key);
+  std::size_t used = 0;
+  int n = 0;
+  try {
+    n = std::stoi(v, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != v.size() || n < lo || n > hi)
+    rasm::throwInputError("--" + key + " " + v, "expected " + expected);
+  return n;
+}
+
 int cmdGenerate(const Args& args) {
-  const Parsed p = parse(args, {"seed", "size", "kind", "trajectories"}, {"fast"});
+  const Parsed p = parse(
+      args, {"seed", "size", "kind", "layout", "rooms", "plain-walls", "trajectories"}, {"fast"});
   if (p.positional.size() != 1)
     rasm::throwInputError("rasm sim generate", "expected one <out.yaml>\n" + std::string(kUsage));
   if (!p.options.count("seed"))
@@ -261,6 +280,17 @@ int cmdGenerate(const Args& args) {
   if (p.options.count("size")) parseSize(p.options.at("size"), wp.width_m, wp.depth_m);
   if (p.options.count("kind"))
     wp.kind = rasm::sim::roomKindFromName(p.options.at("kind"), "--kind");
+  if (p.options.count("layout"))
+    wp.layout = rasm::sim::worldLayoutFromName(p.options.at("layout"), "--layout");
+  if (p.options.count("rooms")) {
+    if (wp.layout != rasm::sim::WorldLayout::Flat)
+      rasm::throwInputError("--rooms " + p.options.at("rooms"),
+                            "only with --layout flat (the room layout is one room)");
+    wp.rooms = parseIntOption(p, "rooms", 2, 5, "2 to 5 rooms in a flat");
+  }
+  if (p.options.count("plain-walls"))
+    wp.plain_walls = parseIntOption(p, "plain-walls", 0, 2,
+                                    "0, 1 or 2 (long sides of each room left without furniture)");
   wp.validate();
   const std::string traj = p.options.count("trajectories") ? p.options.at("trajectories") : "";
   const rasm::sim::GenerateFilesResult r =

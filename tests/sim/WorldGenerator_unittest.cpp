@@ -3,7 +3,10 @@
 // is free, the robot loop starts collision-free and drives without colliding while the camera
 // sees geometry, the hand-held keyframes look at things 1-3 m away and every hand-held frame sees
 // objects and furniture with normals in three directions, the fast variant peaks at 120-150
-// deg/s about each camera axis, bad sizes and kinds fail naming the option.
+// deg/s about each camera axis, bad sizes and kinds fail naming the option. Flats: every room is
+// reachable from the hallway through its doorway (and only through it), footprints keep off the
+// doorways and each other, the robot starts in the hallway; plain sides stay bare and break rooms
+// have their counter; the room layout's text is what it was before flats existed.
 #include "rasm/sim/WorldGenerator.h"
 
 #include <gtest/gtest.h>
@@ -15,9 +18,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <queue>
 #include <sstream>
 
 #include "rasm/core/Error.h"
+#include "rasm/sim/OccupancyRaster.h"
 #include "rasm/sim/RayScene.h"
 #include "rasm/sim/RgbdSensor.h"
 #include "rasm/sim/SimClasses.h"
@@ -252,7 +257,7 @@ TEST(WorldGenerator, BadSizeAndKindNameTheOption) {
     ADD_FAILURE();
   } catch (const rasm::InputError& ex) {
     EXPECT_NE(std::string(ex.what()).find("--kind kitchen"), std::string::npos) << ex.what();
-    EXPECT_NE(std::string(ex.what()).find("office, lab or mixed"), std::string::npos);
+    EXPECT_NE(std::string(ex.what()).find("office, lab, mixed or break_room"), std::string::npos);
   }
   // The smallest room still gets furniture and a free area.
   const GeneratedWorld small = generateWorld(params(2, RoomKind::Office, 3, 3));
@@ -512,4 +517,331 @@ TEST(TrajectoryGenerator, DISABLED_SurveyOverSeeds) {
         kind_names[kind], worst_of_kind[kind].frames, worst_of_kind[kind].valid4,
         worst_of_kind[kind].object, worst_of_kind[kind].eig,
         worst_of_kind[kind].frames_below_object);
+}
+
+// ---- flats, plain walls, counters ---------------------------------------------------------------
+
+namespace {
+
+TWorldGenParams flatParams(std::uint64_t seed, int rooms, RoomKind kind = RoomKind::Mixed) {
+  TWorldGenParams p = params(seed, kind);
+  p.layout = WorldLayout::Flat;
+  p.rooms = rooms;
+  return p;
+}
+
+/// 64-bit FNV-1a of a text (the same on every platform).
+std::uint64_t fnv1a(const std::string& s) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 0x100000001b3ull;
+  }
+  return h;
+}
+
+/// Where a disc robot's centre may be, on a lattice over the world: the disc clears the world's
+/// geometry in the robot's height band (the collision raster of SimulatedDiffDriveRobot).
+struct FreeLattice {
+  double x0 = 0, y0 = 0, step = 0.05;
+  int nx = 0, ny = 0;
+  std::vector<std::uint8_t> free;
+  FreeLattice(const World& w, double radius_m) {
+    const OccupancyRaster raster(w, 0.03f, 0.6f, 0.02f);
+    const Eigen::AlignedBox3f b = w.bounds();
+    x0 = b.min().x();
+    y0 = b.min().y();
+    nx = int((b.max().x() - x0) / step) + 1;
+    ny = int((b.max().y() - y0) / step) + 1;
+    free.assign(std::size_t(nx) * ny, 0);
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        free[std::size_t(j) * nx + i] =
+            raster.collidesDisc(Eigen::Vector2f(float(x0 + i * step), float(y0 + j * step)),
+                                float(radius_m))
+                ? 0
+                : 1;
+  }
+  int index(double x, double y) const {
+    const int i = int(std::lround((x - x0) / step)), j = int(std::lround((y - y0) / step));
+    return i < 0 || j < 0 || i >= nx || j >= ny ? -1 : j * nx + i;
+  }
+  bool freeAt(double x, double y) const {
+    const int k = index(x, y);
+    return k >= 0 && free[std::size_t(k)];
+  }
+  /// 4-connected flood fill from (x, y), never entering `blocked` (when given).
+  std::vector<std::uint8_t> reach(double x, double y, const GenRect* blocked = nullptr) const {
+    std::vector<std::uint8_t> seen(free.size(), 0);
+    std::queue<int> q;
+    const int s = index(x, y);
+    if (s < 0 || !free[std::size_t(s)]) return seen;
+    seen[std::size_t(s)] = 1;
+    q.push(s);
+    while (!q.empty()) {
+      const int k = q.front();
+      q.pop();
+      const int i = k % nx, j = k / nx;
+      const int nb[4][2] = {{i + 1, j}, {i - 1, j}, {i, j + 1}, {i, j - 1}};
+      for (const auto& n : nb) {
+        if (n[0] < 0 || n[1] < 0 || n[0] >= nx || n[1] >= ny) continue;
+        const int m = n[1] * nx + n[0];
+        if (seen[std::size_t(m)] || !free[std::size_t(m)]) continue;
+        if (blocked && blocked->contains(x0 + n[0] * step, y0 + n[1] * step)) continue;
+        seen[std::size_t(m)] = 1;
+        q.push(m);
+      }
+    }
+    return seen;
+  }
+};
+
+GenRect centreOf(const GenRect& r) {
+  const double x = 0.5 * (r.x0 + r.x1), y = 0.5 * (r.y0 + r.y1);
+  return {x, y, x, y};
+}
+
+}  // namespace
+
+// Recorded with the generator before flats, break rooms and plain walls existed: the room layout
+// must keep giving these texts byte for byte (its trajectories were compared the same way).
+TEST(WorldGenerator, RoomLayoutTextIsUnchanged) {
+  struct Case {
+    std::uint64_t seed;
+    RoomKind kind;
+    double w, d;
+    std::uint64_t fnv;
+  };
+  const Case cases[] = {{1, RoomKind::Mixed, 0, 0, 0x237a495ffca37dabull},
+                        {7, RoomKind::Mixed, 0, 0, 0x24484548ed484155ull},
+                        {1001, RoomKind::Mixed, 0, 0, 0x3f417715ed940841ull},
+                        {2, RoomKind::Office, 6, 5, 0xf9ca0360882e230aull},
+                        {3, RoomKind::Lab, 0, 0, 0x0e2d2f42e4201ffcull},
+                        {5, RoomKind::Mixed, 12, 9, 0x7272a0f077a1f652ull}};
+  for (const Case& c : cases) {
+    const GeneratedWorld g = generateWorld(params(c.seed, c.kind, c.w, c.d));
+    EXPECT_EQ(fnv1a(g.yaml), c.fnv) << g.name;
+    ASSERT_EQ(g.rooms.size(), 1u);
+    EXPECT_EQ(g.rooms[0].free_area.x0, g.free_area.x0);
+    EXPECT_TRUE(g.rooms[0].plain_sides.empty());
+    EXPECT_EQ(g.rooms[0].counter_side, -1);
+  }
+}
+
+TEST(WorldGenerator, FlatRoomsAreReachableFromTheHallwayThroughTheirDoorways) {
+  for (int n = 2; n <= 5; ++n) {
+    // A flat of break rooms (plain sides, counters) and a mixed one of each size.
+    TWorldGenParams fp = flatParams(std::uint64_t(20 + n), n, RoomKind::BreakRoom);
+    if (n % 2 == 0) fp.kind = RoomKind::Mixed;
+    const GeneratedWorld g = generateWorld(fp);
+    ASSERT_EQ(int(g.rooms.size()), n) << g.name;
+    const World w = loadWorldFromString(g.yaml, g.name);
+    EXPECT_GE(g.params.width_m, 8.0);
+    EXPECT_LE(g.params.width_m, 14.0);
+    const FreeLattice lat(w, g.params.robot_radius_m);
+    // The free-space description is free.
+    for (const GenRect& r : g.robot_free)
+      for (double x = r.x0; x <= r.x1 + 1e-9; x += 0.1)
+        for (double y = r.y0; y <= r.y1 + 1e-9; y += 0.1)
+          EXPECT_TRUE(lat.freeAt(x, y)) << g.name << " (" << x << ", " << y << ")";
+    const GenRect start = centreOf(g.free_area);
+    ASSERT_TRUE(g.hallway.contains(start.x0, start.y0));
+    const std::vector<std::uint8_t> all = lat.reach(start.x0, start.y0);
+    for (const GeneratedWorld::Room& room : g.rooms) {
+      EXPECT_GE(room.doorway.width(), 0.9 - 1e-9) << room.name;
+      EXPECT_GE(room.interior.width(), 3.0) << g.name << " " << room.name;
+      EXPECT_GE(room.interior.depth(), 3.0) << g.name << " " << room.name;
+      const GenRect c = centreOf(room.free_area), d = centreOf(room.doorway);
+      const int kc = lat.index(c.x0, c.y0), kd = lat.index(d.x0, d.y0);
+      ASSERT_GE(kc, 0);
+      ASSERT_GE(kd, 0);
+      EXPECT_TRUE(all[std::size_t(kc)]) << g.name << ": " << room.name << " unreachable";
+      EXPECT_TRUE(all[std::size_t(kd)]) << g.name << ": " << room.name << "'s doorway";
+      // Through the doorway, not another way: with the doorway closed the room is cut off.
+      const std::vector<std::uint8_t> closed = lat.reach(start.x0, start.y0, &room.doorway);
+      EXPECT_FALSE(closed[std::size_t(kc)]) << g.name << ": " << room.name << " has another way";
+    }
+  }
+}
+
+TEST(WorldGenerator, FlatFootprintsKeepOffDoorwaysAndEachOther) {
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    TWorldGenParams fp = flatParams(seed, 2 + int(seed % 4));
+    if (seed % 3 == 0) fp.plain_walls = 2;
+    const GeneratedWorld g = generateWorld(fp);
+    const World w = loadWorldFromString(g.yaml, g.name);
+    std::vector<std::pair<std::string, GenRect>> feet;
+    for (const auto& p : g.placements) {
+      if (p.rest == GeneratedWorld::Rest::Structure) continue;
+      const Eigen::AlignedBox3f b = objectOf(w, p.id).worldMesh().bounds();
+      const GenRect r{b.min().x(), b.min().y(), b.max().x(), b.max().y()};
+      // In one room (the flat's door: in the hallway).
+      bool inside = g.hallway.contains(r.x0 + 1e-3, r.y0 + 1e-3) &&
+                    g.hallway.contains(r.x1 - 1e-3, r.y1 - 1e-3);
+      for (const auto& room : g.rooms)
+        inside = inside || (room.interior.contains(r.x0 + 1e-3, r.y0 + 1e-3) &&
+                            room.interior.contains(r.x1 - 1e-3, r.y1 - 1e-3));
+      EXPECT_TRUE(inside) << g.name << ": " << p.id << " " << p.name;
+      // Nothing within 0.6 m of a doorway, either side of the wall.
+      for (const auto& room : g.rooms) {
+        const GenRect door{room.doorway.x0, room.doorway.y0 - 0.6, room.doorway.x1,
+                           room.doorway.y1 + 0.6};
+        EXPECT_FALSE(door.overlaps(r))
+            << g.name << ": " << p.id << " " << p.name << " in " << room.name << "'s doorway";
+      }
+      if (p.furniture) feet.emplace_back(std::to_string(p.id) + " " + p.name, r);
+    }
+    EXPECT_GE(feet.size(), 4u * g.rooms.size()) << g.name;
+    for (std::size_t i = 0; i < feet.size(); ++i)
+      for (std::size_t j = i + 1; j < feet.size(); ++j) {
+        const GenRect &a = feet[i].second, &b = feet[j].second;
+        const bool overlap =
+            a.x0 < b.x1 - 1e-3 && b.x0 < a.x1 - 1e-3 && a.y0 < b.y1 - 1e-3 && b.y0 < a.y1 - 1e-3;
+        EXPECT_FALSE(overlap) << g.name << ": " << feet[i].first << " and " << feet[j].first;
+      }
+  }
+}
+
+TEST(WorldGenerator, FlatFilesAreByteIdenticalAndTheRobotStartsInTheHallway) {
+  TempDir t1("flat1"), t2("flat2");
+  const TWorldGenParams p = flatParams(4, 3);
+  const GenerateFilesResult r1 = generateWorldFiles(p, (t1.path / "flat.yaml").string());
+  const GenerateFilesResult r2 = generateWorldFiles(p, (t2.path / "flat.yaml").string());
+  EXPECT_EQ(readFile(r1.world_path), readFile(r2.world_path));
+  for (const char* f : {"flat_handheld.yaml", "flat_robot.yaml"})
+    EXPECT_EQ(readFile(t1.path / f), readFile(t2.path / f)) << f;
+  EXPECT_NE(readFile(r1.world_path), generateWorld(flatParams(5, 3)).yaml);
+
+  const GeneratedWorld g = generateWorld(p);
+  const World w = loadWorldFromString(g.yaml, g.name);
+  const RayScene scene(w);
+  const TrajectorySpec robot = loadTrajectorySpec((t1.path / "flat_robot.yaml").string());
+  EXPECT_TRUE(g.hallway.contains(robot.start_pose.x(), robot.start_pose.y()));
+  TRobotParams rp;
+  applyParamOverrides(rp, "sim_robot", robot.robot_overrides, "robot");
+  EXPECT_NO_THROW(SimulatedDiffDriveRobot(scene, rp, robot.start_pose, 1));
+  // The hand-held keyframes stand in one room, away from its walls.
+  const TrajectorySpec hand = loadTrajectorySpec((t1.path / "flat_handheld.yaml").string());
+  ASSERT_FALSE(hand.keyframes.empty());
+  int room_of_first = -1;
+  for (const auto& k : hand.keyframes) {
+    const Eigen::Vector3d q = k.T_world_cam.translation();
+    int in = -1;
+    for (std::size_t i = 0; i < g.rooms.size(); ++i) {
+      const GenRect& r = g.rooms[i].interior;
+      if (q.x() > r.x0 + 0.3 && q.x() < r.x1 - 0.3 && q.y() > r.y0 + 0.3 && q.y() < r.y1 - 0.3)
+        in = int(i);
+    }
+    EXPECT_GE(in, 0) << "keyframe at " << q.transpose();
+    if (room_of_first < 0) room_of_first = in;
+    EXPECT_EQ(in, room_of_first);
+  }
+}
+
+TEST(WorldGenerator, PlainSidesStayBareAndBreakRoomsHaveTheirCounter) {
+  struct Case {
+    std::uint64_t seed;
+    RoomKind kind;
+    int plain;  ///< requested; -1: drawn (break rooms 1-2)
+  };
+  const Case cases[] = {{1, RoomKind::BreakRoom, -1}, {2, RoomKind::BreakRoom, -1},
+                        {3, RoomKind::BreakRoom, 1},  {4, RoomKind::BreakRoom, 2},
+                        {5, RoomKind::Office, 2},     {6, RoomKind::Mixed, 1}};
+  for (const Case& c : cases) {
+    TWorldGenParams p = params(c.seed, c.kind);
+    p.plain_walls = c.plain;
+    const GeneratedWorld g = generateWorld(p);
+    EXPECT_EQ(g.yaml, generateWorld(p).yaml);
+    const World w = loadWorldFromString(g.yaml, g.name);
+    ASSERT_EQ(g.rooms.size(), 1u);
+    const GeneratedWorld::Room& room = g.rooms[0];
+    const std::size_t want = c.plain >= 0 ? std::size_t(c.plain) : room.plain_sides.size();
+    EXPECT_EQ(room.plain_sides.size(), want) << g.name;
+    EXPECT_GE(room.plain_sides.size(), c.kind == RoomKind::BreakRoom ? 1u : 0u) << g.name;
+    // Plain sides are long sides, and nothing stands or hangs within 0.3 m of them.
+    const bool along_x = room.interior.width() >= room.interior.depth();
+    for (int s : room.plain_sides) {
+      EXPECT_EQ(s % 2, along_x ? 0 : 1) << g.name << " side " << s;
+      for (const auto& pl : g.placements) {
+        if (pl.rest == GeneratedWorld::Rest::Structure) continue;
+        const Eigen::AlignedBox3f b = objectOf(w, pl.id).worldMesh().bounds();
+        const double gap = s == 0   ? b.min().y() - room.interior.y0
+                           : s == 1 ? room.interior.x1 - b.max().x()
+                           : s == 2 ? room.interior.y1 - b.max().y()
+                                    : b.min().x() - room.interior.x0;
+        EXPECT_GE(gap, 0.3 - 1e-3) << g.name << ": " << pl.name << " against plain side " << s;
+      }
+    }
+    // Break rooms: one bare box of a uniform colour, 0.9 m high and 0.6 m deep, against a wall
+    // that is not plain, 3-5 m long (or the wall's length less 0.2 m).
+    int counters = 0;
+    for (const auto& pl : g.placements) {
+      if (pl.name.rfind("counter", 0) != 0) continue;
+      ++counters;
+      const WorldObject& o = objectOf(w, pl.id);
+      const Eigen::AlignedBox3f b = o.worldMesh().bounds();
+      EXPECT_NEAR(b.max().z(), 0.9, 1e-3);
+      const bool along_wall_x = room.counter_side % 2 == 0;
+      const double len = along_wall_x ? b.max().x() - b.min().x() : b.max().y() - b.min().y();
+      const double depth = along_wall_x ? b.max().y() - b.min().y() : b.max().x() - b.min().x();
+      const double wall = along_wall_x ? room.interior.width() : room.interior.depth();
+      EXPECT_NEAR(depth, 0.6, 1e-3) << g.name;
+      // Plain sides at its ends keep it kPlainKeep (0.3 m) shorter; it shrinks in 0.3 m steps.
+      double usable = wall;
+      for (int s : room.plain_sides) usable -= s % 2 != room.counter_side % 2 ? 0.3 : 0.0;
+      EXPECT_GE(len, std::min(3.0, usable - 0.5) - 1e-3) << g.name;
+      EXPECT_LE(len, 5.0 + 1e-3) << g.name;
+      EXPECT_TRUE(o.material.pattern == Pattern::Solid) << g.name;
+      for (const auto& other : g.placements)
+        EXPECT_FALSE(other.rest == GeneratedWorld::Rest::Surface && other.support_id == pl.id)
+            << g.name << ": " << other.name << " on the counter";
+      EXPECT_EQ(std::count(room.plain_sides.begin(), room.plain_sides.end(), room.counter_side), 0);
+    }
+    EXPECT_EQ(counters, c.kind == RoomKind::BreakRoom ? 1 : 0) << g.name;
+    EXPECT_EQ(room.counter_side >= 0, c.kind == RoomKind::BreakRoom) << g.name;
+  }
+  // In a flat, --plain-walls applies to every room.
+  TWorldGenParams fp = flatParams(3, 4);
+  fp.plain_walls = 2;
+  for (const auto& room : generateWorld(fp).rooms) EXPECT_EQ(room.plain_sides.size(), 2u);
+}
+
+TEST(WorldGenerator, BadLayoutOptionsNameTheOption) {
+  auto error = [](const TWorldGenParams& p) {
+    try {
+      generateWorld(p);
+    } catch (const rasm::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  std::string e = error(flatParams(1, 1));
+  EXPECT_NE(e.find("--rooms 1"), std::string::npos) << e;
+  EXPECT_NE(e.find("expected 2 to 5 rooms"), std::string::npos) << e;
+  EXPECT_NE(error(flatParams(1, 6)).find("--rooms 6"), std::string::npos);
+  TWorldGenParams p = params(1);
+  p.plain_walls = 3;
+  e = error(p);
+  EXPECT_NE(e.find("--plain-walls 3"), std::string::npos) << e;
+  EXPECT_NE(e.find("expected 0, 1 or 2"), std::string::npos) << e;
+  p = flatParams(1, 4);
+  p.width_m = 5;
+  p.depth_m = 5;
+  e = error(p);
+  EXPECT_NE(e.find("--size 5x5"), std::string::npos) << e;
+  EXPECT_NE(e.find("too small for a flat of 4 rooms"), std::string::npos) << e;
+  p.width_m = 25;
+  p.depth_m = 10;
+  EXPECT_NE(error(p).find("too large"), std::string::npos);
+  try {
+    worldLayoutFromName("house", "--layout");
+    ADD_FAILURE();
+  } catch (const rasm::InputError& ex) {
+    EXPECT_NE(std::string(ex.what()).find("--layout house"), std::string::npos) << ex.what();
+    EXPECT_NE(std::string(ex.what()).find("room or flat"), std::string::npos);
+  }
+  // A flat of the smallest size the message gives is generated.
+  p.width_m = 6.5;
+  p.depth_m = 8.4;
+  EXPECT_NO_THROW(generateWorld(p));
 }

@@ -231,8 +231,8 @@ class HandheldDrafter {
     m_area = inset(g.free_area, -g.params.robot_radius_m);
     for (const V3& p : g.view_targets)
       if (p.z() > 0.2 && p.z() < 2.3) m_targets.push_back(p);
-    m_w = g.params.width_m;
-    m_d = g.params.depth_m;
+    m_room = g.rooms.empty() ? GenRect{0.0, 0.0, g.params.width_m, g.params.depth_m}
+                             : g.rooms.front().interior;
   }
   const GenRect& area() const { return m_area; }
 
@@ -267,15 +267,17 @@ class HandheldDrafter {
 
   /// Position of a point along the room's perimeter (m, counter-clockwise from the south-west
   /// corner), measured at its nearest wall.
-  double perimeterAt(const V3& p) const {
-    const double ds = p.y(), de = m_w - p.x(), dn = m_d - p.y(), dw = p.x();
+  double perimeterAt(const V3& q) const {
+    const V3 p(q.x() - m_room.x0, q.y() - m_room.y0, q.z());
+    const double w = m_room.width(), d = m_room.depth();
+    const double ds = p.y(), de = w - p.x(), dn = d - p.y(), dw = p.x();
     const double m = std::min({ds, de, dn, dw});
-    if (m == ds) return std::clamp(p.x(), 0.0, m_w);
-    if (m == de) return m_w + std::clamp(p.y(), 0.0, m_d);
-    if (m == dn) return m_w + m_d + std::clamp(m_w - p.x(), 0.0, m_w);
-    return 2 * m_w + m_d + std::clamp(m_d - p.y(), 0.0, m_d);
+    if (m == ds) return std::clamp(p.x(), 0.0, w);
+    if (m == de) return w + std::clamp(p.y(), 0.0, d);
+    if (m == dn) return w + d + std::clamp(w - p.x(), 0.0, w);
+    return 2 * w + d + std::clamp(d - p.y(), 0.0, d);
   }
-  double perimeter() const { return 2 * (m_w + m_d); }
+  double perimeter() const { return 2 * (m_room.width() + m_room.depth()); }
 
   /// A target near perimeter position `s`, random among the nearest few.
   std::optional<V3> targetNear(double s) {
@@ -541,15 +543,44 @@ class HandheldDrafter {
   ViewRule m_rule;
   GenRect m_area;
   std::vector<V3> m_targets;
-  double m_w = 0.0, m_d = 0.0;
+  GenRect m_room;  ///< the room the person walks in
 };
+
+/// The world as the hand-held drafter sees it: one room. In a flat, the room with the most view
+/// targets (the first of those), its free area and its targets.
+GeneratedWorld handheldRoom(const GeneratedWorld& g) {
+  if (g.rooms.size() <= 1) return g;
+  std::size_t best = 0, best_n = 0;
+  for (std::size_t i = 0; i < g.rooms.size(); ++i) {
+    std::size_t n = 0;
+    for (const V3& p : g.view_targets) n += g.rooms[i].interior.contains(p.x(), p.y()) ? 1 : 0;
+    if (n > best_n) {
+      best = i;
+      best_n = n;
+    }
+  }
+  GeneratedWorld r = g;
+  const GeneratedWorld::Room room = g.rooms[best];
+  r.rooms = {room};
+  r.free_area = room.free_area;
+  r.view_targets.clear();
+  for (const V3& p : g.view_targets)
+    if (room.interior.contains(p.x(), p.y())) r.view_targets.push_back(p);
+  return r;
+}
+
+/// The options of `rasm sim generate` beyond --seed that made the world (a flat's layout).
+std::string layoutOptions(const GeneratedWorld& g) {
+  if (g.params.layout != WorldLayout::Flat) return "";
+  return " --layout flat --rooms " + std::to_string(g.params.rooms);
+}
 
 std::string handheldYaml(const std::vector<Key>& keys, const TTrajectoryGenParams& p,
                          const GeneratedWorld& g, const std::string& comment) {
   std::ostringstream o;
   o << "# Random " << (p.fast ? "fast " : "") << "hand-held trajectory for the generated world "
-    << g.name << " (rasm sim generate --seed " << p.seed << (p.fast ? " --fast" : "")
-    << "; schema: docs/sim.md).\n"
+    << g.name << " (rasm sim generate --seed " << p.seed << layoutOptions(g)
+    << (p.fast ? " --fast" : "") << "; schema: docs/sim.md).\n"
     << comment;
   o << "type: handheld\n";
   o << "description: " << (p.fast ? "fast " : "") << "hand-held sweep of " << g.name << "\n";
@@ -624,12 +655,14 @@ std::string robotYaml(const TTrajectoryGenParams& p, const GeneratedWorld& g, co
                       const std::vector<Eigen::Vector2d>& wps, const std::string& comment) {
   std::ostringstream o;
   o << "# Random " << (p.fast ? "fast " : "") << "robot loop for the generated world " << g.name
-    << " (rasm sim generate --seed " << p.seed << (p.fast ? " --fast" : "")
+    << " (rasm sim generate --seed " << p.seed << layoutOptions(g) << (p.fast ? " --fast" : "")
     << "; schema: docs/sim.md).\n"
     << comment;
   o << "type: robot\n";
   o << "description: " << (p.fast ? "robot loop with 90 deg/s turns in place" : "robot loop")
-    << " through the free area of " << g.name << "\n";
+    << (g.params.layout == WorldLayout::Flat ? " along the hallway of "
+                                             : " through the free area of ")
+    << g.name << "\n";
   if (!p.world_ref.empty()) o << "world: " << p.world_ref << "\n";
   o << "rate_hz: " << num(p.rate_hz) << "\n";
   o << "start: {x: " << num(start.x()) << ", y: " << num(start.y())
@@ -663,7 +696,8 @@ GeneratedTrajectory generateHandheldTrajectory(const GeneratedWorld& g, const Wo
   rule.min_object = p.min_object_fraction_handheld;
   rule.min_eig = p.min_normal_eig_handheld;
   Rng rng(p.seed ^ (p.fast ? 0xA4093822299F31D0ull : 0x13198A2E03707344ull));
-  HandheldDrafter drafter(g, scene, rng, view, rule);
+  const GeneratedWorld room = handheldRoom(g);
+  HandheldDrafter drafter(room, scene, rng, view, rule);
   std::vector<Key> best;
   ViewWorst best_view;
   best_view.margin = -2.0;
@@ -833,12 +867,21 @@ GenerateFilesResult generateWorldFiles(const TWorldGenParams& wp, const std::str
   res.world_path = out.string();
   std::size_t statics = 0;
   for (const auto& o : world.objects) statics += o.is_static ? 1 : 0;
-  char line[256];
-  std::snprintf(line, sizeof(line),
-                "%s: %s room %s x %s m, %zu static + %zu objects, free area %s x %s m",
-                res.world_path.c_str(), roomKindName(g.params.kind), num(g.params.width_m).c_str(),
-                num(g.params.depth_m).c_str(), statics, world.objects.size() - statics,
-                num(g.free_area.width(), 2).c_str(), num(g.free_area.depth(), 2).c_str());
+  char line[320];
+  if (g.params.layout == WorldLayout::Flat)
+    std::snprintf(line, sizeof(line),
+                  "%s: %s flat of %d rooms %s x %s m, %zu static + %zu objects, hallway free area "
+                  "%s x %s m",
+                  res.world_path.c_str(), roomKindName(g.params.kind), g.params.rooms,
+                  num(g.params.width_m).c_str(), num(g.params.depth_m).c_str(), statics,
+                  world.objects.size() - statics, num(g.free_area.width(), 2).c_str(),
+                  num(g.free_area.depth(), 2).c_str());
+  else
+    std::snprintf(
+        line, sizeof(line), "%s: %s room %s x %s m, %zu static + %zu objects, free area %s x %s m",
+        res.world_path.c_str(), roomKindName(g.params.kind), num(g.params.width_m).c_str(),
+        num(g.params.depth_m).c_str(), statics, world.objects.size() - statics,
+        num(g.free_area.width(), 2).c_str(), num(g.free_area.depth(), 2).c_str());
   res.summary.push_back(line);
 
   const fs::path traj_dir = fs::path(prefix).parent_path();

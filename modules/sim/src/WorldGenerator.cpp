@@ -20,7 +20,9 @@ RoomKind roomKindFromName(const std::string& name, const std::string& what) {
   if (name == "office") return RoomKind::Office;
   if (name == "lab") return RoomKind::Lab;
   if (name == "mixed") return RoomKind::Mixed;
-  throwInputError(what + " " + name, "unknown room kind; expected office, lab or mixed");
+  if (name == "break_room") return RoomKind::BreakRoom;
+  throwInputError(what + " " + name,
+                  "unknown room kind; expected office, lab, mixed or break_room");
 }
 
 const char* roomKindName(RoomKind kind) {
@@ -29,15 +31,74 @@ const char* roomKindName(RoomKind kind) {
       return "office";
     case RoomKind::Lab:
       return "lab";
+    case RoomKind::BreakRoom:
+      return "break_room";
     case RoomKind::Mixed:
       break;
   }
   return "mixed";
 }
 
+WorldLayout worldLayoutFromName(const std::string& name, const std::string& what) {
+  if (name == "room") return WorldLayout::Room;
+  if (name == "flat") return WorldLayout::Flat;
+  throwInputError(what + " " + name, "unknown layout; expected room or flat");
+}
+
+const char* worldLayoutName(WorldLayout layout) {
+  return layout == WorldLayout::Flat ? "flat" : "room";
+}
+
+namespace {
+
+/// Flat: rows of rooms (one north of the hallway up to 3 rooms, else one either side) and the
+/// most rooms in a row.
+int flatRows(int rooms) {
+  return rooms >= 4 ? 2 : 1;
+}
+int flatRowRooms(int rooms) {
+  return flatRows(rooms) == 2 ? rooms - rooms / 2 : rooms;
+}
+constexpr double kWall_m = 0.1, kMaxHallway_m = 1.8;
+/// Plain sides: nothing stands or hangs within this distance of the wall.
+constexpr double kPlainKeep_m = 0.3;
+
+/// The flat's options and, when given, its size.
+void validateFlat(const TWorldGenParams& p) {
+  if (p.rooms < 2 || p.rooms > 5)
+    throwInputError("--rooms " + std::to_string(p.rooms), "expected 2 to 5 rooms in a flat");
+  if (!(p.doorway_width_m >= 0.9 && p.doorway_width_m <= 1.6))
+    throwInputError("doorway width " + gen::num(p.doorway_width_m),
+                    "expected 0.9-1.6 m (a 0.25 m robot with clearance)");
+  if (p.width_m <= 0.0 && p.depth_m <= 0.0) return;
+  const std::string what = "--size " + gen::num(p.width_m, 2) + "x" + gen::num(p.depth_m, 2);
+  if (!std::isfinite(p.width_m) || !std::isfinite(p.depth_m) || p.width_m <= 0.0 ||
+      p.depth_m <= 0.0)
+    throwInputError(what, "expected two positive sizes in metres, WxD (e.g. 12x8)");
+  const int k = flatRowRooms(p.rooms), rows = flatRows(p.rooms);
+  const double min_w = k * TWorldGenParams::kMinFlatRoom_m + (k - 1) * kWall_m;
+  const double min_d = rows * (TWorldGenParams::kMinFlatRoom_m + kWall_m) + kMaxHallway_m;
+  if (p.width_m < min_w - 1e-9 || p.depth_m < min_d - 1e-9)
+    throwInputError(what, "too small for a flat of " + std::to_string(p.rooms) +
+                              " rooms: expected at least " + gen::num(min_w, 2) + "x" +
+                              gen::num(min_d, 2) + " m (" + std::to_string(k) +
+                              " rooms of at least " + gen::num(TWorldGenParams::kMinFlatRoom_m) +
+                              " m a side in " + (rows == 2 ? "each of two rows" : "a row") +
+                              " beside a hallway of up to " + gen::num(kMaxHallway_m) + " m)");
+  if (std::max(p.width_m, p.depth_m) > TWorldGenParams::kMaxFlatSide_m)
+    throwInputError(what, "too large: each side of a flat must be at most " +
+                              gen::num(TWorldGenParams::kMaxFlatSide_m) + " m");
+}
+
+}  // namespace
+
 void TWorldGenParams::validate() const {
+  if (plain_walls < -1 || plain_walls > 2)
+    throwInputError("--plain-walls " + std::to_string(plain_walls),
+                    "expected 0, 1 or 2 (long sides of each room left without furniture)");
+  if (layout == WorldLayout::Flat) validateFlat(*this);
   const bool drawn = width_m <= 0.0 && depth_m <= 0.0;
-  if (!drawn) {
+  if (!drawn && layout == WorldLayout::Room) {
     const std::string what = "--size " + gen::num(width_m, 2) + "x" + gen::num(depth_m, 2);
     if (!std::isfinite(width_m) || !std::isfinite(depth_m) || width_m <= 0.0 || depth_m <= 0.0)
       throwInputError(what, "expected two positive sizes in metres, WxD (e.g. 7x5)");
@@ -139,6 +200,11 @@ const std::vector<Mat>& cardboardMats() {
 }
 const std::vector<Rgb>& chairColours() {
   static const std::vector<Rgb> v = {{40, 55, 100}, {100, 40, 40}, {60, 60, 60}, {60, 70, 90}};
+  return v;
+}
+const std::vector<Rgb>& counterColours() {
+  static const std::vector<Rgb> v = {
+      {235, 235, 230}, {150, 150, 155}, {170, 140, 100}, {60, 60, 65}};
   return v;
 }
 const std::vector<Mat>& doorMats() {
@@ -260,6 +326,21 @@ double wrapDeg(double a) {
   return a;
 }
 
+/// A room before and after it is furnished: its interior, the bands along its walls, what its
+/// walls may carry, and (flat) its doorway to the hallway.
+struct RoomPlan {
+  GenRect rect;
+  RoomKind kind = RoomKind::Mixed;
+  double budget[4] = {0, 0, 0, 0};  ///< how far furniture may reach into the room from each side
+  Rgb chair;
+  bool plain[4] = {false, false, false, false};
+  int counter_side = -1;
+  int hall_side = -1;     ///< flat: the side open to the hallway (0 south or 2 north)
+  double door_x = 0.0;    ///< flat: the doorway's centre (world x)
+  std::size_t first = 0;  ///< its first entry
+  GenRect free_area, counter;
+};
+
 class Generator {
  public:
   explicit Generator(const TWorldGenParams& p) : m_p(p), m_rng(p.seed) {}
@@ -267,6 +348,25 @@ class Generator {
   GeneratedWorld run();
 
  private:
+  // layouts
+  void drawSize();
+  void runRoom(GeneratedWorld& g);
+  void runFlat(GeneratedWorld& g);
+  std::vector<RoomPlan> planFlatRooms(double hy0, double hy1);
+  void setSides(const GenRect& r);
+  RoomPlan planRoom(const GenRect& r, RoomKind kind);
+  void planPlainSides(RoomPlan& p, int n);
+  void planDoorway(RoomPlan& p);
+  Box3 doorwayKeepout(const RoomPlan& p) const;
+  void enterRoom(const RoomPlan& p);
+  void addStructure(const std::string& name, const char* cls, Shape sh, V3 pos, const Mat& mat);
+  void roomStructure(const RoomPlan& p);
+  void flatStructure(const std::vector<RoomPlan>& plans, double hy0, double hy1);
+  void furnish(RoomPlan& p);
+  GenRect freeAreaOf(std::size_t first) const;
+  GeneratedWorld::Room roomOf(const RoomPlan& p, int index) const;
+  void writeYaml(GeneratedWorld& g);
+
   // geometry
   const TriangleMesh& mesh(const Shape& s);
   Eigen::Matrix3d linear(const Entry& e) const;
@@ -286,7 +386,8 @@ class Generator {
   bool placeOnRandom(const Surface& s, Entry e, int tries = 25);
 
   // units
-  void door();
+  void door(int side);
+  bool counterUnit(int side, GenRect& footprint);
   bool deskUnit(int side, int style);
   bool shelfUnit(int side, bool lab);
   bool cabinetUnit(int side);
@@ -306,6 +407,9 @@ class Generator {
   TWorldGenParams m_p;
   Rng m_rng;
   double m_w = 0, m_d = 0, m_h = 2.7, m_c = 0.6;
+  GenRect m_room;  ///< the room being furnished (the flat's hallway while its door is placed)
+  RoomKind m_kind = RoomKind::Mixed;
+  std::string m_header, m_description;  ///< of the file: comment lines, `description:`
   Side m_sides[4];
   double m_budget[4] = {0, 0, 0, 0};
   std::vector<Entry> m_e;
@@ -387,8 +491,8 @@ void Generator::poseOnSide(Entry& e, int side, double v, double u, double yaw_lo
 }
 
 bool Generator::insideRoom(const Box3& b, double m) const {
-  return b.lo.x() >= m && b.lo.y() >= m && b.hi.x() <= m_w - m && b.hi.y() <= m_d - m &&
-         b.hi.z() <= m_h - 0.05;
+  return b.lo.x() >= m_room.x0 + m && b.lo.y() >= m_room.y0 + m && b.hi.x() <= m_room.x1 - m &&
+         b.hi.y() <= m_room.y1 - m && b.hi.z() <= m_h - 0.05;
 }
 
 double Generator::inward(const Box3& b, int side) const {
@@ -457,8 +561,7 @@ bool Generator::placeOnRandom(const Surface& s, Entry e, int tries) {
 
 // ---- units against the walls --------------------------------------------------------------------
 
-void Generator::door() {
-  const int side = m_rng.index(4);
+void Generator::door(int side) {
   const Side& s = m_sides[side];
   const double u = m_rng.uniform(0.8, s.length - 0.8);
   Entry d;
@@ -600,6 +703,33 @@ bool Generator::cabinetUnit(int side) {
   const int index = commit(c);
   populateCabinet(Surface{index, side, h, gap, gap + d, u - w / 2, u + w / 2, 0.6});
   return true;
+}
+
+/// A kitchen counter: one box of a uniform colour, 0.9 m high, 0.6 m deep, 3-5 m long (shorter
+/// where the wall or what stands along it leaves less room, down to 1.5 m), bare.
+bool Generator::counterUnit(int side, GenRect& footprint) {
+  const Side& s = m_sides[side];
+  const Mat mat = plain(m_rng.pick(counterColours()));
+  for (double len = r1(std::min(m_rng.uniform(3.0, 5.0), s.length - 0.2)); len >= 1.5;
+       len = r1(len - 0.3)) {
+    for (int t = 0; t < 20; ++t) {
+      Entry c;
+      c.is_static = true;
+      c.cls = "none";
+      c.furniture = true;
+      c.side = side;
+      c.shape = box(0.6, len, 0.9);
+      c.mat = mat;
+      poseOnSide(c, side, 0.01 + 0.3, m_rng.uniform(len / 2 + 0.02, s.length - len / 2 - 0.02), 0.0,
+                 0.0);
+      if (!floorOk(c, {})) continue;
+      c.name = nextName("counter");
+      footprint = c.foot;
+      commit(c);
+      return true;
+    }
+  }
+  return false;
 }
 
 Entry Generator::cardboard(double sx, double sy, double sz) {
@@ -975,82 +1105,140 @@ void Generator::populateCabinet(const Surface& s) {
   }
 }
 
-// ---- the room -----------------------------------------------------------------------------------
+// ---- rooms --------------------------------------------------------------------------------------
 
-GeneratedWorld Generator::run() {
-  m_p.validate();
-  GeneratedWorld g;
-  if (m_p.width_m <= 0.0) {  // drawn from a stream of its own, so --size W x D reproduces it
-    Rng size_rng(m_p.seed ^ 0x243F6A8885A308D3ull);
-    m_p.width_m = r1(size_rng.uniform(5.5, 9.0));
-    m_p.depth_m = r1(size_rng.uniform(4.5, 7.0));
-  }
-  g.params = m_p;
-  m_w = m_p.width_m;
-  m_d = m_p.depth_m;
-  m_h = m_p.height_m;
-  m_c = m_p.robot_radius_m + m_p.clearance_m;
-  m_officeish = m_p.kind != RoomKind::Lab;
-  m_labish = m_p.kind != RoomKind::Office;
-  char name[96];
-  std::snprintf(name, sizeof(name), "gen_%s_%sx%s_s%llu", roomKindName(m_p.kind),
-                num(m_w, 2).c_str(), num(m_d, 2).c_str(), (unsigned long long)m_p.seed);
-  g.name = name;
+void Generator::setSides(const GenRect& r) {
+  m_room = r;
+  const double w = r.x1 - r.x0, d = r.y1 - r.y0;
+  m_sides[0] = {V2(r.x1, r.y0), V2(0, 1), V2(-1, 0), w, 90.0};    // south wall, y = y0
+  m_sides[1] = {V2(r.x1, r.y1), V2(-1, 0), V2(0, -1), d, 180.0};  // east, x = x1
+  m_sides[2] = {V2(r.x0, r.y1), V2(0, -1), V2(1, 0), w, -90.0};   // north, y = y1
+  m_sides[3] = {V2(r.x0, r.y0), V2(1, 0), V2(0, 1), d, 0.0};      // west, x = x0
+}
 
-  m_sides[0] = {V2(m_w, 0), V2(0, 1), V2(-1, 0), m_w, 90.0};      // south wall, y = 0
-  m_sides[1] = {V2(m_w, m_d), V2(-1, 0), V2(0, -1), m_d, 180.0};  // east, x = W
-  m_sides[2] = {V2(0, m_d), V2(0, -1), V2(1, 0), m_w, -90.0};     // north, y = D
-  m_sides[3] = {V2(0, 0), V2(1, 0), V2(0, 1), m_d, 0.0};          // west, x = 0
-  // Band budgets: how far furniture may reach into the room from each wall, so that a free
-  // area of at least max(1 m, 20 % of the side) stays, m_c away from everything.
+/// Band budgets: how far furniture may reach into the room from each wall, so that a free area
+/// of at least max(1 m, 20 % of the side) stays, m_c away from everything; the chairs' colour;
+/// plain sides and the counter's side.
+RoomPlan Generator::planRoom(const GenRect& r, RoomKind kind) {
+  RoomPlan p;
+  p.rect = r;
+  p.kind = kind;
+  setSides(r);
   for (int axis = 0; axis < 2; ++axis) {
-    const double len = axis == 0 ? m_w : m_d;  // axis 0: west/east bands eat into x
+    const double len = axis == 0 ? r.x1 - r.x0 : r.y1 - r.y0;  // west/east bands eat into x
     const double free_min = std::clamp(0.2 * len, 1.0, 2.5);
     const double avail = std::max(0.0, len - 2 * m_c - free_min);
     const double f = m_rng.uniform(0.4, 0.6);
     const int a = axis == 0 ? 3 : 0, b = axis == 0 ? 1 : 2;
-    m_budget[a] = std::min(1.6, avail * f);
-    m_budget[b] = std::min(1.6, avail * (1 - f));
+    p.budget[a] = std::min(1.6, avail * f);
+    p.budget[b] = std::min(1.6, avail * (1 - f));
   }
-  m_chair = m_rng.pick(chairColours());
+  p.chair = m_rng.pick(chairColours());
+  const int plain_sides = m_p.plain_walls >= 0          ? m_p.plain_walls
+                          : kind == RoomKind::BreakRoom ? 1 + m_rng.index(2)
+                                                        : 0;
+  if (plain_sides > 0 || kind == RoomKind::BreakRoom) planPlainSides(p, plain_sides);
+  return p;
+}
 
-  // Structure, as in the shipped worlds: floor and ceiling slabs, walls outside the interior.
+/// Marks `n` long sides plain and, in a break room, picks the counter's side (a long side that is
+/// not plain, else a short one) and widens its band to hold the counter.
+void Generator::planPlainSides(RoomPlan& p, int n) {
+  const bool along_x = p.rect.width() >= p.rect.depth();
+  const int lng[2] = {along_x ? 0 : 1, along_x ? 2 : 3};
+  const int shrt[2] = {along_x ? 1 : 0, along_x ? 3 : 2};
+  const int first = m_rng.index(2);
+  for (int k = 0; k < n; ++k) p.plain[lng[(first + k) % 2]] = true;
+  if (p.kind != RoomKind::BreakRoom) return;
+  const int side = n == 0 ? lng[first] : n == 1 ? lng[1 - first] : shrt[m_rng.index(2)];
+  const int opposite = (side + 2) % 4;
+  const double total = p.budget[side] + p.budget[opposite];
+  p.counter_side = side;
+  p.budget[side] = std::max(p.budget[side], 0.65);
+  p.budget[opposite] =
+      p.plain[opposite] ? 0.0 : std::max(0.0, std::min(p.budget[opposite], total - 0.65));
+}
+
+void Generator::enterRoom(const RoomPlan& p) {
+  setSides(p.rect);
+  for (int s = 0; s < 4; ++s) m_budget[s] = p.budget[s];
+  m_chair = p.chair;
+  m_kind = p.kind;
+  m_officeish = p.kind != RoomKind::Lab;
+  m_labish = p.kind != RoomKind::Office && p.kind != RoomKind::BreakRoom;
+}
+
+void Generator::addStructure(const std::string& name, const char* cls, Shape sh, V3 pos,
+                             const Mat& mat) {
+  Entry e;
+  e.is_static = true;
+  e.name = name;
+  e.cls = cls;
+  e.shape = std::move(sh);
+  e.pos = V3(r3(pos.x()), r3(pos.y()), r3(pos.z()));
+  e.mat = mat;
+  e.rest = Rest::Structure;
+  computeBox(e);
+  commit(e);
+}
+
+/// One room: floor and ceiling slabs, walls outside the interior, as in the shipped worlds; a
+/// plain side's wall keeps its noise texture or turns a uniform colour.
+void Generator::roomStructure(const RoomPlan& p) {
   const Mat floor_mat = m_rng.pick(floorMats());
   const Mat wall_a = m_rng.pick(wallMats());
   const Mat wall_b = m_rng.chance(0.5) ? wall_a : m_rng.pick(wallMats());
   const Mat ceiling = plain(m_rng.chance(0.5) ? Rgb{235, 235, 230} : Rgb{230, 230, 230});
-  auto structure = [&](const char* n, const char* cls, Shape sh, V3 pos, const Mat& mat) {
-    Entry e;
-    e.is_static = true;
-    e.name = n;
-    e.cls = cls;
-    e.shape = std::move(sh);
-    e.pos = V3(r3(pos.x()), r3(pos.y()), r3(pos.z()));
-    e.mat = mat;
-    e.rest = Rest::Structure;
-    computeBox(e);
-    commit(e);
-  };
+  Mat wall[4] = {wall_a, wall_b, wall_a, wall_b};
+  for (int s = 0; s < 4; ++s)
+    if (p.plain[s] && m_rng.chance(0.5)) wall[s] = plain(wall[s].c);
   const double H = m_h;
-  structure("floor", "floor", box(m_w + 0.2, m_d + 0.2, 0.1), V3(m_w / 2, m_d / 2, -0.05),
-            floor_mat);
-  structure("ceiling", "ceiling", box(m_w + 0.2, m_d + 0.2, 0.1), V3(m_w / 2, m_d / 2, H + 0.05),
-            ceiling);
-  structure("wall_south", "wall", box(m_w + 0.2, 0.1, H), V3(m_w / 2, -0.05, H / 2), wall_a);
-  structure("wall_north", "wall", box(m_w + 0.2, 0.1, H), V3(m_w / 2, m_d + 0.05, H / 2), wall_a);
-  structure("wall_west", "wall", box(0.1, m_d, H), V3(-0.05, m_d / 2, H / 2), wall_b);
-  structure("wall_east", "wall", box(0.1, m_d, H), V3(m_w + 0.05, m_d / 2, H / 2), wall_b);
-  door();
+  addStructure("floor", "floor", box(m_w + 0.2, m_d + 0.2, 0.1), V3(m_w / 2, m_d / 2, -0.05),
+               floor_mat);
+  addStructure("ceiling", "ceiling", box(m_w + 0.2, m_d + 0.2, 0.1), V3(m_w / 2, m_d / 2, H + 0.05),
+               ceiling);
+  addStructure("wall_south", "wall", box(m_w + 0.2, 0.1, H), V3(m_w / 2, -0.05, H / 2), wall[0]);
+  addStructure("wall_north", "wall", box(m_w + 0.2, 0.1, H), V3(m_w / 2, m_d + 0.05, H / 2),
+               wall[2]);
+  addStructure("wall_west", "wall", box(0.1, m_d, H), V3(-0.05, m_d / 2, H / 2), wall[3]);
+  addStructure("wall_east", "wall", box(0.1, m_d, H), V3(m_w + 0.05, m_d / 2, H / 2), wall[1]);
+}
 
-  // Furniture against the walls: rejection sampling of units on random walls.
-  const double perimeter = 2 * (m_w + m_d);
+/// The room's furniture: the counter first (break rooms), then units on random sides that are
+/// neither plain nor the counter's (rejection sampling), wall items, clutter along the walls.
+/// Nothing comes within kPlainKeep_m of a plain side (not even from a neighbouring wall's band).
+void Generator::furnish(RoomPlan& p) {
+  for (int s = 0; s < 4; ++s) {
+    if (!p.plain[s]) continue;
+    Box3 k;
+    for (double v : {0.0, kPlainKeep_m})
+      for (double u : {0.0, m_sides[s].length}) {
+        const V2 q = m_sides[s].at(v, u);
+        k.extend(V3(q.x(), q.y(), 0.0));
+        k.extend(V3(q.x(), q.y(), m_h));
+      }
+    m_keepout.push_back(k);
+  }
+  if (p.counter_side >= 0 && !counterUnit(p.counter_side, p.counter)) p.counter_side = -1;
+  std::vector<int> sides;
+  for (int s = 0; s < 4; ++s)
+    if (!p.plain[s] && s != p.counter_side) sides.push_back(s);
+  if (sides.empty()) return;
+  auto randomSide = [&] { return sides[std::size_t(m_rng.index(int(sides.size())))]; };
+  double perimeter = 2 * (m_room.width() + m_room.depth());
+  if (sides.size() < 4) {
+    perimeter = 0.0;
+    for (int s : sides) perimeter += m_sides[s].length;
+  }
   const int target = std::max(3, int(perimeter / 2.1));
   // Weights of desk, table, bench, shelf, cabinet.
   std::vector<double> weights;
-  if (m_p.kind == RoomKind::Office)
+  if (m_kind == RoomKind::Office)
     weights = {0.45, 0.12, 0.0, 0.3, 0.13};
-  else if (m_p.kind == RoomKind::Lab)
+  else if (m_kind == RoomKind::Lab)
     weights = {0.05, 0.0, 0.5, 0.33, 0.12};
+  else if (m_kind == RoomKind::BreakRoom)
+    weights = {0.1, 0.45, 0.0, 0.15, 0.3};
   else
     weights = {0.3, 0.08, 0.22, 0.28, 0.12};
   // A rejected attempt leaves no trace (its names are not used up).
@@ -1062,9 +1250,9 @@ GeneratedWorld Generator::run() {
   };
   int placed = 0;
   for (int k = 0; k < 60 * target && placed < target; ++k) {
-    const int side = m_rng.index(4);
+    const int side = randomSide();
     const int unit = m_rng.weighted(weights);
-    const bool lab_shelf = m_p.kind == RoomKind::Lab || (m_labish && m_rng.chance(0.4));
+    const bool lab_shelf = m_kind == RoomKind::Lab || (m_labish && m_rng.chance(0.4));
     placed += attempt([&] {
       return unit <= 2   ? deskUnit(side, unit)
              : unit == 3 ? shelfUnit(side, lab_shelf)
@@ -1076,7 +1264,7 @@ GeneratedWorld Generator::run() {
   // Wall items, then clutter on the floor along the walls (30 tries each).
   auto tries = [&](auto&& unit) {
     for (int t = 0; t < 30; ++t)
-      if (attempt([&] { return unit(m_rng.index(4)); })) return;
+      if (attempt([&] { return unit(randomSide()); })) return;
   };
   if (m_rng.chance(m_officeish ? 0.85 : 0.6)) tries([this](int s) { return wallItem(s, 0); });
   if (m_rng.chance(m_officeish ? 0.6 : 0.3)) tries([this](int s) { return wallItem(s, 1); });
@@ -1086,12 +1274,16 @@ GeneratedWorld Generator::run() {
   for (int k = 0; k < stacks; ++k) tries([this](int s) { return boxStack(s); });
   const int clutter = 2 + m_rng.index(5);
   for (int k = 0; k < clutter; ++k) tries([this](int s) { return floorClutter(s); });
+}
 
-  // Free area: whatever reaches into the robot's height band (up to 0.6 m) belongs to the band
-  // of the wall it (or what it rests on) was placed against, which it reaches at most ext[side]
-  // into the room (within the band's budget, but for a few cm of a box stacked on another).
+/// Free area of the current room from its entries (from `first` on): whatever reaches into the
+/// robot's height band (up to 0.6 m) belongs to the band of the wall it (or what it rests on) was
+/// placed against, which it reaches at most ext[side] into the room (within the band's budget,
+/// but for a few cm of a box stacked on another).
+GenRect Generator::freeAreaOf(std::size_t first) const {
   double ext[4] = {0, 0, 0, 0};
-  for (const Entry& e : m_e) {
+  for (std::size_t i = first; i < m_e.size(); ++i) {
+    const Entry& e = m_e[i];
     if (e.rest == Rest::Structure || e.box.lo.z() > 0.65) continue;
     int side = e.side;
     for (int s = e.support; side < 0 && s >= 0; s = m_e[std::size_t(s)].support)
@@ -1101,10 +1293,259 @@ GeneratedWorld Generator::run() {
         if (side < 0 || inward(e.box, s) < inward(e.box, side)) side = s;
     ext[side] = std::max(ext[side], inward(e.box, side));
   }
-  g.free_area = {r3(ext[3] + m_c), r3(ext[0] + m_c), r3(m_w - ext[1] - m_c),
-                 r3(m_d - ext[2] - m_c)};
+  return {r3(m_room.x0 + ext[3] + m_c), r3(m_room.y0 + ext[0] + m_c), r3(m_room.x1 - ext[1] - m_c),
+          r3(m_room.y1 - ext[2] - m_c)};
+}
 
-  // Bookkeeping for the trajectories and tests (ids as written: static first).
+GeneratedWorld::Room Generator::roomOf(const RoomPlan& p, int index) const {
+  GeneratedWorld::Room r;
+  r.name = "room_" + std::to_string(index);
+  r.kind = p.kind;
+  r.interior = p.rect;
+  r.free_area = p.free_area;
+  for (int s = 0; s < 4; ++s)
+    if (p.plain[s]) r.plain_sides.push_back(s);
+  r.counter_side = p.counter_side;
+  if (p.counter_side >= 0) r.counter = p.counter;
+  if (p.hall_side >= 0) {
+    const double half = m_p.doorway_width_m / 2;
+    const double y = p.hall_side == 0 ? p.rect.y0 - kWall_m : p.rect.y1;
+    r.doorway = {p.door_x - half, y, p.door_x + half, y + kWall_m};
+  }
+  return r;
+}
+
+void Generator::runRoom(GeneratedWorld& g) {
+  RoomPlan p = planRoom({0.0, 0.0, m_w, m_d}, m_p.kind);
+  enterRoom(p);
+  roomStructure(p);
+  std::vector<int> door_sides;
+  for (int s = 0; s < 4; ++s)
+    if (!p.plain[s] && s != p.counter_side) door_sides.push_back(s);
+  door(door_sides[std::size_t(m_rng.index(int(door_sides.size())))]);
+  p.first = 0;
+  furnish(p);
+  p.free_area = freeAreaOf(0);
+  g.free_area = p.free_area;
+  g.rooms.push_back(roomOf(p, 1));
+  g.robot_free = {g.free_area};
+
+  std::string plain_note;
+  if (m_p.plain_walls >= 0) plain_note = " --plain-walls " + std::to_string(m_p.plain_walls);
+  std::ostringstream out;
+  out << "# rasm simulator world generated by `rasm sim generate <out.yaml> --seed " << m_p.seed
+      << " --size " << num(m_w, 2) << "x" << num(m_d, 2) << " --kind " << roomKindName(m_p.kind)
+      << plain_note
+      << "`\n# (modules/sim/src/WorldGenerator.cpp; schema: docs/sim.md). Regenerate rather than "
+         "edit.\n# Room interior x 0.."
+      << num(m_w) << ", y 0.." << num(m_d) << " m, " << num(m_h)
+      << " m high; the robot's free area (centres) is x " << num(g.free_area.x0) << ".."
+      << num(g.free_area.x1) << ", y " << num(g.free_area.y0) << ".." << num(g.free_area.y1)
+      << ".\n";
+  const char* side_names[4] = {"south", "east", "north", "west"};
+  if (p.counter_side >= 0 || !g.rooms[0].plain_sides.empty()) {
+    out << "# Plain sides:";
+    for (int s : g.rooms[0].plain_sides) out << " " << side_names[s];
+    if (g.rooms[0].plain_sides.empty()) out << " none";
+    if (p.counter_side >= 0)
+      out << "; a counter along the " << side_names[p.counter_side] << " wall";
+    out << ".\n";
+  }
+  m_header = out.str();
+  m_description = "random " + std::string(roomKindName(m_p.kind)) + " room " + num(m_w) + " x " +
+                  num(m_d) + " m, seed " + std::to_string(m_p.seed);
+}
+
+// ---- flats --------------------------------------------------------------------------------------
+
+/// Flat: the doorway's centre on the room's hallway side, where the robot's path from it straight
+/// into the room's free area crosses no band of the room's side walls.
+void Generator::planDoorway(RoomPlan& p) {
+  const double half = m_p.doorway_width_m / 2;
+  const double lo = std::max(p.rect.x0 + p.budget[3] + m_c + 0.1, p.rect.x0 + half + 0.15);
+  const double hi = std::min(p.rect.x1 - p.budget[1] - m_c - 0.1, p.rect.x1 - half - 0.15);
+  p.door_x = r3(lo <= hi ? m_rng.uniform(lo, hi) : 0.5 * (p.rect.x0 + p.rect.x1));
+}
+
+/// What holds that path free, floor to ceiling: the doorway's width plus 0.15 m either side,
+/// through the band of its wall and the clearance to the free area.
+Box3 Generator::doorwayKeepout(const RoomPlan& p) const {
+  const double half = m_p.doorway_width_m / 2 + 0.15;
+  const double depth = p.budget[p.hall_side] + m_c + 0.1;
+  const double y0 = p.hall_side == 0 ? p.rect.y0 : p.rect.y1 - depth;
+  Box3 k;
+  k.extend(V3(p.door_x - half, y0, 0.0));
+  k.extend(V3(p.door_x + half, y0 + depth, m_h));
+  return k;
+}
+
+/// Rooms north of the hallway (y hy1 + wall .. D), and south of it (0 .. hy0 - wall) in a flat of
+/// 4-5; each row split along x at random (every room at least about kMinFlatRoom_m wide).
+std::vector<RoomPlan> Generator::planFlatRooms(double hy0, double hy1) {
+  const int n = m_p.rooms, rows = flatRows(n);
+  const std::vector<RoomKind> kinds = {RoomKind::Office, RoomKind::Lab, RoomKind::Mixed,
+                                       RoomKind::BreakRoom};
+  std::vector<RoomPlan> plans;
+  for (int row = 0; row < rows; ++row) {
+    const int k = row == 0 ? flatRowRooms(n) : n - flatRowRooms(n);
+    const double ya = row == 0 ? hy1 + kWall_m : 0.0, yb = row == 0 ? m_d : hy0 - kWall_m;
+    const double jitter =
+        std::clamp(m_w / k - kWall_m - TWorldGenParams::kMinFlatRoom_m - 0.1, 0.0, 0.6);
+    double xa = 0.0;
+    for (int i = 0; i < k; ++i) {
+      const double xb =
+          i + 1 == k ? m_w
+                     : r3((i + 1) * m_w / k + m_rng.uniform(-0.5, 0.5) * jitter) - kWall_m / 2;
+      const RoomKind kind = m_p.kind == RoomKind::Mixed
+                                ? kinds[std::size_t(m_rng.weighted({0.3, 0.2, 0.2, 0.3}))]
+                                : m_p.kind;
+      RoomPlan p = planRoom({xa, ya, xb, yb}, kind);
+      p.hall_side = row == 0 ? 0 : 2;
+      planDoorway(p);
+      plans.push_back(p);
+      xa = xb + kWall_m;
+    }
+  }
+  return plans;
+}
+
+/// The flat's floor, ceiling and outer walls as a room's; the hallway's walls in segments between
+/// the doorways, a lintel above each doorway (2.05 m up); partitions between neighbouring rooms.
+void Generator::flatStructure(const std::vector<RoomPlan>& plans, double hy0, double hy1) {
+  const Mat floor_mat = m_rng.pick(floorMats());
+  const Mat outer = m_rng.pick(wallMats());
+  const Mat inner = m_rng.chance(0.5) ? outer : m_rng.pick(wallMats());
+  const Mat ceiling = plain(m_rng.chance(0.5) ? Rgb{235, 235, 230} : Rgb{230, 230, 230});
+  const double H = m_h, t = kWall_m, half = m_p.doorway_width_m / 2, lintel = H - 2.05;
+  addStructure("floor", "floor", box(m_w + 0.2, m_d + 0.2, 0.1), V3(m_w / 2, m_d / 2, -0.05),
+               floor_mat);
+  addStructure("ceiling", "ceiling", box(m_w + 0.2, m_d + 0.2, 0.1), V3(m_w / 2, m_d / 2, H + 0.05),
+               ceiling);
+  addStructure("wall_south", "wall", box(m_w + 0.2, t, H), V3(m_w / 2, -t / 2, H / 2), outer);
+  addStructure("wall_north", "wall", box(m_w + 0.2, t, H), V3(m_w / 2, m_d + t / 2, H / 2), outer);
+  addStructure("wall_west", "wall", box(t, m_d, H), V3(-t / 2, m_d / 2, H / 2), outer);
+  addStructure("wall_east", "wall", box(t, m_d, H), V3(m_w + t / 2, m_d / 2, H / 2), outer);
+  int segments = 0, lintels = 0, partitions = 0;
+  for (int hall_side : {0, 2}) {
+    const double wy = hall_side == 0 ? hy1 + t / 2 : hy0 - t / 2;
+    double x = 0.0;
+    const RoomPlan* prev = nullptr;
+    for (const RoomPlan& p : plans) {
+      if (p.hall_side != hall_side) continue;
+      addStructure("wall_hallway_" + std::to_string(++segments), "wall",
+                   box(p.door_x - half - x, t, H), V3((x + p.door_x - half) / 2, wy, H / 2), inner);
+      addStructure("lintel_" + std::to_string(++lintels), "wall", box(2 * half, t, lintel),
+                   V3(p.door_x, wy, H - lintel / 2), inner);
+      x = p.door_x + half;
+      if (prev) {
+        const double b = 0.5 * (prev->rect.x1 + p.rect.x0);
+        addStructure("wall_partition_" + std::to_string(++partitions), "wall",
+                     box(t, p.rect.depth(), H), V3(b, 0.5 * (p.rect.y0 + p.rect.y1), H / 2), inner);
+      }
+      prev = &p;
+    }
+    if (prev)
+      addStructure("wall_hallway_" + std::to_string(++segments), "wall", box(m_w - x, t, H),
+                   V3((x + m_w) / 2, wy, H / 2), inner);
+  }
+}
+
+void Generator::runFlat(GeneratedWorld& g) {
+  const int rows = flatRows(m_p.rooms);
+  const double h = r1(m_rng.uniform(1.4, kMaxHallway_m));
+  const double hy0 = rows == 2 ? r1((m_d - h - 2 * kWall_m) / 2) + kWall_m : 0.0, hy1 = hy0 + h;
+  const GenRect hall{0.0, hy0, m_w, hy1};
+  std::vector<RoomPlan> plans = planFlatRooms(hy0, hy1);
+  flatStructure(plans, hy0, hy1);
+  setSides(hall);  // the flat's door, at an end of the hallway
+  m_budget[1] = m_budget[3] = 0.0;
+  door(m_rng.chance(0.5) ? 1 : 3);
+  for (RoomPlan& p : plans) {
+    enterRoom(p);
+    m_keepout.push_back(doorwayKeepout(p));
+    p.first = m_e.size();
+    furnish(p);
+    p.free_area = freeAreaOf(p.first);
+  }
+  g.hallway = hall;
+  g.free_area = {r3(hall.x0 + m_c), r3(hy0 + m_c), r3(hall.x1 - m_c), r3(hy1 - m_c)};
+  g.robot_free = {g.free_area};
+  for (std::size_t i = 0; i < plans.size(); ++i) {
+    const RoomPlan& p = plans[i];
+    g.rooms.push_back(roomOf(p, int(i) + 1));
+    g.robot_free.push_back(p.free_area);
+    const double ya = p.hall_side == 0 ? g.free_area.y1 : p.free_area.y1;
+    const double yb = p.hall_side == 0 ? p.free_area.y0 : g.free_area.y0;
+    g.robot_free.push_back({p.door_x, ya, p.door_x, yb});
+  }
+
+  std::ostringstream out;
+  out << "# rasm simulator world generated by `rasm sim generate <out.yaml> --seed " << m_p.seed
+      << " --layout flat --rooms " << m_p.rooms << " --size " << num(m_w, 2) << "x" << num(m_d, 2)
+      << " --kind " << roomKindName(m_p.kind)
+      << (m_p.plain_walls >= 0 ? " --plain-walls " + std::to_string(m_p.plain_walls) : "")
+      << "`\n# (modules/sim/src/WorldGenerator.cpp; schema: docs/sim.md). Regenerate rather than "
+         "edit.\n# Flat interior x 0.."
+      << num(m_w) << ", y 0.." << num(m_d) << " m, " << num(m_h) << " m high; hallway y "
+      << num(hy0) << ".." << num(hy1) << ", the robot's free area in it (centres) x "
+      << num(g.free_area.x0) << ".." << num(g.free_area.x1) << ", y " << num(g.free_area.y0) << ".."
+      << num(g.free_area.y1) << ".\n";
+  for (const GeneratedWorld::Room& r : g.rooms)
+    out << "# " << r.name << " (" << roomKindName(r.kind) << "): x " << num(r.interior.x0) << ".."
+        << num(r.interior.x1) << ", y " << num(r.interior.y0) << ".." << num(r.interior.y1)
+        << ", doorway x " << num(r.doorway.x0) << ".." << num(r.doorway.x1) << ", "
+        << r.plain_sides.size() << " plain side(s)" << (r.counter_side >= 0 ? ", a counter" : "")
+        << ".\n";
+  m_header = out.str();
+  m_description = "random flat of " + std::to_string(m_p.rooms) + " rooms " + num(m_w) + " x " +
+                  num(m_d) + " m, seed " + std::to_string(m_p.seed);
+}
+
+// ---- the world ----------------------------------------------------------------------------------
+
+void Generator::drawSize() {
+  if (m_p.width_m > 0.0) return;
+  if (m_p.layout == WorldLayout::Room) {  // a stream of its own, so --size W x D reproduces it
+    Rng size_rng(m_p.seed ^ 0x243F6A8885A308D3ull);
+    m_p.width_m = r1(size_rng.uniform(5.5, 9.0));
+    m_p.depth_m = r1(size_rng.uniform(4.5, 7.0));
+    return;
+  }
+  Rng size_rng(m_p.seed ^ 0xBE5466CF34E90C6Cull);
+  const int k = flatRowRooms(m_p.rooms);
+  m_p.width_m = r1(size_rng.uniform(std::max(8.0, 3.6 * k), 14.0));
+  m_p.depth_m =
+      flatRows(m_p.rooms) == 2 ? r1(size_rng.uniform(9.0, 11.0)) : r1(size_rng.uniform(6.0, 10.0));
+}
+
+GeneratedWorld Generator::run() {
+  m_p.validate();
+  GeneratedWorld g;
+  drawSize();
+  g.params = m_p;
+  m_w = m_p.width_m;
+  m_d = m_p.depth_m;
+  m_h = m_p.height_m;
+  m_c = m_p.robot_radius_m + m_p.clearance_m;
+  char name[128];
+  if (m_p.layout == WorldLayout::Flat)
+    std::snprintf(name, sizeof(name), "gen_flat%d_%s_%sx%s_s%llu", m_p.rooms,
+                  roomKindName(m_p.kind), num(m_w, 2).c_str(), num(m_d, 2).c_str(),
+                  (unsigned long long)m_p.seed);
+  else
+    std::snprintf(name, sizeof(name), "gen_%s_%sx%s_s%llu", roomKindName(m_p.kind),
+                  num(m_w, 2).c_str(), num(m_d, 2).c_str(), (unsigned long long)m_p.seed);
+  g.name = name;
+  if (m_p.layout == WorldLayout::Flat)
+    runFlat(g);
+  else
+    runRoom(g);
+  writeYaml(g);
+  return g;
+}
+
+/// Bookkeeping for the trajectories and tests (ids as written: static first), then the text.
+void Generator::writeYaml(GeneratedWorld& g) {
   std::vector<int> order, ids(m_e.size(), 0);
   for (int pass = 0; pass < 2; ++pass)
     for (int i = 0; i < int(m_e.size()); ++i)
@@ -1139,17 +1580,9 @@ GeneratedWorld Generator::run() {
   }
 
   std::ostringstream out;
-  out << "# rasm simulator world generated by `rasm sim generate <out.yaml> --seed " << m_p.seed
-      << " --size " << num(m_w, 2) << "x" << num(m_d, 2) << " --kind " << roomKindName(m_p.kind)
-      << "`\n# (modules/sim/src/WorldGenerator.cpp; schema: docs/sim.md). Regenerate rather than "
-         "edit.\n# Room interior x 0.."
-      << num(m_w) << ", y 0.." << num(m_d) << " m, " << num(m_h)
-      << " m high; the robot's free area (centres) is x " << num(g.free_area.x0) << ".."
-      << num(g.free_area.x1) << ", y " << num(g.free_area.y0) << ".." << num(g.free_area.y1)
-      << ".\n";
+  out << m_header;
   out << "world: " << g.name << "\n";
-  out << "description: random " << roomKindName(m_p.kind) << " room " << num(m_w) << " x "
-      << num(m_d) << " m, seed " << m_p.seed << "\n";
+  out << "description: " << m_description << "\n";
   const double lx = r3(m_rng.uniform(-0.4, 0.4)), ly = r3(m_rng.uniform(-0.4, 0.4));
   const double amb = r3(m_rng.uniform(0.33, 0.42));
   out << "light: {direction: [" << num(lx) << ", " << num(ly) << ", -1], ambient: " << num(amb)
@@ -1162,7 +1595,6 @@ GeneratedWorld Generator::run() {
         out << entryYaml(m_e[std::size_t(i)], ids[std::size_t(i)]) << "\n";
   }
   g.yaml = out.str();
-  return g;
 }
 
 std::string matYaml(const Mat& m) {

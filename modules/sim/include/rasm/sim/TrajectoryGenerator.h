@@ -5,6 +5,8 @@
 //    peaks of 120-150 deg/s, pivoting around look-at targets on objects and furniture;
 //  - robot: a loop through the world's free area with turns in place; the fast variant turns at
 //    90 deg/s and adds a spur with a 180 deg turn.
+// In a flat (WorldLayout::Flat) the robot loops along the hallway (GeneratedWorld::free_area, so it
+// starts there) and the hand-held camera walks in one room, the one with the most view targets.
 // Every spec is checked before it is returned: the robot is driven through the world by the
 // recorder's own pure pursuit and collision raster (no collision, the loop completes), and the
 // camera's view is ray-cast at a low resolution along the path (enough of each image within
