@@ -25,6 +25,51 @@ std::string writtenAmong(const nlohmann::json& report, std::initializer_list<con
   return list.empty() ? list : " (" + list + ")";
 }
 
+/// The run's accuracy against the ground truth: first the world-frame error (no alignment) when
+/// the run started at the true pose, then the ATE after its SE(3) alignment; nothing without
+/// ground truth.
+void printAccuracy(const rasm::pipeline::RunSummary& s) {
+  const std::size_t tracked_frames = s.frames - s.lost;
+  if (const auto& w = s.world_error) {
+    char tracked[128] = "";
+    if (s.world_error_tracked && s.lost > 0)
+      std::snprintf(tracked, sizeof tracked, " (over the %zu tracked: RMS %.1f cm, max %.1f cm)",
+                    s.world_error_tracked->frames, 100.0 * s.world_error_tracked->rms_m,
+                    100.0 * s.world_error_tracked->max_m);
+    std::printf(
+        "world-frame error (no alignment, against %s): RMS %.1f cm, max %.1f cm; height max %.1f "
+        "cm; tilt max %.2f deg over %zu frames%s\n",
+        s.truth.c_str(), 100.0 * w->rms_m, 100.0 * w->max_m, 100.0 * w->vertical_max_m,
+        w->tilt_max_deg, w->frames, tracked);
+  }
+  if (!s.ate_rmse_m) return;
+  char tracked[96] = "";
+  if (s.ate_tracked_rmse_m && s.lost > 0)
+    std::snprintf(tracked, sizeof tracked, ", %.4f m over the %zu tracked", *s.ate_tracked_rmse_m,
+                  tracked_frames);
+  std::printf(
+      "ATE RMSE %.4f m after SE(3) alignment, over all %zu frames (lost ones at their propagated "
+      "pose)%s\n",
+      *s.ate_rmse_m, s.frames, tracked);
+}
+
+/// The warning of report.json floor_drift: only when the map's floor drifted beyond [robot]
+/// floor_target_* on more than floor_target_max_fraction of the tracked frames.
+void printFloorDrift(const nlohmann::json& report) {
+  const auto f = report.find("floor_drift");
+  if (f == report.end() || !(*f)["drifted"].get<bool>()) return;
+  std::printf(
+      "WARNING: the map's floor drifted: camera height off by %.1f cm (median; max %.1f), tilted "
+      "%.2f deg (median; max %.2f) over %zu tracked frames, %.0f%% of them beyond %.1f cm / %.2f "
+      "deg ([robot] floor_target_*; report.json floor_drift, frames.csv floor_height_m, "
+      "floor_tilt_deg)\n",
+      100.0 * (*f)["height_error_m"]["median"].get<double>(),
+      100.0 * (*f)["height_error_m"]["max"].get<double>(), (*f)["tilt_deg"]["median"].get<double>(),
+      (*f)["tilt_deg"]["max"].get<double>(), (*f)["frames"].get<std::size_t>(),
+      100.0 * (*f)["fraction_beyond_target"].get<double>(),
+      100.0 * (*f)["target_height_m"].get<double>(), (*f)["target_tilt_deg"].get<double>());
+}
+
 int runMain(const std::vector<std::string>& args) {
   using namespace rasm::pipeline;
   std::string ini_path;
@@ -73,13 +118,8 @@ int runMain(const std::vector<std::string>& args) {
   if (gt_poses) {
     std::printf(
         "poses: the source's ground truth ([mapper] poses = groundtruth), not tracked: no ATE\n");
-  } else if (s.ate_rmse_m) {
-    char tracked[96] = "";
-    if (s.ate_tracked_rmse_m && s.lost > 0)
-      std::snprintf(tracked, sizeof tracked, ", %.4f m over the %zu tracked", *s.ate_tracked_rmse_m,
-                    s.frames - s.lost);
-    std::printf("ATE RMSE %.4f m over all %zu frames (lost ones at their propagated pose)%s\n",
-                *s.ate_rmse_m, s.frames, tracked);
+  } else {
+    printAccuracy(s);
   }
   std::printf("outputs in %s\n", s.out_dir.c_str());
   if (const auto seg = s.report.find("segmentation");
@@ -121,12 +161,7 @@ int runMain(const std::vector<std::string>& args) {
         "map holds only "
         "the tracked ones\n",
         lost_pct, s.lost, s.frames);
-  if (s.report.contains("frames_off_floor") && s.report["frames_off_floor"].get<long long>() > 0)
-    std::printf(
-        "WARNING: %lld tracked frames put the robot's camera off the first frame's floor (beyond "
-        "[robot] floor_max_height_m / floor_max_tilt_deg; frames.csv floor_height_m, "
-        "floor_tilt_deg): the map's floor drifted\n",
-        s.report["frames_off_floor"].get<long long>());
+  printFloorDrift(s.report);
   if (s.interrupted_by != 0) {
     std::printf(
         "INTERRUPTED by %s: the outputs hold the %zu frames done (report.json: status "

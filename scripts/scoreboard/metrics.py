@@ -59,6 +59,9 @@ TRACKING = [
     Metric("pos_rms_cm", "unaligned RMS (cm)", ".1f", "low", 0.5, 0.20),
     Metric("z_max_cm", "z max (cm)", ".1f", "low", 0.5, 0.20),
     Metric("z_rms_cm", "z RMS (cm)", ".1f", "low", 0.5, 0.20),
+    # report.json world_frame_error.all.tilt_deg.max: the camera's up direction against the
+    # truth's (roll and pitch, not heading), the floor's tilt.
+    Metric("tilt_max_deg", "tilt max (deg)", ".2f", "low", 0.05, 0.20),
     Metric("unaligned_over_5cm", "unaligned >5 cm", "d", None, pool="sum", md=False),
 ]
 

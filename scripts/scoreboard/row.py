@@ -71,7 +71,8 @@ def tracking(d, rep, m, detail):
     from the ground truth after the ATE alignment of the tracked frames; a robot frame its drift
     report flags off the floor is counted apart), the lost stretches and how they ended, and for
     simulated runs (which start at the true pose) the UNALIGNED world-frame error: max / RMS of
-    the position error and of its z (up) component over every frame."""
+    the position error and of its z (up) component over every frame, and the max tilt (report.json
+    world_frame_error)."""
     m["frames"] = rep.get("frames")
     m["frames_tracked"] = rep.get("frames_tracked")
     m["tracked_fraction"] = rep.get("tracked_fraction")
@@ -145,6 +146,16 @@ def tracking(d, rep, m, detail):
         m["pos_max_cm"], m["pos_rms_cm"] = cm(max_pos), cm(math.sqrt(sq_pos / n))
         m["z_max_cm"], m["z_rms_cm"] = cm(max_z), cm(math.sqrt(sq_z / n))
         m["unaligned_over_5cm"] = drift_big
+        # The run's own world-frame error (report.json, associated as the ATE) adds the tilt; its
+        # position and z errors are the ones computed here from the files.
+        world = rep.get("world_frame_error", {}).get("all", {})
+        if world:
+            m["tilt_max_deg"] = world.get("tilt_deg", {}).get("max")
+            for key, ours in (("position_m", max_pos), ("vertical_m", max_z)):
+                theirs = world.get(key, {}).get("max")
+                if theirs is not None and abs(theirs - ours) > 1e-3:
+                    detail["world_frame_error_mismatch"] = \
+                        f"{key} max: report.json {theirs:.4f} m, trajectory files {ours:.4f} m"
 
     # Lost stretches: [first frame index, frames lost, how the stretch ended (pose_source of the
     # frame that ended it, or "end of run"), frames until the view showed mapped space again].

@@ -192,6 +192,99 @@ TEST(TrajectoryEvaluator, AteNeedsAssociatedPairs) {
   EXPECT_EQ(TrajectoryEvaluator::computeAte(gt, late, off).translation_m.count, gt.size());
 }
 
+// A camera 2 cm too high and tilted by 0.5 deg (a roll about the world's x axis), otherwise on
+// the true path: the world-frame error says exactly that; the SE(3)-aligned ATE of the same pair
+// is ~0, since the alignment lifts the estimate back down.
+TEST(TrajectoryEvaluator, WorldFrameErrorOfAConstantHeightOffsetAndTilt) {
+  const Trajectory gt = wavyTrajectory(0.0, 30.0, 10.0);
+  const Eigen::Matrix3d R_tilt =
+      Eigen::AngleAxisd(0.5 * M_PI / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  Trajectory est = gt;
+  for (auto& p : est) {
+    p.T_world_cam.translation().z() += 0.02;
+    p.T_world_cam.linear() = R_tilt * p.T_world_cam.linear();
+    p.timestamp_s += 0.004;
+  }
+  const WorldFrameError w = TrajectoryEvaluator::computeWorldFrameError(gt, est);
+  EXPECT_EQ(w.position_m.count, gt.size());
+  EXPECT_NEAR(w.position_m.rmse, 0.02, 1e-9);
+  EXPECT_NEAR(w.position_m.max, 0.02, 1e-9);
+  EXPECT_NEAR(w.vertical_m.rmse, 0.02, 1e-9);
+  EXPECT_NEAR(w.vertical_m.max, 0.02, 1e-9);
+  EXPECT_LT(w.horizontal_m.max, 1e-9);
+  EXPECT_NEAR(w.tilt_deg.rmse, 0.5, 1e-9);
+  EXPECT_NEAR(w.tilt_deg.min, 0.5, 1e-9);
+  EXPECT_NEAR(w.tilt_deg.max, 0.5, 1e-9);
+  EXPECT_NEAR(w.start_position_error_m, 0.02, 1e-9);
+  EXPECT_NEAR(w.start_rotation_error_deg, 0.5, 1e-9);
+  EXPECT_FALSE(w.startsAtGroundTruth());
+  EXPECT_LT(TrajectoryEvaluator::computeAte(gt, est).translation_m.max, 1e-6);
+
+  const auto j = toJson(w, WorldFrameOptions{});
+  EXPECT_EQ(j["pairs"].get<std::size_t>(), gt.size());
+  EXPECT_DOUBLE_EQ(j["tilt_deg"]["max"].get<double>(), w.tilt_deg.max);
+  EXPECT_DOUBLE_EQ(j["vertical_m"]["rmse"].get<double>(), w.vertical_m.rmse);
+}
+
+// The whole estimate rotated rigidly about its first position by 0.5 deg of pitch (a tilted
+// floor): the ATE aligns it away; the world-frame error grows with the distance from the start
+// and every frame is tilted by 0.5 deg. A pure heading error is no tilt.
+TEST(TrajectoryEvaluator, WorldFrameErrorSeesATiltTheAlignmentHides) {
+  const Trajectory gt = wavyTrajectory(0.0, 30.0, 10.0);
+  const Eigen::Vector3d p0 = gt.front().T_world_cam.translation();
+  Eigen::Isometry3d T_tilt = Eigen::Isometry3d::Identity();
+  T_tilt.linear() =
+      Eigen::AngleAxisd(0.5 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  T_tilt.translation() = p0 - T_tilt.linear() * p0;  // about the start
+  Trajectory est = gt, yawed = gt;
+  for (auto& p : est) p.T_world_cam = T_tilt * p.T_world_cam;
+  Eigen::Isometry3d T_yaw = Eigen::Isometry3d::Identity();
+  T_yaw.linear() = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  for (auto& p : yawed) p.T_world_cam.linear() = T_yaw.linear() * p.T_world_cam.linear();
+
+  const WorldFrameError w = TrajectoryEvaluator::computeWorldFrameError(gt, est);
+  EXPECT_LT(w.start_position_error_m, 1e-12);
+  EXPECT_NEAR(w.start_rotation_error_deg, 0.5, 1e-9);
+  EXPECT_FALSE(w.startsAtGroundTruth());  // started tilted: not at a known pose
+  EXPECT_NEAR(w.tilt_deg.min, 0.5, 1e-9);
+  EXPECT_NEAR(w.tilt_deg.max, 0.5, 1e-9);
+  double max_m = 0, max_z_m = 0;
+  for (const auto& p : gt) {
+    const Eigen::Vector3d d = T_tilt * p.T_world_cam.translation() - p.T_world_cam.translation();
+    max_m = std::max(max_m, d.norm());
+    max_z_m = std::max(max_z_m, std::abs(d.z()));
+  }
+  EXPECT_NEAR(w.position_m.max, max_m, 1e-12);
+  EXPECT_NEAR(w.vertical_m.max, max_z_m, 1e-12);
+  EXPECT_GT(max_z_m, 0.005);
+  EXPECT_LT(TrajectoryEvaluator::computeAte(gt, est).translation_m.max, 1e-6);
+
+  const WorldFrameError y = TrajectoryEvaluator::computeWorldFrameError(gt, yawed);
+  EXPECT_LT(y.tilt_deg.max, 1e-9);
+  EXPECT_LT(y.position_m.max, 1e-12);
+  EXPECT_NEAR(y.start_rotation_error_deg, 0.1 * 180.0 / M_PI, 1e-9);
+  EXPECT_FALSE(y.startsAtGroundTruth());
+}
+
+TEST(TrajectoryEvaluator, WorldFrameErrorNeedsTwoAssociatedPairs) {
+  const Trajectory gt = wavyTrajectory(0.0, 30.0, 1.0);
+  auto expectError = [&](const Trajectory& est, const char* what) {
+    try {
+      TrajectoryEvaluator::computeWorldFrameError(gt, est);
+      FAIL() << "no error for " << what;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("world-frame error"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("need 2"), std::string::npos) << e.what();
+    }
+  };
+  expectError(wavyTrajectory(50.0, 30.0, 1.0), "mismatched timestamps");
+  expectError(Trajectory(gt.begin(), gt.begin() + 1), "one pose");
+  expectError(Trajectory{}, "no pose");
+  EXPECT_EQ(TrajectoryEvaluator::computeWorldFrameError(gt, Trajectory(gt.begin(), gt.begin() + 2))
+                .position_m.count,
+            2u);
+}
+
 // Estimate = ground truth plus a world-frame drift of v metres per second: every 1 s interval has
 // a relative translation error of exactly |v|, whatever the rotation (E.t = R_j^T v dt).
 TEST(TrajectoryEvaluator, RpeOfConstantVelocityDrift) {

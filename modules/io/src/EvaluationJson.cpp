@@ -23,6 +23,21 @@ nlohmann::json toJson(const AteResult& r, const AteOptions& opt) {
   return j;
 }
 
+nlohmann::json toJson(const WorldFrameError& r, const WorldFrameOptions& opt) {
+  nlohmann::json j;
+  j["metric"] = "world_frame_error";
+  j["pairs"] = r.position_m.count;
+  j["position_m"] = toJson(r.position_m);
+  j["vertical_m"] = toJson(r.vertical_m);
+  j["horizontal_m"] = toJson(r.horizontal_m);
+  j["tilt_deg"] = toJson(r.tilt_deg);
+  j["start_error"] = {{"position_m", r.start_position_error_m},
+                      {"rotation_deg", r.start_rotation_error_deg}};
+  j["options"] = {{"max_dt_s", opt.max_dt_s},
+                  {"up_world", {opt.up_world.x(), opt.up_world.y(), opt.up_world.z()}}};
+  return j;
+}
+
 nlohmann::json toJson(const RpeResult& r, const RpeOptions& opt) {
   nlohmann::json j;
   j["metric"] = "rpe";

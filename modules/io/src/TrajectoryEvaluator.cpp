@@ -3,6 +3,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "rasm/core/Error.h"
@@ -125,6 +126,59 @@ AteResult TrajectoryEvaluator::computeAte(const Trajectory& ground_truth,
   for (std::size_t k = 0; k < p_gt.size(); ++k)
     r.errors_m.push_back((p_gt[k] - (s * R * p_est[k] + t)).norm());
   r.translation_m = ErrorStats::of(r.errors_m);
+  return r;
+}
+
+bool WorldFrameError::startsAtGroundTruth(double max_position_m, double max_rotation_deg) const {
+  return start_position_error_m <= max_position_m && start_rotation_error_deg <= max_rotation_deg;
+}
+
+WorldFrameError TrajectoryEvaluator::computeWorldFrameError(const Trajectory& ground_truth,
+                                                            const Trajectory& estimate,
+                                                            const WorldFrameOptions& opt) {
+  if (!(std::isfinite(opt.max_dt_s) && opt.max_dt_s > 0))
+    throwInputError("world-frame error max_dt_s " + std::to_string(opt.max_dt_s),
+                    "expected a finite association tolerance > 0 s");
+  if (!(opt.up_world.allFinite() && opt.up_world.norm() > 0))
+    throwInputError("world-frame error up_world", "expected a finite non-zero direction");
+  const auto pairs =
+      associateTimestamps(stampsOf(ground_truth), stampsOf(estimate), opt.max_dt_s, 0.0);
+  if (pairs.size() < 2) {
+    std::ostringstream s;
+    s << "only " << pairs.size() << " pose pairs associate within " << opt.max_dt_s
+      << " s (need 2); ground truth: " << span(ground_truth) << "; estimate: " << span(estimate);
+    throwInputError("world-frame error", s.str());
+  }
+  const Eigen::Vector3d up = opt.up_world.normalized();
+  const auto first_est = std::min_element(
+      estimate.begin(), estimate.end(),
+      [](const StampedPose& a, const StampedPose& b) { return a.timestamp_s < b.timestamp_s; });
+  const std::size_t first_j = std::size_t(first_est - estimate.begin());
+  WorldFrameError r;
+  r.start_position_error_m = r.start_rotation_error_deg = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> position, vertical, horizontal, tilt;
+  for (const auto& [i, j] : pairs) {
+    const Eigen::Isometry3d& T_gt = ground_truth[i].T_world_cam;
+    const Eigen::Isometry3d& T_est = estimate[j].T_world_cam;
+    const Eigen::Vector3d d = T_est.translation() - T_gt.translation();
+    const double dz = d.dot(up);
+    position.push_back(d.norm());
+    vertical.push_back(std::abs(dz));
+    horizontal.push_back((d - dz * up).norm());
+    // The up direction in each camera's frame; their angle is the roll and pitch error.
+    const Eigen::Vector3d up_est = T_est.linear().transpose() * up;
+    const Eigen::Vector3d up_gt = T_gt.linear().transpose() * up;
+    tilt.push_back(std::atan2(up_est.cross(up_gt).norm(), up_est.dot(up_gt)) * 180.0 / M_PI);
+    if (j == first_j) {
+      r.start_position_error_m = d.norm();
+      r.start_rotation_error_deg =
+          Eigen::AngleAxisd(T_gt.linear().transpose() * T_est.linear()).angle() * 180.0 / M_PI;
+    }
+  }
+  r.position_m = ErrorStats::of(std::move(position));
+  r.vertical_m = ErrorStats::of(std::move(vertical));
+  r.horizontal_m = ErrorStats::of(std::move(horizontal));
+  r.tilt_deg = ErrorStats::of(std::move(tilt));
   return r;
 }
 

@@ -756,6 +756,57 @@ void MappingRun::addAte(const Accumulated& acc, nlohmann::json& rep, RunSummary&
   };
   sum.ate_rmse_m = ate(acc.estimate, "ate");
   sum.ate_tracked_rmse_m = ate(acc.estimate_tracked, "ate_tracked");
+  addWorldFrameError(acc, groundtruth, rep, sum);
+}
+
+void MappingRun::addWorldFrameError(const Accumulated& acc, const io::Trajectory& groundtruth,
+                                    nlohmann::json& rep, RunSummary& sum) const {
+  if (groundtruth.size() < 2 || acc.estimate.size() < 2) return;
+  const io::WorldFrameOptions wo;
+  sum.truth = !m_source.groundtruth.empty() ? "the ground-truth file"
+              : m_source.type == "sim"      ? "the simulator's truth"
+                                            : "the source's ground truth";
+  nlohmann::json j;
+  j["comment"] =
+      "estimate against " + sum.truth +
+      " in the world frame, without alignment (the run started at the true pose: its first "
+      "estimate within 1 mm and 0.05 deg of the ground truth there); errors: position, height "
+      "(vertical, along up_world), horizontal, tilt (angle between the estimated and the true "
+      "camera's up direction: roll and pitch, not heading)";
+  auto summary = [](const io::WorldFrameError& w) {
+    WorldFrameSummary s;
+    s.frames = w.position_m.count;
+    s.rms_m = w.position_m.rmse;
+    s.max_m = w.position_m.max;
+    s.vertical_max_m = w.vertical_m.max;
+    s.tilt_max_deg = w.tilt_deg.max;
+    return s;
+  };
+  try {
+    const io::WorldFrameError all =
+        io::TrajectoryEvaluator::computeWorldFrameError(groundtruth, acc.estimate, wo);
+    j["started_at_ground_truth"] = all.startsAtGroundTruth();
+    if (!all.startsAtGroundTruth()) {
+      j["comment"] =
+          "not computed: the first estimate is not the ground truth's pose (start_error), so the "
+          "two world frames differ; only the aligned ate compares them";
+      j["start_error"] = {{"position_m", all.start_position_error_m},
+                          {"rotation_deg", all.start_rotation_error_deg}};
+      rep["world_frame_error"] = j;
+      return;
+    }
+    j["all"] = io::toJson(all, wo);
+    sum.world_error = summary(all);
+    if (acc.estimate_tracked.size() >= 2) {
+      const io::WorldFrameError tracked =
+          io::TrajectoryEvaluator::computeWorldFrameError(groundtruth, acc.estimate_tracked, wo);
+      j["tracked"] = io::toJson(tracked, wo);
+      sum.world_error_tracked = summary(tracked);
+    }
+  } catch (const std::exception& e) {
+    j["error"] = e.what();
+  }
+  rep["world_frame_error"] = j;
 }
 
 void MappingRun::finishFrames(Accumulated& acc) {

@@ -90,6 +90,14 @@ const Doc kReport[] = {
     {"frames_off_floor",
      "tracked robot frames whose camera left the first frame's floor "
      "(`[robot] floor_max_height_m` / `floor_max_tilt_deg`)"},
+    {"floor_drift",
+     "robot runs with odometry: the tracked frames' camera against the first frame's floor and "
+     "the mount, no ground truth needed: `frames`, `height_error_m` {median, max} (of "
+     "the absolute floor_height_m), `tilt_deg` {median, max}, `target_height_m`, "
+     "`target_tilt_deg`, "
+     "`max_fraction` (`[robot] floor_target_*`), `frames_beyond_target`, "
+     "`fraction_beyond_target`, `drifted` (fraction_beyond_target > max_fraction: the run's "
+     "warning), `comment`"},
     {"keyframes", "relocalisation keyframes in the map"},
     {"seconds", "wall time of the frame loop (s), without a preload"},
     {"preloaded", "whether the frames were decoded before the clock started (`[source] preload`)"},
@@ -106,10 +114,20 @@ const Doc kReport[] = {
      "the last good camera pose T_world_cam (optical frame): `t` [x, y, z] m, "
      "`q_xyzw`"},
     {"ate",
-     "with ground truth: ATE over every frame (lost ones at their propagated pose), "
+     "with ground truth: ATE after SE(3) alignment over every frame (lost ones at their "
+     "propagated pose), "
      "as `rasm eval ate --json` writes it: `translation_m` {rmse, mean, median, std, min, "
      "max, count}, `pairs`, `alignment` {T_gt_est, scale}, `options`"},
     {"ate_tracked", "the same over the tracked frames only"},
+    {"world_frame_error",
+     "with ground truth, when the run started at its pose (first estimate within 1 mm and 0.05 "
+     "deg): the error in the world frame, **without** alignment (the aligned `ate` rotates a "
+     "tilt and lifts a height drift away): `started_at_ground_truth`, `comment`, `all` (every "
+     "frame) and `tracked` (tracked frames), each {`pairs`, `position_m`, `vertical_m` (along "
+     "the world's up, z), `horizontal_m`, `tilt_deg` (angle between the estimated and the true "
+     "camera's up direction: roll and pitch, not heading), each {rmse, mean, median, std, min, "
+     "max, count}; `start_error`, `options`}; when the run did not start there, only "
+     "`started_at_ground_truth` false, `start_error` and `comment`"},
     {"ate_error", "why the ground truth ([source] groundtruth) could not be read"},
     {"ate_tracked_error", "why the ATE over the tracked frames could not be computed"},
     {"segmentation",

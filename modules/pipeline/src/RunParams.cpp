@@ -175,12 +175,18 @@ void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(planar_motion, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(floor_max_height_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(floor_max_tilt_deg, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(floor_target_height_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(floor_target_tilt_deg, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(floor_target_max_fraction, double, c, s);
   if (type != "auto" && type != "none" && type != "sim" && type != "segway_rmp")
     throwInputError("[" + s + "] type", "'" + type + "' is not one of auto, none, sim, segway_rmp");
   requireInRange(heading_drift_window_frames, 1, 10000, s, "heading_drift_window_frames");
   requireInRange(heading_drift_max_sigmas, 0.0, 1000.0, s, "heading_drift_max_sigmas");
   requireInRange(floor_max_height_m, 0.0, 10.0, s, "floor_max_height_m");
   requireInRange(floor_max_tilt_deg, 0.0, 90.0, s, "floor_max_tilt_deg");
+  requireInRange(floor_target_height_m, 0.0, 10.0, s, "floor_target_height_m");
+  requireInRange(floor_target_tilt_deg, 0.0, 90.0, s, "floor_target_tilt_deg");
+  requireInRange(floor_target_max_fraction, 0.0, 1.0, s, "floor_target_max_fraction");
   requireInRange(camera_x_m, -10.0, 10.0, s, "camera_x_m");
   requireInRange(camera_y_m, -10.0, 10.0, s, "camera_y_m");
   requireInRange(camera_z_m, -10.0, 10.0, s, "camera_z_m");
@@ -218,6 +224,9 @@ void TRobotParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
   MRPT_SAVE_CONFIG_VAR(planar_motion, c, s);
   MRPT_SAVE_CONFIG_VAR(floor_max_height_m, c, s);
   MRPT_SAVE_CONFIG_VAR(floor_max_tilt_deg, c, s);
+  MRPT_SAVE_CONFIG_VAR(floor_target_height_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(floor_target_tilt_deg, c, s);
+  MRPT_SAVE_CONFIG_VAR(floor_target_max_fraction, c, s);
 }
 
 void TOutputParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,

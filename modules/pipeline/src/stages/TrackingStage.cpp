@@ -6,6 +6,7 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/Timing.h"
 #include "rasm/core/kernels/FrameKernels.h"
+#include "rasm/io/TrajectoryEvaluator.h"
 
 namespace rasm::pipeline {
 
@@ -182,6 +183,33 @@ void TrackingStage::reportFloorDeviation(FrameResult& r) {
   const bool tilted =
       m_robot.floor_max_tilt_deg > 0 && r.floor_tilt_deg > m_robot.floor_max_tilt_deg;
   if (high || tilted) ++m_frames_off_floor;
+  m_floor_height_abs_m.push_back(std::abs(height));
+  m_floor_tilt_deg.push_back(r.floor_tilt_deg);
+}
+
+nlohmann::json TrackingStage::floorDriftJson() const {
+  const std::size_t n = m_floor_height_abs_m.size();
+  std::size_t beyond = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (m_floor_height_abs_m[i] > m_robot.floor_target_height_m ||
+        m_floor_tilt_deg[i] > m_robot.floor_target_tilt_deg)
+      ++beyond;
+  const io::ErrorStats h = io::ErrorStats::of(m_floor_height_abs_m);
+  const io::ErrorStats t = io::ErrorStats::of(m_floor_tilt_deg);
+  const double fraction = double(beyond) / double(n);
+  return {{"comment",
+           "the tracked frames' camera against the first frame's floor and the mount (no ground "
+           "truth needed): height error |floor_height_m| and tilt floor_tilt_deg; drifted when "
+           "more than max_fraction of them are beyond the target height or tilt"},
+          {"frames", n},
+          {"height_error_m", {{"median", h.median}, {"max", h.max}}},
+          {"tilt_deg", {{"median", t.median}, {"max", t.max}}},
+          {"target_height_m", m_robot.floor_target_height_m},
+          {"target_tilt_deg", m_robot.floor_target_tilt_deg},
+          {"max_fraction", m_robot.floor_target_max_fraction},
+          {"frames_beyond_target", beyond},
+          {"fraction_beyond_target", fraction},
+          {"drifted", fraction > m_robot.floor_target_max_fraction}};
 }
 
 tracking::ModelMaps TrackingStage::renderModel(FrameContext& ctx, const maps::CSurfelMap& map,
@@ -310,7 +338,10 @@ void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
   row.add(r.model_valid_pixels).add(r.model_all_surfels).add(t.iterations);
   row.add(t.levels.empty() ? 0 : t.levels.back().iterations).add(toString(r.pose_source));
   row.add(t.check_overlap, 4).add(t.check_agreement, 4).add(t.check_behind, 4).add(t.used_prior);
-  row.add(t.on_motion_model).add(t.prior_sigmas, 4).add(r.heading_drift_sigmas, 3).add(r.floor_height_m, 4);
+  row.add(t.on_motion_model)
+      .add(t.prior_sigmas, 4)
+      .add(r.heading_drift_sigmas, 3)
+      .add(r.floor_height_m, 4);
   row.add(r.floor_tilt_deg, 3).add(r.relocalisation_failure);
 }
 
@@ -319,6 +350,7 @@ void TrackingStage::report(nlohmann::json& rep) const {
   // Tracked frames with odometry whose camera left the first frame's floor ([robot]
   // floor_max_*): the map drifted, though each frame agreed with it.
   rep["frames_off_floor"] = m_frames_off_floor;
+  if (!m_floor_height_abs_m.empty()) rep["floor_drift"] = floorDriftJson();
 }
 
 }  // namespace rasm::pipeline

@@ -12,6 +12,13 @@
 //    within twice the median ground-truth period. evaluate_rpe.py composes the two relative motions
 //    in the opposite order, which changes the translational error only at second order (rotation
 //    error x distance).
+//  - World-frame error (no alignment): for a run that starts at a known pose (its first estimate
+//    is the ground truth there), the estimate is already in the ground truth's world frame, so
+//    any alignment would hide the drift it measures (an SE(3) alignment rotates a tilted floor
+//    flat and lifts a sunk one). Pairs associated as for the ATE; per pair the position error
+//    split along the world's up axis (vertical) and across it (horizontal), and the tilt error:
+//    the angle between the up direction as the estimated and as the true camera see it (roll
+//    and pitch error; a heading error does not count).
 
 #include <Eigen/Geometry>
 #include <cstddef>
@@ -44,6 +51,27 @@ struct AteResult {
   std::vector<double> gt_stamps, est_stamps, errors_m;
 };
 
+struct WorldFrameOptions {
+  double max_dt_s = 0.02;  ///< association tolerance, as AteOptions
+  /// The world's up direction (against gravity): z, as in the simulator's and MRPT's robot
+  /// worlds.
+  Eigen::Vector3d up_world = Eigen::Vector3d::UnitZ();
+};
+
+/// Errors of an estimate against the ground truth in their common world frame, not aligned.
+struct WorldFrameError {
+  ErrorStats position_m;    ///< |p_est - p_gt|
+  ErrorStats vertical_m;    ///< |(p_est - p_gt) . up_world|
+  ErrorStats horizontal_m;  ///< |(p_est - p_gt)| across up_world
+  ErrorStats tilt_deg;      ///< angle between R_est^T up_world and R_gt^T up_world
+  /// Of the estimate's first pose (its earliest stamp) against the ground truth it associates
+  /// with: position (m) and rotation angle (deg); NaN when it associates with none.
+  double start_position_error_m = 0, start_rotation_error_deg = 0;
+  /// Whether the first estimated pose is the ground truth's within the tolerances: the run
+  /// started at a known pose, so the world-frame error is meaningful without alignment.
+  bool startsAtGroundTruth(double max_position_m = 1e-3, double max_rotation_deg = 0.05) const;
+};
+
 struct RpeOptions {
   double delta = 1.0;  ///< interval, in seconds (delta_in_frames false) or frames
   bool delta_in_frames = false;
@@ -67,6 +95,10 @@ class TrajectoryEvaluator {
   /// Throws InputError when fewer than 3 pairs (alignment) / 1 pair associate.
   static AteResult computeAte(const Trajectory& ground_truth, const Trajectory& estimate,
                               const AteOptions& opt = {});
+  /// Throws InputError when fewer than 2 pairs associate.
+  static WorldFrameError computeWorldFrameError(const Trajectory& ground_truth,
+                                                const Trajectory& estimate,
+                                                const WorldFrameOptions& opt = {});
   /// Throws InputError when no interval can be evaluated.
   static RpeResult computeRpe(const Trajectory& ground_truth, const Trajectory& estimate,
                               const RpeOptions& opt = {});

@@ -47,6 +47,15 @@ struct TCameraParams : mrpt::config::CLoadableOptions {
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
 
+/// World-frame error of a run that started at the ground truth's pose (no alignment; report.json
+/// world_frame_error): over `frames` pose pairs, metres and degrees.
+struct WorldFrameSummary {
+  std::size_t frames = 0;
+  double rms_m = 0, max_m = 0;  ///< position
+  double vertical_max_m = 0;    ///< height (along the world's up)
+  double tilt_max_deg = 0;      ///< angle of the camera's up direction (roll and pitch)
+};
+
 struct RunSummary {
   std::string out_dir;
   std::size_t frames = 0, lost = 0;
@@ -56,7 +65,11 @@ struct RunSummary {
   std::size_t surfels = 0;
   std::optional<double> ate_rmse_m;  ///< over every frame (lost ones at their propagated pose)
   std::optional<double> ate_tracked_rmse_m;  ///< over the tracked frames alone
-  nlohmann::json report;                     ///< what report.json holds
+  /// Without alignment, when the run started at the ground truth's pose: over every frame and
+  /// over the tracked ones; `truth` says against what, in words ("the simulator's truth").
+  std::optional<WorldFrameSummary> world_error, world_error_tracked;
+  std::string truth;
+  nlohmann::json report;   ///< what report.json holds
   bool explored = false;   ///< [explore] enabled: report holds the exploration's fields
   std::string status;      ///< report.json "status": ok, failed or interrupted
   int interrupted_by = 0;  ///< the signal that stopped the run (SIGINT, SIGTERM), 0 = none
@@ -146,6 +159,10 @@ class MappingRun {
   nlohmann::json reportJson(const std::string& source, const Accumulated& acc,
                             RunSummary& sum) const;
   void addAte(const Accumulated& acc, nlohmann::json& rep, RunSummary& sum) const;
+  /// report.json world_frame_error (and the summary's) when the estimate started at the ground
+  /// truth's pose.
+  void addWorldFrameError(const Accumulated& acc, const io::Trajectory& groundtruth,
+                          nlohmann::json& rep, RunSummary& sum) const;
 
   RunConfig m_config;
   TSourceParams m_source;

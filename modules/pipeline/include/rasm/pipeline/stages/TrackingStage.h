@@ -20,6 +20,7 @@
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "rasm/pipeline/MapperStage.h"
 #include "rasm/pipeline/OdometryPrior.h"
@@ -74,8 +75,11 @@ class TrackingStage : public MapperStage {
   /// empty when there is none or it has too few features.
   const std::vector<maps::Keyframe>& lastFusedKeyframe();
   /// floor_height_m / floor_tilt_deg of a tracked robot frame, counted when beyond [robot]
-  /// floor_max_*.
+  /// floor_max_* and kept for floorDriftJson.
   void reportFloorDeviation(FrameResult& r);
+  /// report.json floor_drift: the statistics of the tracked frames' floor deviation and whether
+  /// they cross [robot] floor_target_*.
+  nlohmann::json floorDriftJson() const;
 
   tracking::TTrackingParams m_tracking;
   TRobotParams m_robot;
@@ -101,6 +105,9 @@ class TrackingStage : public MapperStage {
   Eigen::Isometry3d m_T_prev_frame = Eigen::Isometry3d::Identity();
   std::size_t m_relocalisations = 0;
   std::size_t m_frames_off_floor = 0;  ///< see report()
+  /// Per tracked frame with odometry: |camera height - mount height| over the first frame's
+  /// floor (m) and the camera's tilt from the mount's (deg); report.json floor_drift.
+  std::vector<double> m_floor_height_abs_m, m_floor_tilt_deg;
 };
 
 }  // namespace rasm::pipeline
