@@ -8,7 +8,7 @@
 # and docs/results.json, and says what got better or worse beyond noise against the committed
 # docs/results.json of the same panel.
 #
-#   scripts/scoreboard.sh [--smoke | --quick | --full] [--out DIR] [--resume | --fresh]
+#   scripts/scoreboard.sh [--smoke | --quick | --full | --planners] [--out DIR] [--resume | --fresh]
 #       [--jobs J] [--only REGEX] [--dry-run] [--gather]
 #       [--compare PREV.json | --no-compare] [--out-md FILE] [--out-json FILE] [--no-docs]
 #       [--slurm FILE.sbatch [--slurm-time 02:00:00] [--slurm-cpus 2] [--slurm-mem 8G]
@@ -19,8 +19,12 @@
 #            its table to DIR/results.md only (never docs/)
 #   --quick  real sequences, shipped worlds and one generated room at 320x240, ig and random
 #            exploring for 120 s: ~11 min on 2 cores
-#   --full   (default) 640x480, ten generated rooms, every planner on five worlds for 180 s,
-#            kidnapping, 24 memory laps: hours on 2 cores; made for --jobs or --slurm
+#   --full   (default) 640x480, ten generated rooms, every planner on the shipped worlds, two
+#            generated rooms and two flats for 240 s on tracked poses, kidnapping, 24 memory
+#            laps: hours on 2 cores; made for --jobs or --slurm
+#   --planners  the exploration planners alone: every planner (oracle included) on the shipped
+#            worlds, three generated rooms and four flats, true poses, 160x120, 240 s: ~1 h;
+#            its table goes to DIR/results.md (give --out-md docs/results-planners.md)
 # --out DIR: the run folders (default eval_out/scoreboard-<panel>): tasks.tsv (one line per task:
 #   name, group, evals, pool, needs, estimate, rasm run arguments), runs/<task>/ (the run and its
 #   evals' JSON), runs/<task>.log, rows/<task>.json (one per finished task, written atomically),
@@ -54,7 +58,7 @@ die() { echo "scoreboard.sh: $*" >&2; exit 2; }
 need() { [[ $# -ge 2 ]] || die "$1 needs a value"; }
 while [[ $# -gt 0 ]]; do
   case $1 in
-    --smoke | --quick | --full)
+    --smoke | --quick | --full | --planners)
       [[ -z $panel || $panel == "${1#--}" ]] || die "--$panel and $1 exclude each other"
       panel=${1#--} ;;
     --out) need "$@"; out=$2; shift ;;
@@ -110,7 +114,7 @@ fi
 [[ $gather_only -eq 1 && -z $panel ]] && panel=$old_panel
 panel=${panel:-full}
 # Where the table goes: docs/ for the quick and full panels, unless told otherwise.
-if [[ $panel == smoke || $no_docs -eq 1 || -n $only ]]; then
+if [[ $panel == smoke || $panel == planners || $no_docs -eq 1 || -n $only ]]; then
   docs_md="" docs_json=""
 else
   docs_md=$ROOT/docs/results.md docs_json=$ROOT/docs/results.json

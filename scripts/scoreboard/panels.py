@@ -109,14 +109,17 @@ class Panel:
                            "est_s": round(est_s), "args": list(args) + self.extra})
 
     # -- a generated room: OUT/worlds/gen<seed>.yaml and its four trajectories --------------------
-    def gen(self, seed):
-        world = os.path.join(self.out, "worlds", f"gen{seed}.yaml")
+    def gen(self, seed, rooms=0):
+        """A generated room of `seed` (rooms = 0), or a flat of `rooms` rooms off a hallway."""
+        name = f"gen{seed}" if rooms == 0 else f"flat{seed}r{rooms}"
+        world = os.path.join(self.out, "worlds", f"{name}.yaml")
         if not os.path.exists(world[:-5] + "_robot_fast.yaml"):
             os.makedirs(os.path.dirname(world), exist_ok=True)
             log = world[:-5] + ".log"
+            layout = [] if rooms == 0 else ["--layout", "flat", "--rooms", str(rooms)]
             with open(log, "w") as f:
                 r = subprocess.run([self.rasm, "sim", "generate", world, "--seed", str(seed),
-                                    "--fast"], stdout=f, stderr=subprocess.STDOUT)
+                                    "--fast"] + layout, stdout=f, stderr=subprocess.STDOUT)
             if r.returncode != 0:
                 sys.exit(f"scoreboard: rasm sim generate --seed {seed} failed (see {log})")
         return world
@@ -313,18 +316,42 @@ def full(p, seeds=range(1001, 1011), explore_seeds=(1001, 1002)):
               pool="gen_handheld_kidnap",
               sets=("--set", f"source.drop_frames={n // 2}-{n // 2 + 59}",
                     "--set", f"source.blank_frames={3 * n // 4}-{3 * n // 4 + 29}"))
-    # Exploration: every planner on the shipped worlds and generated rooms, 180 simulated s.
-    for w in ["office", "cluttered_lab", "two_rooms"] + [p.gen(s) for s in explore_seeds]:
+    # Exploration: every planner on the shipped worlds, generated rooms and flats, 240 simulated
+    # s, on tracked poses (the mission's loop); the planners alone on true poses: planners().
+    for w, seed in explore_worlds(p, explore_seeds):
         wname = os.path.basename(w)[:-5] if w.endswith(".yaml") else w
-        seed = int(wname[3:]) if wname.startswith("gen") else 1
-        for planner in ("ig", "frontier", "random", "lawnmower"):
-            p.explore(f"explore_{wname}_{planner}", w, planner, seed, 180, "640x480",
-                      pool=f"explore_gen_{planner}" if wname.startswith("gen") else "")
+        for planner in PLANNERS:
+            p.explore(f"explore_{wname}_{planner}", w, planner, seed, 240, "640x480",
+                      pool=f"explore_gen_{planner}" if w.endswith(".yaml") else "")
     # Memory: 24 laps of the office loop (~10 simulated minutes) at 10 Hz.
     p.memory("memory_office_24laps", 24, "640x480")
 
 
-PANELS = {"smoke": smoke, "quick": quick, "full": full}
+PLANNERS = ("ig", "ig_greedy", "frontier", "random", "lawnmower", "oracle")
+
+
+def explore_worlds(p, seeds, flat_seeds=(2001, 2002)):
+    """(world, seed) of the exploration comparisons: the shipped worlds, generated rooms of
+    `seeds` and flats of 3 and 4 rooms of `flat_seeds` (nobody tuned on any seed >= 1001)."""
+    worlds = [("office", 1), ("cluttered_lab", 1), ("two_rooms", 1)]
+    worlds += [(p.gen(s), s) for s in seeds]
+    worlds += [(p.gen(s, rooms=3 + i % 2), s) for i, s in enumerate(flat_seeds)]
+    return worlds
+
+
+def planners(p, seeds=(1101, 1102, 1103), flat_seeds=(2101, 2102, 2103, 2104)):
+    """The planners alone (exploration group only): every planner on the shipped worlds, three
+    generated rooms and four flats, fused at the true poses ([mapper] poses = groundtruth: no
+    tracking error mixed in), 240 simulated s at 160x120 (the planners see the same octree and
+    map they would at 640x480, only sparser): ~1 h on 2 cores."""
+    for w, seed in explore_worlds(p, seeds, flat_seeds):
+        wname = os.path.basename(w)[:-5] if w.endswith(".yaml") else w
+        for planner in PLANNERS:
+            p.explore(f"planners_{wname}_{planner}", w, planner, seed, 240, "160x120",
+                      poses="groundtruth")
+
+
+PANELS = {"smoke": smoke, "quick": quick, "full": full, "planners": planners}
 
 
 def main(argv):
