@@ -187,6 +187,34 @@ TEST(ExplorationLoop, PlannerThreadPlansWhileMappingGoesOn) {
   fs::remove_all(out);
 }
 
+// The global planner takes the robot from room A of `two_rooms` through both 0.9 m doorways and
+// the corridor into room B (x > 6.5 m) within 90 simulated seconds: the far room is scheduled
+// although views in room A still gain something (true poses: this is about the planner).
+TEST(ExplorationLoop, IgGoesThroughTheDoorwaysIntoTheSecondRoom) {
+  const std::string out = tempDir("explore_two_rooms");
+  RunConfig cfg = smallExploringRun(out, 90.0);
+  cfg.set("sim", "world", "two_rooms");
+  cfg.set("sim", "trajectory", "two_rooms_robot");
+  cfg.set("mapper", "poses", "groundtruth");
+  cfg.set("exploration", "planner", "ig");
+  // 160x120: the planner sees the same octree, only sparser (the scoreboard's --planners panel).
+  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{
+           {"fx", "131.25"}, {"fy", "131.25"}, {"cx", "79.5"}, {"cy", "59.5"},
+           {"width", "160"}, {"height", "120"}})
+    cfg.set("camera", k, v);
+  MappingRun run(cfg);
+  const RunSummary s = run.run();
+  ASSERT_TRUE(s.explored);
+  const nlohmann::json ex = readJson(out + "/exploration.json");
+  double max_reached_x = -1e9;
+  for (const auto& g : ex.at("goals"))
+    if (g.at("outcome").get<std::string>() == "reached")
+      max_reached_x = std::max(max_reached_x, g.at("goal")[0].get<double>());
+  // Room B's interior starts at x = 6.5 (its doorway); half a metre in, past the footprint.
+  EXPECT_GT(max_reached_x, 7.0) << "no goal reached in room B";
+  fs::remove_all(out);
+}
+
 TEST(ExplorationLoop, NeedsARobotItCanDrive) {
   {
     RunConfig cfg = RunConfig::fromString("[source]\ntype = rawlog\npath = " RASM_MRPT_TEST_RAWLOG
