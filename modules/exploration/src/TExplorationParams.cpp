@@ -56,6 +56,8 @@ void TExplorationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
   MRPT_LOAD_CONFIG_VAR(tour_cluster_radius_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(tour_max_clusters, int, c, s);
   MRPT_LOAD_CONFIG_VAR(tour_min_gain_fraction, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(tour_revisit_radius_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(tour_revisit_discount, double, c, s);
   validate(s);
 }
 
@@ -110,6 +112,8 @@ void TExplorationParams::validate(const std::string& s) const {
   requireInRange(tour_cluster_radius_m, 0.0, 100.0, s, "tour_cluster_radius_m");
   requireInRange(tour_max_clusters, 1, 64, s, "tour_max_clusters");
   requireInRange(tour_min_gain_fraction, 0.0, 1.0, s, "tour_min_gain_fraction");
+  requireInRange(tour_revisit_radius_m, 0.0, 100.0, s, "tour_revisit_radius_m");
+  requireInRange(tour_revisit_discount, 0.0, 1.0, s, "tour_revisit_discount");
   const auto requireBelow = [&s](double lo, double hi, const std::string& keys) {
     if (!(lo < hi)) throwInputError("[" + s + "] " + keys, "the minimum must be below the maximum");
   };
@@ -169,6 +173,8 @@ void TExplorationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(tour_cluster_radius_m, c, s);
   MRPT_SAVE_CONFIG_VAR(tour_max_clusters, c, s);
   MRPT_SAVE_CONFIG_VAR(tour_min_gain_fraction, c, s);
+  MRPT_SAVE_CONFIG_VAR(tour_revisit_radius_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(tour_revisit_discount, c, s);
 }
 
 std::vector<std::string> plannerNames() {

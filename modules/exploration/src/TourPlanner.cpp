@@ -80,6 +80,13 @@ double TourIgPlanner::objectWeight(const OccupancyOctree& octree) {
   return std::clamp(1.0 - entropy / m_first_entropy_nats, 0.0, 1.0);
 }
 
+double TourIgPlanner::revisitDiscount(const Eigen::Vector3d& pose) const {
+  int visits = 0;
+  for (const Eigen::Vector3d& t : m_taken)
+    visits += (t.head<2>() - pose.head<2>()).norm() <= m_params.tour_revisit_radius_m;
+  return std::pow(m_params.tour_revisit_discount, double(visits));
+}
+
 Plan TourIgPlanner::plan(const PlannerInputs& in) {
   Plan plan = IgPlanner::plan(in);
   // The tour's weights: IG with the object term scaled by how far the map's entropy has fallen.
@@ -92,8 +99,8 @@ Plan TourIgPlanner::plan(const PlannerInputs& in) {
   }
   std::vector<double> gains;
   for (const ViewCandidate& v : plan.ranked)
-    gains.push_back(
-        informationGain(tour_params, v.entropy_reduction, v.information, max_h, max_ic));
+    gains.push_back(revisitDiscount(v.pose) * informationGain(tour_params, v.entropy_reduction,
+                                                              v.information, max_h, max_ic));
   const std::vector<int> heads =
       clusterViews(plan.ranked, gains, m_params.tour_cluster_radius_m, m_params.tour_max_clusters,
                    m_params.tour_min_gain_fraction);

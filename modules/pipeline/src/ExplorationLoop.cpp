@@ -303,6 +303,17 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
                    {"path_length_m", b.path_length_m}};
   }
   if (out.current_goal_score >= 0) log["current_goal_score"] = out.current_goal_score;
+  if (p.tour_clusters > 0) {  // "ig": the clusters' views in tour order
+    nlohmann::json tour = nlohmann::json::array();
+    for (std::size_t k = 0; k < p.tour_clusters && k < p.ranked.size(); ++k)
+      tour.push_back({{"pose", poseJson(p.ranked[k].pose)},
+                      {"source", sourceName(p.ranked[k].source)},
+                      {"gain", p.ranked[k].gain},
+                      {"entropy_reduction", p.ranked[k].entropy_reduction},
+                      {"information", p.ranked[k].information},
+                      {"travel_time_s", p.ranked[k].travel_time_s}});
+    log["tour"] = tour;
+  }
   if (!p.ranked.empty()) m_last_views = candidateViews(p);
 
   // Stopping rule (V): over stop_plans consecutive plans, too little left to gain (ig) or nothing

@@ -41,7 +41,10 @@ class IgPlanner : public ExplorationPlanner {
 /// IG; then
 ///   weights: IG with the object term w2 dIC scaled by the map's saturation 1 - H(m) / H(m) at
 ///     the first plan (0 at the start, rising as the octree's entropy falls): geometric
-///     exploration first, the object views of V-B weighing more as the map fills in;
+///     exploration first, the object views of V-B weighing more as the map fills in; times
+///     tour_revisit_discount per view the robot has taken within tour_revisit_radius_m (the
+///     predicted dH of a visited region stays high: voxels inside furniture and behind objects
+///     stay unknown whatever the view, so without it the region's crumbs always beat a far room);
 ///   clusters: views by descending weight, each joining the first cluster whose best view lies
 ///     within tour_cluster_radius_m, else starting one (at most tour_max_clusters; clusters
 ///     below tour_min_gain_fraction of the best weight are left out). A cluster is visited at
@@ -61,6 +64,8 @@ class TourIgPlanner : public IgPlanner {
  private:
   /// The factor on w2 for the tour's weights: 1 - H(m) now / H(m) at the first plan, in [0, 1].
   double objectWeight(const OccupancyOctree& octree);
+  /// tour_revisit_discount ^ (taken views within tour_revisit_radius_m of pose).
+  double revisitDiscount(const Eigen::Vector3d& pose) const;
   double m_first_entropy_nats = -1.0;
 };
 

@@ -111,6 +111,13 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   /// Clusters whose IG is below this fraction of the best cluster's are left out of the tour
   /// (crumbs the route would detour for; they come back when the big gains are collected).
   double tour_min_gain_fraction = 0.1;
+  /// A view's tour weight is multiplied by tour_revisit_discount for every view the robot has
+  /// taken (reached goal) within tour_revisit_radius_m of it. The predicted dH of a region the
+  /// robot has looked around in stays high (voxels inside furniture, under desks and behind
+  /// objects stay unknown from every view), so its nearby views would always be scheduled before
+  /// a far room; halving per view taken within 2 m (about a room's half-width) moves the tour on
+  /// after a few views. 1 = off.
+  double tour_revisit_radius_m = 2.0, tour_revisit_discount = 0.5;
 
   /// Throws InputError naming [section] key for a value out of range or a min above its max.
   void validate(const std::string& section = "exploration") const;
