@@ -53,6 +53,11 @@ void TExplorationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
   MRPT_LOAD_CONFIG_VAR(lawnmower_spacing_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(lawnmower_step_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(lawnmower_axis, string, c, s);
+  MRPT_LOAD_CONFIG_VAR(oracle_target_spacing_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(oracle_headings, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(oracle_cover_fraction, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(oracle_max_views, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(oracle_min_view_samples, int, c, s);
   validate(s);
 }
 
@@ -104,6 +109,11 @@ void TExplorationParams::validate(const std::string& s) const {
   requireInRange(lawnmower_step_m, 0.05, 1000.0, s, "lawnmower_step_m");
   if (lawnmower_axis != "x" && lawnmower_axis != "y")
     throwInputError("[" + s + "] lawnmower_axis", "'" + lawnmower_axis + "' must be x or y");
+  requireInRange(oracle_target_spacing_m, 0.0, 10.0, s, "oracle_target_spacing_m");
+  requireInRange(oracle_headings, 1, 360, s, "oracle_headings");
+  requireInRange(oracle_cover_fraction, 0.0, 1.0, s, "oracle_cover_fraction");
+  requireInRange(oracle_max_views, 1, 100000, s, "oracle_max_views");
+  requireInRange(oracle_min_view_samples, 1, 100000000, s, "oracle_min_view_samples");
   const auto requireBelow = [&s](double lo, double hi, const std::string& keys) {
     if (!(lo < hi)) throwInputError("[" + s + "] " + keys, "the minimum must be below the maximum");
   };
@@ -160,10 +170,15 @@ void TExplorationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(lawnmower_spacing_m, c, s);
   MRPT_SAVE_CONFIG_VAR(lawnmower_step_m, c, s);
   MRPT_SAVE_CONFIG_VAR(lawnmower_axis, c, s);
+  MRPT_SAVE_CONFIG_VAR(oracle_target_spacing_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(oracle_headings, c, s);
+  MRPT_SAVE_CONFIG_VAR(oracle_cover_fraction, c, s);
+  MRPT_SAVE_CONFIG_VAR(oracle_max_views, c, s);
+  MRPT_SAVE_CONFIG_VAR(oracle_min_view_samples, c, s);
 }
 
 std::vector<std::string> plannerNames() {
-  return {"ig", "frontier", "random", "lawnmower"};
+  return {"ig", "frontier", "random", "lawnmower", "oracle"};
 }
 
 }  // namespace rasm::exploration

@@ -73,6 +73,8 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   /// Which planner makePlanner builds: "ig" (the IG planner of V), "frontier" (nearest frontier,
   /// Yamauchi 1997), "random" (random reachable free cells), "lawnmower" (boustrophedon sweep).
   /// The baselines run on the same octree, projection, reachability and budget as "ig".
+  /// "oracle" knows the simulated world's surface (pipeline OraclePlanner): only an exploring run
+  /// of a simulated world builds it; makePlanner refuses it.
   std::string planner = "ig";
   /// A goal the robot failed to reach (and, for "frontier", a goal it reached) is blacklisted:
   /// candidates whose base lies within this distance (m) of it are not offered again. 0.5 m is
@@ -97,6 +99,19 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   /// so neighbouring lanes overlap a little.
   double lawnmower_spacing_m = 1.5, lawnmower_step_m = 1.5;
   std::string lawnmower_axis = "x";
+
+  // ---- oracle (pipeline OraclePlanner.h: the reference with the world's ground truth) ----
+  /// The surface samples are thinned to one target per cube of this edge (m) for the view sets
+  /// (each target stands for its cube's samples); 0 = every sample a target (slower: the
+  /// precomputation casts one ray per candidate and target in view).
+  double oracle_target_spacing_m = 0.1;
+  int oracle_headings = 8;  ///< candidate headings per free robot position (evenly spaced)
+  /// The greedy cover stops once its views see this fraction of the coverable samples left.
+  double oracle_cover_fraction = 0.99;
+  int oracle_max_views = 200;  ///< at most this many views per cover (a tour)
+  /// A view is chosen (and kept in the tour) only while it sees at least this many samples not
+  /// yet covered by the map (20 samples at the 3 cm sampling: ~0.02 m2).
+  int oracle_min_view_samples = 20;
 
   /// Throws InputError naming [section] key for a value out of range or a min above its max.
   void validate(const std::string& section = "exploration") const;
