@@ -134,10 +134,13 @@ void OraclePlanner::buildViewSets(const sim::RayScene& scene, const Eigen::Isome
   const double half_diag =
       std::atan(std::hypot(std::max(K.cx + 0.5, K.width - 0.5 - K.cx) / K.fx,
                            std::max(K.cy + 0.5, K.height - 0.5 - K.cy) / K.fy));
-  const float reach = float(o.max_range_m / std::cos(std::min(half_diag, 80.0 * kDeg)) +
+  const double max_range_m = m_params.oracle_max_range_m > 0
+                                 ? std::min(m_params.oracle_max_range_m, o.max_range_m)
+                                 : o.max_range_m;
+  const float reach = float(max_range_m / std::cos(std::min(half_diag, 80.0 * kDeg)) +
                             T_base_cam.translation().head<2>().norm() + 1e-3);
   const float cos_inc = float(std::cos(std::clamp(o.max_incidence_deg, 0.0, 90.0) * kDeg));
-  const float rmin = float(o.min_range_m), rmax = float(o.max_range_m);
+  const float rmin = float(o.min_range_m), rmax = float(max_range_m);
   const float fx = float(K.fx), fy = float(K.fy), cx = float(K.cx), cy = float(K.cy);
   const float umax = float(K.width) - 0.5f, vmax = float(K.height) - 0.5f;
   const int H = m_headings;
@@ -310,7 +313,7 @@ std::vector<int> OraclePlanner::greedyCover(const Eigen::Vector3d& start) const 
       if (is_chosen[c] || m_done[c] || cached[c] < min_gain) continue;
       const double tt = travelTime(field, from_yaw, c);
       if (std::isfinite(tt))
-        order.emplace_back(double(cached[c]) / (tt + m_params.min_travel_time_s), int(c));
+        order.emplace_back(double(cached[c]) / (tt + m_params.oracle_goal_overhead_s), int(c));
     }
     // Best bound first, ties by index: the same inputs choose the same views.
     std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
@@ -324,8 +327,8 @@ std::vector<int> OraclePlanner::greedyCover(const Eigen::Vector3d& start) const 
       for (const std::uint32_t t : m_sees[std::size_t(c)]) g += left[t];
       cached[std::size_t(c)] = g;
       if (g < min_gain) continue;
-      const double rate =
-          double(g) / (travelTime(field, from_yaw, std::size_t(c)) + m_params.min_travel_time_s);
+      const double rate = double(g) / (travelTime(field, from_yaw, std::size_t(c)) +
+                                       m_params.oracle_goal_overhead_s);
       if (rate > best_rate) best_rate = rate, best = c;
     }
     if (best < 0) break;
@@ -404,7 +407,7 @@ exploration::ViewCandidate OraclePlanner::candidate(std::size_t c, const std::ve
   v.rotation_rad = std::abs(mrpt::math::wrapToPi(v.pose.z() - robot.z()));
   v.travel_time_s = travelTime(field, robot.z(), c);
   v.gain = double(gain(c));
-  v.rate = v.gain / (v.travel_time_s + m_params.min_travel_time_s);
+  v.rate = v.gain / (v.travel_time_s + m_params.oracle_goal_overhead_s);
   return v;
 }
 

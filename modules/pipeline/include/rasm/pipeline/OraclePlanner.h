@@ -15,10 +15,10 @@
 //   view sets   per candidate the targets its camera sees (sorted uint32 indices): the camera
 //               pose is exploration::cameraPoseOf(pose, T_base_cam); a target is seen when it
 //               projects inside the image of K (the horizontal and vertical field of view), its
-//               depth lies in [min_range_m, max_range_m] of the CoverageOptions, the angle
-//               between the ray and its surface's normal line is at most max_incidence_deg, and
-//               the segment to the camera hits nothing (RayScene, as SurfaceCoverage's
-//               observability test).
+//               depth lies in [min_range_m, max_range_m] of the CoverageOptions (max_range_m
+//               capped by oracle_max_range_m), the angle between the ray and its surface's
+//               normal line is at most max_incidence_deg, and the segment to the camera hits
+//               nothing (RayScene, as SurfaceCoverage's observability test).
 // reachableFraction(): the observable area whose target some candidate sees / the observable
 // area (what any of the oracle's views could map at all).
 //
@@ -32,7 +32,7 @@
 // Plan: while a tour is pending, its remaining views (those still seeing at least
 // oracle_min_view_samples uncovered samples) in tour order. Otherwise a new cover: the greedy set
 // cover weighted by travel time picks, from the robot's pose on, the view maximising
-//   uncovered samples it sees / (travel time from the previous chosen view + min_travel_time_s),
+//   uncovered samples it sees / (travel time from the previous view + oracle_goal_overhead_s),
 //   travel time = path length on the free positions' 8-connected grid / speed_mps
 //                 + heading change / turn_rate_degps,
 // until its views see oracle_cover_fraction of the coverable samples left (those some offered
