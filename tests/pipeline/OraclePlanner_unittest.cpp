@@ -195,7 +195,7 @@ TEST(OraclePlanner, ReachedViewsAndTheMapsCoverageRetireViews) {
 // End to end: `rasm run`'s MappingRun with planner = oracle on two_rooms covers at least as much
 // as the random baseline with the same seed and budget.
 TEST(OraclePlanner, ExploringRunCoversAtLeastAsMuchAsRandom) {
-  constexpr double kBudgetS = 60.0;
+  constexpr double kBudgetS = 120.0;  // (at 60 s both are near 0.25 of two_rooms, within noise)
   double coverage[2] = {0, 0};
   const char* planners[2] = {"oracle", "random"};
   for (int i = 0; i < 2; ++i) {

@@ -275,11 +275,17 @@ int OraclePlanner::nearestPosition(const Eigen::Vector2d& xy) const {
   return best;
 }
 
-double OraclePlanner::travelTime(const std::vector<float>& field, double from_yaw,
-                                 std::size_t c) const {
+double OraclePlanner::travelTime(const std::vector<float>& field, const Eigen::Vector2d& from_xy,
+                                 double from_yaw, std::size_t c) const {
   const float len = field[c / std::size_t(m_headings)];
   if (!std::isfinite(len)) return std::numeric_limits<double>::infinity();
-  const double turn = std::abs(mrpt::math::wrapToPi(m_poses[c].z() - from_yaw));
+  const Eigen::Vector2d d = m_poses[c].head<2>() - from_xy;
+  double turn = std::abs(mrpt::math::wrapToPi(m_poses[c].z() - from_yaw));
+  if (d.norm() > 2.0 * m_spacing) {  // turn to the line to the view, drive, turn to its heading
+    const double dir = std::atan2(d.y(), d.x());
+    turn = std::abs(mrpt::math::wrapToPi(dir - from_yaw)) +
+           std::abs(mrpt::math::wrapToPi(m_poses[c].z() - dir));
+  }
   return len / m_params.speed_mps + turn / (m_params.turn_rate_degps * kDeg);
 }
 
@@ -304,6 +310,7 @@ std::vector<int> OraclePlanner::greedyCover(const Eigen::Vector3d& start) const 
   std::vector<int> chosen;
   std::vector<std::uint8_t> is_chosen(n, 0);
   int from = nearestPosition(start.head<2>());
+  Eigen::Vector2d from_xy = start.head<2>();
   double from_yaw = start.z(), covered = 0;
   std::vector<std::pair<double, int>> order;
   while (covered < goal && int(chosen.size()) < m_params.oracle_max_views) {
@@ -311,7 +318,7 @@ std::vector<int> OraclePlanner::greedyCover(const Eigen::Vector3d& start) const 
     order.clear();
     for (std::size_t c = 0; c < n; ++c) {
       if (is_chosen[c] || m_done[c] || cached[c] < min_gain) continue;
-      const double tt = travelTime(field, from_yaw, c);
+      const double tt = travelTime(field, from_xy, from_yaw, c);
       if (std::isfinite(tt))
         order.emplace_back(double(cached[c]) / (tt + m_params.oracle_goal_overhead_s), int(c));
     }
@@ -327,7 +334,7 @@ std::vector<int> OraclePlanner::greedyCover(const Eigen::Vector3d& start) const 
       for (const std::uint32_t t : m_sees[std::size_t(c)]) g += left[t];
       cached[std::size_t(c)] = g;
       if (g < min_gain) continue;
-      const double rate = double(g) / (travelTime(field, from_yaw, std::size_t(c)) +
+      const double rate = double(g) / (travelTime(field, from_xy, from_yaw, std::size_t(c)) +
                                        m_params.oracle_goal_overhead_s);
       if (rate > best_rate) best_rate = rate, best = c;
     }
@@ -336,6 +343,7 @@ std::vector<int> OraclePlanner::greedyCover(const Eigen::Vector3d& start) const 
     is_chosen[std::size_t(best)] = 1;
     for (const std::uint32_t t : m_sees[std::size_t(best)]) covered += left[t], left[t] = 0;
     from = int(std::size_t(best) / std::size_t(m_headings));
+    from_xy = m_poses[std::size_t(best)].head<2>();
     from_yaw = m_poses[std::size_t(best)].z();
   }
   return chosen;
@@ -345,22 +353,16 @@ std::vector<int> OraclePlanner::tourThrough(const Eigen::Vector3d& start,
                                             const std::vector<int>& views) const {
   const std::size_t k = views.size();
   if (k < 2) return views;
-  // cost[i][j]: travel time between stops (stop 0 = start, stop i + 1 = views[i]); symmetric.
+  // cost[i][j]: travel time from stop i to stop j (stop 0 = start, stop i + 1 = views[i]); not
+  // symmetric (the turns depend on the direction of travel).
   std::vector<std::vector<double>> cost(k + 1, std::vector<double>(k + 1, 0.0));
-  const auto stopPos = [&](std::size_t i) {
-    return i == 0 ? nearestPosition(start.head<2>())
-                  : int(std::size_t(views[i - 1]) / std::size_t(m_headings));
-  };
-  const auto stopYaw = [&](std::size_t i) {
-    return i == 0 ? start.z() : m_poses[std::size_t(views[i - 1])].z();
-  };
   for (std::size_t i = 0; i <= k; ++i) {
-    const std::vector<float> field = distanceField(stopPos(i));
+    const Eigen::Vector3d from = i == 0 ? start : m_poses[std::size_t(views[i - 1])];
+    const std::vector<float> field = distanceField(nearestPosition(from.head<2>()));
     for (std::size_t j = 1; j <= k; ++j) {
-      const double tt = travelTime(field, stopYaw(i), std::size_t(views[j - 1]));
+      const double tt = travelTime(field, from.head<2>(), from.z(), std::size_t(views[j - 1]));
       cost[i][j] = std::isfinite(tt) ? tt : 1e9;  // (free positions are one component)
     }
-    cost[i][0] = cost[0][i];
   }
   // Nearest neighbour from the start (ties: the earlier chosen view).
   std::vector<std::size_t> path{0};
@@ -373,21 +375,23 @@ std::vector<int> OraclePlanner::tourThrough(const Eigen::Vector3d& start,
     used[next] = 1;
     path.push_back(next);
   }
-  // 2-opt on the open path (the start stays first): reverse path[i..j] when that shortens it.
-  const auto edge = [&](std::size_t a, std::size_t b) {
-    return b < path.size() ? cost[path[a]][path[b]] : 0.0;
+  // 2-opt on the open path (the start stays first): reverse path[i..j] while that shortens the
+  // tour (costs are not symmetric, so the reversed segment is costed too).
+  const auto pathCost = [&](const std::vector<std::size_t>& p) {
+    double sum = 0;
+    for (std::size_t i = 1; i < p.size(); ++i) sum += cost[p[i - 1]][p[i]];
+    return sum;
   };
+  double best = pathCost(path);
+  std::vector<std::size_t> trial;
   for (bool improved = true; improved;) {
     improved = false;
     for (std::size_t i = 1; i + 1 < path.size(); ++i)
       for (std::size_t j = i + 1; j < path.size(); ++j) {
-        const double before = edge(i - 1, i) + edge(j, j + 1);
-        const double after =
-            cost[path[i - 1]][path[j]] + (j + 1 < path.size() ? cost[path[i]][path[j + 1]] : 0.0);
-        if (after < before - 1e-9) {
-          std::reverse(path.begin() + std::ptrdiff_t(i), path.begin() + std::ptrdiff_t(j) + 1);
-          improved = true;
-        }
+        trial = path;
+        std::reverse(trial.begin() + std::ptrdiff_t(i), trial.begin() + std::ptrdiff_t(j) + 1);
+        const double c = pathCost(trial);
+        if (c < best - 1e-9) path.swap(trial), best = c, improved = true;
       }
   }
   std::vector<int> tour;
@@ -404,8 +408,9 @@ exploration::ViewCandidate OraclePlanner::candidate(std::size_t c, const std::ve
   v.reachable = true;
   const float len = field[c / std::size_t(m_headings)];
   v.path_length_m = std::isfinite(len) ? double(len) : 0.0;
-  v.rotation_rad = std::abs(mrpt::math::wrapToPi(v.pose.z() - robot.z()));
-  v.travel_time_s = travelTime(field, robot.z(), c);
+  v.travel_time_s = travelTime(field, robot.head<2>(), robot.z(), c);
+  v.rotation_rad =
+      (v.travel_time_s - v.path_length_m / m_params.speed_mps) * (m_params.turn_rate_degps * kDeg);
   v.gain = double(gain(c));
   v.rate = v.gain / (v.travel_time_s + m_params.oracle_goal_overhead_s);
   return v;

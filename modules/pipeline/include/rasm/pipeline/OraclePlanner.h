@@ -35,6 +35,10 @@
 //   uncovered samples it sees / (travel time from the previous view + oracle_goal_overhead_s),
 //   travel time = path length on the free positions' 8-connected grid / speed_mps
 //                 + heading change / turn_rate_degps,
+//   heading change = the turn to the straight line to the view plus the turn from it to the
+//                 view's heading (a view facing along its approach is seen for many frames on
+//                 the way; a surfel becomes stable, and counts as covered, only after several),
+
 // until its views see oracle_cover_fraction of the coverable samples left (those some offered
 // view sees), oracle_max_views are chosen or no view sees oracle_min_view_samples any more; the
 // tour through them starts at the robot (nearest neighbour, then 2-opt). Empty plan (done): no
@@ -108,7 +112,9 @@ class OraclePlanner : public exploration::ExplorationPlanner {
   std::vector<float> distanceField(int from) const;
   /// The free position nearest (x, y).
   int nearestPosition(const Eigen::Vector2d& xy) const;
-  double travelTime(const std::vector<float>& field, double from_yaw, std::size_t c) const;
+  /// Travel time to candidate c from (from_xy, from_yaw), `field` the distance field from there.
+  double travelTime(const std::vector<float>& field, const Eigen::Vector2d& from_xy,
+                    double from_yaw, std::size_t c) const;
   exploration::ViewCandidate candidate(std::size_t c, const std::vector<float>& field,
                                        const Eigen::Vector3d& robot) const;
 
