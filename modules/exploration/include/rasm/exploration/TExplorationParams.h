@@ -110,16 +110,16 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   double oracle_cover_fraction = 0.99;
   int oracle_max_views = 200;  ///< at most this many views per cover (a tour)
   /// Seconds a goal costs beyond its travel time in the cover's rate (gain / (travel time +
-  /// this)): the navigator's approach and final alignment took 3-10 s per goal in two_rooms, so
-  /// with 2 s (min_travel_time_s) the cover chose hops of a few decimetres.
-  double oracle_goal_overhead_s = 8.0;
+  /// this)): the navigator's slow approach and final alignment; a small constant makes the cover
+  /// choose hops of a few decimetres (docs/exploration.md, the oracle).
+  double oracle_goal_overhead_s = 20.0;
   /// A view counts a target only up to this depth (m; 0 = the coverage's max_range_m): the map
   /// covers a sample only within 2 cm of a stable surfel, which a far, oblique view at a low
   /// resolution often does not give.
   double oracle_max_range_m = 0.0;
   /// A view is chosen (and kept in the tour) only while it sees at least this many samples not
-  /// yet covered by the map (200 samples at the 3 cm sampling: ~0.2 m2; with 20 the tour held
-  /// twice the views, and covered less in two_rooms's first minute).
+  /// yet covered by the map (200 samples at the 3 cm sampling: ~0.2 m2; fewer makes a tour of
+  /// many views that each add little).
   int oracle_min_view_samples = 200;
 
   /// Throws InputError naming [section] key for a value out of range or a min above its max.
