@@ -21,6 +21,10 @@ std::unique_ptr<ExplorationPlanner> makePlanner(const TExplorationParams& params
   if (params.planner == "frontier") return std::make_unique<FrontierPlanner>(params);
   if (params.planner == "random") return std::make_unique<RandomPlanner>(params);
   if (params.planner == "lawnmower") return std::make_unique<LawnmowerPlanner>(params);
+  if (params.planner == "oracle")
+    throwInputError("[exploration] planner",
+                    "'oracle' needs a simulated world (it plans on the ground truth): only an "
+                    "exploring run of [source] type = sim builds it");
   throwInputError("[exploration] planner", "'" + params.planner + "' is not a planner");
 }
 

@@ -58,6 +58,13 @@ void TExplorationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
   MRPT_LOAD_CONFIG_VAR(tour_min_gain_fraction, double, c, s);
   MRPT_LOAD_CONFIG_VAR(tour_revisit_radius_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(tour_revisit_discount, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(oracle_target_spacing_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(oracle_headings, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(oracle_cover_fraction, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(oracle_max_views, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(oracle_goal_overhead_s, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(oracle_max_range_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(oracle_min_view_samples, int, c, s);
   validate(s);
 }
 
@@ -114,6 +121,13 @@ void TExplorationParams::validate(const std::string& s) const {
   requireInRange(tour_min_gain_fraction, 0.0, 1.0, s, "tour_min_gain_fraction");
   requireInRange(tour_revisit_radius_m, 0.0, 100.0, s, "tour_revisit_radius_m");
   requireInRange(tour_revisit_discount, 0.0, 1.0, s, "tour_revisit_discount");
+  requireInRange(oracle_target_spacing_m, 0.0, 10.0, s, "oracle_target_spacing_m");
+  requireInRange(oracle_headings, 1, 360, s, "oracle_headings");
+  requireInRange(oracle_cover_fraction, 0.0, 1.0, s, "oracle_cover_fraction");
+  requireInRange(oracle_max_views, 1, 100000, s, "oracle_max_views");
+  requireInRange(oracle_goal_overhead_s, 0.001, 1000000.0, s, "oracle_goal_overhead_s");
+  requireInRange(oracle_max_range_m, 0.0, 100.0, s, "oracle_max_range_m");
+  requireInRange(oracle_min_view_samples, 1, 100000000, s, "oracle_min_view_samples");
   const auto requireBelow = [&s](double lo, double hi, const std::string& keys) {
     if (!(lo < hi)) throwInputError("[" + s + "] " + keys, "the minimum must be below the maximum");
   };
@@ -175,10 +189,17 @@ void TExplorationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(tour_min_gain_fraction, c, s);
   MRPT_SAVE_CONFIG_VAR(tour_revisit_radius_m, c, s);
   MRPT_SAVE_CONFIG_VAR(tour_revisit_discount, c, s);
+  MRPT_SAVE_CONFIG_VAR(oracle_target_spacing_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(oracle_headings, c, s);
+  MRPT_SAVE_CONFIG_VAR(oracle_cover_fraction, c, s);
+  MRPT_SAVE_CONFIG_VAR(oracle_max_views, c, s);
+  MRPT_SAVE_CONFIG_VAR(oracle_goal_overhead_s, c, s);
+  MRPT_SAVE_CONFIG_VAR(oracle_max_range_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(oracle_min_view_samples, c, s);
 }
 
 std::vector<std::string> plannerNames() {
-  return {"ig", "ig_greedy", "frontier", "random", "lawnmower"};
+  return {"ig", "ig_greedy", "frontier", "random", "lawnmower", "oracle"};
 }
 
 }  // namespace rasm::exploration

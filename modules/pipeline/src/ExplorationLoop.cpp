@@ -12,6 +12,7 @@
 #include "rasm/exploration/ExplorationPlanner.h"
 #include "rasm/exploration/ViewPlanner.h"
 #include "rasm/pipeline/LinePlot.h"
+#include "rasm/pipeline/OraclePlanner.h"
 #include "rasm/pipeline/OutputFiles.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
 #include "rasm/pipeline/stages/FusionStages.h"
@@ -41,6 +42,8 @@ const char* sourceName(exploration::ViewCandidate::Source s) {
       return "frontier";
     case S::Sweep:
       return "sweep";
+    case S::Oracle:
+      return "oracle";
     case S::Random:
       break;
   }
@@ -83,7 +86,6 @@ ExplorationLoop::ExplorationLoop(Mapper& mapper, sim::SimulatedSequence& seq,
   }
   m_driver = std::make_unique<SimulatedRobotDriver>(seq);
   const sim::SimulatedDiffDriveRobot& robot = *seq.robot();
-  start(robot.params().footprintPolygon(), nav_params);
   // Coverage counts the surface this robot's camera could see (its height, pitch, field of view
   // and the mapper's depth range), not the ceiling or the undersides of desks.
   m_coverage = std::make_unique<sim::SurfaceCoverage>(
@@ -91,6 +93,11 @@ ExplorationLoop::ExplorationLoop(Mapper& mapper, sim::SimulatedSequence& seq,
       sim::coverageOptionsForRobot(robot.params(), seq.sensor().intrinsics(),
                                    mapper.mapperParams().max_depth_m));
   m_instances = std::make_unique<sim::SurfaceInstanceQuery>(seq.scene());
+  if (m_stage.params().planner == "oracle")  // the ground truth's planner (start() builds others)
+    m_planner = std::make_unique<OraclePlanner>(
+        *m_coverage, seq.scene(), m_stage.params(),
+        mapper.stage<TrackingStage>().robotParams().T_base_cam(), seq.sensor().intrinsics());
+  start(robot.params().footprintPolygon(), nav_params);
 }
 
 ExplorationLoop::ExplorationLoop(Mapper& mapper, std::unique_ptr<RobotDriver> driver,
@@ -105,7 +112,7 @@ ExplorationLoop::ExplorationLoop(Mapper& mapper, std::unique_ptr<RobotDriver> dr
 void ExplorationLoop::start(const std::vector<Eigen::Vector2f>& footprint,
                             const navigation::TNavigationParams& nav_params) {
   m_T_base_cam = m_mapper.stage<TrackingStage>().robotParams().T_base_cam();
-  m_planner = exploration::makePlanner(m_stage.params());
+  if (!m_planner) m_planner = exploration::makePlanner(m_stage.params());
   m_robot = &m_driver->robot();
   m_nav = std::make_unique<navigation::Navigator>(*m_robot, nav_params, footprint,
                                                   [this] { return estimatedBasePose(); });
@@ -531,6 +538,8 @@ void ExplorationLoop::report(nlohmann::json& rep) const {
             "class, unseen ones included"
           : "none: no ground truth on a real robot (coverage and objects are not measured; "
             "exploration.json metrics carry time, path, entropy and surfels)"}};
+  if (const auto* oracle = dynamic_cast<const OraclePlanner*>(m_planner.get()))
+    rep["exploration"]["oracle_reachable_fraction"] = oracle->reachableFraction();
 }
 
 void ExplorationLoop::writeOutputs(OutputFolder& folder) const {

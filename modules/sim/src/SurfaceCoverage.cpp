@@ -380,7 +380,8 @@ SurfaceCoverage::SurfaceCoverage(const World& world, const RayScene& scene,
 }
 
 SurfaceCoverage::Result SurfaceCoverage::evaluate(
-    const std::vector<Eigen::Vector3f>& map_points) const {
+    const std::vector<Eigen::Vector3f>& map_points,
+    std::vector<std::uint8_t>* covered_samples) const {
   std::vector<std::uint8_t> covered(m_sorted_pos.size(), 0);
   const float r = float(m_opts.max_dist_m), r2 = r * r, inv = 1.f / m_cell;
   const long long N = (long long)map_points.size();
@@ -465,6 +466,7 @@ SurfaceCoverage::Result SurfaceCoverage::evaluate(
   res.fraction = ratio(res.covered_area_m2, res.observable_area_m2);
   res.structure = ratio(cov_s, obs_s);
   res.furniture_and_objects = ratio(cov_f, obs_f);
+  if (covered_samples) covered_samples->swap(cov_by_sample);
   res.per_object.resize(m_num_objects);
   for (std::size_t k = 0; k < m_num_objects; ++k)
     res.per_object[k] = obs_area[k] > 0 ? cov_area[k] / obs_area[k] : -1.0;

@@ -75,6 +75,8 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   /// frontier, Yamauchi 1997), "random" (random reachable free cells), "lawnmower"
   /// (boustrophedon sweep). The baselines run on the same octree, projection, reachability and
   /// budget as "ig".
+  /// "oracle" knows the simulated world's surface (pipeline OraclePlanner): only an exploring run
+  /// of a simulated world builds it; makePlanner refuses it.
   std::string planner = "ig";
   /// A goal the robot failed to reach (and, for "frontier", a goal it reached) is blacklisted:
   /// candidates whose base lies within this distance (m) of it are not offered again. 0.5 m is
@@ -118,6 +120,27 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   /// a far room; halving per view taken within 2 m (about a room's half-width) moves the tour on
   /// after a few views. 1 = off.
   double tour_revisit_radius_m = 2.0, tour_revisit_discount = 0.5;
+  // ---- oracle (pipeline OraclePlanner.h: the reference with the world's ground truth) ----
+  /// The surface samples are thinned to one target per cube of this edge (m) for the view sets
+  /// (each target stands for its cube's samples); 0 = every sample a target (slower: the
+  /// precomputation casts one ray per candidate and target in view).
+  double oracle_target_spacing_m = 0.1;
+  int oracle_headings = 8;  ///< candidate headings per free robot position (evenly spaced)
+  /// The greedy cover stops once its views see this fraction of the coverable samples left.
+  double oracle_cover_fraction = 0.99;
+  int oracle_max_views = 200;  ///< at most this many views per cover (a tour)
+  /// Seconds a goal costs beyond its travel time in the cover's rate (gain / (travel time +
+  /// this)): the navigator's slow approach and final alignment; a small constant makes the cover
+  /// choose hops of a few decimetres (docs/exploration.md, the oracle).
+  double oracle_goal_overhead_s = 20.0;
+  /// A view counts a target only up to this depth (m; 0 = the coverage's max_range_m): the map
+  /// covers a sample only within 2 cm of a stable surfel, which a far, oblique view at a low
+  /// resolution often does not give.
+  double oracle_max_range_m = 0.0;
+  /// A view is chosen (and kept in the tour) only while it sees at least this many samples not
+  /// yet covered by the map (200 samples at the 3 cm sampling: ~0.2 m2; fewer makes a tour of
+  /// many views that each add little).
+  int oracle_min_view_samples = 200;
 
   /// Throws InputError naming [section] key for a value out of range or a min above its max.
   void validate(const std::string& section = "exploration") const;

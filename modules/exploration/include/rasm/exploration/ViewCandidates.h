@@ -26,8 +26,8 @@ namespace rasm::exploration {
 
 struct ViewCandidate {
   /// Random and Object: the IG planner's (a) and (b); Frontier, Sweep: the "frontier" and
-  /// "lawnmower" baselines' goals ("random" offers Random ones).
-  enum class Source { Random, Object, Frontier, Sweep };
+  /// "lawnmower" baselines' goals ("random" offers Random ones); Oracle: the "oracle"'s views.
+  enum class Source { Random, Object, Frontier, Sweep, Oracle };
   Source source = Source::Random;
   std::uint32_t segment = 0;                       ///< the segment an object view looks at
   Eigen::Vector3d pose = Eigen::Vector3d::Zero();  ///< robot base (x m, y m, yaw rad)

@@ -112,8 +112,11 @@ class SurfaceCoverage {
   /// `scene`, which must be built from the same world; only used here, not kept).
   SurfaceCoverage(const World& world, const RayScene& scene, const CoverageOptions& opts = {});
 
-  /// Coverage of the samples by `map_points` (non-finite points are ignored).
-  Result evaluate(const std::vector<Eigen::Vector3f>& map_points) const;
+  /// Coverage of the samples by `map_points` (non-finite points are ignored). With
+  /// `covered_samples`, also which samples are covered: one byte per samples() entry, 1 when
+  /// covered (always 0 for samples that are not observable).
+  Result evaluate(const std::vector<Eigen::Vector3f>& map_points,
+                  std::vector<std::uint8_t>* covered_samples = nullptr) const;
 
   std::size_t observableSamples() const { return m_observable; }
   const std::vector<Sample>& samples() const { return m_samples; }
