@@ -101,8 +101,8 @@ std::pair<double, double> OdometryPrior::floorDeviation(
 }
 
 tracking::MotionPrior OdometryPrior::floorMeasurement(const Eigen::Isometry3d& T_world_cam_pred,
-                                                     double sigma_xy_m,
-                                                     double sigma_yaw_rad) const {
+                                                      double sigma_xy_m,
+                                                      double sigma_yaw_rad) const {
   // Height, roll and pitch are absolute (the mount on the first frame's floor), not increments:
   // their uncertainty is the floor's, whatever the previous pose or lost frames accumulated.
   const Eigen::Isometry3d T_floor_pred = projectToFloor(T_world_cam_pred);

@@ -118,14 +118,13 @@ struct TRobotParams : mrpt::config::CLoadableOptions {
   /// mount's, whatever the map did. With odometry, the prior ICP fuses then takes x, y and yaw
   /// from the odometry increment (relative) and height, roll and pitch from the mount on the
   /// first floor (absolute) with the sigmas below. Soft: the data still weigh in, unlike
-  /// planar_motion. Off by default: on the simulated office loop it holds the floor within the
-  /// targets but the horizontal error grows instead (docs/slam-eval.md "Floor prior").
+  /// planar_motion. Off by default: on the simulated robot it holds the floor within the
+  /// floor_target_* but the horizontal error grows instead (docs/slam-eval.md "Floor prior").
   bool floor_prior = false;
   /// Height (m) and roll/pitch (deg) standard deviations of the floor measurement. Tighter than
   /// a real floor's unevenness (about 1 cm, 0.2 deg) because ICP weighs the map-relative data as
-  /// if the map had no error (prior_pixel_sigma_m over tens of thousands of inliers): with 1 cm
-  /// and 0.2 deg the height still crept 2.8 cm along the simulated office loop; 2 mm and
-  /// 0.05 deg held it within 0.7 cm and 0.09 deg (docs/slam-eval.md "Floor prior").
+  /// if the map had no error ([tracking] prior_pixel_sigma_m over thousands of inliers): at a
+  /// real floor's sigmas the height still drifts; at these it stays within floor_target_*.
   double floor_prior_sigma_z_m = 0.002;
   double floor_prior_sigma_tilt_deg = 0.05;
   /// Per-frame drift flag: a tracked camera with odometry more than this far above or below the
