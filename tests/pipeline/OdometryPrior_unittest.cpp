@@ -335,3 +335,47 @@ TEST(OdometryPrior, FloorPriorHoldsTheHeightTheDataLeaveFree) {
     }
   }
 }
+
+TEST(OdometryPrior, FloorPartOfTheConflictTestIsTheMapsFloorDrift) {
+  // A floor and a far wall: the data fix the height. When the map's floor is h too high, the
+  // data pull the camera up by h, the floor measurement holds it down, and the result's distance
+  // from the prior (prior_sigmas, the conflict test) grows with h in floor sigmas: a map within
+  // a few sigmas of its floor is tracked, one far off it is refused (prior_conflict).
+  using test::Scene;
+  const DriftedStart s;
+  const CameraIntrinsics K = CameraIntrinsics::preset("kinect_v1").level(1);
+  Scene scene;
+  scene.planes.push_back({{0, 0, 1}, 0.0});
+  scene.planes.push_back({{1, 0, 0}, 4.0});
+  auto pyramidOf = [&](const Eigen::Isometry3d& T) {
+    std::vector<FrameLevel> pyr;
+    buildFramePyramid(scene.render(K, T), K, tracking::TTrackingParams::kMaxLevels, pyr);
+    return pyr;
+  };
+  const std::vector<FrameLevel> frame = pyramidOf(s.cam1);
+  const std::vector<FrameLevel> model_frame = pyramidOf(s.cam0);
+  for (const double h : {0.002, 0.03}) {
+    Eigen::Isometry3d T_model = s.cam0;  // the map's surfels placed h higher than the world's
+    T_model.translation().z() += h;
+    const test::WorldMaps model(model_frame[0], T_model);
+    tracking::ModelMaps mm;
+    mm.vertex_world = model.vertex.view();
+    mm.normal_world = model.normal.view();
+    mm.K = K;
+    mm.T_world_model = T_model;
+    OdometryPrior op = s.primed(true);
+    const auto prior = op.predict(s.odo1, s.cam0);
+    ASSERT_TRUE(prior.has_value());
+    tracking::IcpTracker icp;
+    const tracking::TrackingResult r = icp.align(frame, mm, prior->T_world_cam, {}, &*prior);
+    const double dz = r.T_world_cam.translation().z() - s.cam1.translation().z();
+    if (h < 0.01) {
+      EXPECT_TRUE(r.ok) << tracking::toString(r.status);
+      EXPECT_GT(dz, 0.5 * h) << "the data outweigh the floor where they fix the height";
+      EXPECT_LT(r.prior_sigmas, 3.0);
+    } else {
+      EXPECT_EQ(r.status, tracking::TrackingStatus::PriorConflict);
+      EXPECT_GT(r.prior_sigmas, 6.0);
+    }
+  }
+}
