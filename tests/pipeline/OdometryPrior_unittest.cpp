@@ -5,8 +5,11 @@
 
 #include <cmath>
 
+#include "rasm/core/FrameProcessing.h"
 #include "rasm/core/SE3.h"
 #include "rasm/pipeline/OdometryPrior.h"
+#include "rasm/tracking/IcpTracker.h"
+#include "tracking/SyntheticScene.h"
 #if __has_include("rasm/sim/SimulatedDiffDriveRobot.h")
 #define RASM_TEST_HAVE_SIM 1
 #include "rasm/sim/SimulatedDiffDriveRobot.h"
@@ -46,6 +49,7 @@ TEST(OdometryPrior, MountLooksForwardAndDown) {
 
 TEST(OdometryPrior, ExactOdometryPredictsTheCameraMotion) {
   TRobotParams p;
+  p.floor_prior = false;  // the relative model alone (FloorPrior* below: with the floor)
   p.camera_yaw_deg = 20;  // a mount not aligned with the base: the conjugation matters
   p.camera_roll_deg = 3;
   OdometryPrior op(p);
@@ -191,4 +195,187 @@ TEST(OdometryPrior, FloorDeviationMeasuresHeightAndTiltOffTheFirstFloor) {
   const Eigen::Isometry3d tilted =
       driven * Eigen::Isometry3d(Eigen::AngleAxisd(2.0 * kDeg, Eigen::Vector3d::UnitX()));
   EXPECT_NEAR(op.floorDeviation(tilted).second / kDeg, 2.0, 1e-6);
+}
+
+namespace {
+/// A previous camera pose 3 cm too high and tilted 0.5 deg about a horizontal axis through the
+/// camera (the map's floor drifted), and the odometry reading of the true one.
+struct DriftedStart {
+  TRobotParams params;
+  Eigen::Vector3d odo0{1.0, 0.5, 0.3}, odo1{1.03, 0.51, 0.33};
+  Eigen::Isometry3d cam0, cam1, cam0_drifted;
+  DriftedStart() {
+    cam0 = base(odo0.x(), odo0.y(), odo0.z()) * params.T_base_cam();
+    cam1 = base(odo1.x(), odo1.y(), odo1.z()) * params.T_base_cam();
+    cam0_drifted = cam0;
+    cam0_drifted.translation().z() += 0.03;
+    cam0_drifted.linear() =
+        Eigen::AngleAxisd(0.5 * kDeg, Eigen::Vector3d(0.6, 0.8, 0.0)).toRotationMatrix() *
+        cam0.linear();
+  }
+  /// Primed with the first frame at the origin of the floor and the reading of cam0.
+  OdometryPrior primed(bool floor_prior) const {
+    TRobotParams p = params;
+    p.floor_prior = floor_prior;
+    OdometryPrior op(p);
+    op.start(base(0, 0, 0) * p.T_base_cam(), Eigen::Vector3d::Zero());
+    op.predict(odo0, cam0);  // the previous frame's reading
+    op.frameDone(true);
+    return op;
+  }
+};
+}  // namespace
+
+TEST(OdometryPrior, FloorPriorTakesHeightAndTiltFromTheMountAndTheRestFromTheOdometry) {
+  const DriftedStart s;
+  OdometryPrior op = s.primed(true);
+  const auto prior = op.predict(s.odo1, s.cam0_drifted);
+  ASSERT_TRUE(prior.has_value());
+  // Height and tilt: the mount's on the first floor, not the drifted previous pose's.
+  const auto [height, tilt] = op.floorDeviation(prior->T_world_cam);
+  EXPECT_NEAR(height, 0.0, 1e-9);
+  EXPECT_NEAR(tilt, 0.0, 1e-9);
+  EXPECT_NEAR(prior->T_world_cam.translation().z(), s.params.camera_z_m, 1e-9);
+  // x, y and yaw: the increment applied to the previous pose (its tilt turns the 3.2 cm step by
+  // 0.5 deg at most: 0.3 mm).
+  EXPECT_NEAR(prior->T_world_cam.translation().x(), s.cam1.translation().x(), 3e-4);
+  EXPECT_NEAR(prior->T_world_cam.translation().y(), s.cam1.translation().y(), 3e-4);
+  EXPECT_LT(rotationAngle(prior->T_world_cam, s.cam1) / kDeg, 0.01) << "only yaw can differ";
+
+  // Information: the floor's sigmas in height, roll and pitch (the first floor is the world's
+  // z = 0 here), the relative odometry's in x, y and yaw.
+  const double sz = s.params.floor_prior_sigma_z_m;
+  const double st = s.params.floor_prior_sigma_tilt_deg * kDeg;
+  const Eigen::Matrix<double, 6, 6>& I = prior->information;
+  EXPECT_NEAR(I(2, 2), 1.0 / (sz * sz), 1e-9 / (sz * sz));
+  EXPECT_NEAR(I(3, 3), 1.0 / (st * st), 1e-9 / (st * st));
+  EXPECT_NEAR(I(4, 4), 1.0 / (st * st), 1e-9 / (st * st));
+  EXPECT_NEAR(I(3, 4), 0.0, 1e-9 / (st * st));
+  OdometryPrior rel = s.primed(false);
+  const auto relative = rel.predict(s.odo1, s.cam0);  // from the true (level) pose
+  ASSERT_TRUE(relative.has_value());
+  for (const int i : {0, 1, 5})
+    EXPECT_NEAR(I(i, i), relative->information(i, i), 1e-9 * I(i, i)) << "axis " << i;
+  EXPECT_NEAR(relative->information(2, 2),
+              1.0 / (s.params.odometry_sigma_z_m * s.params.odometry_sigma_z_m), 1e-6);
+}
+
+TEST(OdometryPrior, FloorPriorOffPredictsExactlyTheRelativeModel) {
+  // The relative model, written out: the previous pose composed with the increment through the
+  // mount, the increment's sigmas along the base's axes at t-1 (no lost frames).
+  const DriftedStart s;
+  OdometryPrior op = s.primed(false);
+  const auto prior = op.predict(s.odo1, s.cam0_drifted);
+  ASSERT_TRUE(prior.has_value());
+  const TRobotParams& p = s.params;
+  const Eigen::Isometry3d M = p.T_base_cam();
+  const Eigen::Isometry3d delta =
+      base(s.odo0.x(), s.odo0.y(), s.odo0.z()).inverse() * base(s.odo1.x(), s.odo1.y(), s.odo1.z());
+  const Eigen::Isometry3d T_pred = s.cam0_drifted * M.inverse() * delta * M;
+  const double d = delta.translation().head<2>().norm();
+  const double a =
+      std::abs(std::atan2(std::sin(s.odo1.z() - s.odo0.z()), std::cos(s.odo1.z() - s.odo0.z())));
+  const double s_yaw = p.odometry_sigma_yaw_deg * kDeg +
+                       p.odometry_sigma_yaw_per_sqrt_rad * std::sqrt(a) +
+                       p.odometry_sigma_yaw_per_sqrt_m * std::sqrt(d);
+  const double lever = M.translation().head<2>().norm();
+  const double s_xy_inc = p.odometry_sigma_xy_m + p.odometry_sigma_xy_per_sqrt_m * std::sqrt(d);
+  const double v_xy = 0.0 + s_xy_inc * s_xy_inc + 0.0 * d * d;
+  const double v_yaw = 0.0 + s_yaw * s_yaw;
+  const double s_tilt = p.odometry_sigma_tilt_deg * kDeg;
+  const double v_tilt = 0.0 + s_tilt * s_tilt;
+  const double v_z = 0.0 + p.odometry_sigma_z_m * p.odometry_sigma_z_m;
+  const double s_xy = std::sqrt(v_xy + lever * lever * v_yaw);
+  const tracking::MotionPrior expected = tracking::MotionPrior::fromStdDevs(
+      T_pred, s.cam0_drifted.linear() * M.linear().transpose(),
+      Eigen::Vector3d(s_xy, s_xy, std::sqrt(v_z)),
+      Eigen::Vector3d(std::sqrt(v_tilt), std::sqrt(v_tilt), std::sqrt(v_yaw)));
+  EXPECT_TRUE(prior->T_world_cam.matrix() == expected.T_world_cam.matrix()) << "bit-identical";
+  EXPECT_TRUE(prior->information == expected.information) << "bit-identical";
+}
+
+TEST(OdometryPrior, FloorPriorHoldsTheHeightTheDataLeaveFree) {
+  // A corner of two walls and no floor in view: the data fix x, y and every rotation, not the
+  // height. The previous estimate was 3 cm high and 0.5 deg tilted; ICP fuses the prior in its
+  // normal equations. With the floor, the height comes back to the mount's; with the relative
+  // prior alone, it stays where the drifted previous pose put it.
+  using test::Scene;
+  const DriftedStart s;
+  const CameraIntrinsics K = CameraIntrinsics::preset("kinect_v1").level(1);
+  Scene scene;
+  scene.planes.push_back({{1, 0, 0}, 2.5});
+  scene.planes.push_back({{0, 1, 0}, 1.5});
+  auto pyramidOf = [&](const Eigen::Isometry3d& T) {
+    std::vector<FrameLevel> pyr;
+    buildFramePyramid(scene.render(K, T), K, tracking::TTrackingParams::kMaxLevels, pyr);
+    return pyr;
+  };
+  const test::WorldMaps model(pyramidOf(s.cam0)[0], s.cam0);  // the map is right
+  tracking::ModelMaps mm;
+  mm.vertex_world = model.vertex.view();
+  mm.normal_world = model.normal.view();
+  mm.K = K;
+  mm.T_world_model = s.cam0;
+  const std::vector<FrameLevel> frame = pyramidOf(s.cam1);
+  for (const bool floor : {true, false}) {
+    OdometryPrior op = s.primed(floor);
+    const auto prior = op.predict(s.odo1, s.cam0_drifted);
+    ASSERT_TRUE(prior.has_value());
+    tracking::IcpTracker icp;
+    const tracking::TrackingResult r = icp.align(frame, mm, prior->T_world_cam, {}, &*prior);
+    EXPECT_TRUE(r.ok) << tracking::toString(r.status);
+    const double dz = r.T_world_cam.translation().z() - s.cam1.translation().z();
+    if (floor) {
+      EXPECT_NEAR(dz, 0.0, 0.002) << "the floor's height";
+      EXPECT_LT(translationDistance(r.T_world_cam, s.cam1), 0.003);
+      EXPECT_LT(rotationAngle(r.T_world_cam, s.cam1) / kDeg, 0.1);
+      EXPECT_LT(r.prior_sigmas, 2.0) << "a right result agrees with the floor";
+    } else {
+      EXPECT_GT(dz, 0.02) << "the relative prior keeps the drift";
+    }
+  }
+}
+
+TEST(OdometryPrior, FloorPartOfTheConflictTestIsTheMapsFloorDrift) {
+  // A floor and a far wall: the data fix the height. When the map's floor is h too high, the
+  // data pull the camera up by h, the floor measurement holds it down, and the result's distance
+  // from the prior (prior_sigmas, the conflict test) grows with h in floor sigmas: a map within
+  // a few sigmas of its floor is tracked, one far off it is refused (prior_conflict).
+  using test::Scene;
+  const DriftedStart s;
+  const CameraIntrinsics K = CameraIntrinsics::preset("kinect_v1").level(1);
+  Scene scene;
+  scene.planes.push_back({{0, 0, 1}, 0.0});
+  scene.planes.push_back({{1, 0, 0}, 4.0});
+  auto pyramidOf = [&](const Eigen::Isometry3d& T) {
+    std::vector<FrameLevel> pyr;
+    buildFramePyramid(scene.render(K, T), K, tracking::TTrackingParams::kMaxLevels, pyr);
+    return pyr;
+  };
+  const std::vector<FrameLevel> frame = pyramidOf(s.cam1);
+  const std::vector<FrameLevel> model_frame = pyramidOf(s.cam0);
+  for (const double h : {0.002, 0.03}) {
+    Eigen::Isometry3d T_model = s.cam0;  // the map's surfels placed h higher than the world's
+    T_model.translation().z() += h;
+    const test::WorldMaps model(model_frame[0], T_model);
+    tracking::ModelMaps mm;
+    mm.vertex_world = model.vertex.view();
+    mm.normal_world = model.normal.view();
+    mm.K = K;
+    mm.T_world_model = T_model;
+    OdometryPrior op = s.primed(true);
+    const auto prior = op.predict(s.odo1, s.cam0);
+    ASSERT_TRUE(prior.has_value());
+    tracking::IcpTracker icp;
+    const tracking::TrackingResult r = icp.align(frame, mm, prior->T_world_cam, {}, &*prior);
+    const double dz = r.T_world_cam.translation().z() - s.cam1.translation().z();
+    if (h < 0.01) {
+      EXPECT_TRUE(r.ok) << tracking::toString(r.status);
+      EXPECT_GT(dz, 0.5 * h) << "the data outweigh the floor where they fix the height";
+      EXPECT_LT(r.prior_sigmas, 3.0);
+    } else {
+      EXPECT_EQ(r.status, tracking::TrackingStatus::PriorConflict);
+      EXPECT_GT(r.prior_sigmas, 6.0);
+    }
+  }
 }

@@ -61,6 +61,8 @@ std::optional<tracking::MotionPrior> OdometryPrior::predict(
   m_pending = v;
   m_last_sigma_yaw = std::sqrt(v.yaw);
   const double s_xy = std::sqrt(v.xy + lever * lever * v.yaw);
+  // A base on a flat floor: height, roll and pitch measured absolutely instead (the floor).
+  if (p.floor_prior) return floorMeasurement(T_pred, s_xy, m_last_sigma_yaw);
   const Eigen::Matrix3d R_world_base =
       T_world_cam_prev.linear() * m_T_base_cam.linear().transpose();
   return tracking::MotionPrior::fromStdDevs(
@@ -96,6 +98,21 @@ std::pair<double, double> OdometryPrior::floorDeviation(
   const double tilt =
       Eigen::AngleAxisd(T_world_cam.linear() * T_floor.linear().transpose()).angle();
   return {height, tilt};
+}
+
+tracking::MotionPrior OdometryPrior::floorMeasurement(const Eigen::Isometry3d& T_world_cam_pred,
+                                                      double sigma_xy_m,
+                                                      double sigma_yaw_rad) const {
+  // Height, roll and pitch are absolute (the mount on the first frame's floor), not increments:
+  // their uncertainty is the floor's, whatever the previous pose or lost frames accumulated.
+  const Eigen::Isometry3d T_floor_pred = projectToFloor(T_world_cam_pred);
+  const Eigen::Matrix3d R_world_floorbase =
+      T_floor_pred.linear() * m_T_base_cam.linear().transpose();
+  const double s_tilt = m_params.floor_prior_sigma_tilt_deg * kDeg;
+  return tracking::MotionPrior::fromStdDevs(
+      T_floor_pred, R_world_floorbase,
+      Eigen::Vector3d(sigma_xy_m, sigma_xy_m, m_params.floor_prior_sigma_z_m),
+      Eigen::Vector3d(s_tilt, s_tilt, sigma_yaw_rad));
 }
 
 Eigen::Isometry3d OdometryPrior::projectToFloor(const Eigen::Isometry3d& T_world_cam) const {

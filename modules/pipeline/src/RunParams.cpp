@@ -173,6 +173,9 @@ void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(heading_drift_window_frames, int, c, s);
   MRPT_LOAD_CONFIG_VAR(heading_drift_max_sigmas, double, c, s);
   MRPT_LOAD_CONFIG_VAR(planar_motion, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(floor_prior, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(floor_prior_sigma_z_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(floor_prior_sigma_tilt_deg, double, c, s);
   MRPT_LOAD_CONFIG_VAR(floor_max_height_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(floor_max_tilt_deg, double, c, s);
   MRPT_LOAD_CONFIG_VAR(floor_target_height_m, double, c, s);
@@ -201,6 +204,8 @@ void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireInRange(odometry_sigma_yaw_per_sqrt_m, 0.0, 1.0, s, "odometry_sigma_yaw_per_sqrt_m");
   requireInRange(odometry_sigma_z_m, 1e-6, 1.0, s, "odometry_sigma_z_m");
   requireInRange(odometry_sigma_tilt_deg, 1e-6, 90.0, s, "odometry_sigma_tilt_deg");
+  requireInRange(floor_prior_sigma_z_m, 1e-6, 1.0, s, "floor_prior_sigma_z_m");
+  requireInRange(floor_prior_sigma_tilt_deg, 1e-6, 90.0, s, "floor_prior_sigma_tilt_deg");
 }
 
 void TRobotParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -222,6 +227,9 @@ void TRobotParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
   MRPT_SAVE_CONFIG_VAR(heading_drift_window_frames, c, s);
   MRPT_SAVE_CONFIG_VAR(heading_drift_max_sigmas, c, s);
   MRPT_SAVE_CONFIG_VAR(planar_motion, c, s);
+  MRPT_SAVE_CONFIG_VAR(floor_prior, c, s);
+  MRPT_SAVE_CONFIG_VAR(floor_prior_sigma_z_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(floor_prior_sigma_tilt_deg, c, s);
   MRPT_SAVE_CONFIG_VAR(floor_max_height_m, c, s);
   MRPT_SAVE_CONFIG_VAR(floor_max_tilt_deg, c, s);
   MRPT_SAVE_CONFIG_VAR(floor_target_height_m, c, s);

@@ -8,6 +8,12 @@
 // The increment is relative, so odometry drift never enters the map; its covariance is that of
 // one frame's increment (TRobotParams), along the base's axes at t-1.
 //
+// The floor measurement (TRobotParams::floor_prior, floorMeasurement): a base on a flat floor
+// also knows three coordinates absolutely, the camera's height above the first frame's floor and
+// its roll and pitch (the mount's). The prior then keeps x, y and yaw of the relative prediction
+// and takes height, roll and pitch from the mount, with the floor's own uncertainty, so these
+// three no longer random-walk with the ICP errors. ICP fuses it with the data like any prior.
+//
 // The optional planar constraint (TRobotParams::planar_motion) projects a pose onto the SE(2)
 // motion of the base on the floor of the first frame: height, roll and pitch of the mount fixed.
 
@@ -62,6 +68,14 @@ class OdometryPrior {
 
   /// The pose moved onto the floor plane (SE(2) of the base at the mount's height and tilt).
   Eigen::Isometry3d projectToFloor(const Eigen::Isometry3d& T_world_cam) const;
+
+  /// The floor measurement: the relative prediction T_world_cam_pred moved onto the first
+  /// frame's floor (projectToFloor: its camera position in the floor plane and its yaw kept,
+  /// height, roll and pitch the mount's), with standard deviations along the floor frame at the
+  /// base's heading: sigma_xy_m (x, y) and sigma_yaw_rad (yaw) of the relative prediction,
+  /// TRobotParams::floor_prior_sigma_z_m and floor_prior_sigma_tilt_deg (height, roll, pitch).
+  tracking::MotionPrior floorMeasurement(const Eigen::Isometry3d& T_world_cam_pred,
+                                         double sigma_xy_m, double sigma_yaw_rad) const;
 
   const Eigen::Isometry3d& T_base_cam() const { return m_T_base_cam; }
 

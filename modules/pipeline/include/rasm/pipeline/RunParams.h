@@ -113,6 +113,20 @@ struct TRobotParams : mrpt::config::CLoadableOptions {
   /// Constrain the camera to the SE(2) motion of a ground robot: every tracked pose is projected
   /// to the floor plane of the first frame's base (fixed height, roll and pitch of the mount).
   bool planar_motion = false;
+  /// The floor as an absolute measurement (OdometryPrior::floorMeasurement): for a base on a
+  /// flat floor the camera's height above the first frame's floor and its roll and pitch are the
+  /// mount's, whatever the map did. With odometry, the prior ICP fuses then takes x, y and yaw
+  /// from the odometry increment (relative) and height, roll and pitch from the mount on the
+  /// first floor (absolute) with the sigmas below. Soft: the data still weigh in, unlike
+  /// planar_motion. Off by default: on the simulated robot it holds the floor within the
+  /// floor_target_* but the horizontal error grows instead (docs/slam-eval.md "Floor prior").
+  bool floor_prior = false;
+  /// Height (m) and roll/pitch (deg) standard deviations of the floor measurement. Tighter than
+  /// a real floor's unevenness (about 1 cm, 0.2 deg) because ICP weighs the map-relative data as
+  /// if the map had no error ([tracking] prior_pixel_sigma_m over thousands of inliers): at a
+  /// real floor's sigmas the height still drifts; at these it stays within floor_target_*.
+  double floor_prior_sigma_z_m = 0.002;
+  double floor_prior_sigma_tilt_deg = 0.05;
   /// Per-frame drift flag: a tracked camera with odometry more than this far above or below the
   /// mount's height over the first frame's floor, or tilted more than this from the mount, is
   /// counted in report.json (frames_off_floor): the map's floor has drifted (measured: 5-9 cm of
