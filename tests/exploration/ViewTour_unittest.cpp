@@ -28,7 +28,8 @@ TourProblem randomProblem(int n, std::mt19937_64& rng) {
     p.start_time_s.push_back((xy[std::size_t(i)] - xy[std::size_t(n)]).norm() / 0.3 + turn(rng));
     p.weight.push_back(w(rng));
     for (int j = 0; j < n; ++j)
-      if (i != j) p.time_s(i, j) = (xy[std::size_t(i)] - xy[std::size_t(j)]).norm() / 0.3 + turn(rng);
+      if (i != j)
+        p.time_s(i, j) = (xy[std::size_t(i)] - xy[std::size_t(j)]).norm() / 0.3 + turn(rng);
   }
   return p;
 }
@@ -129,8 +130,8 @@ ViewCandidate viewAt(double x, double y) {
 }
 
 TEST(ViewTour, ClustersJoinViewsWithinTheRadiusAtTheirBestViewAndDropCrumbs) {
-  const std::vector<ViewCandidate> views = {viewAt(0, 0),   viewAt(0.5, 0), viewAt(5, 0),
-                                            viewAt(5.2, 0.3), viewAt(9, 0), viewAt(3, 3)};
+  const std::vector<ViewCandidate> views = {viewAt(0, 0),     viewAt(0.5, 0), viewAt(5, 0),
+                                            viewAt(5.2, 0.3), viewAt(9, 0),   viewAt(3, 3)};
   const std::vector<double> gains = {0.5, 0.9, 0.4, 0.3, 0.05, 0.0};
   // Heads by descending gain: 1 (0.9), then 0 is within 1 m of it, 2 (0.4) starts a cluster,
   // 3 joins it; 4 is below 0.1 x 0.9; 5 has no gain.

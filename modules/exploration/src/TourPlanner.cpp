@@ -45,7 +45,8 @@ std::vector<int> clusterViews(const std::vector<ViewCandidate>& views,
 }
 
 Eigen::MatrixXd legTimes(const mrpt::maps::COccupancyGridMap2D& grid,
-                         const std::vector<ViewCandidate>& views, const TExplorationParams& params) {
+                         const std::vector<ViewCandidate>& views,
+                         const TExplorationParams& params) {
   const int n = int(views.size());
   const double turn_rate = params.turn_rate_degps * M_PI / 180.0;
   Eigen::MatrixXd t = Eigen::MatrixXd::Zero(n, n);

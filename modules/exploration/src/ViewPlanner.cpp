@@ -63,9 +63,9 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
 #pragma omp for schedule(dynamic, 1)
     for (int j = 0; j < n; ++j) {
       try {
-        predicted[std::size_t(j)] = predictor.predict(
-            *in.store, *in.octree, candidates[std::size_t(reachable[std::size_t(j)])].T_world_cam,
-            in.K);
+        predicted[std::size_t(j)] =
+            predictor.predict(*in.store, *in.octree,
+                              candidates[std::size_t(reachable[std::size_t(j)])].T_world_cam, in.K);
       } catch (...) {
 #pragma omp critical(rasm_view_planner_failure)
         if (!failure) failure = std::current_exception();
@@ -89,9 +89,8 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
 double informationGain(const TExplorationParams& params, double entropy_reduction,
                        double information, double max_entropy_reduction, double max_information) {
   // IG(a) = w1 dH + w2 dIC (V), each term over its largest value in this plan.
-  return (max_entropy_reduction > 0.0
-              ? params.w_entropy * entropy_reduction / max_entropy_reduction
-              : 0.0) +
+  return (max_entropy_reduction > 0.0 ? params.w_entropy * entropy_reduction / max_entropy_reduction
+                                      : 0.0) +
          (max_information > 0.0 ? params.w_ic * information / max_information : 0.0);
 }
 
