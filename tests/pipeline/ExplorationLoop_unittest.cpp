@@ -201,10 +201,7 @@ TEST(ExplorationLoop, IgGoesThroughTheDoorwaysIntoTheSecondRoom) {
   cfg.set("mapper", "poses", "groundtruth");
   cfg.set("exploration", "planner", "ig");
   // 160x120: the planner sees the same octree, only sparser (the scoreboard's --planners panel).
-  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{
-           {"fx", "131.25"}, {"fy", "131.25"}, {"cx", "79.5"}, {"cy", "59.5"},
-           {"width", "160"}, {"height", "120"}})
-    cfg.set("camera", k, v);
+  setRunCamera(cfg, camera160x120());
   MappingRun run(cfg);
   const RunSummary s = run.run();
   ASSERT_TRUE(s.explored);

@@ -23,27 +23,23 @@
 namespace fs = std::filesystem;
 using namespace rasm;
 using namespace rasm::pipeline;
+using namespace rasm::pipeline::testing;
 
 namespace {
-
-/// The robot's 160x120 camera (the scoreboard's lowest resolution: f = 131.25 px).
-CameraIntrinsics smallCamera() {
-  return CameraIntrinsics(131.25, 131.25, 79.5, 59.5, 160, 120);
-}
 
 /// two_rooms, its coverage for the default robot, and an oracle built on it.
 struct TwoRooms {
   sim::World world = sim::loadWorld("two_rooms");
   sim::RayScene scene{world};
   sim::TRobotParams robot;
-  sim::SurfaceCoverage cov{world, scene, sim::coverageOptionsForRobot(robot, smallCamera(), 4.0)};
+  sim::SurfaceCoverage cov{world, scene, sim::coverageOptionsForRobot(robot, camera160x120(), 4.0)};
   exploration::TExplorationParams params;
   std::unique_ptr<OraclePlanner> oracle;
   Eigen::Vector3d start{2.5, 2.5, M_PI / 4};  ///< two_rooms_robot's start pose
 
   TwoRooms() { oracle = make(); }
   std::unique_ptr<OraclePlanner> make() const {
-    return std::make_unique<OraclePlanner>(cov, scene, params, robot.T_base_cam(), smallCamera());
+    return std::make_unique<OraclePlanner>(cov, scene, params, robot.T_base_cam(), camera160x120());
   }
 };
 
@@ -70,14 +66,7 @@ RunConfig twoRoomsRun(const std::string& out, const std::string& planner, double
   cfg.set("explore", "time_budget_s", std::to_string(budget_s));
   cfg.set("explore", "wall_budget_s", "0");
   cfg.set("mapper", "poses", "groundtruth");
-  const CameraIntrinsics K = smallCamera();
-  cfg.set("camera", "preset", "");
-  cfg.set("camera", "fx", std::to_string(K.fx));
-  cfg.set("camera", "fy", std::to_string(K.fy));
-  cfg.set("camera", "cx", std::to_string(K.cx));
-  cfg.set("camera", "cy", std::to_string(K.cy));
-  cfg.set("camera", "width", std::to_string(K.width));
-  cfg.set("camera", "height", std::to_string(K.height));
+  setRunCamera(cfg, camera160x120());
   for (const char* k : {"write_3dscene", "write_rawlog", "write_ply", "preview_png", "save_map"})
     cfg.set("output", k, "false");
   return cfg;

@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "rasm/core/CameraIntrinsics.h"
 #include "rasm/io/FrameSource.h"
 #include "rasm/io/Trajectory.h"
 #include "rasm/pipeline/RunConfig.h"
@@ -46,16 +47,25 @@ inline std::string readText(const std::string& path) {
   return ss.str();
 }
 
+/// [camera] set to K instead of a preset.
+inline void setRunCamera(RunConfig& cfg, const CameraIntrinsics& K) {
+  cfg.set("camera", "preset", "");
+  cfg.set("camera", "fx", std::to_string(K.fx));
+  cfg.set("camera", "fy", std::to_string(K.fy));
+  cfg.set("camera", "cx", std::to_string(K.cx));
+  cfg.set("camera", "cy", std::to_string(K.cy));
+  cfg.set("camera", "width", std::to_string(K.width));
+  cfg.set("camera", "height", std::to_string(K.height));
+}
+
 /// The simulated camera at 320x240 (kinect_v1's intrinsics halved) instead of [camera] preset.
 inline void setQuarterVgaCamera(RunConfig& cfg) {
-  cfg.set("camera", "preset", "");
-  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{{"fx", "262.5"},
-                                                                             {"fy", "262.5"},
-                                                                             {"cx", "159.5"},
-                                                                             {"cy", "119.5"},
-                                                                             {"width", "320"},
-                                                                             {"height", "240"}})
-    cfg.set("camera", k, v);
+  setRunCamera(cfg, CameraIntrinsics(262.5, 262.5, 159.5, 119.5, 320, 240));
+}
+
+/// The 640x480 Kinect's intrinsics / 4 (the scoreboard's --planners resolution).
+inline CameraIntrinsics camera160x120() {
+  return CameraIntrinsics(131.25, 131.25, 79.5, 59.5, 160, 120);
 }
 
 /// The names of the files in `dir`, sorted.

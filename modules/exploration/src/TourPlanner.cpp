@@ -93,15 +93,11 @@ Plan TourIgPlanner::plan(const PlannerInputs& in) {
   // The tour's weights: IG with the object term scaled by how far the map's entropy has fallen.
   TExplorationParams tour_params = m_params;
   tour_params.w_ic *= objectWeight(*in.octree);
-  double max_h = 0.0, max_ic = 0.0;
-  for (const ViewCandidate& v : plan.ranked) {
-    max_h = std::max(max_h, v.entropy_reduction);
-    max_ic = std::max(max_ic, v.information);
-  }
-  std::vector<double> gains;
+  std::vector<double> gains;  // (best_*: the largest dH and dIC over plan.ranked)
   for (const ViewCandidate& v : plan.ranked)
-    gains.push_back(revisitDiscount(v.pose) * informationGain(tour_params, v.entropy_reduction,
-                                                              v.information, max_h, max_ic));
+    gains.push_back(revisitDiscount(v.pose) *
+                    informationGain(tour_params, v.entropy_reduction, v.information,
+                                    plan.best_entropy_reduction, plan.best_information));
   const std::vector<int> heads =
       clusterViews(plan.ranked, gains, m_params.tour_cluster_radius_m, m_params.tour_max_clusters,
                    m_params.tour_min_gain_fraction);
