@@ -7,6 +7,7 @@
 //   bench_exploration
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -36,6 +37,56 @@ double medianMs(int reps, F&& f) {
   }
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
+}
+
+struct ThinnedAgreement {
+  double rank_correlation = 0, rel_dh = 0, rel_dic = 0;
+  bool same_best = false;
+};
+
+double medianOf(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+/// Ranks of `values` (0 = smallest; ties in input order).
+std::vector<double> ranksOf(const std::vector<double>& values) {
+  std::vector<int> order(values.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = int(i);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return values[std::size_t(a)] < values[std::size_t(b)]; });
+  std::vector<double> rank(values.size());
+  for (std::size_t r = 0; r < order.size(); ++r) rank[std::size_t(order[r])] = double(r);
+  return rank;
+}
+
+/// The two plans' candidates matched by pose (same seed and grid: the same candidates).
+ThinnedAgreement agreement(const exploration::Plan& full, const exploration::Plan& thin) {
+  std::vector<double> g_full, g_thin, dh, dic;
+  for (const auto& f : full.ranked)
+    for (const auto& t : thin.ranked)
+      if ((f.pose - t.pose).norm() < 1e-9) {
+        g_full.push_back(f.gain);
+        g_thin.push_back(t.gain);
+        if (f.entropy_reduction > 0)
+          dh.push_back(std::abs(t.entropy_reduction - f.entropy_reduction) / f.entropy_reduction);
+        if (f.information > 0)
+          dic.push_back(std::abs(t.information - f.information) / f.information);
+      }
+  ThinnedAgreement a;
+  const std::size_t n = g_full.size();
+  if (n >= 2) {
+    const std::vector<double> rf = ranksOf(g_full), rt = ranksOf(g_thin);
+    double d2 = 0;
+    for (std::size_t i = 0; i < n; ++i) d2 += (rf[i] - rt[i]) * (rf[i] - rt[i]);
+    a.rank_correlation = 1.0 - 6.0 * d2 / (double(n) * (double(n) * n - 1.0));
+  }
+  a.same_best = !full.ranked.empty() && !thin.ranked.empty() &&
+                (full.ranked.front().pose - thin.ranked.front().pose).norm() < 1e-9;
+  a.rel_dh = medianOf(dh);
+  a.rel_dic = medianOf(dic);
+  return a;
 }
 }  // namespace
 
@@ -120,6 +171,30 @@ int main() {
   });
   std::printf(",\"plan_160x120_ms\":%.1f,\"plan_candidates\":%zu,\"plan_pruned\":%zu", plan_ms,
               ranked, pruned);
+  // The same plan on a thinned map ([exploration] predict_max_surfels): its cost, and how far
+  // its predictions are from the whole map's (Spearman rank correlation of the candidates'
+  // gains, the best view kept, median relative difference of dH and of dIC).
+  {
+    const exploration::Plan full = exploration::ViewPlanner(ep).plan(in);
+    std::printf(",\"thinned\":[");
+    const std::pair<int, int> configs[] = {{160, 400000}, {160, 200000}, {160, 100000},
+                                           {80, 0},       {80, 200000},  {80, 100000}};
+    for (const auto& [width, limit] : configs) {
+      exploration::TExplorationParams tp = ep;
+      tp.predict_width = width, tp.predict_height = width * 3 / 4;
+      tp.predict_max_surfels = limit;
+      exploration::Plan thin;
+      const double ms = medianMs(3, [&] { thin = exploration::ViewPlanner(tp).plan(in); });
+      const ThinnedAgreement a = agreement(full, thin);
+      std::printf(
+          "%s{\"predict\":\"%dx%d\",\"max_surfels\":%d,\"plan_ms\":%.1f,"
+          "\"rank_correlation\":%.3f,\"same_best\":%s,\"median_rel_diff_dH\":%.3f,"
+          "\"median_rel_diff_dIC\":%.3f}",
+          &width == &configs[0].first ? "" : ",", tp.predict_width, tp.predict_height, limit, ms,
+          a.rank_correlation, a.same_best ? "true" : "false", a.rel_dh, a.rel_dic);
+    }
+    std::printf("]");
+  }
   // Every planner through makePlanner on the same octree and robot pose ("ig": the views of the
   // plan above plus the clusters and the tour).
   for (const char* name : {"ig", "ig_greedy", "frontier", "random", "lawnmower"}) {

@@ -82,6 +82,34 @@ class ObjectInformationTest : public ::testing::Test {
   OccupancyOctree octree_;
 };
 
+TEST_F(ObjectInformationTest, AThinnedMapPredictsWhatTheWholeMapDoes) {
+  // The wall fused from 2.5 m has a surfel per pixel footprint (~2 cm); every 4th surfel with
+  // twice the radius still covers it without holes, so a view from 1.5 m (inside the fused part)
+  // renders the same depth: the same rays through the octree (dH equal up to the splats' edges)
+  // and the same pixels with the same view bins (dIC per pixel within the surfel spacing's IC
+  // step, 0.01, and the quantisation).
+  const Eigen::Isometry3d closer = cameraLookingAt(Eigen::Vector3d(1.5, 0.0, 1.0), kTarget);
+  ViewPredictor predictor(params_, model());
+  const ViewPrediction whole = predictor.predict(store_, octree_, closer, kK);
+  TExplorationParams thin_params = params_;
+  thin_params.predict_max_surfels = store_.size() / 4;
+  maps::SurfelStore thinned;
+  const maps::SurfelStore& used = predictionStore(store_, thin_params, thinned);
+  ASSERT_EQ(&used, &thinned);
+  EXPECT_NEAR(thinned.size(), store_.size() / 4, 1);
+  const ViewPrediction thin = predictor.predict(thinned, octree_, closer, kK);
+  ASSERT_GT(whole.information.pixels, kK.width * kK.height * 9 / 10);
+  EXPECT_NEAR(thin.information.pixels, whole.information.pixels, whole.information.pixels / 100);
+  EXPECT_NEAR(thin.information.unweighted / thin.information.pixels,
+              whole.information.unweighted / whole.information.pixels, 0.01 + 2.0 / 255);
+  EXPECT_NEAR(thin.entropy_reduction, whole.entropy_reduction, 0.02 * whole.entropy_reduction);
+  // Within the limit the map itself is used.
+  thin_params.predict_max_surfels = store_.size();
+  EXPECT_EQ(&predictionStore(store_, thin_params, thinned), &store_);
+  thin_params.predict_max_surfels = 0;
+  EXPECT_EQ(&predictionStore(store_, thin_params, thinned), &store_);
+}
+
 TEST_F(ObjectInformationTest, RepeatedViewGainsNothing) {
   const InformationGain g = gainOf(viewA());
   EXPECT_GT(g.pixels, kK.width * kK.height / 2);

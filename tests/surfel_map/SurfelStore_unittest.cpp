@@ -364,3 +364,38 @@ TEST(VoxelBlockIndex, StableSurfelsComeFirstInTheirBlock) {
   store.sortByBlock(&new_of_old);
   expectPartitioned("after sortByBlock");
 }
+
+TEST(SurfelStore, ThinnedCopyKeepsEveryKthAliveSurfelWithEveryAttribute) {
+  SurfelStoreOptions opt;
+  opt.n_classes = 5;
+  opt.view_bins_azimuth = 4;
+  opt.view_bins_elevation = 2;
+  SurfelStore store(opt);
+  std::mt19937 rng(7);
+  for (int i = 0; i < 1000; ++i) store.append(randomSurfel(rng, opt));
+  // Free slots (a removed surfel the allocator will reuse) are not surfels: skipped.
+  std::vector<int> alive;
+  SurfelArrays a = store.arrays();
+  for (int i = 0; i < store.size(); ++i)
+    if (i % 10 == 3)
+      a.colour_flags[i] |= kSurfelFree;
+    else
+      alive.push_back(i);
+
+  SurfelStore thinned;
+  thinned.copyThinnedFrom(store, 3, 1.5f);
+  thinned.rebuildIndex();
+  ASSERT_EQ(thinned.size(), int((alive.size() + 2) / 3));  // alive surfels 0, 3, 6, ...
+  EXPECT_EQ(thinned.options(), store.options());
+  for (int j = 0; j < thinned.size(); ++j) {
+    Surfel expected = store.get(alive[std::size_t(3 * j)]);
+    expected.radius *= 1.5f;
+    expectSame(thinned.get(j), expected);
+  }
+  std::string why;
+  EXPECT_TRUE(thinned.checkConsistency(&why)) << why;
+  // Stride 1 is a copy of the alive surfels.
+  thinned.copyThinnedFrom(store, 1, 1.0f);
+  EXPECT_EQ(thinned.size(), int(alive.size()));
+  EXPECT_THROW(thinned.copyThinnedFrom(store, 0, 1.0f), std::invalid_argument);
+}

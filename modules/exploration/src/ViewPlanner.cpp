@@ -55,6 +55,9 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
   // parallel loops then run on the calling thread): each candidate is predicted by one thread
   // alone, so its dH and dIC do not depend on the thread count.
   const int n = int(reachable.size());
+  maps::SurfelStore thinned;
+  const maps::SurfelStore& store =
+      n > 0 ? predictionStore(*in.store, m_params, thinned) : *in.store;
   std::vector<ViewPrediction> predicted(static_cast<std::size_t>(n));
   std::exception_ptr failure;  // (an exception must not leave an OpenMP region)
 #pragma omp parallel if (n > 1)
@@ -64,7 +67,7 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
     for (int j = 0; j < n; ++j) {
       try {
         predicted[std::size_t(j)] =
-            predictor.predict(*in.store, *in.octree,
+            predictor.predict(store, *in.octree,
                               candidates[std::size_t(reachable[std::size_t(j)])].T_world_cam, in.K);
       } catch (...) {
 #pragma omp critical(rasm_view_planner_failure)

@@ -1,11 +1,27 @@
 #include "rasm/exploration/ViewPredictor.h"
 
+#include <cmath>
+
 namespace rasm::exploration {
 
 CameraIntrinsics scaledIntrinsics(const CameraIntrinsics& K, int width, int height) {
   const double sx = double(width) / K.width, sy = double(height) / K.height;
   return CameraIntrinsics(K.fx * sx, K.fy * sy, (K.cx + 0.5) * sx - 0.5, (K.cy + 0.5) * sy - 0.5,
                           width, height);
+}
+
+const maps::SurfelStore& predictionStore(const maps::SurfelStore& full,
+                                         const TExplorationParams& params,
+                                         maps::SurfelStore& thinned) {
+  if (params.predict_max_surfels <= 0 || full.size() <= params.predict_max_surfels) return full;
+  const maps::SurfelArrays a = full.arrays();
+  int alive = 0;
+  for (int i = 0; i < a.size; ++i) alive += a.alive(i);
+  if (alive <= params.predict_max_surfels) return full;
+  const int stride = (alive + params.predict_max_surfels - 1) / params.predict_max_surfels;
+  thinned.copyThinnedFrom(full, stride, std::sqrt(float(stride)));
+  thinned.rebuildIndex();
+  return thinned;
 }
 
 ViewPredictor::ViewPredictor(const TExplorationParams& params, const ViewInfoModel& model)

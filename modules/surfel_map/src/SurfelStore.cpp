@@ -181,6 +181,42 @@ void SurfelStore::copySurfelsFrom(const SurfelStore& o) {
   generation_.value = Generation::next();
 }
 
+void SurfelStore::copyThinnedFrom(const SurfelStore& o, int stride, float radius_scale) {
+  if (stride < 1 || !(radius_scale > 0.0f))
+    throw std::invalid_argument("SurfelStore::copyThinnedFrom: stride >= 1 and radius_scale > 0");
+  opt_ = o.opt_;
+  t0_s_ = o.t0_s_;
+  int kept = 0, alive = 0;
+  for (int i = 0; i < o.size_; ++i)
+    if ((o.colour_flags_[i] & kSurfelFree) == 0) kept += alive++ % stride == 0;
+  size_ = kept;
+  resizeArrays(kept);
+  const std::size_t nv = std::size_t(opt_.nViewBins());
+  alive = 0;
+  for (int i = 0, j = 0; i < o.size_; ++i) {
+    if ((o.colour_flags_[i] & kSurfelFree) != 0 || alive++ % stride != 0) continue;
+    pos_conf_[j] = o.pos_conf_[i];
+    normal_radius_[j] = o.normal_radius_[i];
+    normal_radius_[j].w() *= radius_scale;
+    colour_flags_[j] = o.colour_flags_[i];
+    t_init_[j] = o.t_init_[i];
+    t_last_[j] = o.t_last_[i];
+    basis_[j] = o.basis_[i];
+    segment_[j] = o.segment_[i];
+    segment_w_[j] = o.segment_w_[i];
+    if (opt_.n_classes > 0) class_ev_[j] = o.class_ev_[i];
+    if (nv > 0)
+      std::copy_n(o.view_ic_.data() + std::size_t(i) * nv, nv,
+                  view_ic_.data() + std::size_t(j) * nv);
+    ++j;
+  }
+  unsorted_ = 0;
+  index_.clear();
+  indexed_ = 0;
+  radius_bound_ = 0.0f;
+  generation_.value = Generation::next();
+}
+
 int SurfelStore::append(const Surfel& s) {
   if (!classEvidenceValid(s.classes, opt_.n_classes))  // (set() would leave the slot allocated)
     throw std::invalid_argument("SurfelStore::append: class evidence invalid for n_classes = " +

@@ -60,6 +60,12 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   /// Predicted maps (depth for dH, surfel index for dIC) are rendered at this size (the camera's
   /// intrinsics scaled).
   int predict_width = 160, predict_height = 120;
+  /// The predictions render a thinned copy of the map when it holds more alive surfels than
+  /// this: every k-th surfel, k = ceil(alive / predict_max_surfels), its radius times sqrt(k)
+  /// (SurfelStore::copyThinnedFrom), built once per plan. A render's cost grows with the map's
+  /// surfels, not with the predicted image's pixels (docs/exploration.md "Costs"). 0 = the
+  /// whole map.
+  int predict_max_surfels = 0;
 
   // ---- score (V) ----
   double w_entropy = 1.0;  ///< w1 of IG(a); dH is divided by the largest dH of the candidates

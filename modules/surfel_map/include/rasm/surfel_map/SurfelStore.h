@@ -104,6 +104,11 @@ class SurfelStore {
   /// reusing this store's memory where it is large enough: the part of a snapshot taken under
   /// the map lock (memcpy); the taker then calls rebuildIndex() on its own thread.
   void copySurfelsFrom(const SurfelStore& o);
+  /// Becomes a thinned copy of `o` for coarse renders (the exploration planner's view
+  /// predictions): every `stride`-th alive surfel of `o` in storage order (block-sorted stores
+  /// keep this spatially even), every field copied, its radius times `radius_scale` (sqrt(stride)
+  /// keeps the splatted area). Without a spatial index: call rebuildIndex(). stride >= 1.
+  void copyThinnedFrom(const SurfelStore& o, int stride, float radius_scale);
   /// The spatial index keeps each block's stable surfels first (VoxelBlockIndex.h): code that
   /// sets or clears kSurfelStable through arrays() reports those surfels here (fusion does), or
   /// calls rebuildIndex(). A stable surfel the index does not know as stable is missed by
