@@ -331,6 +331,7 @@ OutputFolder MappingRun::prepareOutputFolder() const {
     std::fprintf(stderr, "rasm run: removed the %zu files the earlier run listed in %s/%s\n",
                  removed.size(), m_output.dir.c_str(), kRunMarkerName);
   if (!m_output.write_ply) out.leaveOut({"map.ply", "map_segments.ply", "map_classes.ply"});
+  out.announce("report.json");  // an aborting signal may write it from here on
   setAbortReport(out.path("report.json"));
   setFramesDone(0);
   return out;
