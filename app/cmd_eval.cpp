@@ -95,10 +95,11 @@ void printStats(const char* name, const char* unit, const rasm::io::ErrorStats& 
 }
 
 void writeJson(const std::string& path, const nlohmann::json& j) {
-  std::ofstream f(path);
-  if (!f) rasm::throwInputError("--json " + path, "cannot open for writing");
-  f << j.dump(2) << "\n";
-  if (!f) rasm::throwInputError("--json " + path, "write failed");
+  try {
+    rasm::writeFileAtomic(path, j.dump(2) + "\n");
+  } catch (const std::runtime_error& e) {
+    rasm::throwInputError("--json " + path, e.what());
+  }
   std::cout << "wrote " << path << "\n";
 }
 

@@ -132,17 +132,12 @@ void renderPng(const mrpt::opengl::COpenGLScene& scene, const ViewArgs& v) {
   render.setCamera(scene, scene.getViewport("main")->getCamera());
   mrpt::img::CImage img;
   render.render_RGB(scene, img);
-  std::string failure;
-  try {
-    rasm::AtomicFile file(path, ".part.png");  // MRPT picks the format by the extension
-    if (img.saveToFile(file.path()))
-      file.commit();
-    else
-      failure = "the image could not be saved";
+  try {  // MRPT picks the format by the extension
+    rasm::writeThroughTemporary(
+        path, [&](const std::string& temp) { return img.saveToFile(temp); }, ".part.png");
   } catch (const std::runtime_error& e) {
-    failure = e.what();
+    rasm::throwInputError(path, std::string("cannot be written: ") + e.what());
   }
-  if (!failure.empty()) rasm::throwInputError(path, "cannot be written: " + failure);
   std::printf("wrote %s (%dx%d)\n", path.c_str(), v.width, v.height);
 }
 

@@ -118,6 +118,31 @@ TEST(AtomicFile, UncommittedTemporaryIsRemovedAndTheOldFileStays) {
   fs::remove_all(dir);
 }
 
+TEST(AtomicFile, WriterThatFailsLeavesTheOldFileAndNoTemporary) {
+  const std::string dir = freshDir("through");
+  putBytes(dir + "/plot.png", "old plot");
+  fs::create_symlink(dir + "/plot.png", dir + "/plot.png.part.png");  // planted: not followed
+  EXPECT_THROW(rasm::writeThroughTemporary(
+                   dir + "/plot.png", [](const std::string&) { return false; }, ".part.png"),
+               std::runtime_error);
+  EXPECT_EQ(entriesOf(dir), (std::vector<std::string>{"plot.png", "plot.png.part.png"}));
+  EXPECT_EQ(bytesOf(dir + "/plot.png"), "old plot");
+  std::string used;
+  rasm::writeThroughTemporary(
+      dir + "/plot.png",
+      [&](const std::string& temp) {
+        used = temp;
+        putBytes(temp, "new plot");
+        return true;
+      },
+      ".part.png");
+  EXPECT_EQ(used.substr(used.size() - 9), ".part.png") << used;  // the extension stays last
+  EXPECT_NE(used, dir + "/plot.png.part.png");
+  EXPECT_EQ(bytesOf(dir + "/plot.png"), "new plot");
+  EXPECT_TRUE(fs::is_symlink(dir + "/plot.png.part.png"));
+  fs::remove_all(dir);
+}
+
 TEST(AtomicFile, MissingFolderIsAnErrorNamingTheFile) {
   try {
     writeFileAtomic("/nonexistent_rasm_folder/out.txt", "x");

@@ -87,6 +87,14 @@ void writeFileAtomic(const std::string& path, const std::string& bytes) {
   file.commit();
 }
 
+void writeThroughTemporary(const std::string& path,
+                           const std::function<bool(const std::string& temp)>& fill,
+                           const std::string& suffix) {
+  AtomicFile file(path, suffix);
+  if (!fill(file.path())) throw std::runtime_error("cannot write " + path);
+  file.commit();
+}
+
 ScratchFolder::ScratchFolder(const std::string& prefix) {
   std::error_code ec;
   const fs::path tmp = fs::temp_directory_path(ec);

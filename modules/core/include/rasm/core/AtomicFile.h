@@ -13,6 +13,7 @@
 // The writers fill the temporary by its path (fopen, gzopen, MRPT's streams, OpenCV): in a folder
 // others may write to (/tmp, sticky), only its owner can remove or rename the file rasm created.
 
+#include <functional>
 #include <string>
 
 namespace rasm {
@@ -41,6 +42,14 @@ class AtomicFile {
   std::string m_final, m_temp;
   bool m_done = false;
 };
+
+/// `fill(temp)` writes the content of `path` into the temporary `temp` (AtomicFile with `suffix`:
+/// a writer that picks its format by the name, as cv::imwrite, needs the extension at the end),
+/// which is renamed over `path` when `fill` returns true. std::runtime_error naming `path` when
+/// it returns false or the temporary cannot be made; the temporary is then removed.
+void writeThroughTemporary(const std::string& path,
+                           const std::function<bool(const std::string& temp)>& fill,
+                           const std::string& suffix = ".part");
 
 /// `bytes` as the content of `path` through an AtomicFile, checked through fclose (a full disk
 /// shows at the last flush). std::runtime_error naming `path` on failure; nothing is left behind.
