@@ -194,8 +194,12 @@ OutputFolder OutputFolder::claim(const std::string& dir, OverwritePolicy policy,
   const RunFolderContents contents = inspectRunFolder(dir);
   refuseUnlessAllowed(dir, contents, policy);
   removed.clear();
-  for (const std::string& name : contents.earlier_run)
-    if (fs::remove_all(out.path(name), ec) > 0) removed.push_back(name);  // links: not followed
+  for (const std::string& name : contents.earlier_run) {
+    // Files (a link itself, never its target); a folder only the one rasm wrote images into.
+    const bool removed_one = name == "annotated_Images" ? fs::remove_all(out.path(name), ec) > 0
+                                                        : fs::remove(out.path(name), ec);
+    if (removed_one) removed.push_back(name);
+  }
   out.writeMarker();
   return out;
 }
