@@ -111,12 +111,11 @@ void refuseUnlessAllowed(const std::string& dir, const RunFolderContents& conten
                               quotedList(contents.earlier_run, 6) +
                               ") and [output] overwrite = false; nothing was changed");
   if (contents.others.empty()) return;
-  const std::string whose = contents.marked
-                                ? ""
-                                : "is not the folder of a rasm run (no " +
-                                      std::string(kRunMarkerName) + " or report.json of one) and ";
-  throwInputError(what, whose +
-                            "holds files rasm did not write: " + quotedList(contents.others, 8) +
+  const std::string found = contents.marked ? "holds files its earlier rasm run did not write: "
+                                            : "is not the folder of a rasm run (no " +
+                                                  std::string(kRunMarkerName) +
+                                                  " or report.json of one) and holds: ";
+  throwInputError(what, found + quotedList(contents.others, 8) +
                             ". Nothing was changed: choose an empty or new folder, or pass --force "
                             "([output] overwrite = true) to write rasm's files beside them (they "
                             "are left alone; only rasm's own file names are replaced)");
