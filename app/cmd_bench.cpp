@@ -2,12 +2,14 @@
 // Runs the mapping front end without map outputs and prints one JSON object on stdout:
 // frames per second, per-stage mean/max ms, surfels, map bytes, peak RSS. Benchmarks are never
 // part of the unit tests. --preload decodes every frame before the clock starts ([source] preload):
-// the frame rate then measures the mapping alone, as fed by a live camera.
+// the frame rate then measures the mapping alone, as fed by a live camera. The run's small files
+// (config.ini, frames.csv, report.json, ...) go to a folder of its own made by mkdtemp in $TMPDIR
+// (rasm::ScratchFolder), removed at the end.
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 
 #include "Command.h"
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/pipeline/MappingRun.h"
 
@@ -53,11 +55,12 @@ int benchMain(const std::vector<std::string>& args) {
   // The mapping pipeline's speed: the embedded default's robot follows its scripted path
   // (--set explore.enabled=auto explores, with the planner's pauses in the timings).
   cfg.set("explore", "enabled", "false");
-  const std::string out = (std::filesystem::temp_directory_path() / "rasm_bench").string();
-  cfg.set("output", "dir", out);
-  for (const char* k : {"write_ply", "write_3dscene", "save_map", "preview_png"})
+  for (const char* k : {"write_ply", "write_3dscene", "save_map", "preview_png", "write_rawlog"})
     cfg.set("output", k, "false");
   for (const auto& o : overrides) cfg.applyOverride(o);
+  // After the overrides: the scratch folder is the bench's own (no --set output.dir).
+  const rasm::ScratchFolder scratch("rasm_bench_");
+  cfg.set("output", "dir", scratch.path());
   MappingRun run(cfg);
   const RunSummary s = run.run();
   nlohmann::json j = s.report;

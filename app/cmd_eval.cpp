@@ -16,6 +16,7 @@
 #include "Command.h"
 #include "EvalCommands.h"
 #include "RunObjects.h"
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/io/EvaluationJson.h"
 #include "rasm/io/TrajectoryEvaluator.h"
@@ -72,7 +73,8 @@ double parseNumber(const std::string& opt, const std::string& text) {
 /// A number > 0 (seconds, frames).
 double parsePositive(const std::string& opt, const std::string& text, const char* unit) {
   const double v = parseNumber(opt, text);
-  if (!(v > 0)) rasm::throwInputError(opt + " " + text, std::string("expected a value > 0 ") + unit);
+  if (!(v > 0))
+    rasm::throwInputError(opt + " " + text, std::string("expected a value > 0 ") + unit);
   return v;
 }
 
@@ -93,10 +95,11 @@ void printStats(const char* name, const char* unit, const rasm::io::ErrorStats& 
 }
 
 void writeJson(const std::string& path, const nlohmann::json& j) {
-  std::ofstream f(path);
-  if (!f) rasm::throwInputError("--json " + path, "cannot open for writing");
-  f << j.dump(2) << "\n";
-  if (!f) rasm::throwInputError("--json " + path, "write failed");
+  try {
+    rasm::writeFileAtomic(path, j.dump(2) + "\n");
+  } catch (const std::runtime_error& e) {
+    rasm::throwInputError("--json " + path, e.what());
+  }
   std::cout << "wrote " << path << "\n";
 }
 
@@ -117,16 +120,11 @@ std::string fmt(double v, const char* f = "%.3f") {
 }
 
 void writeJsonAtomically(const std::string& out, const nlohmann::json& j) {
-  const std::string part = out + ".part";
-  {
-    std::ofstream f(part);
-    if (!f) rasm::throwInputError("--json " + out, "cannot open for writing");
-    f << j.dump(2) << "\n";
-    if (!f) rasm::throwInputError("--json " + out, "write failed");
+  try {
+    rasm::writeFileAtomic(out, j.dump(2) + "\n");
+  } catch (const std::runtime_error& e) {
+    rasm::throwInputError("--json " + out, e.what());
   }
-  std::error_code ec;
-  fs::rename(part, out, ec);
-  if (ec) rasm::throwInputError("--json " + out, "cannot rename " + part + ": " + ec.message());
   std::cout << "wrote " << out << "\n";
 }
 

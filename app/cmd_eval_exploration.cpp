@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -16,6 +15,7 @@
 #include "Command.h"
 #include "EvalCommands.h"
 #include "RunObjects.h"
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/pipeline/LinePlot.h"
 
@@ -159,7 +159,13 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
     axes.y_guides = {0.25, 0.5, 0.75, 0.9};
     rasm::pipeline::drawLinePlot(img, cv::Rect(panel++ * W, 0, W, H), axes, series);
   }
-  if (!cv::imwrite(path, img)) throwInputError("--plot " + path, "cannot be written");
+  try {
+    writeThroughTemporary(
+        path, [&](const std::string& temp) { return cv::imwrite(temp, img); },
+        ".part" + std::filesystem::path(path).extension().string());
+  } catch (const std::exception& e) {
+    throwInputError("--plot " + path, std::string("cannot be written: ") + e.what());
+  }
   std::printf("wrote %s\n", path.c_str());
 }
 
@@ -286,14 +292,18 @@ int evalExploration(const std::vector<std::string>& args) {
   }
   std::printf("%s", md.str().c_str());
   if (!markdown.empty()) {
-    std::ofstream f(markdown);
-    f << md.str();
-    if (!f) throwInputError("--markdown " + markdown, "cannot be written");
+    try {
+      writeFileAtomic(markdown, md.str());
+    } catch (const std::runtime_error& e) {
+      throwInputError("--markdown " + markdown, e.what());
+    }
   }
   if (!json.empty()) {
-    std::ofstream f(json);
-    f << nlohmann::json{{"groups", out}}.dump(2) << "\n";
-    if (!f) throwInputError("--json " + json, "cannot be written");
+    try {
+      writeFileAtomic(json, nlohmann::json{{"groups", out}}.dump(2) + "\n");
+    } catch (const std::runtime_error& e) {
+      throwInputError("--json " + json, e.what());
+    }
   }
   if (!plot_path.empty()) plot(plot_path, groups, std::max(1.0, tmax));
   return 0;

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -18,6 +19,7 @@
 
 #include "Command.h"
 #include "EvalCommands.h"
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/pipeline/LinePlot.h"
 
@@ -127,7 +129,13 @@ void plotCurves(const std::string& path, const MemoryCurves& m, const std::strin
   axes.y_guides = {0.5};
   axes.x_guides = {0.5 * (axes.x_min + axes.x_max)};  // the halves the growth compares
   const cv::Mat img = rasm::pipeline::linePlot(axes, series, 760, 400);
-  if (!cv::imwrite(path, img)) throwInputError("--plot " + path, "cannot be written");
+  try {
+    writeThroughTemporary(
+        path, [&](const std::string& temp) { return cv::imwrite(temp, img); },
+        ".part" + std::filesystem::path(path).extension().string());
+  } catch (const std::exception& e) {
+    throwInputError("--plot " + path, std::string("cannot be written: ") + e.what());
+  }
 }
 
 }  // namespace
@@ -187,9 +195,11 @@ int evalMemory(const std::vector<std::string>& args) {
       out["map_bytes_per_surfel"].get<double>(), out["rss_bytes_per_surfel"].get<double>(),
       plateau ? "plateau" : "STILL GROWING");
   if (!json_path.empty()) {
-    std::ofstream f(json_path);
-    f << out.dump(2) << "\n";
-    if (!f) throwInputError("--json " + json_path, "cannot be written");
+    try {
+      writeFileAtomic(json_path, out.dump(2) + "\n");
+    } catch (const std::runtime_error& e) {
+      throwInputError("--json " + json_path, e.what());
+    }
   }
   if (!plot_path.empty()) plotCurves(plot_path, m, "memory of " + dir);
   return plateau ? 0 : 1;

@@ -1,4 +1,4 @@
-// rasm run [file.ini] [--set section.key=value ...] [--out DIR] [--max-frames N]
+// rasm run [file.ini] [--set section.key=value ...] [--out DIR] [--force] [--max-frames N]
 #include <cstdio>
 #include <initializer_list>
 #include <iostream>
@@ -84,15 +84,21 @@ int runMain(const std::vector<std::string>& args) {
       overrides.push_back(value("section.key=value"));
     else if (a == "--out")
       overrides.push_back("output.dir=" + value("a folder"));
+    else if (a == "--force")
+      overrides.push_back("output.overwrite=true");
     else if (a == "--max-frames")
       overrides.push_back("source.max_frames=" + value("a number"));
     else if (a == "--map")
       overrides.push_back("mapper.load_map=" + value("a .surfelmap file"));
     else if (a == "-h" || a == "--help") {
       std::cout
-          << "usage: rasm run [file.ini] [--set section.key=value ...] [--out DIR] [--max-frames "
-             "N] [--map map.surfelmap]\n"
-             "Without a file, runs the embedded default (the simulated office, ini/default.ini).\n";
+          << "usage: rasm run [file.ini] [--set section.key=value ...] [--out DIR] [--force] "
+             "[--max-frames N] [--map map.surfelmap]\n"
+             "Without a file, runs the embedded default (the simulated office, ini/default.ini).\n"
+             "--out DIR: an empty or new folder, or one of an earlier rasm run (only the files it\n"
+             "listed in DIR/.rasm-run.json are removed). A folder holding other files is refused;\n"
+             "--force ([output] overwrite = true) writes beside them: they are left alone, only\n"
+             "rasm's own file names are replaced.\n";
       return 0;
     } else if (!a.empty() && a[0] == '-')
       rasm::throwInputError("option '" + a + "'", "unknown (see rasm run --help)");

@@ -17,13 +17,13 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 
 #include "Command.h"
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/sim/CameraPoses.h"
 #include "rasm/sim/FrameImages.h"
@@ -350,16 +350,11 @@ int cmdCheckMap(const Args& args) {
     j["cap_m"] = s.cap_m;
     j["distance_m"] = {{"p50", s.p50_m}, {"p90", s.p90_m}, {"p95", s.p95_m},
                        {"p99", s.p99_m}, {"max", s.max_m}, {"mean", s.mean_m}};
-    const std::string part = out + ".part";
-    {
-      std::ofstream f(part);
-      if (!f) rasm::throwInputError("--json " + out, "cannot open for writing");
-      f << j.dump(2) << "\n";
-      if (!f) rasm::throwInputError("--json " + out, "write failed");
+    try {
+      rasm::writeFileAtomic(out, j.dump(2) + "\n");
+    } catch (const std::runtime_error& e) {
+      rasm::throwInputError("--json " + out, e.what());
     }
-    std::error_code ec;
-    std::filesystem::rename(part, out, ec);
-    if (ec) rasm::throwInputError("--json " + out, "cannot rename " + part + ": " + ec.message());
     std::cout << "wrote " << out << "\n";
   }
   return 0;

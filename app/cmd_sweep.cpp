@@ -16,6 +16,7 @@
 #include "Command.h"
 #include "EvalCommands.h"
 #include "RunObjects.h"
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 
 namespace fs = std::filesystem;
@@ -180,10 +181,11 @@ void writeTables(const std::vector<nlohmann::ordered_json>& rows, std::string& m
 }
 
 void writeFile(const std::string& path, const std::string& text, const char* option) {
-  std::ofstream f(path);
-  f << text;
-  f.close();
-  if (!f) rasm::throwInputError(std::string(option) + " " + path, "cannot be written");
+  try {
+    rasm::writeFileAtomic(path, text);
+  } catch (const std::runtime_error& e) {
+    rasm::throwInputError(std::string(option) + " " + path, e.what());
+  }
   std::fprintf(stderr, "wrote %s\n", path.c_str());
 }
 

@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "Command.h"
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/pipeline/RunScene.h"
 #include "rasm/surfel_map/CSurfelMap.h"
@@ -131,11 +132,12 @@ void renderPng(const mrpt::opengl::COpenGLScene& scene, const ViewArgs& v) {
   render.setCamera(scene, scene.getViewport("main")->getCamera());
   mrpt::img::CImage img;
   render.render_RGB(scene, img);
-  const std::string part = path + ".part.png";
-  if (!img.saveToFile(part)) rasm::throwInputError(path, "cannot be written");
-  std::error_code ec;
-  fs::rename(part, path, ec);
-  if (ec) rasm::throwInputError(path, "cannot be written: " + ec.message());
+  try {  // MRPT picks the format by the extension
+    rasm::writeThroughTemporary(
+        path, [&](const std::string& temp) { return img.saveToFile(temp); }, ".part.png");
+  } catch (const std::runtime_error& e) {
+    rasm::throwInputError(path, std::string("cannot be written: ") + e.what());
+  }
   std::printf("wrote %s (%dx%d)\n", path.c_str(), v.width, v.height);
 }
 

@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -15,6 +16,7 @@
 #include "Command.h"
 #include "rasm/classification/TemplateBank.h"
 #include "rasm/classification/ZeroShotDetector.h"
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 #include "rasm/core/Timing.h"
@@ -133,7 +135,13 @@ int detect(const Args& args) {
   std::cout << j.dump(2) << std::endl;
   if (!out.empty()) {
     drawDetections(image, dets, detector.classNames());
-    if (!cv::imwrite(out, image)) rasm::throwInputError("--out '" + out + "'", "cannot write");
+    try {
+      rasm::writeThroughTemporary(
+          out, [&](const std::string& temp) { return cv::imwrite(temp, image); },
+          ".part" + std::filesystem::path(out).extension().string());
+    } catch (const std::exception& e) {
+      rasm::throwInputError("--out '" + out + "'", std::string("cannot write: ") + e.what());
+    }
   }
   return 0;
 }

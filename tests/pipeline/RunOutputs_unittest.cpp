@@ -4,6 +4,7 @@
 #include <sys/resource.h>
 
 #include <csignal>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -34,12 +35,17 @@ void writeBytes(const std::string& path, const std::string& bytes) {
   f << bytes;
 }
 
-/// Files an earlier run into the same folder would have left (and one of the user's).
+/// Files an earlier run into the same folder would have left with its marker listing them (a
+/// temporary of a killed run among them), and one of the user's: runs into it need --force
+/// ([output] overwrite = true).
 void fillWithEarlierRun(const std::string& dir) {
   fs::create_directories(dir);
   for (const char* f : {"map.ply", "groundtruth.txt", "annotated.rawlog", "map.surfelmap.part",
                         "report.json", "exploration.png"})
     writeBytes(dir + "/" + f, "from an earlier run");
+  writeBytes(dir + "/" + kRunMarkerName,
+             R"({"files": ["map.ply", "groundtruth.txt", "annotated.rawlog", "map.surfelmap",)"
+             R"( "report.json", "exploration.png"]})");
   writeBytes(dir + "/notes.txt", "the user's");
 }
 }  // namespace
@@ -66,13 +72,19 @@ TEST(OutputFiles, FailingWriterLeavesNeitherFinalNorTemporaryAndNamesTheFile) {
 }
 
 TEST(OutputFiles, DevFullIsAWriteErrorNamingTheFile) {
-  // /dev/full: every write fails with ENOSPC. Written through a link in the folder, so that the
-  // temporary is the device itself.
+  // /dev/full: every write fails with ENOSPC, as on a full disk (the writer writes there: a link
+  // planted at the temporary would not be followed).
   const std::string dir = tempDir("devfull");
   fs::create_directories(dir);
-  fs::create_symlink("/dev/full", dir + "/frames.csv.part");
   try {
-    writeFileAtomically(dir + "/frames.csv", std::string(100000, 'x'));
+    writeAtomically(dir + "/frames.csv", [](const std::string&) {
+      std::FILE* f = std::fopen("/dev/full", "wb");
+      ASSERT_NE(f, nullptr);
+      const std::string bytes(100000, 'x');
+      const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+      const bool closed = std::fclose(f) == 0;
+      if (!written || !closed) throw std::runtime_error("write failed");
+    });
     FAIL() << "a write to /dev/full succeeded";
   } catch (const OutputError& e) {
     const std::string m = e.what();
@@ -80,6 +92,7 @@ TEST(OutputFiles, DevFullIsAWriteErrorNamingTheFile) {
     EXPECT_NE(m.find("No space left on device"), std::string::npos) << m;
   }
   EXPECT_FALSE(fs::exists(dir + "/frames.csv"));
+  EXPECT_TRUE(filesIn(dir).empty());
   fs::remove_all(dir);
 }
 
@@ -99,10 +112,11 @@ TEST(OutputFiles, ValidUtf8ReplacesOnlyInvalidBytes) {
 TEST(OutputFiles, FolderWritesOnlyKnownNamesAndClearsAnEarlierRun) {
   const std::string dir = tempDir("folder");
   fillWithEarlierRun(dir);
-  OutputFolder out(dir);
+  std::vector<std::string> removed;
+  // The user's notes.txt: refused unless forced.
+  EXPECT_THROW(OutputFolder::claim(dir, OverwritePolicy::EarlierRun, removed), InputError);
+  OutputFolder out = OutputFolder::claim(dir, OverwritePolicy::BesideOthers, removed);
   EXPECT_THROW(out.writeText("surprise.txt", "x"), std::logic_error);
-  std::vector<std::string> removed = out.clearPreviousRun();
-  std::sort(removed.begin(), removed.end());
   EXPECT_EQ(removed,
             (std::vector<std::string>{"annotated.rawlog", "exploration.png", "groundtruth.txt",
                                       "map.ply", "map.surfelmap.part", "report.json"}));
@@ -134,6 +148,7 @@ TEST_P(NoFrameSource, FailsWithTheReasonWritesReportAndNoMap) {
   }
   if (!fs::exists(path)) GTEST_SKIP() << "absent: " << path;
   RunConfig cfg = rawlogConfig(path, out);
+  cfg.set("output", "overwrite", "true");  // beside the user's notes.txt
   cfg.set("source", "start_frame", std::to_string(c.start));
   MappingRun run(cfg);
   try {
@@ -142,7 +157,7 @@ TEST_P(NoFrameSource, FailsWithTheReasonWritesReportAndNoMap) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(c.expect), std::string::npos) << e.what();
   }
-  // Only this run's config.ini and report.json, and the user's file.
+  // Only this run's config.ini and report.json, and the user's file (--force).
   EXPECT_EQ(filesIn(out), (std::vector<std::string>{"config.ini", "notes.txt", "report.json"}));
   fs::remove(out + "/notes.txt");
   const nlohmann::json rep = expectCompleteRunFolder(out);

@@ -22,6 +22,7 @@
 #include "rasm/io/FrameSource.h"
 #include "rasm/io/Trajectory.h"
 #include "rasm/pipeline/RunConfig.h"
+#include "rasm/pipeline/RunFolder.h"
 #include "rasm/surfel_map/CSurfelMap.h"
 #include "rasm/surfel_map/MapExport.h"
 
@@ -69,18 +70,23 @@ inline CameraIntrinsics camera160x120() {
 }
 
 /// The names of the files in `dir`, sorted.
+/// The entries of `dir`, sorted, without rasm's bookkeeping files of a run folder (its marker
+/// and lock, RunFolder.h).
 inline std::vector<std::string> filesIn(const std::string& dir) {
   std::vector<std::string> names;
-  for (const auto& e : std::filesystem::directory_iterator(dir))
-    names.push_back(e.path().filename().string());
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name != kRunMarkerName && name != kRunLockName) names.push_back(name);
+  }
   std::sort(names.begin(), names.end());
   return names;
 }
 
 /// Checks that a run folder holds only complete files of one run (docs/io.md "Runs that never
 /// lie"): no temporary; report.json parses and, unless the run was aborted, lists exactly the
-/// other files; every file reads back whole (JSON, PLY, gzip archives, PNG, TUM trajectories and
-/// the annotated rawlog with one pose / frame per frame done). Returns report.json.
+/// other files, all listed in the folder's marker; every file reads back whole (JSON, PLY, gzip
+/// archives, PNG, TUM trajectories and the annotated rawlog with one pose / frame per frame done).
+/// Returns report.json.
 inline nlohmann::json expectCompleteRunFolder(const std::string& dir) {
   namespace fs = std::filesystem;
   const nlohmann::json rep = readJson(dir + "/report.json");
@@ -94,6 +100,14 @@ inline nlohmann::json expectCompleteRunFolder(const std::string& dir) {
     std::vector<std::string> listed = rep["files"].get<std::vector<std::string>>();
     std::sort(listed.begin(), listed.end());
     EXPECT_EQ(listed, others) << dir << ": report.json \"files\" and the folder differ";
+  }
+  // The run's marker lists every file in the folder, report.json included (RunFolder.h).
+  if (fs::exists(dir + "/" + kRunMarkerName)) {
+    const auto marked =
+        readJson(dir + "/" + kRunMarkerName)["files"].get<std::vector<std::string>>();
+    for (const std::string& f : filesIn(dir))
+      EXPECT_NE(std::find(marked.begin(), marked.end(), f), marked.end())
+          << dir << ": " << f << " is not in " << kRunMarkerName;
   }
   for (const std::string& f : others) {
     const std::string p = dir + "/" + f;

@@ -15,7 +15,9 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/objdetect.hpp>
+#include <sstream>
 
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/sim/ProceduralModels.h"
 
@@ -433,32 +435,31 @@ TemplateBank trainTemplateBank(const ModelsSpec& spec, const TrainingProgress& p
 }
 
 void saveTemplateBank(const TemplateBank& bank, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
-    if (!os) throwInputError("template bank '" + path + "'", "cannot write '" + tmp + "'");
-    os.write(kMagic, sizeof(kMagic));
-    const TemplateViews& v = bank.views;
-    put(os, v.azimuth_step_deg), put(os, v.elevation_min_deg), put(os, v.elevation_max_deg);
-    put(os, v.elevation_step_deg), put(os, std::int32_t(v.render_px));
-    put(os, std::uint32_t(bank.class_names.size()));
-    for (const auto& s : bank.class_names) putString(os, s);
-    put(os, std::uint32_t(bank.model_sources.size()));
-    for (const auto& s : bank.model_sources) putString(os, s);
-    put(os, std::uint32_t(bank.templates.size()));
-    put(os, std::uint32_t(bank.descriptors.cols));
-    for (const TemplateInfo& t : bank.templates) {
-      put(os, std::int32_t(t.class_index)), put(os, std::int32_t(t.model_index));
-      put(os, t.azimuth_deg), put(os, t.elevation_deg);
-      for (int a = 0; a < 3; ++a) put(os, t.dimensions_m[a]);
-      put(os, t.aspect);
-    }
-    for (int r = 0; r < bank.descriptors.rows; ++r)
-      os.write(reinterpret_cast<const char*>(bank.descriptors.ptr<float>(r)),
-               std::streamsize(sizeof(float) * bank.descriptors.cols));
-    if (!os) throwInputError("template bank '" + path + "'", "write failed");
+  std::ostringstream os(std::ios::binary);
+  os.write(kMagic, sizeof(kMagic));
+  const TemplateViews& v = bank.views;
+  put(os, v.azimuth_step_deg), put(os, v.elevation_min_deg), put(os, v.elevation_max_deg);
+  put(os, v.elevation_step_deg), put(os, std::int32_t(v.render_px));
+  put(os, std::uint32_t(bank.class_names.size()));
+  for (const auto& s : bank.class_names) putString(os, s);
+  put(os, std::uint32_t(bank.model_sources.size()));
+  for (const auto& s : bank.model_sources) putString(os, s);
+  put(os, std::uint32_t(bank.templates.size()));
+  put(os, std::uint32_t(bank.descriptors.cols));
+  for (const TemplateInfo& t : bank.templates) {
+    put(os, std::int32_t(t.class_index)), put(os, std::int32_t(t.model_index));
+    put(os, t.azimuth_deg), put(os, t.elevation_deg);
+    for (int a = 0; a < 3; ++a) put(os, t.dimensions_m[a]);
+    put(os, t.aspect);
   }
-  std::filesystem::rename(tmp, path);
+  for (int r = 0; r < bank.descriptors.rows; ++r)
+    os.write(reinterpret_cast<const char*>(bank.descriptors.ptr<float>(r)),
+             std::streamsize(sizeof(float) * bank.descriptors.cols));
+  try {
+    writeFileAtomic(path, os.str());
+  } catch (const std::runtime_error& e) {
+    throwInputError("template bank '" + path + "'", e.what());
+  }
 }
 
 TemplateBank loadTemplateBank(const std::string& path) {

@@ -10,6 +10,7 @@
 #include <filesystem>
 
 #include "MrptErrors.h"
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/io/RawlogFrameSource.h"
 #include "rasm/io/RgbdObservation.h"
@@ -20,6 +21,7 @@ namespace rasm::io {
 
 struct RawlogWriter::Impl {
   std::string path, part;
+  std::unique_ptr<AtomicFile> temp;  ///< part = temp->path(), renamed over `path` by close()
   RawlogWriterOptions opt;
   mrpt::io::CFileGZOutputStream file;
   std::unique_ptr<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZOutputStream>> ar;
@@ -50,11 +52,16 @@ RawlogWriter::RawlogWriter(const std::string& path, const RawlogWriterOptions& o
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.path = path;
-  m.part = path + ".part";
   m.opt = opt;
   const fs::path parent = fs::path(path).parent_path();
   if (!parent.empty() && !fs::is_directory(parent))
     throwInputError("rawlog " + path, "output folder " + parent.string() + " does not exist");
+  try {
+    m.temp = std::make_unique<AtomicFile>(path);
+  } catch (const std::runtime_error& e) {
+    throwInputError("rawlog " + path, e.what());
+  }
+  m.part = m.temp->path();
   std::string err;
   if (!m.file.open(m.part, std::clamp(opt.compression_level, 0, 9), err))
     throwInputError("rawlog " + path, "cannot open " + m.part + " for writing: " + err);
@@ -71,8 +78,8 @@ RawlogWriter::~RawlogWriter() {
   if (!m.open) return;
   m.ar.reset();
   m.file.close();
+  m.temp.reset();  // removes the temporary
   std::error_code ec;
-  fs::remove(m.part, ec);
   if (m.created_images_dir) fs::remove_all(m.images_dir, ec);
 }
 
@@ -132,9 +139,15 @@ void RawlogWriter::close() {
   m.ar.reset();
   m.file.close();
   m.open = false;
-  std::error_code ec;
-  fs::rename(m.part, m.path, ec);
-  if (ec) throwInputError("rawlog " + m.path, "cannot rename " + m.part + ": " + ec.message());
+  try {
+    m.temp->commit();
+  } catch (const std::runtime_error& e) {
+    throwInputError("rawlog " + m.path, e.what());
+  }
+}
+
+const std::string& RawlogWriter::temporaryPath() const {
+  return impl_->part;
 }
 
 std::size_t RawlogWriter::framesWritten() const {

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "TextFiles.h"
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 
 namespace rasm::io {
@@ -59,33 +60,27 @@ static std::FILE* openForWrite(const std::string& path) {
   return f;
 }
 
-static void writeHeader(std::FILE* f, const std::string& header_comment) {
-  std::string h = header_comment;
+std::string tumTrajectoryText(const Trajectory& traj, const std::string& header_comment) {
+  std::string text;
   std::size_t pos = 0;
-  while (pos < h.size()) {
-    const std::size_t e = h.find('\n', pos);
-    std::fprintf(f, "# %s\n",
-                 h.substr(pos, e == std::string::npos ? std::string::npos : e - pos).c_str());
+  while (pos < header_comment.size()) {
+    const std::size_t e = header_comment.find('\n', pos);
+    text += "# " + header_comment.substr(pos, e == std::string::npos ? e : e - pos) + "\n";
     if (e == std::string::npos) break;
     pos = e + 1;
   }
-  std::fprintf(f, "# timestamp tx ty tz qx qy qz qw\n");
+  text += "# timestamp tx ty tz qx qy qz qw\n";
+  for (const auto& p : traj) text += formatTumLine(p) + "\n";
+  return text;
 }
 
 void writeTumTrajectory(const std::string& path, const Trajectory& traj,
                         const std::string& header_comment) {
-  const std::string part = path + ".part";
-  std::FILE* f = openForWrite(part);
-  writeHeader(f, header_comment);
-  for (const auto& p : traj) std::fprintf(f, "%s\n", formatTumLine(p).c_str());
-  const bool ok = std::ferror(f) == 0;
-  if (std::fclose(f) != 0 || !ok) {
-    std::filesystem::remove(part);
-    throwInputError("trajectory " + path, "write failed (disk full?)");
+  try {
+    writeFileAtomic(path, tumTrajectoryText(traj, header_comment));
+  } catch (const std::runtime_error& e) {
+    throwInputError("trajectory " + path, e.what());
   }
-  std::error_code ec;
-  std::filesystem::rename(part, path, ec);
-  if (ec) throwInputError("trajectory " + path, "cannot rename from " + part + ": " + ec.message());
 }
 
 std::optional<Eigen::Isometry3d> interpolatePose(const Trajectory& traj, double t,
@@ -116,7 +111,7 @@ std::optional<Eigen::Isometry3d> interpolatePose(const Trajectory& traj, double 
 
 TumTrajectoryWriter::TumTrajectoryWriter(const std::string& path, const std::string& header_comment)
     : f_(openForWrite(path)), path_(path) {
-  writeHeader(f_, header_comment);
+  std::fputs(tumTrajectoryText({}, header_comment).c_str(), f_);
   std::fflush(f_);
 }
 

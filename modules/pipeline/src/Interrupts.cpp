@@ -54,7 +54,8 @@ const char* nameOf(int sig) {
 
 void writeAbortReport(int sig) {
   if (!g_report_set.load()) return;
-  const int fd = ::open(g_report_part, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  // Never through a file or link at that name (the registered temporaries are gone by now).
+  const int fd = ::open(g_report_part, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW, 0644);
   if (fd < 0) return;
   char buf[24];
   put(fd, "{\n");
@@ -116,8 +117,7 @@ std::string signalName(int sig) {
   return "signal " + std::to_string(sig);
 }
 
-ScopedTemporary::ScopedTemporary(const std::string& final_path) {
-  const std::string part = final_path + ".part";
+ScopedTemporary::ScopedTemporary(const std::string& part) {
   if (part.size() >= kPathBytes) return;
   for (int i = 0; i < kSlots; ++i) {
     int expected = 0;

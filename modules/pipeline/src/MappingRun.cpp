@@ -322,21 +322,16 @@ struct MappingRun::Accumulated {
 };
 
 OutputFolder MappingRun::prepareOutputFolder() const {
-  std::error_code ec;
-  fs::create_directories(m_output.dir, ec);
-  if (ec)
-    throwInputError("[output] dir '" + m_output.dir + "'", "cannot be created: " + ec.message());
-  if (!fs::is_directory(m_output.dir))
-    throwInputError("[output] dir '" + m_output.dir + "'", "is not a folder");
-  if (!m_output.overwrite && !fs::is_empty(m_output.dir))
-    throwInputError("[output] dir '" + m_output.dir + "'",
-                    "is not empty and [output] overwrite = false");
-  // One run per folder: the files an earlier run left here go before this one writes any.
-  OutputFolder out(m_output.dir);
-  const std::vector<std::string> removed = out.clearPreviousRun();
+  // One run per folder: the files the earlier run listed go before this one writes any; files
+  // rasm did not write are never removed (RunFolder.h).
+  std::vector<std::string> removed;
+  OutputFolder out =
+      OutputFolder::claim(m_output.dir, overwritePolicy(m_output.overwrite), removed);
   if (!removed.empty())
-    std::fprintf(stderr, "rasm run: removed %zu files of an earlier run from %s\n", removed.size(),
-                 m_output.dir.c_str());
+    std::fprintf(stderr, "rasm run: removed the %zu files the earlier run listed in %s/%s\n",
+                 removed.size(), m_output.dir.c_str(), kRunMarkerName);
+  if (!m_output.write_ply) out.leaveOut({"map.ply", "map_segments.ply", "map_classes.ply"});
+  out.announce("report.json");  // an aborting signal may write it from here on
   setAbortReport(out.path("report.json"));
   setFramesDone(0);
   return out;
@@ -504,9 +499,9 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFold
     progress.setTimeLimit(m_mapper->stage<ExplorationStage>().exploreParams().wall_budget_s);
   // annotated.rawlog: each input observation with the ESTIMATED pose (writeAnnotated), followed
   // by a CObservationImage "MAP_VIEW" of the map rendered from that pose.
-  // Its writer renames "annotated.rawlog.part" at close() and removes it when destroyed open.
+  // Its writer renames its temporary at close() and removes it when destroyed open.
   std::unique_ptr<io::RawlogWriter> annotated;
-  const ScopedTemporary annotated_part(out.path("annotated.rawlog"));
+  std::optional<ScopedTemporary> annotated_part;
   const std::size_t n_timers = m_mapper->timerNames().size();
   acc.ms_sum.assign(n_timers, 0.0);
   acc.ms_max.assign(n_timers, 0.0);
@@ -534,9 +529,13 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFold
       if (on_frame) on_frame(r);
       if (m_output.write_rawlog) {
         try {
-          if (!annotated) annotated = openAnnotated(out);
+          if (!annotated) {
+            annotated = openAnnotated(out);
+            annotated_part.emplace(annotated->temporaryPath());
+          }
           writeAnnotated(*annotated, *f, r);
         } catch (const std::exception& e) {
+          annotated_part.reset();
           annotated.reset();  // removes its temporary
           acc.output_error = validUtf8(e.what());
           break;
@@ -562,7 +561,8 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFold
     }
 }
 
-std::unique_ptr<io::RawlogWriter> MappingRun::openAnnotated(const OutputFolder& out) const {
+std::unique_ptr<io::RawlogWriter> MappingRun::openAnnotated(OutputFolder& out) const {
+  out.announce("annotated.rawlog");
   io::RawlogWriterOptions wo;
   wo.sensor_label = "RGBD";
   wo.sensor_pose_from_ground_truth = false;
@@ -600,13 +600,11 @@ std::string MappingRun::noFrameReason(const Accumulated& acc) const {
 
 void MappingRun::writeOutputs(const Accumulated& acc, OutputFolder& out) {
   out.writeText("frames.csv", acc.frames_csv);
-  out.write("trajectory.txt", [&](const std::string& part) {
-    io::writeTumTrajectory(part, acc.estimate, "rasm estimate (T_world_cam, optical frame)");
-  });
+  out.writeText("trajectory.txt",
+                io::tumTrajectoryText(acc.estimate, "rasm estimate (T_world_cam, optical frame)"));
   if (!acc.groundtruth.empty())
-    out.write("groundtruth.txt", [&](const std::string& part) {
-      io::writeTumTrajectory(part, acc.groundtruth, "ground truth of the source");
-    });
+    out.writeText("groundtruth.txt",
+                  io::tumTrajectoryText(acc.groundtruth, "ground truth of the source"));
   writeMapFiles(acc, out);
   m_mapper->writeOutputs(out);
   if (m_explore) m_explore->writeOutputs(out);

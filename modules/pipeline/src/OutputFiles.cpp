@@ -2,14 +2,18 @@
 
 #include <mrpt/io/CStream.h>
 #include <mrpt/serialization/CArchive.h>
+#include <unistd.h>
 #include <zlib.h>
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "rasm/core/AtomicFile.h"
+#include "rasm/core/Error.h"
 #include "rasm/pipeline/Interrupts.h"
 
 namespace fs = std::filesystem;
@@ -94,24 +98,18 @@ std::string pngBytes(const std::string& path, const cv::Mat& image) {
 
 void writeAtomically(const std::string& path,
                      const std::function<void(const std::string& part)>& write) {
-  const std::string part = path + ".part";
-  // The writer's own temporary when it stages one too (io::writeTumTrajectory: "<part>.part").
-  const ScopedTemporary registered(path), registered_inner(part);
   std::string error;
   errno = 0;
   try {
-    write(part);
-    std::error_code ec;
-    fs::rename(part, path, ec);
-    if (!ec) return;
-    error = "cannot rename " + part + ": " + ec.message();
+    AtomicFile file(path);  // removes its temporary unless committed
+    const ScopedTemporary registered(file.path());
+    write(file.path());
+    file.commit();
+    return;
   } catch (const std::exception& e) {
     error = e.what();
   }
   const int err = errno;
-  std::error_code ec;
-  fs::remove(part, ec);
-  fs::remove(part + ".part", ec);
   throw OutputError("output file '" + path + "' not written (" + systemReason(path, err) +
                     "): " + error);
 }
@@ -177,6 +175,60 @@ std::string validUtf8(const std::string& s) {
 }
 
 // ---------------------------------------------------------------------------------------------
+OutputFolder::OutputFolder(std::string dir) : m_dir(std::move(dir)) {}
+OutputFolder::~OutputFolder() = default;
+OutputFolder::OutputFolder(OutputFolder&&) noexcept = default;
+OutputFolder& OutputFolder::operator=(OutputFolder&&) noexcept = default;
+
+OutputFolder OutputFolder::claim(const std::string& dir, OverwritePolicy policy,
+                                 std::vector<std::string>& removed) {
+  const std::string what = "[output] dir '" + dir + "'";
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throwInputError(what, "cannot be created: " + ec.message());
+  if (!fs::is_directory(dir)) throwInputError(what, "is not a folder");
+  refuseUnlessAllowed(dir, inspectRunFolder(dir), policy);  // before the lock file is created
+  OutputFolder out(dir);
+  out.m_lock = std::make_unique<RunFolderLock>(dir);
+  // Under the lock, as the earlier run left it.
+  const RunFolderContents contents = inspectRunFolder(dir);
+  refuseUnlessAllowed(dir, contents, policy);
+  removed.clear();
+  for (const std::string& name : contents.earlier_run) {
+    // Files (a link itself, never its target); a folder only the one rasm wrote images into.
+    const bool removed_one = name == "annotated_Images" ? fs::remove_all(out.path(name), ec) > 0
+                                                        : fs::remove(out.path(name), ec);
+    if (removed_one) removed.push_back(name);
+  }
+  out.writeMarker();
+  return out;
+}
+
+void OutputFolder::writeMarker() const {
+  // A record, not an output: when it cannot be updated (a full disk) the run goes on, and the
+  // files it does not list make the next run refuse the folder rather than remove them.
+  nlohmann::json marker;
+  marker["comment"] =
+      "rasm run's folder: the files this run may have written. The next run into this folder "
+      "removes these (and their *.part temporaries) and nothing else.";
+  marker["pid"] = long(::getpid());
+  marker["files"] = m_announced;
+  try {
+    writeFileAtomically(path(kRunMarkerName), marker.dump(1) + "\n");
+  } catch (const OutputError&) {
+  }
+}
+
+void OutputFolder::announce(const std::string& name) {
+  if (std::find(m_announced.begin(), m_announced.end(), name) != m_announced.end()) return;
+  m_announced.push_back(name);
+  if (m_lock) writeMarker();
+}
+
+void OutputFolder::leaveOut(const std::vector<std::string>& names) {
+  m_left_out.insert(m_left_out.end(), names.begin(), names.end());
+}
+
 const std::vector<std::string>& OutputFolder::knownNames() {
   // Every file MappingRun, the Mapper's stages and the exploration loop write (README "Outputs
   // of rasm run"); OutputFolder::write refuses others.
@@ -197,6 +249,8 @@ void OutputFolder::write(const std::string& name,
   const auto& known = knownNames();
   if (std::find(known.begin(), known.end(), name) == known.end())
     throw std::logic_error("OutputFolder: '" + name + "' is not in OutputFolder::knownNames()");
+  if (std::find(m_left_out.begin(), m_left_out.end(), name) != m_left_out.end()) return;
+  announce(name);
   writeAtomically(path(name), write);
   recordWritten(name);
 }
@@ -212,21 +266,6 @@ void OutputFolder::writeImage(const std::string& name, const cv::Mat& image) {
 void OutputFolder::recordWritten(const std::string& name) {
   if (std::find(m_written.begin(), m_written.end(), name) == m_written.end())
     m_written.push_back(name);
-}
-
-std::vector<std::string> OutputFolder::clearPreviousRun() const {
-  std::vector<std::string> removed;
-  std::error_code ec;
-  for (const std::string& name : knownNames())
-    if (fs::remove(path(name), ec)) removed.push_back(name);
-  // The annotated rawlog's external images, should an earlier version have written them.
-  if (fs::remove_all(path("annotated_Images"), ec) > 0) removed.push_back("annotated_Images");
-  std::vector<fs::path> parts;
-  for (const auto& e : fs::directory_iterator(m_dir, ec))
-    if (e.path().extension() == ".part") parts.push_back(e.path());
-  for (const fs::path& p : parts)
-    if (fs::remove(p, ec)) removed.push_back(p.filename().string());
-  return removed;
 }
 
 }  // namespace rasm::pipeline

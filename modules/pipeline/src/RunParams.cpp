@@ -9,6 +9,7 @@
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
+#include "rasm/pipeline/RunFolder.h"
 
 namespace rasm::pipeline {
 
@@ -245,8 +246,9 @@ void TOutputParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(save_map, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(write_rawlog, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(preview_png, bool, c, s);
-  MRPT_LOAD_CONFIG_VAR(overwrite, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(overwrite, string, c, s);
   if (dir.empty()) throwInputError("[" + s + "] dir", "must not be empty");
+  (void)overwritePolicy(overwrite);  // validates
 }
 
 void TOutputParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {

@@ -4,6 +4,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/sim/kernels/CounterRng.h"
 
@@ -19,13 +20,16 @@ cv::Vec3b idColour(std::uint16_t id) {
 }
 
 void write(const std::string& path, const cv::Mat& m) {
-  bool ok = false;
   try {
-    ok = cv::imwrite(path, m, {cv::IMWRITE_PNG_COMPRESSION, 3});
-  } catch (const cv::Exception& e) {
+    writeThroughTemporary(
+        path,
+        [&](const std::string& temp) {
+          return cv::imwrite(temp, m, {cv::IMWRITE_PNG_COMPRESSION, 3});
+        },
+        ".part.png");
+  } catch (const std::exception& e) {
     throwInputError(path, std::string("cannot write PNG: ") + e.what());
   }
-  if (!ok) throwInputError(path, "cannot write PNG");
 }
 
 cv::Mat colourised(const Image<std::uint16_t>& ids) {

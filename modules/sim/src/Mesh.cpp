@@ -7,10 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <sstream>
 
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 
 namespace rasm::sim {
@@ -157,8 +157,7 @@ TriangleMesh loadMesh(const std::string& path, const std::string& what) {
 }
 
 void saveObj(const TriangleMesh& mesh, const std::string& path, const std::string& comment) {
-  std::ofstream f(path);
-  if (!f) throwInputError(path, "cannot open for writing");
+  std::ostringstream f;
   std::istringstream lines(comment);
   for (std::string l; std::getline(lines, l);) f << "# " << l << "\n";
   char buf[96];
@@ -173,7 +172,11 @@ void saveObj(const TriangleMesh& mesh, const std::string& path, const std::strin
   }
   for (const auto& t : mesh.triangles)
     f << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
-  if (!f) throwInputError(path, "write failed");
+  try {
+    writeFileAtomic(path, f.str());
+  } catch (const std::runtime_error& e) {
+    throwInputError(path, e.what());
+  }
 }
 
 }  // namespace rasm::sim

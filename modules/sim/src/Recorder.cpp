@@ -6,11 +6,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/sim/FrameImages.h"
 #include "rasm/sim/SimClasses.h"
@@ -83,10 +83,11 @@ void writeClassesJson(const World& world, const std::string& path, std::size_t f
                     {"static", o.is_static},
                     {"mesh", fs::path(o.mesh_source).filename().string()}});
   j["instances"] = inst;
-  std::ofstream f(path);
-  if (!f) throwInputError(path, "cannot write");
-  f << j.dump(1) << "\n";
-  if (!f) throwInputError(path, "write failed");
+  try {
+    writeFileAtomic(path, j.dump(1) + "\n");
+  } catch (const std::runtime_error& e) {
+    throwInputError(path, e.what());
+  }
 }
 
 }  // namespace

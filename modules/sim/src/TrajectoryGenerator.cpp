@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #ifdef _OPENMP
 #include <omp.h>
@@ -13,6 +12,7 @@
 #include <sstream>
 
 #include "GenUtil.h"
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/sim/CameraPoses.h"
 #include "rasm/sim/RayScene.h"
@@ -824,17 +824,11 @@ GeneratedTrajectory generateRobotTrajectory(const GeneratedWorld& g, const World
 namespace {
 
 void writeAtomically(const std::string& path, const std::string& text) {
-  const std::string part = path + ".part";
-  {
-    std::ofstream f(part, std::ios::binary);
-    if (!f) throwInputError(path, "cannot write (does the folder exist and is it writable?)");
-    f << text;
-    f.close();
-    if (!f) throwInputError(path, "write failed");
+  try {
+    writeFileAtomic(path, text);
+  } catch (const std::runtime_error& e) {
+    throwInputError(path, e.what());
   }
-  std::error_code ec;
-  fs::rename(part, path, ec);
-  if (ec) throwInputError(path, "cannot rename " + part + ": " + ec.message());
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 #pragma once
 // Writes RgbdFrames as an observations-only MRPT rawlog of mrpt::obs::CObservation3DRangeScan
 // (+ CObservationOdometry when a frame has odometry), readable by `rawlog-edit --info`,
-// RawLogViewer and RawlogFrameSource. Writes go to "<path>.part" and are renamed to <path> by
+// RawLogViewer and RawlogFrameSource. Writes go to a temporary beside <path> ("<path>.part",
+// created by rasm::AtomicFile, which never follows a link planted there) renamed to <path> by
 // close(), so an interrupted run never leaves a file that looks complete.
 //
 // Per frame: rangeImage in units of range_units_m (default 1 mm, range_is_depth = true),
@@ -41,7 +42,7 @@ struct RawlogWriterOptions {
 class RawlogWriter {
  public:
   RawlogWriter(const std::string& path, const RawlogWriterOptions& opt = {});
-  ~RawlogWriter();  ///< without close(): removes the ".part" file
+  ~RawlogWriter();  ///< without close(): removes the temporary
   RawlogWriter(const RawlogWriter&) = delete;
   RawlogWriter& operator=(const RawlogWriter&) = delete;
 
@@ -50,6 +51,8 @@ class RawlogWriter {
   void writeObject(const mrpt::serialization::CSerializable& obj);
   void close();
   std::size_t framesWritten() const;
+  /// The temporary being written until close() ("<path>.part" unless that name was taken).
+  const std::string& temporaryPath() const;
 
  private:
   struct Impl;

@@ -24,8 +24,11 @@ using Trajectory = std::vector<StampedPose>;
 /// missing file throw InputError naming "file:line". The result is sorted by time.
 Trajectory readTumTrajectory(const std::string& path);
 
-/// Writes (atomically: to "<path>.part", then renamed). Throws InputError when the file cannot be
-/// written.
+/// The TUM text of `traj`: each line of `header_comment` as a "# " comment, the column names, one
+/// line per pose.
+std::string tumTrajectoryText(const Trajectory& traj, const std::string& header_comment = "");
+/// Writes tumTrajectoryText atomically (rasm/core/AtomicFile.h). Throws InputError when the file
+/// cannot be written.
 void writeTumTrajectory(const std::string& path, const Trajectory& traj,
                         const std::string& header_comment = "");
 

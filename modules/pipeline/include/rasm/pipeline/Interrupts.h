@@ -23,11 +23,12 @@ int stopSignal();
 /// "SIGINT", "SIGTERM" or "signal N".
 std::string signalName(int sig);
 
-/// While it lives, `path` + ".part" is removed by an aborting signal. At most 16 at a time (more
-/// are not registered: they are then removed only by the next run into the folder).
+/// While it lives, the temporary `part` (an AtomicFile's path) is removed by an aborting signal.
+/// At most 16 at a time (more are not registered: they are then removed only by the next run into
+/// the folder).
 class ScopedTemporary {
  public:
-  explicit ScopedTemporary(const std::string& final_path);
+  explicit ScopedTemporary(const std::string& part);
   ~ScopedTemporary();
   ScopedTemporary(const ScopedTemporary&) = delete;
   ScopedTemporary& operator=(const ScopedTemporary&) = delete;

@@ -3,9 +3,11 @@
 // a run"). app/cmd_run.cpp is a thin layer over it, and the end-to-end tests drive it directly.
 //
 // The output folder holds the files of one run (docs/io.md "Runs that never lie"): nothing in it
-// changes until the configuration, the source and a map to continue are checked; then the files
-// of an earlier run are removed, config.ini is written, and every file is written under a
-// temporary name and renamed when complete (OutputFiles.h). When a frame fails (corrupt rawlog,
+// changes until the configuration, the source and a map to continue are checked; then the folder
+// is claimed (RunFolder.h: a folder holding files rasm did not write is refused unless [output]
+// overwrite = true, a folder in use by another run is refused, only the files the earlier run
+// listed are removed), config.ini is written, and every file is written under a temporary name
+// and renamed when complete (OutputFiles.h). When a frame fails (corrupt rawlog,
 // bad depth), the outputs of the frames before it are still written, report.json says "status":
 // "failed" with the error, and the error is rethrown (InputError); a source that yields no frame
 // is such an error, and then only config.ini and report.json are written. An output file that
@@ -115,8 +117,7 @@ class MappingRun {
 
  private:
   struct Accumulated;  // what the frame loop gathers for the outputs
-  /// Creates the output folder and removes an earlier run's files from it (InputError when it
-  /// cannot be used).
+  /// Claims the output folder (OutputFolder::claim; InputError when it cannot be used).
   OutputFolder prepareOutputFolder() const;
   void decideExploring(const std::string& src);
   /// The opened source with its read-ahead / preload wrapper; `preload_s` = seconds spent
@@ -138,7 +139,7 @@ class MappingRun {
   void frameLoop(io::FrameSource& source, Accumulated& acc, OutputFolder& out,
                  const std::function<void(const FrameResult&)>& on_frame);
   void recordFrame(Accumulated& acc, const RgbdFrame& f, const FrameResult& r);
-  std::unique_ptr<io::RawlogWriter> openAnnotated(const OutputFolder& out) const;
+  std::unique_ptr<io::RawlogWriter> openAnnotated(OutputFolder& out) const;
   void writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, const FrameResult& r);
   /// annotated.rawlog's comment: what it holds (first), and at its end the frames lost and why.
   mrpt::obs::CObservationComment annotatedComment(bool closing) const;

@@ -70,8 +70,8 @@ GeneratedTrajectory generateRobotTrajectory(const GeneratedWorld& gen, const Wor
 /// `rasm sim generate`: writes the world to `out_yaml` and the trajectories next to it,
 /// <stem>_handheld.yaml and <stem>_robot.yaml (with `fast`, also _handheld_fast.yaml and
 /// _robot_fast.yaml). `trajectories`, when set, is a folder (existing, or ending in '/') for
-/// them, or a path prefix (<prefix>_handheld.yaml, ...). Files are written to "<path>.part"
-/// and renamed.
+/// them, or a path prefix (<prefix>_handheld.yaml, ...). Files are written atomically
+/// (rasm/core/AtomicFile.h: a temporary beside each, renamed over it).
 struct GenerateFilesResult {
   std::string world_path;
   std::vector<std::string> trajectory_paths;
