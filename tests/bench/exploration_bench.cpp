@@ -42,6 +42,7 @@ double medianMs(int reps, F&& f) {
 struct ThinnedAgreement {
   double rank_correlation = 0, rel_dh = 0, rel_dic = 0;
   bool same_best = false;
+  int top10_kept = 0;  ///< of the whole plan's 10 best views, how many the other plan ranks
 };
 
 double medianOf(std::vector<double> v) {
@@ -84,6 +85,12 @@ ThinnedAgreement agreement(const exploration::Plan& full, const exploration::Pla
   }
   a.same_best = !full.ranked.empty() && !thin.ranked.empty() &&
                 (full.ranked.front().pose - thin.ranked.front().pose).norm() < 1e-9;
+  for (std::size_t k = 0; k < std::min<std::size_t>(10, full.ranked.size()); ++k)
+    for (const auto& t : thin.ranked)
+      if ((full.ranked[k].pose - t.pose).norm() < 1e-9) {
+        ++a.top10_kept;
+        break;
+      }
   a.rel_dh = medianOf(dh);
   a.rel_dic = medianOf(dic);
   return a;
@@ -171,27 +178,34 @@ int main() {
   });
   std::printf(",\"plan_160x120_ms\":%.1f,\"plan_candidates\":%zu,\"plan_pruned\":%zu", plan_ms,
               ranked, pruned);
-  // The same plan on a thinned map ([exploration] predict_max_surfels): its cost, and how far
+  // The same plan on a thinned map ([exploration] predict_max_surfels) and with the coarse
+  // screen (predict_screen_keep): its cost, and how far
   // its predictions are from the whole map's (Spearman rank correlation of the candidates'
   // gains, the best view kept, median relative difference of dH and of dIC).
   {
     const exploration::Plan full = exploration::ViewPlanner(ep).plan(in);
     std::printf(",\"thinned\":[");
-    const std::pair<int, int> configs[] = {{160, 400000}, {160, 200000}, {160, 100000},
-                                           {80, 0},       {80, 200000},  {80, 100000}};
-    for (const auto& [width, limit] : configs) {
+    struct Config {
+      int width, max_surfels, screen_keep;
+    };
+    const Config configs[] = {{160, 400000, 0}, {160, 200000, 0}, {160, 100000, 0},
+                              {80, 200000, 0},  {160, 0, 20},     {160, 200000, 20},
+                              {160, 200000, 12}};
+    for (const Config& cfg : configs) {
       exploration::TExplorationParams tp = ep;
-      tp.predict_width = width, tp.predict_height = width * 3 / 4;
-      tp.predict_max_surfels = limit;
+      tp.predict_width = cfg.width, tp.predict_height = cfg.width * 3 / 4;
+      tp.predict_max_surfels = cfg.max_surfels;
+      tp.predict_screen_keep = cfg.screen_keep;
       exploration::Plan thin;
       const double ms = medianMs(3, [&] { thin = exploration::ViewPlanner(tp).plan(in); });
       const ThinnedAgreement a = agreement(full, thin);
       std::printf(
-          "%s{\"predict\":\"%dx%d\",\"max_surfels\":%d,\"plan_ms\":%.1f,"
-          "\"rank_correlation\":%.3f,\"same_best\":%s,\"median_rel_diff_dH\":%.3f,"
-          "\"median_rel_diff_dIC\":%.3f}",
-          &width == &configs[0].first ? "" : ",", tp.predict_width, tp.predict_height, limit, ms,
-          a.rank_correlation, a.same_best ? "true" : "false", a.rel_dh, a.rel_dic);
+          "%s{\"predict\":\"%dx%d\",\"max_surfels\":%d,\"screen_keep\":%d,"
+          "\"plan_ms\":%.1f,\"ranked\":%zu,\"rank_correlation\":%.3f,\"same_best\":%s,"
+          "\"top10_kept\":%d,\"median_rel_diff_dH\":%.3f,\"median_rel_diff_dIC\":%.3f}",
+          &cfg == &configs[0] ? "" : ",", tp.predict_width, tp.predict_height, cfg.max_surfels,
+          cfg.screen_keep, ms, thin.ranked.size(), a.rank_correlation,
+          a.same_best ? "true" : "false", a.top10_kept, a.rel_dh, a.rel_dic);
     }
     std::printf("]");
   }

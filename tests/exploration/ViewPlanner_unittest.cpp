@@ -255,6 +255,37 @@ TEST_F(RoomPlanTest, ThePlanDoesNotDependOnTheThreadCount) {
   EXPECT_EQ(three.unreachable.size(), one.unreachable.size());
 }
 
+// The coarse screen ([exploration] predict_screen_keep): the kept views are predicted exactly as
+// without it (same dH at the full size), the others are left out and counted, and the best view
+// survives the screen (40x30 rays are 10 cm apart at the 4 m range: the octree's cell).
+TEST_F(RoomPlanTest, TheScreenPredictsTheBestViewsInFullAndCountsTheRest) {
+  const Plan full = ViewPlanner(params_).plan(in_);
+  ASSERT_GE(full.ranked.size(), 10u);
+  EXPECT_EQ(full.screened_out, 0u);
+  TExplorationParams screen = params_;
+  screen.predict_screen_keep = 5;
+  screen.predict_screen_width = 40, screen.predict_screen_height = 30;
+  const Plan screened = ViewPlanner(screen).plan(in_);
+  ASSERT_EQ(screened.ranked.size(), 5u);  // no frontier views in this plan (frontier_candidates)
+  EXPECT_EQ(screened.screened_out, full.ranked.size() - 5);
+  EXPECT_EQ(screened.unreachable.size(), full.unreachable.size());
+  for (const ViewCandidate& c : screened.ranked) {
+    const auto same = std::find_if(full.ranked.begin(), full.ranked.end(),
+                                   [&](const ViewCandidate& f) { return f.pose == c.pose; });
+    ASSERT_NE(same, full.ranked.end());
+    EXPECT_EQ(c.entropy_reduction, same->entropy_reduction);
+  }
+  EXPECT_EQ(screened.ranked.front().pose, full.ranked.front().pose);
+  // Keeping at least every candidate is no screen at all.
+  screen.predict_screen_keep = int(full.ranked.size());
+  const Plan all = ViewPlanner(screen).plan(in_);
+  ASSERT_EQ(all.ranked.size(), full.ranked.size());
+  for (std::size_t k = 0; k < all.ranked.size(); ++k) {
+    EXPECT_EQ(all.ranked[k].pose, full.ranked[k].pose);
+    EXPECT_EQ(all.ranked[k].rate, full.ranked[k].rate);
+  }
+}
+
 TEST_F(RoomPlanTest, MissingInputIsAnInputError) {
   in_.octree = nullptr;
   EXPECT_THROW(ViewPlanner(params_).plan(in_), InputError);

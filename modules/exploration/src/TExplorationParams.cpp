@@ -38,6 +38,9 @@ void TExplorationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
   MRPT_LOAD_CONFIG_VAR(predict_width, int, c, s);
   MRPT_LOAD_CONFIG_VAR(predict_height, int, c, s);
   MRPT_LOAD_CONFIG_VAR(predict_max_surfels, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(predict_screen_keep, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(predict_screen_width, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(predict_screen_height, int, c, s);
   MRPT_LOAD_CONFIG_VAR(w_entropy, double, c, s);
   MRPT_LOAD_CONFIG_VAR(w_ic, double, c, s);
   MRPT_LOAD_CONFIG_VAR(rank_by_rate, bool, c, s);
@@ -97,6 +100,9 @@ void TExplorationParams::validate(const std::string& s) const {
   requireInRange(predict_width, 8, 4096, s, "predict_width");
   requireInRange(predict_height, 8, 4096, s, "predict_height");
   requireInRange(predict_max_surfels, 0, 1000000000, s, "predict_max_surfels");
+  requireInRange(predict_screen_keep, 0, 100000, s, "predict_screen_keep");
+  requireInRange(predict_screen_width, 8, 4096, s, "predict_screen_width");
+  requireInRange(predict_screen_height, 8, 4096, s, "predict_screen_height");
   requireInRange(w_entropy, 0.0, 1000000.0, s, "w_entropy");
   requireInRange(w_ic, 0.0, 1000000.0, s, "w_ic");
   requireInRange(speed_mps, 0.001, 10.0, s, "speed_mps");
@@ -171,6 +177,9 @@ void TExplorationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(predict_width, c, s);
   MRPT_SAVE_CONFIG_VAR(predict_height, c, s);
   MRPT_SAVE_CONFIG_VAR(predict_max_surfels, c, s);
+  MRPT_SAVE_CONFIG_VAR(predict_screen_keep, c, s);
+  MRPT_SAVE_CONFIG_VAR(predict_screen_width, c, s);
+  MRPT_SAVE_CONFIG_VAR(predict_screen_height, c, s);
   MRPT_SAVE_CONFIG_VAR(w_entropy, c, s);
   MRPT_SAVE_CONFIG_VAR(w_ic, c, s);
   MRPT_SAVE_CONFIG_VAR(rank_by_rate, c, s);

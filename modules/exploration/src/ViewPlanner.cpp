@@ -14,6 +14,78 @@ ViewPlanner::ViewPlanner(const TExplorationParams& params) : m_params(params) {
   m_params.validate();
 }
 
+namespace {
+/// dH and dIC of candidates[which[j]] (their T_world_cam) on `store` at params' predict size:
+/// the candidates spread over the threads (one predictor each; the renderer's own parallel loops
+/// then run on the calling thread), each predicted by one thread alone, so its dH and dIC do not
+/// depend on the thread count.
+std::vector<ViewPrediction> predictViews(const TExplorationParams& params,
+                                         const maps::SurfelStore& store, const PlannerInputs& in,
+                                         const std::vector<ViewCandidate>& candidates,
+                                         const std::vector<int>& which) {
+  const int n = int(which.size());
+  std::vector<ViewPrediction> predicted(static_cast<std::size_t>(n));
+  std::exception_ptr failure;  // (an exception must not leave an OpenMP region)
+#pragma omp parallel if (n > 1)
+  {
+    ViewPredictor predictor(params, in.model);
+#pragma omp for schedule(dynamic, 1)
+    for (int j = 0; j < n; ++j) {
+      try {
+        predicted[std::size_t(j)] = predictor.predict(
+            store, *in.octree, candidates[std::size_t(which[std::size_t(j)])].T_world_cam, in.K);
+      } catch (...) {
+#pragma omp critical(rasm_view_planner_failure)
+        if (!failure) failure = std::current_exception();
+      }
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+  return predicted;
+}
+}  // namespace
+
+/// The candidates predicted in full: all of `reachable`, or (predict_screen_keep > 0 and more
+/// reachable candidates than that) the best predict_screen_keep by the same ranking on a coarse
+/// prediction at predict_screen_width x predict_screen_height, plus every frontier view (the
+/// tour's way into unknown space) and the goal being driven to. In candidate order.
+std::vector<int> ViewPlanner::screenCandidates(const maps::SurfelStore& store,
+                                               const PlannerInputs& in,
+                                               const std::vector<ViewCandidate>& candidates,
+                                               const std::vector<int>& reachable, int goal_index,
+                                               Plan& plan) const {
+  const std::size_t keep = std::size_t(std::max(0, m_params.predict_screen_keep));
+  if (keep == 0 || reachable.size() <= keep) return reachable;
+  TExplorationParams coarse_params = m_params;
+  coarse_params.predict_width = m_params.predict_screen_width;
+  coarse_params.predict_height = m_params.predict_screen_height;
+  const std::vector<ViewPrediction> coarse =
+      predictViews(coarse_params, store, in, candidates, reachable);
+  std::vector<ViewCandidate> scored;
+  for (std::size_t j = 0; j < reachable.size(); ++j) {
+    scored.push_back(candidates[std::size_t(reachable[j])]);
+    scored.back().entropy_reduction = coarse[j].entropy_reduction;
+    scored.back().information = coarse[j].information.weighted;
+  }
+  scoreCandidates(m_params, scored);
+  std::vector<std::size_t> order(reachable.size());
+  for (std::size_t j = 0; j < order.size(); ++j) order[j] = j;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return rankingKey(m_params, scored[a]) > rankingKey(m_params, scored[b]);
+  });
+  std::vector<char> kept(reachable.size(), 0);
+  for (std::size_t r = 0; r < keep; ++r) kept[order[r]] = 1;
+  std::vector<int> out;
+  for (std::size_t j = 0; j < reachable.size(); ++j) {
+    const int i = reachable[j];
+    if (kept[j] || i == goal_index ||
+        candidates[std::size_t(i)].source == ViewCandidate::Source::Frontier)
+      out.push_back(i);
+  }
+  plan.screened_out = reachable.size() - out.size();
+  return out;
+}
+
 Plan ViewPlanner::plan(const PlannerInputs& in) const {
   if (!in.store || !in.segments || !in.octree)
     throwInputError("exploration planner inputs", "store, segments and octree are required");
@@ -51,31 +123,13 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
     else
       plan.unreachable.push_back(c);
   }
-  // The predictions, candidates spread over the threads (one predictor each; the renderer's own
-  // parallel loops then run on the calling thread): each candidate is predicted by one thread
-  // alone, so its dH and dIC do not depend on the thread count.
-  const int n = int(reachable.size());
   maps::SurfelStore thinned;
   const maps::SurfelStore& store =
-      n > 0 ? predictionStore(*in.store, m_params, thinned) : *in.store;
-  std::vector<ViewPrediction> predicted(static_cast<std::size_t>(n));
-  std::exception_ptr failure;  // (an exception must not leave an OpenMP region)
-#pragma omp parallel if (n > 1)
-  {
-    ViewPredictor predictor(m_params, in.model);
-#pragma omp for schedule(dynamic, 1)
-    for (int j = 0; j < n; ++j) {
-      try {
-        predicted[std::size_t(j)] =
-            predictor.predict(store, *in.octree,
-                              candidates[std::size_t(reachable[std::size_t(j)])].T_world_cam, in.K);
-      } catch (...) {
-#pragma omp critical(rasm_view_planner_failure)
-        if (!failure) failure = std::current_exception();
-      }
-    }
-  }
-  if (failure) std::rethrow_exception(failure);
+      reachable.empty() ? *in.store : predictionStore(*in.store, m_params, thinned);
+  reachable = screenCandidates(store, in, candidates, reachable, goal_index, plan);
+  const int n = int(reachable.size());
+  const std::vector<ViewPrediction> predicted =
+      predictViews(m_params, store, in, candidates, reachable);
   for (int j = 0; j < n; ++j) {
     ViewCandidate c = candidates[std::size_t(reachable[std::size_t(j)])];
     c.entropy_reduction = predicted[std::size_t(j)].entropy_reduction;
@@ -101,8 +155,8 @@ double rankingKey(const TExplorationParams& params, const ViewCandidate& c) {
   return params.rank_by_rate ? c.rate : c.gain;
 }
 
-void rankCandidates(const TExplorationParams& params, std::vector<ViewCandidate>& candidates,
-                    ViewCandidate* alongside) {
+void scoreCandidates(const TExplorationParams& params, std::vector<ViewCandidate>& candidates,
+                     ViewCandidate* alongside) {
   double max_h = alongside ? alongside->entropy_reduction : 0.0;
   double max_ic = alongside ? alongside->information : 0.0;
   for (const ViewCandidate& c : candidates) {
@@ -115,6 +169,11 @@ void rankCandidates(const TExplorationParams& params, std::vector<ViewCandidate>
   };
   for (ViewCandidate& c : candidates) score(c);
   if (alongside) score(*alongside);
+}
+
+void rankCandidates(const TExplorationParams& params, std::vector<ViewCandidate>& candidates,
+                    ViewCandidate* alongside) {
+  scoreCandidates(params, candidates, alongside);
   std::stable_sort(candidates.begin(), candidates.end(),
                    [&params](const ViewCandidate& a, const ViewCandidate& b) {
                      return rankingKey(params, a) > rankingKey(params, b);

@@ -300,6 +300,7 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
                         {"best_information", best_dIC},
                         {"ms", out.ms},
                         {"tour_clusters", p.tour_clusters},
+                        {"screened_out", p.screened_out},
                         {"while_driving", out.driving}};
   if (!p.ranked.empty()) {
     const auto& b = p.ranked.front();

@@ -70,6 +70,9 @@ struct Plan {
   std::optional<ViewCandidate> current_goal;
   /// "ig": the number of view clusters the tour visits (ranked starts with them, in tour order).
   std::size_t tour_clusters = 0;
+  /// Reachable candidates a coarse prediction left out of the full one ([exploration]
+  /// predict_screen_keep; not in ranked).
+  std::size_t screened_out = 0;
 };
 
 class ExplorationPlanner {

@@ -66,6 +66,14 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   /// surfels, not with the predicted image's pixels (docs/exploration.md "Costs"). 0 = the
   /// whole map.
   int predict_max_surfels = 0;
+  /// A plan with more reachable candidates than predict_screen_keep (> 0) first predicts every
+  /// one at predict_screen_width x predict_screen_height and predicts in full only the best
+  /// predict_screen_keep of that screen (same IG and ranking), every frontier view and the goal
+  /// being driven to; the others are left out of the plan (Plan::screened_out). 0 = predict
+  /// every candidate in full. Object views (one per uncertain segment) take a room's plans from
+  /// ~50 to ~280 candidates (docs/exploration.md "Costs").
+  int predict_screen_keep = 0;
+  int predict_screen_width = 40, predict_screen_height = 30;
 
   // ---- score (V) ----
   double w_entropy = 1.0;  ///< w1 of IG(a); dH is divided by the largest dH of the candidates

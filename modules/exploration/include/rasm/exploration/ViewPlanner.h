@@ -38,6 +38,11 @@ class ViewPlanner {
   Plan plan(const PlannerInputs& in) const;
 
  private:
+  std::vector<int> screenCandidates(const maps::SurfelStore& store, const PlannerInputs& in,
+                                    const std::vector<ViewCandidate>& candidates,
+                                    const std::vector<int>& reachable, int goal_index,
+                                    Plan& plan) const;
+
   TExplorationParams m_params;
 };
 
@@ -49,6 +54,11 @@ double informationGain(const TExplorationParams& params, double entropy_reductio
 /// The key views are ranked by: rate (IG per second of travel) when params.rank_by_rate, else
 /// gain.
 double rankingKey(const TExplorationParams& params, const ViewCandidate& c);
+
+/// Sets gain and rate of each candidate from its dH, dIC and travel time (normalised as in the
+/// header comment), in place; `alongside` as in rankCandidates.
+void scoreCandidates(const TExplorationParams& params, std::vector<ViewCandidate>& candidates,
+                     ViewCandidate* alongside = nullptr);
 
 /// Sets gain and rate of each candidate from its dH, dIC and travel time (normalised as in the
 /// header comment) and sorts them best first (stable). `alongside` (the goal the robot drives to)
