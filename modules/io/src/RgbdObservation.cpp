@@ -49,8 +49,14 @@ RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs,
                                 "' has no range image (hasRangeImage = false)");
   const int W = int(obs.rangeImage.cols()), H = int(obs.rangeImage.rows());
   if (W == 0 || H == 0) throwInputError(source, "empty range image");
-  if (!(obs.rangeUnits > 0.0f) || !std::isfinite(obs.rangeUnits))
-    throwInputError(source, "rangeUnits is " + std::to_string(obs.rangeUnits) + ", expected > 0 m");
+  // Metres per count of the 16-bit range image: above 0.1 m one count spans more than the range
+  // of any depth camera (1e30 turns every pixel into an invalid depth, silently).
+  if (!(obs.rangeUnits > 0.0f && obs.rangeUnits <= 0.1f)) {
+    std::ostringstream s;
+    s << "rangeUnits is " << obs.rangeUnits
+      << " m per count; expected in (0, 0.1] (0.001 for millimetres)";
+    throwInputError(source, s.str());
+  }
 
   RgbdFrame f;
   f.intrinsics = CameraIntrinsics::fromTCamera(obs.cameraParams);

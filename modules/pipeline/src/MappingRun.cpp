@@ -237,6 +237,25 @@ nlohmann::json poseJson(const Eigen::Isometry3d& T) {
   return {{"t", {T.translation().x(), T.translation().y(), T.translation().z()}},
           {"q_xyzw", {q.x(), q.y(), q.z(), q.w()}}};
 }
+
+/// Why a run that mapped frames gave no usable map, or "": an empty map (no frame had valid
+/// depth for II-B to fuse: all zero, below the minimum depth, a wrong depth scale or focal
+/// length) or every frame lost by tracking (against a loaded map of another scene).
+std::string nothingFusedReason(std::size_t processed, std::size_t lost, int surfels,
+                               const std::string& load_map) {
+  const std::string n = std::to_string(processed);
+  if (surfels == 0)
+    return "nothing was fused: the map is empty after " + n + " frames (tracking lost " +
+           std::to_string(lost) +
+           "); check that the depth images hold valid depth (the depth scale: rangeUnits, "
+           "[source] depth_scale) and the camera intrinsics (report.json \"intrinsics\")";
+  if (lost >= processed)
+    return "tracking lost all " + n + " frames: nothing was fused" +
+           (load_map.empty() ? std::string()
+                             : " into the map loaded from " + load_map +
+                                   " ([mapper] load_map); is it a map of this scene?");
+  return "";
+}
 }  // namespace
 
 bool MappingRun::classMapView(const maps::RenderedMaps& view, cv::Mat& out) const {
@@ -698,6 +717,12 @@ nlohmann::json MappingRun::reportJson(const std::string& source, const Accumulat
   }
   rep["config_source"] = m_config.source();
   rep["source"] = source;
+  // The intrinsics the frames were mapped with (the source's own, [camera], or a guess that
+  // `source` then says), whatever their origin.
+  if (acc.have_K)
+    rep["intrinsics"] = {{"fx", acc.last_K.fx},       {"fy", acc.last_K.fy},
+                         {"cx", acc.last_K.cx},       {"cy", acc.last_K.cy},
+                         {"width", acc.last_K.width}, {"height", acc.last_K.height}};
   rep["frames"] = processed;
   rep["frames_read"] = acc.read;
   rep["frames_lost"] = sum.lost;
@@ -825,6 +850,9 @@ void MappingRun::finishFrames(Accumulated& acc) {
     }
   if (acc.processed == 0 && acc.error.empty() && acc.output_error.empty() && stopSignal() == 0)
     acc.error = noFrameReason(acc);
+  if (acc.processed > 0 && acc.error.empty() && acc.output_error.empty() && stopSignal() == 0)
+    acc.error = nothingFusedReason(acc.processed, m_mapper->framesLost(), m_mapper->map().size(),
+                                   m_mapper->mapperParams().load_map);
   acc.cpu_s = processCpuSeconds() - acc.cpu_start_s;
 }
 

@@ -1,10 +1,12 @@
 #include "rasm/pipeline/RunConfig.h"
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "rasm/core/CameraIntrinsics.h"
@@ -30,12 +32,21 @@ RunConfig RunConfig::fromFile(const std::string& path) {
 RunConfig RunConfig::fromString(const std::string& ini_text, const std::string& source_name) {
   RunConfig c;
   c.m_source = source_name;
-  // Reject lines that are neither sections, assignments, comments nor blank: MRPT's parser would
-  // skip them silently.
-  // Records where each section and key is (file:line) for later messages.
-  std::istringstream in(ini_text);
+  // A UTF-8 byte order mark (some Windows editors write one) is not part of the first line.
+  const bool bom = ini_text.rfind("\xEF\xBB\xBF", 0) == 0;
+  const std::string text = bom ? ini_text.substr(3) : ini_text;
+  // Reject lines that are neither sections, assignments, comments nor blank (MRPT's parser would
+  // skip them silently), keys before any section (MRPT ignores them) and keys given twice in a
+  // section (MRPT keeps the last silently). Records where each section and key is (file:line)
+  // for later messages.
+  std::istringstream in(text);
   std::string line, section;
   int lineno = 0;
+  std::map<std::string, int> key_line;  // "section\nkey" (lower case) -> its line
+  const auto lower = [](std::string t) {
+    for (auto& ch : t) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    return t;
+  };
   const auto trim = [](const std::string& t) {
     const auto b = t.find_first_not_of(" \t\r");
     if (b == std::string::npos) return std::string();
@@ -50,21 +61,32 @@ RunConfig RunConfig::fromString(const std::string& ini_text, const std::string& 
     if (ch == ';' || ch == '#') continue;
     if (ch == '[') {
       const auto e = line.find(']', b);
-      if (e != std::string::npos) {
-        section = trim(line.substr(b + 1, e - b - 1));
-        if (c.m_ini.originOfSection(section).empty()) c.m_ini.setOrigin(section, "", where);
-      }
+      if (e == std::string::npos)
+        throwInputError(where, "unterminated section header '" + trim(line) +
+                                   "' (expected [name], with its closing ']')");
+      section = trim(line.substr(b + 1, e - b - 1));
+      if (section.empty()) throwInputError(where, "empty section name '[]'");
+      if (c.m_ini.originOfSection(section).empty()) c.m_ini.setOrigin(section, "", where);
       continue;
     }
     const auto eq = line.find('=');
     if (eq != std::string::npos) {
-      c.m_ini.setOrigin(section, trim(line.substr(0, eq)), where);
+      const std::string key = trim(line.substr(0, eq));
+      if (section.empty())
+        throwInputError(where, "key '" + key +
+                                   "' before any [section] (expected it under the [section] "
+                                   "it belongs to)");
+      const auto [it, fresh] = key_line.emplace(lower(section) + "\n" + lower(key), lineno);
+      if (!fresh)
+        throwInputError(where, "[" + section + "] " + key + " given twice (first at line " +
+                                   std::to_string(it->second) + "); keep one");
+      c.m_ini.setOrigin(section, key, where);
       continue;
     }
     throwInputError(where,
                     "cannot parse '" + line + "' (expected [section], key = value, or a comment)");
   }
-  c.m_ini.setContent(ini_text);
+  c.m_ini.setContent(text);
   return c;
 }
 
