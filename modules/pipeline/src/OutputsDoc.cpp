@@ -80,8 +80,9 @@ const Doc kReport[] = {
     {"interrupted_during", "`frames` or `outputs`"},
     {"config_source", "the INI file, or the embedded default"},
     {"source", "the frame source, in words (with a WARNING when its intrinsics are a guess)"},
-    {"intrinsics", "the camera intrinsics the frames were mapped with: fx, fy, cx, cy (pixels), "
-                   "width, height"},
+    {"intrinsics",
+     "the camera intrinsics the frames were mapped with: fx, fy, cx, cy (pixels), "
+     "width, height"},
     {"files", "the files this run wrote, in order (report.json itself excluded)"},
     {"frames", "frames processed"},
     {"frames_read", "frames the source yielded (before start_frame / frame_step / drop_frames)"},

@@ -26,7 +26,36 @@ RunConfig RunConfig::fromFile(const std::string& path) {
   if (!f) throwInputError("config file '" + path + "'", "cannot be opened (expected an INI file)");
   std::stringstream ss;
   ss << f.rdbuf();
-  return fromString(ss.str(), path);
+  RunConfig c = fromString(ss.str(), path);
+  // Paths written in an INI are relative to the INI's folder, not to where rasm was started: a
+  // shipped INI names the same data from any working directory (relative to the working
+  // directory, its detector would silently be off when run from elsewhere). `--set` paths stay
+  // relative to the working directory. Bare names (a world, a models file) are not paths.
+  struct PathKey {
+    const char* section;
+    const char* key;
+    bool bare_name_allowed;  // a value without '/' is a name, not a path
+  };
+  static const PathKey kPathKeys[] = {{"source", "path", false},
+                                      {"source", "groundtruth", false},
+                                      {"mapper", "load_map", false},
+                                      {"dnn_detector", "model", false},
+                                      {"dnn_detector", "weights", false},
+                                      {"dnn_detector", "names", false},
+                                      {"zero_shot", "bank", false},
+                                      {"zero_shot", "models", true},
+                                      {"sim", "world", true},
+                                      {"sim", "trajectory", true}};
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  for (const PathKey& k : kPathKeys) {
+    std::string v = c.m_ini.read_string(k.section, k.key, "");
+    const auto b = v.find_first_not_of(" \t\r\"");
+    v = b == std::string::npos ? std::string() : v.substr(b, v.find_last_not_of(" \t\r\"") - b + 1);
+    if (v.empty() || dir.empty() || std::filesystem::path(v).is_absolute()) continue;
+    if (k.bare_name_allowed && v.find('/') == std::string::npos) continue;
+    c.m_ini.write(k.section, k.key, (dir / v).lexically_normal().string());
+  }
+  return c;
 }
 
 RunConfig RunConfig::fromString(const std::string& ini_text, const std::string& source_name) {
@@ -156,7 +185,8 @@ void RunConfig::checkCamera() const {
   const auto size = [&](const char* key) {
     const double v = number(key, "image size in pixels");
     if (v < 0 || v > 65535 || v != std::floor(v))
-      fail(key, "expected an image size in pixels, a whole number in [1, 65535] (0 = the preset's)");
+      fail(key,
+           "expected an image size in pixels, a whole number in [1, 65535] (0 = the preset's)");
     return int(v);
   };
   const double fx = number("fx", "focal length > 0 (pixels)");
@@ -166,13 +196,16 @@ void RunConfig::checkCamera() const {
   int width = size("width"), height = size("height");
   const std::string preset = text("preset");
   if (fx == 0 && fy == 0 && cx == 0 && cy == 0) return;  // not set: the preset's or the source's
-  if (!(fx > 0))
-    fail("fx",
-         "expected a finite focal length > 0 (pixels); leave fx, fy, cx, cy all 0 (or unset) to "
-         "use the preset or the source's own intrinsics");
-  if (fy < 0)
+  // Above 1e5 px the field of view is below 0.4 degrees (CameraIntrinsics::problem).
+  if (!(fx > 0 && fx <= 1e5))
+    fail(
+        "fx",
+        "expected a focal length in (0, 100000] (pixels); leave fx, fy, cx, cy all 0 (or unset) to "
+        "use the preset or the source's own intrinsics");
+  if (fy < 0 || fy > 1e5)
     fail("fy",
-         "expected a focal length > 0 (pixels), or 0 for fy = fx (a negative fy, ICL-NUIM's "
+         "expected a focal length in (0, 100000] (pixels), or 0 for fy = fx (a negative fy, "
+         "ICL-NUIM's "
          "flipped rows, is supported through preset = icl_nuim)");
   if (!preset.empty()) {
     CameraIntrinsics p;

@@ -101,8 +101,9 @@ void TSensorParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   RASM_SIM_SAVE(axial_sigma_quad, "b (1/m)");
   RASM_SIM_SAVE(axial_z0_m, "z0 (m)");
   RASM_SIM_SAVE(axial_sigma_angle, "c");
-  RASM_SIM_SAVE(lateral_sigma_px,
-                "Nguyen 2012 sigma_L at theta = 0 (px of the preset; scaled by fx / its fx); 0 = off");
+  RASM_SIM_SAVE(
+      lateral_sigma_px,
+      "Nguyen 2012 sigma_L at theta = 0 (px of the preset; scaled by fx / its fx); 0 = off");
   RASM_SIM_SAVE(lateral_sigma_angle, "angle term of sigma_L (px)");
   RASM_SIM_SAVE(disparity_focal_px, "quantization: depth step z^2 / (f b) / subpixel");
   RASM_SIM_SAVE(disparity_baseline_m, "");

@@ -309,7 +309,8 @@ TrajectorySpec loadTrajectorySpecFromString(const std::string& text, const std::
                         start["y"].asDouble(-kMaxCoordinate_m, kMaxCoordinate_m),
                         start.has("yaw_deg") ? start["yaw_deg"].asDouble() * M_PI / 180.0 : 0.0);
     const YNode wps = doc["waypoints"];
-    for (const YNode& w : wps.items()) spec.waypoints.push_back(w.asVector(2, -kMaxCoordinate_m, kMaxCoordinate_m));
+    for (const YNode& w : wps.items())
+      spec.waypoints.push_back(w.asVector(2, -kMaxCoordinate_m, kMaxCoordinate_m));
     if (spec.waypoints.empty()) wps.fail("expected at least one waypoint [x, y]");
     if (auto l = doc.optional("loop")) spec.loop = l->asBool();
     if (auto l = doc.optional("laps")) spec.laps = int(l->asInt(1, 1000));

@@ -97,10 +97,8 @@ Eigen::Vector3f parseColour(const YNode& n) {
 
 /// A size or scale [x, y, z]: three numbers in (0, max].
 Eigen::Vector3d parsePositiveVec3(const YNode& n, double max) {
-  const Eigen::Vector3d v = n.asVec3();
+  const Eigen::Vector3d v = n.asVector(3, 0.0, max);
   if ((v.array() <= 0).any()) n.fail("expected three positive numbers");
-  for (int i = 0; i < 3; ++i)
-    if (v[i] > max) n.at(std::size_t(i)).fail("'" + n.at(std::size_t(i)).asString() + "': value out of range, expected at most " + std::to_string(int(max)));
   return v;
 }
 

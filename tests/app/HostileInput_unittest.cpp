@@ -1,0 +1,59 @@
+// The rasm binary on hostile input (docs/io.md "Refused or reported"): NaN and far camera poses
+// are errors before the ray tracer (it used to abort, exit 134, leaving a .part behind), MRPT's
+// backtraces only with --verbose, control characters in echoed names escaped.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "RasmProcess.h"
+
+namespace fs = std::filesystem;
+using namespace rasm::app::testing;
+
+namespace {
+bool has(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+}  // namespace
+
+TEST(HostileCli, SimRenderRefusesNonFiniteAndFarPoses) {
+  const std::string dir = freshDir("render_pose");
+  fs::create_directories(dir);
+  for (const std::string& pose :
+       {std::string("--eye 3,2,1e30 --yaw 0"), std::string("--eye 3,2,1 --yaw inf"),
+        std::string("--eye nan,2,1 --yaw 0"), std::string("--eye 3,2,1 --look-at inf,1,1")}) {
+    const Result r = runRasm("sim render office " + dir + "/view " + pose);
+    EXPECT_EQ(r.status, 3) << pose << "\n" << r.output;  // an input error, not an abort (134)
+    EXPECT_TRUE(has(r.output, pose.substr(0, pose.find(' ')))) << r.output;  // names the option
+  }
+  EXPECT_TRUE(fs::is_empty(dir)) << "files left behind";
+  fs::remove_all(dir);
+}
+
+TEST(HostileCli, MrptBacktraceOnlyWithVerbose) {
+  const std::string dir = freshDir("bad_map");
+  fs::create_directories(dir);
+  {
+    std::ofstream f(dir + "/bad.surfelmap", std::ios::binary);
+    f << std::string(3000, '\x5a');
+  }
+  const std::string args =
+      "run --map " + dir + "/bad.surfelmap --out " + dir + "/out --set source.max_frames=2";
+  const Result r = runRasm(args);
+  EXPECT_EQ(r.status, 3) << r.output;
+  EXPECT_TRUE(has(r.output, "cannot be read as a rasm surfel map")) << r.output;
+  EXPECT_FALSE(has(r.output, "Call stack backtrace")) << r.output;
+  EXPECT_FALSE(has(r.output, "==== MRPT exception")) << r.output;
+  const Result v = runRasm(args + " --verbose");
+  EXPECT_EQ(v.status, 3) << v.output;
+  EXPECT_TRUE(has(v.output, "Call stack backtrace")) << v.output;
+  fs::remove_all(dir);
+}
+
+TEST(HostileCli, ControlCharactersInNamesAreEscaped) {
+  const Result r = runRasm("run '/nonexistent/a\x1b[31mred.ini'");
+  EXPECT_EQ(r.status, 3) << r.output;
+  EXPECT_FALSE(has(r.output, "\x1b")) << r.output;
+  EXPECT_TRUE(has(r.output, "a\\x1b[31mred.ini")) << r.output;
+}
