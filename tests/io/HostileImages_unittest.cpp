@@ -14,6 +14,7 @@
 
 using namespace rasm;
 using namespace rasm::io;
+using namespace rasm::io::test;
 
 namespace {
 
