@@ -128,7 +128,7 @@ Eigen::Vector3d parseVec3(const Parsed& p, const std::string& key) {
   char c1 = 0, c2 = 0;
   std::istringstream in(s);
   if (!(in >> v.x() >> c1 >> v.y() >> c2 >> v.z()) || c1 != ',' || c2 != ',' || !in.eof())
-    rasm::throwInputError("--" + key + " " + s, "expected x,y,z");
+    rasm::throwInputError("--" + key + " " + s, "expected x,y,z (three finite numbers)");
   for (int i = 0; i < 3; ++i) rasm::requireCoordinate(v[i], "--" + key + " " + s);
   return v;
 }

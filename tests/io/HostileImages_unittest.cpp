@@ -63,7 +63,9 @@ std::string tumFolder(const ScratchDir& dir, int bad, const std::string& bad_dep
 
 std::string errorOfAllFrames(const std::string& folder) {
   try {
-    TumFrameSource src(folder);
+    TumSourceOptions opt;
+    opt.intrinsics_override = CameraIntrinsics(50, 50, 31.5, 23.5, 64, 48);
+    TumFrameSource src(folder, opt);
     while (src.next()) {
     }
   } catch (const InputError& e) {
