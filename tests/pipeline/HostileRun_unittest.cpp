@@ -153,3 +153,25 @@ TEST(HostileRun, AbsurdFocalLengthIsRefused) {
     EXPECT_TRUE(has(e.what(), "(0, 100000]")) << e.what();
   }
 }
+
+TEST(HostileRun, MapOfAnotherSceneLosesEveryFrameAndIsFailed) {
+  const std::string dir = tempDir("foreign_map");
+  RunConfig office =
+      RunConfig::fromString("[source]\ntype = rawlog\npath = " RASM_SOURCE_DIR
+                            "/rawlogs/sim_office_handheld_320x240.rawlog\nmax_frames = 5\n",
+                            "test");
+  const auto [office_error, office_rep] = runInto(office, dir + "/office");
+  ASSERT_EQ(office_error, "");
+  ASSERT_EQ(office_rep["status"], "ok");
+  ASSERT_TRUE(fs::exists(dir + "/office/map.surfelmap"));
+  // The MRPT Kinect frame (a lab) against the simulated office's map.
+  RunConfig lab =
+      RunConfig::fromString("[source]\ntype = rawlog\npath = " RASM_MRPT_TEST_RAWLOG "\n", "test");
+  lab.set("mapper", "load_map", dir + "/office/map.surfelmap");
+  const auto [error, rep] = runInto(lab, dir + "/lab");
+  EXPECT_TRUE(has(error, "tracking lost all 1 frames")) << error;
+  EXPECT_TRUE(has(error, "is it a map of this scene?")) << error;
+  EXPECT_EQ(rep["status"], "failed");
+  EXPECT_EQ(rep["frames_lost"], 1);
+  fs::remove_all(dir);
+}

@@ -65,6 +65,12 @@ RawlogFrameSource::RawlogFrameSource(const std::string& path, const RawlogSource
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
   impl_->opt = opt;
+  if (std::filesystem::exists(path) && !std::filesystem::is_regular_file(path))
+    throwInputError(
+        "rawlog " + path,
+        std::filesystem::is_directory(path)
+            ? "is a folder, expected a .rawlog file"
+            : "is not a regular file (a device, pipe or socket), expected a .rawlog file");
   if (!std::filesystem::is_regular_file(path)) throwInputError("rawlog " + path, "file not found");
   std::string err;
   if (!impl_->file.open(path, err)) throwInputError("rawlog " + path, "cannot open: " + err);
@@ -172,6 +178,12 @@ std::optional<RgbdFrame> RawlogFrameSource::next() {
           for (const auto& l : m.range_scan_labels) s << " '" << l << "'";
           s << ")";
         }
+        std::error_code ec;
+        const auto bytes = fs::file_size(m.path, ec);
+        if (m.entries == 0 && !ec && bytes > 0)
+          s << ": its " << bytes
+            << " bytes hold no readable entry (not a rawlog, or corrupt from its start: e.g. a "
+               "gzip stream that does not decompress)";
         throwInputError("rawlog " + m.path, s.str());
       }
       return std::nullopt;

@@ -1,6 +1,7 @@
-// Image headers are checked before decoding (docs/io.md "Refused or reported"): a 20000x20000
-// depth PNG used to take 2.5 GB and 12 s of decoding before "expected 640x480"; now its header
-// is refused at once, as is a depth PNG that is not 16-bit grey.
+// Hostile files for the readers (docs/io.md "Refused or reported"). Image headers are checked
+// before decoding: a 20000x20000 depth PNG used to take 2.5 GB and 12 s of decoding before
+// "expected 640x480"; now its header is refused at once, as is a depth PNG that is not 16-bit
+// grey. A device given as a rawlog, and a gzip rawlog corrupt from its start, say so.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -10,6 +11,7 @@
 
 #include "io/IoTestUtils.h"
 #include "rasm/core/Error.h"
+#include "rasm/io/RawlogFrameSource.h"
 #include "rasm/io/TumFrameSource.h"
 
 using namespace rasm;
@@ -110,4 +112,32 @@ TEST(HostileImages, EightBitDepthPngIsRefusedByItsHeader) {
   const std::string e = errorOfAllFrames(tumFolder(dir, 1, std::string(png.begin(), png.end())));
   EXPECT_NE(e.find("expected a 16-bit single-channel depth PNG"), std::string::npos) << e;
   EXPECT_NE(e.find("3 channel(s) of 8 bits"), std::string::npos) << e;
+}
+
+TEST(HostileRawlog, DeviceIsNotAFile) {
+  try {
+    RawlogFrameSource src("/dev/urandom");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("rawlog /dev/urandom: is not a regular file"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(HostileRawlog, GzipCorruptAtItsStartSaysSo) {
+  ScratchDir dir("gz30");
+  // A gzip header, then bytes that do not decompress.
+  std::string bytes("\x1f\x8b\x08\x00\x00\x00\x00\x00\x00\x03", 10);
+  for (int i = 0; i < 200; ++i) bytes.push_back(char(0xff - i));
+  std::ofstream(dir / "bad.rawlog", std::ios::binary) << bytes;
+  try {
+    RawlogFrameSource src(dir / "bad.rawlog");
+    while (src.next()) {
+    }
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("its 210 bytes hold no readable entry"), std::string::npos)
+        << e.what();
+  }
 }
