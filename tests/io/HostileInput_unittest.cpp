@@ -9,9 +9,12 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include <mrpt/obs/CObservation3DRangeScan.h>
 #include "io/IoTestUtils.h"
 #include "rasm/core/Error.h"
+
 #include "rasm/io/RawlogFrameSource.h"
+#include "rasm/io/RgbdObservation.h"
 #include "rasm/io/TumFrameSource.h"
 
 using namespace rasm;
@@ -139,5 +142,24 @@ TEST(HostileRawlog, GzipCorruptAtItsStartSaysSo) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("its 210 bytes hold no readable entry"), std::string::npos)
         << e.what();
+  }
+}
+
+/// rangeUnits = 1e30 turned every pixel into an invalid depth: a run of 0 surfels, status ok.
+TEST(HostileRawlog, AbsurdRangeUnitsAreRefused) {
+  mrpt::obs::CObservation3DRangeScan obs;
+  observationFromFrame(syntheticFrame(0), obs);
+  EXPECT_NO_THROW(frameFromObservation(obs, "rawlog x.rawlog, frame 0"));
+  for (const float units : {1e30f, 0.5f}) {
+    obs.rangeUnits = units;
+    try {
+      frameFromObservation(obs, "rawlog x.rawlog, frame 0");
+      ADD_FAILURE() << units << ": no error";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("rawlog x.rawlog, frame 0: rangeUnits is"),
+                std::string::npos)
+          << e.what();
+      EXPECT_NE(std::string(e.what()).find("expected in (0, 0.1]"), std::string::npos) << e.what();
+    }
   }
 }
