@@ -10,6 +10,7 @@
 
 #include "Command.h"
 #include "rasm/core/Error.h"
+#include "rasm/core/Printable.h"
 
 namespace {
 
@@ -46,19 +47,7 @@ std::string forPeople(const std::string& what, bool verbose) {
     text = head + (head.empty() ? "" : " ") + cause + tail +
            " (rasm --verbose shows MRPT's backtrace)";
   }
-  std::string out;
-  for (const char ch : text) {
-    const auto u = static_cast<unsigned char>(ch);
-    if ((u < 0x20 && ch != '\n' && ch != '\t') || u == 0x7f) {
-      static const char* hex = "0123456789abcdef";
-      out += "\\x";
-      out.push_back(hex[u >> 4]);
-      out.push_back(hex[u & 15]);
-    } else {
-      out.push_back(ch);
-    }
-  }
-  return out;
+  return rasm::escapeControlChars(text);
 }
 
 }  // namespace

@@ -59,4 +59,11 @@ TEST(HostileCli, ControlCharactersInNamesAreEscaped) {
   EXPECT_EQ(r.status, 3) << r.output;
   EXPECT_FALSE(has(r.output, "\x1b")) << r.output;
   EXPECT_TRUE(has(r.output, "a\\x1b[31mred.ini")) << r.output;
+  // A run's first line names its source and output folder.
+  const std::string dir = freshDir("escape") + "\x1b[31m";
+  const Result run = runRasm("run --out '" + dir + "' " + shortRunArgs(1));
+  EXPECT_EQ(run.status, 0) << run.output;
+  EXPECT_FALSE(has(run.output, "\x1b")) << run.output;
+  EXPECT_TRUE(has(run.output, "\\x1b[31m")) << run.output;
+  fs::remove_all(dir);
 }

@@ -21,6 +21,7 @@
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
+#include "rasm/core/Printable.h"
 #include "rasm/core/SE3.h"
 #include "rasm/io/EvaluationJson.h"
 #include "rasm/io/PrefetchingFrameSource.h"
@@ -904,7 +905,8 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   // Frame rate and CPU time count the mapping (not a preload before it).
   acc.t_start = std::chrono::steady_clock::now();
   acc.cpu_start_s = processCpuSeconds();
-  std::fprintf(stderr, "rasm run: %s -> %s\n", described.c_str(), m_output.dir.c_str());
+  std::fprintf(stderr, "rasm run: %s -> %s\n", escapeControlChars(described).c_str(),
+               escapeControlChars(m_output.dir).c_str());
 
   if (source && acc.output_error.empty()) frameLoop(*source, acc, out, on_frame);
   finishFrames(acc);
