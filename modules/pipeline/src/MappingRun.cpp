@@ -248,8 +248,9 @@ std::string nothingFusedReason(std::size_t processed, std::size_t lost, int surf
   if (surfels == 0)
     return "nothing was fused: the map is empty after " + n + " frames (tracking lost " +
            std::to_string(lost) +
-           "); check that the depth images hold valid depth (the depth scale: rangeUnits, "
-           "[source] depth_scale) and the camera intrinsics (report.json \"intrinsics\")";
+           "); check that the depth images hold valid depth within [mapper] min_depth_m / "
+           "max_depth_m, at the right scale (a rawlog's rangeUnits; TUM: 5000 per metre), and "
+           "the camera intrinsics (report.json \"intrinsics\")";
   if (lost >= processed)
     return "tracking lost all " + n + " frames: nothing was fused" +
            (load_map.empty() ? std::string()
