@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <iterator>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -161,5 +162,29 @@ TEST(HostileRawlog, AbsurdRangeUnitsAreRefused) {
           << e.what();
       EXPECT_NE(std::string(e.what()).find("expected in (0, 0.1]"), std::string::npos) << e.what();
     }
+  }
+}
+
+/// A bit flipped early in a gzip rawlog decompresses into altered frames until deserialization
+/// fails many frames later; gzip's checksum is only checked at the end. The error says so rather
+/// than only blaming the frame where it surfaced.
+TEST(HostileRawlog, GzipBitFlipSaysEarlierFramesMayBeAltered) {
+  ScratchDir dir("bitflip");
+  std::ifstream in(std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog",
+                   std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 1000u);
+  bytes[bytes.size() * 3 / 10] ^= 0x10;
+  std::ofstream(dir / "flip.rawlog", std::ios::binary) << bytes;
+  try {
+    RawlogFrameSource src(dir / "flip.rawlog");
+    while (src.next()) {
+    }
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("corrupt or truncated rawlog"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("the frames read before this one may hold altered data"), std::string::npos)
+        << msg;
   }
 }
