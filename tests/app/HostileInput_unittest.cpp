@@ -5,6 +5,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "RasmProcess.h"
 
@@ -65,5 +67,34 @@ TEST(HostileCli, ControlCharactersInNamesAreEscaped) {
   EXPECT_EQ(run.status, 0) << run.output;
   EXPECT_FALSE(has(run.output, "\x1b")) << run.output;
   EXPECT_TRUE(has(run.output, "\\x1b[31m")) << run.output;
+  fs::remove_all(dir);
+}
+
+TEST(HostileCli, ConvertRefusesToOverwriteItsInput) {
+  const std::string dir = freshDir("convert_self");
+  fs::create_directories(dir + "/seq/rgb");
+  fs::create_directories(dir + "/seq/depth");
+  {
+    std::ofstream rgb(dir + "/seq/rgb.txt"), depth(dir + "/seq/depth.txt");
+    for (int k = 0; k < 2; ++k) {
+      const std::string name = std::to_string(k) + ".png";
+      cv::imwrite(dir + "/seq/rgb/" + name, cv::Mat(6, 8, CV_8UC3, cv::Scalar(10, 20, 30)));
+      cv::imwrite(dir + "/seq/depth/" + name, cv::Mat(6, 8, CV_16UC1, cv::Scalar(5000 + k)));
+      rgb << 1.0 + k / 30.0 << " rgb/" << name << "\n";
+      depth << 1.0 + k / 30.0 << " depth/" << name << "\n";
+    }
+  }
+  const std::string depth_txt = readFile(dir + "/seq/depth.txt");
+  const Result r =
+      runRasm("convert tum " + dir + "/seq " + dir + "/seq/depth.txt --intrinsics 10,10,4,3");
+  EXPECT_EQ(r.status, 3) << r.output;
+  EXPECT_TRUE(has(r.output, "is a file of the input folder")) << r.output;
+  EXPECT_EQ(readFile(dir + "/seq/depth.txt"), depth_txt);
+  // A new rawlog inside the folder is fine, and so is converting again over it.
+  for (int i = 0; i < 2; ++i) {
+    const Result ok =
+        runRasm("convert tum " + dir + "/seq " + dir + "/seq/seq.rawlog --intrinsics 10,10,4,3");
+    EXPECT_EQ(ok.status, 0) << ok.output;
+  }
   fs::remove_all(dir);
 }
