@@ -175,3 +175,17 @@ TEST(HostileRun, MapOfAnotherSceneLosesEveryFrameAndIsFailed) {
   EXPECT_EQ(rep["frames_lost"], 1);
   fs::remove_all(dir);
 }
+
+/// The shipped INIs name their data relative to themselves: the detector and the sequence are
+/// found whatever the working directory (the tests run in build/tests).
+TEST(HostileIni, ShippedIniFindsItsDataFromAnyFolder) {
+  for (const char* name : {"7scenes_redkitchen.ini", "7scenes_redkitchen_nanodet.ini"}) {
+    const RunConfig c = RunConfig::fromFile(std::string(RASM_SOURCE_DIR) + "/ini/" + name);
+    const std::string model = c.ini().read_string("dnn_detector", "model", "");
+    const std::string path = c.ini().read_string("source", "path", "");
+    EXPECT_TRUE(has(model, "/shared/data/detectors/")) << name << ": " << model;
+    if (!fs::exists(std::string(RASM_SHARED_DATA))) continue;
+    EXPECT_TRUE(fs::is_regular_file(model)) << name << ": " << model;
+    EXPECT_TRUE(fs::is_directory(path)) << name << ": " << path;
+  }
+}
