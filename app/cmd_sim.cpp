@@ -25,6 +25,7 @@
 
 #include "Command.h"
 #include "rasm/core/Error.h"
+#include "rasm/core/Printable.h"
 #include "rasm/core/Validate.h"
 #include "rasm/sim/CameraPoses.h"
 #include "rasm/sim/FrameImages.h"
@@ -232,7 +233,8 @@ int cmdInfo(const Args& args) {
     tris += o.mesh.triangles.size();
   }
   const Eigen::AlignedBox3f b = w.bounds();
-  std::cout << "world " << w.name << " (" << w.source << "): " << w.objects.size() << " objects, "
+  std::cout << "world " << rasm::escapeControlChars(w.name) << " ("
+            << rasm::escapeControlChars(w.source) << "): " << w.objects.size() << " objects, "
             << tris << " triangles, bounds [" << b.min().transpose() << "] - ["
             << b.max().transpose() << "] m\n";
   for (const auto& [name, n] : per_class) std::cout << "  " << n << " x " << name << "\n";

@@ -61,6 +61,15 @@ TEST(HostileCli, ControlCharactersInNamesAreEscaped) {
   EXPECT_EQ(r.status, 3) << r.output;
   EXPECT_FALSE(has(r.output, "\x1b")) << r.output;
   EXPECT_TRUE(has(r.output, "a\\x1b[31mred.ini")) << r.output;
+  // A world's name, as `rasm sim info` prints it.
+  const std::string world = freshDir("escape_world") + ".yaml";
+  std::ofstream(world)
+      << "world: \"a\\e[31mred\"\nobjects:\n  - {id: 1, class: cup, primitive: box, "
+         "size: [1, 1, 1], position: [0, 0, 0]}\n";
+  const Result info = runRasm("sim info " + world);
+  EXPECT_EQ(info.status, 0) << info.output;
+  EXPECT_TRUE(has(info.output, "world a\\x1b[31mred")) << info.output;
+  fs::remove(world);
   // A run's first line names its source and output folder.
   const std::string dir = freshDir("escape") + "\x1b[31m";
   const Result run = runRasm("run --out '" + dir + "' " + shortRunArgs(1));
