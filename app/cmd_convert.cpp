@@ -144,6 +144,26 @@ int convert(const std::vector<std::string>& args) {
     throw rasm::InputError("unknown format '" + format + "' (expected tum or 7scenes)\n" + kUsage);
   }
 
+  // The outputs must not replace a file of the input folder (its depth.txt, an image, ...); an
+  // earlier conversion's rawlog and ground truth there may be replaced.
+  {
+    namespace fs = std::filesystem;
+    const auto insideInput = [&](const std::string& out) {
+      std::error_code e1, e2;
+      const fs::path in = fs::weakly_canonical(pos[1], e1), o = fs::weakly_canonical(out, e2);
+      if (e1 || e2 || !fs::exists(o)) return false;
+      const fs::path rel = o.lexically_relative(in);
+      return !rel.empty() && *rel.begin() != "..";
+    };
+    const std::string gt = rasm::io::groundTruthPathFor(pos[2]);
+    const bool earlier_rawlog =
+        fs::path(pos[2]).extension() == ".rawlog" && fs::is_regular_file(pos[2]);
+    for (const std::string& out : {pos[2], gt})
+      if (insideInput(out) && !earlier_rawlog)
+        rasm::throwInputError("output '" + out + "'",
+                              "is a file of the input folder " + pos[1] +
+                                  ": converting would overwrite the input (write elsewhere)");
+  }
   // The output folder is created when missing, as `rasm run --out` does.
   const std::filesystem::path out_dir = std::filesystem::path(pos[2]).parent_path();
   std::error_code ec;

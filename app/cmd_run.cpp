@@ -7,6 +7,7 @@
 
 #include "Command.h"
 #include "rasm/core/Error.h"
+#include "rasm/core/Printable.h"
 #include "rasm/pipeline/Interrupts.h"
 #include "rasm/pipeline/MappingRun.h"
 
@@ -127,7 +128,8 @@ int runMain(const std::vector<std::string>& args) {
   } else {
     printAccuracy(s);
   }
-  std::printf("outputs in %s\n", s.out_dir.c_str());
+  const std::string out_dir = rasm::escapeControlChars(s.out_dir);  // echoed: no raw escapes
+  std::printf("outputs in %s\n", out_dir.c_str());
   if (const auto seg = s.report.find("segmentation");
       seg != s.report.end() && seg->contains("segments"))
     std::printf("segments: %d%s\n", (*seg)["segments"].get<int>(),
@@ -144,7 +146,7 @@ int runMain(const std::vector<std::string>& args) {
                 writtenAmong(s.report, {"objects.json", "map_classes.ply", "map_classes.3Dscene",
                                         "preview_classes.png"})
                     .c_str(),
-                s.out_dir.c_str());
+                out_dir.c_str());
     for (const auto& d : (*cls)["detectors"])
       if (d.contains("disabled"))
         std::printf("WARNING: %s\n", d["disabled"].get<std::string>().c_str());

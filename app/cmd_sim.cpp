@@ -25,6 +25,8 @@
 #include "Command.h"
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
+#include "rasm/core/Printable.h"
+#include "rasm/core/Validate.h"
 #include "rasm/sim/CameraPoses.h"
 #include "rasm/sim/FrameImages.h"
 #include "rasm/sim/ProceduralModels.h"
@@ -127,7 +129,8 @@ Eigen::Vector3d parseVec3(const Parsed& p, const std::string& key) {
   char c1 = 0, c2 = 0;
   std::istringstream in(s);
   if (!(in >> v.x() >> c1 >> v.y() >> c2 >> v.z()) || c1 != ',' || c2 != ',' || !in.eof())
-    rasm::throwInputError("--" + key + " " + s, "expected x,y,z");
+    rasm::throwInputError("--" + key + " " + s, "expected x,y,z (three finite numbers)");
+  for (int i = 0; i < 3; ++i) rasm::requireCoordinate(v[i], "--" + key + " " + s);
   return v;
 }
 
@@ -137,10 +140,10 @@ double parseDouble(const Parsed& p, const std::string& key, double def) {
   try {
     std::size_t n = 0;
     const double v = std::stod(it->second, &n);
-    if (n == it->second.size()) return v;
+    if (n == it->second.size() && std::isfinite(v)) return v;
   } catch (const std::exception&) {
   }
-  rasm::throwInputError("--" + key + " " + it->second, "expected a number");
+  rasm::throwInputError("--" + key + " " + it->second, "expected a finite number");
 }
 
 /// --set sim_sensor.key=value / sim_robot.key=value into the recorder's overrides.
@@ -201,8 +204,11 @@ int cmdRender(const Args& args) {
       rasm::throwInputError("--look-at " + p.options.at("look-at"), e.what());
     }
   } else {
-    T = rasm::sim::cameraPoseFromHeading(eye, parseDouble(p, "yaw", 0.0),
-                                         parseDouble(p, "pitch", 0.0));
+    const double yaw = parseDouble(p, "yaw", 0.0), pitch = parseDouble(p, "pitch", 0.0);
+    rasm::requireAngleDeg(yaw, "--yaw " + (p.options.count("yaw") ? p.options.at("yaw") : ""));
+    rasm::requireFiniteIn(pitch, -90, 90,
+                          "--pitch " + (p.options.count("pitch") ? p.options.at("pitch") : ""));
+    T = rasm::sim::cameraPoseFromHeading(eye, yaw, pitch);
   }
   rasm::sim::TSensorParams sp;
   sp.noise = parseOnOff(p, "noise", true);
@@ -227,7 +233,8 @@ int cmdInfo(const Args& args) {
     tris += o.mesh.triangles.size();
   }
   const Eigen::AlignedBox3f b = w.bounds();
-  std::cout << "world " << w.name << " (" << w.source << "): " << w.objects.size() << " objects, "
+  std::cout << "world " << rasm::escapeControlChars(w.name) << " ("
+            << rasm::escapeControlChars(w.source) << "): " << w.objects.size() << " objects, "
             << tris << " triangles, bounds [" << b.min().transpose() << "] - ["
             << b.max().transpose() << "] m\n";
   for (const auto& [name, n] : per_class) std::cout << "  " << n << " x " << name << "\n";

@@ -1,12 +1,56 @@
 // rasm: rapid autonomous semantic mapping. `rasm <command> [args]`; `rasm help` lists commands.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <exception>
 #include <iostream>
+#include <sstream>
+#include <string>
 
 #include "Command.h"
 #include "rasm/core/Error.h"
+#include "rasm/core/Printable.h"
+
+namespace {
+
+/// An error message as a person reads it. MRPT's exceptions carry their source location and a
+/// call-stack backtrace (a dozen lines per nested exception): unless `verbose`, only the text
+/// before them and the innermost MRPT "Message:" (the cause) are kept, on one line. Control
+/// characters (a file name holding a terminal escape sequence) are shown as \xNN.
+std::string forPeople(const std::string& what, bool verbose) {
+  std::string text = what;
+  const std::string marker = "==== MRPT exception ====";
+  if (!verbose && what.find(marker) != std::string::npos) {
+    std::istringstream in(what);
+    std::string line, head, cause, tail;
+    bool in_mrpt = false;
+    while (std::getline(in, line)) {
+      const auto at = line.find(marker);
+      if (at != std::string::npos) {
+        if (!in_mrpt) head += line.substr(0, at);
+        in_mrpt = true;
+        continue;
+      }
+      if (!in_mrpt) {
+        head += line + " ";
+      } else if (line.rfind("Message:", 0) == 0) {
+        const auto b = line.find_first_not_of(' ', 8);
+        cause = b == std::string::npos ? "" : line.substr(b);
+      } else if (!line.empty() && line[0] != '[' && line.rfind("Location:", 0) != 0 &&
+                 line.rfind("Call stack backtrace:", 0) != 0 &&
+                 line.rfind("Original exception:", 0) != 0) {
+        tail += " " + line;
+      }
+    }
+    while (!head.empty() && head.back() == ' ') head.pop_back();
+    text = head + (head.empty() ? "" : " ") + cause + tail +
+           " (rasm --verbose shows MRPT's backtrace)";
+  }
+  return rasm::escapeControlChars(text);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   // libgomp reads OMP_WAIT_POLICY when it is loaded, before main. Its default (spin for a while
@@ -27,10 +71,14 @@ int main(int argc, char** argv) {
   const std::string name = std::string(argv[1]) == "--version" ? "version" : argv[1];
   const auto it = cmds.find(name);
   if (it == cmds.end()) {
-    std::cerr << "rasm: unknown command '" << argv[1] << "' (try `rasm help`)\n";
+    std::cerr << "rasm: unknown command '" << forPeople(argv[1], true) << "' (try `rasm help`)\n";
     return 2;
   }
-  const std::vector<std::string> args(argv + 2, argv + argc);
+  // --verbose (any command): error messages in full, MRPT's backtraces included.
+  std::vector<std::string> args(argv + 2, argv + argc);
+  const auto v = std::remove(args.begin(), args.end(), std::string("--verbose"));
+  const bool verbose = v != args.end() || std::getenv("RASM_VERBOSE") != nullptr;
+  args.erase(v, args.end());
   if (const std::string usage = usageOf(name, args); !usage.empty() && wantsHelp(args)) {
     std::cout << usage;
     return 0;
@@ -38,10 +86,10 @@ int main(int argc, char** argv) {
   try {
     return it->second.fn(args);
   } catch (const rasm::InputError& e) {
-    std::cerr << "rasm " << name << ": error: " << e.what() << "\n";
+    std::cerr << "rasm " << name << ": error: " << forPeople(e.what(), verbose) << "\n";
     return 3;
   } catch (const std::exception& e) {
-    std::cerr << "rasm " << name << ": failed: " << e.what() << "\n";
+    std::cerr << "rasm " << name << ": failed: " << forPeople(e.what(), verbose) << "\n";
     return 4;
   }
 }

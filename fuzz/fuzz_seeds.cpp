@@ -40,7 +40,8 @@ rasm::RgbdFrame tinyFrame(int i) {
   f.depth_m = rasm::Image<float>(8, 6, 1.0f + 0.1f * float(i));
   f.colour = rasm::Image<rasm::Bgr8>(8, 6);
   for (int y = 0; y < 6; ++y)
-    for (int x = 0; x < 8; ++x) f.colour(x, y) = rasm::Bgr8{std::uint8_t(x * 30), std::uint8_t(y * 40), 7};
+    for (int x = 0; x < 8; ++x)
+      f.colour(x, y) = rasm::Bgr8{std::uint8_t(x * 30), std::uint8_t(y * 40), 7};
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = Eigen::Vector3d(0.1 * i, 0.0, 0.5);
   f.gt_T_world_cam = T;
@@ -75,7 +76,8 @@ int main(int argc, char** argv) {
   const rasm::RgbdFrame f = tinyFrame(0);
   cv::Mat colour(6, 8, CV_8UC3), depth(6, 8, CV_16UC1, cv::Scalar(1234));
   for (int y = 0; y < 6; ++y)
-    for (int x = 0; x < 8; ++x) colour.at<cv::Vec3b>(y, x) = {std::uint8_t(x * 30), std::uint8_t(y * 40), 7};
+    for (int x = 0; x < 8; ++x)
+      colour.at<cv::Vec3b>(y, x) = {std::uint8_t(x * 30), std::uint8_t(y * 40), 7};
   for (const char* ext : {".png", ".jpg"}) {
     std::vector<unsigned char> b;
     cv::imencode(ext, colour, b);
@@ -140,6 +142,15 @@ int main(int argc, char** argv) {
        "[source]\ntype = tum\npath = x\n[camera]\npreset = tum_fr1\nfx = 517.3\nfy = 516.5\n"
        "cx = 318.6\ncy = 255.3\n[mapper]\nmax_depth_m = 3.5\n--set\nmapper.pyramid_levels=2\n"
        "source.drop_frames=3-5,9\nrobot.camera_pitch_deg=-12.5\noutput.dir=out\n");
+  // The hostile INIs of issue 40: a BOM, a key before any section, a key twice, an unterminated
+  // section header, an absurd focal length.
+  seed(out / "config", "bom.ini", -1, "\xEF\xBB\xBF[source]\ntype = sim\n");
+  seed(out / "config", "before_section.ini", -1, "max_depth_m = 3\n[mapper]\n");
+  seed(out / "config", "twice.ini", -1,
+       "[mapper]\nmax_depth_m = 3\n[source]\n[mapper]\nmax_depth_m = 4\n");
+  seed(out / "config", "unterminated.ini", -1, "[source\ntype = sim\n");
+  seed(out / "config", "huge_fx.ini", -1,
+       "[camera]\nfx = 1e30\nfy = 1e30\ncx = 319.5\ncy = 239.5\nwidth = 640\nheight = 480\n");
 
   // world: the shipped worlds (selector 0) and trajectory specs (selector 1).
   for (const char* kind : {"worlds", "trajectories"})
@@ -147,14 +158,28 @@ int main(int argc, char** argv) {
       if (e.path().extension() == ".yaml")
         seed(out / "world", std::string(kind) + "_" + e.path().filename().string(),
              std::string(kind) == "worlds" ? 0 : 1, slurp(e.path()));
+  // The hostile numbers and keys of issue 40.
+  const std::string cup = "objects:\n  - {id: 1, class: cup, primitive: box, size: [1, 1, 1], ";
+  seed(out / "world", "nan_position.yaml", 0, cup + "position: [0, .nan, 0]}\n");
+  seed(out / "world", "huge_size.yaml", 0,
+       "objects:\n  - {id: 1, class: cup, primitive: box, size: [1e30, 1, 1], position: [0, 0, "
+       "0]}\n");
+  seed(out / "world", "repeated_key.yaml", 0,
+       "world: a\nworld: b\n" + cup + "position: [0, 0, 0]}\n");
+  const std::string kf =
+      "type: handheld\nkeyframes:\n  - {t: 0, position: [0, 0, 1], look_at: [1, 0, 1]}\n";
+  seed(out / "world", "nan_keyframe.yaml", 1,
+       kf + "  - {t: 1, position: [.nan, 2, 1.5], look_at: [1, 0, 1]}\n");
+  seed(out / "world", "inf_look_at.yaml", 1,
+       kf + "  - {t: 1, position: [0, 0, 1], look_at: [.inf, 1, 1]}\n");
 
   // trajectory: TUM lines (0), a 7-Scenes pose (1) and intrinsics (2), a TUM groundtruth.txt (3).
   {
     std::ostringstream tum;
     tum << "# timestamp tx ty tz qx qy qz qw\n";
     for (int i = 0; i < 12; ++i)
-      tum << 1.0 + 0.05 * i << " " << 0.01 * i << " " << -0.02 * i << " 1.5 0 " << 0.01 * i
-          << " 0 " << std::sqrt(1 - 0.0001 * i * i) << "\n";
+      tum << 1.0 + 0.05 * i << " " << 0.01 * i << " " << -0.02 * i << " 1.5 0 " << 0.01 * i << " 0 "
+          << std::sqrt(1 - 0.0001 * i * i) << "\n";
     seed(out / "trajectory", "tum.txt", 0, tum.str());
     seed(out / "trajectory", "groundtruth.txt", 3, tum.str());
     seed(out / "trajectory", "pose.txt", 1,

@@ -19,6 +19,7 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -662,3 +663,64 @@ TEST(DnnDetector, CudaBackendWithoutCudaInOpenCvIsAnErrorThatSaysSo) {
 }
 
 }  // namespace
+
+// ---- weights that do not fit the network ------------------------------------------------------
+
+/// OpenCV reads a truncated .weights file, or the weights of another network, without a word;
+/// the detector then found nothing, with exit 0, even with required = true. The file size is
+/// checked against the network of the .cfg.
+TEST(DnnDetector, TruncatedOrForeignDarknetWeightsAreAnError) {
+  TempDir tmp;
+  TinyDarknet::write(tmp.file("tiny.cfg"), tmp.file("tiny.weights"));
+  writeText(tmp.file("tiny.names"), "zero\none\n");
+  std::string bytes;
+  {
+    std::ifstream f(tmp.file("tiny.weights"), std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    bytes = ss.str();
+  }
+  ASSERT_EQ(bytes.size(), 20u + 4u * 28u);
+  TDnnDetectorParams p;
+  p.model = tmp.file("tiny.cfg");
+  p.names = tmp.file("tiny.names");
+  p.input_width = TinyDarknet::kWidth;
+  p.input_height = TinyDarknet::kHeight;
+  p.required = true;
+  const auto expectError = [&](const std::string& weights, const std::string& what) {
+    p.weights = tmp.file(weights);
+    try {
+      DnnDetector detector(p);
+      ADD_FAILURE() << weights << ": no error";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("[dnn_detector] weights '" + p.weights + "'"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("needs 132"), std::string::npos) << msg;
+      EXPECT_NE(msg.find(what), std::string::npos) << msg;
+    }
+  };
+  writeText(tmp.file("truncated.weights"), bytes.substr(0, bytes.size() - 16));
+  expectError("truncated.weights", "a truncated file");
+  writeText(tmp.file("foreign.weights"), bytes + std::string(64, '\0'));
+  expectError("foreign.weights", "the weights of another network");
+  p.weights = tmp.file("tiny.weights");
+  EXPECT_NO_THROW(DnnDetector{p});
+}
+
+TEST(DnnDetector, YoloFastestWithTheXlWeightsIsAnError) {
+  const fs::path dir = fs::path(RASM_SHARED_DATA) / "detectors/yolo-fastest-1.1-coco";
+  if (!fs::exists(dir / "yolo-fastest-1.1-xl.weights")) GTEST_SKIP() << "no " << dir;
+  TDnnDetectorParams p;
+  p.model = (dir / "yolo-fastest-1.1.cfg").string();
+  p.weights = (dir / "yolo-fastest-1.1-xl.weights").string();
+  p.names = (dir / "coco.names").string();
+  try {
+    DnnDetector detector(p);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("the weights of another network"), std::string::npos)
+        << e.what();
+  }
+  p.weights = (dir / "yolo-fastest-1.1.weights").string();
+  EXPECT_NO_THROW(DnnDetector{p});
+}

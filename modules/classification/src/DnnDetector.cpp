@@ -148,6 +148,35 @@ void put(mrpt::config::CConfigFileBase& c, const std::string& s, const std::stri
   c.write(s, key, value, -1, -1, comment);
 }
 
+/// "" when a Darknet .weights file holds exactly the parameters of `net` (read from its .cfg),
+/// else what is wrong. OpenCV reads a truncated file, or the weights of another network, without
+/// a word and the detector then finds nothing: the file size is the check. The file is a header
+/// (major, minor, revision as int32, then the images seen: uint64 from version 0.2, else
+/// int32) and one float per parameter of the convolution and batch-norm layers (the [yolo]
+/// layers' anchors, which OpenCV also holds as blobs, come from the .cfg).
+std::string darknetWeightsProblem(cv::dnn::Net& net, const std::string& weights) {
+  std::ifstream f(weights, std::ios::binary | std::ios::ate);
+  const std::streamoff bytes = f ? std::streamoff(f.tellg()) : std::streamoff(-1);
+  std::int32_t version[3] = {0, 0, 0};
+  f.seekg(0);
+  if (bytes < 12 || !f.read(reinterpret_cast<char*>(version), sizeof version))
+    return "holds " + std::to_string(bytes) + " bytes: too short for a Darknet weights header";
+  const bool long_seen =
+      version[0] * 10 + version[1] >= 2 && version[0] < 1000 && version[1] < 1000;
+  const std::streamoff header = long_seen ? 20 : 16;
+  std::streamoff params = 0;
+  for (const std::string& name : net.getLayerNames()) {
+    const cv::Ptr<cv::dnn::Layer> layer = net.getLayer(name);
+    if (layer->type == "Region") continue;
+    for (const cv::Mat& b : layer->blobs) params += std::streamoff(b.total());
+  }
+  const std::streamoff expected = header + 4 * params;
+  if (bytes == expected) return "";
+  return "holds " + std::to_string(bytes) + " bytes, but the network of the model needs " +
+         std::to_string(expected) + " (" + std::to_string(params) + " parameters): " +
+         (bytes < expected ? "a truncated file" : "the weights of another network");
+}
+
 std::string shapeText(const cv::Mat& m) {
   std::string s;
   for (int i = 0; i < m.dims; ++i) s += (i ? "x" : "") + std::to_string(m.size[i]);
@@ -470,6 +499,11 @@ DnnDetector::DnnDetector(const TDnnDetectorParams& params, std::string section)
   }
   if (m_net.empty())
     throwInputError(keyName(m_section, "model") + " '" + m_params.model + "'", "empty network");
+  if (m_params.format == "darknet")
+    if (const std::string problem = darknetWeightsProblem(m_net, m_params.weights);
+        !problem.empty())
+      throwInputError(keyName(m_section, "weights") + " '" + m_params.weights + "'",
+                      problem + " for the model '" + m_params.model + "'");
   if (m_params.backend == "cpu") {
     m_net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
     m_net.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
@@ -497,6 +531,11 @@ DnnDetector::DnnDetector(const TDnnDetectorParams& params, std::string section)
   int n_classes = 0;
   try {
     outputs = forward(cv::Mat(net, CV_8UC3, cv::Scalar::all(114)), nullptr);
+    for (const cv::Mat& o : outputs)
+      if (!cv::checkRange(o))
+        throw std::runtime_error(
+            "the network outputs NaN or infinite numbers on a grey image "
+            "(corrupt weights?)");
     n_classes = outputClassCount(outputs);
   } catch (const std::exception& e) {
     layoutError(e);

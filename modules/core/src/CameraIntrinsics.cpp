@@ -12,8 +12,10 @@ namespace rasm {
 std::string CameraIntrinsics::problem() const {
   std::ostringstream s;
   const auto focal = [&](const char* name, double f) {
-    if (!(std::isfinite(f) && f > 0))
-      s << name << " = " << f << ": expected a finite focal length > 0 (pixels)";
+    // Above 1e5 px the field of view is below 0.4 degrees: no depth camera, and every surfel
+    // radius (f in II-B's formula) collapses to nothing.
+    if (!(std::isfinite(f) && f > 0 && f <= 1e5))
+      s << name << " = " << f << ": expected a finite focal length in (0, 100000] (pixels)";
   };
   focal("fx", fx);
   if (!s.str().empty()) return s.str();

@@ -1,5 +1,6 @@
 #include "ImageCv.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -83,17 +84,99 @@ std::string truncationProblem(const std::vector<unsigned char>& b) {
   return "";
 }
 
+ImageHeader readImageHeader(const std::vector<unsigned char>& b) {
+  ImageHeader h;
+  const std::size_t n = b.size();
+  const auto be16 = [&](std::size_t i) { return int(b[i]) << 8 | int(b[i + 1]); };
+  const auto be32 = [&](std::size_t i) {
+    return (long long)b[i] << 24 | (long long)b[i + 1] << 16 | (long long)b[i + 2] << 8 |
+           (long long)b[i + 3];
+  };
+  static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+  if (n >= 33 && std::equal(kPng, kPng + 8, b.begin()) &&
+      std::equal(b.begin() + 12, b.begin() + 16, "IHDR")) {
+    // IHDR: width, height (big-endian uint32), bit depth, colour type (0 grey, 2 RGB, 3 palette,
+    // 4 grey + alpha, 6 RGBA).
+    const long long w = be32(16), hh = be32(20);
+    h.width = int(std::min<long long>(w, 1LL << 30));
+    h.height = int(std::min<long long>(hh, 1LL << 30));
+    h.bit_depth = b[24];
+    static const int kChannels[7] = {1, 0, 3, 1, 2, 0, 4};
+    h.channels = b[25] <= 6 ? kChannels[b[25]] : 0;
+    h.format = "PNG";
+    return h;
+  }
+  if (n >= 4 && b[0] == 0xFF && b[1] == 0xD8) {
+    // JPEG: markers up to the first start-of-frame (SOF0-15 but DHT C4, JPG C8, DAC CC): sample
+    // precision, height, width, components.
+    std::size_t i = 2;
+    while (i + 4 <= n && b[i] == 0xFF) {
+      const int marker = b[i + 1];
+      if (marker == 0xFF) {
+        ++i;
+        continue;
+      }
+      if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD9)) {
+        i += 2;
+        continue;
+      }
+      const int len = be16(i + 2);
+      if (marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC) {
+        if (i + 10 > n) break;
+        h.bit_depth = b[i + 4];
+        h.height = be16(i + 5);
+        h.width = be16(i + 7);
+        h.channels = b[i + 9];
+        h.format = "JPEG";
+        return h;
+      }
+      i += 2 + std::size_t(len);
+    }
+  }
+  return h;
+}
+
 namespace {
-/// The bytes of an image file, checked for truncation, decoded by OpenCV.
-cv::Mat decodeFile(const std::string& path, const std::string& what, int flags) {
+/// The bytes of an image file, checked for truncation and by their header (size, bit depth),
+/// decoded by OpenCV.
+cv::Mat decodeFile(const std::string& path, const std::string& what, int flags, cv::Size expected,
+                   bool depth_u16) {
   if (std::filesystem::is_directory(path))
     throwInputError(what + " " + path, "is a folder, expected an image file");
   if (!std::filesystem::is_regular_file(path)) throwInputError(what + " " + path, "file not found");
+  std::error_code ec;
+  const auto file_bytes = std::filesystem::file_size(path, ec);
+  if (!ec && (long long)file_bytes > kMaxImageFileBytes)
+    throwInputError(what + " " + path, "holds " + std::to_string(file_bytes) +
+                                           " bytes: larger than any image rasm reads (at most " +
+                                           std::to_string(kMaxImageFileBytes >> 20) + " MiB)");
   std::ifstream f(path, std::ios::binary);
   std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(f)),
                                    std::istreambuf_iterator<char>());
   if (!f.eof() && f.fail()) throwInputError(what + " " + path, "cannot read the file");
   if (bytes.empty()) throwInputError(what + " " + path, "empty file, expected an image");
+  const ImageHeader h = readImageHeader(bytes);
+  if (!h.format.empty()) {
+    const std::string says = "its " + h.format + " header says " + std::to_string(h.width) + "x" +
+                             std::to_string(h.height);
+    if (h.width <= 0 || h.height <= 0 || h.width > kMaxImageSide || h.height > kMaxImageSide ||
+        (long long)h.width * h.height > kMaxImagePixels)
+      throwInputError(what + " " + path,
+                      says +
+                          (expected.area() > 0 ? ", expected " + std::to_string(expected.width) +
+                                                     "x" + std::to_string(expected.height)
+                                               : std::string()) +
+                          " (rasm reads images of at most 4096x4096 pixels)");
+    if (expected.area() > 0 && (h.width != expected.width || h.height != expected.height))
+      throwInputError(what + " " + path, says + ", expected " + std::to_string(expected.width) +
+                                             "x" + std::to_string(expected.height) +
+                                             " (the size of the sequence's first depth image)");
+    if (depth_u16 && h.format == "PNG" && (h.bit_depth != 16 || h.channels != 1))
+      throwInputError(what + " " + path, "expected a 16-bit single-channel depth PNG, " + says +
+                                             " with " + std::to_string(h.channels) +
+                                             " channel(s) of " + std::to_string(h.bit_depth) +
+                                             " bits");
+  }
   const std::string truncated = truncationProblem(bytes);
   if (!truncated.empty()) throwInputError(what + " " + path, truncated);
   cv::Mat m;
@@ -107,13 +190,13 @@ cv::Mat decodeFile(const std::string& path, const std::string& what, int flags) 
 }
 }  // namespace
 
-cv::Mat readColourImage(const std::string& path, const std::string& what) {
+cv::Mat readColourImage(const std::string& path, const std::string& what, cv::Size expected) {
   // IMREAD_COLOR decodes to 8-bit BGR, the order of rasm::Bgr8 (grey files are expanded).
-  return decodeFile(path, what, cv::IMREAD_COLOR);
+  return decodeFile(path, what, cv::IMREAD_COLOR, expected, false);
 }
 
-cv::Mat readDepthU16(const std::string& path, const std::string& what) {
-  cv::Mat m = decodeFile(path, what, cv::IMREAD_UNCHANGED);
+cv::Mat readDepthU16(const std::string& path, const std::string& what, cv::Size expected) {
+  cv::Mat m = decodeFile(path, what, cv::IMREAD_UNCHANGED, expected, true);
   if (m.type() != CV_16UC1)
     throwInputError(
         what + " " + path,

@@ -24,11 +24,32 @@ void colourFromMat(const cv::Mat& m, Image<Bgr8>& out, const std::string& what);
 void depthFromU16(const cv::Mat& raw, double metres_per_unit, Image<float>& out,
                   std::uint16_t also_invalid = 0);
 
+/// The largest image rasm decodes (either side, and pixels in all): a frame never takes more
+/// than 4096 x 4096 x 3 bytes, whatever its file's header claims.
+constexpr int kMaxImageSide = 16384;
+constexpr long long kMaxImagePixels = 4096LL * 4096LL;
+/// The largest image file rasm reads into memory.
+constexpr long long kMaxImageFileBytes = 256LL << 20;
+
+/// What a PNG (IHDR) or JPEG (SOF) header says, read without decoding; `format` is empty for
+/// other formats or an unreadable header.
+struct ImageHeader {
+  std::string format;  ///< "PNG", "JPEG" or ""
+  int width = 0, height = 0;
+  int bit_depth = 0;  ///< bits per sample
+  int channels = 0;   ///< samples per pixel (a palette PNG: 1)
+};
+ImageHeader readImageHeader(const std::vector<unsigned char>& bytes);
+
 /// cv::imread that throws InputError "<what> <path>: missing / unreadable / not 16-bit...".
 /// A truncated JPEG or PNG (no end-of-image marker / IEND chunk) is an error, not the partly grey
-/// image libjpeg returns with only a warning on stderr.
-cv::Mat readColourImage(const std::string& path, const std::string& what);
-cv::Mat readDepthU16(const std::string& path, const std::string& what);
+/// image libjpeg returns with only a warning on stderr. The header is checked before decoding:
+/// a size above kMaxImagePixels, or other than `expected` (when not empty), or (depth) a PNG
+/// that is not 16-bit grey is refused in microseconds, not after gigabytes of decoding.
+cv::Mat readColourImage(const std::string& path, const std::string& what,
+                        cv::Size expected = cv::Size());
+cv::Mat readDepthU16(const std::string& path, const std::string& what,
+                     cv::Size expected = cv::Size());
 
 /// "" for a complete JPEG / PNG (or another format, not checked), else what is missing.
 std::string truncationProblem(const std::vector<unsigned char>& bytes);

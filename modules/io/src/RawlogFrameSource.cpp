@@ -13,6 +13,7 @@
 
 #include <deque>
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <sstream>
 
@@ -37,6 +38,7 @@ struct RawlogFrameSource::Impl {
   std::deque<mrpt::obs::CObservation::Ptr> pending;
   std::size_t entries = 0, frames = 0;
   bool eof = false;
+  bool gzip = false;  // the file starts with the gzip magic bytes
   enum class Marker { None, GroundTruth, NoGroundTruth } gt_marker = Marker::None;
   std::optional<Eigen::Vector3d> odometry;     // consumed by the next frame
   mrpt::poses::CPose2D odometry_from_actions;  // composition of CActionRobotMovement2D increments
@@ -65,6 +67,12 @@ RawlogFrameSource::RawlogFrameSource(const std::string& path, const RawlogSource
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
   impl_->opt = opt;
+  if (std::filesystem::exists(path) && !std::filesystem::is_regular_file(path))
+    throwInputError(
+        "rawlog " + path,
+        std::filesystem::is_directory(path)
+            ? "is a folder, expected a .rawlog file"
+            : "is not a regular file (a device, pipe or socket), expected a .rawlog file");
   if (!std::filesystem::is_regular_file(path)) throwInputError("rawlog " + path, "file not found");
   std::string err;
   if (!impl_->file.open(path, err)) throwInputError("rawlog " + path, "cannot open: " + err);
@@ -72,6 +80,9 @@ RawlogFrameSource::RawlogFrameSource(const std::string& path, const RawlogSource
       std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZInputStream>>(
           impl_->file);
   impl_->images_dir = imagesDirectoryOf(path);
+  std::ifstream magic(path, std::ios::binary);
+  char b[2] = {0, 0};
+  impl_->gzip = magic.read(b, 2) && b[0] == '\x1f' && b[1] == '\x8b';
 }
 
 RawlogFrameSource::~RawlogFrameSource() = default;
@@ -172,12 +183,23 @@ std::optional<RgbdFrame> RawlogFrameSource::next() {
           for (const auto& l : m.range_scan_labels) s << " '" << l << "'";
           s << ")";
         }
+        std::error_code ec;
+        const auto bytes = fs::file_size(m.path, ec);
+        if (m.entries == 0 && !ec && bytes > 0)
+          s << ": its " << bytes
+            << " bytes hold no readable entry (not a rawlog, or corrupt from its start: e.g. a "
+               "gzip stream that does not decompress)";
         throwInputError("rawlog " + m.path, s.str());
       }
       return std::nullopt;
     } catch (const std::exception& e) {
+      // gzip checks its CRC only at the end of the stream: damage found here may have begun
+      // earlier, in data that still decompressed.
       throwInputError(m.frameContext(),
-                      "corrupt or truncated rawlog: " + detail::shortMrptMessage(e.what()));
+                      "corrupt or truncated rawlog: " + detail::shortMrptMessage(e.what()) +
+                          (m.gzip ? " (a gzip rawlog's checksum is only checked at its end: the "
+                                    "frames read before this one may hold altered data too)"
+                                  : ""));
     }
     ++m.entries;
     if (const auto o = std::dynamic_pointer_cast<CObservation>(obj)) {

@@ -33,7 +33,8 @@ bool flag(const bool& b, const char* name, const std::string& source) {
   std::memcpy(&byte, &b, 1);
   if (byte > 1)
     throwInputError(source, std::string("corrupt CObservation3DRangeScan: its flag ") + name +
-                                " holds the byte " + std::to_string(int(byte)) + " (expected 0 or 1)");
+                                " holds the byte " + std::to_string(int(byte)) +
+                                " (expected 0 or 1)");
   return byte == 1;
 }
 
@@ -49,15 +50,20 @@ RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs,
                                 "' has no range image (hasRangeImage = false)");
   const int W = int(obs.rangeImage.cols()), H = int(obs.rangeImage.rows());
   if (W == 0 || H == 0) throwInputError(source, "empty range image");
-  if (!(obs.rangeUnits > 0.0f) || !std::isfinite(obs.rangeUnits))
-    throwInputError(source, "rangeUnits is " + std::to_string(obs.rangeUnits) + ", expected > 0 m");
+  // Metres per count of the 16-bit range image: above 0.1 m one count spans more than the range
+  // of any depth camera (1e30 turns every pixel into an invalid depth, silently).
+  if (!(obs.rangeUnits > 0.0f && obs.rangeUnits <= 0.1f)) {
+    std::ostringstream s;
+    s << "rangeUnits is " << obs.rangeUnits
+      << " m per count; expected in (0, 0.1] (0.001 for millimetres)";
+    throwInputError(source, s.str());
+  }
 
   RgbdFrame f;
   f.intrinsics = CameraIntrinsics::fromTCamera(obs.cameraParams);
   if (!f.intrinsics.valid())
-    throwInputError(
-        source, "depth camera intrinsics (cameraParams) are invalid: " + f.intrinsics.toString() + " (" +
-                    f.intrinsics.problem() + ")");
+    throwInputError(source, "depth camera intrinsics (cameraParams) are invalid: " +
+                                f.intrinsics.toString() + " (" + f.intrinsics.problem() + ")");
 
   // Depth (II-A, D_t). rangeImage is row-major (r, c).
   f.depth_m.resize(W, H);
@@ -103,10 +109,12 @@ RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs,
                                     Kc.toString() + " (" + Kc.problem() +
                                     "), needed to register colour to depth");
       // relativePoseIntensityWRTDepth = T_depthSensor_colourOptical (depthSensor: MRPT +X forward).
-      const Eigen::Isometry3d T_depthSensor_colourOpt = fromCPose3D(obs.relativePoseIntensityWRTDepth);
+      const Eigen::Isometry3d T_depthSensor_colourOpt =
+          fromCPose3D(obs.relativePoseIntensityWRTDepth);
       if (!T_depthSensor_colourOpt.matrix().allFinite())
-        throwInputError(source, "the colour camera's pose (relativePoseIntensityWRTDepth) is not finite: " +
-                                    obs.relativePoseIntensityWRTDepth.asString());
+        throwInputError(source,
+                        "the colour camera's pose (relativePoseIntensityWRTDepth) is not finite: " +
+                            obs.relativePoseIntensityWRTDepth.asString());
       const Eigen::Isometry3d T_depthOpt_colourOpt =
           T_mrptSensor_optical().inverse() * T_depthSensor_colourOpt;
       detail::registerColourToDepthFilled(f.depth_m, f.intrinsics, colour, Kc,
@@ -117,7 +125,8 @@ RgbdFrame frameFromObservation(const mrpt::obs::CObservation3DRangeScan& obs,
   if (opt.sensor_pose_is_ground_truth) {
     f.gt_T_world_cam = opticalFromMrptSensorPose(obs.sensorPose);
     if (!f.gt_T_world_cam->matrix().allFinite())
-      throwInputError(source, "the ground-truth pose (sensorPose) is not finite: " + obs.sensorPose.asString());
+      throwInputError(
+          source, "the ground-truth pose (sensorPose) is not finite: " + obs.sensorPose.asString());
   }
   return f;
 }

@@ -54,7 +54,8 @@ Eigen::Isometry3d readPoseFile(const std::string& path, const std::string& ctx) 
                              "one: a 4x4 camera-to-world matrix)");
   std::vector<double> v;
   for (const auto& l : detail::readFieldLines(path, "7-Scenes pose"))
-    for (const auto& f : l.fields) v.push_back(detail::parseDouble(f, path, l.number, "pose entry"));
+    for (const auto& f : l.fields)
+      v.push_back(detail::parseDouble(f, path, l.number, "pose entry"));
   if (v.size() != 16)
     throwInputError(path, "expected a 4x4 matrix (16 numbers), got " + std::to_string(v.size()));
   Eigen::Matrix4d M;
@@ -64,10 +65,9 @@ Eigen::Isometry3d readPoseFile(const std::string& path, const std::string& ctx) 
   const double ortho = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
   if (ortho > 1e-3 || R.determinant() < 0 ||
       (M.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-6)
-    throwInputError(path,
-                    "not a rigid transform (rotation not orthonormal: |R^T R - I| = " +
-                        std::to_string(ortho) + ", det " + std::to_string(R.determinant()) +
-                        ", or last row not 0 0 0 1); expected a 4x4 camera-to-world matrix");
+    throwInputError(path, "not a rigid transform (rotation not orthonormal: |R^T R - I| = " +
+                              std::to_string(ortho) + ", det " + std::to_string(R.determinant()) +
+                              ", or last row not 0 0 0 1); expected a 4x4 camera-to-world matrix");
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.matrix() = M;
   return orthonormalize(T);
@@ -189,8 +189,9 @@ std::optional<RgbdFrame> SevenScenesFrameSource::next() {
   f.intrinsics = m.K;
   // Millimetres; 0 and 65535 mark missing measurements.
   const std::string frame = "7-Scenes frame " + std::to_string(i) + ",";
-  detail::depthFromU16(detail::readDepthU16(base + ".depth.png", frame + " depth image"), 1e-3,
-                       f.depth_m, 65535);
+  detail::depthFromU16(detail::readDepthU16(base + ".depth.png", frame + " depth image",
+                                            cv::Size(m.K.width, m.K.height)),
+                       1e-3, f.depth_m, 65535);
   const cv::Mat bgr = detail::readColourImage(base + m.colour_ext, frame + " colour image");
   if (m.opt.register_colour) {
     Image<Bgr8> raw;

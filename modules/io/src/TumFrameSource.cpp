@@ -37,8 +37,9 @@ std::vector<StampedFile> readImageList(const std::string& path) {
 struct TumFrameSource::Impl {
   std::string folder;
   TumSourceOptions opt;
-  CameraIntrinsics K;      // as delivered: positive fy, size of the images
-  bool flip_rows = false;  // the given intrinsics had a negative fy
+  CameraIntrinsics K;               // as delivered: positive fy, size of the images
+  bool flip_rows = false;           // the given intrinsics had a negative fy
+  bool intrinsics_guessed = false;  // no override and no fr1/fr2/fr3 in the folder name
   struct Pair {
     StampedFile rgb, depth;
   };
@@ -110,6 +111,7 @@ TumFrameSource::TumFrameSource(const std::string& folder, const TumSourceOptions
   }
 
   m.K = opt.intrinsics_override ? *opt.intrinsics_override : intrinsicsForFolderName(folder);
+  m.intrinsics_guessed = !opt.intrinsics_override && m.K == CameraIntrinsics::preset("tum_default");
   if (m.K.fx <= 0 || m.K.fy == 0)
     throwInputError("TUM folder " + folder, "invalid intrinsics " + m.K.toString());
   // Image size from the first depth image (all frames must match it).
@@ -128,7 +130,12 @@ TumFrameSource::TumFrameSource(const std::string& folder, const TumSourceOptions
 TumFrameSource::~TumFrameSource() = default;
 
 std::string TumFrameSource::describe() const {
-  return "TUM folder " + impl_->folder;
+  // The guess is said wherever the source is named: the run's first line, report.json "source".
+  return "TUM folder " + impl_->folder +
+         (impl_->intrinsics_guessed
+              ? " (WARNING: intrinsics guessed, tum_default fx = fy = 525: no fr1/fr2/fr3 in the "
+                "folder name; give the camera's in [camera])"
+              : "");
 }
 long long TumFrameSource::sizeHint() const {
   return (long long)impl_->pairs.size();
@@ -153,8 +160,8 @@ std::optional<RgbdFrame> TumFrameSource::next() {
   f.index = idx;
   f.timestamp_s = p.depth.t;
   const std::string frame = "TUM frame " + std::to_string(idx) + ",";
-  const cv::Mat raw =
-      detail::readDepthU16((fs::path(m.folder) / p.depth.file).string(), frame + " depth image");
+  const cv::Mat raw = detail::readDepthU16((fs::path(m.folder) / p.depth.file).string(),
+                                           frame + " depth image", cv::Size(m.K.width, m.K.height));
   detail::depthFromU16(raw, 1.0 / m.opt.depth_factor, f.depth_m);
   const cv::Mat bgr =
       detail::readColourImage((fs::path(m.folder) / p.rgb.file).string(), frame + " colour image");

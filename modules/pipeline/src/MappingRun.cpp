@@ -21,6 +21,7 @@
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
+#include "rasm/core/Printable.h"
 #include "rasm/core/SE3.h"
 #include "rasm/io/EvaluationJson.h"
 #include "rasm/io/PrefetchingFrameSource.h"
@@ -236,6 +237,26 @@ nlohmann::json poseJson(const Eigen::Isometry3d& T) {
   const Eigen::Quaterniond q(T.linear());
   return {{"t", {T.translation().x(), T.translation().y(), T.translation().z()}},
           {"q_xyzw", {q.x(), q.y(), q.z(), q.w()}}};
+}
+
+/// Why a run that mapped frames gave no usable map, or "": an empty map (no frame had valid
+/// depth for II-B to fuse: all zero, below the minimum depth, a wrong depth scale or focal
+/// length) or every frame lost by tracking (against a loaded map of another scene).
+std::string nothingFusedReason(std::size_t processed, std::size_t lost, int surfels,
+                               const std::string& load_map) {
+  const std::string n = std::to_string(processed);
+  if (surfels == 0)
+    return "nothing was fused: the map is empty after " + n + " frames (tracking lost " +
+           std::to_string(lost) +
+           "); check that the depth images hold valid depth within [mapper] min_depth_m / "
+           "max_depth_m, at the right scale (a rawlog's rangeUnits; TUM: 5000 per metre), and "
+           "the camera intrinsics (report.json \"intrinsics\")";
+  if (lost >= processed)
+    return "tracking lost all " + n + " frames: nothing was fused" +
+           (load_map.empty() ? std::string()
+                             : " into the map loaded from " + load_map +
+                                   " ([mapper] load_map); is it a map of this scene?");
+  return "";
 }
 }  // namespace
 
@@ -696,6 +717,12 @@ nlohmann::json MappingRun::reportJson(const std::string& source, const Accumulat
   }
   rep["config_source"] = m_config.source();
   rep["source"] = source;
+  // The intrinsics the frames were mapped with (the source's own, [camera], or a guess that
+  // `source` then says), whatever their origin.
+  if (acc.have_K)
+    rep["intrinsics"] = {{"fx", acc.last_K.fx},       {"fy", acc.last_K.fy},
+                         {"cx", acc.last_K.cx},       {"cy", acc.last_K.cy},
+                         {"width", acc.last_K.width}, {"height", acc.last_K.height}};
   rep["frames"] = processed;
   rep["frames_read"] = acc.read;
   rep["frames_lost"] = sum.lost;
@@ -823,6 +850,9 @@ void MappingRun::finishFrames(Accumulated& acc) {
     }
   if (acc.processed == 0 && acc.error.empty() && acc.output_error.empty() && stopSignal() == 0)
     acc.error = noFrameReason(acc);
+  if (acc.processed > 0 && acc.error.empty() && acc.output_error.empty() && stopSignal() == 0)
+    acc.error = nothingFusedReason(acc.processed, m_mapper->framesLost(), m_mapper->map().size(),
+                                   m_mapper->mapperParams().load_map);
   acc.cpu_s = processCpuSeconds() - acc.cpu_start_s;
 }
 
@@ -874,7 +904,8 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   // Frame rate and CPU time count the mapping (not a preload before it).
   acc.t_start = std::chrono::steady_clock::now();
   acc.cpu_start_s = processCpuSeconds();
-  std::fprintf(stderr, "rasm run: %s -> %s\n", described.c_str(), m_output.dir.c_str());
+  std::fprintf(stderr, "rasm run: %s -> %s\n", escapeControlChars(described).c_str(),
+               escapeControlChars(m_output.dir).c_str());
 
   if (source && acc.output_error.empty()) frameLoop(*source, acc, out, on_frame);
   finishFrames(acc);

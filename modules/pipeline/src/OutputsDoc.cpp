@@ -73,11 +73,16 @@ const Doc kReport[] = {
      "`ok`, `failed` (see `error`), `interrupted` (SIGINT / SIGTERM: the outputs hold "
      "the frames done) or `aborted` (a second signal: only complete files, a short "
      "report)"},
-    {"error", "why the run failed (bad input or an output that could not be written)"},
+    {"error",
+     "why the run failed (bad input, an output that could not be written, or nothing fused: an "
+     "empty map or every frame lost)"},
     {"interrupted_by", "`SIGINT` or `SIGTERM`"},
     {"interrupted_during", "`frames` or `outputs`"},
     {"config_source", "the INI file, or the embedded default"},
-    {"source", "the frame source, in words"},
+    {"source", "the frame source, in words (with a WARNING when its intrinsics are a guess)"},
+    {"intrinsics",
+     "the camera intrinsics the frames were mapped with: fx, fy, cx, cy (pixels), "
+     "width, height"},
     {"files", "the files this run wrote, in order (report.json itself excluded)"},
     {"frames", "frames processed"},
     {"frames_read", "frames the source yielded (before start_frame / frame_step / drop_frames)"},

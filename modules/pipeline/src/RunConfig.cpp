@@ -1,10 +1,12 @@
 #include "rasm/pipeline/RunConfig.h"
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "rasm/core/CameraIntrinsics.h"
@@ -24,18 +26,56 @@ RunConfig RunConfig::fromFile(const std::string& path) {
   if (!f) throwInputError("config file '" + path + "'", "cannot be opened (expected an INI file)");
   std::stringstream ss;
   ss << f.rdbuf();
-  return fromString(ss.str(), path);
+  RunConfig c = fromString(ss.str(), path);
+  // Paths written in an INI are relative to the INI's folder, not to where rasm was started: a
+  // shipped INI names the same data from any working directory (relative to the working
+  // directory, its detector would silently be off when run from elsewhere). `--set` paths stay
+  // relative to the working directory. Bare names (a world, a models file) are not paths.
+  struct PathKey {
+    const char* section;
+    const char* key;
+    bool bare_name_allowed;  // a value without '/' is a name, not a path
+  };
+  static const PathKey kPathKeys[] = {{"source", "path", false},
+                                      {"source", "groundtruth", false},
+                                      {"mapper", "load_map", false},
+                                      {"dnn_detector", "model", false},
+                                      {"dnn_detector", "weights", false},
+                                      {"dnn_detector", "names", false},
+                                      {"zero_shot", "bank", false},
+                                      {"zero_shot", "models", true},
+                                      {"sim", "world", true},
+                                      {"sim", "trajectory", true}};
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  for (const PathKey& k : kPathKeys) {
+    std::string v = c.m_ini.read_string(k.section, k.key, "");
+    const auto b = v.find_first_not_of(" \t\r\"");
+    v = b == std::string::npos ? std::string() : v.substr(b, v.find_last_not_of(" \t\r\"") - b + 1);
+    if (v.empty() || dir.empty() || std::filesystem::path(v).is_absolute()) continue;
+    if (k.bare_name_allowed && v.find('/') == std::string::npos) continue;
+    c.m_ini.write(k.section, k.key, (dir / v).lexically_normal().string());
+  }
+  return c;
 }
 
 RunConfig RunConfig::fromString(const std::string& ini_text, const std::string& source_name) {
   RunConfig c;
   c.m_source = source_name;
-  // Reject lines that are neither sections, assignments, comments nor blank: MRPT's parser would
-  // skip them silently.
-  // Records where each section and key is (file:line) for later messages.
-  std::istringstream in(ini_text);
+  // A UTF-8 byte order mark (some Windows editors write one) is not part of the first line.
+  const bool bom = ini_text.rfind("\xEF\xBB\xBF", 0) == 0;
+  const std::string text = bom ? ini_text.substr(3) : ini_text;
+  // Reject lines that are neither sections, assignments, comments nor blank (MRPT's parser would
+  // skip them silently), keys before any section (MRPT ignores them) and keys given twice in a
+  // section (MRPT keeps the last silently). Records where each section and key is (file:line)
+  // for later messages.
+  std::istringstream in(text);
   std::string line, section;
   int lineno = 0;
+  std::map<std::string, int> key_line;  // "section\nkey" (lower case) -> its line
+  const auto lower = [](std::string t) {
+    for (auto& ch : t) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    return t;
+  };
   const auto trim = [](const std::string& t) {
     const auto b = t.find_first_not_of(" \t\r");
     if (b == std::string::npos) return std::string();
@@ -50,21 +90,32 @@ RunConfig RunConfig::fromString(const std::string& ini_text, const std::string& 
     if (ch == ';' || ch == '#') continue;
     if (ch == '[') {
       const auto e = line.find(']', b);
-      if (e != std::string::npos) {
-        section = trim(line.substr(b + 1, e - b - 1));
-        if (c.m_ini.originOfSection(section).empty()) c.m_ini.setOrigin(section, "", where);
-      }
+      if (e == std::string::npos)
+        throwInputError(where, "unterminated section header '" + trim(line) +
+                                   "' (expected [name], with its closing ']')");
+      section = trim(line.substr(b + 1, e - b - 1));
+      if (section.empty()) throwInputError(where, "empty section name '[]'");
+      if (c.m_ini.originOfSection(section).empty()) c.m_ini.setOrigin(section, "", where);
       continue;
     }
     const auto eq = line.find('=');
     if (eq != std::string::npos) {
-      c.m_ini.setOrigin(section, trim(line.substr(0, eq)), where);
+      const std::string key = trim(line.substr(0, eq));
+      if (section.empty())
+        throwInputError(where, "key '" + key +
+                                   "' before any [section] (expected it under the [section] "
+                                   "it belongs to)");
+      const auto [it, fresh] = key_line.emplace(lower(section) + "\n" + lower(key), lineno);
+      if (!fresh)
+        throwInputError(where, "[" + section + "] " + key + " given twice (first at line " +
+                                   std::to_string(it->second) + "); keep one");
+      c.m_ini.setOrigin(section, key, where);
       continue;
     }
     throwInputError(where,
                     "cannot parse '" + line + "' (expected [section], key = value, or a comment)");
   }
-  c.m_ini.setContent(ini_text);
+  c.m_ini.setContent(text);
   return c;
 }
 
@@ -134,7 +185,8 @@ void RunConfig::checkCamera() const {
   const auto size = [&](const char* key) {
     const double v = number(key, "image size in pixels");
     if (v < 0 || v > 65535 || v != std::floor(v))
-      fail(key, "expected an image size in pixels, a whole number in [1, 65535] (0 = the preset's)");
+      fail(key,
+           "expected an image size in pixels, a whole number in [1, 65535] (0 = the preset's)");
     return int(v);
   };
   const double fx = number("fx", "focal length > 0 (pixels)");
@@ -144,13 +196,16 @@ void RunConfig::checkCamera() const {
   int width = size("width"), height = size("height");
   const std::string preset = text("preset");
   if (fx == 0 && fy == 0 && cx == 0 && cy == 0) return;  // not set: the preset's or the source's
-  if (!(fx > 0))
-    fail("fx",
-         "expected a finite focal length > 0 (pixels); leave fx, fy, cx, cy all 0 (or unset) to "
-         "use the preset or the source's own intrinsics");
-  if (fy < 0)
+  // Above 1e5 px the field of view is below 0.4 degrees (CameraIntrinsics::problem).
+  if (!(fx > 0 && fx <= 1e5))
+    fail(
+        "fx",
+        "expected a focal length in (0, 100000] (pixels); leave fx, fy, cx, cy all 0 (or unset) to "
+        "use the preset or the source's own intrinsics");
+  if (fy < 0 || fy > 1e5)
     fail("fy",
-         "expected a focal length > 0 (pixels), or 0 for fy = fx (a negative fy, ICL-NUIM's "
+         "expected a focal length in (0, 100000] (pixels), or 0 for fy = fx (a negative fy, "
+         "ICL-NUIM's "
          "flipped rows, is supported through preset = icl_nuim)");
   if (!preset.empty()) {
     CameraIntrinsics p;

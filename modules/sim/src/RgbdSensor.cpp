@@ -6,12 +6,14 @@
 #include <chrono>
 #include <cmath>
 #include <random>
+#include <sstream>
 
 #include "ParamsWrite.h"
 #include "RaySceneImpl.h"
 #include "rasm/compute/Parallel.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
+#include "rasm/core/Validate.h"
 
 namespace rasm::sim {
 
@@ -99,8 +101,9 @@ void TSensorParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   RASM_SIM_SAVE(axial_sigma_quad, "b (1/m)");
   RASM_SIM_SAVE(axial_z0_m, "z0 (m)");
   RASM_SIM_SAVE(axial_sigma_angle, "c");
-  RASM_SIM_SAVE(lateral_sigma_px,
-                "Nguyen 2012 sigma_L at theta = 0 (px of the preset; scaled by fx / its fx); 0 = off");
+  RASM_SIM_SAVE(
+      lateral_sigma_px,
+      "Nguyen 2012 sigma_L at theta = 0 (px of the preset; scaled by fx / its fx); 0 = off");
   RASM_SIM_SAVE(lateral_sigma_angle, "angle term of sigma_L (px)");
   RASM_SIM_SAVE(disparity_focal_px, "quantization: depth step z^2 / (f b) / subpixel");
   RASM_SIM_SAVE(disparity_baseline_m, "");
@@ -279,6 +282,16 @@ RgbdFrame RgbdSensor::render(const Eigen::Isometry3d& T_world_cam, std::uint64_t
 
 void RgbdSensor::render(const Eigen::Isometry3d& T_world_cam, std::uint64_t seed,
                         std::size_t frame_index, RgbdFrame& out) const {
+  // A non-finite or far-away pose would abort the ray tracer: every pose is checked here, where
+  // the rays start, whatever gave it (a trajectory file, the command line, a planner).
+  const Eigen::Matrix4d& M = T_world_cam.matrix();
+  if (!M.allFinite() || M.block<3, 1>(0, 3).cwiseAbs().maxCoeff() > kMaxCoordinate_m) {
+    std::ostringstream s;
+    s << "camera position [" << M.block<3, 1>(0, 3).transpose() << "]"
+      << (M.allFinite() ? "" : " or rotation is not finite")
+      << "; expected finite numbers within +-" << kMaxCoordinate_m << " m of the origin";
+    throwInputError("frame " + std::to_string(frame_index) + " camera pose", s.str());
+  }
   const RayScene::Impl& scene = m_scene.impl();
   const int w = m_K.width, h = m_K.height;
   out.intrinsics = m_K;

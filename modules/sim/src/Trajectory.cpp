@@ -230,12 +230,12 @@ HandheldKeyframe parseKeyframe(const YNode& k) {
   k.allowKeys({"t", "position", "look_at", "yaw_deg", "pitch_deg", "roll_deg"});
   HandheldKeyframe kf;
   kf.t_s = k.has("t") ? k["t"].asDouble(0, 1e6) : -1.0;
-  const Eigen::Vector3d eye = k["position"].asVec3();
+  const Eigen::Vector3d eye = k["position"].asPosition();
   if (k.has("look_at")) {
     for (const char* key : {"yaw_deg", "pitch_deg", "roll_deg"})
       if (k.has(key)) k[key].fail("give either look_at or yaw_deg/pitch_deg/roll_deg");
     try {
-      kf.T_world_cam = cameraPoseLookingAt(eye, k["look_at"].asVec3());
+      kf.T_world_cam = cameraPoseLookingAt(eye, k["look_at"].asPosition());
     } catch (const std::invalid_argument& e) {
       k["look_at"].fail(e.what());
     }
@@ -305,10 +305,12 @@ TrajectorySpec loadTrajectorySpecFromString(const std::string& text, const std::
     const YNode start = doc["start"];
     start.allowKeys({"x", "y", "yaw_deg"});
     spec.start_pose =
-        Eigen::Vector3d(start["x"].asDouble(), start["y"].asDouble(),
+        Eigen::Vector3d(start["x"].asDouble(-kMaxCoordinate_m, kMaxCoordinate_m),
+                        start["y"].asDouble(-kMaxCoordinate_m, kMaxCoordinate_m),
                         start.has("yaw_deg") ? start["yaw_deg"].asDouble() * M_PI / 180.0 : 0.0);
     const YNode wps = doc["waypoints"];
-    for (const YNode& w : wps.items()) spec.waypoints.push_back(w.asVector(2));
+    for (const YNode& w : wps.items())
+      spec.waypoints.push_back(w.asVector(2, -kMaxCoordinate_m, kMaxCoordinate_m));
     if (spec.waypoints.empty()) wps.fail("expected at least one waypoint [x, y]");
     if (auto l = doc.optional("loop")) spec.loop = l->asBool();
     if (auto l = doc.optional("laps")) spec.laps = int(l->asInt(1, 1000));

@@ -95,8 +95,9 @@ Eigen::Vector3f parseColour(const YNode& n) {
   return c;
 }
 
-Eigen::Vector3d parsePositiveVec3(const YNode& n) {
-  const Eigen::Vector3d v = n.asVec3();
+/// A size or scale [x, y, z]: three numbers in (0, max].
+Eigen::Vector3d parsePositiveVec3(const YNode& n, double max) {
+  const Eigen::Vector3d v = n.asVector(3, 0.0, max);
   if ((v.array() <= 0).any()) n.fail("expected three positive numbers");
   return v;
 }
@@ -196,7 +197,7 @@ struct Loader {
       const YNode p = o["primitive"];
       w.mesh_source = p.asString();
       if (w.mesh_source == "box") {
-        w.mesh = makeBox(parsePositiveVec3(o["size"]).cast<float>());
+        w.mesh = makeBox(parsePositiveVec3(o["size"], kMaxSize_m).cast<float>());
       } else if (w.mesh_source == "cylinder") {
         w.mesh = makeCylinder(float(o["radius"].asDouble(1e-4, 1e3)),
                               float(o["height"].asDouble(1e-4, 1e3)));
@@ -216,10 +217,10 @@ struct Loader {
       if (s->raw().IsScalar())
         w.scale.setConstant(float(s->asDouble(1e-4, 1e4)));
       else
-        w.scale = parsePositiveVec3(*s).cast<float>();
+        w.scale = parsePositiveVec3(*s, 1e4).cast<float>();
     }
     w.T_world_object.setIdentity();
-    w.T_world_object.translation() = o["position"].asVec3();
+    w.T_world_object.translation() = o["position"].asPosition();
     const int nrot = int(o.has("ypr_deg")) + int(o.has("yaw_deg")) + int(o.has("quaternion"));
     if (nrot > 1) o.fail("give at most one of ypr_deg, yaw_deg, quaternion");
     if (auto r = o.optional("ypr_deg")) {

@@ -6,11 +6,13 @@
 
 #include <Eigen/Core>
 #include <initializer_list>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "rasm/core/Error.h"
+#include "rasm/core/Validate.h"
 
 namespace rasm::sim::detail {
 
@@ -19,14 +21,19 @@ class YNode {
   YNode(YAML::Node node, std::string source, std::string path)
       : node_(std::move(node)), source_(std::move(source)), path_(std::move(path)) {}
 
-  /// Parses a whole document (a syntax error becomes an InputError with its line).
+  /// Parses a whole document (a syntax error becomes an InputError with its line). A key given
+  /// twice in one mapping is an error naming both lines (yaml-cpp would keep the first silently).
   static YNode parse(const std::string& text, const std::string& source) {
+    YAML::Node root;
     try {
-      return YNode(YAML::Load(text), source, "");
+      root = YAML::Load(text);
     } catch (const YAML::Exception& e) {
       throwInputError(source + ":" + std::to_string(e.mark.line + 1),
                       "YAML syntax error: " + e.msg);
     }
+    YNode doc(root, source, "");
+    doc.rejectRepeatedKeys();
+    return doc;
   }
 
   const std::string& path() const { return path_; }
@@ -82,19 +89,19 @@ class YNode {
     return v;
   }
 
-  double asDouble() const {
+  /// A finite number within +-1e6 (no quantity of a world or trajectory is larger; `.nan`,
+  /// `.inf` and 1e30 are errors); the overload with bounds checks the quantity's own range.
+  double asDouble() const { return asDouble(-1e6, 1e6); }
+  double asDouble(double lo, double hi) const {
     if (!node_.IsScalar()) fail("expected a number");
+    double v = 0;
     try {
-      return node_.as<double>();
+      v = node_.as<double>();
     } catch (const YAML::Exception&) {
       fail("expected a number, got '" + node_.Scalar() + "'");
     }
-  }
-  double asDouble(double lo, double hi) const {
-    const double v = asDouble();
-    if (!(v >= lo && v <= hi))
-      fail("value " + node_.Scalar() + " out of range [" + std::to_string(lo) + ", " +
-           std::to_string(hi) + "]");
+    if (const std::string p = rangeProblem(v, lo, hi); !p.empty())
+      fail("'" + node_.Scalar() + "': " + p);
     return v;
   }
   long long asInt(long long lo, long long hi) const {
@@ -122,17 +129,36 @@ class YNode {
     if (!node_.IsScalar()) fail("expected a string");
     return node_.Scalar();
   }
-  /// A sequence of exactly n numbers.
-  Eigen::VectorXd asVector(int n) const {
+  /// A sequence of exactly n finite numbers, each in [lo, hi].
+  Eigen::VectorXd asVector(int n, double lo = -1e6, double hi = 1e6) const {
     if (!node_.IsSequence() || int(node_.size()) != n)
       fail("expected a sequence of " + std::to_string(n) + " numbers");
     Eigen::VectorXd v(n);
-    for (int i = 0; i < n; ++i) v[i] = at(std::size_t(i)).asDouble();
+    for (int i = 0; i < n; ++i) v[i] = at(std::size_t(i)).asDouble(lo, hi);
     return v;
   }
   Eigen::Vector3d asVec3() const { return asVector(3); }
+  /// A position [x, y, z] in metres, each within +-kMaxCoordinate_m.
+  Eigen::Vector3d asPosition() const { return asVector(3, -kMaxCoordinate_m, kMaxCoordinate_m); }
 
  private:
+  void rejectRepeatedKeys() const {
+    if (node_.IsMap()) {
+      std::map<std::string, int> line_of;  // key -> line of its first occurrence
+      for (const auto& kv : node_) {
+        const std::string k = kv.first.IsScalar() ? kv.first.Scalar() : std::string();
+        const int line = kv.first.Mark().line + 1;
+        const auto [it, fresh] = line_of.emplace(k, line);
+        if (!fresh && !k.empty())
+          YNode(kv.first, source_, join(k))
+              .fail("key '" + k + "' given twice (first at line " + std::to_string(it->second) +
+                    ")");
+        YNode(kv.second, source_, join(k)).rejectRepeatedKeys();
+      }
+    } else if (node_.IsSequence()) {
+      for (std::size_t i = 0; i < node_.size(); ++i) at(i).rejectRepeatedKeys();
+    }
+  }
   std::string join(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
 
   YAML::Node node_;
