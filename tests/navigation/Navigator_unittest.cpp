@@ -377,3 +377,49 @@ TEST(TNavigationParams, SaveLoadRoundTrip) {
   EXPECT_DOUBLE_EQ(b.goal_timeout_s, 42);
   EXPECT_EQ(knownKeys(a, "navigation").size(), 20u);  // every key written
 }
+
+// The PTG cache never goes to a fixed name in a shared folder (issue: another user's link planted
+// at <temp>/rasm_ptg_cache received the tables): the user's cache folder, else a per-uid name;
+// a folder that is a link, someone else's or writable by others is refused by name.
+TEST(TNavigationParams, ThePtgCacheIsTheUsersOwnFolder) {
+  namespace fs = std::filesystem;
+  const auto restore = [](const char* name, const char* old) {
+    if (old)
+      ::setenv(name, old, 1);
+    else
+      ::unsetenv(name);
+  };
+  const char* old_xdg = std::getenv("XDG_CACHE_HOME");
+  const char* old_home = std::getenv("HOME");
+  const std::string xdg = old_xdg ? old_xdg : "", home = old_home ? old_home : "";
+  ::setenv("XDG_CACHE_HOME", "/x/cache", 1);
+  EXPECT_EQ(TNavigationParams().effectiveCacheDir(), "/x/cache/rasm/ptg");
+  ::unsetenv("XDG_CACHE_HOME");
+  ::setenv("HOME", "/home/someone", 1);
+  EXPECT_EQ(TNavigationParams().effectiveCacheDir(), "/home/someone/.cache/rasm/ptg");
+  ::unsetenv("HOME");
+  EXPECT_EQ(
+      TNavigationParams().effectiveCacheDir(),
+      (fs::temp_directory_path() / ("rasm_ptg_cache_" + std::to_string(::getuid()))).string());
+  restore("XDG_CACHE_HOME", old_xdg ? xdg.c_str() : nullptr);
+  restore("HOME", old_home ? home.c_str() : nullptr);
+  TNavigationParams given;
+  given.ptg_cache_dir = "/somewhere/ptg";
+  EXPECT_EQ(given.effectiveCacheDir(), "/somewhere/ptg");
+
+  const fs::path root = fs::temp_directory_path() / ("rasm_ptg_test_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root / "victim");
+  EXPECT_NO_THROW(ensurePrivateCacheDir((root / "own" / "ptg").string()));
+  EXPECT_TRUE(fs::is_directory(root / "own" / "ptg"));
+  fs::create_directory_symlink(root / "victim", root / "link");
+  try {
+    ensurePrivateCacheDir((root / "link").string());
+    ADD_FAILURE() << "a link was accepted as the PTG cache";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find((root / "link").string()), std::string::npos) << e.what();
+  }
+  fs::permissions(root / "victim", fs::perms::others_write, fs::perm_options::add);
+  EXPECT_THROW(ensurePrivateCacheDir((root / "victim").string()), InputError);
+  fs::remove_all(root);
+}

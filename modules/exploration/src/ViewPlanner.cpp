@@ -46,9 +46,10 @@ std::vector<ViewPrediction> predictViews(const TExplorationParams& params,
 }  // namespace
 
 /// The candidates predicted in full: all of `reachable`, or (predict_screen_keep > 0 and more
-/// reachable candidates than that) the best predict_screen_keep by the same ranking on a coarse
-/// prediction at predict_screen_width x predict_screen_height, plus every frontier view (the
-/// tour's way into unknown space) and the goal being driven to. In candidate order.
+/// reachable candidates than that) the best predict_screen_keep by IG and by IG per travel
+/// second (the same IG, on a coarse prediction at predict_screen_width x predict_screen_height),
+/// plus every frontier view (the tour's way into unknown space) and the goal being driven to. In
+/// candidate order.
 std::vector<int> ViewPlanner::screenCandidates(const maps::SurfelStore& store,
                                                const PlannerInputs& in,
                                                const std::vector<ViewCandidate>& candidates,
@@ -68,13 +69,26 @@ std::vector<int> ViewPlanner::screenCandidates(const maps::SurfelStore& store,
     scored.back().information = coarse[j].information.weighted;
   }
   scoreCandidates(m_params, scored);
-  std::vector<std::size_t> order(reachable.size());
-  for (std::size_t j = 0; j < order.size(); ++j) order[j] = j;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return rankingKey(m_params, scored[a]) > rankingKey(m_params, scored[b]);
-  });
+  // Kept: the best by IG and the best by IG per travel second, alternately, until `keep` views
+  // (the tour weighs IG by arrival time, the greedy ranking by rate: a screen by rate alone
+  // dropped the far views into two_rooms' second room, and the robot never went there).
+  const auto orderBy = [&](auto key) {
+    std::vector<std::size_t> order(reachable.size());
+    for (std::size_t j = 0; j < order.size(); ++j) order[j] = j;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return key(scored[a]) > key(scored[b]); });
+    return order;
+  };
+  const std::vector<std::size_t> by_gain = orderBy([](const ViewCandidate& c) { return c.gain; });
+  const std::vector<std::size_t> by_rate = orderBy([](const ViewCandidate& c) { return c.rate; });
   std::vector<char> kept(reachable.size(), 0);
-  for (std::size_t r = 0; r < keep; ++r) kept[order[r]] = 1;
+  std::size_t n_kept = 0;
+  for (std::size_t r = 0; n_kept < keep && r < reachable.size(); ++r)
+    for (const std::size_t j : {by_gain[r], by_rate[r]})
+      if (n_kept < keep && !kept[j]) {
+        kept[j] = 1;
+        ++n_kept;
+      }
   std::vector<int> out;
   for (std::size_t j = 0; j < reachable.size(); ++j) {
     const int i = reachable[j];

@@ -152,6 +152,7 @@ void Navigator::Impl::initialise() {
   // MRPT trap: the ptg_cache_files_directory key is not read from the config in 2.5.8 and the
   // default "." writes ReacNavGrid_*.dat.gz into the cwd. The file names do not encode the PTG
   // settings, so each configuration gets its own sub-folder (named by a hash of the config).
+  ensurePrivateCacheDir(params.effectiveCacheDir());
   const std::filesystem::path cache_dir = std::filesystem::path(params.effectiveCacheDir()) /
                                           std::to_string(std::hash<std::string>{}(cfg_text));
   std::filesystem::create_directories(cache_dir);
@@ -357,7 +358,8 @@ void Navigator::Impl::stepRetreat(double t, const Eigen::Vector3d& pose) {
   const double rear = mrpt::math::wrapToPi(pose.z() + M_PI);
   const double e = mrpt::math::wrapToPi(std::atan2(to.y(), to.x()) - rear);
   const double max_w = params.max_w_degps * kDeg;
-  if (std::abs(e) > 45.0 * kDeg) return robot.setVelocityCommand(0.0, std::clamp(2.0 * e, -max_w, max_w));
+  if (std::abs(e) > 45.0 * kDeg)
+    return robot.setVelocityCommand(0.0, std::clamp(2.0 * e, -max_w, max_w));
   const double v = std::min({0.5 * params.max_v_mps, behind, to.norm() / params.period_s});
   robot.setVelocityCommand(-v * std::cos(e), std::clamp(2.0 * e, -max_w, max_w));
 }

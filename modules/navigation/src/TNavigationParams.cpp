@@ -2,6 +2,10 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdlib>
 #include <filesystem>
 
 #include "rasm/core/Error.h"
@@ -10,8 +14,29 @@
 namespace rasm::navigation {
 
 std::string TNavigationParams::effectiveCacheDir() const {
+  namespace fs = std::filesystem;
   if (!ptg_cache_dir.empty()) return ptg_cache_dir;
-  return (std::filesystem::temp_directory_path() / "rasm_ptg_cache").string();
+  // The user's own cache folder (XDG base directories); a shared temporary folder only as the
+  // last resort, under a name of this user's (ensurePrivateCacheDir checks whose it is).
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && fs::path(xdg).is_absolute())
+    return (fs::path(xdg) / "rasm" / "ptg").string();
+  if (const char* home = std::getenv("HOME"); home && fs::path(home).is_absolute())
+    return (fs::path(home) / ".cache" / "rasm" / "ptg").string();
+  return (fs::temp_directory_path() / ("rasm_ptg_cache_" + std::to_string(::getuid()))).string();
+}
+
+void ensurePrivateCacheDir(const std::string& dir) {
+  std::filesystem::create_directories(dir);
+  struct stat st {};
+  if (::lstat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
+    throwInputError("[navigation] ptg_cache_dir " + dir,
+                    "a folder (not a link), got something else");
+  if (st.st_uid != ::getuid())
+    throwInputError("[navigation] ptg_cache_dir " + dir,
+                    "a folder of this user's, it belongs to uid " + std::to_string(st.st_uid));
+  if ((st.st_mode & (S_IWGRP | S_IWOTH)) != 0)
+    throwInputError("[navigation] ptg_cache_dir " + dir,
+                    "a folder only its owner can write to (others could plant PTG tables there)");
 }
 
 void TNavigationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,

@@ -43,11 +43,13 @@ struct TNavigationParams : public mrpt::config::CLoadableOptions {
   /// CHolonomicND: CHolonomicFullEval with the example weights stalls in front of a block and
   /// grazes its corner (apparent collision) in the 3 m test; ND goes around (docs/navigation.md).
   std::string holonomic_method = "CHolonomicND";  ///< or CHolonomicFullEval, CHolonomicVFF
-  /// Folder of MRPT's PTG cache files (ReacNavGrid_*.dat.gz); empty = <temp dir>/rasm_ptg_cache.
+  /// Folder of MRPT's PTG cache files (ReacNavGrid_*.dat.gz); empty = $XDG_CACHE_HOME/rasm/ptg,
+  /// else $HOME/.cache/rasm/ptg, else <temp dir>/rasm_ptg_cache_<uid> (never a fixed name in a
+  /// shared folder: another user's link planted there would receive the files).
   /// MRPT writes them into the current directory by default (MRPT-NOTES trap).
   std::string ptg_cache_dir;
 
-  /// The PTG cache folder in effect (ptg_cache_dir or the temp-dir default).
+  /// The PTG cache folder in effect (ptg_cache_dir or the per-user default above).
   std::string effectiveCacheDir() const;
 
   /// Throws InputError "[section] key: ..." naming the key and the expected range.
@@ -58,5 +60,9 @@ struct TNavigationParams : public mrpt::config::CLoadableOptions {
   void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                         const std::string& section) const override;
 };
+
+/// Creates `dir` (and its parents) and checks it is a folder, not a link, owned by this user and
+/// writable by no one else; InputError "[navigation] ptg_cache_dir <dir>: ..." otherwise.
+void ensurePrivateCacheDir(const std::string& dir);
 
 }  // namespace rasm::navigation
