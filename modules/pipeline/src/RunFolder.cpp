@@ -21,12 +21,8 @@ namespace fs = std::filesystem;
 
 namespace rasm::pipeline {
 
-OverwritePolicy overwritePolicy(const std::string& value) {
-  if (value == "auto") return OverwritePolicy::EarlierRun;
-  if (value == "false") return OverwritePolicy::Never;
-  if (value == "true") return OverwritePolicy::BesideOthers;
-  throwInputError("[output] overwrite", "expected auto, true or false, got '" + value + "'");
-}
+// overwritePolicy() is defined in RunParams.cpp, beside the [output] loader that validates
+// with it (the INI fuzzer links the loaders without the folder code).
 
 namespace {
 /// The names an earlier run in `dir` listed, when it left a marker (or, from a rasm older than

@@ -13,6 +13,13 @@
 
 namespace rasm::pipeline {
 
+OverwritePolicy overwritePolicy(const std::string& value) {
+  if (value == "auto") return OverwritePolicy::EarlierRun;
+  if (value == "false") return OverwritePolicy::Never;
+  if (value == "true") return OverwritePolicy::BesideOthers;
+  throwInputError("[output] overwrite", "expected auto, true or false, got '" + value + "'");
+}
+
 namespace {
 /// Parses "a-b,c-d,e" (inclusive ranges of frame indices); throws naming [section] key.
 std::vector<std::pair<long long, long long>> parseRanges(const std::string& text,
