@@ -146,6 +146,8 @@ TEST(RunSignals, SecondSignalAbortsAtOnceLeavingOnlyCompleteFiles) {
       // Aborted, or (when the second signal came after the report) interrupted.
       EXPECT_TRUE(rep["status"] == "aborted" || rep["status"] == "interrupted") << rep["status"];
       aborted += rep["status"] == "aborted";
+      if (rep["status"] == "aborted")  // its files: the marker, which lists every file present
+        EXPECT_EQ(rep["files_listed_in"], ".rasm-run.json") << rep;
       EXPECT_EQ(rep["report_schema"], 1);  // the short aborted report says what wrote it too
       EXPECT_TRUE(rep["rasm"]["commit"].is_string()) << rep;
       std::printf("%s: %s after %d frames, files %s\n", part,

@@ -64,7 +64,7 @@ void writeAbortReport(int sig) {
   put(fd, nameOf(sig));
   put(fd,
       " aborted the run at once: the files of this run in this folder are complete, the others "
-      "were not written\",\n  \"frames\": ");
+      "were not written\",\n  \"files_listed_in\": \".rasm-run.json\",\n  \"frames\": ");
   put(fd, digits(g_frames_done.load(), buf));
   put(fd, "\n}\n");
   if (::close(fd) == 0) ::rename(g_report_part, g_report_path);

@@ -77,6 +77,9 @@ const Doc kReport[] = {
      "why the run failed (bad input, an output that could not be written, or nothing fused: an "
      "empty map or every frame lost)"},
     {"interrupted_by", "`SIGINT` or `SIGTERM`"},
+    {"files_listed_in",
+     "`aborted` only: the short report has no `files`; the run folder's marker (.rasm-run.json) "
+     "lists every name the run may have written, and those present are complete"},
     {"interrupted_during", "`frames` or `outputs`"},
     {"config_source", "the INI file, or the embedded default"},
     {"source", "the frame source, in words (with a WARNING when its intrinsics are a guess)"},
