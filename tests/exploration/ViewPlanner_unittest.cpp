@@ -257,7 +257,8 @@ TEST_F(RoomPlanTest, ThePlanDoesNotDependOnTheThreadCount) {
 
 // The coarse screen ([exploration] predict_screen_keep): the kept views are predicted exactly as
 // without it (same dH at the full size), the others are left out and counted, and the best view
-// survives the screen (40x30 rays are 10 cm apart at the 4 m range: the octree's cell).
+// survives the screen (40x30 rays of this camera are 13 cm apart at the 4 m range, about the
+// octree's 10 cm cell).
 TEST_F(RoomPlanTest, TheScreenPredictsTheBestViewsInFullAndCountsTheRest) {
   const Plan full = ViewPlanner(params_).plan(in_);
   ASSERT_GE(full.ranked.size(), 10u);
