@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "Command.h"
@@ -18,6 +17,7 @@
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/pipeline/LinePlot.h"
+#include "rasm/pipeline/OutputFiles.h"
 
 namespace fs = std::filesystem;
 
@@ -160,9 +160,7 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
     rasm::pipeline::drawLinePlot(img, cv::Rect(panel++ * W, 0, W, H), axes, series);
   }
   try {
-    writeThroughTemporary(
-        path, [&](const std::string& temp) { return cv::imwrite(temp, img); },
-        ".part" + std::filesystem::path(path).extension().string());
+    rasm::pipeline::writeImageAtomically(path, img);
   } catch (const std::exception& e) {
     throwInputError("--plot " + path, std::string("cannot be written: ") + e.what());
   }

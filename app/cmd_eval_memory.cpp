@@ -4,7 +4,6 @@
 // and the growth over the second half (max over the second half against the max over the
 // quarter before half time, see secondHalf; the criterion is < 5%), plus bytes per surfel (map
 // store / surfels; RSS / surfels). --plot draws the three curves against time.
-#include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -22,6 +21,7 @@
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/pipeline/LinePlot.h"
+#include "rasm/pipeline/OutputFiles.h"
 
 namespace rasm::app {
 namespace {
@@ -130,9 +130,7 @@ void plotCurves(const std::string& path, const MemoryCurves& m, const std::strin
   axes.x_guides = {0.5 * (axes.x_min + axes.x_max)};  // the halves the growth compares
   const cv::Mat img = rasm::pipeline::linePlot(axes, series, 760, 400);
   try {
-    writeThroughTemporary(
-        path, [&](const std::string& temp) { return cv::imwrite(temp, img); },
-        ".part" + std::filesystem::path(path).extension().string());
+    rasm::pipeline::writeImageAtomically(path, img);
   } catch (const std::exception& e) {
     throwInputError("--plot " + path, std::string("cannot be written: ") + e.what());
   }

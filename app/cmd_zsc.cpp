@@ -16,10 +16,10 @@
 #include "Command.h"
 #include "rasm/classification/TemplateBank.h"
 #include "rasm/classification/ZeroShotDetector.h"
-#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 #include "rasm/core/Timing.h"
+#include "rasm/pipeline/OutputFiles.h"
 
 namespace {
 
@@ -136,9 +136,7 @@ int detect(const Args& args) {
   if (!out.empty()) {
     drawDetections(image, dets, detector.classNames());
     try {
-      rasm::writeThroughTemporary(
-          out, [&](const std::string& temp) { return cv::imwrite(temp, image); },
-          ".part" + std::filesystem::path(out).extension().string());
+      rasm::pipeline::writeImageAtomically(out, image);
     } catch (const std::exception& e) {
       rasm::throwInputError("--out '" + out + "'", std::string("cannot write: ") + e.what());
     }

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <regex>
 #include <sstream>
 
@@ -93,20 +92,8 @@ TEST(RasmCli, UnknownCommandsAndHelpTopicsAreNamed) {
 }
 
 TEST(RasmCli, ConvertCreatesItsOutputFolder) {
-  // A two-frame TUM sequence (8x6 images).
   const std::string dir = freshDir("convert");
-  fs::create_directories(dir + "/seq/rgb");
-  fs::create_directories(dir + "/seq/depth");
-  std::ofstream rgb(dir + "/seq/rgb.txt"), depth(dir + "/seq/depth.txt");
-  for (int k = 0; k < 2; ++k) {
-    const std::string name = std::to_string(k) + ".png";
-    cv::imwrite(dir + "/seq/rgb/" + name, cv::Mat(6, 8, CV_8UC3, cv::Scalar(10, 20, 30)));
-    cv::imwrite(dir + "/seq/depth/" + name, cv::Mat(6, 8, CV_16UC1, cv::Scalar(5000 + k)));
-    rgb << 1.0 + k / 30.0 << " rgb/" << name << "\n";
-    depth << 1.0 + k / 30.0 << " depth/" << name << "\n";
-  }
-  rgb.close();
-  depth.close();
+  writeTwoFrameTumSequence(dir + "/seq");
   const std::string out = dir + "/not/yet/there/seq.rawlog";
   const Result r = runRasm("convert tum " + dir + "/seq " + out + " --intrinsics 10,10,4,3");
   EXPECT_EQ(r.status, 0) << r.output;

@@ -5,8 +5,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "RasmProcess.h"
 
@@ -81,18 +79,7 @@ TEST(HostileCli, ControlCharactersInNamesAreEscaped) {
 
 TEST(HostileCli, ConvertRefusesToOverwriteItsInput) {
   const std::string dir = freshDir("convert_self");
-  fs::create_directories(dir + "/seq/rgb");
-  fs::create_directories(dir + "/seq/depth");
-  {
-    std::ofstream rgb(dir + "/seq/rgb.txt"), depth(dir + "/seq/depth.txt");
-    for (int k = 0; k < 2; ++k) {
-      const std::string name = std::to_string(k) + ".png";
-      cv::imwrite(dir + "/seq/rgb/" + name, cv::Mat(6, 8, CV_8UC3, cv::Scalar(10, 20, 30)));
-      cv::imwrite(dir + "/seq/depth/" + name, cv::Mat(6, 8, CV_16UC1, cv::Scalar(5000 + k)));
-      rgb << 1.0 + k / 30.0 << " rgb/" << name << "\n";
-      depth << 1.0 + k / 30.0 << " depth/" << name << "\n";
-    }
-  }
+  writeTwoFrameTumSequence(dir + "/seq");
   const std::string depth_txt = readFile(dir + "/seq/depth.txt");
   const Result r =
       runRasm("convert tum " + dir + "/seq " + dir + "/seq/depth.txt --intrinsics 10,10,4,3");

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <string>
 
@@ -58,6 +60,21 @@ inline std::string shortRunArgs(int frames) {
   return "--set source.max_frames=" + std::to_string(frames) +
          " --set camera.preset= --set camera.fx=262.5 --set camera.fy=262.5 --set camera.cx=159.5"
          " --set camera.cy=119.5 --set camera.width=320 --set camera.height=240";
+}
+
+/// A two-frame TUM sequence in `seq_dir` (rgb/, depth/, rgb.txt, depth.txt): 8x6 images, flat
+/// colour (10, 20, 30) and depth 5000 + k counts, frames 1/30 s apart from t = 1 s.
+inline void writeTwoFrameTumSequence(const std::string& seq_dir) {
+  std::filesystem::create_directories(seq_dir + "/rgb");
+  std::filesystem::create_directories(seq_dir + "/depth");
+  std::ofstream rgb(seq_dir + "/rgb.txt"), depth(seq_dir + "/depth.txt");
+  for (int k = 0; k < 2; ++k) {
+    const std::string name = std::to_string(k) + ".png";
+    cv::imwrite(seq_dir + "/rgb/" + name, cv::Mat(6, 8, CV_8UC3, cv::Scalar(10, 20, 30)));
+    cv::imwrite(seq_dir + "/depth/" + name, cv::Mat(6, 8, CV_16UC1, cv::Scalar(5000 + k)));
+    rgb << 1.0 + k / 30.0 << " rgb/" << name << "\n";
+    depth << 1.0 + k / 30.0 << " depth/" << name << "\n";
+  }
 }
 
 }  // namespace rasm::app::testing

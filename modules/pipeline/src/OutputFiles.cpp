@@ -88,11 +88,13 @@ class GzOutput : public mrpt::io::CStream {
   bool m_failed = false;
 };
 
-std::string pngBytes(const std::string& path, const cv::Mat& image) {
-  std::vector<unsigned char> png;
-  if (!cv::imencode(".png", image, png))
-    throw OutputError("output file '" + path + "': PNG encoding failed");
-  return std::string(png.begin(), png.end());
+/// `image` encoded in the format of `extension` (".png", ".jpg", ...: OpenCV's encoders).
+std::string imageBytes(const std::string& path, const cv::Mat& image,
+                       const std::string& extension = ".png") {
+  std::vector<unsigned char> bytes;
+  if (!cv::imencode(extension, image, bytes))
+    throw OutputError("output file '" + path + "': " + extension + " encoding failed");
+  return std::string(bytes.begin(), bytes.end());
 }
 }  // namespace
 
@@ -119,7 +121,8 @@ void writeFileAtomically(const std::string& path, const std::string& text) {
 }
 
 void writeImageAtomically(const std::string& path, const cv::Mat& image) {
-  writeFileAtomically(path, pngBytes(path, image));
+  const std::string extension = std::filesystem::path(path).extension().string();
+  writeFileAtomically(path, imageBytes(path, image, extension.empty() ? ".png" : extension));
 }
 
 void writeGzArchive(const std::string& path, const mrpt::serialization::CSerializable& obj) {
@@ -260,7 +263,7 @@ void OutputFolder::writeText(const std::string& name, const std::string& text) {
 }
 
 void OutputFolder::writeImage(const std::string& name, const cv::Mat& image) {
-  writeText(name, pngBytes(path(name), image));
+  writeText(name, imageBytes(path(name), image));
 }
 
 void OutputFolder::recordWritten(const std::string& name) {

@@ -39,7 +39,7 @@ void writeAtomically(const std::string& path,
                      const std::function<void(const std::string& part)>& write);
 /// writeAtomically with `text` as the file's bytes (checked through close).
 void writeFileAtomically(const std::string& path, const std::string& text);
-/// writeAtomically of `image` encoded as PNG.
+/// writeAtomically of `image` encoded in the format its extension names (PNG without one).
 void writeImageAtomically(const std::string& path, const cv::Mat& image);
 
 /// Serializes `obj` into a new gzip file `path` as MRPT's CFileGZOutputStream + archive do (the
