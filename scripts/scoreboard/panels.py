@@ -339,16 +339,22 @@ def explore_worlds(p, seeds, flat_seeds=(2001, 2002)):
     return worlds
 
 
-def planners(p, seeds=(1101, 1102, 1103), flat_seeds=(2101, 2102, 2103, 2104)):
-    """The planners alone (exploration group only): every planner on the shipped worlds, three
-    generated rooms and four flats, fused at the true poses ([mapper] poses = groundtruth: no
-    tracking error mixed in), 240 simulated s at 160x120 (the planners see the same octree and
-    map they would at 640x480, only sparser): ~1 h on 2 cores."""
+def planners(p, seeds=(1101, 1102, 1103, 1104, 1105),
+             flat_seeds=(2101, 2102, 2103, 2104, 2105), run_seeds=2):
+    """The planners alone (exploration group only): every planner on the shipped worlds, five
+    generated rooms and five flats (3 and 4 rooms off a hallway), fused at the true poses
+    ([mapper] poses = groundtruth: no tracking error mixed in), 240 simulated s at 160x120 (the
+    planners see the same octree and map they would at 640x480, only sparser), each world with
+    `run_seeds` seeds: the world's own seed s (tasks planners_<world>_<planner>) and s + 1, s + 2,
+    ... (planners_<world>_<planner>_s2, ...: the same world, another sensor noise and planner
+    randomness). 156 tasks, ~2.5 h on 2 cores."""
     for w, seed in explore_worlds(p, seeds, flat_seeds):
         wname = os.path.basename(w)[:-5] if w.endswith(".yaml") else w
-        for planner in PLANNERS:
-            p.explore(f"planners_{wname}_{planner}", w, planner, seed, 240, "160x120",
-                      poses="groundtruth")
+        for k in range(run_seeds):
+            for planner in PLANNERS:
+                suffix = f"_s{k + 1}" if k else ""
+                p.explore(f"planners_{wname}_{planner}{suffix}", w, planner, seed + k, 240,
+                          "160x120", poses="groundtruth")
 
 
 PANELS = {"smoke": smoke, "quick": quick, "full": full, "planners": planners}

@@ -281,6 +281,44 @@ TEST(PlanningGrid, TheBackOffNeverCrossesAnObstacle) {
   EXPECT_EQ(reach.count(), 1);  // its own cell only
 }
 
+TEST(PlanningGrid, TheRouteToAGoalBehindAWallGoesThroughTheGapInSight) {
+  // The wall of ReachableCellsAgreeWithPlannerSimple2D: across x = 3 except y in [4.5, 5.5].
+  mrpt::maps::COccupancyGridMap2D g;
+  g.setSize(0.0f, 6.0f, 0.0f, 6.0f, 0.1f, 1.0f);
+  for (int iy = 0; iy < 60; ++iy)
+    if (iy < 45 || iy > 55) g.setCell(30, iy, 0.0f);
+  const TExplorationParams p;
+  const Eigen::Vector3d robot(1.0, 1.0, 0.0);
+  const ReachableCells reach = reachableCells(g, robot, p.footprint_radius_m);
+  const Eigen::Vector2d goal(4.0, 1.0);  // behind the wall, 3 m from the robot in a straight line
+  const std::vector<Eigen::Vector2d> route = routeTo(g, reach, robot.head<2>(), goal);
+  ASSERT_FALSE(route.empty());
+  // The corners hug the gap (the path bends there and nowhere else): within 0.6 m of its centre.
+  for (const Eigen::Vector2d& c : route)
+    EXPECT_LT((c - Eigen::Vector2d(3.05, 5.0)).norm(), 0.6) << c.transpose();
+  // No leg (robot, corners, goal) crosses the wall: they pass the gap.
+  std::vector<Eigen::Vector2d> legs{robot.head<2>()};
+  legs.insert(legs.end(), route.begin(), route.end());
+  legs.push_back(goal);
+  double length = 0;
+  for (std::size_t k = 1; k < legs.size(); ++k) {
+    const Eigen::Vector2d a = legs[k - 1], b = legs[k];
+    length += (b - a).norm();
+    for (double f = 0; f <= 1.0; f += 0.01) {
+      const Eigen::Vector2d q = a + f * (b - a);
+      EXPECT_GT(g.getCell(g.x2idx(q.x()), g.y2idx(q.y())), 0.5f)
+          << "leg " << k << " at " << q.transpose();
+    }
+  }
+  // About the shortest way around: the gap narrowed by the growth is y in [4.8, 5.2].
+  const double shortest = std::hypot(2.0, 3.8 - 1.0 + 0.0) + std::hypot(1.0, 3.8);
+  EXPECT_GT(length, shortest - 0.3);
+  EXPECT_LT(length, 1.15 * shortest + 0.5);
+  // A goal in sight needs no corner; a goal far from everything reachable gets no route.
+  EXPECT_TRUE(routeTo(g, reach, robot.head<2>(), Eigen::Vector2d(2.0, 4.0)).empty());
+  EXPECT_TRUE(routeTo(g, reach, robot.head<2>(), Eigen::Vector2d(3.05, 2.0), 0.1).empty());
+}
+
 // ---- frontier ----
 
 TEST(FrontierPlanner, GoalIsNextToTheOpeningIntoUnknownSpaceAndReachable) {

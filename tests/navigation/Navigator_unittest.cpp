@@ -161,6 +161,40 @@ TEST(Navigator, ReachesAGoalThreeMetresAwayAroundAnObstacle) {
   expectStaysStopped(rig);
 }
 
+// A goal behind a wall beside a doorway: the straight line runs into the wall, and the way
+// through the doorway first moves away from the goal (the straight-line distance grows by 0.9 m
+// over ~10 s, which the stuck check must not take for a lack of progress). The route's two
+// waypoints (before and after the doorway) take the robot there.
+TEST(Navigator, FollowsARouteThroughADoorwayToAGoalBehindAWall) {
+  const std::string wall =  // x = 2, doorway y in [0.6, 1.5]
+      "  - {id: 2, class: wall, primitive: box, size: [0.1, 4.6, 1.0], position: [2.0, -1.7, "
+      "0.5]}\n"
+      "  - {id: 3, class: wall, primitive: box, size: [0.1, 2.5, 1.0], position: [2.0, 2.75, "
+      "0.5]}\n";
+  const TNavigationParams p = testParams();
+  Rig rig(floorWorld(wall), Eigen::Vector3d(0, -1.5, 0), p);
+  const Eigen::Vector3d goal(2.6, -2.5, -90 * kDeg);
+  rig.nav.setGoal(goal, {Eigen::Vector2d(1.4, 1.05), Eigen::Vector2d(2.6, 1.05)});
+  const Outcome o = drive(rig.robot, rig.nav, p.goal_timeout_s);
+  std::printf("through the doorway: %s in %.1f s, path %.2f m\n", toString(o.state), o.time_s,
+              rig.nav.pathLength_m());
+  ASSERT_EQ(o.state, NavState::Reached) << o.reason;
+  EXPECT_FALSE(o.collided);
+  EXPECT_LE((rig.robot.pose().head<2>() - goal.head<2>()).norm(), p.goal_tolerance_m);
+  // It went through the doorway: some pose beyond the wall's plane within the doorway's span.
+  bool through = false;
+  for (std::size_t k = 1; k < o.trajectory.size(); ++k)
+    if (o.trajectory[k - 1].x() < 2.0 && o.trajectory[k].x() >= 2.0)
+      through = o.trajectory[k].y() > 0.6 && o.trajectory[k].y() < 1.5;
+  EXPECT_TRUE(through);
+  // The route's length is ~7.4 m; the path no more than 25% longer.
+  EXPECT_LT(rig.nav.pathLength_m(), 1.25 * ((Eigen::Vector2d(1.4, 1.05) - Eigen::Vector2d(0, -1.5))
+                                                    .norm() +
+                                                1.2 + 3.55));
+  // A route with a non-finite waypoint is refused.
+  EXPECT_THROW(rig.nav.setGoal(goal, {Eigen::Vector2d(NAN, 0)}), InputError);
+}
+
 TEST(Navigator, ReachesANearTargetWithItsOwnController) {
   // 0.3 m: nearer than the PTGs' reach (MRPT trap), so the direct controller drives there.
   Rig rig(floorWorld(), Eigen::Vector3d(0, 0, 0));
@@ -375,7 +409,7 @@ TEST(TNavigationParams, SaveLoadRoundTrip) {
   EXPECT_EQ(b.ptg_cache_dir, a.ptg_cache_dir);
   EXPECT_TRUE(b.allow_reverse);
   EXPECT_DOUBLE_EQ(b.goal_timeout_s, 42);
-  EXPECT_EQ(knownKeys(a, "navigation").size(), 20u);  // every key written
+  EXPECT_EQ(knownKeys(a, "navigation").size(), 21u);  // every key written
 }
 
 // The PTG cache never goes to a fixed name in a shared folder (issue: another user's link planted

@@ -179,4 +179,78 @@ std::optional<Eigen::Vector2d> nearestReachableCell(const mrpt::maps::COccupancy
   return best;
 }
 
+namespace {
+/// Whether every cell the segment between two cell centres crosses is reachable (sampled at a
+/// quarter cell).
+bool lineOfSight(const ReachableCells& reach, int ax, int ay, int bx, int by) {
+  const int n = 4 * std::max(std::abs(bx - ax), std::abs(by - ay));
+  for (int k = 0; k <= n; ++k) {
+    const double f = n == 0 ? 0.0 : double(k) / n;
+    const int ix = int(std::lround(ax + f * (bx - ax))), iy = int(std::lround(ay + f * (by - ay)));
+    if (!reach.reachable(ix, iy)) return false;
+  }
+  return true;
+}
+
+/// The cells of the shortest path from the robot (distance 0) to (gx, gy), robot first: steepest
+/// descent of the distance field (strictly decreasing, so it ends).
+std::vector<std::pair<int, int>> descend(const ReachableCells& reach, int gx, int gy) {
+  std::vector<std::pair<int, int>> cells{{gx, gy}};
+  for (;;) {
+    const auto [cx, cy] = cells.back();
+    const float here = reach.distance(cx, cy);
+    int bx = cx, by = cy;
+    float best = here;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const float d = reach.distance(cx + dx, cy + dy);
+        if (d < best) best = d, bx = cx + dx, by = cy + dy;
+      }
+    if (bx == cx && by == cy) break;
+    cells.emplace_back(bx, by);
+  }
+  std::reverse(cells.begin(), cells.end());
+  return cells;
+}
+}  // namespace
+
+std::vector<Eigen::Vector2i> routeCorners(const ReachableCells& reach, const Eigen::Vector2i& start,
+                                          const Eigen::Vector2i& goal) {
+  if (!reach.reachable(start.x(), start.y()) || !reach.reachable(goal.x(), goal.y())) return {};
+  const std::vector<std::pair<int, int>> cells = descend(reach, goal.x(), goal.y());
+  // Corners: from each corner the farthest path cell still in sight becomes the next one.
+  std::vector<Eigen::Vector2i> corners;
+  std::size_t from = 0;
+  int ax = start.x(), ay = start.y();
+  while (!lineOfSight(reach, ax, ay, goal.x(), goal.y())) {
+    std::size_t next = from + 1;
+    for (std::size_t j = cells.size() - 1; j > from + 1; --j)
+      if (lineOfSight(reach, ax, ay, cells[j].first, cells[j].second)) {
+        next = j;
+        break;
+      }
+    if (next >= cells.size() - 1) break;
+    from = next;
+    ax = cells[from].first, ay = cells[from].second;
+    corners.emplace_back(ax, ay);
+  }
+  return corners;
+}
+
+std::vector<Eigen::Vector2d> routeTo(const mrpt::maps::COccupancyGridMap2D& grid,
+                                     const ReachableCells& reach, const Eigen::Vector2d& start,
+                                     const Eigen::Vector2d& goal, double search_radius_m) {
+  Eigen::Vector2i g(grid.x2idx(goal.x()), grid.y2idx(goal.y()));
+  if (!reach.reachable(g.x(), g.y())) {
+    const auto near = nearestReachableCell(grid, reach, goal.x(), goal.y(), search_radius_m);
+    if (!near) return {};
+    g = Eigen::Vector2i(grid.x2idx(near->x()), grid.y2idx(near->y()));
+  }
+  std::vector<Eigen::Vector2d> route;
+  for (const Eigen::Vector2i& c :
+       routeCorners(reach, Eigen::Vector2i(grid.x2idx(start.x()), grid.y2idx(start.y())), g))
+    route.emplace_back(grid.idx2x(c.x()), grid.idx2y(c.y()));
+  return route;
+}
+
 }  // namespace rasm::exploration

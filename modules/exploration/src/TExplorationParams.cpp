@@ -67,6 +67,7 @@ void TExplorationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
   MRPT_LOAD_CONFIG_VAR(oracle_cover_fraction, double, c, s);
   MRPT_LOAD_CONFIG_VAR(oracle_max_views, int, c, s);
   MRPT_LOAD_CONFIG_VAR(oracle_goal_overhead_s, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(oracle_tour_overhead_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(oracle_max_range_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(oracle_min_view_samples, int, c, s);
   validate(s);
@@ -134,6 +135,7 @@ void TExplorationParams::validate(const std::string& s) const {
   requireInRange(oracle_cover_fraction, 0.0, 1.0, s, "oracle_cover_fraction");
   requireInRange(oracle_max_views, 1, 100000, s, "oracle_max_views");
   requireInRange(oracle_goal_overhead_s, 0.001, 1000000.0, s, "oracle_goal_overhead_s");
+  requireInRange(oracle_tour_overhead_s, 0.0, 1000000.0, s, "oracle_tour_overhead_s");
   requireInRange(oracle_max_range_m, 0.0, 100.0, s, "oracle_max_range_m");
   requireInRange(oracle_min_view_samples, 1, 100000000, s, "oracle_min_view_samples");
   const auto requireBelow = [&s](double lo, double hi, const std::string& keys) {
@@ -206,6 +208,7 @@ void TExplorationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(oracle_cover_fraction, c, s);
   MRPT_SAVE_CONFIG_VAR(oracle_max_views, c, s);
   MRPT_SAVE_CONFIG_VAR(oracle_goal_overhead_s, c, s);
+  MRPT_SAVE_CONFIG_VAR(oracle_tour_overhead_s, c, s);
   MRPT_SAVE_CONFIG_VAR(oracle_max_range_m, c, s);
   MRPT_SAVE_CONFIG_VAR(oracle_min_view_samples, c, s);
 }

@@ -88,6 +88,9 @@ struct Navigator::Impl {
   NavState state = NavState::Idle;
   std::string reason;
   Eigen::Vector3d goal = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector2d> via;  ///< the route's waypoints before the goal
+  std::size_t via_next = 0;          ///< the first one not yet passed
+  std::vector<double> via_tail_m;    ///< per waypoint: the route's length from it to the goal
   double path_m = 0.0;
   Eigen::Vector3d last_pose = Eigen::Vector3d::Zero();
   double last_step_t = -std::numeric_limits<double>::infinity();
@@ -116,6 +119,12 @@ struct Navigator::Impl {
   void initialise();
   void step(double t);
   void stepNavigating(double t, const Eigen::Vector3d& pose);
+  /// The point steered at now: the next waypoint of the route, else the goal.
+  Eigen::Vector2d target() const { return via_next < via.size() ? via[via_next] : goal.head<2>(); }
+  /// Distance left along the route from `xy` (to the target, then the rest of the route).
+  double remaining_m(const Eigen::Vector2d& xy) const {
+    return (target() - xy).norm() + (via_next < via.size() ? via_tail_m[via_next] : 0.0);
+  }
   void stepAligning(const Eigen::Vector3d& pose);
   void stepReactive(const Eigen::Vector2d& target);
   void driveDirect(const Eigen::Vector3d& pose, const Eigen::Vector2d& target);
@@ -195,17 +204,22 @@ void Navigator::Impl::step(double t) {
 }
 
 void Navigator::Impl::stepNavigating(double t, const Eigen::Vector3d& pose) {
-  const Eigen::Vector2d to_goal = goal.head<2>() - pose.head<2>();
-  const double d = to_goal.norm();
-  if (d <= params.goal_tolerance_m) {
+  while (via_next < via.size() && (via[via_next] - pose.head<2>()).norm() <= params.via_reach_m) {
+    ++via_next;  // passed: steer at the next one (a new request to MRPT)
+    stopMrpt();
+  }
+  const Eigen::Vector2d to = target() - pose.head<2>();
+  const double d = to.norm();
+  if (via_next == via.size() && d <= params.goal_tolerance_m) {
     stopMrpt();
     state = NavState::Aligning;
     return;
   }
-  const double bearing = mrpt::math::wrapToPi(std::atan2(to_goal.y(), to_goal.x()) - pose.z());
+  const double bearing = mrpt::math::wrapToPi(std::atan2(to.y(), to.x()) - pose.z());
   if (escape != Escape::None) return stepEscape(t, pose);
-  if (d < best_dist - params.stuck_distance_m) {
-    best_dist = d;
+  const double left = remaining_m(pose.head<2>());
+  if (left < best_dist - params.stuck_distance_m) {
+    best_dist = left;
     best_t = t;
   } else if (t - best_t > params.stuck_timeout_s) {
     if (escapes >= params.escape_attempts) return finish(NavState::Failed, "stuck");
@@ -214,13 +228,13 @@ void Navigator::Impl::stepNavigating(double t, const Eigen::Vector3d& pose) {
   if (d < params.direct_range_m) {
     // MRPT trap: the PTGs fail on targets nearer than their reach; our controller drives there.
     stopMrpt();
-    return driveDirect(pose, goal.head<2>());
+    return driveDirect(pose, target());
   }
-  // Goal behind at the start: turn in place first rather than letting the forward PTGs loop
+  // Target behind at the start: turn in place first rather than letting the forward PTGs loop
   // around; only once per goal (the reactive navigator's own detours may point away later).
   if (facing && std::abs(bearing) > 10.0 * kDeg) return rotate(bearing, params.max_w_degps * kDeg);
   facing = false;
-  stepReactive(goal.head<2>());
+  stepReactive(target());
 }
 
 /// One step of MRPT's reactive navigator toward `target`; its state and error reason are read
@@ -319,7 +333,7 @@ void Navigator::Impl::stepEscape(double t, const Eigen::Vector3d& pose) {
   if (done || v < 0.02) {
     robot.stop();
     escape = Escape::None;
-    best_dist = (goal.head<2>() - pose.head<2>()).norm();
+    best_dist = remaining_m(pose.head<2>());
     best_t = t;
     facing = true;  // face the goal again before handing over to the reactive navigator
     return;
@@ -349,7 +363,7 @@ void Navigator::Impl::stepRetreat(double t, const Eigen::Vector3d& pose) {
       t - retreat_t > params.stuck_timeout_s) {
     robot.stop();
     retreating = false;
-    best_dist = (goal.head<2>() - pose.head<2>()).norm();
+    best_dist = remaining_m(pose.head<2>());
     best_t = t;
     facing = true;
     return;
@@ -406,18 +420,27 @@ Navigator::~Navigator() {
     m_impl->finish(NavState::Idle, "");
 }
 
-void Navigator::setGoal(const Eigen::Vector3d& goal_xyyaw) {
+void Navigator::setGoal(const Eigen::Vector3d& goal_xyyaw, const std::vector<Eigen::Vector2d>& via) {
   Impl& m = *m_impl;
   m.stopMrpt();
   m.goal = goal_xyyaw;
   m.goal.z() = mrpt::math::wrapToPi(m.goal.z());
+  for (const Eigen::Vector2d& w : via)
+    if (!w.allFinite()) throwInputError("navigation route", "a waypoint is not finite");
+  m.via = via;
+  m.via_next = 0;
+  m.via_tail_m.assign(via.size(), 0.0);
+  for (std::size_t k = via.size(); k-- > 0;)
+    m.via_tail_m[k] = ((k + 1 < via.size() ? via[k + 1] : Eigen::Vector2d(m.goal.head<2>())) -
+                       via[k]).norm() +
+                      (k + 1 < via.size() ? m.via_tail_m[k + 1] : 0.0);
   m.state = NavState::Navigating;
   m.reason.clear();
   m.goal_t = m.best_t = m.robot.time_s();
-  m.best_dist = (m.goal.head<2>() - m.localisation().head<2>()).norm();
-  m.last_step_t = -std::numeric_limits<double>::infinity();  // step at the next update()
   const Eigen::Vector3d pose = m.localisation();
-  const Eigen::Vector2d to = m.goal.head<2>() - pose.head<2>();
+  m.best_dist = m.remaining_m(pose.head<2>());
+  m.last_step_t = -std::numeric_limits<double>::infinity();  // step at the next update()
+  const Eigen::Vector2d to = m.target() - pose.head<2>();
   m.facing = std::abs(mrpt::math::wrapToPi(std::atan2(to.y(), to.x()) - pose.z())) >
              m.params.face_goal_deg * kDeg;
   m.escape = Impl::Escape::None;

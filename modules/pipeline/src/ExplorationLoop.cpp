@@ -10,6 +10,7 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/Timing.h"
 #include "rasm/exploration/ExplorationPlanner.h"
+#include "rasm/exploration/PlanningGrid.h"
 #include "rasm/exploration/ViewPlanner.h"
 #include "rasm/pipeline/LinePlot.h"
 #include "rasm/pipeline/OraclePlanner.h"
@@ -154,9 +155,10 @@ std::string ExplorationLoop::navFailureReason() const {
   return m_nav ? m_nav->failureReason() : std::string();
 }
 
-void ExplorationLoop::navSetGoal(const Eigen::Vector3d& goal) {
+void ExplorationLoop::navSetGoal(const Eigen::Vector3d& goal,
+                                 const std::vector<Eigen::Vector2d>& via) {
   std::lock_guard<std::mutex> lock(m_nav_mx);
-  if (m_nav) m_nav->setGoal(goal);
+  if (m_nav) m_nav->setGoal(goal, via);
 }
 
 void ExplorationLoop::navCancel() {
@@ -281,8 +283,24 @@ ExplorationLoop::PlanOutput ExplorationLoop::computePlan(const PlanRequest& req)
   // goal in this plan, with the same IG and normalisation (Plan::current_goal).
   if (p.current_goal)
     out.current_goal_score = exploration::rankingKey(m_stage.params(), *p.current_goal);
+  if (!p.ranked.empty())
+    out.route = p.route ? *p.route : routeToBest(out.plan, *req.octree, req.robot);
   out.ms = msSince(t0);
   return out;
+}
+
+/// The way to the plan's best view on the grid it planned on (the oracle plans on the world's
+/// free space and leaves Plan::grid empty: then the octree's planning grid, as the others use).
+std::vector<Eigen::Vector2d> ExplorationLoop::routeToBest(const exploration::Plan& p,
+                                                          const exploration::OccupancyOctree& octree,
+                                                          const Eigen::Vector3d& robot) const {
+  const double radius_m = m_stage.params().footprint_radius_m;
+  mrpt::maps::COccupancyGridMap2D own;
+  const bool planned_on_grid = p.grid.getSizeX() > 1 && p.grid.getSizeY() > 1;
+  if (!planned_on_grid) exploration::planningGrid(octree, robot, radius_m, own);
+  const mrpt::maps::COccupancyGridMap2D& grid = planned_on_grid ? p.grid : own;
+  const exploration::ReachableCells reach = exploration::reachableCells(grid, robot, radius_m);
+  return exploration::routeTo(grid, reach, robot.head<2>(), p.ranked.front().pose.head<2>());
 }
 
 /// The decisions of a plan, on the mapping thread: log, stopping rule, the next goal or a switch.
@@ -350,7 +368,7 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
     return;
   }
   const exploration::ViewCandidate& best = p.ranked.front();
-  if (idle) return startGoal(best, m_t);
+  if (idle) return startGoal(best, out.route, m_t);
   // Mid-way switch: only for the goal this plan scored, and only when clearly better.
   if (!ig || !m_goal || !out.goal || *out.goal != m_goal->goal || out.current_goal_score < 0)
     return;
@@ -358,7 +376,7 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
   if (best_score > xp.switch_ratio * out.current_goal_score) {
     reportOutcome(m_goal->goal, false);
     endGoal(m_t, "switched");
-    startGoal(best, m_t);
+    startGoal(best, out.route, m_t);
   }
 }
 
@@ -407,7 +425,8 @@ void ExplorationLoop::takeThreadedPlan() {
   applyPlan(*out);
 }
 
-void ExplorationLoop::startGoal(const exploration::ViewCandidate& c, double t) {
+void ExplorationLoop::startGoal(const exploration::ViewCandidate& c,
+                                const std::vector<Eigen::Vector2d>& route, double t) {
   GoalRecord g;
   g.goal = c.pose;
   g.t_start = t;
@@ -415,8 +434,9 @@ void ExplorationLoop::startGoal(const exploration::ViewCandidate& c, double t) {
   g.gain = c.gain;
   g.entropy_reduction = c.entropy_reduction;
   g.information = c.information;
+  g.route = route;
   m_goal = g;
-  navSetGoal(c.pose);
+  navSetGoal(c.pose, route);
 }
 
 void ExplorationLoop::endGoal(double t, const std::string& outcome) {
@@ -545,7 +565,9 @@ void ExplorationLoop::report(nlohmann::json& rep) const {
 
 void ExplorationLoop::writeOutputs(OutputFolder& folder) const {
   nlohmann::json goals = nlohmann::json::array();
-  for (const GoalRecord& g : m_goals)
+  for (const GoalRecord& g : m_goals) {
+    nlohmann::json route = nlohmann::json::array();
+    for (const Eigen::Vector2d& w : g.route) route.push_back({w.x(), w.y()});
     goals.push_back({{"goal", poseJson(g.goal)},
                      {"t_start", g.t_start},
                      {"t_end", g.t_end},
@@ -553,7 +575,9 @@ void ExplorationLoop::writeOutputs(OutputFolder& folder) const {
                      {"outcome", g.outcome},
                      {"gain", g.gain},
                      {"entropy_reduction", g.entropy_reduction},
-                     {"information", g.information}});
+                     {"information", g.information},
+                     {"route", route}});
+  }
   nlohmann::json metrics = nlohmann::json::array();
   for (const MetricsRow& r : m_metrics) {
     nlohmann::json row = {{"t", r.t},

@@ -12,6 +12,8 @@
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Timing.h"
+#include "rasm/exploration/PlanningGrid.h"
+#include "rasm/exploration/ViewTour.h"
 #include "rasm/sim/RayScene.h"
 #include "rasm/sim/SurfaceCoverage.h"
 
@@ -62,6 +64,8 @@ OraclePlanner::OraclePlanner(const sim::SurfaceCoverage& coverage, const sim::Ra
   buildTargets(params.oracle_target_spacing_m);
   buildViewSets(scene, T_base_cam, K);
   m_done.assign(m_poses.size(), 0);
+  excludeCrampedViews();
+  m_reached_target.assign(numTargets(), 0);
   m_precompute_ms = msSince(t0);
   std::fprintf(stderr,
                "oracle planner: %zu views (%zu free positions x %d headings), %zu targets for %zu "
@@ -199,6 +203,38 @@ void OraclePlanner::buildViewSets(const sim::RayScene& scene, const Eigen::Isome
       if (seen[t]) area_seen += a, ++m_coverable_samples;
     }
   m_reachable_fraction = area_all > 0 ? area_seen / area_all : 0.0;
+}
+
+/// A view is offered only from a free position whose eight neighbours are free too: on the
+/// edge of the free space the robot's disc touches furniture, and the navigator, which grows
+/// obstacles by more than the disc, gets stuck or collides on the way there (tens of seconds
+/// per such goal). The edge positions stay on the paths.
+void OraclePlanner::excludeCrampedViews() {
+  std::size_t cramped = 0;
+  for (std::size_t i = 0; i < m_positions.size(); ++i) {
+    const Eigen::Vector2i c = m_cell_of[i];
+    bool interior = true;
+    for (int dy = -1; dy <= 1 && interior; ++dy)
+      for (int dx = -1; dx <= 1 && interior; ++dx) {
+        const int x = c.x() + dx, y = c.y() + dy;
+        interior = x >= 0 && y >= 0 && x < m_nx && y < m_ny &&
+                   m_position_at[std::size_t(y) * m_nx + x] >= 0;
+      }
+    if (interior) continue;
+    ++cramped;
+    for (int k = 0; k < m_headings; ++k) m_done[i * std::size_t(m_headings) + k] = 1;
+  }
+  m_cramped_positions = cramped;
+  m_offered.resize(m_done.size());
+  for (std::size_t c = 0; c < m_done.size(); ++c) m_offered[c] = !m_done[c];
+  // Coverable: what the offered views see (reachableFraction keeps every free position's).
+  std::vector<std::uint8_t> seen(numTargets(), 0);
+  for (std::size_t c = 0; c < m_sees.size(); ++c)
+    if (m_offered[c])
+      for (const std::uint32_t t : m_sees[c]) seen[t] = 1;
+  m_coverable_samples = 0;
+  for (std::size_t t = 0; t < seen.size(); ++t)
+    if (seen[t]) m_coverable_samples += m_target_start[t + 1] - m_target_start[t];
 }
 
 void OraclePlanner::setCoveredSamples(const std::vector<std::uint8_t>& covered) {
@@ -353,50 +389,56 @@ std::vector<int> OraclePlanner::tourThrough(const Eigen::Vector3d& start,
                                             const std::vector<int>& views) const {
   const std::size_t k = views.size();
   if (k < 2) return views;
-  // cost[i][j]: travel time from stop i to stop j (stop 0 = start, stop i + 1 = views[i]); not
-  // symmetric (the turns depend on the direction of travel).
-  std::vector<std::vector<double>> cost(k + 1, std::vector<double>(k + 1, 0.0));
+  // The views' weights: what each adds to the ones before it in the given (cover) order.
+  exploration::TourProblem problem;
+  problem.weight.resize(k);
+  {
+    std::vector<std::uint8_t> seen(m_left.size(), 0);
+    for (std::size_t i = 0; i < k; ++i) {
+      double g = 0;
+      for (const std::uint32_t t : m_sees[std::size_t(views[i])])
+        if (!seen[t]) seen[t] = 1, g += m_left[t];
+      problem.weight[i] = g;
+    }
+  }
+  // Travel times, not symmetric (the turns depend on the direction of travel), plus the goal's
+  // overhead (approach and alignment: every goal costs it, whatever the order).
+  const double overhead_s = m_params.oracle_tour_overhead_s;
+  problem.start_time_s.resize(k);
+  problem.time_s = Eigen::MatrixXd::Zero(Eigen::Index(k), Eigen::Index(k));
   for (std::size_t i = 0; i <= k; ++i) {
     const Eigen::Vector3d from = i == 0 ? start : m_poses[std::size_t(views[i - 1])];
     const std::vector<float> field = distanceField(nearestPosition(from.head<2>()));
-    for (std::size_t j = 1; j <= k; ++j) {
-      const double tt = travelTime(field, from.head<2>(), from.z(), std::size_t(views[j - 1]));
-      cost[i][j] = std::isfinite(tt) ? tt : 1e9;  // (free positions are one component)
+    for (std::size_t j = 0; j < k; ++j) {
+      const double tt = travelTime(field, from.head<2>(), from.z(), std::size_t(views[j]));
+      const double cost = (std::isfinite(tt) ? tt : 1e6) + overhead_s;  // (one component)
+      if (i == 0)
+        problem.start_time_s[j] = cost;
+      else if (i - 1 != j)
+        problem.time_s(Eigen::Index(i - 1), Eigen::Index(j)) = cost;
     }
   }
-  // Nearest neighbour from the start (ties: the earlier chosen view).
-  std::vector<std::size_t> path{0};
-  std::vector<std::uint8_t> used(k + 1, 0);
-  used[0] = 1;
-  for (std::size_t step = 0; step < k; ++step) {
-    std::size_t next = 0;
-    for (std::size_t j = 1; j <= k; ++j)
-      if (!used[j] && (next == 0 || cost[path.back()][j] < cost[path.back()][next])) next = j;
-    used[next] = 1;
-    path.push_back(next);
-  }
-  // 2-opt on the open path (the start stays first): reverse path[i..j] while that shortens the
-  // tour (costs are not symmetric, so the reversed segment is costed too).
-  const auto pathCost = [&](const std::vector<std::size_t>& p) {
-    double sum = 0;
-    for (std::size_t i = 1; i < p.size(); ++i) sum += cost[p[i - 1]][p[i]];
-    return sum;
-  };
-  double best = pathCost(path);
-  std::vector<std::size_t> trial;
-  for (bool improved = true; improved;) {
-    improved = false;
-    for (std::size_t i = 1; i + 1 < path.size(); ++i)
-      for (std::size_t j = i + 1; j < path.size(); ++j) {
-        trial = path;
-        std::reverse(trial.begin() + std::ptrdiff_t(i), trial.begin() + std::ptrdiff_t(j) + 1);
-        const double c = pathCost(trial);
-        if (c < best - 1e-9) path.swap(trial), best = c, improved = true;
-      }
-  }
+  const std::vector<int> order = exploration::solveTour(problem);
   std::vector<int> tour;
-  for (std::size_t i = 1; i < path.size(); ++i) tour.push_back(views[path[i] - 1]);
+  for (const int i : order) tour.push_back(views[std::size_t(i)]);
   return tour;
+}
+
+std::vector<Eigen::Vector2d> OraclePlanner::routeTo(const std::vector<float>& field,
+                                                    const Eigen::Vector2d& robot_xy,
+                                                    std::size_t c) const {
+  exploration::ReachableCells reach;
+  reach.size_x = m_nx, reach.size_y = m_ny;
+  reach.distance_m.assign(std::size_t(m_nx) * m_ny, kInf);
+  for (std::size_t i = 0; i < m_positions.size(); ++i)
+    reach.distance_m[std::size_t(m_cell_of[i].y()) * m_nx + m_cell_of[i].x()] = field[i];
+  const int from = nearestPosition(robot_xy);
+  if (from < 0) return {};
+  std::vector<Eigen::Vector2d> route;
+  for (const Eigen::Vector2i& k : exploration::routeCorners(
+           reach, m_cell_of[std::size_t(from)], m_cell_of[c / std::size_t(m_headings)]))
+    route.push_back((m_grid_org + m_spacing * k.cast<float>()).cast<double>());
+  return route;
 }
 
 exploration::ViewCandidate OraclePlanner::candidate(std::size_t c, const std::vector<float>& field,
@@ -418,6 +460,10 @@ exploration::ViewCandidate OraclePlanner::candidate(std::size_t c, const std::ve
 
 exploration::Plan OraclePlanner::plan(const exploration::PlannerInputs& in) {
   if (in.store) updateCoverage(*in.store);
+  // What a reached view saw is taken as done although the map may not count it yet (a surfel is
+  // stable only after several views): otherwise the next cover hops back to views beside it.
+  for (std::size_t t = 0; t < m_left.size(); ++t)
+    if (m_reached_target[t]) m_left[t] = 0;
   const std::uint64_t min_gain = std::uint64_t(m_params.oracle_min_view_samples);
   // Views done, or whose samples the map has covered meanwhile, leave the tour.
   m_tour.erase(std::remove_if(m_tour.begin(), m_tour.end(),
@@ -429,6 +475,7 @@ exploration::Plan OraclePlanner::plan(const exploration::PlannerInputs& in) {
   exploration::Plan p;
   const std::vector<float> field = distanceField(nearestPosition(in.robot_pose.head<2>()));
   for (const int c : m_tour) p.ranked.push_back(candidate(std::size_t(c), field, in.robot_pose));
+  if (!m_tour.empty()) p.route = routeTo(field, in.robot_pose.head<2>(), std::size_t(m_tour[0]));
   return p;
 }
 
@@ -436,10 +483,11 @@ void OraclePlanner::goalOutcome(const Eigen::Vector3d& goal_xyyaw, bool reached)
   if (!reached) m_blacklist.add(goal_xyyaw);
   for (std::size_t c = 0; c < m_poses.size(); ++c) {
     const double d = (m_poses[c].head<2>() - goal_xyyaw.head<2>()).norm();
-    if (reached
-            ? (d < 1e-6 && std::abs(mrpt::math::wrapToPi(m_poses[c].z() - goal_xyyaw.z())) < 1e-6)
-            : d <= m_params.blacklist_radius_m)
-      m_done[c] = 1;
+    const bool this_view =
+        d < 1e-6 && std::abs(mrpt::math::wrapToPi(m_poses[c].z() - goal_xyyaw.z())) < 1e-6;
+    if (reached ? this_view : d <= m_params.blacklist_radius_m) m_done[c] = 1;
+    if (reached && this_view)
+      for (const std::uint32_t t : m_sees[c]) m_reached_target[t] = 1;
   }
 }
 

@@ -275,7 +275,8 @@ when planned), `applied_t`, `robot` [x, y, yaw rad], `reachable`, `unreachable`,
 (counts towards the stopping rule), `best` {`pose`, `source` (object, frontier, sweep, random),
 `gain`, `rate`, `path_length_m`}, `current_goal_score`}; `goals`: the goals driven to {`goal`
 [x, y, yaw], `t_start`, `t_end`, `source`, `outcome` (reached, switched, stopped or the
-navigator's failure), `gain`, `entropy_reduction`, `information`}; `metrics`: over time {`t`,
+navigator's failure), `gain`, `entropy_reduction`, `information`, `route` (the waypoints [x, y]
+the navigator passed first: the planned path's corners, through doorways)}; `metrics`: over time {`t`,
 `frames`, `path_m`, `entropy_nats`, `surfels`, and with the simulator's ground truth `coverage`,
 `objects_correct_fraction`, `objects_correct`, `objects_detectable`}. Times in s since the first
 frame; poses in the map frame.

@@ -73,6 +73,9 @@ struct Plan {
   /// Reachable candidates a coarse prediction left out of the full one ([exploration]
   /// predict_screen_keep; not in ranked).
   std::size_t screened_out = 0;
+  /// The way to ranked.front() (waypoints before it, as routeTo), when the planner knows the free
+  /// space better than `grid` (the oracle knows the world's); otherwise the loop routes on `grid`.
+  std::optional<std::vector<Eigen::Vector2d>> route;
 };
 
 class ExplorationPlanner {

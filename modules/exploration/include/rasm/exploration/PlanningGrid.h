@@ -61,4 +61,20 @@ std::optional<Eigen::Vector2d> nearestReachableCell(const mrpt::maps::COccupancy
                                                     const ReachableCells& reach, double x, double y,
                                                     double radius_m);
 
+/// The way to `goal` (x, y) for a navigator that steers straight at its target (the reactive
+/// one of section VI sees obstacles but not rooms: a goal behind a wall beside a doorway drives it
+/// into the wall): the shortest path over `reach` from the robot (steepest descent of its distance
+/// field from the goal's cell, or, when that cell is not reachable, from the reachable cell
+/// nearest the goal within search_radius_m), cut at the corners where the line of sight over
+/// reachable cells from the previous corner ends. Returns the corners in travel order, without
+/// the start and the goal: empty when the robot sees the goal's cell over reachable cells, when
+/// the goal is far from every reachable cell, or when the robot's cell is not in `reach`.
+/// routeTo on cells: the corners (cell indices) of the path over `reach` from cell `start` to cell
+/// `goal`, the distance field being `reach`'s from `start` (any grid: the oracle's free-space grid
+/// too); empty when either cell is not reachable or the goal is in sight.
+std::vector<Eigen::Vector2i> routeCorners(const ReachableCells& reach, const Eigen::Vector2i& start,
+                                          const Eigen::Vector2i& goal);
+std::vector<Eigen::Vector2d> routeTo(const mrpt::maps::COccupancyGridMap2D& grid,
+                                     const ReachableCells& reach, const Eigen::Vector2d& start,
+                                     const Eigen::Vector2d& goal, double search_radius_m = 1.0);
 }  // namespace rasm::exploration

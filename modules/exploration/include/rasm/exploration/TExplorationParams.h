@@ -147,6 +147,9 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   /// this)): the navigator's slow approach and final alignment; a small constant makes the cover
   /// choose hops of a few decimetres (docs/exploration.md, the oracle).
   double oracle_goal_overhead_s = 20.0;
+  /// Seconds each goal adds to the arrival times by which the tour through the chosen views is
+  /// ordered (the navigator's approach and alignment: 2-5 s a goal in the oracle's runs).
+  double oracle_tour_overhead_s = 4.0;
   /// A view counts a target only up to this depth (m; 0 = the coverage's max_range_m): the map
   /// covers a sample only within 2 cm of a stable surfel, which a far, oblique view at a low
   /// resolution often does not give.

@@ -41,8 +41,11 @@ class Navigator {
   Navigator(const Navigator&) = delete;
   Navigator& operator=(const Navigator&) = delete;
 
-  /// Replaces any current goal (x, y, yaw); state -> Navigating.
-  void setGoal(const Eigen::Vector3d& goal_xyyaw);
+  /// Replaces any current goal (x, y, yaw); state -> Navigating. `via`: a route's waypoints
+  /// (x, y) to pass first, in order (exploration::routeTo: the corners of a path around walls,
+  /// which the reactive navigator does not see beyond its range); each counts as passed within
+  /// via_reach_m, and progress (the stuck check) is the distance left along the route.
+  void setGoal(const Eigen::Vector3d& goal_xyyaw, const std::vector<Eigen::Vector2d>& via = {});
   /// Stops the robot; state -> Idle.
   void cancel();
   /// After every robot.step(dt): one navigation step whenever period_s of robot time has passed.

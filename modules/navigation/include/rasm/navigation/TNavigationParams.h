@@ -31,6 +31,9 @@ struct TNavigationParams : public mrpt::config::CLoadableOptions {
   /// Targets nearer than this are driven to by the own controller: MRPT's PTGs fail on targets
   /// closer than their reach (MRPT-NOTES trap).
   double direct_range_m = 0.5;
+  /// A waypoint of a route (Navigator::setGoal's `via`) counts as passed within this distance;
+  /// the robot then steers at the next one.
+  double via_reach_m = 0.3;
   /// Turn in place toward the goal first when it lies more than this off the heading (the
   /// forward-only PTGs otherwise take a wide loop).
   double face_goal_deg = 45.0;

@@ -96,6 +96,7 @@ class ExplorationLoop {
     double t_start = 0, t_end = -1;
     std::string source, outcome;
     double gain = 0, entropy_reduction = 0, information = 0;
+    std::vector<Eigen::Vector2d> route;  ///< the waypoints given to the navigator before it
   };
   struct MetricsRow {
     double t = 0, path_m = 0, coverage = 0, objects_correct = 0, entropy = 0;
@@ -118,6 +119,9 @@ class ExplorationLoop {
     Eigen::Vector3d robot = Eigen::Vector3d::Zero();
     std::optional<Eigen::Vector3d> goal;
     double current_goal_score = -1;  ///< the goal's score in this plan's units (-1: none)
+    /// The way to the plan's best view around walls (exploration::routeTo on the plan's grid):
+    /// the navigator's waypoints before it.
+    std::vector<Eigen::Vector2d> route;
     std::string error;               ///< the planner thread's exception
   };
   void start(const std::vector<Eigen::Vector2f>& footprint,
@@ -126,18 +130,22 @@ class ExplorationLoop {
   // The navigator's calls from the mapping thread, serialised with the driver's stepping.
   navigation::NavState navState() const;
   std::string navFailureReason() const;
-  void navSetGoal(const Eigen::Vector3d& goal);
+  void navSetGoal(const Eigen::Vector3d& goal, const std::vector<Eigen::Vector2d>& via = {});
   void navCancel();
   bool groundTruth() const { return m_coverage != nullptr; }
   /// Plans now (deterministic mode) or asks the planner thread to ([explore] planner_thread).
   void plan(double t, bool driving);
   PlanOutput computePlan(const PlanRequest& req);
+  std::vector<Eigen::Vector2d> routeToBest(const exploration::Plan& p,
+                                           const exploration::OccupancyOctree& octree,
+                                           const Eigen::Vector3d& robot) const;
   void applyPlan(const PlanOutput& out);
   void plannerThread();
   void takeThreadedPlan();
   /// A goal's outcome to the planner (queued for the planner thread when it runs).
   void reportOutcome(const Eigen::Vector3d& goal, bool reached);
-  void startGoal(const exploration::ViewCandidate& c, double t);
+  void startGoal(const exploration::ViewCandidate& c, const std::vector<Eigen::Vector2d>& route,
+                 double t);
   void endGoal(double t, const std::string& outcome);
   void measure(double t);
   static std::vector<SceneView> candidateViews(const exploration::Plan& p);
