@@ -348,7 +348,12 @@ def planners(p, seeds=(1101, 1102, 1103, 1104, 1105),
     `run_seeds` seeds: the world's own seed s (tasks planners_<world>_<planner>) and s + 1, s + 2,
     ... (planners_<world>_<planner>_s2, ...: the same world, another sensor noise and planner
     randomness). 156 tasks, ~2.5 h on 2 cores."""
-    for w, seed in explore_worlds(p, seeds, flat_seeds):
+    worlds = explore_worlds(p, seeds, flat_seeds)
+    shipped, rooms, flats = worlds[:3], worlds[3:3 + len(seeds)], worlds[3 + len(seeds):]
+    # The generated worlds first (the targets are on them), a room and a flat in turn, so that a
+    # panel stopped early has whole worlds of both kinds.
+    mixed = [w for pair in zip(rooms, flats) for w in pair] + rooms[len(flats):] + flats[len(rooms):]
+    for w, seed in mixed + shipped:
         wname = os.path.basename(w)[:-5] if w.endswith(".yaml") else w
         for k in range(run_seeds):
             for planner in PLANNERS:
