@@ -36,7 +36,8 @@ Eigen::Isometry3d mount() {
 
 /// Depth of the room seen from inside: the ray's exit from the box, or no return (0) where it
 /// leaves through a door (|y| < kDoorHalfWidth, z < kDoorHeight in the x = +2 and/or x = -2 wall).
-Image<float> roomDepth(const Eigen::Isometry3d& T, bool door_px, bool door_mx) {
+Image<float> roomDepth(const Eigen::Isometry3d& T, bool door_px, bool door_mx,
+                       const Eigen::Vector3d& lo = kMin, const Eigen::Vector3d& hi = kMax) {
   Image<float> depth(kK.width, kK.height, 0.0f);
   const Eigen::Vector3d o = T.translation();
   for (int y = 0; y < kK.height; ++y)
@@ -47,7 +48,7 @@ Image<float> roomDepth(const Eigen::Isometry3d& T, bool door_px, bool door_mx) {
       int face = -1;
       for (int a = 0; a < 3; ++a) {
         if (std::abs(r[a]) < 1e-12) continue;
-        const double ta = ((r[a] > 0 ? kMax[a] : kMin[a]) - o[a]) / r[a];
+        const double ta = ((r[a] > 0 ? hi[a] : lo[a]) - o[a]) / r[a];
         if (ta < t) t = ta, face = a;
       }
       const Eigen::Vector3d p = o + t * r;
@@ -317,6 +318,55 @@ TEST(PlanningGrid, TheRouteToAGoalBehindAWallGoesThroughTheGapInSight) {
   // A goal in sight needs no corner; a goal far from everything reachable gets no route.
   EXPECT_TRUE(routeTo(g, reach, robot.head<2>(), Eigen::Vector2d(2.0, 4.0)).empty());
   EXPECT_TRUE(routeTo(g, reach, robot.head<2>(), Eigen::Vector2d(3.05, 2.0), 0.1).empty());
+}
+
+// A 10 x 3 m hall whose far half lies beyond the sensor's 4 m: the robot has turned in place at
+// one end, so views of what it knows are near and cheap, and the unknown far half can only be
+// seen from its edge, ~3.5 m away. The global planner schedules the edge early (the greedy
+// one-step ranking of earlier versions kept choosing near views).
+TEST(TourIgPlanner, AHallWhoseFarHalfIsUnknownGetsAGoalThereAlthoughNearViewsExist) {
+  const Eigen::Vector3d lo(-5.0, -1.5, 0.0), hi(5.0, 1.5, 2.5);
+  TExplorationParams p = roomParams();
+  p.workspace_min_x_m = -5.5, p.workspace_max_x_m = 5.5;
+  p.workspace_min_y_m = -2.0, p.workspace_max_y_m = 2.0;
+  p.random_candidates = 24;
+  auto octree = std::make_unique<OccupancyOctree>(p);
+  const Eigen::Vector3d robot(-4.0, 0.0, 0.0);
+  for (int k = 0; k < 16; ++k) {
+    const Eigen::Isometry3d T =
+        cameraPoseOf(Eigen::Vector3d(robot.x(), robot.y(), k * M_PI / 8), mount());
+    octree->insertDepthFrame(roomDepth(T, false, false, lo, hi), kK, T);
+  }
+  maps::SurfelStore store;
+  const std::vector<segmentation::SegmentStats> segments;
+  PlannerInputs in = inputsFor(*octree, robot);
+  in.store = &store;
+  in.segments = &segments;
+  TourIgPlanner planner(p);
+  const Plan plan = planner.plan(in);
+  expectSoundGoals(plan, p);
+  ASSERT_FALSE(plan.ranked.empty());
+  const auto near_views = std::count_if(plan.ranked.begin(), plan.ranked.end(), [&](const ViewCandidate& c) {
+    return (c.pose.head<2>() - robot.head<2>()).norm() < 1.5;
+  });
+  EXPECT_GT(near_views, 0) << "no near view to prefer: the test shows nothing";
+  for (std::size_t k = 0; k < plan.tour_clusters; ++k)
+    std::printf("tour %zu: (%.2f, %.2f, %.0f deg) gain %.3f, dH %.0f nats, travel %.1f s\n", k,
+                plan.ranked[k].pose.x(), plan.ranked[k].pose.y(),
+                plan.ranked[k].pose.z() * 180 / M_PI, plan.ranked[k].gain,
+                plan.ranked[k].entropy_reduction, plan.ranked[k].travel_time_s);
+  // The best view of the plan is at the edge of the known half facing the unknown one, and the
+  // tour goes there within its first three stops (near crumbs on the way may come first).
+  const auto best = std::max_element(
+      plan.ranked.begin(), plan.ranked.end(),
+      [](const ViewCandidate& a, const ViewCandidate& b) { return a.gain < b.gain; });
+  EXPECT_GT(best->pose.x(), robot.x() + 2.5) << best->pose.transpose();
+  EXPECT_GT(std::cos(best->pose.z()), 0.5);
+  bool far_early = false;
+  for (std::size_t k = 0; k < std::min<std::size_t>(3, plan.tour_clusters); ++k)
+    far_early = far_early || (plan.ranked[k].pose.x() > robot.x() + 2.5 &&
+                              std::cos(plan.ranked[k].pose.z()) > 0.5);
+  EXPECT_TRUE(far_early) << "the unknown half is not among the tour's first three stops";
 }
 
 // ---- frontier ----
