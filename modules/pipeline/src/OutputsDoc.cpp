@@ -98,6 +98,11 @@ const Doc kReport[] = {
     {"frames_off_floor",
      "tracked robot frames whose camera left the first frame's floor "
      "(`[robot] floor_max_height_m` / `floor_max_tilt_deg`)"},
+    {"frames_before_map",
+     "frames skipped before the map started: too little valid depth to start it (fewer valid "
+     "pixels than `[tracking] min_inliers`, at most a tenth of the image); not fused, counted in "
+     "frames_lost"},
+    {"warnings", "the run's warnings, when it has any (a late map start)"},
     {"floor_drift",
      "robot runs with odometry: the tracked frames' camera against the first frame's floor and "
      "the mount, no ground truth needed: `frames`, `height_error_m` {median, max} (of "
