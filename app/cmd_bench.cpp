@@ -4,13 +4,15 @@
 // part of the unit tests. --preload decodes every frame before the clock starts ([source] preload):
 // the frame rate then measures the mapping alone, as fed by a live camera. The run's small files
 // (config.ini, frames.csv, report.json, ...) go to a folder of its own made by mkdtemp in $TMPDIR
-// (rasm::ScratchFolder), removed at the end.
+// (rasm::ScratchFolder), removed at the end, also when SIGINT / SIGTERM stops it (exit 128 + the
+// signal; the frames done are reported).
 #include <cstdio>
 #include <iostream>
 
 #include "Command.h"
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
+#include "rasm/pipeline/Interrupts.h"
 #include "rasm/pipeline/MappingRun.h"
 
 namespace {
@@ -59,7 +61,11 @@ int benchMain(const std::vector<std::string>& args) {
     cfg.set("output", k, "false");
   for (const auto& o : overrides) cfg.applyOverride(o);
   // After the overrides: the scratch folder is the bench's own (no --set output.dir).
+  // SIGINT / SIGTERM: the run stops after its frame and returns, and the scratch folder goes
+  // with `scratch`; a second signal aborts at once and the handler removes the folder.
+  installInterruptHandlers();
   const rasm::ScratchFolder scratch("rasm_bench_");
+  const ScopedAbortRemovesFolder remove_on_abort(scratch.path());
   cfg.set("output", "dir", scratch.path());
   MappingRun run(cfg);
   const RunSummary s = run.run();
@@ -67,7 +73,7 @@ int benchMain(const std::vector<std::string>& args) {
   j["bench"] = "mapping";
   j["input"] = input.empty() ? "embedded default" : input;
   std::cout << j.dump() << std::endl;
-  return 0;
+  return stopSignal() != 0 ? 128 + stopSignal() : 0;
 }
 
 const rasm::app::Registrar reg(

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "Command.h"
+#include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/io/DatasetConverter.h"
 #include "rasm/io/SevenScenesFrameSource.h"
@@ -164,15 +165,9 @@ int convert(const std::vector<std::string>& args) {
                               "is a file of the input folder " + pos[1] +
                                   ": converting would overwrite the input (write elsewhere)");
   }
-  // The output folder is created when missing, as `rasm run --out` does.
-  const std::filesystem::path out_dir = std::filesystem::path(pos[2]).parent_path();
-  std::error_code ec;
-  if (!out_dir.empty() && !std::filesystem::is_directory(out_dir)) {
-    std::filesystem::create_directories(out_dir, ec);
-    if (ec)
-      rasm::throwInputError("output folder '" + out_dir.string() + "'",
-                            "cannot be created: " + ec.message());
-  }
+  // Written only into an existing folder (a mistyped path created folders anywhere, even at the
+  // filesystem root).
+  rasm::requireParentFolder(pos[2], "output '" + pos[2] + "'");
   Progress progress;
   const auto res = rasm::io::convertToRawlog(*src, pos[2], copt, std::ref(progress));
   progress.finish();

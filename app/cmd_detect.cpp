@@ -4,10 +4,11 @@
 // DnnDetector) on one image and prints the detections as JSON: class, score, box (x, y, w, h in
 // pixels) and every reported class's score. --out draws the boxes and labels into a PNG. Without
 // an INI: Yolo-Fastest 1.1 (COCO) from the shared data folder. Paths under "../shared/data/" that
-// do not exist relative to the working directory are looked up in $RASM_SHARED_DATA and next to
-// the source tree of this binary (<source>/build/rasm -> <source>/../shared/data), so the default
-// works from any directory. --threads sets OpenCV's thread count, --repeat N times N calls and
-// reports their median (docs/classification.md "DNN detector").
+// do not exist relative to the working directory are looked up in $RASM_SHARED_DATA, the
+// compiled-in shared data folder and next to the source tree of this binary
+// (rasm/core/SharedData.h), so the default works from any directory. --threads sets OpenCV's
+// thread count, --repeat N times N calls and reports their median (docs/classification.md "DNN
+// detector").
 #if defined(RASM_HAVE_MODULE_CLASSIFICATION) && defined(RASM_HAVE_MODULE_PIPELINE)
 
 #include <algorithm>
@@ -30,6 +31,7 @@
 #include "rasm/classification/ZeroShotDetector.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
+#include "rasm/core/SharedData.h"
 #include "rasm/core/Timing.h"
 #include "rasm/pipeline/OutputFiles.h"
 #include "rasm/pipeline/RunConfig.h"
@@ -47,35 +49,13 @@ const char* kUsage =
     "[dnn_detector] alone when the INI does not set that key (default: Yolo-Fastest 1.1 from\n"
     "../shared/data), on one image and prints the detections as JSON (with several detectors, one\n"
     "entry per detector under \"detectors\"); --out draws them into a PNG.\n";
-const char* kSharedPrefix = "../shared/data/";
-
-/// Candidate shared data folders: $RASM_SHARED_DATA, then next to the source tree of this binary.
-std::vector<fs::path> sharedDataFolders() {
-  std::vector<fs::path> out;
-  if (const char* env = std::getenv("RASM_SHARED_DATA")) out.emplace_back(env);
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) out.push_back(exe.parent_path().parent_path().parent_path() / "shared" / "data");
-  return out;
-}
-
-/// A path under "../shared/data/" that is missing relative to the working directory, looked up
-/// in the other shared data folders; any other path unchanged.
-std::string resolveSharedData(const std::string& path) {
-  std::error_code ec;
-  if (path.rfind(kSharedPrefix, 0) != 0 || fs::exists(path, ec)) return path;
-  const std::string rest = path.substr(std::string(kSharedPrefix).size());
-  for (const fs::path& folder : sharedDataFolders())
-    if (fs::exists(folder / rest, ec)) return (folder / rest).string();
-  return path;
-}
-
 /// The detector `rasm detect` runs, from the configuration (one place, so more detectors join
 /// here). InputError when it is disabled or its files are missing (whatever `required` says).
 std::unique_ptr<Detector> makeConfiguredDnn(const rasm::pipeline::RunConfig& cfg) {
   rasm::classification::TDnnDetectorParams params;
   rasm::loadParamsStrict(cfg.ini(), "dnn_detector", params, cfg.source());
-  for (std::string* p : {&params.model, &params.weights, &params.names}) *p = resolveSharedData(*p);
+  for (std::string* p : {&params.model, &params.weights, &params.names})
+    *p = rasm::resolveSharedData(*p);
   if (!params.enabled)
     rasm::throwInputError("[dnn_detector] enabled", "false: there is no detector to run");
   params.required = true;  // this command has nothing to do without it: missing files are errors

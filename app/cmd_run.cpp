@@ -96,10 +96,11 @@ int runMain(const std::vector<std::string>& args) {
           << "usage: rasm run [file.ini] [--set section.key=value ...] [--out DIR] [--force] "
              "[--max-frames N] [--map map.surfelmap]\n"
              "Without a file, runs the embedded default (the simulated office, ini/default.ini).\n"
-             "--out DIR: an empty or new folder, or one of an earlier rasm run (only the files it\n"
-             "listed in DIR/.rasm-run.json are removed). A folder holding other files is refused;\n"
-             "--force ([output] overwrite = true) writes beside them: they are left alone, only\n"
-             "rasm's own file names are replaced.\n";
+             "--out DIR: an empty or new folder (created; its parent folder must exist), or one\n"
+             "of an earlier rasm run (only the files it listed in DIR/.rasm-run.json are\n"
+             "removed). A folder holding other files is refused; --force ([output] overwrite =\n"
+             "true) writes beside them: they are left alone, only rasm's own file names are\n"
+             "replaced.\n";
       return 0;
     } else if (!a.empty() && a[0] == '-')
       rasm::throwInputError("option '" + a + "'", "unknown (see rasm run --help)");

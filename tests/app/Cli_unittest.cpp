@@ -1,6 +1,6 @@
 // The command line as a new user meets it (issue 19, 4): `rasm --version`, `--help` / `-h` on
-// every command and subcommand (usage, exit 0, nothing run), and `rasm convert` creating its
-// output folder as `rasm run --out` does.
+// every command and subcommand (usage, exit 0, nothing run), and `rasm convert` writing only into
+// an existing folder (docs/io.md: no writer creates parent folders).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -91,18 +91,29 @@ TEST(RasmCli, UnknownCommandsAndHelpTopicsAreNamed) {
   EXPECT_NE(r.output.find("rasm sweep frobnicate"), std::string::npos) << r.output;
 }
 
-TEST(RasmCli, ConvertCreatesItsOutputFolder) {
+TEST(RasmCli, ConvertRefusesAMissingOutputFolderAndCreatesNothing) {
   const std::string dir = freshDir("convert");
   writeTwoFrameTumSequence(dir + "/seq");
+  // A missing folder is named and nothing is created (it made a folder at the filesystem root).
   const std::string out = dir + "/not/yet/there/seq.rawlog";
   const Result r = runRasm("convert tum " + dir + "/seq " + out + " --intrinsics 10,10,4,3");
-  EXPECT_EQ(r.status, 0) << r.output;
-  EXPECT_TRUE(fs::is_regular_file(out)) << r.output;
-  EXPECT_NE(r.output.find("2 frames"), std::string::npos) << r.output;
-  // A folder that cannot be created is named.
+  EXPECT_EQ(r.status, 3) << r.output;
+  EXPECT_NE(r.output.find("its folder '" + dir + "/not/yet/there' does not exist"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir + "/not")) << r.output;
+  // A file where the folder should be is named too.
   std::ofstream(dir + "/file") << "x";
-  const Result bad = runRasm("convert tum " + dir + "/seq " + dir + "/file/sub/seq.rawlog");
+  const Result bad = runRasm("convert tum " + dir + "/seq " + dir + "/file/seq.rawlog");
   EXPECT_EQ(bad.status, 3) << bad.output;
-  EXPECT_NE(bad.output.find(dir + "/file/sub"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("its folder '" + dir + "/file' is not a folder"), std::string::npos)
+      << bad.output;
+  // An existing folder is written as before.
+  fs::create_directories(dir + "/there");
+  const Result ok =
+      runRasm("convert tum " + dir + "/seq " + dir + "/there/seq.rawlog --intrinsics 10,10,4,3");
+  EXPECT_EQ(ok.status, 0) << ok.output;
+  EXPECT_TRUE(fs::is_regular_file(dir + "/there/seq.rawlog")) << ok.output;
+  EXPECT_NE(ok.output.find("2 frames"), std::string::npos) << ok.output;
   fs::remove_all(dir);
 }

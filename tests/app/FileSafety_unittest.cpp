@@ -2,7 +2,7 @@
 // never touches, what it refuses"): `rasm run --out` into a user's folder is refused and leaves
 // it byte-identical, --force writes beside the user's files and replaces only rasm's names;
 // `rasm bench` works in a mkdtemp folder of its own, never at a fixed name in $TMPDIR, removes it
-// and writes no map file.
+// and writes no map file; --out creates no parent folders.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -66,6 +66,21 @@ TEST(FileSafety, RunRefusesAUsersFolderAndForceReplacesOnlyRasmNames) {
       EXPECT_EQ(now, bytes);
   }
   EXPECT_EQ(readFile(dir + "/map.ply").rfind("ply\nformat binary", 0), 0u);
+  fs::remove_all(dir);
+}
+
+// --out creates the run's folder, never a chain of folders above it (a mistyped path).
+TEST(FileSafety, RunRefusesAMissingParentOfItsFolderAndCreatesNothing) {
+  const std::string dir = freshDir("out_parent");
+  const Result r = runRasm(runArgs(dir + "/no/such/run"));
+  EXPECT_EQ(r.status, 3) << r.output;
+  EXPECT_NE(r.output.find("its folder '" + dir + "/no/such' does not exist"), std::string::npos)
+      << r.output;
+  EXPECT_TRUE(fs::is_empty(dir)) << r.output;
+  // The run's own folder is created when its parent exists.
+  const Result ok = runRasm(runArgs(dir + "/run/"));
+  EXPECT_EQ(ok.status, 0) << ok.output;
+  EXPECT_TRUE(fs::is_regular_file(dir + "/run/report.json")) << ok.output;
   fs::remove_all(dir);
 }
 

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "RasmProcess.h"
 
@@ -92,5 +93,28 @@ TEST(HostileCli, ConvertRefusesToOverwriteItsInput) {
         runRasm("convert tum " + dir + "/seq " + dir + "/seq/seq.rawlog --intrinsics 10,10,4,3");
     EXPECT_EQ(ok.status, 0) << ok.output;
   }
+  fs::remove_all(dir);
+}
+
+// The compiled-in default detector files ("../shared/data/detectors/...") were relative to the
+// working directory: a run started elsewhere silently had no detector. They are now looked up in
+// the compiled-in shared data folder.
+TEST(HostileCli, DefaultDetectorIsFoundFromAnyWorkingDirectory) {
+  const std::string weights =
+      std::string(RASM_SHARED_DATA) + "/detectors/yolo-fastest-1.1-coco/yolo-fastest-1.1.weights";
+  if (!fs::exists(weights)) GTEST_SKIP() << weights << " not found";
+  const std::string dir = freshDir("default_detector");
+  const Result r = shell("cd " + dir + " && env -u RASM_SHARED_DATA " + RASM_BINARY +
+                         " run --out run " + shortRunArgs(2) +
+                         " --set classification.detectors=dnn_detector"
+                         " --set classification.every_n_frames=1");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_FALSE(has(r.output, "not found")) << r.output;
+  EXPECT_FALSE(has(r.output, "running without")) << r.output;
+  const nlohmann::json rep = nlohmann::json::parse(readFile(dir + "/run/report.json"));
+  const nlohmann::json& cls = rep.at("classification");
+  ASSERT_EQ(cls.at("detectors").size(), 1u) << cls;
+  EXPECT_FALSE(cls["detectors"][0].contains("disabled")) << cls;
+  EXPECT_TRUE(cls.value("warnings", nlohmann::json::array()).empty()) << cls;
   fs::remove_all(dir);
 }

@@ -158,3 +158,74 @@ TEST(RunSignals, SecondSignalAbortsAtOnceLeavingOnlyCompleteFiles) {
   }
   EXPECT_GE(aborted, 3);
 }
+
+namespace {
+/// Starts `rasm bench` on the simulated hand-held office at 320x240 with $TMPDIR = `tmp`.
+Child startBench(const std::string& tmp) {
+  Child c;
+  c.out = tmp;
+  std::vector<std::string> args = {RASM_BINARY, "bench",
+                                   "--set",     "sim.trajectory=office_handheld",
+                                   "--set",     "camera.preset=",
+                                   "--set",     "camera.fx=262.5",
+                                   "--set",     "camera.fy=262.5",
+                                   "--set",     "camera.cx=159.5",
+                                   "--set",     "camera.cy=119.5",
+                                   "--set",     "camera.width=320",
+                                   "--set",     "camera.height=240"};
+  const std::string log = tmp + ".log";
+  std::fflush(stdout);
+  std::fflush(stderr);
+  c.pid = fork();
+  if (c.pid == 0) {
+    ::setenv("TMPDIR", tmp.c_str(), 1);
+    FILE* f = std::freopen(log.c_str(), "w", stdout);
+    if (f) (void)dup2(fileno(stdout), 2);
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return c;
+}
+
+/// The bench's scratch folder in `tmp` once its run has written config.ini (at most 60 s).
+std::string waitForBenchScratch(const Child& c) {
+  const auto until = Clock::now() + std::chrono::seconds(60);
+  while (Clock::now() < until) {
+    for (const auto& e : fs::directory_iterator(c.out))
+      if (fs::exists(e.path() / "config.ini")) return e.path().string();
+    int status = 0;
+    if (waitpid(c.pid, &status, WNOHANG) == c.pid) return "";
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return "";
+}
+}  // namespace
+
+// `rasm bench` stopped by a signal left its mkdtemp folder behind: the first signal now stops
+// the run, which returns and removes it; a second one aborts and the handler removes it.
+TEST(RunSignals, BenchStoppedBySignalsRemovesItsScratchFolder) {
+  for (const int signals : {1, 2}) {
+    SCOPED_TRACE(signals);
+    const std::string tmp = tempDir("bench_signal");
+    const Child c = startBench(tmp);
+    const std::string scratch = waitForBenchScratch(c);
+    ASSERT_NE(scratch, "") << readText(tmp + ".log");
+    std::this_thread::sleep_for(std::chrono::milliseconds(signals == 1 ? 1000 : 300));
+    kill(c.pid, signals == 1 ? SIGINT : SIGTERM);
+    if (signals == 2) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      kill(c.pid, SIGTERM);
+    }
+    EXPECT_EQ(exitCode(c), signals == 1 ? 128 + SIGINT : 128 + SIGTERM) << readText(tmp + ".log");
+    EXPECT_FALSE(fs::exists(scratch)) << readText(tmp + ".log");
+    EXPECT_TRUE(fs::is_empty(tmp)) << ::testing::PrintToString(filesIn(tmp));
+    if (signals == 1)
+      EXPECT_NE(readText(tmp + ".log").find("\"status\":\"interrupted\""), std::string::npos)
+          << readText(tmp + ".log");
+    fs::remove_all(tmp);
+    fs::remove(tmp + ".log");
+  }
+}

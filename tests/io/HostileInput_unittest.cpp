@@ -137,12 +137,14 @@ TEST(HostileRawlog, GzipCorruptAtItsStartSaysSo) {
   std::ofstream(dir / "bad.rawlog", std::ios::binary) << bytes;
   try {
     RawlogFrameSource src(dir / "bad.rawlog");
-    while (src.next()) {
-    }
-    FAIL() << "no error";
+    FAIL() << "no error before the first frame";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("its 210 bytes hold no readable entry"), std::string::npos)
-        << e.what();
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("rawlog " + std::string(dir / "bad.rawlog") +
+                       ": its gzip stream is corrupt (its compressed data is damaged"),
+              std::string::npos)
+        << msg;
+    EXPECT_NE(msg.find("found at byte "), std::string::npos) << msg;
   }
 }
 
@@ -165,26 +167,54 @@ TEST(HostileRawlog, AbsurdRangeUnitsAreRefused) {
   }
 }
 
-/// A bit flipped early in a gzip rawlog decompresses into altered frames until deserialization
-/// fails many frames later; gzip's checksum is only checked at the end. The error says so rather
-/// than only blaming the frame where it surfaced.
-TEST(HostileRawlog, GzipBitFlipSaysEarlierFramesMayBeAltered) {
+/// A bit flipped early in a gzip rawlog decompressed into altered frames, mapped until
+/// deserialization failed many frames later (gzip checks its CRC only at its end). The whole
+/// stream is now checked before the first frame: the file is refused and nothing is mapped.
+TEST(HostileRawlog, GzipBitFlipIsRefusedBeforeTheFirstFrame) {
   ScratchDir dir("bitflip");
   std::ifstream in(std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog",
                    std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  ASSERT_GT(bytes.size(), 1000u);
-  bytes[bytes.size() * 3 / 10] ^= 0x10;
-  std::ofstream(dir / "flip.rawlog", std::ios::binary) << bytes;
-  try {
-    RawlogFrameSource src(dir / "flip.rawlog");
-    while (src.next()) {
+  const std::string good((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(good.size(), 1000u);
+  EXPECT_EQ(gzipStreamProblem(std::string(RASM_SOURCE_DIR) +
+                              "/rawlogs/sim_office_handheld_320x240.rawlog"),
+            "");
+  // The flip of the probe (it mapped 19 frames) and one near the end of the stream.
+  for (const std::size_t at : {good.size() * 3 / 10, good.size() - 200}) {
+    SCOPED_TRACE(at);
+    std::string bytes = good;
+    bytes[at] ^= 0x10;
+    std::ofstream(dir / "flip.rawlog", std::ios::binary) << bytes;
+    try {
+      RawlogFrameSource src(dir / "flip.rawlog");
+      ADD_FAILURE() << "no error before the first frame";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(
+          msg.find("rawlog " + std::string(dir / "flip.rawlog") + ": its gzip stream is corrupt ("),
+          std::string::npos)
+          << msg;
+      EXPECT_NE(msg.find("found at byte "), std::string::npos) << msg;
+      EXPECT_NE(msg.find("nothing was mapped"), std::string::npos) << msg;
     }
-    FAIL() << "no error";
+  }
+}
+
+/// A gzip rawlog cut short is refused before its first frame, naming where it ends.
+TEST(HostileRawlog, GzipTruncatedIsRefusedNamingTheByte) {
+  ScratchDir dir("gzcut");
+  std::ifstream in(std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog",
+                   std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  bytes.resize(bytes.size() - 4);  // only the trailer's length field is missing
+  std::ofstream(dir / "cut.rawlog", std::ios::binary) << bytes;
+  try {
+    RawlogFrameSource src(dir / "cut.rawlog");
+    FAIL() << "no error before the first frame";
   } catch (const InputError& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find("corrupt or truncated rawlog"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("the frames read before this one may hold altered data"), std::string::npos)
-        << msg;
+    EXPECT_NE(std::string(e.what()).find("its gzip stream is corrupt (truncated at byte " +
+                                         std::to_string(bytes.size()) + ": the file ends inside"),
+              std::string::npos)
+        << e.what();
   }
 }

@@ -1,7 +1,7 @@
 // Runs and INI files that used to give a silent wrong result (docs/io.md "Refused or reported"):
-// a run that fused nothing is `failed`, the intrinsics used are in report.json (a guess says so),
-// INI keys before any section or given twice, an unterminated [section, a UTF-8 BOM, and paths
-// relative to the INI's folder.
+// a run that fused nothing is `failed`, blank first frames are skipped until the map can start,
+// the intrinsics used are in report.json (a guess says so), INI keys before any section or given
+// twice, an unterminated [section, a UTF-8 BOM, and paths relative to the INI's folder.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -124,6 +124,70 @@ TEST(HostileRun, NoValidDepthIsFailedAndIntrinsicsAreReported) {
   EXPECT_DOUBLE_EQ(rep["intrinsics"]["fx"].get<double>(), 525.0);
   EXPECT_EQ(rep["intrinsics"]["width"], 640);
   EXPECT_TRUE(has(rep["source"].get<std::string>(), "WARNING: intrinsics guessed")) << rep;
+  fs::remove_all(dir);
+}
+
+/// A first frame without depth lost the whole run: the map started on it, empty, and every
+/// later frame was lost. The map now starts on the first frame with enough valid depth; the
+/// frames before it are counted and reported.
+TEST(HostileRun, BlankFirstFramesAreSkippedAndTheMapStartsAfterThem) {
+  const std::string dir = tempDir("blank_start");
+  writeTumFolder(dir + "/fr1_blank_start", 5, 7500);  // a wall at 1.5 m
+  const cv::Mat blank(480, 640, CV_16UC1, cv::Scalar(0));
+  for (const char* t : {"100.000000", "101.000000"})
+    cv::imwrite(dir + "/fr1_blank_start/depth/" + t + ".png", blank);
+  const auto [error, rep] = runInto(
+      RunConfig::fromString("[source]\ntype = tum\npath = " + dir + "/fr1_blank_start\n", "test"),
+      dir + "/out");
+  EXPECT_EQ(error, "");
+  EXPECT_EQ(rep["status"], "ok") << rep;
+  EXPECT_GT(rep["surfels"].get<int>(), 1000) << rep;
+  EXPECT_EQ(rep["frames_before_map"], 2) << rep;
+  ASSERT_TRUE(rep.contains("warnings")) << rep;
+  EXPECT_TRUE(has(rep["warnings"][0].get<std::string>(), "the map started after 2 frame(s)"))
+      << rep;
+  // No depth in any frame: still failed, every frame skipped.
+  writeTumFolder(dir + "/fr1_all_blank", 3, 0);
+  const auto [error_blank, rep_blank] = runInto(
+      RunConfig::fromString("[source]\ntype = tum\npath = " + dir + "/fr1_all_blank\n", "test"),
+      dir + "/out_blank");
+  EXPECT_TRUE(has(error_blank, "nothing was fused")) << error_blank;
+  EXPECT_EQ(rep_blank["status"], "failed");
+  EXPECT_EQ(rep_blank["frames_before_map"], 3) << rep_blank;
+  EXPECT_FALSE(rep_blank.contains("warnings")) << rep_blank;
+  fs::remove_all(dir);
+}
+
+/// The same on a real sequence: TUM fr1/xyz with its first two frames' depth images blanked
+/// maps normally from its third frame on.
+TEST(HostileRun, RealSequenceWithBlankFirstFramesMapsNormally) {
+  const fs::path data = fs::path(RASM_SHARED_DATA) / "tum" / "fr1_xyz_first37";
+  if (!fs::exists(data / "depth.txt")) GTEST_SKIP() << data << " not found";
+  const std::string dir = tempDir("blank_start_real");
+  const std::string seq = dir + "/fr1_xyz_blank_start";
+  fs::create_directories(seq + "/depth");
+  for (const char* f : {"rgb.txt", "depth.txt", "groundtruth.txt"})
+    fs::copy_file(data / f, seq + "/" + f);
+  fs::create_directory_symlink(data / "rgb", seq + "/rgb");
+  std::ifstream list(data / "depth.txt");
+  std::string line;
+  int k = 0;
+  while (std::getline(list, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const std::string name = line.substr(line.find(' ') + 1);
+    if (k++ < 3)  // the first two associated frames (the first depth image has no colour)
+      cv::imwrite(seq + "/" + name, cv::Mat(480, 640, CV_16UC1, cv::Scalar(0)));
+    else
+      fs::copy_file(data / name, seq + "/" + name);
+  }
+  RunConfig cfg = RunConfig::fromString("[source]\ntype = tum\npath = " + seq + "\n", "test");
+  cfg.set("source", "max_frames", "10");
+  const auto [error, rep] = runInto(cfg, dir + "/out");
+  EXPECT_EQ(error, "");
+  EXPECT_EQ(rep["status"], "ok") << rep;
+  EXPECT_EQ(rep["frames_before_map"], 2) << rep;
+  EXPECT_EQ(rep["frames_lost"], 2) << rep;  // the two blank frames, and no other
+  EXPECT_GT(rep["surfels"].get<int>(), 10000) << rep;
   fs::remove_all(dir);
 }
 

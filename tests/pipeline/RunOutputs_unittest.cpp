@@ -2,7 +2,9 @@
 // always, sources without a frame, a full disk (a file size limit), SIGINT in the frame loop.
 #include <gtest/gtest.h>
 #include <sys/resource.h>
+#include <zlib.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -168,10 +170,20 @@ TEST_P(NoFrameSource, FailsWithTheReasonWritesReportAndNoMap) {
   fs::remove(out + "_input.rawlog");
 }
 
-std::string truncatedSimRawlog() {
+/// The first `bytes` bytes of the simulated rawlog as stored (gzip), or of its content (plain: a
+/// gzip stream cut short is refused before the run starts, RunRejectedBeforeAnyFrame... below).
+std::string truncatedSimRawlog(std::size_t bytes, bool plain) {
+  std::string head;
+  if (plain) {
+    gzFile f = gzopen(kSimRawlog.c_str(), "rb");
+    head.resize(bytes);
+    head.resize(std::size_t(std::max(0, gzread(f, head.data(), unsigned(bytes)))));
+    gzclose(f);
+    return head;
+  }
   std::ifstream f(kSimRawlog, std::ios::binary);
-  std::string head(100, '\0');
-  f.read(head.data(), 100);
+  head.resize(bytes);
+  f.read(head.data(), std::streamsize(bytes));
   return head;
 }
 
@@ -182,7 +194,8 @@ INSTANTIATE_TEST_SUITE_P(
         NoFrameCase{"text", "", "hello, I am not a rawlog\n", "corrupt or truncated rawlog"},
         NoFrameCase{"png", "", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16),
                     "corrupt or truncated rawlog"},
-        NoFrameCase{"truncated", "", truncatedSimRawlog(), "no CObservation3DRangeScan"},
+        NoFrameCase{"truncated", "", truncatedSimRawlog(100, true),
+                    "frame 0 (rawlog entry 1): corrupt or truncated rawlog"},
         NoFrameCase{"laser_only", "/usr/share/mrpt/datasets/rot_scan_2d.rawlog", "",
                     "no CObservation3DRangeScan in 1 rawlog entries"},
         NoFrameCase{"start_beyond_end", kSimRawlog, "",
@@ -245,13 +258,20 @@ TEST(RunOutputs, RunRejectedBeforeAnyFrameLeavesTheEarlierRunAsItWas) {
   }
   const std::vector<std::string> before = filesIn(out);
   const std::string config = readText(out + "/config.ini"), report = readText(out + "/report.json");
-  RunConfig cfg = rawlogConfig("/nonexistent/seq.rawlog", out);
-  cfg.set("source", "max_frames", "7");
-  MappingRun run(cfg);
-  EXPECT_THROW(run.run(), InputError);
-  EXPECT_EQ(filesIn(out), before);
-  EXPECT_EQ(readText(out + "/config.ini"), config);
-  EXPECT_EQ(readText(out + "/report.json"), report);
+  // A missing rawlog, and a gzip rawlog cut short (its stream is checked before the first frame).
+  const std::string cut = out + "_cut.rawlog";
+  writeBytes(cut, truncatedSimRawlog(100000, false));
+  for (const std::string& source : {std::string("/nonexistent/seq.rawlog"), cut}) {
+    SCOPED_TRACE(source);
+    RunConfig cfg = rawlogConfig(source, out);
+    cfg.set("source", "max_frames", "7");
+    MappingRun run(cfg);
+    EXPECT_THROW(run.run(), InputError);
+    EXPECT_EQ(filesIn(out), before);
+    EXPECT_EQ(readText(out + "/config.ini"), config);
+    EXPECT_EQ(readText(out + "/report.json"), report);
+  }
+  fs::remove(cut);
   fs::remove_all(out);
 }
 

@@ -28,11 +28,14 @@
 
 namespace rasm::pipeline::testing {
 
-/// <temp>/rasm_test_<name>_<pid>, removed if it exists (tests run as parallel processes).
+/// <temp>/rasm_test_<name>_<pid>, created empty (removed first if it exists; tests run as
+/// parallel processes). Created because a run's --out folder is made only in an existing one:
+/// tests write to tempDir(name) + "/out".
 inline std::string tempDir(const std::string& name) {
   const std::filesystem::path p = std::filesystem::temp_directory_path() /
                                   ("rasm_test_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(p);
+  std::filesystem::create_directories(p);
   return p.string();
 }
 

@@ -163,6 +163,47 @@ TEST(Recorder, SameSeedGivesByteIdenticalFilesWhateverTheThreadCount) {
       << "a different seed must change the noise";
 }
 
+/// The labels folder is emptied of an earlier recording's files only: a folder holding anything
+/// else (the user's files) is refused and left as it was, and nothing is written (docs/io.md).
+TEST(Recorder, LabelsFolderHoldingOtherFilesIsRefusedAndOnlyItsOwnFilesAreRemoved) {
+  const TempDir tmp("recorder_labels");
+  const RecordResult first = record(tmp.path, kHandheld, 3);
+  const fs::path labels = first.labels_dir;
+  // What a longer earlier recording, and a killed one, left: removed by the next recording.
+  for (const char* f : {"instance_000099.png", "class_000099.png", "class_000004.png.part.png",
+                        "classes.json.1a2b3c4d.part"})
+    std::ofstream(labels / f) << "stale";
+  record(tmp.path, kHandheld, 3);
+  EXPECT_FALSE(fs::exists(labels / "instance_000099.png"));
+  EXPECT_FALSE(fs::exists(labels / "class_000004.png.part.png"));
+  EXPECT_FALSE(fs::exists(labels / "classes.json.1a2b3c4d.part"));
+  EXPECT_TRUE(fs::exists(labels / "instance_000009.png"));
+  // The user's files: refused, byte-identical, and no file of the recording is touched.
+  std::ofstream(labels / "instance_000099.png") << "stale";
+  std::ofstream(labels / "notes.txt") << "mine";
+  std::ofstream(labels / "instance_final.png") << "mine too";
+  const auto before = snapshot(tmp.path);
+  try {
+    record(tmp.path, kHandheld, 4);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("labels folder '" + labels.string() + "'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("'notes.txt'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("'instance_final.png'"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find("instance_000099"), std::string::npos) << msg;
+  }
+  EXPECT_EQ(snapshot(tmp.path), before);
+  // A recording into a folder that does not exist is refused, nothing created.
+  RecordOptions opt;
+  opt.out_rawlog = (tmp.path / "missing" / "seq.rawlog").string();
+  opt.sensor_overrides = smallCamera();
+  EXPECT_THROW(recordSequence(loadWorld("office"),
+                              loadTrajectorySpecFromString(kHandheld, "inline_spec.yaml"), opt),
+               InputError);
+  EXPECT_FALSE(fs::exists(tmp.path / "missing"));
+}
+
 TEST(Recorder, GroundRobotWritesOdometry) {
   const TempDir tmp("recorder_robot");
   const char* spec =

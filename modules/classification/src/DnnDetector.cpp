@@ -15,6 +15,7 @@
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
+#include "rasm/core/SharedData.h"
 #include "rasm/core/Timing.h"
 
 namespace rasm::classification {
@@ -65,7 +66,8 @@ std::string howToObtain(const std::string& path, const std::string& key) {
   if (name.find("fastest") != std::string::npos)
     return "Yolo-Fastest 1.1 (cfg, weights, coco.names) is in "
            "../shared/data/detectors/yolo-fastest-1.1-coco/ (the project's shared data folder "
-           "next to the source tree); run from the repository root or give absolute paths";
+           "next to the source tree, looked up there from any working directory; "
+           "$RASM_SHARED_DATA names another); or give absolute paths";
   if (name.find("nanodet") != std::string::npos)
     return "NanoDet-m is ../shared/data/detectors/nanodet-m-320-onnx/nanodet.onnx (the "
            "project's shared data folder next to the source tree)";
@@ -624,10 +626,13 @@ std::vector<Detection> DnnDetector::detect(const DetectorInput& input) {
   return out;
 }
 
-std::unique_ptr<DnnDetector> makeDnnDetector(const TDnnDetectorParams& params, std::string* warning,
+std::unique_ptr<DnnDetector> makeDnnDetector(const TDnnDetectorParams& given, std::string* warning,
                                              const std::string& section) {
   if (warning) warning->clear();
-  if (!params.enabled) return nullptr;
+  if (!given.enabled) return nullptr;
+  // The compiled-in defaults ("../shared/data/...") from any working directory.
+  TDnnDetectorParams params = given;
+  for (std::string* p : {&params.model, &params.weights, &params.names}) *p = resolveSharedData(*p);
   params.validate(section);
   if (const std::string problem = modelFileProblem(params, section); !problem.empty()) {
     if (params.required) throw InputError(problem);

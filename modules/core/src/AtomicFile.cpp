@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "rasm/core/Error.h"
+
 namespace fs = std::filesystem;
 
 namespace rasm {
@@ -93,6 +95,19 @@ void writeThroughTemporary(const std::string& path,
   AtomicFile file(path, suffix);
   if (!fill(file.path())) throw std::runtime_error("cannot write " + path);
   file.commit();
+}
+
+void requireParentFolder(const std::string& path, const std::string& what) {
+  fs::path p = fs::path(path).lexically_normal();
+  if (!p.has_filename()) p = p.parent_path();  // "out/" is the folder "out"
+  const fs::path parent = p.parent_path();
+  if (parent.empty()) return;
+  std::error_code ec;
+  if (fs::is_directory(parent, ec)) return;
+  throwInputError(what, "its folder '" + parent.string() + "' " +
+                            (fs::exists(parent, ec) ? "is not a folder"
+                                                    : "does not exist (create it first; rasm "
+                                                      "creates no parent folders)"));
 }
 
 ScratchFolder::ScratchFolder(const std::string& prefix) {

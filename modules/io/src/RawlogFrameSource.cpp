@@ -11,11 +11,18 @@
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <cerrno>
+#include <cstring>
 #include <deque>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <vector>
 
 #include "MrptErrors.h"
 #include "rasm/core/Error.h"
@@ -38,7 +45,6 @@ struct RawlogFrameSource::Impl {
   std::deque<mrpt::obs::CObservation::Ptr> pending;
   std::size_t entries = 0, frames = 0;
   bool eof = false;
-  bool gzip = false;  // the file starts with the gzip magic bytes
   enum class Marker { None, GroundTruth, NoGroundTruth } gt_marker = Marker::None;
   std::optional<Eigen::Vector3d> odometry;     // consumed by the next frame
   mrpt::poses::CPose2D odometry_from_actions;  // composition of CActionRobotMovement2D increments
@@ -63,6 +69,69 @@ std::string imagesDirectoryOf(const std::string& rawlog_path) {
   return (p.parent_path() / "Images").string();
 }
 
+namespace {
+/// Why inflate stopped with Z_DATA_ERROR, in words (zlib's message kept).
+std::string inflateProblem(const char* msg) {
+  const std::string m = msg ? msg : "unknown error";
+  if (m == "incorrect data check")
+    return "CRC mismatch: it decompresses, but not into the data that was written";
+  if (m == "incorrect length check") return "length mismatch in its gzip trailer";
+  return "its compressed data is damaged (zlib: " + m + ")";
+}
+}  // namespace
+
+std::string gzipStreamProblem(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return std::string("cannot be read: ") + std::strerror(errno);
+  z_stream zs{};
+  if (inflateInit2(&zs, 15 + 16) != Z_OK) {  // gzip wrapper only
+    ::close(fd);
+    return "zlib could not be initialised";
+  }
+  std::vector<unsigned char> in(1 << 18), out(1 << 18);
+  std::string problem;
+  std::uint64_t offset = 0;  // file bytes read so far
+  bool member_ended = false;
+  for (;;) {
+    if (zs.avail_in == 0) {
+      const ssize_t n = ::read(fd, in.data(), in.size());
+      if (n < 0) {
+        problem = std::string("cannot be read: ") + std::strerror(errno);
+        break;
+      }
+      if (n == 0) {
+        if (!member_ended)
+          problem = "truncated at byte " + std::to_string(offset) +
+                    ": the file ends inside its gzip stream, before its checksum";
+        break;
+      }
+      zs.next_in = in.data();
+      zs.avail_in = uInt(n);
+      offset += std::uint64_t(n);
+    }
+    if (member_ended) {  // another gzip member follows (as gzread reads it), or trailing bytes
+      if (zs.next_in[0] != 0x1f || (zs.avail_in >= 2 && zs.next_in[1] != 0x8b)) break;
+      inflateReset(&zs);
+      member_ended = false;
+    }
+    zs.next_out = out.data();
+    zs.avail_out = uInt(out.size());
+    const int rc = inflate(&zs, Z_NO_FLUSH);
+    if (rc == Z_STREAM_END) {
+      member_ended = true;
+    } else if (rc == Z_DATA_ERROR) {
+      problem = inflateProblem(zs.msg) + ", found at byte " + std::to_string(offset - zs.avail_in);
+      break;
+    } else if (rc != Z_OK && rc != Z_BUF_ERROR) {
+      problem = "zlib error " + std::to_string(rc);
+      break;
+    }
+  }
+  inflateEnd(&zs);
+  ::close(fd);
+  return problem;
+}
+
 RawlogFrameSource::RawlogFrameSource(const std::string& path, const RawlogSourceOptions& opt)
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
@@ -82,7 +151,15 @@ RawlogFrameSource::RawlogFrameSource(const std::string& path, const RawlogSource
   impl_->images_dir = imagesDirectoryOf(path);
   std::ifstream magic(path, std::ios::binary);
   char b[2] = {0, 0};
-  impl_->gzip = magic.read(b, 2) && b[0] == '\x1f' && b[1] == '\x8b';
+  const bool gzip = magic.read(b, 2) && b[0] == '\x1f' && b[1] == '\x8b';
+  // gzip checks its CRC only at the end of the stream: a bit flip early in the file would
+  // decompress into altered frames, mapped before the error surfaced. The whole stream is
+  // checked first.
+  if (gzip)
+    if (const std::string problem = gzipStreamProblem(path); !problem.empty())
+      throwInputError("rawlog " + path,
+                      "its gzip stream is corrupt (" + problem +
+                          "); refused before its first frame: nothing was mapped");
 }
 
 RawlogFrameSource::~RawlogFrameSource() = default;
@@ -193,13 +270,8 @@ std::optional<RgbdFrame> RawlogFrameSource::next() {
       }
       return std::nullopt;
     } catch (const std::exception& e) {
-      // gzip checks its CRC only at the end of the stream: damage found here may have begun
-      // earlier, in data that still decompressed.
       throwInputError(m.frameContext(),
-                      "corrupt or truncated rawlog: " + detail::shortMrptMessage(e.what()) +
-                          (m.gzip ? " (a gzip rawlog's checksum is only checked at its end: the "
-                                    "frames read before this one may hold altered data too)"
-                                  : ""));
+                      "corrupt or truncated rawlog: " + detail::shortMrptMessage(e.what()));
     }
     ++m.entries;
     if (const auto o = std::dynamic_pointer_cast<CObservation>(obj)) {

@@ -1,6 +1,7 @@
 #include "rasm/pipeline/Interrupts.h"
 
 #include <fcntl.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -70,6 +71,33 @@ void writeAbortReport(int sig) {
   if (::close(fd) == 0) ::rename(g_report_part, g_report_path);
 }
 
+std::atomic<bool> g_folder_set{false};
+char g_folder[kPathBytes] = {};
+
+/// Removes the files directly in g_folder, then the folder (async-signal-safe: the entries are
+/// read with the getdents64 system call, not readdir).
+void removeFolder() {
+  if (!g_folder_set.load()) return;
+  const int fd = ::open(g_folder, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return;
+  alignas(8) char buf[4096];
+  for (;;) {
+    const long n = ::syscall(SYS_getdents64, fd, buf, sizeof buf);
+    if (n <= 0) break;
+    for (long off = 0; off < n;) {
+      // struct linux_dirent64: d_ino (8), d_off (8), d_reclen (2), d_type (1), d_name.
+      unsigned short reclen = 0;
+      std::memcpy(&reclen, buf + off + 16, sizeof reclen);
+      const char* name = buf + off + 19;
+      if (std::strcmp(name, ".") != 0 && std::strcmp(name, "..") != 0)
+        if (::unlinkat(fd, name, 0) != 0) ::unlinkat(fd, name, AT_REMOVEDIR);
+      off += reclen;
+    }
+  }
+  ::close(fd);
+  ::rmdir(g_folder);
+}
+
 void onSignal(int sig) {
   if (g_signals.fetch_add(1) == 0) {
     g_stop_signal.store(sig);
@@ -81,6 +109,7 @@ void onSignal(int sig) {
   for (Slot& s : g_slots)
     if (s.state.load() == 2) ::unlink(s.path);
   writeAbortReport(sig);
+  removeFolder();
   put(2, "\nrasm: aborted\n");
   ::_exit(128 + sig);
 }
@@ -131,6 +160,17 @@ ScopedTemporary::ScopedTemporary(const std::string& part) {
 
 ScopedTemporary::~ScopedTemporary() {
   if (m_slot >= 0) g_slots[m_slot].state.store(0);
+}
+
+ScopedAbortRemovesFolder::ScopedAbortRemovesFolder(const std::string& dir) {
+  g_folder_set.store(false);
+  if (dir.empty() || dir.size() >= kPathBytes) return;
+  std::memcpy(g_folder, dir.c_str(), dir.size() + 1);
+  g_folder_set.store(true);
+}
+
+ScopedAbortRemovesFolder::~ScopedAbortRemovesFolder() {
+  g_folder_set.store(false);
 }
 
 void setAbortReport(const std::string& report_path) {

@@ -187,8 +187,12 @@ OutputFolder OutputFolder::claim(const std::string& dir, OverwritePolicy policy,
                                  std::vector<std::string>& removed) {
   const std::string what = "[output] dir '" + dir + "'";
   std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throwInputError(what, "cannot be created: " + ec.message());
+  // The run's folder is created, never a chain of folders above it (a mistyped --out).
+  if (!fs::exists(fs::symlink_status(dir, ec))) {
+    requireParentFolder(dir, what);
+    fs::create_directory(dir, ec);
+    if (ec) throwInputError(what, "cannot be created: " + ec.message());
+  }
   if (!fs::is_directory(dir)) throwInputError(what, "is not a folder");
   refuseUnlessAllowed(dir, inspectRunFolder(dir), policy);  // before the lock file is created
   OutputFolder out(dir);

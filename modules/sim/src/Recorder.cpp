@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <stdexcept>
 
 #include "rasm/core/AtomicFile.h"
@@ -59,6 +60,44 @@ class Progress {
   std::chrono::steady_clock::time_point m_start = std::chrono::steady_clock::now();
   double m_last = -1e9;
 };
+
+/// A file `rasm sim record` writes into its labels folder: instance_NNNNNN.png, class_NNNNNN.png,
+/// classes.json, or a temporary of one of them (AtomicFile's names: what a killed recording
+/// leaves).
+bool isLabelsFolderFile(const std::string& name) {
+  static const std::regex own(
+      R"(((instance|class)_[0-9]{6}\.png|classes\.json)((\.[0-9a-f]{8})?\.part(\.png)?)?)");
+  return std::regex_match(name, own);
+}
+
+/// The labels folder `dir`, made ready for a recording: created when missing (never its parent
+/// folders); else refused, unchanged, when it holds anything a recording does not write (the
+/// user's files), and the files of an earlier recording removed (stale frames of a longer one).
+void prepareLabelsFolder(const std::string& dir) {
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(dir, ec))) {
+    requireParentFolder(dir, "labels folder '" + dir + "'");
+    fs::create_directory(dir, ec);
+    if (ec) throwInputError("labels folder '" + dir + "'", "cannot be created: " + ec.message());
+    return;
+  }
+  if (!fs::is_directory(fs::symlink_status(dir, ec)))
+    throwInputError("labels folder '" + dir + "'", "is not a folder");
+  std::vector<fs::path> own;
+  std::string others;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string n = e.path().filename().string();
+    if (isLabelsFolderFile(n) && !e.is_directory(ec))
+      own.push_back(e.path());
+    else
+      others += (others.empty() ? "'" : ", '") + n + "'";
+  }
+  if (!others.empty())
+    throwInputError("labels folder '" + dir + "'",
+                    "holds files rasm sim record did not write: " + others +
+                        ". Nothing was changed: record to another name, or move them away");
+  for (const fs::path& p : own) fs::remove(p, ec);  // a link itself, never its target
+}
 
 void writeClassesJson(const World& world, const std::string& path, std::size_t frames,
                       double rate_hz) {
@@ -117,15 +156,9 @@ RecordResult recordSequence(const World& world, const TrajectorySpec& spec,
   io::RawlogWriterOptions wopt;
   wopt.sensor_label = "RGBD_SIM";
   wopt.external_images = opt.external_images;
+  requireParentFolder(out.string(), "output '" + out.string() + "'");
+  if (opt.write_labels) prepareLabelsFolder(res.labels_dir);  // before anything is written
   io::RawlogWriter writer(out.string(), wopt);
-  if (opt.write_labels) {
-    fs::create_directories(res.labels_dir);
-    for (const auto& e :
-         fs::directory_iterator(res.labels_dir)) {  // stale frames of an earlier run
-      const std::string n = e.path().filename().string();
-      if (n.rfind("instance_", 0) == 0 || n.rfind("class_", 0) == 0) fs::remove(e.path());
-    }
-  }
 
   io::Trajectory gt;
   Progress progress(opt.progress);

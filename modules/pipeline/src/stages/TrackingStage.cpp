@@ -1,6 +1,8 @@
 #include "rasm/pipeline/stages/TrackingStage.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 
 #include "rasm/compute/Parallel.h"
 #include "rasm/core/Error.h"
@@ -83,6 +85,29 @@ void TrackingStage::initialise(FrameContext& ctx) {
   // aligns anyway), else at the identity.
   const Eigen::Isometry3d T0 =
       frame.gt_T_world_cam ? *frame.gt_T_world_cam : Eigen::Isometry3d::Identity();
+  // It starts on the first frame with enough valid depth for the next frame to be tracked
+  // against (II-C's min_inliers, at most a tenth of the pixels): a blank frame (no depth, all
+  // below min_depth_m) would start an empty map and every later frame would be lost.
+  if (!ctx.pyramid.empty()) {
+    const Image<Vec3f>& v = ctx.pyramid[0].vertex;
+    const int needed = std::max(1, std::min(m_tracking.min_inliers, v.width() * v.height() / 10));
+    const int valid = countValid(v);
+    if (valid < needed) {
+      ++m_frames_before_map;
+      r.tracked = false;
+      r.pose_source = PoseSource::MotionModel;
+      r.T_world_cam = T0;
+      r.tracking.status = tracking::TrackingStatus::NotInitialized;
+      r.tracking.T_world_cam = T0;
+      return;
+    }
+    if (m_frames_before_map > 0)
+      std::fprintf(stderr,
+                   "rasm: warning: the map starts at frame %zu: the %zu frame(s) before it had "
+                   "too little valid depth (fewer than %d valid pixels) and were skipped "
+                   "(report.json frames_before_map)\n",
+                   frame.index, m_frames_before_map, needed);
+  }
   m_tracker.reset(T0);
   m_odometry.start(T0, frame.odometry_xyyaw);
   r.first = true;
@@ -350,6 +375,11 @@ void TrackingStage::report(nlohmann::json& rep) const {
   // Tracked frames with odometry whose camera left the first frame's floor ([robot]
   // floor_max_*): the map drifted, though each frame agreed with it.
   rep["frames_off_floor"] = m_frames_off_floor;
+  rep["frames_before_map"] = m_frames_before_map;
+  if (m_frames_before_map > 0 && m_tracker.initialized())
+    rep["warnings"].push_back("the map started after " + std::to_string(m_frames_before_map) +
+                              " frame(s) without enough valid depth; they were skipped (not "
+                              "fused, counted in frames_lost)");
   if (!m_floor_height_abs_m.empty()) rep["floor_drift"] = floorDriftJson();
 }
 

@@ -24,9 +24,11 @@
 
 namespace rasm::classification {
 
-/// [dnn_detector]. Relative paths are relative to the working directory; the defaults name
-/// Yolo-Fastest 1.1 (COCO) in the shared data folder next to the source tree, so a run from the
-/// repository root finds it.
+/// [dnn_detector]. Relative paths are relative to the working directory (an INI's to its folder);
+/// the defaults name Yolo-Fastest 1.1 (COCO) in the shared data folder next to the source tree
+/// ("../shared/data/..."), which makeDnnDetector looks up in rasm::sharedDataFolders() when it is
+/// not there relative to the working directory (the compiled-in folder, $RASM_SHARED_DATA), so a
+/// run from any folder finds it.
 struct TDnnDetectorParams : mrpt::config::CLoadableOptions {
   bool enabled = true;
   /// darknet: `model` is the .cfg and `weights` the .weights; onnx: `model` is the .onnx file

@@ -55,6 +55,12 @@ void writeThroughTemporary(const std::string& path,
 /// shows at the last flush). std::runtime_error naming `path` on failure; nothing is left behind.
 void writeFileAtomic(const std::string& path, const std::string& bytes);
 
+/// Refuses to write `path` when the folder it goes into is missing (or is not a folder): writers
+/// create no folder chains (a mistyped path made `rasm convert` create a folder at the filesystem
+/// root). InputError "<what>: its folder '<parent>' does not exist (create it first; rasm creates
+/// no parent folders)". A path without a folder part (the working directory) is fine.
+void requireParentFolder(const std::string& path, const std::string& what);
+
 /// A new folder of its own under the system's temporary folder ($TMPDIR, else /tmp), created by
 /// mkdtemp(3) with mode 0700 ("<prefix>XXXXXX"), removed with its content when destroyed.
 class ScratchFolder {

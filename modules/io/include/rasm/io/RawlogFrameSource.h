@@ -60,9 +60,18 @@ extern const char* const kRawlogNoGroundTruthMarker;
 /// implements with a missing path separator).
 std::string imagesDirectoryOf(const std::string& rawlog_path);
 
+/// A gzip file read to its end without keeping the data: "" when every member ends with its CRC
+/// and length checked, else what is wrong ("truncated at byte N: ...", "CRC mismatch: ...,
+/// found at byte N", damaged deflate data). RawlogFrameSource runs it on a gzip rawlog before
+/// its first frame (gzip checks the CRC only at the end of the stream: a bit flip early in the
+/// file decompresses into altered frames). Bytes after a member that do not start another gzip
+/// member are ignored, as zlib's gzread does.
+std::string gzipStreamProblem(const std::string& path);
+
 class RawlogFrameSource : public FrameSource {
  public:
-  /// Opens the file (InputError naming it when missing or unreadable).
+  /// Opens the file (InputError naming it when missing or unreadable, or a gzip rawlog whose
+  /// stream is corrupt or truncated: gzipStreamProblem, checked before any frame is read).
   explicit RawlogFrameSource(const std::string& path, const RawlogSourceOptions& opt = {});
   ~RawlogFrameSource() override;
 

@@ -6,7 +6,7 @@
 // aborts at once: the handler removes the temporaries being written (ScopedTemporary), writes
 // report.json "status": "aborted" when a run folder is set (setAbortReport), and exits with
 // 128 + the signal. Only async-signal-safe calls run in the handler (unlink, open, write, rename,
-// _exit).
+// _exit; getdents64, unlinkat and rmdir for a ScopedAbortRemovesFolder).
 
 #include <string>
 
@@ -35,6 +35,18 @@ class ScopedTemporary {
 
  private:
   int m_slot = -1;
+};
+
+/// While it lives, an aborting signal removes the folder `dir` after the temporaries and the
+/// abort report: the files directly in it (unlinkat over getdents64: async-signal-safe), then the
+/// folder itself (rmdir; a subfolder holding files stays). For a scratch folder of the process's
+/// own (rasm bench's ScratchFolder), which a first signal removes on the normal return path.
+class ScopedAbortRemovesFolder {
+ public:
+  explicit ScopedAbortRemovesFolder(const std::string& dir);
+  ~ScopedAbortRemovesFolder();
+  ScopedAbortRemovesFolder(const ScopedAbortRemovesFolder&) = delete;
+  ScopedAbortRemovesFolder& operator=(const ScopedAbortRemovesFolder&) = delete;
 };
 
 /// Where an aborting signal writes its report.json (empty: none), and the frames done so far.

@@ -105,6 +105,8 @@ class TrackingStage : public MapperStage {
   Eigen::Isometry3d m_T_prev_frame = Eigen::Isometry3d::Identity();
   std::size_t m_relocalisations = 0;
   std::size_t m_frames_off_floor = 0;  ///< see report()
+  /// Frames before the map started: too little valid depth to start it (initialise()).
+  std::size_t m_frames_before_map = 0;
   /// Per tracked frame with odometry: |camera height - mount height| over the first frame's
   /// floor (m) and the camera's tilt from the mount's (deg); report.json floor_drift.
   std::vector<double> m_floor_height_abs_m, m_floor_tilt_deg;
