@@ -35,4 +35,16 @@ inline nlohmann::json readRunObjects(const std::string& run_dir) {
   return j["objects"];
 }
 
+/// The "other_segments" array of objects.json (classified segments that are not objects; empty
+/// for a run folder written before it existed).
+inline nlohmann::json readRunOtherSegments(const std::string& run_dir) {
+  const std::string path = (std::filesystem::path(run_dir) / "objects.json").string();
+  nlohmann::json j = readRunJson(
+      path, "expected the objects.json that `rasm run` writes ([classification] enabled)");
+  if (!j.contains("other_segments")) return nlohmann::json::array();
+  if (!j["other_segments"].is_array())
+    rasm::throwInputError(path, "expected \"other_segments\" to be an array");
+  return j["other_segments"];
+}
+
 }  // namespace rasm::app

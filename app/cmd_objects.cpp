@@ -12,8 +12,10 @@ namespace {
 const char* kUsage =
     "usage: rasm objects <run folder> [--all]\n"
     "Prints <run folder>/objects.json: segment, class and probability, runner-up, surfels,\n"
-    "detections fused, centroid and upright extents (m), zero-shot pose hint. Objects without a\n"
-    "class (detections fused but no class above 0.5) only with --all.\n";
+    "detections fused, centroid and upright extents (m), zero-shot pose hint. With --all also its\n"
+    "other_segments (classified segments that are not objects), with the reason: unconfirmed\n"
+    "(no class reached min_object_probability), fragment (too few surfels or too small) or\n"
+    "structure (a floor, wall or ceiling).\n";
 
 double at(const nlohmann::json& v, int k) {
   return v.is_array() && int(v.size()) > k && v[k].is_number() ? v[k].get<double>() : 0.0;
@@ -31,16 +33,17 @@ int objects(const std::vector<std::string>& args) {
       run = a;
   }
   if (run.empty()) throw rasm::InputError(std::string("expected <run folder>\n") + kUsage);
-  const nlohmann::json objects = rasm::app::readRunObjects(run);
+  nlohmann::json objects = rasm::app::readRunObjects(run);
   const std::string path = (std::filesystem::path(run) / "objects.json").string();
+  const std::size_t n_objects = objects.size();
+  if (all)
+    for (const auto& o : rasm::app::readRunOtherSegments(run)) objects.push_back(o);
   std::printf("%7s  %-16s %5s  %-16s %5s %8s %5s  %-22s %-18s %s\n", "segment", "class", "p",
-              "runner-up", "p", "surfels", "dets", "centroid (m)", "extents (m)", "pose hint");
-  int shown = 0, total = 0, named = 0;
+              "runner-up", "p", "surfels", "dets", "centroid (m)", "extents (m)",
+              all ? "pose hint / not an object" : "pose hint");
+  int shown = 0;
   for (const auto& o : objects) {
-    ++total;
     const std::string cls = o.value("class", "none");
-    named += cls != "none";
-    if (cls == "none" && !all) continue;
     ++shown;
     const auto& c = o.contains("centroid") ? o["centroid"] : nlohmann::json();
     const auto& e = o.contains("oriented_box") ? o["oriented_box"]["extents_m"] : nlohmann::json();
@@ -49,14 +52,16 @@ int objects(const std::vector<std::string>& args) {
       std::snprintf(
           pose, sizeof pose, "%s az %.0f el %.0f", o["pose_hint"].value("class", "").c_str(),
           o["pose_hint"].value("azimuth_deg", 0.0), o["pose_hint"].value("elevation_deg", 0.0));
+    if (o.contains("not_an_object"))
+      std::snprintf(pose, sizeof pose, "(%s)", o.value("not_an_object", "").c_str());
     std::printf("%7u  %-16s %5.2f  %-16s %5.2f %8d %5d  %6.2f %6.2f %6.2f  %5.2f %5.2f %5.2f  %s\n",
                 o.value("segment", 0u), cls.c_str(), o.value("probability", 0.5),
                 o.value("runner_up", "none").c_str(), o.value("runner_up_probability", 0.5),
                 o.value("surfels", 0), o.value("detections_fused", 0), at(c, 0), at(c, 1), at(c, 2),
                 at(e, 0), at(e, 1), at(e, 2), pose);
   }
-  std::printf("%d objects with a class, %d shown, of %d entries in %s\n", named, shown, total,
-              path.c_str());
+  std::printf("%zu objects, %d rows shown, in %s%s\n", n_objects, shown, path.c_str(),
+              all ? "" : " (--all: also the classified segments that are not objects)");
   return 0;
 }
 

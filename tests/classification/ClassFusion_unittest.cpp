@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "rasm/classification/ClassFusion.h"
+#include "rasm/classification/ObjectVerdict.h"
 #include "rasm/classification/ClassList.h"
 #include "rasm/classification/DetectorWorker.h"
 #include "rasm/core/Error.h"
@@ -145,6 +146,36 @@ TEST(ClassFusion, SegmentClassIsTheHighestMeanPosterior) {
   EXPECT_NEAR(c[0].best_p, 0.7, 2 * kPerUpdateP);
   EXPECT_EQ(c[0].runner_up_id, 8);
   EXPECT_NEAR(c[0].runner_up_p, 0.6, 2 * kPerUpdateP);
+}
+
+// objects.json's verdict (ObjectVerdict.h) on shapes a room holds, with the shipped thresholds:
+// a confirmed class, >= 50 surfels and > 10 cm, and not a thin plane over 2 m both ways.
+TEST(ObjectVerdict, TheFloorAWallAndCrumbsAreNotObjectsATableIs) {
+  const TClassificationParams p;
+  SegmentClass c;
+  c.best_id = 61;  // dining table
+  c.best_p = 0.71f;
+  c.surfels = 406000;
+  EXPECT_EQ(objectVerdict(c, Eigen::Vector3d(7.7, 5.0, 0.02), p), ObjectVerdict::Structure);
+  EXPECT_EQ(objectVerdict(c, Eigen::Vector3d(0.04, 2.7, 5.0), p), ObjectVerdict::Structure);
+  // A 2.4 x 1.2 m conference table top, and a desk with its legs (thick): objects.
+  EXPECT_EQ(objectVerdict(c, Eigen::Vector3d(2.4, 1.2, 0.03), p), ObjectVerdict::Object);
+  EXPECT_EQ(objectVerdict(c, Eigen::Vector3d(2.5, 2.2, 0.75), p), ObjectVerdict::Object);
+  // A "chair" of 1 surfel and a 5 cm crumb of 500 surfels: fragments.
+  c.surfels = 1;
+  EXPECT_EQ(objectVerdict(c, Eigen::Vector3d(1e-9, 1e-9, 1e-9), p), ObjectVerdict::Fragment);
+  c.surfels = 49;
+  EXPECT_EQ(objectVerdict(c, Eigen::Vector3d(0.3, 0.2, 0.1), p), ObjectVerdict::Fragment);
+  c.surfels = 500;
+  EXPECT_EQ(objectVerdict(c, Eigen::Vector3d(0.05, 0.04, 0.03), p), ObjectVerdict::Fragment);
+  EXPECT_EQ(objectVerdict(c, Eigen::Vector3d(0.3, 0.2, 0.1), p), ObjectVerdict::Object);
+  // Below min_object_probability, or no class: unconfirmed, whatever the shape.
+  c.best_p = 0.55f;
+  EXPECT_EQ(objectVerdict(c, Eigen::Vector3d(0.3, 0.2, 0.1), p), ObjectVerdict::Unconfirmed);
+  c.best_id = 0;
+  c.best_p = 0.9f;
+  EXPECT_EQ(objectVerdict(c, Eigen::Vector3d(0.3, 0.2, 0.1), p), ObjectVerdict::Unconfirmed);
+  EXPECT_STREQ(toString(ObjectVerdict::Structure), "structure");
 }
 
 TEST(ClassFusion, ScoreModels) {

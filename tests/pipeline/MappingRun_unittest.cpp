@@ -2,6 +2,8 @@
 // MappingRun `rasm run` uses.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <filesystem>
 #include <fstream>
 
@@ -130,5 +132,19 @@ TEST_P(MappingRunModes, SimulatedOfficeDefaultTracksWithinTarget) {
   EXPECT_GT(cls.at("surfel_updates").get<long long>(), 0);  // some detections found a segment
   for (const char* f : {"objects.json", "classes.json", "map_classes.ply", "preview_classes.png"})
     EXPECT_TRUE(fs::is_regular_file(out + "/" + f)) << f;
+  // objects.json lists objects only: each named, of >= 50 surfels, not a plane over 2 m both
+  // ways; the rest of what was classified is in other_segments with the reason.
+  std::ifstream objects_file(out + "/objects.json");
+  const nlohmann::json objects = nlohmann::json::parse(objects_file);
+  ASSERT_TRUE(objects.at("other_segments").is_array());
+  for (const auto& o : objects.at("objects")) {
+    EXPECT_NE(o.at("class").get<std::string>(), "none");
+    EXPECT_GE(o.at("surfels").get<int>(), 50);
+    std::vector<double> e = o.at("pca_extents_m").get<std::vector<double>>();
+    std::sort(e.begin(), e.end());
+    EXPECT_FALSE(e[1] > 2.0 && e[0] < 0.15) << o.dump();
+  }
+  for (const auto& o : objects.at("other_segments"))
+    EXPECT_TRUE(o.contains("not_an_object")) << o.dump();
   fs::remove_all(out);
 }

@@ -27,12 +27,20 @@ void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(iou_weighted_evidence, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(max_detection_probability, double, c, s);
   MRPT_LOAD_CONFIG_VAR(min_object_probability, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(min_object_surfels, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(min_object_size_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(structure_min_extent_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(structure_max_thickness_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(seed, int, c, s);
   requireInRange(every_n_frames, 1, 100000, s, "every_n_frames");
   requireInRange(min_iou, 0.0, 1.0, s, "min_iou");
   requireInRange(max_detection_probability, 0.5, 1.0, s, "max_detection_probability");
   requireInRange(vote_neutral_score, 0.0, 0.95, s, "vote_neutral_score");
   requireInRange(min_object_probability, 0.5, 1.0, s, "min_object_probability");
+  requireInRange(min_object_surfels, 0, 100000000, s, "min_object_surfels");
+  requireInRange(min_object_size_m, 0.0, 100.0, s, "min_object_size_m");
+  requireInRange(structure_min_extent_m, 0.0, 1000.0, s, "structure_min_extent_m");
+  requireInRange(structure_max_thickness_m, 0.0, 1000.0, s, "structure_max_thickness_m");
   if (score_model != "probability" && score_model != "vote")
     throwInputError("[" + s + "] score_model = " + score_model, "expected 'probability' or 'vote'");
   for (const std::string& d : detectorList())
@@ -59,6 +67,14 @@ void TClassificationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
           "p_d clamped to [1 - max, max]");
   c.write(s, "min_object_probability", min_object_probability, -1, -1,
           "a segment's class needs this mean posterior");
+  c.write(s, "min_object_surfels", min_object_surfels, -1, -1,
+          "objects.json: fewer surfels make a fragment, not an object");
+  c.write(s, "min_object_size_m", min_object_size_m, -1, -1,
+          "objects.json: a smaller largest extent makes a fragment");
+  c.write(s, "structure_min_extent_m", structure_min_extent_m, -1, -1,
+          "objects.json: a thin plane larger than this both ways is structure");
+  c.write(s, "structure_max_thickness_m", structure_max_thickness_m, -1, -1,
+          "objects.json: the thickness below which a large plane is structure");
   c.write(s, "seed", seed, -1, -1, "seed of the simulated detector's noise");
 }
 

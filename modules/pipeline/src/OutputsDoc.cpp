@@ -258,7 +258,11 @@ percentile), `upright_axes` (the two horizontal principal directions; z is up),
 
 ## objects.json (IV)
 
-`comment`; `objects`: segments that carry a class or had detections fused: `segment`, `class`
+`comment`; `objects`: the segments reported as objects (a confirmed class, at least
+`[classification] min_object_surfels` surfels and `min_object_size_m` of extent, not a thin plane
+larger than `structure_min_extent_m` both ways); `other_segments`: the other segments that carry
+a class or had detections fused, with `not_an_object` (`unconfirmed`, `fragment` or `structure`).
+Each entry: `segment`, `class`
 (`best_class` when its probability reaches `[classification] min_object_probability`, else
 `none`), `class_id` (classes.json id; 0 for none), `best_class`, `probability` (mean posterior
 over the segment's surfels), `runner_up`, `runner_up_probability`, `surfels`, `detections_fused`,

@@ -1,5 +1,7 @@
 #include "rasm/pipeline/stages/ClassificationStage.h"
 
+#include "rasm/classification/ObjectVerdict.h"
+
 #include <cstdio>
 #include <filesystem>
 
@@ -240,7 +242,7 @@ void ClassificationStage::writeOutputs(OutputFolder& folder, const maps::CSurfel
   const std::vector<SegmentClass> seg_classes = segmentClasses(map.store().arrays());
   m_objects_by_class.clear();
   m_objects_counted = true;
-  nlohmann::json objects = nlohmann::json::array();
+  nlohmann::json objects = nlohmann::json::array(), others = nlohmann::json::array();
   for (const SegmentClass& c : seg_classes) {
     const segmentation::SegmentStats* s =
         m_segmentation ? m_segmentation->table().find(c.segment) : nullptr;
@@ -248,7 +250,9 @@ void ClassificationStage::writeOutputs(OutputFolder& folder, const maps::CSurfel
     const int n_fused = fused == m_fused_per_segment.end() ? 0 : fused->second;
     if (c.best_id == 0 && n_fused == 0) continue;  // never classified: not an object here
     const bool named = c.best_id != 0 && c.best_p >= m_params.min_object_probability;
-    if (named) ++m_objects_by_class[m_classes.name(c.best_id)];
+    const classification::ObjectVerdict verdict = objectVerdict(c);
+    if (verdict == classification::ObjectVerdict::Object)
+      ++m_objects_by_class[m_classes.name(c.best_id)];
     nlohmann::json o = {{"segment", c.segment},
                         {"class", named ? m_classes.name(c.best_id) : std::string("none")},
                         {"class_id", named ? c.best_id : 0},
@@ -270,15 +274,24 @@ void ClassificationStage::writeOutputs(OutputFolder& folder, const maps::CSurfel
                         {"elevation_deg", pose->second.pose.elevation_deg},
                         {"template", pose->second.pose.template_index},
                         {"score", pose->second.score}};
-    objects.push_back(o);
+    if (verdict == classification::ObjectVerdict::Object) {
+      objects.push_back(o);
+    } else {
+      o["not_an_object"] = classification::toString(verdict);
+      others.push_back(o);
+    }
   }
   nlohmann::json out;
   out["comment"] =
-      "rasm objects (section IV): segments that carry a class or had detections fused; best_class "
-      "= highest mean posterior over the segment's surfels, class = best_class when that posterior "
-      "reaches [classification] min_object_probability, else \"none\"; world "
-      "frame, metres; oriented_box: upright axes (z up) and extents about the box centre";
+      "rasm objects (section IV): objects = segments whose class is confirmed (best_class = "
+      "highest mean posterior over the segment's surfels, reaching [classification] "
+      "min_object_probability), with at least min_object_surfels surfels and min_object_size_m "
+      "of extent, and not structure (a thin plane larger than structure_min_extent_m both ways); "
+      "other_segments = the other segments that carry a class or had detections fused, with "
+      "not_an_object = unconfirmed | fragment | structure (class \"none\" when unconfirmed); "
+      "world frame, metres; oriented_box: upright axes (z up) and extents about the box centre";
   out["objects"] = objects;
+  out["other_segments"] = others;
   folder.writeText("objects.json", out.dump(1) + "\n");
   folder.write("map_classes.ply", [&](const std::string& part) {
     maps::writeSurfelPly(map.store(), part, false, maps::SurfelColouring::Class);
@@ -289,9 +302,20 @@ std::map<std::uint32_t, std::string> ClassificationStage::segmentClassNames(
     const maps::CSurfelMap& map) const {
   std::map<std::uint32_t, std::string> names;
   for (const SegmentClass& c : segmentClasses(map.store().arrays()))
-    if (c.best_id != 0 && c.best_p >= m_params.min_object_probability)
+    if (objectVerdict(c) == classification::ObjectVerdict::Object)
       names[c.segment] = m_classes.name(c.best_id);
   return names;
+}
+
+/// objects.json's verdict on a classified segment; without segment statistics (no segmentation
+/// stage) only its class decides.
+classification::ObjectVerdict ClassificationStage::objectVerdict(const SegmentClass& c) const {
+  const segmentation::SegmentStats* s =
+      m_segmentation ? m_segmentation->table().find(c.segment) : nullptr;
+  if (s) return classification::objectVerdict(c, s->extents, m_params);
+  return c.best_id != 0 && c.best_p >= m_params.min_object_probability
+             ? classification::ObjectVerdict::Object
+             : classification::ObjectVerdict::Unconfirmed;
 }
 
 }  // namespace rasm::pipeline

@@ -45,6 +45,18 @@ struct TClassificationParams : mrpt::config::CLoadableOptions {
   /// posterior of that class over its surfels reaches this; below it the segment has no class
   /// ("none"): a few surfels that carried evidence into a large segment do not name it.
   double min_object_probability = 0.6;
+  /// objects.json reports a named segment as an object only when it holds at least
+  /// min_object_surfels surfels and its largest extent exceeds min_object_size_m (the
+  /// evaluation's object thresholds: ClassificationMetrics.h); smaller ones are fragments (a
+  /// detection box fused into a few stray surfels: a "chair" of 1 surfel at 0.83).
+  int min_object_surfels = 50;
+  double min_object_size_m = 0.10;
+  /// ... and when it is not structure: a thin plane (smallest extent below
+  /// structure_max_thickness_m) whose two larger extents both exceed structure_min_extent_m is a
+  /// floor, wall or ceiling, larger than any object of the COCO classes a table's top could be
+  /// taken for (the office's 7.7 x 5.0 m floor was reported as a "dining table" at 0.71).
+  double structure_min_extent_m = 2.0;
+  double structure_max_thickness_m = 0.15;
   /// Seed of the simulated detector's noise (sim_detector only).
   int seed = 1;
 

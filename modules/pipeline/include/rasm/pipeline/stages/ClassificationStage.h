@@ -19,6 +19,7 @@
 #include "rasm/classification/ClassList.h"
 #include "rasm/classification/DetectorFactory.h"
 #include "rasm/classification/DetectorWorker.h"
+#include "rasm/classification/ObjectVerdict.h"
 #include "rasm/classification/TClassificationParams.h"
 #include "rasm/pipeline/MapperStage.h"
 
@@ -52,13 +53,14 @@ class ClassificationStage : public MapperStage {
   const classification::ClassList& classList() const { return m_classes; }
   /// Whether any class evidence has been fused into the map (the class map has something to show).
   bool fusedAnyEvidence() const { return m_surfel_updates > 0; }
-  /// The class name of every segment that carries one now (best class with a mean posterior of
-  /// at least min_object_probability; as objects.json's "class"), by segment id.
+  /// The class name of every segment reported as an object now (objects.json's "objects":
+  /// classification::objectVerdict), by segment id.
   std::map<std::uint32_t, std::string> segmentClassNames(const maps::CSurfelMap& map) const;
   /// Detections fused per segment so far (follows relabelling).
   const std::map<std::uint32_t, int>& detectionsPerSegment() const { return m_fused_per_segment; }
 
  private:
+  classification::ObjectVerdict objectVerdict(const classification::SegmentClass& c) const;
   /// L^p of a frame whose detections are still running.
   struct Pending {
     Image<std::uint32_t> labels;

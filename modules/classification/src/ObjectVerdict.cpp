@@ -1,0 +1,30 @@
+#include "rasm/classification/ObjectVerdict.h"
+
+#include <algorithm>
+#include <functional>
+
+namespace rasm::classification {
+
+const char* toString(ObjectVerdict v) {
+  switch (v) {
+    case ObjectVerdict::Object: return "object";
+    case ObjectVerdict::Unconfirmed: return "unconfirmed";
+    case ObjectVerdict::Fragment: return "fragment";
+    case ObjectVerdict::Structure: return "structure";
+  }
+  return "?";
+}
+
+ObjectVerdict objectVerdict(const SegmentClass& c, const Eigen::Vector3d& extents_m,
+                            const TClassificationParams& params) {
+  if (c.best_id == 0 || c.best_p < params.min_object_probability) return ObjectVerdict::Unconfirmed;
+  Eigen::Vector3d e = extents_m.cwiseAbs();
+  std::sort(e.data(), e.data() + 3, std::greater<double>());
+  if (c.surfels < params.min_object_surfels || !(e[0] > params.min_object_size_m))
+    return ObjectVerdict::Fragment;
+  if (e[1] > params.structure_min_extent_m && e[2] < params.structure_max_thickness_m)
+    return ObjectVerdict::Structure;
+  return ObjectVerdict::Object;
+}
+
+}  // namespace rasm::classification
