@@ -26,14 +26,6 @@ namespace fs = std::filesystem;
 
 namespace rasm::sim {
 
-bool recorderCanWriteRawlogs() {
-#ifdef RASM_SIM_HAVE_IO
-  return true;
-#else
-  return false;
-#endif
-}
-
 #ifdef RASM_SIM_HAVE_IO
 namespace {
 

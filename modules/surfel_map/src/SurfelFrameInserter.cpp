@@ -21,11 +21,6 @@ void setSurfelFrameInserterFactory(SurfelFrameInserterFactory factory) {
   factorySlot() = std::move(factory);
 }
 
-bool hasSurfelFrameInserterFactory() {
-  std::lock_guard<std::mutex> lock(factoryMutex());
-  return bool(factorySlot());
-}
-
 std::unique_ptr<SurfelFrameInserter> makeSurfelFrameInserter(const std::string& fusion_ini_text,
                                                              const std::string& source) {
   SurfelFrameInserterFactory f;

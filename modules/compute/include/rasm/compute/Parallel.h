@@ -76,10 +76,4 @@ Acc reduce1D(int n, const F& f, const Acc& zero = Acc()) {
   return total;
 }
 
-template <typename Acc, typename F>
-Acc reduce2D(int width, int height, const F& f, const Acc& zero = Acc()) {
-  return reduce1D<Acc>(
-      width * height, [&](int i, Acc& acc) { f(i % width, i / width, acc); }, zero);
-}
-
 }  // namespace rasm::compute

@@ -19,9 +19,6 @@ namespace rasm::compute {
 RASM_HD_INLINE float invalidFloat() {
   return __builtin_nanf("");
 }
-RASM_HD_INLINE bool isFiniteF(float v) {
-  return v == v && v - v == 0.0f;
-}
 /// std::lround for |x| < 2^23 (halves away from zero), inline: x - trunc(x) is exact there, so
 /// the result equals lround's (libm's out-of-line lroundf cost ~1% of a 7-Scenes run).
 RASM_HD_INLINE int roundHalfAway(float x) {

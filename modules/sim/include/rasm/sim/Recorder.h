@@ -51,7 +51,4 @@ RecordResult recordSequence(const World& world, const TrajectorySpec& spec,
                             const RecordOptions& opt,
                             const std::function<void(const RgbdFrame&)>& on_frame = {});
 
-/// Whether this build can write rawlogs (the io module was available).
-bool recorderCanWriteRawlogs();
-
 }  // namespace rasm::sim

@@ -29,7 +29,6 @@ using SurfelFrameInserterFactory = std::function<std::unique_ptr<SurfelFrameInse
     const std::string& fusion_ini_text, const std::string& source)>;
 
 void setSurfelFrameInserterFactory(SurfelFrameInserterFactory factory);
-bool hasSurfelFrameInserterFactory();
 /// Throws std::logic_error ("... link rasm::fusion ...") when no factory is registered.
 std::unique_ptr<SurfelFrameInserter> makeSurfelFrameInserter(const std::string& fusion_ini_text,
                                                              const std::string& source);
