@@ -117,3 +117,26 @@ TEST(RasmCli, ConvertRefusesAMissingOutputFolderAndCreatesNothing) {
   EXPECT_NE(ok.output.find("2 frames"), std::string::npos) << ok.output;
   fs::remove_all(dir);
 }
+
+// `rasm objects` prints objects.json's objects; --all adds its other_segments with the reason.
+TEST(RasmCli, ObjectsListsTheObjectsAndWithAllTheOtherSegmentsAndWhy) {
+  const std::string dir = freshDir("objects");
+  std::ofstream(dir + "/objects.json")
+      << R"({"comment": "test", "objects": [{"segment": 7, "class": "chair", "probability": 0.9,
+          "surfels": 900, "detections_fused": 4}],
+        "other_segments": [{"segment": 3, "class": "dining table", "probability": 0.83,
+          "surfels": 509740, "detections_fused": 9, "not_an_object": "structure"},
+          {"segment": 5, "class": "none", "probability": 0.55, "surfels": 1,
+          "detections_fused": 1, "not_an_object": "unconfirmed"}]})";
+  const Result plain = runRasm("objects " + dir);
+  EXPECT_EQ(plain.status, 0) << plain.output;
+  EXPECT_NE(plain.output.find("chair"), std::string::npos) << plain.output;
+  EXPECT_EQ(plain.output.find("dining table"), std::string::npos) << plain.output;
+  EXPECT_NE(plain.output.find("1 objects, 1 rows shown"), std::string::npos) << plain.output;
+  const Result all = runRasm("objects " + dir + " --all");
+  EXPECT_EQ(all.status, 0) << all.output;
+  EXPECT_NE(all.output.find("(structure)"), std::string::npos) << all.output;
+  EXPECT_NE(all.output.find("(unconfirmed)"), std::string::npos) << all.output;
+  EXPECT_NE(all.output.find("1 objects, 3 rows shown"), std::string::npos) << all.output;
+  fs::remove_all(dir);
+}
