@@ -167,7 +167,7 @@ std::string runWorld(const std::string& run, const std::string& world_opt) {
 struct Target {
   double recovered, pq;
 };
-/// Issue 16's targets for the shipped worlds that have them.
+/// The targets for the shipped worlds that have them.
 std::optional<Target> targetsOf(const std::string& world) {
   if (world == "office") return Target{0.85, 0.6};
   if (world == "cluttered_lab") return Target{0.70, 0.5};

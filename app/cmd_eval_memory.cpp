@@ -1,4 +1,4 @@
-// `rasm eval memory <run folder>`: does a run's memory plateau (issue 15, deliverable 6)? Reads
+// `rasm eval memory <run folder>`: does a run's memory plateau? Reads
 // the run's frames.csv (timestamp_s, surfels, rss_mb, map_memory_bytes: one row per frame) and
 // reports, for surfels, RSS and the map store, the value at the run's half time and at its end
 // and the growth over the second half (max over the second half against the max over the
@@ -53,7 +53,7 @@ MemoryCurves readFramesCsv(const std::string& path) {
   for (const char* c : {"timestamp_s", "surfels", "rss_mb", "map_memory_bytes"})
     if (!col.count(c))
       throwInputError(path, std::string("has no column '") + c +
-                                "' (written by `rasm run` since issue 15's memory curve)");
+                                "' (a run folder of an older rasm: rerun it)");
   MemoryCurves m;
   for (long long row = 2; std::getline(f, line); ++row) {
     std::vector<std::string> v;

@@ -142,7 +142,7 @@ int main(int argc, char** argv) {
        "[source]\ntype = tum\npath = x\n[camera]\npreset = tum_fr1\nfx = 517.3\nfy = 516.5\n"
        "cx = 318.6\ncy = 255.3\n[mapper]\nmax_depth_m = 3.5\n--set\nmapper.pyramid_levels=2\n"
        "source.drop_frames=3-5,9\nrobot.camera_pitch_deg=-12.5\noutput.dir=out\n");
-  // The hostile INIs of issue 40: a BOM, a key before any section, a key twice, an unterminated
+  // The hostile INIs of the input probe (docs/io.md): a BOM, a key before any section, a key twice, an unterminated
   // section header, an absurd focal length.
   seed(out / "config", "bom.ini", -1, "\xEF\xBB\xBF[source]\ntype = sim\n");
   seed(out / "config", "before_section.ini", -1, "max_depth_m = 3\n[mapper]\n");
@@ -158,7 +158,7 @@ int main(int argc, char** argv) {
       if (e.path().extension() == ".yaml")
         seed(out / "world", std::string(kind) + "_" + e.path().filename().string(),
              std::string(kind) == "worlds" ? 0 : 1, slurp(e.path()));
-  // The hostile numbers and keys of issue 40.
+  // The hostile numbers and keys of the input probe.
   const std::string cup = "objects:\n  - {id: 1, class: cup, primitive: box, size: [1, 1, 1], ";
   seed(out / "world", "nan_position.yaml", 0, cup + "position: [0, .nan, 0]}\n");
   seed(out / "world", "huge_size.yaml", 0,

@@ -1,4 +1,4 @@
-// A corrupt JPEG inside a rawlog must be an error, not the end of the process (issue 15, found
+// A corrupt JPEG inside a rawlog must be an error, not the end of the process (found
 // by fuzz_rawlog): MRPT 2.5's CImage::loadFromStreamAsJPEG (images stored as JPEG in a rawlog)
 // keeps libjpeg's default error manager, whose error_exit prints the message and calls exit(1),
 // so `rasm run` died without a report. This definition of jpeg_std_error interposes libjpeg's

@@ -1,5 +1,5 @@
 // Bounds the image and point-cloud sizes MRPT's deserializers take from a rawlog or map before
-// reading the data (issue 15, found by fuzz_rawlog). MRPT 2.5's
+// reading the data (found by fuzz_rawlog). MRPT 2.5's
 // CObservation3DRangeScan::serializeFrom reads a range image's rows and cols (two uint32) and
 // calls rangeImage_setSize(rows, cols), and reads a point count N and calls
 // resizePoints3DVectors(N), before any pixel or point is read; CImage::serializeFrom calls

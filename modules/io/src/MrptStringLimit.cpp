@@ -1,4 +1,4 @@
-// Bounds the strings MRPT's deserializers read from rawlogs and maps (issue 15, found by
+// Bounds the strings MRPT's deserializers read from rawlogs and maps (found by
 // fuzz_rawlog): MRPT 2.5's `operator>>(CArchive&, std::string&)` resizes the string to the
 // 32-bit length it reads before reading the bytes, so one corrupt length in a
 // CObservation3DRangeScan's TCamera (or any sensor label) allocates up to 4 GB. This definition

@@ -202,7 +202,7 @@ double peakRssMb() {
 }
 
 /// Resident set size of this process now (/proc/self/statm), MB; 0 when unknown. Read once per
-/// frame for frames.csv rss_mb (a few microseconds): the memory curve of long runs (issue 15, 6).
+/// frame for frames.csv rss_mb (a few microseconds): the memory curve of long runs.
 double currentRssMb() {
   std::ifstream f("/proc/self/statm");
   unsigned long long size_pages = 0, resident_pages = 0;
@@ -210,7 +210,7 @@ double currentRssMb() {
   return double(resident_pages) * double(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
 }
 
-/// Runs of consecutive lost frames (issue 14's honest loss reporting).
+/// Runs of consecutive lost frames (honest loss reporting).
 struct LossIntervals {
   std::size_t intervals = 0, longest = 0, current = 0;
   void add(bool tracked) {

@@ -121,7 +121,7 @@ struct IcpSystem {
 
   /// Gauss-Newton step with a Gaussian prior on the increment: minimises the ICP cost / sigma^2
   /// plus (xi - delta)^T Lambda (xi - delta), delta the increment that would move the estimate
-  /// onto the prior's pose. Degeneracy per direction (issue 14): the data enter only along the
+  /// onto the prior's pose. Degeneracy per direction: the data enter only along the
   /// eigen-directions above `min_eig` (scaled coordinates, as solve()); along the others
   /// (a floor's in-plane directions, where noisy normals add spurious, biased constraints) the
   /// prior alone decides. So (H_s + sigma^2 Lambda) xi = -g_s + sigma^2 Lambda delta with H_s,

@@ -1,5 +1,5 @@
 #pragma once
-// Evaluation of a classified surfel map against ground truth (issue 17, deliverable 6; `rasm eval
+// Evaluation of a classified surfel map against ground truth (`rasm eval
 // classification`, docs/classification.md "Evaluation"). Pure computation over per-surfel labels,
 // like segmentation/SegmentationMetrics.h: the caller gives each surfel its segment and its
 // ground-truth instance (the simulator: the instance of the nearest world surface), each segment

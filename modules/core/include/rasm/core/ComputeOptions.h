@@ -1,5 +1,5 @@
 #pragma once
-// [compute]: how the CPU runs the per-pixel and per-surfel work (issue 13, 5). Three CPU launchers
+// [compute]: how the CPU runs the per-pixel and per-surfel work. Three CPU launchers
 // keep a hand-written SSE path beside their stage's RASM_HD kernel body, the three that earn at
 // least 3% of redkitchen's frame time (docs/slam-eval.md "SSE paths": the measurement, and the
 // five SSE paths deleted for earning less). With simd = false every one of them runs the kernel

@@ -1,5 +1,5 @@
 #pragma once
-// One interface for the exploration planners (issue 18 deliverable 6): the IG planner of
+// One interface for the exploration planners: the IG planner of
 // section V and the baselines it is compared with on the same worlds, octree, projection,
 // reachability and budget. makePlanner builds the one [exploration] planner names:
 //   "ig"        the global planner: ViewPlanner's views (V) with frontier views always among

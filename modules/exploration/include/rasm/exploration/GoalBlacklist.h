@@ -1,5 +1,5 @@
 #pragma once
-// Goals not to offer again (issue 18: "blacklisting" of goals the navigation failed to reach; the
+// Goals not to offer again ("blacklisting" of goals the navigation failed to reach; the
 // frontier baseline also lists the frontiers it has visited). A candidate is blacklisted when its
 // base (x, y) lies within radius_m of a listed goal; headings are ignored (a failed goal is a
 // place the robot cannot get to, whichever way it faces).

@@ -31,7 +31,7 @@ void planningGrid(const OccupancyOctree& octree, const Eigen::Vector3d& robot_po
 /// obstacles), the centre of the nearest traversable cell within 2 growth radii that it reaches
 /// through cells which are not obstacles or unknown themselves. Without this every view was
 /// unreachable from such a spot and the exploring run stopped (no_reachable_views) where the
-/// robot could have backed off (issue 15, 6: seen at 145 s of the office run after a collision).
+/// robot could have backed off (seen at 145 s of the office run after a collision).
 Eigen::Vector2d planningStart(const mrpt::maps::COccupancyGridMap2D& grid,
                               const Eigen::Vector3d& robot_pose, double footprint_radius_m);
 

@@ -83,7 +83,7 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   double speed_mps = 0.3, turn_rate_degps = 45.0;
   double min_travel_time_s = 2.0;
 
-  // ---- planner and baselines (issue 18 deliverable 6; ExplorationPlanner.h) ----
+  // ---- planner and baselines (ExplorationPlanner.h) ----
   /// Which planner makePlanner builds: "ig" (the IG planner of V with a global tour over view
   /// clusters), "ig_greedy" (the IG planner's best next view alone), "frontier" (nearest
   /// frontier, Yamauchi 1997), "random" (random reachable free cells), "lawnmower"

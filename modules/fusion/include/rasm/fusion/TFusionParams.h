@@ -43,7 +43,7 @@ struct TFusionParams : public mrpt::config::CLoadableOptions {
   /// only with smaller measurements (false: "radii only shrink", a coarser view never blurs a
   /// finer surfel). Shrinking only biases radii down: a room circled for 10 minutes keeps
   /// shrinking its surfels and filling the gaps with new ones (+0.8% surfels per lap at a constant
-  /// disc area), so the map never plateaus; averaged, it does (issue 15; docs/io.md "Memory on
+  /// disc area), so the map never plateaus; averaged, it does (docs/io.md "Memory on
   /// long runs": surfels +2.0% / RSS +3.5% over the second half of 10 minutes, against +3.9% /
   /// +6.9%), with TUM / redkitchen ATE unchanged within 0.01 mm / 0.1 mm.
   bool average_radius = true;

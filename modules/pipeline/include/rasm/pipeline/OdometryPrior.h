@@ -1,5 +1,5 @@
 #pragma once
-// The odometry prior of tracking (issue 14, DESIGN.md "Stages, threads and the map they share"):
+// The odometry prior of tracking (DESIGN.md "Stages, threads and the map they share"):
 // wheel odometry of the robot base (x, y, yaw in the odometry frame, RgbdFrame::odometry_xyyaw)
 // turned into a prediction of the camera pose through the camera's mounting pose, with the
 // odometry's noise, for IcpTracker::track's MotionPrior:
@@ -46,7 +46,7 @@ class OdometryPrior {
   /// right ICP result after it was refused as prior_conflict).
   void frameDone(bool tracked);
 
-  /// Heading drift (issue 14): the disagreement of the tracked heading with the odometry's,
+  /// Heading drift: the disagreement of the tracked heading with the odometry's,
   /// accumulated over the last TRobotParams::heading_drift_window_frames frames with a prior.
   /// Each frame passes the per-frame prior test, but a turn under-rotated by a fraction of a
   /// degree per frame adds up; the sum, in standard deviations of the summed odometry noise,

@@ -31,7 +31,7 @@ struct TSourceParams : mrpt::config::CLoadableOptions {
   bool preload = false;
   /// Upper bound of the preloaded frames' memory (MiB): a run over it stops before mapping.
   int preload_max_mib = 4096;
-  /// Fault injection for robustness tests (issue 14's kidnapping evaluation), as source frame
+  /// Fault injection for robustness tests (kidnapping evaluation), as source frame
   /// index ranges "a-b" (inclusive, comma-separated; empty = none): frames in drop_frames are
   /// skipped (the camera jumps), frames in blank_frames get all-zero depth and black colour (a
   /// covered lens). Indices count every frame of the source, before start_frame / frame_step.
@@ -72,7 +72,7 @@ struct TMapperParams : mrpt::config::CLoadableOptions {
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
 
-/// [robot]: the platform the camera rides on, for the odometry prior of tracking (issue 14):
+/// [robot]: the platform the camera rides on, for the odometry prior of tracking:
 /// the camera's mounting pose on the base and the wheel odometry's noise. Used when the source
 /// gives odometry (the simulated robot's CObservationOdometry in its rawlogs, later the
 /// Segway's); hand-held sources have none and track with the motion model alone.

@@ -1,5 +1,5 @@
 #pragma once
-// The plots of a run folder (issue 19, 3), drawn with LinePlot.h:
+// The plots of a run folder, drawn with LinePlot.h:
 //   plot_trajectory.png  top view (x, y in m, equal scales) of the estimated camera path against
 //                        the ground truth; frames tracking lost (frames.csv tracked = 0) in red
 //   plot_timing.png      milliseconds per frame of the Mapper's timers (frames.csv ms_* columns)

@@ -1,6 +1,6 @@
 #pragma once
-// Evaluation of a segmented surfel map against ground-truth instances (issue 16, deliverable 7;
-// `rasm eval segmentation`, docs/segmentation.md "Evaluation"). Pure computation over per-surfel
+// Evaluation of a segmented surfel map against ground-truth instances
+// (`rasm eval segmentation`, docs/segmentation.md "Evaluation"). Pure computation over per-surfel
 // labels: the caller assigns each surfel its ground-truth instance (the simulator: the instance of
 // the nearest world surface, rasm/sim/SurfaceInstance.h) and says which instances are objects.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Surface coverage of a simulated world's ground truth by a map (issue 18, docs/sim.md "Surface
+// Surface coverage of a simulated world's ground truth by a map (docs/sim.md "Surface
 // coverage"): the fraction of the world's *observable* surface area that lies within max_dist_m
 // (2 cm) of a map point (e.g. the alive surfels' positions).
 //

@@ -1,5 +1,5 @@
 #pragma once
-// rasm::maps::Keyframe: what relocalisation (rasm::tracking::Relocaliser, issue 14 item 5) keeps
+// rasm::maps::Keyframe: what relocalisation (rasm::tracking::Relocaliser) keeps
 // of one tracked frame, stored with the map (CSurfelMap::keyframes(), serialized with it) so that
 // a saved map can be reloaded and a camera relocalised in it.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// A motion prior for IcpTracker::track (issue 14): the pose predicted for the frame (from wheel
+// A motion prior for IcpTracker::track: the pose predicted for the frame (from wheel
 // odometry through the camera's mounting pose, or a motion model) with its uncertainty. ICP adds
 // it to its normal equations as a Gaussian prior, so the directions the scene constrains follow
 // the data and the ones it does not (a floor and a far wall, a corridor) follow the prediction

@@ -1,5 +1,5 @@
 #pragma once
-// Options of the relocaliser (rasm::tracking::Relocaliser, issue 14 item 5), INI section
+// Options of the relocaliser (rasm::tracking::Relocaliser), INI section
 // [relocalisation]. Keys are the member names. Distances in metres, angles in degrees, image
 // quantities in pixels of the frame's full resolution.
 

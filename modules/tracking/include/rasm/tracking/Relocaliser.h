@@ -1,6 +1,6 @@
 #pragma once
 // rasm::tracking::Relocaliser: finds the camera pose again against keyframes stored with the map
-// when tracking is lost (issue 14 item 5), and makes those keyframes while tracking is good.
+// when tracking is lost, and makes those keyframes while tracking is good.
 //
 // Method. ElasticFusion (Whelan et al., RSS 2015 / IJRR 2016, "Global loop closure") finds
 // lost poses with randomised ferns over downsampled keyframe images (Glocker et al., TVCG 2015)

@@ -1,7 +1,7 @@
 #pragma once
 // II-C: the camera pose of the frame by coarse-to-fine ICP against the map rendered at the
 // previous pose (reliable surfels), with the wheel odometry as a prior when the source has it;
-// relocalisation against the map's keyframes while lost (issue 14). Sections [tracking],
+// relocalisation against the map's keyframes while lost. Sections [tracking],
 // [robot] (camera mount, odometry noise) and [relocalisation].
 //
 // Motion prior: a frame with odometry (RgbdFrame::odometry_xyyaw) is tracked from the odometry's

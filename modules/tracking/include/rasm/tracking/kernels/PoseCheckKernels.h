@@ -1,5 +1,5 @@
 #pragma once
-// Verification of an aligned pose against the data (issue 14, "failures are detected, not
+// Verification of an aligned pose against the data ("failures are detected, not
 // fused"): after ICP, every frame pixel is moved by the estimated pose and projected into the
 // model (the map rendered at the reference pose, as for the association of II-C). Of the pixels
 // that land on the model's surface, a correct pose makes nearly all agree with it (same point
