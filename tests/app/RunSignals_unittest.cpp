@@ -27,6 +27,26 @@ struct Child {
 
 /// Starts `rasm run` on the simulated office (hand-held, 320x240, a few hundred frames) into a
 /// fresh folder; its output goes to <out>.log.
+/// Forks and execs `args` (args[0] the binary) with stdout and stderr to `log`; `tmpdir`, when
+/// not empty, becomes the child's $TMPDIR. Returns the child's pid.
+pid_t spawn(std::vector<std::string> args, const std::string& log,
+            const std::string& tmpdir = "") {
+  std::fflush(stdout);  // else the child's freopen flushes our buffer a second time
+  std::fflush(stderr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (!tmpdir.empty()) ::setenv("TMPDIR", tmpdir.c_str(), 1);
+    FILE* f = std::freopen(log.c_str(), "w", stdout);
+    if (f) (void)dup2(fileno(stdout), 2);
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
 Child startRun(const std::string& name, const std::vector<std::string>& extra = {}) {
   Child c;
   c.out = tempDir("signals_" + name);
@@ -41,19 +61,7 @@ Child startRun(const std::string& name, const std::vector<std::string>& extra = 
                                    "--set",     "camera.width=320",
                                    "--set",     "camera.height=240"};
   args.insert(args.end(), extra.begin(), extra.end());
-  const std::string log = c.out + ".log";
-  std::fflush(stdout);  // else the child's freopen flushes our buffer a second time
-  std::fflush(stderr);
-  c.pid = fork();
-  if (c.pid == 0) {
-    FILE* f = std::freopen(log.c_str(), "w", stdout);
-    if (f) (void)dup2(fileno(stdout), 2);
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
+  c.pid = spawn(args, c.out + ".log");
   return c;
 }
 
@@ -173,20 +181,7 @@ Child startBench(const std::string& tmp) {
                                    "--set",     "camera.cy=119.5",
                                    "--set",     "camera.width=320",
                                    "--set",     "camera.height=240"};
-  const std::string log = tmp + ".log";
-  std::fflush(stdout);
-  std::fflush(stderr);
-  c.pid = fork();
-  if (c.pid == 0) {
-    ::setenv("TMPDIR", tmp.c_str(), 1);
-    FILE* f = std::freopen(log.c_str(), "w", stdout);
-    if (f) (void)dup2(fileno(stdout), 2);
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
+  c.pid = spawn(args, tmp + ".log", tmp);
   return c;
 }
 
