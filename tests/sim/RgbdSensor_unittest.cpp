@@ -8,7 +8,9 @@
 #include <omp.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <tuple>
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
@@ -207,50 +209,82 @@ TEST(RgbdSensor, RangeLimits) {
   }
 }
 
-/// RMS of the relative depth error (z - z_true) / z_true on a floor seen from 0.5 m by a
-/// horizontal camera, over rows whose ray slope s = (v - cy) / fy lies in [0.2, 0.8] (z_true =
-/// 0.5 / s), lateral noise only.
-double floorLateralRelativeRms(int width, int height, double f) {
-  const World w = loadWorldFromString(
-      "objects:\n  - {id: 1, class: floor, primitive: box, size: [60, 60, 0.2], position: [0, 0, "
-      "-0.1]}\n",
-      "floor");
+/// Lateral noise alone (axial noise and quantization off) at one resolution, a 1 m box 1.5 m in
+/// front of a wall 3 m away, both seen 15 deg off their normal (depth changes along each row, as
+/// on any slanted surface): returns the pixels of the box's rows that measured the other
+/// surface's depth against the number the model predicts, and counts the pixels away from any
+/// edge whose depth is not exact.
+struct EdgeFlips {
+  double measured = 0, predicted = 0;
+  long interior = 0, interior_not_exact = 0;
+};
+EdgeFlips lateralEdgeFlips(int width, int height, double f) {
+  const World w = planeWorld(
+      3.0, "  - {id: 2, class: box, primitive: box, size: [0.2, 1.0, 1.0], position: [1.6, 0, 0]}\n");
   const RayScene scene(w);
   TSensorParams p;
   p.dropouts = false;
   p.disparity_subpixel = 0;
   p.axial_sigma0_m = p.axial_sigma_quad = p.axial_sigma_angle = 0;
-  p.max_depth_m = 50;
   p.width = width;
   p.height = height;
   p.fx = p.fy = f;
   p.cx = (width - 1) / 2.0;
   p.cy = (height - 1) / 2.0;
-  const RgbdSensor sensor(scene, p);
-  const RgbdFrame fr = sensor.render(cameraPoseFromHeading(Eigen::Vector3d(0, 0, 0.5), 0.0, 0.0), 3);
-  double sum2 = 0;
-  long n = 0;
-  for (int y = 0; y < fr.height(); ++y) {
-    const double s = (y - p.cy) / f;
-    if (s < 0.2 || s > 0.8) continue;
-    for (int x = width / 4; x < 3 * width / 4; ++x) {
-      const double zt = 0.5 / s, e = (fr.depth_m(x, y) - zt) / zt;
-      sum2 += e * e;
-      ++n;
-    }
+  TSensorParams exact = p;
+  exact.noise = false;
+  const Eigen::Isometry3d T_world_cam =
+      cameraPoseFromHeading(Eigen::Vector3d::Zero(), 15.0, 0.0);
+  const RgbdFrame truth = RgbdSensor(scene, exact).render(T_world_cam);
+  const DepthModelParams model = p.depthModel();
+  EdgeFlips out;
+  for (int seed = 1; seed <= 24; ++seed) {
+    const RgbdFrame fr = RgbdSensor(scene, p).render(T_world_cam, std::uint64_t(seed));
+    // Rows well inside the box's height, so that vertical offsets stay on the same surfaces.
+    for (int y = height / 2 - height / 10; y <= height / 2 + height / 10; ++y)
+      for (int x = 0; x < width; ++x) {
+        const float zt = truth.depth_m(x, y);
+        int k = 1;  // column distance to the nearest pixel of the other surface
+        while (k < width && !((x - k >= 0 && std::abs(truth.depth_m(x - k, y) - zt) > 0.5f) ||
+                              (x + k < width && std::abs(truth.depth_m(x + k, y) - zt) > 0.5f)))
+          ++k;
+        const bool other = std::abs(fr.depth_m(x, y) - zt) > 0.5f;
+        if (k > 6) {
+          ++out.interior;
+          if (std::abs(fr.depth_m(x, y) - zt) > 1e-4f * zt) ++out.interior_not_exact;
+          continue;
+        }
+        out.measured += other ? 1 : 0;
+        // The nearest sample column is the other surface when the offset exceeds k - 0.5 px.
+        const CameraIntrinsics& K = fr.intrinsics;
+        const Eigen::Vector3d ray =
+            T_world_cam.linear() * Eigen::Vector3d((x - K.cx) / K.fx, (y - K.cy) / K.fy, 1.0);
+        const double theta = std::acos(std::abs(ray.x()) / ray.norm());  // both faces: normal -x
+        const double sl = lateralSigmaPx(model, float(theta));
+        out.predicted += 0.5 * std::erfc((k - 0.5) / sl / std::sqrt(2.0));
+      }
   }
-  return n > 0 ? std::sqrt(sum2 / n) : 0.0;
+  return out;
 }
 
-TEST(RgbdSensor, LateralNoiseIsTheSameAngleAtEveryResolution) {
+TEST(RgbdSensor, LateralNoiseMovesDepthEdgesByTheModelsSigmaAndLeavesPlanesExact) {
   // sigma_L is in pixels of the preset (Kinect 640x480, fx 525); a 320x240 render at fx 262.5 has
-  // pixels twice as wide, so the same angular noise is half the pixels. On the floor the depth
-  // error from a vertical offset dv is |dz/dv| dv, i.e. relative error dv / (f s): equal at both
-  // resolutions when sigma_L scales with f (it was twice as large at 320x240 before).
-  const double full = floorLateralRelativeRms(640, 480, 525.0);
-  const double half = floorLateralRelativeRms(320, 240, 262.5);
-  ASSERT_GT(full, 1e-3);  // lateral noise is on: 0.8 px / (525 * 0.8) = 0.2% at the least
-  EXPECT_NEAR(half / full, 1.0, 0.1) << "640x480 " << full << ", 320x240 " << half;
+  // pixels twice as wide, so the same angular noise is half the pixels: fewer pixels flip at each
+  // edge, as many as the Gaussian with the scaled sigma predicts.
+  for (const auto& [w, h, f] : {std::tuple{640, 480, 525.0}, std::tuple{320, 240, 262.5}}) {
+    const EdgeFlips e = lateralEdgeFlips(w, h, f);
+    ASSERT_GT(e.predicted, 100.0) << w << "x" << h;
+    std::printf("%dx%d: %.0f pixels flipped, %.0f predicted; %ld interior\n", w, h, e.measured,
+                e.predicted, e.interior);
+    // The flips are Bernoulli draws: 250-1400 of them have a standard error of 3-6%, so 15% is
+    // 2.5-5 standard errors; unscaled sigma_L at 320x240 flips 5x the prediction, none without it.
+    EXPECT_NEAR(e.measured / e.predicted, 1.0, 0.15) << w << "x" << h << ": " << e.measured
+                                                    << " pixels flipped, " << e.predicted
+                                                    << " predicted";
+    // Away from the edges the lateral offset leaves the wall and the box face exact.
+    EXPECT_GT(e.interior, 1000);
+    EXPECT_EQ(e.interior_not_exact, 0) << w << "x" << h;
+  }
 }
 
 TEST(RgbdSensor, GrazingAnglesAreMissing) {

@@ -114,6 +114,43 @@ TEST(IcpKernels, NoiseAndConfidenceWeights) {
               1e-9 * a0.inliers());  // unweighted
 }
 
+TEST(IcpKernels, IncidenceWeightingCountsAGrazingPlaneForItsNoise) {
+  // A plane through (0, 0, 2 m) whose normal makes 70 deg with the optical axis: the centre
+  // pixel sees it at depth 2 m and incidence 70 deg. Nguyen et al.'s sigma_z there is
+  // 0.0012 + 0.0019 * 1.6^2 + 0.0001 / sqrt(2) * g^2, g = theta / (pi/2 - theta) = 3.5 (6.93 mm)
+  // against 6.06 mm head-on, so with the incidence term its weight falls to (6.06 / 6.93)^2.
+  const double phi = 70.0 * M_PI / 180.0;
+  const Eigen::Vector3d n(0.0, std::sin(phi), -std::cos(phi)), p0(0.0, 0.0, 2.0);
+  Image<float> depth(K.width, K.height, 0.0f), model_depth(K.width, K.height, 0.0f);
+  for (int y = 0; y < K.height; ++y)
+    for (int x = 0; x < K.width; ++x) {
+      const Eigen::Vector3d d((x - K.cx) / K.fx, (y - K.cy) / K.fy, 1.0);
+      const double z = n.dot(p0) / n.dot(d);
+      depth(x, y) = z > 0.5 && z < 8.0 ? float(z) : 0.0f;
+      const double zm = n.dot(p0 - 0.005 * n) / n.dot(d);  // the model 5 mm along the normal
+      model_depth(x, y) = zm > 0.5 && zm < 8.0 ? float(zm) : 0.0f;
+    }
+  const FrameLevel F = frameOf(depth), M = frameOf(model_depth);
+  const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+  IcpReduceKernel k = makeKernel(F, M.vertex, M.normal, I, I);
+  k.depth_noise_weighting = true;
+  const int cx = int(K.cx), cy = int(K.cy);
+  float J[6], r, w_depth, w_incidence, depth_m;
+  ASSERT_EQ(k.pixel(cx, cy, J, r, w_depth, depth_m), tracking::kernels::kIcpInlier);
+  k.depth_noise_incidence = true;
+  ASSERT_EQ(k.pixel(cx, cy, J, r, w_incidence, depth_m), tracking::kernels::kIcpInlier);
+  auto sigma = [](double z, double theta) {
+    const double g = theta / (M_PI / 2 - theta);
+    return 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4) + 0.0001 / std::sqrt(z) * g * g;
+  };
+  const double zc = depth(cx, cy);  // pixel centre (39, 29), a little off the optical axis
+  const Eigen::Vector3d ray((cx - K.cx) / K.fx, (cy - K.cy) / K.fy, 1.0);
+  const double theta = std::acos(std::abs(n.dot(ray)) / ray.norm());
+  EXPECT_NEAR(theta * 180.0 / M_PI, 70.0, 1.0);
+  EXPECT_NEAR(w_incidence / w_depth, std::pow(sigma(zc, 0.0) / sigma(zc, theta), 2), 0.01);
+  EXPECT_LT(w_incidence / w_depth, 0.8);
+}
+
 TEST(IcpKernels, JacobianMatchesFiniteDifferences) {
   // One pixel of a sphere-and-planes scene: the residual n . (T(xi) v - q) with the association
   // held fixed, differentiated numerically w.r.t. xi (left increment about the pivot).

@@ -34,10 +34,10 @@ DepthModelParams TSensorParams::depthModel() const {
   DepthModelParams p;
   p.axial_noise = noise;
   p.lateral_noise = noise && lateral_sigma_px > 0;
-  p.sigma0_m = float(axial_sigma0_m);
-  p.sigma_quad = float(axial_sigma_quad);
-  p.sigma_z0_m = float(axial_z0_m);
-  p.sigma_angle = float(axial_sigma_angle);
+  p.axial.sigma0_m = float(axial_sigma0_m);
+  p.axial.sigma_quad = float(axial_sigma_quad);
+  p.axial.z0_m = float(axial_z0_m);
+  p.axial.sigma_angle = float(axial_sigma_angle);
   // Nguyen et al. measured sigma_L in pixels of the Kinect's 640x480 image: a render with another
   // focal length (e.g. 320x240 at fx 262.5) has the same angular noise in its own pixels, i.e.
   // sigma_L scaled by fx / the preset's fx. Unscaled, a 320x240 render had twice the Kinect's

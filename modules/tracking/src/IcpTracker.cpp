@@ -469,6 +469,7 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
     k.min_normal_cos = float(std::cos(P.max_normal_angle_deg[l] * kDegToRad));
     k.huber_delta_m = float(P.huber_delta_m);
     k.depth_noise_weighting = P.depth_noise_weighting;
+    k.depth_noise_incidence = P.depth_noise_incidence;
     if (confidence) {
       k.model_confidence =
           ml == 0 ? model.confidence : ImageView<const float>(m_model_confidence[ml - 1].cview());

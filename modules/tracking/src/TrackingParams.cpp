@@ -39,6 +39,7 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR_CS(level0_pixel_stride, int);
   MRPT_LOAD_CONFIG_VAR_CS(huber_delta_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(depth_noise_weighting, bool);
+  MRPT_LOAD_CONFIG_VAR_CS(depth_noise_incidence, bool);
   MRPT_LOAD_CONFIG_VAR_CS(confidence_full, double);
   MRPT_LOAD_CONFIG_VAR_CS(photometric_weight, double);
   MRPT_LOAD_CONFIG_VAR_CS(photometric_weight_with_prior, double);
@@ -99,6 +100,8 @@ void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   put(c, s, "huber_delta_m", huber_delta_m, "Huber threshold (m), 0 = least squares");
   put(c, s, "depth_noise_weighting", depth_noise_weighting,
       "weight residuals by the depth noise model");
+  put(c, s, "depth_noise_incidence", depth_noise_incidence,
+      "with depth_noise_weighting, the noise at each point's incidence angle too");
   put(c, s, "confidence_full", confidence_full,
       "weight residuals by min(1, surfel confidence / this), 0 = off");
   put(c, s, "photometric_weight", photometric_weight,

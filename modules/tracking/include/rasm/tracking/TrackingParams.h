@@ -44,6 +44,10 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   /// of Kinect-type depth (Nguyen et al. 2012, kernels::depthNoiseSigma): far, noisy points
   /// count less. On by default, with model_min_confidence = 3: see there for what it measured.
   bool depth_noise_weighting = true;
+  /// With depth_noise_weighting, sigma_z at each point's incidence angle too (the angle between
+  /// its normal and the viewing ray; Nguyen et al.'s angle term): grazing points, such as a far
+  /// floor seen by a robot, count less than points at the same depth seen head-on.
+  bool depth_noise_incidence = false;
   /// Weight each residual by min(1, c / confidence_full), c = confidence of the associated model
   /// surfel, when the caller passes the model's confidence map; 0 = off.
   double confidence_full = 0.0;

@@ -1,12 +1,11 @@
 #pragma once
 // Structured-light (Kinect v1 class) depth sensor model, applied to exact ray-cast depth.
-//  - Axial noise (Nguyen, Izadi & Lovell 2012, eq. 3 with their fitted constants):
-//      sigma_z(z, theta) = 0.0012 + 0.0019 (z - 0.4)^2 + 0.0001 / sqrt(z) * theta^2 / (pi/2 -
-//      theta)^2
-//    z in metres, theta the angle between the surface normal and the viewing ray.
+//  - Axial noise: sigma_z(z, theta) of Nguyen, Izadi & Lovell 2012 (core/kernels/DepthNoiseModel.h),
+//    theta the angle between the surface normal and the viewing ray.
 //  - Lateral noise (same paper, eq. 2): sigma_L(theta) = 0.8 + 0.035 theta / (pi/2 - theta) pixels;
-//    the measurement at pixel u is the depth of the ray through u + N(0, sigma_L^2) (bilinear on
-//    smooth surfaces, nearest across depth discontinuities, so edges become ragged).
+//    where the ray through u + N(0, sigma_L^2) meets another surface than the ray through u (a
+//    depth edge between them), pixel u measures that surface's depth, so edges become ragged; on
+//    one smooth surface the offset changes nothing (the axial model holds a plane's noise).
 //  - Disparity quantization: depth comes from disparity d = f b / z quantized to 1/subpixel px
 //    (Kinect v1: 1/8 px, b = 0.075 m, f = 580 px), so the depth step is z^2 / (f b) / subpixel.
 //  - Missing data: outside [min_depth_m, max_depth_m], at grazing angles (theta > max), and in the
@@ -18,6 +17,7 @@
 #include <cstdint>
 
 #include "rasm/compute/ImageView.h"
+#include "rasm/core/kernels/DepthNoiseModel.h"
 #include "rasm/sim/kernels/CounterRng.h"
 
 namespace rasm::sim {
@@ -25,10 +25,7 @@ namespace rasm::sim {
 struct DepthModelParams {
   bool axial_noise = true;
   bool lateral_noise = true;
-  float sigma0_m = 0.0012f;    ///< Nguyen et al.: constant term
-  float sigma_quad = 0.0019f;  ///< Nguyen et al.: coefficient of (z - z0)^2 (1/m)
-  float sigma_z0_m = 0.4f;
-  float sigma_angle = 0.0001f;          ///< Nguyen et al.: angle term coefficient (m^1.5)
+  sensor::AxialNoiseModel axial;        ///< Nguyen et al.'s sigma_z and its constants
   float lateral_px = 0.8f;              ///< Nguyen et al.: sigma_L at theta = 0
   float lateral_angle = 0.035f;         ///< Nguyen et al.: angle term of sigma_L (px)
   float disparity_fb = 580.f * 0.075f;  ///< f * b (px m); depth = fb / disparity
@@ -42,31 +39,17 @@ struct DepthModelParams {
   float smooth_rel_tol = 0.02f;
 };
 
-/// acos for x in [0, 1] (Abramowitz & Stegun 4.4.45, |error| <= 7e-5 rad): the incidence angle
-/// only feeds the noise model, so libm's exact acos is not worth its cost per pixel.
-RASM_HD_INLINE float fastAcos01(float x) {
-  x = x < 0.f ? 0.f : (x > 1.f ? 1.f : x);
-  return std::sqrt(1.f - x) * (1.5707288f + x * (-0.2121144f + x * (0.0742610f - 0.0187293f * x)));
-}
+using sensor::fastAcos01;
+using sensor::incidenceAngleFactor;
 
-/// The angle factor theta / (pi/2 - theta) of both Nguyen et al. formulas (theta clamped to 1.5).
-RASM_HD_INLINE float angleFactor(float theta) {
-  const float th = theta < 1.5f ? theta : 1.5f;
-  return th / (1.57079633f - th);
-}
-
-/// sigma_z(z, theta) of Nguyen et al. (metres), from g = angleFactor(theta).
-RASM_HD_INLINE float axialSigmaG(const DepthModelParams& p, float z, float g) {
-  const float dz = z - p.sigma_z0_m;
-  return p.sigma0_m + p.sigma_quad * dz * dz + p.sigma_angle / std::sqrt(z) * g * g;
-}
+/// sigma_z(z, theta) of Nguyen et al. (metres).
 RASM_HD_INLINE float axialSigma(const DepthModelParams& p, float z, float theta) {
-  return axialSigmaG(p, z, angleFactor(theta));
+  return p.axial.sigma(z, theta);
 }
 
 /// sigma_L(theta) of Nguyen et al. (pixels).
 RASM_HD_INLINE float lateralSigmaPx(const DepthModelParams& p, float theta) {
-  return p.lateral_px + p.lateral_angle * angleFactor(theta);
+  return p.lateral_px + p.lateral_angle * incidenceAngleFactor(theta);
 }
 
 /// Depth after rounding the disparity f b / z to 1/subpixel px (identity when subpixel <= 0).
@@ -157,6 +140,16 @@ struct DepthMeasurementKernel {
     return z_exact(xn, yn);
   }
 
+  /// Whether the depths at a pixel, half-way to a sample and at the sample lie on one smooth
+  /// surface: the second difference is within smooth_rel_tol of the depth (a step edge between
+  /// them puts half its height into it; a floor's curvature in depth over a few pixels is 50x
+  /// smaller than the tolerance at 4 m).
+  RASM_HD_INLINE bool onOneSmoothSurface(float z_pixel, float z_mid, float z_sample) const {
+    if (!(z_mid > 0.f) || !(z_sample > 0.f)) return false;
+    const float second_difference = 2.f * z_mid - z_pixel - z_sample;
+    return fabsf(second_difference) <= p.smooth_rel_tol * z_pixel;
+  }
+
   RASM_HD void operator()(int x, int y) const {
     float du = 0.f, dv = 0.f, dz = 0.f;
     if (p.lateral_noise || p.axial_noise)
@@ -193,16 +186,24 @@ struct DepthMeasurementKernel {
       out = 0.f;
       return;
     }
-    const float g = angleFactor(theta);
+    const float g = incidenceAngleFactor(theta);
     if (p.lateral_noise) {
+      // Nguyen et al. measured sigma_L on the edges of a planar target, and sigma_z on the
+      // residuals of planes at known angles, so sigma_z already holds all the noise a smooth
+      // surface shows: the lateral offset moves depth edges, not a smooth surface's depth.
+      // (Applied on smooth surfaces too, it doubled the noise of a far floor and biased it by
+      // +1 mm at 3.5-4 m, the depth being convex in the row: docs/sim.md "Depth error on a floor".)
       const float sl = p.lateral_px + p.lateral_angle * g;
-      z = sampleDepth(float(x) + sl * noise_du, float(y) + sl * noise_dv);
+      const float du = sl * noise_du, dv = sl * noise_dv;
+      const float z_sample = sampleDepth(float(x) + du, float(y) + dv);
+      const float z_mid = sampleDepth(float(x) + 0.5f * du, float(y) + 0.5f * dv);
+      if (!onOneSmoothSurface(z, z_mid, z_sample)) z = z_sample;
       if (z <= 0.f) {
         out = 0.f;
         return;
       }
     }
-    if (p.axial_noise) z += axialSigmaG(p, z, g) * noise_z;
+    if (p.axial_noise) z += p.axial.sigmaG(z, g) * noise_z;
     z = quantizeDepth(p, z);
     out = (z >= p.min_depth_m && z <= p.max_depth_m) ? z : 0.f;
   }

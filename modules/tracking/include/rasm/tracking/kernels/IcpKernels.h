@@ -19,6 +19,7 @@
 
 #include "rasm/compute/ImageView.h"
 #include "rasm/compute/Types.h"
+#include "rasm/core/kernels/DepthNoiseModel.h"
 
 namespace rasm::tracking::kernels {
 
@@ -42,11 +43,10 @@ struct IcpAccumulator {
   }
 };
 
-/// Axial noise of Kinect-type depth, Nguyen, Izadi and Lovell (3DIMPVT 2012), metres:
-/// sigma(z) = 0.0012 + 0.0019 (z - 0.4)^2 (sigma(1 m) = 1.9 mm, sigma(3 m) = 14 mm).
+/// Axial noise of Kinect-type depth at normal incidence, sigma_z(z, 0) of Nguyen et al.
+/// (core/kernels/DepthNoiseModel.h; sigma(1 m) = 1.9 mm, sigma(3 m) = 14 mm).
 RASM_HD_INLINE float depthNoiseSigma(float z_m) {
-  const float d = z_m - 0.4f;
-  return 0.0012f + 0.0019f * d * d;
+  return rasm::sensor::AxialNoiseModel().sigmaG(z_m, 0.0f);
 }
 
 /// Adds one weighted term to a flat array of IcpAccumulator layout (CUDA path).
@@ -161,8 +161,11 @@ struct IcpReduceKernel {
   float max_dist_m = 0.1f;              ///< |p - q| limit
   float min_normal_cos = 0.866f;        ///< cos of the max angle between normals
   float huber_delta_m = 0.0f;           ///< 0 = no robust weight (on the noise-scaled residual)
-  /// Weight residuals by (sigma(1 m) / sigma(z))^2, sigma = depthNoiseSigma of the frame depth.
+  /// Weight residuals by (sigma(1 m) / sigma)^2, sigma = sigma_z of the frame point: at its
+  /// depth only (depthNoiseSigma), or with depth_noise_incidence also at its incidence angle, the
+  /// angle between the frame normal and the viewing ray (Nguyen et al.'s angle term).
   bool depth_noise_weighting = false;
+  bool depth_noise_incidence = false;
   /// Optional (data = nullptr: none): confidence of the model surfel of each model pixel; the
   /// residual's weight is multiplied by min(1, confidence / confidence_full).
   ImageView<const float> model_confidence;
@@ -212,7 +215,7 @@ struct IcpReduceKernel {
     J[5] = c.z();
     // IRLS weight: sensor noise (the residual's expected scale relative to a point at 1 m), then
     // Huber on the residual in those units.
-    const float s = depth_noise_weighting ? depthNoiseSigma(1.0f) / depthNoiseSigma(v.z()) : 1.0f;
+    const float s = depth_noise_weighting ? depthNoiseSigma(1.0f) / frameNoiseSigma(v, nc) : 1.0f;
     const float ar = fabsf(r) * s;
     w = s * s * ((huber_delta_m > 0.0f && ar > huber_delta_m) ? huber_delta_m / ar : 1.0f);
     if (model_confidence.data) {
@@ -221,6 +224,17 @@ struct IcpReduceKernel {
     }
     depth = v.z();
     return kIcpInlier;
+  }
+
+  /// sigma_z (m) of the frame point v (camera frame) with normal nc: at its depth, and with
+  /// depth_noise_incidence at its incidence angle too.
+  RASM_HD_INLINE float frameNoiseSigma(const Vec3f& v, const Vec3f& nc) const {
+    float g = 0.0f;
+    if (depth_noise_incidence) {
+      const float cos_incidence = fabsf(nc.dot(v)) / v.norm();
+      g = rasm::sensor::incidenceAngleFactor(rasm::sensor::fastAcos01(cos_incidence));
+    }
+    return rasm::sensor::AxialNoiseModel().sigmaG(v.z(), g);
   }
 
   /// CPU path: work item i = one row segment (reduceRowSegment).
