@@ -170,6 +170,47 @@ TEST(PoseCheck, TellsTheRightPoseFromWrongOnes) {
   EXPECT_EQ(empty.overlap, 0.0);
 }
 
+/// The relative rule flags a right pose whose view disagrees with the model in part (a board
+/// 10 cm proud of a mapped wall 3-4 m away, beyond the check's gate there); with
+/// check_prior_confirms_sigmas, odometry that agrees with the pose overrules it, and odometry
+/// that does not (the pose slid away from it) leaves the frame lost.
+TEST(PoseCheck, OdometryThatAgreesOverrulesTheRelativeRuleAndOnlyThen) {
+  const Scene scene = Scene::room();
+  Scene changed = scene;
+  changed.boxes.push_back({{-1.8, 1.9, 0.2}, {1.8, 2.0, 2.8}, false});  // most of the far wall
+  const Eigen::Isometry3d T_a = lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5});
+  const Eigen::Isometry3d T_b = T_a * motion({0.02, 0.0, 0.01}, {0, 1, 0}, 1.0);
+  const WorldMaps model(pyramidOf(scene.render(K, T_a))[0], T_a);
+  const std::vector<FrameLevel> same = pyramidOf(scene.render(K, T_b, 0.002, 5));
+  const std::vector<FrameLevel> board = pyramidOf(changed.render(K, T_b, 0.002, 6));
+  const MotionPrior odometry = MotionPrior::fromStdDevs(
+      T_b, T_b.linear(), Eigen::Vector3d::Constant(0.01), Eigen::Vector3d::Constant(0.5 * kDeg));
+  const MotionPrior slid = MotionPrior::fromStdDevs(
+      translated(T_b, {0.08, 0.0, 0.0}), T_b.linear(), Eigen::Vector3d::Constant(0.01),
+      Eigen::Vector3d::Constant(0.5 * kDeg));
+  for (const double confirms : {0.0, 2.0}) {
+    TTrackingParams p;
+    p.check_prior_confirms_sigmas = confirms;
+    IcpTracker tr(p);
+    tr.reset(T_b);
+    for (int i = 0; i < 6; ++i) ASSERT_TRUE(tr.track(same, modelOf(model, T_a)).ok);
+    const TrackingResult r = tr.align(board, modelOf(model, T_a), T_b, {}, &odometry);
+    // The board's pixels disagree: past the relative rule's 0.15, within the absolute 0.5.
+    ASSERT_LT(r.check_agreement, 0.85);
+    ASSERT_GT(r.check_agreement, p.check_min_agreement);
+    EXPECT_LT(translationDistance(T_b, r.T_world_cam), 0.01) << "the pose is right";
+    EXPECT_LT(r.prior_sigmas, 2.0);
+    if (confirms == 0.0) {
+      EXPECT_EQ(r.status, TrackingStatus::Inconsistent);
+    } else {
+      EXPECT_TRUE(r.ok) << toString(r.status);
+    }
+    // Odometry 8 cm away: the data hold the pose where it is, 8 sigmas from the wheels.
+    const TrackingResult w = tr.align(board, modelOf(model, T_a), T_b, {}, &slid);
+    EXPECT_FALSE(w.ok) << toString(w.status) << ", " << w.prior_sigmas << " prior sigmas";
+  }
+}
+
 /// A robot's view of a floor 1-3.5 m ahead at a grazing angle, tracked right: one pixel row of
 /// the model spans several cm of floor there, so the model pixel a frame point lands on holds a
 /// neighbouring point of the same plane. The check (point-to-plane, as ICP) passes the pose, and

@@ -582,6 +582,10 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
   res.correction_translation_m = translationDistance(T_world_cam_guess, res.T_world_cam);
   res.correction_rotation_rad = rotationAngle(T_world_cam_guess, res.T_world_cam);
 
+  if (prior && res.T_world_cam.matrix().allFinite()) {
+    const Vector6d d = incrementTo(res.T_world_cam, prior->T_world_cam);
+    res.prior_sigmas = std::sqrt(std::max(0.0, d.dot(prior->information * d)));
+  }
   // Pose check: the aligned frame against the model it was aligned to.
   bool check_failed = false;
   if (!model_empty && res.T_world_cam.matrix().allFinite()) {
@@ -590,10 +594,12 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
     res.check_agreement = c.agreement;
     res.check_behind = c.behind;
     check_failed = c.overlap >= P.check_min_overlap && !c.passed;
-  }
-  if (prior && res.T_world_cam.matrix().allFinite()) {
-    const Vector6d d = incrementTo(res.T_world_cam, prior->T_world_cam);
-    res.prior_sigmas = std::sqrt(std::max(0.0, d.dot(prior->information * d)));
+    const bool relative_rule_alone = c.agreement >= P.check_min_agreement &&
+                                     c.behind <= P.check_max_behind &&
+                                     1.0 - c.agreement > c.max_disagreement;
+    if (check_failed && relative_rule_alone && prior && P.check_prior_confirms_sigmas > 0 &&
+        res.prior_sigmas <= P.check_prior_confirms_sigmas)
+      check_failed = false;
   }
 
   // Quality rules (most severe first).

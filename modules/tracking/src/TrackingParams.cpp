@@ -80,6 +80,7 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR_CS(check_max_disagreement_ratio, double);
   MRPT_LOAD_CONFIG_VAR_CS(check_min_disagreement, double);
   MRPT_LOAD_CONFIG_VAR_CS(check_history, int);
+  MRPT_LOAD_CONFIG_VAR_CS(check_prior_confirms_sigmas, double);
   MRPT_LOAD_CONFIG_VAR_CS(use_cuda, bool);
   validate(s);
 }
@@ -159,6 +160,8 @@ void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   put(c, s, "check_min_disagreement", check_min_disagreement,
       "relative rule: disagreement always allowed up to this");
   put(c, s, "check_history", check_history, "relative rule: accepted frames in the median");
+  put(c, s, "check_prior_confirms_sigmas", check_prior_confirms_sigmas,
+      "relative rule overruled within this many prior sigmas of the odometry (0 = off)");
   put(c, s, "use_cuda", use_cuda, "ICP reduction on the GPU");
 }
 
@@ -204,6 +207,7 @@ void TTrackingParams::validate(const std::string& s) const {
   requireInRange(check_max_disagreement_ratio, 0.0, 1e3, s, "check_max_disagreement_ratio");
   requireInRange(check_min_disagreement, 0.0, 1.0, s, "check_min_disagreement");
   requireInRange(check_history, 1, 10000, s, "check_history");
+  requireInRange(check_prior_confirms_sigmas, 0.0, 100.0, s, "check_prior_confirms_sigmas");
 }
 
 }  // namespace rasm::tracking

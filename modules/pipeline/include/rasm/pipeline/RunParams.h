@@ -118,9 +118,9 @@ struct TRobotParams : mrpt::config::CLoadableOptions {
   /// mount's, whatever the map did. With odometry, the prior ICP fuses then takes x, y and yaw
   /// from the odometry increment (relative) and height, roll and pitch from the mount on the
   /// first floor (absolute) with the sigmas below. Soft: the data still weigh in, unlike
-  /// planar_motion. Off by default: on the simulated robot it holds the floor within the
-  /// floor_target_* but the horizontal error grows instead (docs/slam-eval.md "Floor prior").
-  bool floor_prior = false;
+  /// planar_motion. On by default: on the simulated robot it holds the floor within the
+  /// floor_target_* with the horizontal error no larger (docs/slam-eval.md "Floor prior").
+  bool floor_prior = true;
   /// Height (m) and roll/pitch (deg) standard deviations of the floor measurement. Tighter than
   /// a real floor's unevenness (about 1 cm, 0.2 deg) because ICP weighs the map-relative data as
   /// if the map had no error ([tracking] prior_pixel_sigma_m over thousands of inliers): at a

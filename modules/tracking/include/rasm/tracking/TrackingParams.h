@@ -46,7 +46,9 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   bool depth_noise_weighting = true;
   /// With depth_noise_weighting, sigma_z at each point's incidence angle too (the angle between
   /// its normal and the viewing ray; Nguyen et al.'s angle term): grazing points, such as a far
-  /// floor seen by a robot, count less than points at the same depth seen head-on.
+  /// floor seen by a robot, count less than points at the same depth seen head-on. Off: on the
+  /// exploring default it let the pose slide 16 cm along a view the model agreed with
+  /// (docs/slam-eval.md "The simulated floor's bias").
   bool depth_noise_incidence = false;
   /// Weight each residual by min(1, c / confidence_full), c = confidence of the associated model
   /// surfel, when the caller passes the model's confidence map; 0 = off.
@@ -221,6 +223,13 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   double check_max_disagreement_ratio = 3.0;
   double check_min_disagreement = 0.15;
   int check_history = 30;
+  /// A frame that fails the relative rule alone (its agreement above check_min_agreement, its
+  /// disagreement a jump against the recent frames') is accepted when a motion prior (odometry)
+  /// puts its pose within this many of the prior's sigmas: a pose sliding away along a plane
+  /// leaves the wheels' estimate, a right pose whose view disagrees with a model fused a few
+  /// centimetres off does not. 0 = off (the relative rule alone decides). 2 halved the exploring
+  /// default's inconsistent frames (docs/slam-eval.md "The simulated floor's bias").
+  double check_prior_confirms_sigmas = 2.0;
 
   // ---- backend ----
   /// Run the ICP reduction on the GPU (CUDA launcher of the same kernel). Needs a CUDA build
