@@ -156,10 +156,10 @@ TEST(ObjectMap, TwoChairsFarApartStayTwoObjects) {
 TEST(ObjectMap, AnObjectKeepsItsIdWhenSegmentsJoinMergeAndAreRenumbered) {
   ObjectMap m;
   std::vector<segmentation::SegmentStats> table = {
-      segmentBox(3, {5.0, 5.0, 0.0}, {5.5, 5.5, 0.9}),          // a chair
+      segmentBox(3, {5.0, 5.0, 0.0}, {5.5, 5.5, 0.9}),           // a chair
       segmentBox(4, {0.0, 0.0, 0.72}, {1.6, 0.8, 0.75}, 6000)};  // a desk's top
-  m.addDetectorView(view(10, {{3, 4000}, {4, 9000}},
-                         {{3, kChair, 0.9f, 0.8f}, {4, kDiningTable, 0.9f, 0.8f}}));
+  m.addDetectorView(
+      view(10, {{3, 4000}, {4, 9000}}, {{3, kChair, 0.9f, 0.8f}, {4, kDiningTable, 0.9f, 0.8f}}));
   m.update(table);
   const int chair_id = m.objectOfSegment(3)->id, desk_id = m.objectOfSegment(4)->id;
   EXPECT_NE(chair_id, desk_id);
@@ -185,8 +185,8 @@ TEST(ObjectMap, AnObjectKeepsItsIdWhenSegmentsJoinMergeAndAreRenumbered) {
   EXPECT_EQ(m.objectOfSegment(1)->id, chair_id);
   EXPECT_EQ(m.objectOfSegment(2)->id, desk_id);
   EXPECT_EQ(m.segmentRecord(2)->detections, 2);
-  EXPECT_NEAR(m.objectOfSegment(2)->best.probability,
-              1.0 / (1.0 + std::exp(-std::log(9.0) * 1.5)), 2 * kPerUpdateP + 1e-6);
+  EXPECT_NEAR(m.objectOfSegment(2)->best.probability, 1.0 / (1.0 + std::exp(-std::log(9.0) * 1.5)),
+              2 * kPerUpdateP + 1e-6);
   // A new chair far away: a new id, above both.
   table.push_back(segmentBox(5, {3.0, 3.0, 0.0}, {3.5, 3.5, 0.9}));
   m.addDetectorView(view(20, {{5, 4000}}, {{5, kChair, 0.9f, 0.8f}}));
@@ -204,15 +204,15 @@ TEST(ObjectMap, AnObjectSeenOnceWithAWeakDetectionIsNotConfirmed) {
   const float strong = detectionProbability(0.95f, ScoreModel::Vote, 0.9f, 0.25f);
   EXPECT_NEAR(weak, 0.5f + 0.5f * 0.1f / 0.75f, 1e-6f);
   EXPECT_FLOAT_EQ(strong, 0.9f);
-  const std::vector<segmentation::SegmentStats> table = {
-      segmentBox(1, {0, 0, 0}, {0.5, 0.5, 0.9}), segmentBox(2, {3, 0, 0}, {3.5, 0.5, 0.9}),
-      segmentBox(3, {6, 0, 0}, {6.5, 0.5, 0.9})};
+  const std::vector<segmentation::SegmentStats> table = {segmentBox(1, {0, 0, 0}, {0.5, 0.5, 0.9}),
+                                                         segmentBox(2, {3, 0, 0}, {3.5, 0.5, 0.9}),
+                                                         segmentBox(3, {6, 0, 0}, {6.5, 0.5, 0.9})};
   ObjectMap m;
   m.setDetectorClasses(0, {kChair, kDiningTable});
   m.setDetectorClasses(1, {90});  // a zero-shot detector of another class
-  m.addDetectorView(view(10, {{1, 3000}, {2, 3000}, {3, 3000}},
-                         {{1, kChair, weak, 0.5f}, {2, kChair, strong, 0.8f},
-                          {3, kChair, strong, 0.8f}}));
+  m.addDetectorView(
+      view(10, {{1, 3000}, {2, 3000}, {3, 3000}},
+           {{1, kChair, weak, 0.5f}, {2, kChair, strong, 0.8f}, {3, kChair, strong, 0.8f}}));
   for (std::size_t f = 1; f <= 20; ++f) {
     m.addDetectorView(view(10 + 5 * f, {{3, 3000}}, {}));     // 20 views of segment 3, no hit
     m.addDetectorView(view(10 + 5 * f, {{2, 3000}}, {}, 1));  // segment 2 by the other detector

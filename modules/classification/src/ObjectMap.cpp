@@ -149,8 +149,7 @@ std::vector<std::vector<std::uint32_t>> ObjectMap::groupSegments(
       }
   }
   std::map<std::size_t, std::vector<std::uint32_t>> groups;  // by root; labels stay sorted
-  for (std::size_t i = 0; i < labels.size(); ++i)
-    groups[findRoot(parent, i)].push_back(labels[i]);
+  for (std::size_t i = 0; i < labels.size(); ++i) groups[findRoot(parent, i)].push_back(labels[i]);
   std::vector<std::vector<std::uint32_t>> out;
   for (auto& [root, g] : groups) out.push_back(std::move(g));
   return out;

@@ -18,8 +18,7 @@ void TObjectParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireInRange(min_existence_probability, 0.0, 1.0, s, "min_existence_probability");
 }
 
-void TObjectParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
-                                     const std::string& s) const {
+void TObjectParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
   c.write(s, "link_min_probability", link_min_probability, -1, -1,
           "segments of one class join one object when each has this probability");
   c.write(s, "link_max_gap_m", link_max_gap_m, -1, -1,

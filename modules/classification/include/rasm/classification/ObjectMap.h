@@ -84,9 +84,9 @@ struct MapObject {
   int views_detected = 0;
   double existence_probability = 0.5;  ///< (views_detected + 1) / (views + 2)
   std::size_t first_seen_frame = 0, last_seen_frame = 0;
-  int frames_seen = 0;      ///< distinct frames with a view of it (any detector)
-  int frames_detected = 0;  ///< distinct frames in which a detection went to it
-  int surfels = 0;          ///< of its segments with geometry
+  int frames_seen = 0;        ///< distinct frames with a view of it (any detector)
+  int frames_detected = 0;    ///< distinct frames in which a detection went to it
+  int surfels = 0;            ///< of its segments with geometry
   bool has_geometry = false;  ///< false: none of its segments is in the segment table
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  ///< surfel-weighted (world, m)
   Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero(), bbox_max = Eigen::Vector3d::Zero();
@@ -136,7 +136,8 @@ class ObjectMap {
   void assignIds(std::vector<MapObject>& objects);
   MapObject describe(const std::vector<std::uint32_t>& group,
                      const std::vector<segmentation::SegmentStats>& segments) const;
-  void describeGeometry(MapObject& o, const std::vector<segmentation::SegmentStats>& segments) const;
+  void describeGeometry(MapObject& o,
+                        const std::vector<segmentation::SegmentStats>& segments) const;
   bool reportsClass(int detector, int class_id) const;
 
   TObjectParams m_params;
