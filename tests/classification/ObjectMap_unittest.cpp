@@ -27,6 +27,7 @@ segmentation::SegmentStats segmentBox(std::uint32_t id, const Eigen::Vector3d& l
   s.extents = hi - lo;
   s.upright_axes = Eigen::Matrix3d::Identity();
   s.upright_extents = hi - lo;
+  s.upright_centre = 0.5 * (lo + hi);
   return s;
 }
 

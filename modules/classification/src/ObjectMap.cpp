@@ -250,22 +250,20 @@ void ObjectMap::describeGeometry(MapObject& o, const std::vector<SegmentStats>& 
     if (st->surfels > largest->surfels) largest = st;
   }
   if (o.surfels > 0) o.centroid /= double(o.surfels);
-  // The upright box on the largest segment's axes that holds every segment's upright box (each
-  // centred on its axis-aligned box, as objects.json writes a segment's oriented box).
+  // The upright box on the largest segment's axes that holds every segment's upright box
+  // (percentile extents about its centre: SegmentTable.h).
   o.box_axes = largest->upright_axes;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
-  for (const SegmentStats* st : parts) {
-    const Eigen::Vector3d centre = 0.5 * (st->bbox_min + st->bbox_max);
+  for (const SegmentStats* st : parts)
     for (int corner = 0; corner < 8; ++corner) {
       const Eigen::Vector3d sign((corner & 1) ? 0.5 : -0.5, (corner & 2) ? 0.5 : -0.5,
                                  (corner & 4) ? 0.5 : -0.5);
       const Eigen::Vector3d p_world =
-          centre + st->upright_axes * sign.cwiseProduct(st->upright_extents);
+          st->upright_centre + st->upright_axes * sign.cwiseProduct(st->upright_extents);
       const Eigen::Vector3d p_box = o.box_axes.transpose() * p_world;
       lo = lo.cwiseMin(p_box);
       hi = hi.cwiseMax(p_box);
     }
-  }
   o.box_centre = o.box_axes * (0.5 * (lo + hi));
   o.box_extents_m = hi - lo;
 }

@@ -237,9 +237,9 @@ nlohmann::json axesJson(const Eigen::Matrix3d& axes) {
   return out;
 }
 
-/// The oriented box of a segment: its upright (z-up) axes and extents about its box's centre.
+/// The oriented box of a segment: its upright (z-up) axes and extents about their centre.
 nlohmann::json orientedBox(const segmentation::SegmentStats& s) {
-  return {{"centre", vec3(0.5 * (s.bbox_min + s.bbox_max))},
+  return {{"centre", vec3(s.upright_centre)},
           {"axes", axesJson(s.upright_axes)},
           {"extents_m", vec3(s.upright_extents)}};
 }
