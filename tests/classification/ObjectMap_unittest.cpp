@@ -265,3 +265,17 @@ TEST(ObjectMap, SegmentPixelCountsCountEveryLabel) {
   const std::vector<std::pair<std::uint32_t, int>> expected = {{1, 3}, {2, 3}, {3, 4}};
   EXPECT_EQ(counts, expected);
 }
+
+// A segment that had detections but is gone from the map (no entry in the segment table) has no
+// surfels: it is not reported, however confident its class.
+TEST(ObjectMap, ASegmentGoneFromTheMapIsNotReported) {
+  ObjectMap m;
+  m.addDetectorView(
+      view(10, {{1, 3000}, {2, 3000}}, {{1, kChair, 0.9f, 0.8f}, {2, kChair, 0.9f, 0.8f}}));
+  m.update({segmentBox(1, {0, 0, 0}, {0.5, 0.5, 0.9})});
+  ASSERT_EQ(m.objects().size(), 2u);
+  EXPECT_EQ(m.objectOfSegment(1)->verdict, ObjectVerdict::Object);
+  EXPECT_FALSE(m.objectOfSegment(2)->has_geometry);
+  EXPECT_GT(m.objectOfSegment(2)->best.probability, 0.8f);
+  EXPECT_EQ(m.objectOfSegment(2)->verdict, ObjectVerdict::Fragment);
+}

@@ -221,12 +221,8 @@ MapObject ObjectMap::describe(const std::vector<std::uint32_t>& group,
   c.surfels = o.surfels;
   c.best_id = o.best.class_id;
   c.best_p = o.best.probability;
-  if (o.has_geometry)
-    o.verdict = objectVerdict(c, o.box_extents_m, m_thresholds);
-  else  // no segment table (no segmentation stage): the class alone decides
-    o.verdict = c.best_id != 0 && c.best_p >= m_thresholds.min_object_probability
-                    ? ObjectVerdict::Object
-                    : ObjectVerdict::Unconfirmed;
+  // A segment the table does not hold (gone from the map) has no surfels: a fragment at most.
+  o.verdict = objectVerdict(c, o.box_extents_m, m_thresholds);
   if (o.verdict == ObjectVerdict::Object &&
       o.existence_probability < m_params.min_existence_probability)
     o.verdict = ObjectVerdict::RarelyDetected;

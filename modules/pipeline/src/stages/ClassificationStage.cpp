@@ -343,6 +343,7 @@ void ClassificationStage::writeOutputs(OutputFolder& folder, const maps::CSurfel
       objects.push_back(objectEntry(o));
       continue;
     }
+    if (!o.has_geometry) continue;              // its segments are gone from the map
     for (const std::uint32_t s : o.segments) {  // segments that carry a class or a detection
       const ObjectMap::SegmentRecord* r = m_object_map.segmentRecord(s);
       if (r && (r->detections > 0 || !maps::classEvidenceEmpty(r->histogram)))

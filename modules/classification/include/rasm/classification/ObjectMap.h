@@ -87,7 +87,9 @@ struct MapObject {
   int frames_seen = 0;        ///< distinct frames with a view of it (any detector)
   int frames_detected = 0;    ///< distinct frames in which a detection went to it
   int surfels = 0;            ///< of its segments with geometry
-  bool has_geometry = false;  ///< false: none of its segments is in the segment table
+  /// false: none of its segments is in the segment table (gone from the map, or no segmentation
+  /// stage): no surfels, so never reported (a fragment at most).
+  bool has_geometry = false;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  ///< surfel-weighted (world, m)
   Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero(), bbox_max = Eigen::Vector3d::Zero();
   Eigen::Matrix3d box_axes = Eigen::Matrix3d::Identity();  ///< upright: 2 horizontal, +z
