@@ -3,10 +3,14 @@
 // frames and boxes.
 #include <gtest/gtest.h>
 
+#include <mrpt/config/CConfigFileMemory.h>
+
 #include <cmath>
 #include <set>
 
 #include "rasm/classification/ObjectMap.h"
+#include "rasm/core/Error.h"
+#include "rasm/core/Params.h"
 
 using namespace rasm;
 using namespace rasm::classification;
@@ -278,4 +282,29 @@ TEST(ObjectMap, ASegmentGoneFromTheMapIsNotReported) {
   EXPECT_FALSE(m.objectOfSegment(2)->has_geometry);
   EXPECT_GT(m.objectOfSegment(2)->best.probability, 0.8f);
   EXPECT_EQ(m.objectOfSegment(2)->verdict, ObjectVerdict::Fragment);
+}
+
+// [objects] loads its keys with the other sections' rules: known keys only, ranges checked.
+TEST(ObjectParams, LoadedStrictAndValidated) {
+  mrpt::config::CConfigFileMemory ini;
+  ini.write("objects", "link_max_gap_m", "0.02");
+  ini.write("objects", "min_existence_probability", "0.3");
+  TObjectParams p;
+  loadParamsStrict(ini, "objects", p, "test.ini");
+  EXPECT_DOUBLE_EQ(p.link_max_gap_m, 0.02);
+  EXPECT_DOUBLE_EQ(p.min_existence_probability, 0.3);
+  EXPECT_DOUBLE_EQ(p.link_min_probability, 0.6);  // defaults stay
+  EXPECT_EQ(p.min_view_pixels, 300);
+  mrpt::config::CConfigFileMemory bad;
+  bad.write("objects", "link_min_probability", "0.4");  // below the 0.5 prior: links anything
+  try {
+    loadParamsStrict(bad, "objects", p, "test.ini");
+    FAIL() << "link_min_probability 0.4 accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("[objects] link_min_probability"), std::string::npos)
+        << e.what();
+  }
+  mrpt::config::CConfigFileMemory typo;
+  typo.write("objects", "link_gap_m", "0.1");
+  EXPECT_THROW(loadParamsStrict(typo, "objects", p, "test.ini"), InputError);
 }
