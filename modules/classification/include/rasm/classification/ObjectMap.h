@@ -15,7 +15,8 @@
 // (a floor named "dining table" must not swallow the table), and (c) their axis-aligned boxes
 // overlap or leave a gap of at most link_max_gap_m on every axis; objects are the connected
 // components (so a desk split at its folds into a top and a side panel, both named, is one
-// object; two chairs 0.5 m apart are two). A segment no rule links is an object of its own.
+// object; two chairs 0.5 m apart are two). A segment no rule links is an object of its own, and
+// so is one the segment table does not hold yet (it is refreshed every few frames, III).
 //
 // Identity. An object keeps its id while its segments merge, change or are joined by new ones:
 // each new group takes the oldest (smallest) id its segments had; groups are served by size
