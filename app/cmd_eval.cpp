@@ -443,21 +443,26 @@ int evalSegmentation(const std::vector<std::string>& args) {
 
 #ifdef RASM_EVAL_CLASSIFICATION
 
-/// Segment -> class name of <run>/objects.json (aliases mapped to the simulator's names), and
-/// segment -> detections fused.
+/// Segment -> class name of <run>/objects.json (aliases mapped to the simulator's names): every
+/// segment of an object carries the object's class; and segment -> the detections fused into its
+/// object.
 std::map<std::uint32_t, std::string> readSegmentClasses(const std::string& run,
                                                         std::map<std::uint32_t, int>& detections) {
   const nlohmann::json objects = rasm::app::readRunObjects(run);
   const std::string path = (fs::path(run) / "objects.json").string();
   std::map<std::uint32_t, std::string> out;
   for (const auto& o : objects) {
-    if (!o.contains("segment") || !o.contains("class"))
-      rasm::throwInputError(path, "an object without \"segment\" or \"class\"");
+    if (!o.contains("class") || !o["class"].is_string())
+      rasm::throwInputError(path, "an object without \"class\"");
     std::string name = o["class"].get<std::string>();
     const int id = rasm::sim::classIdFromName(name);
     if (id > 0) name = rasm::sim::className(id);
-    out[o["segment"].get<std::uint32_t>()] = name;
-    detections[o["segment"].get<std::uint32_t>()] = o.value("detections_fused", 0);
+    for (const std::uint32_t s : rasm::app::objectSegments(o, path)) {
+      if (out.count(s) != 0)
+        rasm::throwInputError(path, "segment " + std::to_string(s) + " is in two objects");
+      out[s] = name;
+      detections[s] = o.value("detections_fused", 0);
+    }
   }
   return out;
 }

@@ -118,19 +118,26 @@ TEST(RasmCli, ConvertRefusesAMissingOutputFolderAndCreatesNothing) {
   fs::remove_all(dir);
 }
 
-// `rasm objects` prints objects.json's objects; --all adds its other_segments with the reason.
+// `rasm objects` prints objects.json's objects, each once with its segments; --all adds its
+// other_segments with the reason.
 TEST(RasmCli, ObjectsListsTheObjectsAndWithAllTheOtherSegmentsAndWhy) {
   const std::string dir = freshDir("objects");
   std::ofstream(dir + "/objects.json")
-      << R"({"comment": "test", "objects": [{"segment": 7, "class": "chair", "probability": 0.9,
-          "surfels": 900, "detections_fused": 4}],
-        "other_segments": [{"segment": 3, "class": "dining table", "probability": 0.83,
-          "surfels": 509740, "detections_fused": 9, "not_an_object": "structure"},
-          {"segment": 5, "class": "none", "probability": 0.55, "surfels": 1,
+      << R"({"comment": "test", "objects": [{"id": 4, "segments": [7, 12], "class": "chair",
+          "probability": 0.9, "existence_probability": 0.83, "surfels": 900,
+          "detections_fused": 4, "frames": {"first_seen": 10, "last_seen": 85, "seen": 9,
+          "detected": 4}}],
+        "other_segments": [{"segment": 3, "object": 1, "class": "dining table",
+          "probability": 0.83, "surfels": 509740, "detections_fused": 9,
+          "not_an_object": "structure"},
+          {"segment": 5, "object": 2, "class": "none", "probability": 0.55, "surfels": 1,
           "detections_fused": 1, "not_an_object": "unconfirmed"}]})";
   const Result plain = runRasm("objects " + dir);
   EXPECT_EQ(plain.status, 0) << plain.output;
   EXPECT_NE(plain.output.find("chair"), std::string::npos) << plain.output;
+  EXPECT_NE(plain.output.find(" 7,12 "), std::string::npos) << plain.output;
+  EXPECT_NE(plain.output.find("9 10-85"), std::string::npos) << plain.output;
+  EXPECT_NE(plain.output.find(" 0.83 "), std::string::npos) << plain.output;
   EXPECT_EQ(plain.output.find("dining table"), std::string::npos) << plain.output;
   EXPECT_NE(plain.output.find("1 objects, 1 rows shown"), std::string::npos) << plain.output;
   const Result all = runRasm("objects " + dir + " --all");
@@ -138,5 +145,11 @@ TEST(RasmCli, ObjectsListsTheObjectsAndWithAllTheOtherSegmentsAndWhy) {
   EXPECT_NE(all.output.find("(structure)"), std::string::npos) << all.output;
   EXPECT_NE(all.output.find("(unconfirmed)"), std::string::npos) << all.output;
   EXPECT_NE(all.output.find("1 objects, 3 rows shown"), std::string::npos) << all.output;
+  // A run folder from before the object layer (one `segment` per entry) still reads.
+  std::ofstream(dir + "/objects.json")
+      << R"({"objects": [{"segment": 7, "class": "chair", "probability": 0.9}]})";
+  const Result old_format = runRasm("objects " + dir);
+  EXPECT_EQ(old_format.status, 0) << old_format.output;
+  EXPECT_NE(old_format.output.find(" 7 "), std::string::npos) << old_format.output;
   fs::remove_all(dir);
 }

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
@@ -132,19 +133,33 @@ TEST_P(MappingRunModes, SimulatedOfficeDefaultTracksWithinTarget) {
   EXPECT_GT(cls.at("surfel_updates").get<long long>(), 0);  // some detections found a segment
   for (const char* f : {"objects.json", "classes.json", "map_classes.ply", "preview_classes.png"})
     EXPECT_TRUE(fs::is_regular_file(out + "/" + f)) << f;
-  // objects.json lists objects only: each named, of >= 50 surfels, not a plane over 2 m both
-  // ways; the rest of what was classified is in other_segments with the reason.
+  // objects.json lists objects only, each once: named, of >= 50 surfels, not a plane over 2 m
+  // both ways, detected in enough of its views; no id and no segment twice, and a segment of an
+  // object is not among the other segments (the rest of what was classified, with the reason).
   std::ifstream objects_file(out + "/objects.json");
   const nlohmann::json objects = nlohmann::json::parse(objects_file);
   ASSERT_TRUE(objects.at("other_segments").is_array());
+  std::set<int> ids;
+  std::set<std::uint32_t> segments;
   for (const auto& o : objects.at("objects")) {
     EXPECT_NE(o.at("class").get<std::string>(), "none");
     EXPECT_GE(o.at("surfels").get<int>(), 50);
-    std::vector<double> e = o.at("pca_extents_m").get<std::vector<double>>();
+    std::vector<double> e = o.at("oriented_box").at("extents_m").get<std::vector<double>>();
     std::sort(e.begin(), e.end());
     EXPECT_FALSE(e[1] > 2.0 && e[0] < 0.15) << o.dump();
+    EXPECT_GE(o.at("existence_probability").get<double>(), 0.1) << o.dump();
+    EXPECT_GE(o.at("frames").at("seen").get<int>(), 1) << o.dump();
+    EXPECT_TRUE(ids.insert(o.at("id").get<int>()).second) << "id twice: " << o.dump();
+    ASSERT_FALSE(o.at("segments").empty()) << o.dump();
+    for (const auto& seg : o.at("segments"))
+      EXPECT_TRUE(segments.insert(seg.get<std::uint32_t>()).second)
+          << "segment twice: " << o.dump();
   }
-  for (const auto& o : objects.at("other_segments"))
+  EXPECT_EQ(s.report.at("classification").at("objects").get<std::size_t>(),
+            objects.at("objects").size());
+  for (const auto& o : objects.at("other_segments")) {
     EXPECT_TRUE(o.contains("not_an_object")) << o.dump();
+    EXPECT_TRUE(segments.insert(o.at("segment").get<std::uint32_t>()).second) << o.dump();
+  }
   fs::remove_all(out);
 }

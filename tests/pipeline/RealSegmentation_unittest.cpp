@@ -86,6 +86,11 @@ TEST(RealSegmentation, Fr3CabinetIsOneSegmentOfItsSize) {
   EXPECT_NEAR(st->upright_extents[0], 2 * hx, 0.1 * 2 * hx);
   EXPECT_NEAR(st->upright_extents[1], 2 * hy, 0.1 * 2 * hy);
   EXPECT_NEAR(st->upright_extents[2], 2 * hz, 0.1 * 2 * hz);
+  // The box's centre on the cuboid's, within 10% of its sizes (z: of its height).
+  const double size_xy = 2 * std::max(hx, hy);
+  EXPECT_NEAR(st->upright_centre.x(), cuboid.cx, 0.1 * size_xy);
+  EXPECT_NEAR(st->upright_centre.y(), cuboid.cy, 0.1 * size_xy);
+  EXPECT_NEAR(st->upright_centre.z(), cuboid.cz, 0.1 * 2 * hz);
   // The long horizontal axis along the cuboid's yaw (either sense), within 10 degrees.
   const double along = std::abs(st->upright_axes.col(0).x() * c + st->upright_axes.col(0).y() * s);
   EXPECT_GT(along, std::cos(10.0 * M_PI / 180.0));

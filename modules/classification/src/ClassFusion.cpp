@@ -70,6 +70,10 @@ float detectionProbability(float score, ScoreModel model, float max_p, float s0)
   return std::clamp(p, 1.f - hi, hi);
 }
 
+int evidenceLogitUnits(const SegmentEvidence& e) {
+  return maps::quantizeClassLogit(e.weight * maps::probabilityLogit(e.p_detection));
+}
+
 FusionCounts fuseSegmentEvidence(const maps::SurfelArrays& a,
                                  const std::vector<SegmentEvidence>& evidence) {
   FusionCounts counts;
@@ -84,9 +88,7 @@ FusionCounts fuseSegmentEvidence(const maps::SurfelArrays& a,
   for (const SegmentEvidence& e : items) ++first[e.segment + 1];
   for (std::size_t l = 1; l < first.size(); ++l) first[l] += first[l - 1];
   std::vector<int> units(items.size());
-  for (std::size_t k = 0; k < items.size(); ++k)
-    units[k] =
-        maps::quantizeClassLogit(items[k].weight * maps::probabilityLogit(items[k].p_detection));
+  for (std::size_t k = 0; k < items.size(); ++k) units[k] = evidenceLogitUnits(items[k]);
 
   long long updated = 0, dropped = 0;
 #pragma omp parallel for schedule(static) reduction(+ : updated, dropped)

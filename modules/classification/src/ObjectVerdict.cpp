@@ -11,8 +11,15 @@ const char* toString(ObjectVerdict v) {
     case ObjectVerdict::Unconfirmed: return "unconfirmed";
     case ObjectVerdict::Fragment: return "fragment";
     case ObjectVerdict::Structure: return "structure";
+    case ObjectVerdict::RarelyDetected: return "rarely_detected";
   }
   return "?";
+}
+
+bool isStructure(const Eigen::Vector3d& extents_m, const TClassificationParams& params) {
+  Eigen::Vector3d e = extents_m.cwiseAbs();
+  std::sort(e.data(), e.data() + 3, std::greater<double>());
+  return e[1] > params.structure_min_extent_m && e[2] < params.structure_max_thickness_m;
 }
 
 ObjectVerdict objectVerdict(const SegmentClass& c, const Eigen::Vector3d& extents_m,
@@ -22,8 +29,7 @@ ObjectVerdict objectVerdict(const SegmentClass& c, const Eigen::Vector3d& extent
   std::sort(e.data(), e.data() + 3, std::greater<double>());
   if (c.surfels < params.min_object_surfels || !(e[0] > params.min_object_size_m))
     return ObjectVerdict::Fragment;
-  if (e[1] > params.structure_min_extent_m && e[2] < params.structure_max_thickness_m)
-    return ObjectVerdict::Structure;
+  if (isStructure(e, params)) return ObjectVerdict::Structure;
   return ObjectVerdict::Object;
 }
 

@@ -43,7 +43,9 @@ const Doc kFiles[] = {
     {"map_segments.ply", "map.ply's layout, coloured by segment; `[output] write_ply`"},
     {"map_segments.3Dscene", "map.3Dscene coloured by segment, when the map has segments"},
     {"classes.json", "the map's class list (below); `[classification] enabled`"},
-    {"objects.json", "the classified segments (below); `rasm objects <run folder>` prints them"},
+    {"objects.json",
+     "the objects (each once, over its segments) and the other classified segments (below); "
+     "`rasm objects <run folder>` prints them"},
     {"map_classes.ply", "map.ply's layout, coloured by class; `[output] write_ply`"},
     {"map_classes.3Dscene", "map.3Dscene coloured by class, when a surfel carries one"},
     {"exploration.json", "an exploring run's plans, goals and ground-truth metrics (below)"},
@@ -258,17 +260,28 @@ percentile), `upright_axes` (the two horizontal principal directions; z is up),
 
 ## objects.json (IV)
 
-`comment`; `objects`: the segments reported as objects (a confirmed class, at least
-`[classification] min_object_surfels` surfels and `min_object_size_m` of extent, not a thin plane
-larger than `structure_min_extent_m` both ways); `other_segments`: the other segments that carry
-a class or had detections fused, with `not_an_object` (`unconfirmed`, `fragment` or `structure`).
-Each entry: `segment`, `class`
-(`best_class` when its probability reaches `[classification] min_object_probability`, else
-`none`), `class_id` (classes.json id; 0 for none), `best_class`, `probability` (mean posterior
-over the segment's surfels), `runner_up`, `runner_up_probability`, `surfels`, `detections_fused`,
-`centroid`, `pca_extents_m`, `oriented_box` {`centre`, `axes` (upright, z up), `extents_m`};
-`pose_hint` {`class`, `azimuth_deg`, `elevation_deg`, `template`, `score`} when the zero-shot
-detector matched a template. World frame, metres.
+`comment`; `objects`: the objects of the object layer (`classification/ObjectMap.h`), each once:
+one or more segments whose own classes agree with `[objects] link_min_probability` and whose boxes
+touch (`link_max_gap_m`), reported when the object's class reaches `[classification]
+min_object_probability`, it holds at least `min_object_surfels` surfels and `min_object_size_m` of
+extent, it is not a thin plane larger than `structure_min_extent_m` both ways, and its existence
+probability reaches `[objects] min_existence_probability`. Each object: `id` (kept over the run
+while its segments merge, change or are joined), `class` (best of its histogram), `class_id`
+(classes.json id), `probability`, `runner_up`, `runner_up_probability`, `histogram` [{`class`,
+`class_id`, `probability`}] (up to 4 classes by decreasing posterior: the log-odds of every
+detection fused into its segments, IV), `existence_probability` ((`views_detected` + 1) /
+(`views` + 2)), `views` (frames a detector that reports its class processed in which a segment of
+it covered `min_view_pixels` of L^p, or a detection went to it), `views_detected`, `frames`
+{`first_seen`, `last_seen`, `seen`, `detected`} (frame indices and counts over every detector),
+`segments` (the PLY `segment` ids), `surfels`, `detections_fused`, `centroid`, `box` {`min`,
+`max`, `centre`, `size_m`} (axis-aligned, over its segments), `oriented_box` {`centre`, `axes`
+(upright, z up; its largest segment's), `extents_m`}; `pose_hint` {`class`, `azimuth_deg`,
+`elevation_deg`, `template`, `score`} when the zero-shot detector matched a template.
+`other_segments`: the segments of the objects not reported that carry a class or had detections
+fused: `segment`, `object` (its object's id), `class` (`none` below min_object_probability),
+`class_id`, `best_class`, `probability` (the segment's own histogram), `detections_fused`,
+`surfels`, `centroid`, `pca_extents_m`, `oriented_box`, `not_an_object` (its object's reason:
+`unconfirmed`, `fragment`, `structure` or `rarely_detected`). World frame, metres.
 
 ## classes.json (IV)
 

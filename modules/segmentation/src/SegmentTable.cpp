@@ -131,6 +131,7 @@ void SegmentTable::compute(const maps::SurfelArrays& s) {
   for (std::size_t k = 0; k < m_segments.size(); ++k) {
     SegmentStats& st = m_segments[k];
     const Hist& h = hist[k];
+    st.upright_centre = st.centroid;
     for (int ax = 0; ax < 6; ++ax) {
       const int* b = h.bins.data() + ax * kBins;
       const double n = st.surfels, lo_q = 0.01 * n, hi_q = 0.99 * n;
@@ -144,6 +145,8 @@ void SegmentTable::compute(const maps::SurfelArrays& s) {
       b_hi = std::min(b_hi, kBins - 1);
       (ax < 3 ? st.extents[ax] : st.upright_extents[ax - 3]) =
           std::max(0.0, (b_hi + 1 - b_lo) * h.width[ax]);
+      if (ax >= 3)  // the middle of the percentile range, along the upright axis
+        st.upright_centre += axis(st, ax) * (h.lo[ax] + 0.5 * (b_lo + b_hi + 1) * h.width[ax]);
     }
   }
 }

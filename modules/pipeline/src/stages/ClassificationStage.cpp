@@ -26,7 +26,7 @@ ClassificationStage::ClassificationStage(SegmentationStage* segmentation)
 ClassificationStage::~ClassificationStage() = default;
 
 std::vector<ParamsSection> ClassificationStage::sections() {
-  std::vector<ParamsSection> out = {{"classification", &m_params}};
+  std::vector<ParamsSection> out = {{"classification", &m_params}, {"objects", &m_object_params}};
   for (const auto& [name, params] : m_detector_sections.list()) out.push_back({name, params});
   return out;
 }
@@ -46,6 +46,7 @@ void ClassificationStage::startWorkers(maps::CSurfelMap& map) {
   // The map's class list: a loaded map's, else the default; the detectors' classes join it.
   m_classes = ClassList(map.classes().empty() ? ClassList::defaultClasses() : map.classes(),
                         map.creationOptions().n_classes);
+  m_object_map = ObjectMap(m_object_params, m_params);
   if (!m_params.enabled) return;
   DetectorBuild built = makeDetectors(m_params, m_detector_sections, m_sim_scene);
   for (auto& d : m_extra_detectors) built.detectors.push_back(std::move(d));
@@ -54,6 +55,7 @@ void ClassificationStage::startWorkers(maps::CSurfelMap& map) {
   for (const std::string& w : m_warnings) std::fprintf(stderr, "rasm: warning: %s\n", w.c_str());
   for (auto& d : built.detectors) {
     m_class_ids.push_back(m_classes.registerDetector(*d));
+    m_object_map.setDetectorClasses(int(m_workers.size()), m_class_ids.back());
     m_workers.push_back(
         std::make_unique<DetectorWorker>(std::move(d), int(m_workers.size()), m_params.threaded));
   }
@@ -94,6 +96,14 @@ void ClassificationStage::fuseArrived(maps::CSurfelMap& map) {
     fuseResult(r, it->second, map);
     if (--it->second.outstanding == 0) m_pending.erase(it);
   }
+  if (!arrived.empty()) updateObjects();
+}
+
+void ClassificationStage::updateObjects() {
+  if (m_segmentation)
+    m_object_map.update(m_segmentation->table().segments());
+  else
+    m_object_map.update({});
 }
 
 void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p, maps::CSurfelMap& map) {
@@ -108,13 +118,18 @@ void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p, maps::
   const std::vector<Association> assoc =
       associateDetections(p.labels, r.detections, float(m_params.min_iou));
   const std::vector<int>& ids = m_class_ids[std::size_t(r.worker)];
-  std::vector<SegmentEvidence> evidence;
+  DetectorView view;  // what the object layer learns from this result
+  view.frame = r.frame_index;
+  view.detector = r.worker;
+  view.segment_pixels = segmentPixelCounts(p.labels);
+  std::vector<SegmentEvidence>& evidence = view.evidence;
   for (std::size_t d = 0; d < r.detections.size(); ++d) {
     if (assoc[d].segment == 0) continue;
     ++m_associated;
     ++m_frame_associated;
     const Detection& det = r.detections[d];
     ++m_fused_per_segment[assoc[d].segment];
+    view.detected_segments.push_back(assoc[d].segment);
     for (const ClassScore& cs : det.scores) {
       if (cs.class_index < 0 || cs.class_index >= int(ids.size())) continue;
       evidence.push_back({assoc[d].segment, ids[std::size_t(cs.class_index)],
@@ -132,10 +147,12 @@ void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p, maps::
   const FusionCounts c = fuseSegmentEvidence(map.store().arraysForClassEvidence(), evidence);
   m_surfel_updates += c.surfels;
   m_dropped_updates += c.dropped;
+  m_object_map.addDetectorView(view);
 }
 
 void ClassificationStage::relabel(const std::vector<std::uint32_t>& table) {
   const auto apply = [&](std::uint32_t l) { return l < table.size() ? table[l] : l; };
+  m_object_map.relabel(table);
   for (auto& [index, p] : m_pending)
     for (int y = 0; y < p.labels.height(); ++y) {
       std::uint32_t* row = p.labels.row(y);
@@ -214,16 +231,93 @@ nlohmann::json vec3(const Eigen::Vector3d& v) {
   return nlohmann::json{v.x(), v.y(), v.z()};
 }
 
-/// The oriented box of a segment: its upright (z-up) axes and extents about the centroid.
+nlohmann::json axesJson(const Eigen::Matrix3d& axes) {
+  nlohmann::json out = nlohmann::json::array();
+  for (int k = 0; k < 3; ++k) out.push_back(vec3(axes.col(k)));
+  return out;
+}
+
+/// The oriented box of a segment: its upright (z-up) axes and extents about their centre.
 nlohmann::json orientedBox(const segmentation::SegmentStats& s) {
-  nlohmann::json axes = nlohmann::json::array();
-  for (int k = 0; k < 3; ++k) axes.push_back(vec3(s.upright_axes.col(k)));
-  return {{"centre", vec3(0.5 * (s.bbox_min + s.bbox_max))},
-          {"axes", axes},
+  return {{"centre", vec3(s.upright_centre)},
+          {"axes", axesJson(s.upright_axes)},
           {"extents_m", vec3(s.upright_extents)}};
 }
 
 }  // namespace
+
+nlohmann::json ClassificationStage::objectEntry(const MapObject& o) const {
+  nlohmann::json histogram = nlohmann::json::array();
+  for (const ClassProbability& c : o.top)
+    histogram.push_back({{"class", m_classes.name(c.class_id)},
+                         {"class_id", c.class_id},
+                         {"probability", c.probability}});
+  nlohmann::json j = {{"id", o.id},
+                      {"class", m_classes.name(o.best.class_id)},
+                      {"class_id", o.best.class_id},
+                      {"probability", o.best.probability},
+                      {"runner_up", m_classes.name(o.runner_up.class_id)},
+                      {"runner_up_probability", o.runner_up.probability},
+                      {"histogram", histogram},
+                      {"existence_probability", o.existence_probability},
+                      {"views", o.views},
+                      {"views_detected", o.views_detected},
+                      {"frames",
+                       {{"first_seen", o.first_seen_frame},
+                        {"last_seen", o.last_seen_frame},
+                        {"seen", o.frames_seen},
+                        {"detected", o.frames_detected}}},
+                      {"segments", o.segments},
+                      {"surfels", o.surfels},
+                      {"detections_fused", o.detections}};
+  if (o.has_geometry) {
+    j["centroid"] = vec3(o.centroid);
+    j["box"] = {{"min", vec3(o.bbox_min)},
+                {"max", vec3(o.bbox_max)},
+                {"centre", vec3(0.5 * (o.bbox_min + o.bbox_max))},
+                {"size_m", vec3(o.bbox_max - o.bbox_min)}};
+    j["oriented_box"] = {{"centre", vec3(o.box_centre)},
+                         {"axes", axesJson(o.box_axes)},
+                         {"extents_m", vec3(o.box_extents_m)}};
+  }
+  const PoseRecord* best_pose = nullptr;  // the best-scoring template match over its segments
+  for (const std::uint32_t s : o.segments) {
+    const auto pose = m_pose_per_segment.find(s);
+    if (pose != m_pose_per_segment.end() && (!best_pose || pose->second.score > best_pose->score))
+      best_pose = &pose->second;
+  }
+  if (best_pose)
+    j["pose_hint"] = {{"class", m_classes.name(best_pose->class_id)},
+                      {"azimuth_deg", best_pose->pose.azimuth_deg},
+                      {"elevation_deg", best_pose->pose.elevation_deg},
+                      {"template", best_pose->pose.template_index},
+                      {"score", best_pose->score}};
+  return j;
+}
+
+nlohmann::json ClassificationStage::segmentEntry(std::uint32_t segment,
+                                                 const MapObject& object) const {
+  const ObjectMap::SegmentRecord* r = m_object_map.segmentRecord(segment);
+  const maps::BestClass b = r ? maps::bestClass(r->histogram) : maps::BestClass{};
+  const bool named = b.id != 0 && b.probability >= m_params.min_object_probability;
+  nlohmann::json j = {{"segment", segment},
+                      {"object", object.id},
+                      {"class", named ? m_classes.name(b.id) : std::string("none")},
+                      {"class_id", named ? b.id : 0},
+                      {"best_class", m_classes.name(b.id)},
+                      {"probability", b.probability},
+                      {"detections_fused", r ? r->detections : 0},
+                      {"not_an_object", toString(object.verdict)}};
+  const segmentation::SegmentStats* s =
+      m_segmentation ? m_segmentation->table().find(segment) : nullptr;
+  if (s) {
+    j["surfels"] = s->surfels;
+    j["centroid"] = vec3(s->centroid);
+    j["pca_extents_m"] = vec3(s->extents);
+    j["oriented_box"] = orientedBox(*s);
+  }
+  return j;
+}
 
 void ClassificationStage::writeOutputs(OutputFolder& folder, const maps::CSurfelMap& map) {
   if (!m_params.enabled || !m_started) return;
@@ -239,57 +333,37 @@ void ClassificationStage::writeOutputs(OutputFolder& folder, const maps::CSurfel
                                   {"classes", classes}}
                            .dump(1) +
                        "\n");
-  const std::vector<SegmentClass> seg_classes = segmentClasses(map.store().arrays());
+  updateObjects();  // the final segment table (SegmentationStage::writeOutputs computed it)
   m_objects_by_class.clear();
   m_objects_counted = true;
   nlohmann::json objects = nlohmann::json::array(), others = nlohmann::json::array();
-  for (const SegmentClass& c : seg_classes) {
-    const segmentation::SegmentStats* s =
-        m_segmentation ? m_segmentation->table().find(c.segment) : nullptr;
-    const auto fused = m_fused_per_segment.find(c.segment);
-    const int n_fused = fused == m_fused_per_segment.end() ? 0 : fused->second;
-    if (c.best_id == 0 && n_fused == 0) continue;  // never classified: not an object here
-    const bool named = c.best_id != 0 && c.best_p >= m_params.min_object_probability;
-    const classification::ObjectVerdict verdict = objectVerdict(c);
-    if (verdict == classification::ObjectVerdict::Object)
-      ++m_objects_by_class[m_classes.name(c.best_id)];
-    nlohmann::json o = {{"segment", c.segment},
-                        {"class", named ? m_classes.name(c.best_id) : std::string("none")},
-                        {"class_id", named ? c.best_id : 0},
-                        {"best_class", m_classes.name(c.best_id)},
-                        {"probability", c.best_p},
-                        {"runner_up", m_classes.name(c.runner_up_id)},
-                        {"runner_up_probability", c.runner_up_p},
-                        {"surfels", c.surfels},
-                        {"detections_fused", n_fused}};
-    if (s) {
-      o["centroid"] = vec3(s->centroid);
-      o["pca_extents_m"] = vec3(s->extents);
-      o["oriented_box"] = orientedBox(*s);
+  for (const MapObject& o : m_object_map.objects()) {
+    if (o.verdict == ObjectVerdict::Object) {
+      ++m_objects_by_class[m_classes.name(o.best.class_id)];
+      objects.push_back(objectEntry(o));
+      continue;
     }
-    const auto pose = m_pose_per_segment.find(c.segment);
-    if (pose != m_pose_per_segment.end())
-      o["pose_hint"] = {{"class", m_classes.name(pose->second.class_id)},
-                        {"azimuth_deg", pose->second.pose.azimuth_deg},
-                        {"elevation_deg", pose->second.pose.elevation_deg},
-                        {"template", pose->second.pose.template_index},
-                        {"score", pose->second.score}};
-    if (verdict == classification::ObjectVerdict::Object) {
-      objects.push_back(o);
-    } else {
-      o["not_an_object"] = classification::toString(verdict);
-      others.push_back(o);
+    if (!o.has_geometry) continue;              // its segments are gone from the map
+    for (const std::uint32_t s : o.segments) {  // segments that carry a class or a detection
+      const ObjectMap::SegmentRecord* r = m_object_map.segmentRecord(s);
+      if (r && (r->detections > 0 || !maps::classEvidenceEmpty(r->histogram)))
+        others.push_back(segmentEntry(s, o));
     }
   }
   nlohmann::json out;
   out["comment"] =
-      "rasm objects (section IV): objects = segments whose class is confirmed (best_class = "
-      "highest mean posterior over the segment's surfels, reaching [classification] "
-      "min_object_probability), with at least min_object_surfels surfels and min_object_size_m "
-      "of extent, and not structure (a thin plane larger than structure_min_extent_m both ways); "
-      "other_segments = the other segments that carry a class or had detections fused, with "
-      "not_an_object = unconfirmed | fragment | structure (class \"none\" when unconfirmed); "
-      "world frame, metres; oriented_box: upright axes (z up) and extents about the box centre";
+      "rasm objects (section IV): objects = the object layer's objects (one or more segments "
+      "of one confirmed class whose boxes touch, [objects]), each once, with a persistent id; "
+      "class = best of the histogram of its detections (log-odds, IV), reaching [classification] "
+      "min_object_probability; at least min_object_surfels surfels and min_object_size_m of "
+      "extent, not structure (a thin plane larger than structure_min_extent_m both ways) and "
+      "existence_probability = (views_detected + 1) / (views + 2) reaching [objects] "
+      "min_existence_probability; frames: frame indices of the views (frames a detector "
+      "processed in which it covered min_view_pixels of L^p); box: axis-aligned box of its "
+      "segments; oriented_box: upright axes (z up) and extents about its centre. "
+      "other_segments = the segments of objects not reported that carry a class or had "
+      "detections fused, with not_an_object = unconfirmed | fragment | structure | "
+      "rarely_detected (of their object) and object = its id; world frame, metres";
   out["objects"] = objects;
   out["other_segments"] = others;
   folder.writeText("objects.json", out.dump(1) + "\n");
@@ -299,23 +373,13 @@ void ClassificationStage::writeOutputs(OutputFolder& folder, const maps::CSurfel
 }
 
 std::map<std::uint32_t, std::string> ClassificationStage::segmentClassNames(
-    const maps::CSurfelMap& map) const {
+    const maps::CSurfelMap& /*map*/) const {
   std::map<std::uint32_t, std::string> names;
-  for (const SegmentClass& c : segmentClasses(map.store().arrays()))
-    if (objectVerdict(c) == classification::ObjectVerdict::Object)
-      names[c.segment] = m_classes.name(c.best_id);
+  for (const auto& [segment, id] : m_object_map.objectIdOfSegment()) {
+    const MapObject* o = m_object_map.object(id);
+    if (o && o->verdict == ObjectVerdict::Object) names[segment] = m_classes.name(o->best.class_id);
+  }
   return names;
-}
-
-/// objects.json's verdict on a classified segment; without segment statistics (no segmentation
-/// stage) only its class decides.
-classification::ObjectVerdict ClassificationStage::objectVerdict(const SegmentClass& c) const {
-  const segmentation::SegmentStats* s =
-      m_segmentation ? m_segmentation->table().find(c.segment) : nullptr;
-  if (s) return classification::objectVerdict(c, s->extents, m_params);
-  return c.best_id != 0 && c.best_p >= m_params.min_object_probability
-             ? classification::ObjectVerdict::Object
-             : classification::ObjectVerdict::Unconfirmed;
 }
 
 }  // namespace rasm::pipeline

@@ -58,6 +58,11 @@ struct SegmentEvidence {
   float weight = 1.f;  ///< 1: the paper's update; < 1 a weaker one (e.g. the association's IoU)
 };
 
+/// The Bayes update of IV that one evidence item makes, in log-odds: weight logit(p_detection),
+/// in the fixed-point units of ClassEvidence.h. Every fusion of detections (the surfels',
+/// fuseSegmentEvidence; the objects', ObjectMap) adds exactly this with maps::classEvidenceAdd.
+int evidenceLogitUnits(const SegmentEvidence& e);
+
 struct FusionCounts {
   std::size_t surfels = 0;  ///< surfel updates (a surfel counts once per evidence item)
   std::size_t dropped = 0;  ///< updates with no slot left (ClassEvidence.h slot rule)

@@ -32,6 +32,8 @@ struct SegmentStats {
   /// upright object's sides; these follow them.
   Eigen::Matrix3d upright_axes = Eigen::Matrix3d::Identity();
   Eigen::Vector3d upright_extents = Eigen::Vector3d::Zero();
+  /// The centre of that upright box: the middle of the same percentile range on each axis (world).
+  Eigen::Vector3d upright_centre = Eigen::Vector3d::Zero();
   Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero(), bbox_max = Eigen::Vector3d::Zero();
   float last_seen = 0.0f;  ///< latest t_last of its surfels (map time, s)
 };

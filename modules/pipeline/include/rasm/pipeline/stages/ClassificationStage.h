@@ -8,7 +8,11 @@
 // The L^p of frames in flight follow the segmentation stage's merges and renumbering (its
 // relabel listener), so a late result lands on the segments its pixels belong to now.
 // Sections [classification] and one per detector ([sim_detector], [dnn_detector], [zero_shot]).
-// Outputs: objects.json (segment, class, runner-up, geometry, detections fused, pose hint),
+// The object layer (classification/ObjectMap.h, section [objects]) follows every fused result
+// (views, detections, class evidence) and the relabelling, and regroups the segments into objects
+// after each batch of results.
+// Outputs: objects.json (the objects: id, segments, class histogram, existence probability,
+// frames, boxes, pose hint; the other classified segments with the reason),
 // classes.json (the map's class list), map_classes.ply (coloured by class; MappingRun writes
 // map_classes.3Dscene with [output] write_3dscene, next to map_segments.3Dscene).
 
@@ -19,8 +23,10 @@
 #include "rasm/classification/ClassList.h"
 #include "rasm/classification/DetectorFactory.h"
 #include "rasm/classification/DetectorWorker.h"
+#include "rasm/classification/ObjectMap.h"
 #include "rasm/classification/ObjectVerdict.h"
 #include "rasm/classification/TClassificationParams.h"
+#include "rasm/classification/TObjectParams.h"
 #include "rasm/pipeline/MapperStage.h"
 
 namespace rasm::pipeline {
@@ -53,14 +59,20 @@ class ClassificationStage : public MapperStage {
   const classification::ClassList& classList() const { return m_classes; }
   /// Whether any class evidence has been fused into the map (the class map has something to show).
   bool fusedAnyEvidence() const { return m_surfel_updates > 0; }
-  /// The class name of every segment reported as an object now (objects.json's "objects":
-  /// classification::objectVerdict), by segment id.
+  /// The class name of every segment of an object reported now (objects.json's "objects": the
+  /// object layer's last grouping, its segments renamed by the relabelling since), by segment id.
   std::map<std::uint32_t, std::string> segmentClassNames(const maps::CSurfelMap& map) const;
+  /// The object layer (its objects are those of the last batch of results fused).
+  const classification::ObjectMap& objectMap() const { return m_object_map; }
   /// Detections fused per segment so far (follows relabelling).
   const std::map<std::uint32_t, int>& detectionsPerSegment() const { return m_fused_per_segment; }
 
  private:
-  classification::ObjectVerdict objectVerdict(const classification::SegmentClass& c) const;
+  /// Regroups the object layer with the segment table as it is now.
+  void updateObjects();
+  /// objects.json's entry of one object, and of one segment that is not part of a reported one.
+  nlohmann::json objectEntry(const classification::MapObject& o) const;
+  nlohmann::json segmentEntry(std::uint32_t segment, const classification::MapObject& object) const;
   /// L^p of a frame whose detections are still running.
   struct Pending {
     Image<std::uint32_t> labels;
@@ -78,6 +90,8 @@ class ClassificationStage : public MapperStage {
 
   SegmentationStage* m_segmentation;
   classification::TClassificationParams m_params;
+  classification::TObjectParams m_object_params;
+  classification::ObjectMap m_object_map;
   classification::DetectorSections m_detector_sections;
   const sim::RayScene* m_sim_scene = nullptr;
   classification::ClassList m_classes;

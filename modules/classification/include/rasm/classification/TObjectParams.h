@@ -1,0 +1,31 @@
+#pragma once
+// [objects]: the object layer over the segments (ObjectMap.h, docs/classification.md "Objects").
+// Which segments form one object, and what an object needs to be reported beyond the
+// [classification] thresholds (min_object_probability, min_object_surfels, min_object_size_m,
+// structure_*), which apply to the object as a whole.
+
+#include <mrpt/config/CLoadableOptions.h>
+
+namespace rasm::classification {
+
+struct TObjectParams : mrpt::config::CLoadableOptions {
+  /// Two segments are pieces of one object when each one's own best class (of the detections
+  /// fused into it) is the same class with at least this probability ...
+  double link_min_probability = 0.6;
+  /// ... and their axis-aligned boxes overlap or leave at most this gap on every axis (a desk
+  /// split at its folds: the top and a side panel touch; two chairs 0.5 m apart do not).
+  double link_max_gap_m = 0.05;
+  /// A frame a detector processed is a view of a segment (one in which it should have been
+  /// detected) when the segment covers at least this many pixels of the frame's L^p (a segment
+  /// seen at the image border or behind an occluder by a sliver is not).
+  int min_view_pixels = 300;
+  /// An object is reported only when its existence probability, (views with a detection + 1) /
+  /// (views + 2) over the detectors that report its class, reaches this: an object detected
+  /// once in 20 views it filled is a false positive (a phantom), not a thing.
+  double min_existence_probability = 0.1;
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+}  // namespace rasm::classification
