@@ -19,7 +19,9 @@ const char* toString(ObjectVerdict v) {
 bool isStructure(const Eigen::Vector3d& extents_m, const TClassificationParams& params) {
   Eigen::Vector3d e = extents_m.cwiseAbs();
   std::sort(e.data(), e.data() + 3, std::greater<double>());
-  return e[1] > params.structure_min_extent_m && e[2] < params.structure_max_thickness_m;
+  const double max_thickness_m = std::max(params.structure_max_thickness_m,
+                                          params.structure_max_thickness_fraction * e[1]);
+  return e[1] > params.structure_min_extent_m && e[2] < max_thickness_m;
 }
 
 ObjectVerdict objectVerdict(const SegmentClass& c, const Eigen::Vector3d& extents_m,

@@ -31,6 +31,7 @@ void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(min_object_size_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(structure_min_extent_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(structure_max_thickness_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(structure_max_thickness_fraction, double, c, s);
   MRPT_LOAD_CONFIG_VAR(seed, int, c, s);
   requireInRange(every_n_frames, 1, 100000, s, "every_n_frames");
   requireInRange(min_iou, 0.0, 1.0, s, "min_iou");
@@ -41,6 +42,8 @@ void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   requireInRange(min_object_size_m, 0.0, 100.0, s, "min_object_size_m");
   requireInRange(structure_min_extent_m, 0.0, 1000.0, s, "structure_min_extent_m");
   requireInRange(structure_max_thickness_m, 0.0, 1000.0, s, "structure_max_thickness_m");
+  requireInRange(structure_max_thickness_fraction, 0.0, 1.0, s,
+                 "structure_max_thickness_fraction");
   if (score_model != "probability" && score_model != "vote")
     throwInputError("[" + s + "] score_model = " + score_model, "expected 'probability' or 'vote'");
   for (const std::string& d : detectorList())
@@ -75,6 +78,8 @@ void TClassificationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
           "objects.json: a thin plane larger than this both ways is structure");
   c.write(s, "structure_max_thickness_m", structure_max_thickness_m, -1, -1,
           "objects.json: the thickness below which a large plane is structure");
+  c.write(s, "structure_max_thickness_fraction", structure_max_thickness_fraction, -1, -1,
+          "objects.json: ... or below this fraction of its middle extent");
   c.write(s, "seed", seed, -1, -1, "seed of the simulated detector's noise");
 }
 
