@@ -40,10 +40,8 @@ DepthModelParams TSensorParams::depthModel() const {
   p.axial.sigma_angle = float(axial_sigma_angle);
   // Nguyen et al. measured sigma_L in pixels of the Kinect's 640x480 image: a render with another
   // focal length (e.g. 320x240 at fx 262.5) has the same angular noise in its own pixels, i.e.
-  // sigma_L scaled by fx / the preset's fx. Unscaled, a 320x240 render had twice the Kinect's
-  // angular lateral noise and four times the depth bias it causes on grazing floors (the far
-  // floor sampled from rays nearer the horizon), which tilted robot maps by ~1 deg per 450
-  // frames against ~0.3 at 640x480 (docs/history/slam-eval.md, "Lateral noise and resolution").
+  // sigma_L scaled by fx / the preset's fx, so that depth edges move by the same angle at every
+  // resolution (docs/sim.md "RGB-D sensor").
   const double lateral_scale = intrinsics().fx / CameraIntrinsics::preset(camera).fx;
   p.lateral_px = float(lateral_sigma_px * lateral_scale);
   p.lateral_angle = float(lateral_sigma_angle * lateral_scale);
