@@ -26,7 +26,7 @@
 #            worlds, three generated rooms and four flats, true poses, 160x120, 240 s: ~1 h;
 #            its table goes to DIR/results.md (give --out-md docs/results-planners.md)
 #   --worldframe  the map in the world frame while exploring: ig on five generated rooms, five
-#            flats and two_rooms, 320x240, 180 s, tracked and true poses, two seeds: ~3 h;
+#            flats and two_rooms, 320x240, 180 s, tracked and true poses, two seeds: ~1.5 h;
 #            scripts/scoreboard/worldframe_summary.py DIR states the targets
 # --out DIR: the run folders (default eval_out/scoreboard-<panel>): tasks.tsv (one line per task:
 #   name, group, evals, pool, needs, estimate, rasm run arguments), runs/<task>/ (the run and its
