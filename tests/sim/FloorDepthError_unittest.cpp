@@ -62,17 +62,17 @@ std::vector<RangeBin> floorDepthError(const TSensorParams& p, int frames) {
         if (down <= 1e-6) continue;
         const double z_true = 0.55 / down;  // depth along the optical axis of the floor hit
         const double theta = std::acos(std::min(1.0, down / ray.norm()));
-        for (RangeBin& b : bins)
-          if (z_true >= b.z_lo_m && z_true < b.z_hi_m) {
-            const double e = zm - z_true;
-            const double s = axialSigma(model, float(z_true), float(theta));
-            const double q = quantizationStep(model, float(z_true));
-            ++b.n;
-            b.sum_err_m += e;
-            b.sum_err2_m2 += e * e;
-            b.sum_theta_rad += theta;
-            b.sum_expected_var_m2 += s * s + q * q / 12.0;
-          }
+        const int k = int(std::floor((z_true - 0.5) / 0.5));
+        if (k < 0 || k >= int(bins.size())) continue;
+        RangeBin& b = bins[std::size_t(k)];
+        const double e = zm - z_true;
+        const double s = axialSigma(model, float(z_true), float(theta));
+        const double q = quantizationStep(model, float(z_true));
+        ++b.n;
+        b.sum_err_m += e;
+        b.sum_err2_m2 += e * e;
+        b.sum_theta_rad += theta;
+        b.sum_expected_var_m2 += s * s + q * q / 12.0;
       }
   }
   return bins;
