@@ -195,6 +195,51 @@ TEST(Navigator, FollowsARouteThroughADoorwayToAGoalBehindAWall) {
   EXPECT_THROW(rig.nav.setGoal(goal, {Eigen::Vector2d(NAN, 0)}), InputError);
 }
 
+// Room to room along a 1.7 m hallway (flat 2101 of the planners panel, whose corners these
+// are): out of one room's 1 m doorway, 3 m west along the hallway, into the next room's doorway.
+// The route's corners lie one footprint radius (plus the grid's rounding) from the door jambs
+// and the hallway wall, where the margin-grown PTG footprint touches them: the reactive
+// navigator stood still in the hallway there and failed "stuck" on four goals in a row.
+TEST(Navigator, FollowsARouteAlongAHallwayFromRoomToRoom) {
+  const std::string walls =  // hallway y 0..1.7; doorways x 5.866..6.866 and 9.803..10.803
+      "  - {id: 2, class: wall, primitive: box, size: [8.2, 0.1, 1.0], position: [8.0, -0.05, "
+      "0.5]}\n"
+      "  - {id: 3, class: wall, primitive: box, size: [1.966, 0.1, 1.0], position: [4.883, 1.75, "
+      "0.5]}\n"
+      "  - {id: 4, class: wall, primitive: box, size: [2.937, 0.1, 1.0], position: [8.335, 1.75, "
+      "0.5]}\n"
+      "  - {id: 5, class: wall, primitive: box, size: [1.297, 0.1, 1.0], position: [11.452, 1.75, "
+      "0.5]}\n"
+      "  - {id: 6, class: wall, primitive: box, size: [0.1, 5.3, 1.0], position: [8.453, 4.45, "
+      "0.5]}\n";
+  const TNavigationParams p = testParams();
+  Rig rig(floorWorld(walls), Eigen::Vector3d(10.08, 2.6, -90 * kDeg), p);
+  const Eigen::Vector3d goal(7.32, 3.05, M_PI);
+  const std::vector<Eigen::Vector2d> route = {{10.075, 1.55}, {9.825, 1.30}, {6.825, 1.30},
+                                              {6.575, 1.55}, {6.575, 2.30}};
+  rig.nav.setGoal(goal, route);
+  const Outcome o = drive(rig.robot, rig.nav, p.goal_timeout_s);
+  std::printf("room to room: %s in %.1f s, path %.2f m\n", toString(o.state), o.time_s,
+              rig.nav.pathLength_m());
+  ASSERT_EQ(o.state, NavState::Reached) << o.reason;
+  EXPECT_FALSE(o.collided);
+  // The route is 6.2 m: 18 s at 0.35 m/s, plus turns in place of ~300 degrees in all at each
+  // corner (proportional, slowing into the heading: ~40 deg/s, 8 s) and the slowdown onto each
+  // of the five corners (~1 s each): 31 s; 35 s leaves room for that, not for a stall (the
+  // reactive navigator's was 10 s before each escape).
+  EXPECT_LT(o.time_s, 35.0);
+  // With the reactive navigator alone on the same route it does not get there within the goal
+  // timeout (the stall this controller is for).
+  TNavigationParams reactive = testParams();
+  reactive.follow_route = false;
+  Rig rig2(floorWorld(walls), Eigen::Vector3d(10.08, 2.6, -90 * kDeg), reactive);
+  rig2.nav.setGoal(goal, route);
+  const Outcome o2 = drive(rig2.robot, rig2.nav, reactive.goal_timeout_s);
+  std::printf("room to room, reactive only: %s (%s) in %.1f s\n", toString(o2.state),
+              o2.reason.c_str(), o2.time_s);
+  EXPECT_TRUE(o2.state != NavState::Reached || o2.time_s > 2.0 * o.time_s);
+}
+
 TEST(Navigator, ReachesANearTargetWithItsOwnController) {
   // 0.3 m: nearer than the PTGs' reach (MRPT trap), so the direct controller drives there.
   Rig rig(floorWorld(), Eigen::Vector3d(0, 0, 0));
@@ -395,6 +440,8 @@ TEST(TNavigationParams, SaveLoadRoundTrip) {
   a.max_v_mps = 0.5;
   a.goal_timeout_s = 42;
   a.allow_reverse = true;
+  a.follow_route = false;
+  a.follow_reach_m = 0.07;
   a.ptg_num_paths = 61;
   a.holonomic_method = "CHolonomicFullEval";
   a.ptg_cache_dir = "/tmp/some cache";
@@ -408,8 +455,10 @@ TEST(TNavigationParams, SaveLoadRoundTrip) {
   EXPECT_EQ(b.holonomic_method, a.holonomic_method);
   EXPECT_EQ(b.ptg_cache_dir, a.ptg_cache_dir);
   EXPECT_TRUE(b.allow_reverse);
+  EXPECT_FALSE(b.follow_route);
+  EXPECT_DOUBLE_EQ(b.follow_reach_m, 0.07);
   EXPECT_DOUBLE_EQ(b.goal_timeout_s, 42);
-  EXPECT_EQ(knownKeys(a, "navigation").size(), 21u);  // every key written
+  EXPECT_EQ(knownKeys(a, "navigation").size(), 23u);  // every key written
 }
 
 // The PTG cache never goes to a fixed name in a shared folder (issue: another user's link planted

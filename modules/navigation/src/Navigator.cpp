@@ -129,8 +129,13 @@ struct Navigator::Impl {
   void stepReactive(const Eigen::Vector2d& target);
   void driveDirect(const Eigen::Vector3d& pose, const Eigen::Vector2d& target);
   void rotate(double heading_error_rad, double max_w_radps);
+  void driveLeg(const Eigen::Vector3d& pose, const Eigen::Vector2d& target);
+  bool waypointPassed(const Eigen::Vector3d& pose) const;
   double frontClearance_m() const;
+  double clearanceAlong_m(double bearing_rad, double half_width_m, double cap_m) const;
+  /// clearanceAlong_m with the margin-grown footprint, capped at escape_distance_m + radius.
   double clearanceAlong_m(double bearing_rad) const;
+  bool corridorFree(double bearing_rad, double distance_m) const;
   double mostOpenBearing(double goal_bearing_rad) const;
   void startEscape(double t, const Eigen::Vector3d& pose, double goal_bearing_rad);
   void stepEscape(double t, const Eigen::Vector3d& pose);
@@ -204,7 +209,7 @@ void Navigator::Impl::step(double t) {
 }
 
 void Navigator::Impl::stepNavigating(double t, const Eigen::Vector3d& pose) {
-  while (via_next < via.size() && (via[via_next] - pose.head<2>()).norm() <= params.via_reach_m) {
+  while (via_next < via.size() && waypointPassed(pose)) {
     ++via_next;  // passed: steer at the next one (a new request to MRPT)
     stopMrpt();
   }
@@ -225,6 +230,10 @@ void Navigator::Impl::stepNavigating(double t, const Eigen::Vector3d& pose) {
     if (escapes >= params.escape_attempts) return finish(NavState::Failed, "stuck");
     return startEscape(t, pose, bearing);
   }
+  if (params.follow_route && !via.empty() && corridorFree(bearing, d)) {
+    stopMrpt();
+    return driveLeg(pose, target());
+  }
   if (d < params.direct_range_m) {
     // MRPT trap: the PTGs fail on targets nearer than their reach; our controller drives there.
     stopMrpt();
@@ -235,6 +244,21 @@ void Navigator::Impl::stepNavigating(double t, const Eigen::Vector3d& pose) {
   if (facing && std::abs(bearing) > 10.0 * kDeg) return rotate(bearing, params.max_w_degps * kDeg);
   facing = false;
   stepReactive(target());
+}
+
+/// Whether the robot at `pose` has passed the route's next waypoint: within via_reach_m, or,
+/// with follow_route, within follow_reach_m where the corridor to the target after it is free,
+/// else within kCornerReach_m. Cutting a corner leaves the next leg grazing the door jamb or the
+/// wall the corner keeps its distance from; the corner is then driven to and turned at in place.
+bool Navigator::Impl::waypointPassed(const Eigen::Vector3d& pose) const {
+  constexpr double kCornerReach_m = 0.03;
+  const double d = (via[via_next] - pose.head<2>()).norm();
+  if (!params.follow_route) return d <= params.via_reach_m;
+  if (d <= kCornerReach_m) return true;
+  if (d > std::min(params.via_reach_m, params.follow_reach_m)) return false;
+  const Eigen::Vector2d next = via_next + 1 < via.size() ? via[via_next + 1] : goal.head<2>();
+  const Eigen::Vector2d to = next - pose.head<2>();
+  return corridorFree(mrpt::math::wrapToPi(std::atan2(to.y(), to.x()) - pose.z()), to.norm());
 }
 
 /// One step of MRPT's reactive navigator toward `target`; its state and error reason are read
@@ -270,27 +294,44 @@ void Navigator::Impl::stepReactive(const Eigen::Vector2d& target) {
 
 /// Distance from the footprint's front to the nearest obstacle point in the corridor ahead.
 double Navigator::Impl::frontClearance_m() const {
-  std::vector<Eigen::Vector3f> pts;
-  robot.senseObstacles(pts);
-  double clear = std::numeric_limits<double>::infinity();
-  for (const Eigen::Vector3f& q : pts)
-    if (q.x() > 0.f && std::abs(q.y()) < radius_m)
-      clear = std::min<double>(clear, q.x() - radius_m);
-  return clear;
+  return clearanceAlong_m(0.0, radius_m, std::numeric_limits<double>::infinity());
 }
 
-/// Free distance ahead of the footprint along `bearing_rad` (robot frame): the nearest obstacle
-/// point in the corridor of the footprint's width in that direction, minus the footprint radius.
-double Navigator::Impl::clearanceAlong_m(double bearing_rad) const {
+/// Free distance ahead of a disc of `half_width_m` along `bearing_rad` (robot frame): the nearest
+/// obstacle point in the corridor of that half-width in that direction, minus the half-width;
+/// at most `cap_m` (nothing further matters to the caller).
+double Navigator::Impl::clearanceAlong_m(double bearing_rad, double half_width_m,
+                                         double cap_m) const {
   std::vector<Eigen::Vector3f> pts;
   robot.senseObstacles(pts);
   const double c = std::cos(bearing_rad), s = std::sin(bearing_rad);
-  double clear = params.escape_distance_m + radius_m;  // enough: nothing nearer matters
+  double clear = cap_m;
   for (const Eigen::Vector3f& q : pts) {
     const double along = c * q.x() + s * q.y(), across = -s * q.x() + c * q.y();
-    if (along > 0.0 && std::abs(across) < radius_m) clear = std::min(clear, along - radius_m);
+    if (along > 0.0 && std::abs(across) < half_width_m)
+      clear = std::min(clear, along - half_width_m);
   }
   return clear;
+}
+
+double Navigator::Impl::clearanceAlong_m(double bearing_rad) const {
+  return clearanceAlong_m(bearing_rad, radius_m, params.escape_distance_m + radius_m);
+}
+
+/// Whether the straight corridor of the bare footprint (no PTG margin, 1 cm of slack) toward a
+/// target `distance_m` away along `bearing_rad` holds no obstacle point of the scan: the legs of
+/// a route run over the planning grid's free cells, which keep the footprint radius from walls
+/// but not the PTG margin beyond it.
+bool Navigator::Impl::corridorFree(double bearing_rad, double distance_m) const {
+  const double body_m = radius_m - params.footprint_margin_m + 0.01;
+  std::vector<Eigen::Vector3f> pts;
+  robot.senseObstacles(pts);
+  const double c = std::cos(bearing_rad), s = std::sin(bearing_rad);
+  for (const Eigen::Vector3f& q : pts) {
+    const double along = c * q.x() + s * q.y(), across = -s * q.x() + c * q.y();
+    if (along > 0.0 && along < distance_m && std::abs(across) < body_m) return false;
+  }
+  return true;
 }
 
 /// The bearing (robot frame, 10 degree steps) with the most free distance ahead; among equally
@@ -393,6 +434,24 @@ void Navigator::Impl::driveDirect(const Eigen::Vector3d& pose, const Eigen::Vect
   // an obstacle at the goal (a view next to a chair) instead of stopping 2 cm short for good.
   v = std::min(v, std::max(0.0, (frontClearance_m() - 0.01) / params.period_s));
   robot.setVelocityCommand(v, w);
+}
+
+/// Corridor controller for a route's leg: turn in place while the target lies more than 10
+/// degrees off (an arc would leave the leg's line, which keeps the footprint's distance from the
+/// walls), else drive at min(max_v, 0.8 d) cos(bearing) (a corner is reached within centimetres
+/// when the next leg needs it), at most what keeps 1 cm of the bare footprint's clearance ahead
+/// after one period.
+void Navigator::Impl::driveLeg(const Eigen::Vector3d& pose, const Eigen::Vector2d& target) {
+  const Eigen::Vector2d to = target - pose.head<2>();
+  const double d = to.norm();
+  const double bearing = mrpt::math::wrapToPi(std::atan2(to.y(), to.x()) - pose.z());
+  const double max_w = params.max_w_degps * kDeg;
+  if (std::abs(bearing) > 10.0 * kDeg && d > 0.05) return rotate(bearing, max_w);
+  double v = std::min(params.max_v_mps, 0.8 * d) * std::cos(bearing);
+  const double body_m = radius_m - params.footprint_margin_m + 0.01;
+  const double ahead_m = clearanceAlong_m(0.0, body_m, std::numeric_limits<double>::infinity());
+  v = std::min(v, std::max(0.0, (ahead_m - 0.01) / params.period_s));
+  robot.setVelocityCommand(v, std::clamp(2.0 * bearing, -max_w, max_w));
 }
 
 /// Rotation in place toward `heading_error_rad`: proportional, at least 10 deg/s so it converges,

@@ -54,6 +54,8 @@ void TNavigationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   MRPT_LOAD_CONFIG_VAR(escape_distance_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(direct_range_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(via_reach_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(follow_route, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(follow_reach_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(face_goal_deg, double, c, s);
   MRPT_LOAD_CONFIG_VAR(ptg_ref_distance_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(ptg_resolution_m, double, c, s);
@@ -79,6 +81,7 @@ void TNavigationParams::validate(const std::string& s) const {
   requireInRange(escape_distance_m, 0.0, 5.0, s, "escape_distance_m");
   requireInRange(direct_range_m, 0.0, 5.0, s, "direct_range_m");
   requireInRange(via_reach_m, 0.05, 5.0, s, "via_reach_m");
+  requireInRange(follow_reach_m, 0.02, 5.0, s, "follow_reach_m");
   requireInRange(face_goal_deg, 0.0, 180.0, s, "face_goal_deg");
   requireInRange(ptg_ref_distance_m, 0.5, 20.0, s, "ptg_ref_distance_m");
   requireInRange(ptg_resolution_m, 0.01, 0.5, s, "ptg_resolution_m");
@@ -109,6 +112,8 @@ void TNavigationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(escape_distance_m, c, s);
   MRPT_SAVE_CONFIG_VAR(direct_range_m, c, s);
   MRPT_SAVE_CONFIG_VAR(via_reach_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(follow_route, c, s);
+  MRPT_SAVE_CONFIG_VAR(follow_reach_m, c, s);
   MRPT_SAVE_CONFIG_VAR(face_goal_deg, c, s);
   MRPT_SAVE_CONFIG_VAR(ptg_ref_distance_m, c, s);
   MRPT_SAVE_CONFIG_VAR(ptg_resolution_m, c, s);

@@ -34,6 +34,16 @@ struct TNavigationParams : public mrpt::config::CLoadableOptions {
   /// A waypoint of a route (Navigator::setGoal's `via`) counts as passed within this distance;
   /// the robot then steers at the next one.
   double via_reach_m = 0.3;
+  /// Drive a route's legs (toward a waypoint, and from the last one to the goal) with the own
+  /// corridor controller while the straight corridor of the footprint's width to the target is
+  /// free in the obstacle scan; the reactive navigator only where it is not. The route's corners
+  /// lie on the planning grid's free cells, one footprint radius from the walls, where the
+  /// margin-grown PTG footprint touches them: the reactive navigator stood still there in a
+  /// 1.7 m hallway (docs/navigation.md "Route").
+  bool follow_route = true;
+  /// With follow_route, a waypoint counts as passed within this distance (at most via_reach_m):
+  /// the corner is driven to, turned at in place, and the next leg starts on the route's line.
+  double follow_reach_m = 0.1;
   /// Turn in place toward the goal first when it lies more than this off the heading (the
   /// forward-only PTGs otherwise take a wide loop).
   double face_goal_deg = 45.0;
