@@ -467,6 +467,44 @@ std::map<std::uint32_t, std::string> readSegmentClasses(const std::string& run,
   return out;
 }
 
+/// The objects of <run>/objects.json with their classes (aliases mapped to the simulator's
+/// names) and segments, for the object-level metrics.
+std::vector<rasm::classification::ReportedObject> readReportedObjects(const std::string& run) {
+  const std::string path = (fs::path(run) / "objects.json").string();
+  std::vector<rasm::classification::ReportedObject> out;
+  for (const auto& o : rasm::app::readRunObjects(run)) {
+    rasm::classification::ReportedObject r;
+    r.id = o.value("id", std::uint32_t(out.size()));
+    r.class_name = o.at("class").get<std::string>();
+    const int id = rasm::sim::classIdFromName(r.class_name);
+    if (id > 0) r.class_name = rasm::sim::className(id);
+    r.segments = rasm::app::objectSegments(o, path);
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+/// The object-level part of `rasm eval classification`'s --json document.
+nlohmann::json objectLevelJson(const rasm::classification::ObjectLevelMetrics& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& r : m.per_reported)
+    rows.push_back({{"id", r.object.id},
+                    {"class", r.object.class_name},
+                    {"surfels", r.surfels},
+                    {"best_object", r.best_name},
+                    {"best_object_class", r.best_class},
+                    {"iou", r.iou},
+                    {"correct", r.correct}});
+  return {{"reported", m.reported},
+          {"reported_correct", m.reported_correct},
+          {"precision", num(m.precision)},
+          {"objects", m.objects},
+          {"objects_found", m.objects_found},
+          {"recall", num(m.recall)},
+          {"missed", m.missed},
+          {"per_reported", rows}};
+}
+
 /// The --json document of `rasm eval classification`.
 nlohmann::json classificationJson(const rasm::classification::ClassificationMetrics& m,
                                   const std::string& run, const std::string& world) {
@@ -569,7 +607,23 @@ int evalClassification(const std::vector<std::string>& args) {
       std::printf("    %-22s %-14s -> %-14s %s%s  share %.2f\n", r.object.name.c_str(),
                   r.object.class_name.c_str(), r.predicted.c_str(), r.correct ? "ok" : "WRONG",
                   r.segmented ? "" : " (not segmented)", r.segment_share);
-  if (!json.empty()) writeJsonAtomically(json, classificationJson(m, run, scene.world().name));
+  const auto ol = rasm::classification::computeObjectLevelMetrics(
+      map.segment, instance, readReportedObjects(run), objects, mp);
+  std::printf("  object level (IoU > %.2f with an object of its class):\n", mp.min_object_iou);
+  std::printf("    precision   %s  (%zu of %zu reported objects)\n", fmt(ol.precision).c_str(),
+              ol.reported_correct, ol.reported);
+  std::printf("    recall      %s  (%zu of %zu evaluated COCO-class objects)\n",
+              fmt(ol.recall).c_str(), ol.objects_found, ol.objects);
+  std::printf("    per reported object: id class -> best object (class) IoU\n");
+  for (const auto& r : ol.per_reported)
+    std::printf("      %-4u %-14s -> %-22s (%s) %.2f %s\n", r.object.id,
+                r.object.class_name.c_str(), r.best_name.empty() ? "-" : r.best_name.c_str(),
+                r.best_class.c_str(), r.iou, r.correct ? "ok" : "WRONG");
+  if (!json.empty()) {
+    nlohmann::json j = classificationJson(m, run, scene.world().name);
+    j["object_level"] = objectLevelJson(ol);
+    writeJsonAtomically(json, j);
+  }
   return 0;
 }
 

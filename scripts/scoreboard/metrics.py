@@ -90,6 +90,16 @@ CLASSIFICATION = [
     Metric("segmented_coco_objects", "segmented COCO objects", "d", pool="sum", md=False),
     Metric("segmented_coco_accuracy", "segmented COCO accuracy", ".3f", "high", 0.05, 0.0),
     Metric("macro_precision", "macro precision", ".3f", "high", 0.05, 0.0),
+    # Object level (objects.json): a reported object counts when it covers an object of its
+    # class with IoU > 0.5 (ClassificationMetrics.h).
+    Metric("objects_reported", "objects listed", "d", pool="sum"),
+    Metric("objects_reported_correct", "listed right", "d", pool="sum", md=False),
+    Metric("object_precision", "object precision", ".3f", "high", 0.05, 0.0,
+           pool=ratio("objects_reported_correct", "objects_reported")),
+    Metric("objects_coco", "COCO objects", "d", pool="sum", md=False),
+    Metric("objects_found", "objects found", "d", pool="sum", md=False),
+    Metric("object_recall", "object recall", ".3f", "high", 0.05, 0.0,
+           pool=ratio("objects_found", "objects_coco")),
     Metric("detections_fused", "detections fused", "d", pool="sum"),
     Metric("detections", "detections", "d", pool="sum"),
 ]

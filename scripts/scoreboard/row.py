@@ -274,6 +274,13 @@ def classification(d, rep, m, detail):
     m["segmented_coco_objects"] = ev.get("segmented_coco_objects")
     m["segmented_coco_accuracy"] = ev.get("segmented_coco_accuracy")
     m["macro_precision"] = sum(precs) / len(precs) if precs else None
+    ol = ev.get("object_level", {})
+    m["objects_reported"] = ol.get("reported")
+    m["objects_reported_correct"] = ol.get("reported_correct")
+    m["object_precision"] = ol.get("precision")
+    m["objects_coco"] = ol.get("objects")
+    m["objects_found"] = ol.get("objects_found")
+    m["object_recall"] = ol.get("recall")
     m["detections"], m["detections_fused"] = cl.get("detections"), cl.get("detections_fused")
     return True
 

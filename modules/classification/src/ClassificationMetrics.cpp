@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <set>
 #include <unordered_map>
 
 namespace rasm::classification {
@@ -110,6 +111,87 @@ ClassificationMetrics computeClassificationMetrics(
   m.segmented_accuracy = m.segmented_detectable > 0 ? double(m.segmented_detectable_correct) /
                                                           double(m.segmented_detectable)
                                                     : std::nan("");
+  return m;
+}
+
+namespace {
+
+/// Whether `o` counts for object-level recall: as an evaluated object of computeClassification-
+/// Metrics (not structure, larger than min_object_size_m, enough surfels) of a detectable class.
+bool countsForRecall(const GtClassObject& o, std::size_t surfels,
+                     const ClassificationMetricsParams& p) {
+  return !o.is_structure && o.size_m > p.min_object_size_m && surfels >= p.min_object_surfels &&
+         (p.detectable_classes.empty() || p.detectable_classes.count(o.class_name) != 0);
+}
+
+/// The object's name, else "<class>#<instance id>" (world objects need no name).
+std::string displayName(const GtClassObject& o) {
+  return o.name.empty() ? o.class_name + "#" + std::to_string(o.instance_id) : o.name;
+}
+
+}  // namespace
+
+ObjectLevelMetrics computeObjectLevelMetrics(const std::vector<std::uint32_t>& segment,
+                                             const std::vector<std::uint32_t>& instance,
+                                             const std::vector<ReportedObject>& reported,
+                                             const std::vector<GtClassObject>& objects,
+                                             const ClassificationMetricsParams& params) {
+  if (segment.size() != instance.size())
+    throw std::invalid_argument("computeObjectLevelMetrics: segment and instance sizes differ");
+  std::unordered_map<std::uint32_t, std::size_t> object_of_segment;  // segment -> reported index
+  for (std::size_t r = 0; r < reported.size(); ++r)
+    for (const std::uint32_t s : reported[r].segments)
+      if (!object_of_segment.emplace(s, r).second)
+        throw std::invalid_argument("computeObjectLevelMetrics: segment " + std::to_string(s) +
+                                    " is in two reported objects");
+  std::vector<std::size_t> reported_size(reported.size(), 0);
+  std::vector<Counts> overlap(reported.size());  // reported -> instance -> |R ∩ G|
+  Counts instance_size;
+  for (std::size_t i = 0; i < segment.size(); ++i) {
+    if (instance[i] != 0) ++instance_size[instance[i]];
+    const auto it = object_of_segment.find(segment[i]);
+    if (segment[i] == 0 || it == object_of_segment.end()) continue;
+    ++reported_size[it->second];
+    if (instance[i] != 0) ++overlap[it->second][instance[i]];
+  }
+  std::unordered_map<std::uint32_t, const GtClassObject*> object_of;
+  for (const GtClassObject& o : objects) object_of[o.instance_id] = &o;
+
+  ObjectLevelMetrics m;
+  std::set<std::uint32_t> found;
+  for (std::size_t r = 0; r < reported.size(); ++r) {
+    ReportedObjectResult res{reported[r], reported_size[r]};
+    for (const auto& [g, n] : overlap[r]) {
+      const double iou = double(n) / double(reported_size[r] + instance_size[g] - n);
+      if (iou > res.iou || (iou == res.iou && g < res.best_instance)) {
+        res.iou = iou;
+        res.best_instance = g;
+      }
+    }
+    const auto it = object_of.find(res.best_instance);
+    if (it != object_of.end()) {
+      res.best_name = displayName(*it->second);
+      res.best_class = it->second->class_name;
+    }
+    res.correct = res.iou > params.min_object_iou && res.best_class == reported[r].class_name;
+    ++m.reported;
+    if (res.correct) {
+      ++m.reported_correct;
+      found.insert(res.best_instance);
+    }
+    m.per_reported.push_back(std::move(res));
+  }
+  for (const GtClassObject& o : objects) {
+    const auto n = instance_size.find(o.instance_id);
+    if (!countsForRecall(o, n == instance_size.end() ? 0 : n->second, params)) continue;
+    ++m.objects;
+    if (found.count(o.instance_id) != 0)
+      ++m.objects_found;
+    else
+      m.missed.push_back(displayName(o));
+  }
+  m.precision = m.reported > 0 ? double(m.reported_correct) / double(m.reported) : std::nan("");
+  m.recall = m.objects > 0 ? double(m.objects_found) / double(m.objects) : std::nan("");
   return m;
 }
 

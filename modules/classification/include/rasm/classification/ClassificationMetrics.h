@@ -50,6 +50,7 @@ struct ClassificationMetricsParams {
   double min_object_size_m = 0.10;
   std::size_t min_object_surfels = 50;
   double min_segment_share = 0.5;
+  double min_object_iou = 0.5;  ///< object level: a reported object matches above this IoU
   std::set<std::string> detectable_classes;  ///< for segmented_accuracy; empty = every class
 };
 
@@ -89,6 +90,51 @@ struct ClassificationMetrics {
   std::vector<ObjectClassResult> per_object;
   std::vector<ViewBin> by_views;
 };
+
+// Object level (the object list a user reads, objects.json): a reported object is the union of
+// its segments' surfels R; a ground-truth object g is the map's surfels whose instance is g, G.
+//   IoU(R, g)          |R ∩ G| / (|R| + |G| - |R ∩ G|); above 0.5 R covers more than half of G and
+//                      G more than half of R, so an object and a reported object match at most
+//                      once each (reported objects hold disjoint segments).
+//   found              an evaluated object of a detectable class (as above) whose matching
+//                      reported object (IoU > min_object_iou) carries its class.
+//   recall             found / evaluated objects of detectable classes.
+//   precision          reported objects that match an object of their class with IoU >
+//                      min_object_iou / reported objects (the floor listed as a table, a phantom of
+//                      a few surfels, a desk and its keyboard as one object all count against it).
+
+/// One entry of objects.json: its class and its segments.
+struct ReportedObject {
+  std::uint32_t id = 0;
+  std::string class_name;
+  std::vector<std::uint32_t> segments;
+};
+
+struct ReportedObjectResult {
+  ReportedObject object;
+  std::size_t surfels = 0;
+  std::uint32_t best_instance = 0;  ///< the ground-truth instance of largest IoU, 0 = none
+  std::string best_name, best_class = "none";
+  double iou = 0.0;  ///< with best_instance
+  bool correct = false;  ///< iou > min_object_iou and best_class == the object's class
+};
+
+struct ObjectLevelMetrics {
+  std::size_t reported = 0, reported_correct = 0;
+  std::size_t objects = 0, objects_found = 0;  ///< evaluated objects of detectable classes
+  double precision = 0.0;                      ///< NaN when nothing is reported
+  double recall = 0.0;                         ///< NaN when no object is evaluated
+  std::vector<ReportedObjectResult> per_reported;
+  std::vector<std::string> missed;  ///< names of the evaluated detectable objects not found
+};
+
+/// Object-level precision and recall (above). `segment` and `instance` per surfel as for
+/// computeClassificationMetrics; classes compared by canonical name.
+ObjectLevelMetrics computeObjectLevelMetrics(const std::vector<std::uint32_t>& segment,
+                                             const std::vector<std::uint32_t>& instance,
+                                             const std::vector<ReportedObject>& reported,
+                                             const std::vector<GtClassObject>& objects,
+                                             const ClassificationMetricsParams& params);
 
 /// `segment_class`: predicted class name per segment id (absent or "none" = no class).
 ClassificationMetrics computeClassificationMetrics(
