@@ -130,6 +130,31 @@ TEST(ClassFusion, AssociationPicksTheForegroundObjectNotTheWallBehindIt) {
   EXPECT_EQ(outside[0].segment, 0u);
 }
 
+// The pieces of a detection: segments other than s_d with at least the given fraction of their
+// pixels inside the box (a desk's side panel under the box of its top), not a segment half in.
+TEST(ClassFusion, AssociationListsTheSegmentsMostlyInsideTheBoxAsPieces) {
+  // 200 x 100 wall (1); a desk top 60 x 20 (2) at (60, 40); its side panel 10 x 30 (3) at
+  // (110, 60); a chair 20 x 20 (4) at (125, 40), half of it right of the box's edge at x = 135.
+  Image<std::uint32_t> labels(200, 100, 1u);
+  const auto fill = [&](int x0, int y0, int w, int h, std::uint32_t l) {
+    for (int y = y0; y < y0 + h; ++y)
+      for (int x = x0; x < x0 + w; ++x) labels(x, y) = l;
+  };
+  fill(60, 40, 60, 20, 2u);
+  fill(110, 60, 10, 30, 3u);
+  fill(125, 40, 20, 20, 4u);
+  const Detection desk = box(55, 35, 80, 57);  // x 55..135, y 35..92
+  const auto a = associateDetections(labels, {desk}, 0.25f, 0.6f);
+  ASSERT_EQ(a[0].segment, 2u);
+  // The panel lies wholly inside (300 of 300 px); the chair half (200 of 400): not a piece; the
+  // wall's pixels in the box are a small part of it.
+  EXPECT_EQ(a[0].pieces, (std::vector<std::uint32_t>{3}));
+  // With the fraction at 0.5 the chair is a piece too; at 0 (the default) none are listed.
+  EXPECT_EQ(associateDetections(labels, {desk}, 0.25f, 0.5f)[0].pieces,
+            (std::vector<std::uint32_t>{3, 4}));
+  EXPECT_TRUE(associateDetections(labels, {desk}, 0.25f)[0].pieces.empty());
+}
+
 TEST(ClassFusion, SegmentClassIsTheHighestMeanPosterior) {
   maps::SurfelStore store = makeStore(100, 1);
   const maps::SurfelArrays a = store.arraysForClassEvidence();

@@ -41,6 +41,7 @@ struct Hit {
   int class_id;
   float p_detection;
   float iou;
+  std::vector<std::uint32_t> pieces = {};  ///< other segments mostly inside its box
 };
 
 /// One detector result on `frame`: the segments it saw with their pixels, and its detections.
@@ -53,6 +54,7 @@ DetectorView view(std::size_t frame, std::vector<std::pair<std::uint32_t, int>> 
   for (const Hit& h : hits) {
     v.detected_segments.push_back(h.segment);
     v.evidence.push_back({h.segment, h.class_id, h.p_detection, h.iou});
+    for (const std::uint32_t piece : h.pieces) v.co_detected.emplace_back(h.segment, piece);
   }
   return v;
 }
@@ -75,16 +77,17 @@ constexpr double kPerUpdateP = (1.0 / 2048 + 1e-6) / 4;
 }  // namespace
 
 // A 1.6 x 0.8 m desk fell apart at its fold into the top (segment 1) and a side panel (segment 2)
-// whose boxes touch; both were named "dining table" by two detections each. One object, one id,
-// the histogram of all four detections, the union of the boxes.
+// whose boxes touch; both were named "dining table" by two detections each, and the boxes of
+// the detections of the top held the panel. One object, one id, the histogram of all four
+// detections, the union of the boxes.
 TEST(ObjectMap, TwoSegmentsOfOneDeskAreOneObject) {
   ObjectMap m;
   const std::vector<segmentation::SegmentStats> table = {
       segmentBox(1, {0.0, 0.0, 0.72}, {1.6, 0.8, 0.75}, 6000),
       segmentBox(2, {1.57, 0.0, 0.0}, {1.60, 0.8, 0.72}, 1500)};
-  m.addDetectorView(view(10, {{1, 9000}, {2, 2500}}, {{1, kDiningTable, 0.9f, 0.8f}}));
+  m.addDetectorView(view(10, {{1, 9000}, {2, 2500}}, {{1, kDiningTable, 0.9f, 0.8f, {2}}}));
   m.addDetectorView(view(15, {{1, 8000}, {2, 2000}}, {{2, kDiningTable, 0.9f, 0.6f}}));
-  m.addDetectorView(view(20, {{1, 7000}, {2, 1800}}, {{1, kDiningTable, 0.9f, 0.7f}}));
+  m.addDetectorView(view(20, {{1, 7000}, {2, 1800}}, {{1, kDiningTable, 0.9f, 0.7f, {2}}}));
   m.addDetectorView(view(25, {{1, 7000}, {2, 1900}}, {{2, kDiningTable, 0.9f, 0.7f}}));
   m.update(table);
   ASSERT_EQ(m.objects().size(), 1u);
@@ -113,6 +116,38 @@ TEST(ObjectMap, TwoSegmentsOfOneDeskAreOneObject) {
   EXPECT_EQ(m.objectOfSegment(1), m.objectOfSegment(2));
 }
 
+// Two desks side by side (their tops touch), each named "dining table" by detections of its own
+// boxes that held the other in one of 4 detections (a view along the row): two objects (the
+// office's desk_3 and desk_4 were listed as one object while the contact of the boxes alone
+// linked segments). With link_min_codetection_fraction 0 (contact alone) they are one; once the
+// boxes held both in half the detections of each, one.
+TEST(ObjectMap, TwoDesksSideBySideStayTwoObjects) {
+  const std::vector<segmentation::SegmentStats> table = {
+      segmentBox(1, {0.0, 0.0, 0.72}, {1.6, 0.8, 0.75}, 6000),
+      segmentBox(2, {1.6, 0.0, 0.72}, {3.2, 0.8, 0.75}, 6000)};
+  const auto feed = [](ObjectMap& m) {
+    for (std::size_t f = 0; f < 3; ++f)
+      m.addDetectorView(view(5 * f, {{1, 9000}, {2, 9000}},
+                             {{1, kDiningTable, 0.9f, 0.8f}, {2, kDiningTable, 0.9f, 0.8f}}));
+    m.addDetectorView(view(20, {{1, 9000}, {2, 4000}}, {{1, kDiningTable, 0.9f, 0.8f, {2}}}));
+  };
+  ObjectMap m;
+  feed(m);
+  m.update(table);
+  ASSERT_EQ(reported(m).size(), 2u);
+  EXPECT_NE(m.objectOfSegment(1)->id, m.objectOfSegment(2)->id);
+  TObjectParams contact;
+  contact.link_min_codetection_fraction = 0.0;
+  ObjectMap by_contact(contact, TClassificationParams{});
+  feed(by_contact);
+  by_contact.update(table);
+  EXPECT_EQ(reported(by_contact).size(), 1u);
+  // 1 of desk 2's 3 detections held both: below half. One more such view: 2 of 3, one object.
+  m.addDetectorView(view(25, {{1, 9000}, {2, 4000}}, {{1, kDiningTable, 0.9f, 0.8f, {2}}}));
+  m.update(table);
+  EXPECT_EQ(reported(m).size(), 1u);
+}
+
 // Two chairs 1.5 m apart, both confidently "chair": two objects with two ids. A third piece of
 // chair 3 cm from the second chair (its backrest) joins it; a dining table touching the first
 // chair does not join it (another class).
@@ -126,7 +161,7 @@ TEST(ObjectMap, TwoChairsFarApartStayTwoObjects) {
   for (std::size_t f = 0; f < 3; ++f)
     m.addDetectorView(view(5 * f, {{1, 5000}, {2, 3000}, {3, 2000}, {4, 9000}},
                            {{1, kChair, 0.9f, 0.8f},
-                            {2, kChair, 0.9f, 0.7f},
+                            {2, kChair, 0.9f, 0.7f, {3}},
                             {3, kChair, 0.9f, 0.5f},
                             {4, kDiningTable, 0.9f, 0.8f}}));
   m.update(table);
@@ -150,8 +185,8 @@ TEST(ObjectMap, TwoChairsFarApartStayTwoObjects) {
   tight.link_max_gap_m = 0.02;
   ObjectMap strict(tight, TClassificationParams{});
   for (std::size_t f = 0; f < 3; ++f)
-    strict.addDetectorView(
-        view(5 * f, {{2, 3000}, {3, 2000}}, {{2, kChair, 0.9f, 0.7f}, {3, kChair, 0.9f, 0.5f}}));
+    strict.addDetectorView(view(5 * f, {{2, 3000}, {3, 2000}},
+                                {{2, kChair, 0.9f, 0.7f, {3}}, {3, kChair, 0.9f, 0.5f}}));
   strict.update(table);
   EXPECT_EQ(reported(strict).size(), 2u);
 }
@@ -170,7 +205,7 @@ TEST(ObjectMap, AnObjectKeepsItsIdWhenSegmentsJoinMergeAndAreRenumbered) {
   EXPECT_NE(chair_id, desk_id);
   // Later: the desk's side panel appears as segment 9 and is named "dining table": it joins.
   table.push_back(segmentBox(9, {1.57, 0.0, 0.0}, {1.60, 0.8, 0.72}, 1500));
-  m.addDetectorView(view(15, {{4, 8000}, {9, 2500}}, {{9, kDiningTable, 0.9f, 0.7f}}));
+  m.addDetectorView(view(15, {{4, 8000}, {9, 2500}}, {{9, kDiningTable, 0.9f, 0.7f, {4}}}));
   m.update(table);
   ASSERT_NE(m.objectOfSegment(9), nullptr);
   EXPECT_EQ(m.objectOfSegment(9)->id, desk_id);

@@ -30,7 +30,7 @@ PixelBox clipBox(const cv::Rect2f& b, int width, int height) {
 
 std::vector<Association> associateDetections(const Image<std::uint32_t>& labels,
                                              const std::vector<Detection>& detections,
-                                             float min_iou) {
+                                             float min_iou, float piece_min_inside_fraction) {
   std::vector<Association> out(detections.size());
   if (labels.empty() || detections.empty()) return out;
   const int w = labels.width(), h = labels.height();
@@ -55,7 +55,13 @@ std::vector<Association> associateDetections(const Image<std::uint32_t>& labels,
       const float iou = float(i) / float(u);
       if (iou > best.iou || (iou == best.iou && l < best.segment)) best = Association{l, iou, i, u};
     }
-    if (best.iou >= min_iou) out[d] = best;
+    if (best.iou < min_iou) continue;
+    out[d] = best;
+    if (piece_min_inside_fraction > 0.f && piece_min_inside_fraction <= 1.f)
+      for (const auto& [l, i] : inter)
+        if (l != best.segment && float(i) >= piece_min_inside_fraction * float(segment_pixels[l]))
+          out[d].pieces.push_back(l);
+    std::sort(out[d].pieces.begin(), out[d].pieces.end());
   }
   return out;
 }

@@ -93,6 +93,17 @@ void ObjectMap::addDetectorView(const DetectorView& v) {
   for (const SegmentEvidence& e : v.evidence)
     if (e.segment != 0)
       maps::classEvidenceAdd(m_segments[e.segment].histogram, e.class_id, evidenceLogitUnits(e));
+  for (const auto& [a, b] : v.co_detected)
+    if (a != 0 && b != 0 && a != b) ++m_codetections[{std::min(a, b), std::max(a, b)}];
+}
+
+bool ObjectMap::seenTogether(std::uint32_t a, std::uint32_t b) const {
+  const double f = m_params.link_min_codetection_fraction;
+  if (f <= 0.0) return true;
+  const auto it = m_codetections.find({std::min(a, b), std::max(a, b)});
+  const int n = it == m_codetections.end() ? 0 : it->second;
+  const int fewer = std::min(m_segments.at(a).detections, m_segments.at(b).detections);
+  return n >= 1 && double(n) >= f * double(fewer);
 }
 
 void ObjectMap::relabel(const std::vector<std::uint32_t>& table) {
@@ -112,6 +123,12 @@ void ObjectMap::relabel(const std::vector<std::uint32_t>& table) {
     for (const auto& [key, detected] : r.views) into.views[key] = into.views[key] || detected;
   }
   m_segments = std::move(records);
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> pairs;  // merged into one: no longer a pair
+  for (const auto& [ab, n] : m_codetections) {
+    const std::uint32_t a = apply(ab.first), b = apply(ab.second);
+    if (a != 0 && b != 0 && a != b) pairs[{std::min(a, b), std::max(a, b)}] += n;
+  }
+  m_codetections = std::move(pairs);
   std::map<std::uint32_t, int> ids;  // a merged segment keeps the oldest of its objects' ids
   for (const auto& [old_label, id] : m_object_of_segment) {
     const std::uint32_t n = apply(old_label);
@@ -143,7 +160,8 @@ std::vector<std::vector<std::uint32_t>> ObjectMap::groupSegments(
     if (link_class[i] == 0) continue;
     for (std::size_t j = i + 1; j < labels.size(); ++j)
       if (link_class[j] == link_class[i] &&
-          boxGap_m(*stats[i], *stats[j]) <= m_params.link_max_gap_m) {
+          boxGap_m(*stats[i], *stats[j]) <= m_params.link_max_gap_m &&
+          seenTogether(labels[i], labels[j])) {
         const std::size_t ri = findRoot(parent, i), rj = findRoot(parent, j);
         parent[std::max(ri, rj)] = std::min(ri, rj);
       }

@@ -116,7 +116,8 @@ void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p, maps::
   m_detections += r.detections.size();
   m_frame_detections += int(r.detections.size());
   const std::vector<Association> assoc =
-      associateDetections(p.labels, r.detections, float(m_params.min_iou));
+      associateDetections(p.labels, r.detections, float(m_params.min_iou),
+                          float(m_object_params.piece_min_inside_fraction));
   const std::vector<int>& ids = m_class_ids[std::size_t(r.worker)];
   DetectorView view;  // what the object layer learns from this result
   view.frame = r.frame_index;
@@ -130,6 +131,8 @@ void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p, maps::
     const Detection& det = r.detections[d];
     ++m_fused_per_segment[assoc[d].segment];
     view.detected_segments.push_back(assoc[d].segment);
+    for (const std::uint32_t piece : assoc[d].pieces)
+      view.co_detected.emplace_back(assoc[d].segment, piece);
     for (const ClassScore& cs : det.scores) {
       if (cs.class_index < 0 || cs.class_index >= int(ids.size())) continue;
       evidence.push_back({assoc[d].segment, ids[std::size_t(cs.class_index)],

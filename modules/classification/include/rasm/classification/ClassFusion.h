@@ -28,13 +28,17 @@ struct Association {
   float iou = 0.f;            ///< I / U of s_d
   int intersection = 0;       ///< I(s_d, d), pixels
   int union_ = 0;             ///< U(s_d, d), pixels
+  /// The other segments with at least piece_min_inside_fraction of their pixels in the box
+  /// (sorted; empty when s_d is 0): pieces of the same thing, or things in front of it.
+  std::vector<std::uint32_t> pieces;
 };
 
 /// s_d for each detection (same order). `labels`: L^p (0 = no segment). Boxes are clipped to
-/// the image; a box outside it has no segment.
+/// the image; a box outside it has no segment. Pieces are listed only when
+/// piece_min_inside_fraction is in (0, 1].
 std::vector<Association> associateDetections(const Image<std::uint32_t>& labels,
                                              const std::vector<Detection>& detections,
-                                             float min_iou);
+                                             float min_iou, float piece_min_inside_fraction = 0.f);
 
 /// How a detector's score becomes the p_d of the Bayes update.
 enum class ScoreModel {

@@ -12,8 +12,12 @@
 //
 // Grouping (update). Two segments are pieces of one object when (a) each one's own best class
 // is the same class with probability >= link_min_probability, (b) neither is structure on its own
-// (a floor named "dining table" must not swallow the table), and (c) their axis-aligned boxes
-// overlap or leave a gap of at most link_max_gap_m on every axis; objects are the connected
+// (a floor named "dining table" must not swallow the table), (c) their axis-aligned boxes
+// overlap or leave a gap of at most link_max_gap_m on every axis, and (d) detections held both
+// (one associated, the other a piece of its box: the detections' merge evidence), in at least
+// link_min_codetection_fraction of the detections of the less detected one (two desks side by
+// side touch, but each has its own boxes);
+// objects are the connected
 // components (so a desk split at its folds into a top and a side panel, both named, is one
 // object; two chairs 0.5 m apart are two). A segment no rule links is an object of its own, and
 // so is one the segment table does not hold yet (it is refreshed every few frames, III).
@@ -59,6 +63,8 @@ struct DetectorView {
   std::vector<std::pair<std::uint32_t, int>> segment_pixels;
   /// The segment of each detection that found one (one entry per detection).
   std::vector<std::uint32_t> detected_segments;
+  /// (detected segment, piece) for every piece of those detections (Association::pieces).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> co_detected;
   /// The class evidence the detections gave (as fused into the surfels).
   std::vector<SegmentEvidence> evidence;
 };
@@ -146,6 +152,10 @@ class ObjectMap {
   TObjectParams m_params;
   TClassificationParams m_thresholds;
   std::map<std::uint32_t, SegmentRecord> m_segments;
+  /// Detections that held both segments of a pair (smaller label first); follows relabel.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> m_codetections;
+  /// Rule (d) of the grouping (header) for segments a and b.
+  bool seenTogether(std::uint32_t a, std::uint32_t b) const;
   std::map<int, std::set<int>> m_detector_classes;
   std::map<std::uint32_t, int> m_object_of_segment;  ///< last update's ids, follows relabel
   std::vector<MapObject> m_objects;

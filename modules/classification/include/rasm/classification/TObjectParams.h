@@ -15,6 +15,16 @@ struct TObjectParams : mrpt::config::CLoadableOptions {
   /// ... and their axis-aligned boxes overlap or leave at most this gap on every axis (a desk
   /// split at its folds: the top and a side panel touch; two chairs 0.5 m apart do not).
   double link_max_gap_m = 0.05;
+  /// ... and detections saw them together: a detection's box held the segment it was associated
+  /// with and at least piece_min_inside_fraction of the other's pixels, in at least this
+  /// fraction of the detections of the less detected of the two (and at least once). The top
+  /// and side panel of one desk lie in most of the desk's boxes; two desks side by side, each
+  /// with its own boxes, touch, and a box of one holds the other only in the views along the row
+  /// (the office's desk_3 and desk_4). 0: the boxes' contact alone links them.
+  double link_min_codetection_fraction = 0.5;
+  /// A segment is a piece of a detection when this fraction of its pixels in the frame's L^p
+  /// lies inside the detection's box.
+  double piece_min_inside_fraction = 0.6;
   /// A frame a detector processed is a view of a segment (one in which it should have been
   /// detected) when the segment covers at least this many pixels of the frame's L^p (a segment
   /// seen at the image border or behind an occluder by a sliver is not).
