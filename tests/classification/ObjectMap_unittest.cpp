@@ -148,6 +148,39 @@ TEST(ObjectMap, TwoDesksSideBySideStayTwoObjects) {
   EXPECT_EQ(reported(m).size(), 1u);
 }
 
+// A piece of the floor under a desk that the desk's boxes named "dining table" (the office:
+// 2.9 x 1.5 m, 9 cm between its percentiles, 27 detections) lies in the floor's plane: part of
+// the floor (structure), not an object. The desk's top (0.73 m above it) and a book lying on the
+// floor (smaller than structure_piece_min_extent_m) stay objects; so does the piece when no
+// structure segment is in the table.
+TEST(ObjectMap, APieceOfTheFloorNamedATableIsStructure) {
+  constexpr int kBook = 74;
+  std::vector<segmentation::SegmentStats> table = {
+      segmentBox(1, {0.0, 0.0, -0.01}, {7.0, 5.0, 0.01}, 40000),     // the floor
+      segmentBox(2, {1.0, 1.0, 0.0}, {3.9, 2.5, 0.087}, 5000),       // the floor piece
+      segmentBox(3, {1.0, 1.0, 0.715}, {2.6, 1.8, 0.745}, 6000),     // a desk's top
+      segmentBox(4, {5.0, 3.0, 0.0}, {5.3, 3.2, 0.03}, 300)};        // a book on the floor
+  ObjectMap m;
+  for (std::size_t f = 0; f < 5; ++f)
+    m.addDetectorView(view(5 * f, {{1, 20000}, {2, 5000}, {3, 9000}, {4, 400}},
+                           {{2, kDiningTable, 0.9f, 0.5f},
+                            {3, kDiningTable, 0.9f, 0.8f},
+                            {4, kBook, 0.9f, 0.8f}}));
+  m.update(table);
+  EXPECT_EQ(m.objectOfSegment(2)->verdict, ObjectVerdict::Structure);
+  EXPECT_EQ(m.objectOfSegment(3)->verdict, ObjectVerdict::Object);
+  EXPECT_EQ(m.objectOfSegment(4)->verdict, ObjectVerdict::Object);
+  // 6 cm above the floor's plane (beyond structure_piece_max_offset_m 5 cm): an object.
+  table[1] = segmentBox(2, {1.0, 1.0, 0.03}, {3.9, 2.5, 0.09}, 5000);
+  m.update(table);
+  EXPECT_EQ(m.objectOfSegment(2)->verdict, ObjectVerdict::Object);
+  // Without the floor segment in the table nothing says it is the floor.
+  table[1] = segmentBox(2, {1.0, 1.0, 0.0}, {3.9, 2.5, 0.087}, 5000);
+  table.erase(table.begin());
+  m.update(table);
+  EXPECT_EQ(m.objectOfSegment(2)->verdict, ObjectVerdict::Object);
+}
+
 // Two chairs 1.5 m apart, both confidently "chair": two objects with two ids. A third piece of
 // chair 3 cm from the second chair (its backrest) joins it; a dining table touching the first
 // chair does not join it (another class).

@@ -15,6 +15,20 @@ const SegmentStats* findStats(const std::vector<SegmentStats>& segments, std::ui
   return it != segments.end() && it->id == id ? &*it : nullptr;
 }
 
+/// Whether `piece` is part of the structure segment `whole` (TClassificationParams
+/// structure_piece_*): a thin plane, large both ways, in whole's plane (normals within 10
+/// degrees, its centroid near the plane).
+bool isStructurePiece(const SegmentStats& piece, const SegmentStats& whole,
+                      const TClassificationParams& p) {
+  const double kCos10 = 0.98480775;
+  if (!(piece.extents.z() < p.structure_max_thickness_m &&
+        piece.extents.y() >= p.structure_piece_min_extent_m))
+    return false;
+  const Eigen::Vector3d n_piece = piece.axes.col(2), n_whole = whole.axes.col(2);
+  return std::abs(n_piece.dot(n_whole)) >= kCos10 &&
+         std::abs(n_whole.dot(piece.centroid - whole.centroid)) <= p.structure_piece_max_offset_m;
+}
+
 /// Adds every class of `from` into `into` (log-odds of independent evidence add: IV).
 void addHistogram(maps::ClassEvidence& into, const maps::ClassEvidence& from) {
   for (int k = 0; k < maps::kClassSlots; ++k)
@@ -205,7 +219,8 @@ void ObjectMap::assignIds(std::vector<MapObject>& objects) {
 }
 
 MapObject ObjectMap::describe(const std::vector<std::uint32_t>& group,
-                              const std::vector<SegmentStats>& segments) const {
+                              const std::vector<SegmentStats>& segments,
+                              const std::vector<const SegmentStats*>& structure) const {
   MapObject o;
   o.segments = group;
   std::map<std::pair<std::size_t, int>, bool> views;  // (frame, detector) -> detected
@@ -241,10 +256,28 @@ MapObject ObjectMap::describe(const std::vector<std::uint32_t>& group,
   c.best_p = o.best.probability;
   // A segment the table does not hold (gone from the map) has no surfels: a fragment at most.
   o.verdict = objectVerdict(c, o.box_extents_m, m_thresholds);
+  if (o.verdict == ObjectVerdict::Object && partOfStructure(group, segments, structure))
+    o.verdict = ObjectVerdict::Structure;
   if (o.verdict == ObjectVerdict::Object &&
       o.existence_probability < m_params.min_existence_probability)
     o.verdict = ObjectVerdict::RarelyDetected;
   return o;
+}
+
+bool ObjectMap::partOfStructure(const std::vector<std::uint32_t>& group,
+                                const std::vector<SegmentStats>& segments,
+                                const std::vector<const SegmentStats*>& structure) const {
+  bool any = false;
+  for (const std::uint32_t label : group) {
+    const SegmentStats* s = findStats(segments, label);
+    if (s == nullptr) continue;
+    const bool piece = std::any_of(structure.begin(), structure.end(), [&](const SegmentStats* w) {
+      return w != s && isStructurePiece(*s, *w, m_thresholds);
+    });
+    if (!piece) return false;
+    any = true;
+  }
+  return any;
 }
 
 void ObjectMap::describeGeometry(MapObject& o, const std::vector<SegmentStats>& segments) const {
@@ -284,7 +317,11 @@ void ObjectMap::describeGeometry(MapObject& o, const std::vector<SegmentStats>& 
 
 void ObjectMap::update(const std::vector<SegmentStats>& segments) {
   std::vector<MapObject> objects;
-  for (const auto& group : groupSegments(segments)) objects.push_back(describe(group, segments));
+  std::vector<const SegmentStats*> structure;
+  for (const SegmentStats& s : segments)
+    if (isStructure(s.extents, m_thresholds)) structure.push_back(&s);
+  for (const auto& group : groupSegments(segments))
+    objects.push_back(describe(group, segments, structure));
   assignIds(objects);
   m_objects = std::move(objects);
 }

@@ -32,6 +32,8 @@ void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(structure_min_extent_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(structure_max_thickness_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(structure_max_thickness_fraction, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(structure_piece_min_extent_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(structure_piece_max_offset_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(seed, int, c, s);
   requireInRange(every_n_frames, 1, 100000, s, "every_n_frames");
   requireInRange(min_iou, 0.0, 1.0, s, "min_iou");
@@ -44,6 +46,8 @@ void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   requireInRange(structure_max_thickness_m, 0.0, 1000.0, s, "structure_max_thickness_m");
   requireInRange(structure_max_thickness_fraction, 0.0, 1.0, s,
                  "structure_max_thickness_fraction");
+  requireInRange(structure_piece_min_extent_m, 0.0, 1000.0, s, "structure_piece_min_extent_m");
+  requireInRange(structure_piece_max_offset_m, 0.0, 10.0, s, "structure_piece_max_offset_m");
   if (score_model != "probability" && score_model != "vote")
     throwInputError("[" + s + "] score_model = " + score_model, "expected 'probability' or 'vote'");
   for (const std::string& d : detectorList())
@@ -80,6 +84,10 @@ void TClassificationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
           "objects.json: the thickness below which a large plane is structure");
   c.write(s, "structure_max_thickness_fraction", structure_max_thickness_fraction, -1, -1,
           "objects.json: ... or below this fraction of its middle extent");
+  c.write(s, "structure_piece_min_extent_m", structure_piece_min_extent_m, -1, -1,
+          "objects.json: a thin plane this large both ways in a structure's plane is part of it");
+  c.write(s, "structure_piece_max_offset_m", structure_piece_max_offset_m, -1, -1,
+          "objects.json: ... within this distance of that plane");
   c.write(s, "seed", seed, -1, -1, "seed of the simulated detector's noise");
 }
 

@@ -34,8 +34,10 @@
 // rule: detected in 1 of 1 views is 0.67, in 1 of 20 is 0.09), the frames it was seen and
 // detected in, its segments' axis-aligned box (their union) and an upright oriented box (the
 // axes of its largest segment's upright box, extents covering every segment's upright box).
-// verdict: objectVerdict (ObjectVerdict.h) of the whole object, then RarelyDetected when its
-// existence probability is below min_existence_probability.
+// verdict: objectVerdict (ObjectVerdict.h) of the whole object; Structure also when its segments
+// are thin planes in the plane of a structure segment of the table (a piece of the floor under
+// a desk that the desk's boxes named "dining table"); then RarelyDetected when its existence
+// probability is below min_existence_probability.
 
 #include <Eigen/Core>
 #include <cstddef>
@@ -144,7 +146,14 @@ class ObjectMap {
       const std::vector<segmentation::SegmentStats>& segments) const;
   void assignIds(std::vector<MapObject>& objects);
   MapObject describe(const std::vector<std::uint32_t>& group,
-                     const std::vector<segmentation::SegmentStats>& segments) const;
+                     const std::vector<segmentation::SegmentStats>& segments,
+                     const std::vector<const segmentation::SegmentStats*>& structure) const;
+  /// Whether every segment of `group` the table holds is a piece of one of the `structure`
+  /// segments (a thin plane in a floor's, wall's or ceiling's plane: TClassificationParams
+  /// structure_piece_*), and one at least.
+  bool partOfStructure(const std::vector<std::uint32_t>& group,
+                       const std::vector<segmentation::SegmentStats>& segments,
+                       const std::vector<const segmentation::SegmentStats*>& structure) const;
   void describeGeometry(MapObject& o,
                         const std::vector<segmentation::SegmentStats>& segments) const;
   bool reportsClass(int detector, int class_id) const;

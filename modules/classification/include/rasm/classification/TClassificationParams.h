@@ -61,6 +61,14 @@ struct TClassificationParams : mrpt::config::CLoadableOptions {
   double structure_min_extent_m = 2.0;
   double structure_max_thickness_m = 0.15;
   double structure_max_thickness_fraction = 0.1;
+  /// ... and a piece of structure: an object all of whose segments are thin planes (smallest
+  /// extent below structure_max_thickness_m) at least structure_piece_min_extent_m both ways in
+  /// the plane of a structure segment (normals within 10 degrees, the piece's centroid within
+  /// structure_piece_max_offset_m of that plane) is part of that floor, wall or ceiling (the
+  /// office's 2.9 x 1.5 m floor piece under a desk, whose boxes fused 27 "dining table"
+  /// detections into it).
+  double structure_piece_min_extent_m = 0.5;
+  double structure_piece_max_offset_m = 0.05;
   /// Seed of the simulated detector's noise (sim_detector only).
   int seed = 1;
 
