@@ -138,8 +138,11 @@ void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
   // or the extrapolated constant velocity carries the estimate on through lost frames, else the
   // last good pose.
   auto t = Clock::now();
-  const bool photometric =
-      m_tracking.photometricWeight(prior.has_value()) > 0 && !frame.colour.empty();
+  // Colour for the photometric term, and without a prior for the photometric retry of a
+  // degenerate frame (IcpTracker::track).
+  const bool photometric = (m_tracking.photometricWeight(prior.has_value()) > 0 ||
+                            (!prior && m_tracking.photometric_weight_degenerate > 0)) &&
+                           !frame.colour.empty();
   const tracking::ModelMaps model =
       renderModel(ctx, map,
                   prior || m_tracker.extrapolatingThroughLoss() ? m_T_prev_frame
@@ -353,7 +356,8 @@ void TrackingStage::csvColumns(std::vector<std::string>& c) const {
            {"status", "inliers", "inlier_fraction", "rms_m", "model_pixels", "model_all_surfels",
             "icp_iterations", "icp_iterations_level0", "pose_source", "check_overlap",
             "check_agreement", "check_behind", "used_prior", "on_motion_model", "prior_sigmas",
-            "heading_drift_sigmas", "floor_height_m", "floor_tilt_deg", "relocalisation_failure"});
+            "odometry_sigmas", "heading_drift_sigmas", "floor_height_m", "floor_tilt_deg",
+            "relocalisation_failure"});
 }
 
 void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
@@ -365,6 +369,7 @@ void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
   row.add(t.check_overlap, 4).add(t.check_agreement, 4).add(t.check_behind, 4).add(t.used_prior);
   row.add(t.on_motion_model)
       .add(t.prior_sigmas, 4)
+      .add(t.odometry_sigmas, 4)
       .add(r.heading_drift_sigmas, 3)
       .add(r.floor_height_m, 4);
   row.add(r.floor_tilt_deg, 3).add(r.relocalisation_failure);
