@@ -214,14 +214,15 @@ Eigen::Isometry3d IcpTracker::predictPose() const {
 
 TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const ModelMaps& model,
                                  ImageView<const Bgr8> frame_colour, const MotionPrior* prior,
-                                 const DenserModel& denser_model) {
+                                 const DenserModel& denser_model,
+                                 const DenserModel& coloured_model) {
   if (!m_initialized) {
     TrackingResult r;
     r.status = TrackingStatus::NotInitialized;
     return r;
   }
   const Eigen::Isometry3d guess = prior ? prior->T_world_cam : predictPose();
-  TrackingResult r = alignWithColourRetry(frame, model, guess, frame_colour, prior);
+  TrackingResult r = alignWithColourRetry(frame, model, guess, frame_colour, prior, coloured_model);
   const bool unsupported = r.status == TrackingStatus::TooFewInliers ||
                            (r.status == TrackingStatus::Degenerate && !r.ok);
   if (unsupported && denser_model) {
@@ -275,17 +276,22 @@ TrackingResult IcpTracker::alignWithColourRetry(const std::vector<FrameLevel>& f
                                                 const ModelMaps& model,
                                                 const Eigen::Isometry3d& guess,
                                                 ImageView<const Bgr8> frame_colour,
-                                                const MotionPrior* prior) {
+                                                const MotionPrior* prior,
+                                                const DenserModel& coloured_model) {
   TrackingResult r = align(frame, model, guess, frame_colour, prior);
   const double w = m_params.photometric_weight_degenerate;
   if (r.status != TrackingStatus::Degenerate || prior || w <= 0 || frame_colour.empty() ||
-      model.colour.empty() || m_lost_frames > 0)
+      m_lost_frames > 0)
     return r;
+  std::optional<ModelMaps> rendered;
+  if (model.colour.empty() && coloured_model) rendered = coloured_model();
+  const ModelMaps& m = rendered ? *rendered : model;
+  if (m.colour.empty()) return r;
   // The geometry leaves a direction free: the colour may hold it. Taken only if it does, and
   // only while tracking: then the guess is within one frame's motion of the camera, inside the
   // photometric term's basin; from a stale pose a repeated texture (a tiled floor) offers a
   // wrong minimum that every rule accepts.
-  TrackingResult rc = align(frame, model, guess, frame_colour, nullptr, w);
+  TrackingResult rc = align(frame, m, guess, frame_colour, nullptr, w);
   if (rc.status != TrackingStatus::Ok) return r;
   rc.photometric_retry = true;
   return rc;

@@ -138,11 +138,12 @@ void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
   // or the extrapolated constant velocity carries the estimate on through lost frames, else the
   // last good pose.
   auto t = Clock::now();
-  // Colour for the photometric term, and without a prior for the photometric retry of a
-  // degenerate frame (IcpTracker::track).
-  const bool photometric = (m_tracking.photometricWeight(prior.has_value()) > 0 ||
-                            (!prior && m_tracking.photometric_weight_degenerate > 0)) &&
-                           !frame.colour.empty();
+  const bool photometric =
+      m_tracking.photometricWeight(prior.has_value()) > 0 && !frame.colour.empty();
+  // Without a prior, a degenerate frame is retried with the photometric term (IcpTracker::track):
+  // the model's colour is rendered only for that retry.
+  const bool colour_retry =
+      !prior && m_tracking.photometric_weight_degenerate > 0 && !frame.colour.empty();
   const tracking::ModelMaps model =
       renderModel(ctx, map,
                   prior || m_tracker.extrapolatingThroughLoss() ? m_T_prev_frame
@@ -157,13 +158,24 @@ void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
     if (r.model_all_surfels) return std::nullopt;
     const auto tr = Clock::now();
     FrameResult probe;
-    tracking::ModelMaps m = renderModel(ctx, map, model.T_world_model, photometric, probe, true);
-    ms_denser_render = msSince(tr);
+    tracking::ModelMaps m =
+        renderModel(ctx, map, model.T_world_model, photometric || colour_retry, probe, true);
+    ms_denser_render += msSince(tr);
     return m;
   };
-  r.tracking = m_tracker.track(ctx.pyramid, model,
-                               photometric ? frame.colour.cview() : ImageView<const Bgr8>(),
-                               prior ? &*prior : nullptr, denser);
+  const tracking::IcpTracker::DenserModel coloured = [&]() -> std::optional<tracking::ModelMaps> {
+    if (!colour_retry) return std::nullopt;
+    const auto tr = Clock::now();
+    FrameResult probe;
+    tracking::ModelMaps m =
+        renderModel(ctx, map, model.T_world_model, true, probe, r.model_all_surfels);
+    ms_denser_render += msSince(tr);
+    return m;
+  };
+  r.tracking =
+      m_tracker.track(ctx.pyramid, model,
+                      photometric || colour_retry ? frame.colour.cview() : ImageView<const Bgr8>(),
+                      prior ? &*prior : nullptr, denser, coloured);
   if (r.tracking.denser_model) r.model_all_surfels = true;
   recordMs(ctx, kIcp, msSince(t) - ms_denser_render);
   recordMs(ctx, kRenderModel, ms_denser_render);

@@ -118,10 +118,13 @@ class IcpTracker {
   /// degenerate (a degenerate retry has the inliers but not the directions). The stable-surfel
   /// model lags the map by the frames a surfel needs to become stable: at the start of a run and
   /// where a pan has just fused new space it covers too little of the view (docs/tracking.md).
+  /// `coloured_model` (optional): the same model as `model` with its colour rendered, called
+  /// only when the photometric retry of a degenerate frame needs it and `model` has no colour.
   using DenserModel = std::function<std::optional<ModelMaps>()>;
   TrackingResult track(const std::vector<FrameLevel>& frame, const ModelMaps& model,
                        ImageView<const Bgr8> frame_colour = {}, const MotionPrior* prior = nullptr,
-                       const DenserModel& denser_model = {});
+                       const DenserModel& denser_model = {},
+                       const DenserModel& coloured_model = {});
 
   /// Aligns `frame` to `model` starting from an explicit guess; does not touch the motion state.
   /// The quality rules (including the jump vs. the guess) are applied as in track().
@@ -151,9 +154,11 @@ class IcpTracker {
   /// align(), and for a degenerate frame without a prior that follows a tracked frame, align()
   /// again with the photometric term at photometric_weight_degenerate: that result when it is
   /// ok (every direction constrained by geometry and colour together), else the first.
+  /// `coloured_model` gives `model` with its colour when `model` has none.
   TrackingResult alignWithColourRetry(const std::vector<FrameLevel>& frame, const ModelMaps& model,
                                       const Eigen::Isometry3d& guess,
-                                      ImageView<const Bgr8> frame_colour, const MotionPrior* prior);
+                                      ImageView<const Bgr8> frame_colour, const MotionPrior* prior,
+                                      const DenserModel& coloured_model = {});
   PoseCheck checkPoseBuilt(const std::vector<FrameLevel>& frame, const ModelMaps& model,
                            const Eigen::Isometry3d& T_world_cam) const;
   void buildModelPyramid(const ModelMaps& model, bool intensity, bool confidence);
