@@ -289,8 +289,8 @@ TrackingResult IcpTracker::alignWithColourRetry(const std::vector<FrameLevel>& f
   if (m.colour.empty()) return r;
   // The geometry leaves a direction free: the colour may hold it. Taken only if it does, and
   // only while tracking: then the guess is within one frame's motion of the camera, inside the
-  // photometric term's basin; from a stale pose a repeated texture (a tiled floor) offers a
-  // wrong minimum that every rule accepts.
+  // photometric term's basin; from a stale pose it can find a wrong minimum that every rule
+  // accepts (docs/tracking.md).
   TrackingResult rc = align(frame, m, guess, frame_colour, nullptr, w);
   if (rc.status != TrackingStatus::Ok) return r;
   rc.photometric_retry = true;

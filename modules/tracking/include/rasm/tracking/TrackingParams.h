@@ -69,8 +69,8 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   double photometric_weight_with_prior = 0.003;
   /// The photometric weight for frames without a prior whose geometry leaves a direction
   /// unconstrained (a plain wall, a wall and the floor), while tracking (the previous frame
-  /// tracked: from a stale pose a robot without odometry was accepted 2.7 m off on the office's
-  /// floor after a loss, docs/slam-eval.md): such a frame is aligned once more with
+  /// tracked: from a stale pose, after a loss, a robot without odometry was accepted 2.7 m off,
+  /// docs/slam-eval.md): such a frame is aligned once more with
   /// the photometric term at this weight, and that result stands if the joint system constrains
   /// every direction (status ok); otherwise the geometric one does, degenerate. The colour of a
   /// textured wall then holds the slide along it that the geometry cannot see, and frames whose
