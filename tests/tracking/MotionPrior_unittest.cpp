@@ -277,3 +277,59 @@ TEST(LargeMotion, FiveDegreesAndThreeCentimetresConverge) {
     EXPECT_LT(rotationAngle(T_b, r.T_world_cam) / kDeg, 0.05) << "axis " << axis.transpose();
   }
 }
+
+/// The odometry conflict: a robot's prior (x, y, yaw from the wheels, 1 cm and 0.5 deg; height,
+/// roll and pitch from the floor, 5 mm and 0.3 deg) against a room that constrains every
+/// direction. A result further from the wheels' x, y or yaw than max_odometry_sigmas is refused
+/// even where the 6-DoF distance stays under max_prior_sigmas; one within it is accepted even
+/// when the floor's part adds to the 6-DoF distance.
+TEST(MotionPrior, ASlideAlongTheFloorBeyondTheOdometrySigmasIsRefused) {
+  const Scene scene = Scene::room();
+  const Eigen::Isometry3d T_a = lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5});
+  const Eigen::Isometry3d T_b = T_a * motion({0.02, -0.01, 0.03}, {0.2, 1, 0.1}, 1.5);
+  const WorldMaps model(pyramidOf(scene.render(K, T_a))[0], T_a);
+  const std::vector<FrameLevel> pyr_b = pyramidOf(scene.render(K, T_b));
+  const TTrackingParams p;
+  ASSERT_GT(p.max_odometry_sigmas, 1.0);
+  ASSERT_LT(p.max_odometry_sigmas + 1.0, p.max_prior_sigmas);
+  const double s_xy = 0.01, s_yaw = 0.5 * kDeg, s_z = 0.005, s_tilt = 0.3 * kDeg;
+  const auto robotPrior = [&](const Eigen::Isometry3d& T_pred) {
+    MotionPrior m = MotionPrior::fromStdDevs(T_pred, Eigen::Matrix3d::Identity(),
+                                             Eigen::Vector3d(s_xy, s_xy, s_z),
+                                             Eigen::Vector3d(s_tilt, s_tilt, s_yaw));
+    m.odometry_information =
+        MotionPrior::planarInformation(Eigen::Matrix3d::Identity(), s_xy, s_yaw);
+    return m;
+  };
+  // The wheels' estimate moved along the floor (x), or turned about its normal (world z).
+  const auto yawed = [&](double rad) {
+    Eigen::Isometry3d T = T_b;
+    T.linear() = Eigen::AngleAxisd(rad, Eigen::Vector3d::UnitZ()) * T_b.linear();
+    return T;
+  };
+  const double beyond = p.max_odometry_sigmas + 1.0, within = p.max_odometry_sigmas - 1.0;
+  IcpTracker tr(p);
+  for (const Eigen::Isometry3d& T_pred :
+       {translated(T_b, {beyond * s_xy, 0.0, 0.0}), yawed(beyond * s_yaw)}) {
+    const MotionPrior prior = robotPrior(T_pred);
+    const TrackingResult r = tr.align(pyr_b, modelOf(model, T_a), prior.T_world_cam, {}, &prior);
+    EXPECT_FALSE(r.ok);
+    EXPECT_EQ(r.status, TrackingStatus::PriorConflict);
+    EXPECT_GT(r.odometry_sigmas, p.max_odometry_sigmas);
+    EXPECT_LT(r.prior_sigmas, p.max_prior_sigmas) << "the 6-DoF rule alone lets it pass";
+  }
+  // Within the odometry's bound in x, and 3 floor sigmas off in height: the floor's part counts
+  // in the 6-DoF distance only.
+  for (const Eigen::Isometry3d& T_pred : {translated(T_b, {within * s_xy, 0.0, 3.0 * s_z}),
+                                          translated(yawed(within * s_yaw), {0, 0, 3.0 * s_z})}) {
+    const MotionPrior prior = robotPrior(T_pred);
+    const TrackingResult r = tr.align(pyr_b, modelOf(model, T_a), prior.T_world_cam, {}, &prior);
+    EXPECT_TRUE(r.ok) << toString(r.status) << ", " << r.odometry_sigmas << " odometry sigmas";
+    // The result stays nearer the data than the wheels (1.5 sigmas = 1.5 cm off): measured
+    // 0.4 cm along the floor, the floor's tight height sigma pulling the tilted camera partly.
+    const Eigen::Vector3d e = r.T_world_cam.translation() - T_b.translation();
+    EXPECT_LT(e.head<2>().norm(), 0.5 * within * s_xy) << e.transpose();
+    EXPECT_LT(r.odometry_sigmas, p.max_odometry_sigmas);
+    EXPECT_GT(r.prior_sigmas, r.odometry_sigmas + 0.5);
+  }
+}

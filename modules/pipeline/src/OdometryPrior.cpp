@@ -65,9 +65,12 @@ std::optional<tracking::MotionPrior> OdometryPrior::predict(
   if (p.floor_prior) return floorMeasurement(T_pred, s_xy, m_last_sigma_yaw);
   const Eigen::Matrix3d R_world_base =
       T_world_cam_prev.linear() * m_T_base_cam.linear().transpose();
-  return tracking::MotionPrior::fromStdDevs(
+  tracking::MotionPrior prior = tracking::MotionPrior::fromStdDevs(
       T_pred, R_world_base, Eigen::Vector3d(s_xy, s_xy, std::sqrt(v.z)),
       Eigen::Vector3d(std::sqrt(v.tilt), std::sqrt(v.tilt), m_last_sigma_yaw));
+  prior.odometry_information =
+      tracking::MotionPrior::planarInformation(R_world_base, s_xy, m_last_sigma_yaw);
+  return prior;
 }
 
 void OdometryPrior::frameDone(bool tracked) {
@@ -109,10 +112,13 @@ tracking::MotionPrior OdometryPrior::floorMeasurement(const Eigen::Isometry3d& T
   const Eigen::Matrix3d R_world_floorbase =
       T_floor_pred.linear() * m_T_base_cam.linear().transpose();
   const double s_tilt = m_params.floor_prior_sigma_tilt_deg * kDeg;
-  return tracking::MotionPrior::fromStdDevs(
+  tracking::MotionPrior prior = tracking::MotionPrior::fromStdDevs(
       T_floor_pred, R_world_floorbase,
       Eigen::Vector3d(sigma_xy_m, sigma_xy_m, m_params.floor_prior_sigma_z_m),
       Eigen::Vector3d(s_tilt, s_tilt, sigma_yaw_rad));
+  prior.odometry_information =
+      tracking::MotionPrior::planarInformation(R_world_floorbase, sigma_xy_m, sigma_yaw_rad);
+  return prior;
 }
 
 Eigen::Isometry3d OdometryPrior::projectToFloor(const Eigen::Isometry3d& T_world_cam) const {

@@ -215,6 +215,7 @@ const Doc kColumns[] = {
     {"on_motion_model",
      "1 when a degenerate frame was accepted on the constant-velocity guess alone (no prior)"},
     {"prior_sigmas", "Mahalanobis distance of the result from the prior"},
+    {"odometry_sigmas", "the same in the odometry's directions only (x, y, yaw)"},
     {"heading_drift_sigmas", "accumulated heading disagreement with the odometry, in sigmas"},
     {"floor_height_m",
      "robot camera height above the first frame's floor (m); nan without "

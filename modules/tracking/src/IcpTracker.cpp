@@ -214,19 +214,20 @@ Eigen::Isometry3d IcpTracker::predictPose() const {
 
 TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const ModelMaps& model,
                                  ImageView<const Bgr8> frame_colour, const MotionPrior* prior,
-                                 const DenserModel& denser_model) {
+                                 const DenserModel& denser_model,
+                                 const DenserModel& coloured_model) {
   if (!m_initialized) {
     TrackingResult r;
     r.status = TrackingStatus::NotInitialized;
     return r;
   }
   const Eigen::Isometry3d guess = prior ? prior->T_world_cam : predictPose();
-  TrackingResult r = align(frame, model, guess, frame_colour, prior);
+  TrackingResult r = alignWithColourRetry(frame, model, guess, frame_colour, prior, coloured_model);
   const bool unsupported = r.status == TrackingStatus::TooFewInliers ||
                            (r.status == TrackingStatus::Degenerate && !r.ok);
   if (unsupported && denser_model) {
     if (const std::optional<ModelMaps> denser = denser_model()) {
-      TrackingResult r2 = align(frame, *denser, guess, frame_colour, prior);
+      TrackingResult r2 = alignWithColourRetry(frame, *denser, guess, frame_colour, prior);
       r2.denser_model = true;
       // Without a prior, a retry that is still degenerate is not taken: the denser model gives
       // it the inliers a degenerate frame needs, but not the directions it lacks, and a robot
@@ -269,6 +270,31 @@ TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const Mod
   }
   m_last_guess = guess;
   return r;
+}
+
+TrackingResult IcpTracker::alignWithColourRetry(const std::vector<FrameLevel>& frame,
+                                                const ModelMaps& model,
+                                                const Eigen::Isometry3d& guess,
+                                                ImageView<const Bgr8> frame_colour,
+                                                const MotionPrior* prior,
+                                                const DenserModel& coloured_model) {
+  TrackingResult r = align(frame, model, guess, frame_colour, prior);
+  const double w = m_params.photometric_weight_degenerate;
+  if (r.status != TrackingStatus::Degenerate || prior || w <= 0 || frame_colour.empty() ||
+      m_lost_frames > 0)
+    return r;
+  std::optional<ModelMaps> rendered;
+  if (model.colour.empty() && coloured_model) rendered = coloured_model();
+  const ModelMaps& m = rendered ? *rendered : model;
+  if (m.colour.empty()) return r;
+  // The geometry leaves a direction free: the colour may hold it. Taken only if it does, and
+  // only while tracking: then the guess is within one frame's motion of the camera, inside the
+  // photometric term's basin; from a stale pose it can find a wrong minimum that every rule
+  // accepts (docs/tracking.md).
+  TrackingResult rc = align(frame, m, guess, frame_colour, nullptr, w);
+  if (rc.status != TrackingStatus::Ok) return r;
+  rc.photometric_retry = true;
+  return rc;
 }
 
 IcpTracker::PoseCheck IcpTracker::checkPose(const std::vector<FrameLevel>& frame,
@@ -377,7 +403,8 @@ void IcpTracker::buildFrameIntensity(const std::vector<FrameLevel>& frame,
 
 TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const ModelMaps& model,
                                  const Eigen::Isometry3d& T_world_cam_guess,
-                                 ImageView<const Bgr8> frame_colour, const MotionPrior* prior) {
+                                 ImageView<const Bgr8> frame_colour, const MotionPrior* prior,
+                                 std::optional<double> photometric_weight) {
   const TTrackingParams& P = m_params;
   const int L = P.num_levels;
   if (static_cast<int>(frame.size()) < L)
@@ -409,7 +436,8 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
                         std::to_string(model_frame_level.depth_m.width()) + "x" +
                         std::to_string(model_frame_level.depth_m.height()));
   // Photometric term: only with both colour images (and a model to render them from).
-  const double kappa = P.photometricWeight(prior != nullptr);
+  const double kappa = photometric_weight ? std::max(0.0, *photometric_weight)
+                                          : P.photometricWeight(prior != nullptr);
   const bool photometric =
       kappa > 0 && !model_empty && !model.colour.empty() && !frame_colour.empty();
   if (photometric) {
@@ -585,6 +613,7 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
   if (prior && res.T_world_cam.matrix().allFinite()) {
     const Vector6d d = incrementTo(res.T_world_cam, prior->T_world_cam);
     res.prior_sigmas = std::sqrt(std::max(0.0, d.dot(prior->information * d)));
+    res.odometry_sigmas = std::sqrt(std::max(0.0, d.dot(prior->odometry_information * d)));
   }
   // Pose check: the aligned frame against the model it was aligned to.
   bool check_failed = false;
@@ -614,7 +643,8 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
     res.status = TrackingStatus::ExcessiveMotion;
   else if (check_failed)
     res.status = TrackingStatus::Inconsistent;
-  else if (P.max_prior_sigmas > 0 && res.prior_sigmas > P.max_prior_sigmas)
+  else if ((P.max_prior_sigmas > 0 && res.prior_sigmas > P.max_prior_sigmas) ||
+           (P.max_odometry_sigmas > 0 && res.odometry_sigmas > P.max_odometry_sigmas))
     res.status = TrackingStatus::PriorConflict;
   else if (res.unconstrained_directions > 0)
     res.status = TrackingStatus::Degenerate;

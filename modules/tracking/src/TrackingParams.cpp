@@ -43,6 +43,7 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR_CS(confidence_full, double);
   MRPT_LOAD_CONFIG_VAR_CS(photometric_weight, double);
   MRPT_LOAD_CONFIG_VAR_CS(photometric_weight_with_prior, double);
+  MRPT_LOAD_CONFIG_VAR_CS(photometric_weight_degenerate, double);
   MRPT_LOAD_CONFIG_VAR_CS(photometric_huber, double);
   MRPT_LOAD_CONFIG_VAR_CS(photometric_min_gradient, double);
   MRPT_LOAD_CONFIG_VAR_CS(model_min_confidence, double);
@@ -69,6 +70,7 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR_CS(prior_pixel_sigma_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(prior_min_eigenvalue, double);
   MRPT_LOAD_CONFIG_VAR_CS(max_prior_sigmas, double);
+  MRPT_LOAD_CONFIG_VAR_CS(max_odometry_sigmas, double);
   MRPT_LOAD_CONFIG_VAR_CS(check_level, int);
   MRPT_LOAD_CONFIG_VAR_CS(check_gate_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(check_noise_sigmas, double);
@@ -109,6 +111,8 @@ void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
       "photometric cost weight (m^2 per intensity^2), 0 = off");
   put(c, s, "photometric_weight_with_prior", photometric_weight_with_prior,
       "photometric cost weight for frames with an odometry prior, 0 = off");
+  put(c, s, "photometric_weight_degenerate", photometric_weight_degenerate,
+      "no prior: a degenerate frame is aligned again with this photometric weight, 0 = off");
   put(c, s, "photometric_huber", photometric_huber,
       "Huber threshold on intensity residuals, 0 = none");
   put(c, s, "photometric_min_gradient", photometric_min_gradient,
@@ -142,6 +146,8 @@ void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
       "with a prior: data only along directions above this");
   put(c, s, "max_prior_sigmas", max_prior_sigmas,
       "lost if further from the prior (Mahalanobis), 0 = off");
+  put(c, s, "max_odometry_sigmas", max_odometry_sigmas,
+      "lost if further from the odometry's x, y, yaw (Mahalanobis), 0 = off");
   put(c, s, "check_level", check_level, "pyramid level of the pose check");
   put(c, s, "check_gate_m", check_gate_m, "pose check: agreement gate base (m)");
   put(c, s, "check_noise_sigmas", check_noise_sigmas,
@@ -177,6 +183,7 @@ void TTrackingParams::validate(const std::string& s) const {
   requireInRange(confidence_full, 0.0, 1e6, s, "confidence_full");
   requireInRange(photometric_weight, 0.0, 100.0, s, "photometric_weight");
   requireInRange(photometric_weight_with_prior, 0.0, 100.0, s, "photometric_weight_with_prior");
+  requireInRange(photometric_weight_degenerate, 0.0, 100.0, s, "photometric_weight_degenerate");
   requireInRange(photometric_huber, 0.0, 1.0, s, "photometric_huber");
   requireInRange(photometric_min_gradient, 0.0, 1.0, s, "photometric_min_gradient");
   requireInRange(model_min_confidence, 0.0, 1e6, s, "model_min_confidence");
@@ -195,6 +202,7 @@ void TTrackingParams::validate(const std::string& s) const {
   requireInRange(prior_pixel_sigma_m, 1e-5, 10.0, s, "prior_pixel_sigma_m");
   requireInRange(prior_min_eigenvalue, 0.0, 1.0, s, "prior_min_eigenvalue");
   requireInRange(max_prior_sigmas, 0.0, 1e6, s, "max_prior_sigmas");
+  requireInRange(max_odometry_sigmas, 0.0, 1e6, s, "max_odometry_sigmas");
   requireInRange(check_level, 0, kMaxLevels - 1, s,
                  "check_level");  // used at min(this, num_levels - 1)
   requireInRange(check_gate_m, 0.0, 1.0, s, "check_gate_m");

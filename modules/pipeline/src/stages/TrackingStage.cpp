@@ -140,6 +140,10 @@ void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
   auto t = Clock::now();
   const bool photometric =
       m_tracking.photometricWeight(prior.has_value()) > 0 && !frame.colour.empty();
+  // Without a prior, a degenerate frame is retried with the photometric term (IcpTracker::track):
+  // the model's colour is rendered only for that retry.
+  const bool colour_retry =
+      !prior && m_tracking.photometric_weight_degenerate > 0 && !frame.colour.empty();
   const tracking::ModelMaps model =
       renderModel(ctx, map,
                   prior || m_tracker.extrapolatingThroughLoss() ? m_T_prev_frame
@@ -154,13 +158,24 @@ void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
     if (r.model_all_surfels) return std::nullopt;
     const auto tr = Clock::now();
     FrameResult probe;
-    tracking::ModelMaps m = renderModel(ctx, map, model.T_world_model, photometric, probe, true);
-    ms_denser_render = msSince(tr);
+    tracking::ModelMaps m =
+        renderModel(ctx, map, model.T_world_model, photometric || colour_retry, probe, true);
+    ms_denser_render += msSince(tr);
     return m;
   };
-  r.tracking = m_tracker.track(ctx.pyramid, model,
-                               photometric ? frame.colour.cview() : ImageView<const Bgr8>(),
-                               prior ? &*prior : nullptr, denser);
+  const tracking::IcpTracker::DenserModel coloured = [&]() -> std::optional<tracking::ModelMaps> {
+    if (!colour_retry) return std::nullopt;
+    const auto tr = Clock::now();
+    FrameResult probe;
+    tracking::ModelMaps m =
+        renderModel(ctx, map, model.T_world_model, true, probe, r.model_all_surfels);
+    ms_denser_render += msSince(tr);
+    return m;
+  };
+  r.tracking =
+      m_tracker.track(ctx.pyramid, model,
+                      photometric || colour_retry ? frame.colour.cview() : ImageView<const Bgr8>(),
+                      prior ? &*prior : nullptr, denser, coloured);
   if (r.tracking.denser_model) r.model_all_surfels = true;
   recordMs(ctx, kIcp, msSince(t) - ms_denser_render);
   recordMs(ctx, kRenderModel, ms_denser_render);
@@ -353,7 +368,8 @@ void TrackingStage::csvColumns(std::vector<std::string>& c) const {
            {"status", "inliers", "inlier_fraction", "rms_m", "model_pixels", "model_all_surfels",
             "icp_iterations", "icp_iterations_level0", "pose_source", "check_overlap",
             "check_agreement", "check_behind", "used_prior", "on_motion_model", "prior_sigmas",
-            "heading_drift_sigmas", "floor_height_m", "floor_tilt_deg", "relocalisation_failure"});
+            "odometry_sigmas", "heading_drift_sigmas", "floor_height_m", "floor_tilt_deg",
+            "relocalisation_failure"});
 }
 
 void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
@@ -365,6 +381,7 @@ void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
   row.add(t.check_overlap, 4).add(t.check_agreement, 4).add(t.check_behind, 4).add(t.used_prior);
   row.add(t.on_motion_model)
       .add(t.prior_sigmas, 4)
+      .add(t.odometry_sigmas, 4)
       .add(r.heading_drift_sigmas, 3)
       .add(r.floor_height_m, 4);
   row.add(r.floor_tilt_deg, 3).add(r.relocalisation_failure);

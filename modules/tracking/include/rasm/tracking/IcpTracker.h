@@ -107,7 +107,8 @@ class IcpTracker {
   /// the last good pose and the velocity is updated; otherwise only the velocity is reset.
   /// Returns NotInitialized (ok = false) before reset(). Throws InputError on malformed input.
   /// `frame_colour` (optional, registered to the depth, size of level 0) enables the photometric
-  /// term when params().photometric_weight > 0 and the model has a colour map.
+  /// term when params().photometric_weight > 0 and the model has a colour map, and, without a
+  /// prior, the photometric retry of a degenerate frame (photometric_weight_degenerate).
   /// `prior` (optional): the pose predicted from odometry (or another source) with its
   /// uncertainty; it replaces the motion-model guess and enters the solve (MotionPrior.h).
   /// `denser_model` (optional): called when the frame fails against `model` for lack of
@@ -117,16 +118,21 @@ class IcpTracker {
   /// degenerate (a degenerate retry has the inliers but not the directions). The stable-surfel
   /// model lags the map by the frames a surfel needs to become stable: at the start of a run and
   /// where a pan has just fused new space it covers too little of the view (docs/tracking.md).
+  /// `coloured_model` (optional): the same model as `model` with its colour rendered, called
+  /// only when the photometric retry of a degenerate frame needs it and `model` has no colour.
   using DenserModel = std::function<std::optional<ModelMaps>()>;
   TrackingResult track(const std::vector<FrameLevel>& frame, const ModelMaps& model,
                        ImageView<const Bgr8> frame_colour = {}, const MotionPrior* prior = nullptr,
-                       const DenserModel& denser_model = {});
+                       const DenserModel& denser_model = {},
+                       const DenserModel& coloured_model = {});
 
   /// Aligns `frame` to `model` starting from an explicit guess; does not touch the motion state.
   /// The quality rules (including the jump vs. the guess) are applied as in track().
+  /// `photometric_weight` (>= 0) replaces params().photometricWeight() for this call.
   TrackingResult align(const std::vector<FrameLevel>& frame, const ModelMaps& model,
                        const Eigen::Isometry3d& T_world_cam_guess,
-                       ImageView<const Bgr8> frame_colour = {}, const MotionPrior* prior = nullptr);
+                       ImageView<const Bgr8> frame_colour = {}, const MotionPrior* prior = nullptr,
+                       std::optional<double> photometric_weight = std::nullopt);
 
   /// The pose check of align() on its own (kernels::PoseCheckKernel at params().check_level):
   /// how the frame seen from T_world_cam agrees with the model. For verifying a pose found
@@ -145,6 +151,14 @@ class IcpTracker {
                       const Eigen::Isometry3d& T_world_cam);
 
  private:
+  /// align(), and for a degenerate frame without a prior that follows a tracked frame, align()
+  /// again with the photometric term at photometric_weight_degenerate: that result when it is
+  /// ok (every direction constrained by geometry and colour together), else the first.
+  /// `coloured_model` gives `model` with its colour when `model` has none.
+  TrackingResult alignWithColourRetry(const std::vector<FrameLevel>& frame, const ModelMaps& model,
+                                      const Eigen::Isometry3d& guess,
+                                      ImageView<const Bgr8> frame_colour, const MotionPrior* prior,
+                                      const DenserModel& coloured_model = {});
   PoseCheck checkPoseBuilt(const std::vector<FrameLevel>& frame, const ModelMaps& model,
                            const Eigen::Isometry3d& T_world_cam) const;
   void buildModelPyramid(const ModelMaps& model, bool intensity, bool confidence);

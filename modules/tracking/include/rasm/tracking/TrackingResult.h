@@ -88,6 +88,12 @@ struct TrackingResult {
   /// Motion prior: whether one was used, and the Mahalanobis distance of the result from it.
   bool used_prior = false;
   double prior_sigmas = 0.0;
+  /// The same distance in the odometry's directions only (x, y along the floor, yaw;
+  /// MotionPrior::odometry_information); 0 without an odometry prior.
+  double odometry_sigmas = 0.0;
+  /// The geometry alone left a direction unconstrained and this result is the photometric
+  /// retry's (TTrackingParams::photometric_weight_degenerate).
+  bool photometric_retry = false;
   std::vector<TrackingLevelStats> levels;  ///< in the order run (coarsest first)
 };
 
