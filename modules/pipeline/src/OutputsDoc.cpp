@@ -262,10 +262,12 @@ percentile), `upright_axes` (the two horizontal principal directions; z is up),
 ## objects.json (IV)
 
 `comment`; `objects`: the objects of the object layer (`classification/ObjectMap.h`), each once:
-one or more segments whose own classes agree with `[objects] link_min_probability` and whose boxes
-touch (`link_max_gap_m`), reported when the object's class reaches `[classification]
+one or more segments whose own classes agree with `[objects] link_min_probability`, whose boxes
+touch (`link_max_gap_m`) and which detections saw together (`link_min_codetection_fraction`),
+reported when the object's class reaches `[classification]
 min_object_probability`, it holds at least `min_object_surfels` surfels and `min_object_size_m` of
-extent, it is not a thin plane larger than `structure_min_extent_m` both ways, and its existence
+extent, it is not a thin plane larger than `structure_min_extent_m` both ways nor a thin plane in
+the plane of one (`structure_piece_*`: a piece of the floor), and its existence
 probability reaches `[objects] min_existence_probability`. Each object: `id` (kept over the run
 while its segments merge, change or are joined), `class` (best of its histogram), `class_id`
 (classes.json id), `probability`, `runner_up`, `runner_up_probability`, `histogram` [{`class`,
