@@ -240,38 +240,6 @@ TEST(Navigator, FollowsARouteAlongAHallwayFromRoomToRoom) {
   EXPECT_TRUE(o2.state != NavState::Reached || o2.time_s > 2.0 * o.time_s);
 }
 
-// Out of a room's doorway onto a route whose next leg passes 0.22 m from the door jamb's corner
-// (flat 2102 of the planners panel: the oracle's 0.25 m cells let the route cut the corner within
-// the 0.25 m footprint radius): the straight leg is blocked, so the robot steps along the
-// nearest open bearing until it is clear. Before, the reactive navigator took over there and
-// stood still until the goal failed "stuck".
-TEST(Navigator, StepsAroundADoorJambTheRouteCutsTooClose) {
-  const std::string walls =  // room above y 6.2, doorway x 1.875..2.875; hallway y 4.7..6.1
-      "  - {id: 2, class: wall, primitive: box, size: [1.875, 0.1, 1.0], position: [0.9375, 6.15, "
-      "0.5]}\n"
-      "  - {id: 3, class: wall, primitive: box, size: [5.0, 0.1, 1.0], position: [5.375, 6.15, "
-      "0.5]}\n"
-      "  - {id: 4, class: wall, primitive: box, size: [8.0, 0.1, 1.0], position: [4.0, 4.65, "
-      "0.5]}\n";
-  const TNavigationParams p = testParams();
-  Rig rig(floorWorld(walls), Eigen::Vector3d(2.575, 6.7, -90 * kDeg), p);
-  const Eigen::Vector3d goal(5.8, 5.45, 0.0);
-  const std::vector<Eigen::Vector2d> route = {{2.575, 6.10}, {2.825, 5.85}, {3.075, 5.60}};
-  // The leg from the first corner to the second passes the jamb's corner (2.875, 6.1) at
-  // 0.216 m: inside the footprint.
-  const Eigen::Vector2d a = route[0], b = route[1], jamb(2.875, 6.1);
-  const Eigen::Vector2d u = (b - a).normalized();
-  ASSERT_LT(std::abs(u.x() * (jamb - a).y() - u.y() * (jamb - a).x()), 0.25);
-  rig.nav.setGoal(goal, route);
-  const Outcome o = drive(rig.robot, rig.nav, p.goal_timeout_s);
-  std::printf("around the jamb: %s in %.1f s, path %.2f m\n", toString(o.state), o.time_s,
-              rig.nav.pathLength_m());
-  ASSERT_EQ(o.state, NavState::Reached) << o.reason;
-  EXPECT_FALSE(o.collided);
-  // 4.3 m of route at 0.35 m/s is 12 s, plus the turns: no stall of a stuck timeout (10 s).
-  EXPECT_LT(o.time_s, 25.0);
-}
-
 TEST(Navigator, ReachesANearTargetWithItsOwnController) {
   // 0.3 m: nearer than the PTGs' reach (MRPT trap), so the direct controller drives there.
   Rig rig(floorWorld(), Eigen::Vector3d(0, 0, 0));

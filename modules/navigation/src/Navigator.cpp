@@ -12,7 +12,6 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
-#include <optional>
 
 #include "ReactiveConfig.h"
 #include "RobotNavInterface.h"
@@ -132,8 +131,6 @@ struct Navigator::Impl {
   void rotate(double heading_error_rad, double max_w_radps);
   void driveLeg(const Eigen::Vector3d& pose, const Eigen::Vector2d& target);
   bool waypointPassed(const Eigen::Vector3d& pose) const;
-  std::optional<double> openBearingNear(double bearing_rad, double distance_m) const;
-  void driveAlong(double bearing_rad);
   double frontClearance_m() const;
   double clearanceAlong_m(double bearing_rad, double half_width_m, double cap_m) const;
   /// clearanceAlong_m with the margin-grown footprint, capped at escape_distance_m + radius.
@@ -233,17 +230,9 @@ void Navigator::Impl::stepNavigating(double t, const Eigen::Vector3d& pose) {
     if (escapes >= params.escape_attempts) return finish(NavState::Failed, "stuck");
     return startEscape(t, pose, bearing);
   }
-  if (params.follow_route && !via.empty()) {
-    // The leg's corridor, else the nearest bearing with a free corridor for a short step (a
-    // corner the grid's cells let the route cut within a footprint radius of a door jamb).
-    if (corridorFree(bearing, d)) {
-      stopMrpt();
-      return driveLeg(pose, target());
-    }
-    if (const std::optional<double> open = openBearingNear(bearing, d)) {
-      stopMrpt();
-      return driveAlong(*open);
-    }
+  if (params.follow_route && !via.empty() && corridorFree(bearing, d)) {
+    stopMrpt();
+    return driveLeg(pose, target());
   }
   if (d < params.direct_range_m) {
     // MRPT trap: the PTGs fail on targets nearer than their reach; our controller drives there.
@@ -445,31 +434,6 @@ void Navigator::Impl::driveDirect(const Eigen::Vector3d& pose, const Eigen::Vect
   // an obstacle at the goal (a view next to a chair) instead of stopping 2 cm short for good.
   v = std::min(v, std::max(0.0, (frontClearance_m() - 0.01) / params.period_s));
   robot.setVelocityCommand(v, w);
-}
-
-/// The bearing nearest `bearing_rad` (5 degree steps, up to 45 degrees either way) along which
-/// the bare footprint's corridor is free for min(distance_m, 0.5 m); none when there is none.
-std::optional<double> Navigator::Impl::openBearingNear(double bearing_rad,
-                                                       double distance_m) const {
-  const double reach_m = std::min(distance_m, 0.5);
-  for (int k = 1; k <= 9; ++k)
-    for (const int side : {1, -1}) {
-      const double b = mrpt::math::wrapToPi(bearing_rad + side * k * 5.0 * kDeg);
-      if (corridorFree(b, reach_m)) return b;
-    }
-  return std::nullopt;
-}
-
-/// One step along `bearing_rad` (robot frame): turn in place while it is more than 10 degrees
-/// off, else drive at half speed, at most what keeps 1 cm of the bare footprint's clearance.
-void Navigator::Impl::driveAlong(double bearing_rad) {
-  const double max_w = params.max_w_degps * kDeg;
-  if (std::abs(bearing_rad) > 10.0 * kDeg) return rotate(bearing_rad, max_w);
-  const double body_m = radius_m - params.footprint_margin_m + 0.01;
-  const double ahead_m = clearanceAlong_m(0.0, body_m, std::numeric_limits<double>::infinity());
-  const double v = std::min(0.5 * params.max_v_mps * std::cos(bearing_rad),
-                            std::max(0.0, (ahead_m - 0.01) / params.period_s));
-  robot.setVelocityCommand(v, std::clamp(2.0 * bearing_rad, -max_w, max_w));
 }
 
 /// Corridor controller for a route's leg: turn in place while the target lies more than 10
