@@ -31,6 +31,17 @@ std::uint32_t argmax(const Counts& c, std::size_t* best_count = nullptr) {
   return best;
 }
 
+/// An evaluated object (header): not structure, larger than min_object_size_m, with at least
+/// min_object_surfels surfels in the map.
+bool isEvaluated(const GtClassObject& o, std::size_t surfels, const ClassificationMetricsParams& p) {
+  return !o.is_structure && o.size_m > p.min_object_size_m && surfels >= p.min_object_surfels;
+}
+
+/// Whether `o`'s class is one the detectors can name (every class when the set is empty).
+bool isDetectable(const GtClassObject& o, const ClassificationMetricsParams& p) {
+  return p.detectable_classes.empty() || p.detectable_classes.count(o.class_name) != 0;
+}
+
 }  // namespace
 
 ClassificationMetrics computeClassificationMetrics(
@@ -64,7 +75,7 @@ ClassificationMetrics computeClassificationMetrics(
     r.object = o;
     Counts segs = by_instance.count(o.instance_id) ? by_instance[o.instance_id] : Counts{};
     for (const auto& [s, n] : segs) r.surfels += n;
-    r.evaluated = r.surfels >= params.min_object_surfels;
+    r.evaluated = isEvaluated(o, r.surfels, params);
     segs.erase(0);
     std::size_t n_dom = 0;
     r.segment = argmax(segs, &n_dom);
@@ -77,8 +88,7 @@ ClassificationMetrics computeClassificationMetrics(
     r.correct = r.segment != 0 && r.predicted == o.class_name;
     const auto views = segment_detections.find(r.segment);
     r.views = r.segment != 0 && views != segment_detections.end() ? views->second : 0;
-    r.detectable =
-        params.detectable_classes.empty() || params.detectable_classes.count(o.class_name) > 0;
+    r.detectable = isDetectable(o, params);
     if (r.evaluated) {
       ++m.evaluated;
       m.correct += r.correct;
@@ -116,14 +126,6 @@ ClassificationMetrics computeClassificationMetrics(
 
 namespace {
 
-/// Whether `o` counts for object-level recall: as an evaluated object of computeClassification-
-/// Metrics (not structure, larger than min_object_size_m, enough surfels) of a detectable class.
-bool countsForRecall(const GtClassObject& o, std::size_t surfels,
-                     const ClassificationMetricsParams& p) {
-  return !o.is_structure && o.size_m > p.min_object_size_m && surfels >= p.min_object_surfels &&
-         (p.detectable_classes.empty() || p.detectable_classes.count(o.class_name) != 0);
-}
-
 /// The object's name, else "<class>#<instance id>" (world objects need no name).
 std::string displayName(const GtClassObject& o) {
   return o.name.empty() ? o.class_name + "#" + std::to_string(o.instance_id) : o.name;
@@ -160,7 +162,9 @@ ObjectLevelMetrics computeObjectLevelMetrics(const std::vector<std::uint32_t>& s
   ObjectLevelMetrics m;
   std::set<std::uint32_t> found;
   for (std::size_t r = 0; r < reported.size(); ++r) {
-    ReportedObjectResult res{reported[r], reported_size[r]};
+    ReportedObjectResult res;
+    res.object = reported[r];
+    res.surfels = reported_size[r];
     for (const auto& [g, n] : overlap[r]) {
       const double iou = double(n) / double(reported_size[r] + instance_size[g] - n);
       if (iou > res.iou || (iou == res.iou && g < res.best_instance)) {
@@ -183,7 +187,9 @@ ObjectLevelMetrics computeObjectLevelMetrics(const std::vector<std::uint32_t>& s
   }
   for (const GtClassObject& o : objects) {
     const auto n = instance_size.find(o.instance_id);
-    if (!countsForRecall(o, n == instance_size.end() ? 0 : n->second, params)) continue;
+    if (!isEvaluated(o, n == instance_size.end() ? 0 : n->second, params) ||
+        !isDetectable(o, params))
+      continue;
     ++m.objects;
     if (found.count(o.instance_id) != 0)
       ++m.objects_found;

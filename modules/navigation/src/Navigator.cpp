@@ -136,6 +136,8 @@ struct Navigator::Impl {
   /// clearanceAlong_m with the margin-grown footprint, capped at escape_distance_m + radius.
   double clearanceAlong_m(double bearing_rad) const;
   bool corridorFree(double bearing_rad, double distance_m) const;
+  /// The bare footprint's radius (no PTG margin) plus 1 cm: the corridor controller's disc.
+  double bodyRadius_m() const { return radius_m - params.footprint_margin_m + 0.01; }
   double mostOpenBearing(double goal_bearing_rad) const;
   void startEscape(double t, const Eigen::Vector3d& pose, double goal_bearing_rad);
   void stepEscape(double t, const Eigen::Vector3d& pose);
@@ -323,15 +325,8 @@ double Navigator::Impl::clearanceAlong_m(double bearing_rad) const {
 /// a route run over the planning grid's free cells, which keep the footprint radius from walls
 /// but not the PTG margin beyond it.
 bool Navigator::Impl::corridorFree(double bearing_rad, double distance_m) const {
-  const double body_m = radius_m - params.footprint_margin_m + 0.01;
-  std::vector<Eigen::Vector3f> pts;
-  robot.senseObstacles(pts);
-  const double c = std::cos(bearing_rad), s = std::sin(bearing_rad);
-  for (const Eigen::Vector3f& q : pts) {
-    const double along = c * q.x() + s * q.y(), across = -s * q.x() + c * q.y();
-    if (along > 0.0 && along < distance_m && std::abs(across) < body_m) return false;
-  }
-  return true;
+  const double body = bodyRadius_m();
+  return clearanceAlong_m(bearing_rad, body, distance_m) >= distance_m - body;
 }
 
 /// The bearing (robot frame, 10 degree steps) with the most free distance ahead; among equally
@@ -448,8 +443,8 @@ void Navigator::Impl::driveLeg(const Eigen::Vector3d& pose, const Eigen::Vector2
   const double max_w = params.max_w_degps * kDeg;
   if (std::abs(bearing) > 10.0 * kDeg && d > 0.05) return rotate(bearing, max_w);
   double v = std::min(params.max_v_mps, 0.8 * d) * std::cos(bearing);
-  const double body_m = radius_m - params.footprint_margin_m + 0.01;
-  const double ahead_m = clearanceAlong_m(0.0, body_m, std::numeric_limits<double>::infinity());
+  const double ahead_m =
+      clearanceAlong_m(0.0, bodyRadius_m(), std::numeric_limits<double>::infinity());
   v = std::min(v, std::max(0.0, (ahead_m - 0.01) / params.period_s));
   robot.setVelocityCommand(v, std::clamp(2.0 * bearing, -max_w, max_w));
 }

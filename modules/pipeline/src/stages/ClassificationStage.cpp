@@ -356,10 +356,12 @@ void ClassificationStage::writeOutputs(OutputFolder& folder, const maps::CSurfel
   nlohmann::json out;
   out["comment"] =
       "rasm objects (section IV): objects = the object layer's objects (one or more segments "
-      "of one confirmed class whose boxes touch, [objects]), each once, with a persistent id; "
+      "of one confirmed class whose boxes touch and which detections saw together, [objects]), "
+      "each once, with a persistent id; "
       "class = best of the histogram of its detections (log-odds, IV), reaching [classification] "
       "min_object_probability; at least min_object_surfels surfels and min_object_size_m of "
-      "extent, not structure (a thin plane larger than structure_min_extent_m both ways) and "
+      "extent, not structure (a thin plane larger than structure_min_extent_m both ways, or one "
+      "in the plane of such a segment: structure_piece_*) and "
       "existence_probability = (views_detected + 1) / (views + 2) reaching [objects] "
       "min_existence_probability; frames: frame indices of the views (frames a detector "
       "processed in which it covered min_view_pixels of L^p); box: axis-aligned box of its "
