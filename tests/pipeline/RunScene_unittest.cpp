@@ -13,6 +13,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <filesystem>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "pipeline/RunTestFiles.h"
@@ -260,5 +261,14 @@ TEST(RunScene, RunWritesScenesRawlogPathAndPlots) {
   const cv::Mat tm = cv::imread(out + "/plot_timing.png");
   EXPECT_EQ(tp.cols, 560);
   EXPECT_EQ(tm.cols, 900);
+  // The floor plan: the simulated rawlog's frame is the world's (z up), which the map's
+  // horizontal surfaces find (a rawlog says nothing about gravity; the camera looks down).
+  const cv::Mat plan = cv::imread(out + "/floorplan.png");
+  EXPECT_FALSE(plan.empty());
+  std::ifstream svg_file(out + "/floorplan.svg");
+  const std::string svg((std::istreambuf_iterator<char>(svg_file)), {});
+  EXPECT_NE(svg.find("width=\"" + std::to_string(plan.cols) + "\""), std::string::npos);
+  EXPECT_NE(svg.find("up = world +z (no gravity in the data: the horizontal surfaces"),
+            std::string::npos);
   fs::remove_all(out);
 }

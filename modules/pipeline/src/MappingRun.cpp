@@ -9,6 +9,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <unistd.h>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -32,6 +33,7 @@
 #include "rasm/io/TrajectoryEvaluator.h"
 #include "rasm/pipeline/BuildInfo.h"
 #include "rasm/pipeline/ExplorationLoop.h"
+#include "rasm/pipeline/FloorPlan.h"
 #include "rasm/pipeline/Interrupts.h"
 #include "rasm/pipeline/OutputsDoc.h"
 #include "rasm/pipeline/Progress.h"
@@ -631,6 +633,36 @@ void MappingRun::writeOutputs(const Accumulated& acc, OutputFolder& out) {
   if (m_explore) m_explore->writeOutputs(out);
   if (m_output.preview_png && acc.have_K && acc.processed > 0) writePreviews(acc, out);
   if (m_output.preview_png) writePlots(acc, out);
+  if (m_output.floorplan) writeFloorPlan(acc, out);
+}
+
+void MappingRun::writeFloorPlan(const Accumulated& acc, OutputFolder& out) const {
+  FloorPlanInput in;
+  const maps::SurfelArrays a = m_mapper->map().store().arrays();
+  for (int i = 0; i < a.size; ++i)
+    if (a.alive(i) && a.stable(i)) {
+      in.points_world.push_back(a.position(i));
+      in.normals_world.push_back(a.normal(i));
+      in.radii_m.push_back(a.radius(i));
+    }
+  for (const io::StampedPose& p : acc.estimate) in.T_world_cam.push_back(p.T_world_cam);
+  // The simulator's worlds are z up (the map starts at the first frame's true pose in them);
+  // anything else (a rawlog, TUM, 7-Scenes, a live camera) says nothing about gravity, and the
+  // cameras' up axis decides (FloorPlan.h).
+  in.world_z_up = m_source.type == "sim";
+  in.title = "rasm " + m_output.dir;
+  const auto written = [&](const std::string& name) -> nlohmann::json {
+    const auto& w = out.written();
+    if (std::find(w.begin(), w.end(), name) == w.end()) return {};
+    std::ifstream f(out.path(name));
+    return nlohmann::json::parse(f, nullptr, false);  // a parse error: discarded, drawn without
+  };
+  in.objects = floorPlanObjects(written("objects.json"));
+  in.goals = floorPlanGoals(written("exploration.json"));
+  const FloorPlan plan = drawFloorPlan(in);
+  if (plan.image.empty()) return;
+  out.writeImage("floorplan.png", plan.image);
+  out.writeText("floorplan.svg", plan.svg);
 }
 
 void MappingRun::writePlots(const Accumulated& acc, OutputFolder& out) const {

@@ -247,7 +247,8 @@ const std::vector<std::string>& OutputFolder::knownNames() {
       "map_segments.ply",     "map_segments.3Dscene", "classes.json",
       "objects.json",         "map_classes.ply",      "map_classes.3Dscene",
       "exploration.json",     "exploration.png",      "annotated.rawlog",
-      "plot_trajectory.png",  "plot_timing.png"};
+      "plot_trajectory.png",  "plot_timing.png",
+      "floorplan.png",        "floorplan.svg"};
   return names;
 }
 

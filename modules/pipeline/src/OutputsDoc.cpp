@@ -56,6 +56,12 @@ const Doc kFiles[] = {
     {"plot_timing.png",
      "ms per frame of each stage above 5% of the total (10-frame running means), from "
      "frames.csv"},
+    {"floorplan.png",
+     "the map from above: floor, furniture and walls, the camera path, goals, each object's "
+     "outline with its class and probability, a legend, a scale bar; the caption says how up "
+     "was found (world z in the simulator, else the map's horizontal surfaces near the "
+     "cameras' up, `pipeline/FloorPlan.h`); `[output] floorplan`"},
+    {"floorplan.svg", "the same plan with the labels, path and outlines as vectors"},
     {"annotated.rawlog",
      "`[output] write_rawlog`: each input observation with the estimated pose "
      "as sensorPose, followed by `MAP_VIEW` (the map rendered from it) and, "

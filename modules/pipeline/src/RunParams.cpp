@@ -253,6 +253,7 @@ void TOutputParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(save_map, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(write_rawlog, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(preview_png, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(floorplan, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(overwrite, string, c, s);
   if (dir.empty()) throwInputError("[" + s + "] dir", "must not be empty");
   (void)overwritePolicy(overwrite);  // validates
@@ -265,6 +266,7 @@ void TOutputParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(save_map, c, s);
   MRPT_SAVE_CONFIG_VAR(write_rawlog, c, s);
   MRPT_SAVE_CONFIG_VAR(preview_png, c, s);
+  MRPT_SAVE_CONFIG_VAR(floorplan, c, s);
   MRPT_SAVE_CONFIG_VAR(overwrite, c, s);
 }
 

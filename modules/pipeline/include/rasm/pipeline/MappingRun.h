@@ -156,6 +156,9 @@ class MappingRun {
   /// plot_trajectory.png and plot_timing.png (RunPlots.h), with [output] preview_png.
   void writePlots(const Accumulated& acc, OutputFolder& out) const;
   void writePreviews(const Accumulated& acc, OutputFolder& out) const;
+  /// floorplan.png / .svg (FloorPlan.h) from the map, the path and the objects.json and
+  /// exploration.json just written.
+  void writeFloorPlan(const Accumulated& acc, OutputFolder& out) const;
   /// report.json's fields (and the summary's ATE); `source` describes the source.
   nlohmann::json reportJson(const std::string& source, const Accumulated& acc,
                             RunSummary& sum) const;

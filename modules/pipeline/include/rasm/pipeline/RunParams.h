@@ -157,6 +157,7 @@ struct TOutputParams : mrpt::config::CLoadableOptions {
   bool save_map = true;       ///< map.surfelmap: the CSurfelMap serialized for reloading
   bool write_rawlog = false;  ///< annotated.rawlog: input observations with estimated pose
   bool preview_png = true;    ///< preview.png: colour render of the map from the last pose
+  bool floorplan = true;      ///< floorplan.png / floorplan.svg: the labelled plan (FloorPlan.h)
   /// A folder that is not empty (RunFolder.h OverwritePolicy): auto = reuse the folder of an
   /// earlier run (only its files are removed), refuse one holding other files; true (rasm run
   /// --force) = also write beside other files (left alone); false = only an empty or new folder.
