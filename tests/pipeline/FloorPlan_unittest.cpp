@@ -45,7 +45,7 @@ FloorPlanInput room(const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
   addPatch(in, {1.5, 1.0, 0.75}, X, Y, 1.0, 0.8, Z);
   for (double x = 0.5; x <= 3.5 + 1e-9; x += 0.1) in.T_world_cam.push_back(uprightCamera({x, 0.5, 1.0}));
   in.goals = {{{3.0, 2.0, 0.0}, true}, {{1.0, 2.5, M_PI / 2}, false}};
-  FloorPlanObject table;
+  ObjectBox table;
   table.id = 7, table.class_name = "dining table", table.class_id = 61, table.probability = 0.87;
   table.centre_world = {2.0, 1.4, 0.375};
   table.extents_m = {1.0, 0.8, 0.75};
@@ -54,7 +54,7 @@ FloorPlanInput room(const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
   for (Eigen::Vector3f& p : in.points_world) p = (R * p.cast<double>()).cast<float>();
   for (Eigen::Vector3f& n : in.normals_world) n = (R * n.cast<double>()).cast<float>();
   for (Eigen::Isometry3d& T : in.T_world_cam) T = Eigen::Isometry3d(R) * T;
-  for (FloorPlanObject& o : in.objects) o.centre_world = R * o.centre_world, o.axes_world = R;
+  for (ObjectBox& o : in.objects) o.centre_world = R * o.centre_world, o.axes_world = R;
   return in;
 }
 
@@ -202,7 +202,7 @@ TEST(FloorPlan, ReadsObjectsJsonAndExplorationJson) {
      "oriented_box": {"centre": [1, 2, 0.4], "axes": [[0, 1, 0], [-1, 0, 0], [0, 0, 1]],
                       "extents_m": [0.5, 0.6, 0.8]}},
     {"id": 4, "class": "cup", "class_id": 42, "probability": 0.7}]})");
-  const std::vector<FloorPlanObject> o = floorPlanObjects(objects);
+  const std::vector<ObjectBox> o = objectBoxes(objects);
   ASSERT_EQ(o.size(), 1u) << "an entry without an oriented_box is left out";
   EXPECT_EQ(o[0].class_name, "chair");
   EXPECT_EQ(o[0].class_id, 57);
@@ -215,6 +215,6 @@ TEST(FloorPlan, ReadsObjectsJsonAndExplorationJson) {
   EXPECT_TRUE(g[0].reached);
   EXPECT_FALSE(g[1].reached);
   EXPECT_DOUBLE_EQ(g[0].xy_yaw.z(), 0.5);
-  EXPECT_TRUE(floorPlanObjects(nlohmann::json()).empty());
+  EXPECT_TRUE(objectBoxes(nlohmann::json()).empty());
   EXPECT_TRUE(floorPlanGoals(nlohmann::json::array()).empty());
 }

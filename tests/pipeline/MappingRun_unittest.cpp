@@ -131,8 +131,17 @@ TEST_P(MappingRunModes, SimulatedOfficeDefaultTracksWithinTarget) {
   EXPECT_EQ(cls.at("results_fused").get<int>(), 12);
   EXPECT_EQ(cls.at("detectors").at(0).at("frames_skipped").get<int>(), 0);
   EXPECT_GT(cls.at("surfel_updates").get<long long>(), 0);  // some detections found a segment
-  for (const char* f : {"objects.json", "classes.json", "map_classes.ply", "preview_classes.png"})
+  for (const char* f : {"objects.json", "classes.json", "map_classes.ply", "preview_classes.png",
+                        "classes_legend.png", "floorplan.png", "floorplan.svg"})
     EXPECT_TRUE(fs::is_regular_file(out + "/" + f)) << f;
+  // classes.json gives each class the colour map_classes.ply paints it in (at probability 1).
+  std::ifstream classes_file(out + "/classes.json");
+  const nlohmann::json classes = nlohmann::json::parse(classes_file);
+  for (const auto& c : classes.at("classes")) {
+    const Bgr8 colour = maps::labelColour(c.at("id").get<int>());
+    EXPECT_EQ(c.at("colour"), nlohmann::json::array({colour.r, colour.g, colour.b})) << c.dump();
+  }
+  EXPECT_EQ(classes.at("none_colour"), nlohmann::json::array({128, 128, 128}));
   // objects.json lists objects only, each once: named, of >= 50 surfels, not a plane over 2 m
   // both ways, detected in enough of its views; no id and no segment twice, and a segment of an
   // object is not among the other segments (the rest of what was classified, with the reason).

@@ -7,9 +7,11 @@
 #include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/opengl/CArrow.h>
+#include <mrpt/opengl/CBox.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CSetOfLines.h>
 #include <mrpt/opengl/CSetOfObjects.h>
+#include <mrpt/opengl/CText.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <filesystem>
@@ -166,6 +168,12 @@ TEST(RunScene, SceneHoldsPathsCameraViewsAndStartsOnTheMap) {
   v.gain = 1.0;
   o.views = {v, v};
   o.views[1].goal = true;
+  ObjectBox chair;
+  chair.class_name = "chair", chair.class_id = 57, chair.probability = 0.9;
+  chair.centre_world = {4.0, 3.0, 0.4};
+  chair.axes_world = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  chair.extents_m = {0.5, 0.6, 0.8};
+  o.objects = {chair};
   const auto scene = runScene(store, {}, o);
   const std::string path = tempDir("scene") + ".3Dscene";
   ASSERT_TRUE(scene->saveToFile(path));
@@ -183,6 +191,27 @@ TEST(RunScene, SceneHoldsPathsCameraViewsAndStartsOnTheMap) {
       std::dynamic_pointer_cast<mrpt::opengl::CSetOfObjects>(back.getByName("candidate_views"));
   ASSERT_TRUE(views);
   EXPECT_EQ(std::distance(views->begin(), views->end()), 2);
+  // The object: its box as a wireframe at its pose (yaw 0.5 rad) and its label 0.1 m above the
+  // box's top (0.4 + 0.8 / 2 m), both in the class colour.
+  auto objects = std::dynamic_pointer_cast<mrpt::opengl::CSetOfObjects>(back.getByName("objects"));
+  ASSERT_TRUE(objects);
+  std::shared_ptr<mrpt::opengl::CBox> box;
+  std::shared_ptr<mrpt::opengl::CText> label;
+  for (const auto& obj : *objects) {
+    if (auto b = std::dynamic_pointer_cast<mrpt::opengl::CBox>(obj)) box = b;
+    if (auto t = std::dynamic_pointer_cast<mrpt::opengl::CText>(obj)) label = t;
+  }
+  ASSERT_TRUE(box && label);
+  EXPECT_TRUE(box->isWireframe());
+  EXPECT_NEAR(box->getPose().x, 4.0, 1e-6);
+  EXPECT_NEAR(box->getPose().yaw, 0.5, 1e-6);
+  mrpt::math::TPoint3D lo, hi;
+  box->getBoxCorners(lo, hi);
+  EXPECT_NEAR(hi.z - lo.z, 0.8, 1e-6);
+  EXPECT_EQ(label->getString(), "chair 0.90");
+  EXPECT_NEAR(label->getPose().z, 0.9, 1e-6);
+  const Bgr8 colour = maps::labelColour(57);
+  EXPECT_EQ(label->getColor_u8().R, colour.r);
   // The camera looks at the middle of the map and the path (x 0-6.9, y 0.5-3.9), not at (0,0,0).
   EXPECT_TRUE(back.followCamera());
   const mrpt::opengl::CCamera& c = back.getViewport("main")->getCamera();

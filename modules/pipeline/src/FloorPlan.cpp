@@ -197,7 +197,7 @@ Eigen::Matrix3d planRotation(const Eigen::Vector3d& up) {
 }
 
 /// The 8 corners of an object's box (world).
-std::vector<Eigen::Vector3d> boxCorners(const FloorPlanObject& o) {
+std::vector<Eigen::Vector3d> boxCorners(const ObjectBox& o) {
   std::vector<Eigen::Vector3d> c;
   for (int i = 0; i < 8; ++i) {
     Eigen::Vector3d d;
@@ -379,9 +379,10 @@ void markers(const FloorPlanInput& in, const FloorPlan& plan, std::vector<Shape>
 }
 
 /// Each object's outline from above and its label, placed where it overlaps no earlier label.
-void objectShapes(const FloorPlanInput& in, const FloorPlan& plan, std::vector<Shape>& out) {
+void objectShapes(const FloorPlanInput& in, const FloorPlan& plan, const cv::Rect& area,
+                  std::vector<Shape>& out) {
   std::vector<cv::Rect2d> taken;
-  for (const FloorPlanObject& o : in.objects) {
+  for (const ObjectBox& o : in.objects) {
     std::vector<cv::Point2f> corners, hull;
     for (const Eigen::Vector3d& c : boxCorners(o)) {
       const Eigen::Vector2d p = plan.pixelOf(c);
@@ -394,10 +395,13 @@ void objectShapes(const FloorPlanInput& in, const FloorPlan& plan, std::vector<S
     const cv::Rect2d box = cv::boundingRect(hull);
     const std::string label = o.class_name + " " + fmt("%.2f", o.probability);
     const cv::Size ts = textSize(label, 11);
-    const double cx = box.x + box.width / 2 - ts.width / 2.0;
+    // Centred on the box, kept inside the map area.
+    const double cx = std::clamp(box.x + box.width / 2 - ts.width / 2.0, double(area.x + 2),
+                                 std::max(double(area.x + 2), area.br().x - ts.width - 2.0));
     cv::Rect2d at;
-    for (const double y : {box.y - 4, box.br().y + ts.height + 4, box.y + box.height / 2 + 5,
-                           box.y - ts.height - 8, box.br().y + 2 * ts.height + 8}) {
+    for (double y : {box.y - 4, box.br().y + ts.height + 4, box.y + box.height / 2 + 5,
+                     box.y - ts.height - 8, box.br().y + 2 * ts.height + 8}) {
+      y = std::clamp(y, double(area.y + ts.height + 2), double(area.br().y - 2));
       at = cv::Rect2d(cx, y - ts.height, ts.width, ts.height + 2);
       if (std::none_of(taken.begin(), taken.end(),
                        [&](const cv::Rect2d& r) { return (r & at).area() > 0; }))
@@ -437,7 +441,7 @@ double legend(const FloorPlanInput& in, double x, double y, FloorPlan& plan,
     entry("goal reached (x: not)");
   }
   std::map<std::string, std::pair<int, int>> classes;  // name -> (class id, objects)
-  for (const FloorPlanObject& o : in.objects) {
+  for (const ObjectBox& o : in.objects) {
     auto& c = classes[o.class_name];
     c.first = o.class_id, ++c.second;
   }
@@ -476,7 +480,7 @@ FloorPlan drawFloorPlan(const FloorPlanInput& in, const FloorPlanParams& params)
   }
   for (const Eigen::Isometry3d& T : in.T_world_cam) extend(T.translation());
   for (const FloorPlanGoal& g : in.goals) extend({g.xy_yaw.x(), g.xy_yaw.y(), 0.0});
-  for (const FloorPlanObject& o : in.objects)
+  for (const ObjectBox& o : in.objects)
     for (const Eigen::Vector3d& c : boxCorners(o)) extend(c);
   lo.array() -= kMarginM, hi.array() += kMarginM;
   const Eigen::Vector2d span = hi - lo;
@@ -489,7 +493,7 @@ FloorPlan drawFloorPlan(const FloorPlanInput& in, const FloorPlanParams& params)
 
   std::vector<Shape> shapes;
   path(in, plan, shapes);
-  objectShapes(in, plan, shapes);
+  objectShapes(in, plan, area, shapes);
   markers(in, plan, shapes);
   shapes.push_back(rect(area.tl(), area.br(), kBlack, false));
   const double legend_x = area.br().x + 2.0 * kPad;
@@ -512,8 +516,33 @@ FloorPlan drawFloorPlan(const FloorPlanInput& in, const FloorPlanParams& params)
   return plan;
 }
 
-std::vector<FloorPlanObject> floorPlanObjects(const nlohmann::json& doc) {
-  std::vector<FloorPlanObject> out;
+cv::Mat classLegendImage(const std::vector<ClassLegendEntry>& entries) {
+  std::vector<Shape> shapes;
+  double y = 26.0, width = 0.0;
+  const auto row = [&](const cv::Scalar& colour, const std::string& label) {
+    shapes.push_back(rect({kPad, y - 11}, {kPad + 22.0, y + 5}, colour, true));
+    shapes.push_back(rect({kPad, y - 11}, {kPad + 22.0, y + 5}, kBlack, false));
+    shapes.push_back(text({kPad + 32.0, y + 2}, label, 13));
+    width = std::max(width, kPad + 32.0 + textSize(label, 13).width);
+    y += 24;
+  };
+  const std::string title = "Classes (map_classes.ply, preview_classes.png)";
+  shapes.push_back(text({double(kPad), y - 6}, title, 13));
+  width = std::max(width, kPad + double(textSize(title, 13).width));
+  y += 18;
+  for (const ClassLegendEntry& e : entries)
+    row(classScalar(e.class_id), e.name + " (" + std::to_string(e.surfels) + " surfels)");
+  row(classScalar(0), "none: no class above the 0.5 prior");
+  const std::string note = "colours fade to this grey as the probability falls to 0.5";
+  shapes.push_back(text({double(kPad), y + 4}, note, 12));
+  width = std::max(width, kPad + double(textSize(note, 12).width));
+  cv::Mat img(int(y) + 18, int(width) + 2 * kPad, CV_8UC3, kWhite);
+  renderPng(img, shapes);
+  return img;
+}
+
+std::vector<ObjectBox> objectBoxes(const nlohmann::json& doc) {
+  std::vector<ObjectBox> out;
   if (!doc.is_object() || !doc.contains("objects") || !doc["objects"].is_array()) return out;
   const auto vec3 = [](const nlohmann::json& j) {
     return Eigen::Vector3d(j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>());
@@ -521,7 +550,7 @@ std::vector<FloorPlanObject> floorPlanObjects(const nlohmann::json& doc) {
   for (const nlohmann::json& j : doc["objects"]) {
     if (!j.contains("oriented_box")) continue;
     const nlohmann::json& b = j["oriented_box"];
-    FloorPlanObject o;
+    ObjectBox o;
     o.id = j.value("id", 0);
     o.class_name = j.value("class", std::string("?"));
     o.class_id = j.value("class_id", 0);

@@ -628,13 +628,24 @@ void MappingRun::writeOutputs(const Accumulated& acc, OutputFolder& out) {
   if (!acc.groundtruth.empty())
     out.writeText("groundtruth.txt",
                   io::tumTrajectoryText(acc.groundtruth, "ground truth of the source"));
-  writeMapFiles(acc, out);
+  // The stages' files first: the scenes draw objects.json's objects.
   m_mapper->writeOutputs(out);
   if (m_explore) m_explore->writeOutputs(out);
+  writeMapFiles(acc, out);
   if (m_output.preview_png && acc.have_K && acc.processed > 0) writePreviews(acc, out);
   if (m_output.preview_png) writePlots(acc, out);
   if (m_output.floorplan) writeFloorPlan(acc, out);
 }
+
+namespace {
+/// A JSON file this run wrote into `out` (null when it wrote none: the drawings go without).
+nlohmann::json writtenJson(const OutputFolder& out, const std::string& name) {
+  const auto& w = out.written();
+  if (std::find(w.begin(), w.end(), name) == w.end()) return {};
+  std::ifstream f(out.path(name));
+  return nlohmann::json::parse(f, nullptr, false);
+}
+}  // namespace
 
 void MappingRun::writeFloorPlan(const Accumulated& acc, OutputFolder& out) const {
   FloorPlanInput in;
@@ -651,14 +662,8 @@ void MappingRun::writeFloorPlan(const Accumulated& acc, OutputFolder& out) const
   // cameras' up axis decides (FloorPlan.h).
   in.world_z_up = m_source.type == "sim";
   in.title = "rasm " + m_output.dir;
-  const auto written = [&](const std::string& name) -> nlohmann::json {
-    const auto& w = out.written();
-    if (std::find(w.begin(), w.end(), name) == w.end()) return {};
-    std::ifstream f(out.path(name));
-    return nlohmann::json::parse(f, nullptr, false);  // a parse error: discarded, drawn without
-  };
-  in.objects = floorPlanObjects(written("objects.json"));
-  in.goals = floorPlanGoals(written("exploration.json"));
+  in.objects = objectBoxes(writtenJson(out, "objects.json"));
+  in.goals = floorPlanGoals(writtenJson(out, "exploration.json"));
   const FloorPlan plan = drawFloorPlan(in);
   if (plan.image.empty()) return;
   out.writeImage("floorplan.png", plan.image);
@@ -684,6 +689,7 @@ void MappingRun::writeMapFiles(const Accumulated& acc, OutputFolder& out) const 
     overlay.groundtruth = acc.groundtruth;
     if (acc.have_K) overlay.K = acc.last_K;
     if (m_explore) overlay.views = m_explore->sceneViews();
+    overlay.objects = objectBoxes(writtenJson(out, "objects.json"));
     auto scene = [&](const char* name, maps::SurfelColouring colouring) {
       maps::SurfelVisualOptions vis = map.renderingOptions.visual;
       if (colouring != maps::SurfelColouring::Rgb) vis.colouring = colouring;

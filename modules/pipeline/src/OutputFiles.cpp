@@ -248,7 +248,7 @@ const std::vector<std::string>& OutputFolder::knownNames() {
       "objects.json",         "map_classes.ply",      "map_classes.3Dscene",
       "exploration.json",     "exploration.png",      "annotated.rawlog",
       "plot_trajectory.png",  "plot_timing.png",
-      "floorplan.png",        "floorplan.svg"};
+      "floorplan.png",        "floorplan.svg",        "classes_legend.png"};
   return names;
 }
 

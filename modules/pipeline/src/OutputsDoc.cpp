@@ -43,6 +43,9 @@ const Doc kFiles[] = {
     {"map_segments.ply", "map.ply's layout, coloured by segment; `[output] write_ply`"},
     {"map_segments.3Dscene", "map.3Dscene coloured by segment, when the map has segments"},
     {"classes.json", "the map's class list (below); `[classification] enabled`"},
+    {"classes_legend.png",
+     "the key to the class colours: each class that is some stable surfel's best, its colour, "
+     "name and surfel count"},
     {"objects.json",
      "the objects (each once, over its segments) and the other classified segments (below); "
      "`rasm objects <run folder>` prints them"},
@@ -294,9 +297,11 @@ fused: `segment`, `object` (its object's id), `class` (`none` below min_object_p
 
 ## classes.json (IV)
 
-`comment`; `classes`: [{`id`, `name`, `source`}]: the ids of the surfel class evidence and of the
-PLY `class` column (1-based; 0 = none). `source`: `coco` (the 80 COCO classes, in order), `rasm`
-(the project's own) or the detector that added the name.
+`comment`; `none_colour` [r, g, b]; `classes`: [{`id`, `name`, `source`, `colour`}]: the ids of
+the surfel class evidence and of the PLY `class` column (1-based; 0 = none). `source`: `coco` (the
+80 COCO classes, in order), `rasm` (the project's own) or the detector that added the name.
+`colour` [r, g, b]: the class's colour in map_classes.ply / .3Dscene and preview_classes.png at
+probability 1; it fades towards `none_colour` as the probability falls to the 0.5 prior.
 
 ## exploration.json (V, VI)
 

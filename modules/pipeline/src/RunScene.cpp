@@ -2,10 +2,12 @@
 
 #include <mrpt/img/color_maps.h>
 #include <mrpt/opengl/CArrow.h>
+#include <mrpt/opengl/CBox.h>
 #include <mrpt/opengl/CFrustum.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CSetOfLines.h>
 #include <mrpt/opengl/CSetOfObjects.h>
+#include <mrpt/opengl/CText.h>
 #include <mrpt/opengl/stock_objects.h>
 
 #include <algorithm>
@@ -119,6 +121,45 @@ std::vector<SceneView> sceneViewsFromJson(const nlohmann::json& j, const std::st
   return views;
 }
 
+namespace {
+/// The JSON document at `path`; InputError naming it when it is not JSON.
+nlohmann::json readJson(const fs::path& path) {
+  std::ifstream f(path);
+  try {
+    return nlohmann::json::parse(f);
+  } catch (const std::exception& e) {
+    throwInputError(path.string(), std::string("is not valid JSON: ") + e.what());
+  }
+}
+
+/// Each object's oriented box (wireframe) and its "class probability" label above it.
+mrpt::opengl::CSetOfObjects::Ptr objectBoxesObject(const std::vector<ObjectBox>& objects) {
+  auto set = mrpt::opengl::CSetOfObjects::Create();
+  set->setName("objects");
+  for (const ObjectBox& o : objects) {
+    const Bgr8 c = maps::labelColour(o.class_id);
+    const Eigen::Vector3d half = 0.5 * o.extents_m;
+    auto box = mrpt::opengl::CBox::Create(mrpt::math::TPoint3D(-half.x(), -half.y(), -half.z()),
+                                          mrpt::math::TPoint3D(half.x(), half.y(), half.z()),
+                                          true, 2.0f);
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = o.axes_world;
+    T.translation() = o.centre_world;
+    box->setPose(toCPose3D(T));
+    box->setColor_u8(c.r, c.g, c.b);
+    set->insert(box);
+    char label[96];
+    std::snprintf(label, sizeof label, "%s %.2f", o.class_name.c_str(), o.probability);
+    auto text = mrpt::opengl::CText::Create(label);
+    const Eigen::Vector3d top = o.centre_world + o.axes_world * Eigen::Vector3d(0, 0, half.z());
+    text->setLocation(top.x(), top.y(), top.z() + 0.1);
+    text->setColor_u8(c.r, c.g, c.b);
+    set->insert(text);
+  }
+  return set;
+}
+}  // namespace
+
 RunOverlay readRunOverlay(const std::string& dir) {
   RunOverlay o;
   o.estimate = io::readTumTrajectory((fs::path(dir) / "trajectory.txt").string());
@@ -126,16 +167,12 @@ RunOverlay readRunOverlay(const std::string& dir) {
   if (fs::exists(gt)) o.groundtruth = io::readTumTrajectory(gt.string());
   const fs::path xp = fs::path(dir) / "exploration.json";
   if (fs::exists(xp)) {
-    std::ifstream f(xp);
-    nlohmann::json j;
-    try {
-      j = nlohmann::json::parse(f);
-    } catch (const std::exception& e) {
-      throwInputError(xp.string(), std::string("is not valid JSON: ") + e.what());
-    }
+    const nlohmann::json j = readJson(xp);
     if (j.contains("candidate_views"))
       o.views = sceneViewsFromJson(j["candidate_views"], xp.string() + " candidate_views");
   }
+  const fs::path objects = fs::path(dir) / "objects.json";
+  if (fs::exists(objects)) o.objects = objectBoxes(readJson(objects));
   return o;
 }
 
@@ -144,6 +181,7 @@ void addRunOverlay(mrpt::opengl::COpenGLScene& scene, const RunOverlay& o) {
   if (o.estimate.size() > 1) scene.insert(lineStrip(o.estimate, "trajectory", 255, 140, 0));
   if (!o.estimate.empty()) scene.insert(cameraObject(o.estimate.back().T_world_cam, o.K));
   if (!o.views.empty()) scene.insert(viewArrows(o.views));
+  if (!o.objects.empty()) scene.insert(objectBoxesObject(o.objects));
 }
 
 Eigen::AlignedBox3d sceneBounds(const maps::SurfelStore& map, const RunOverlay& o) {

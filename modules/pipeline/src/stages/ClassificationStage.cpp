@@ -8,6 +8,7 @@
 #include "rasm/classification/ClassFusion.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/Timing.h"
+#include "rasm/pipeline/FloorPlan.h"
 #include "rasm/pipeline/OutputFiles.h"
 #include "rasm/pipeline/stages/SegmentationStage.h"
 #include "rasm/surfel_map/MapExport.h"
@@ -322,20 +323,46 @@ nlohmann::json ClassificationStage::segmentEntry(std::uint32_t segment,
   return j;
 }
 
+void ClassificationStage::writeClassLegend(OutputFolder& folder,
+                                           const maps::CSurfelMap& map) const {
+  const maps::SurfelArrays a = map.store().arrays();
+  std::map<int, long long> surfels;  // best class -> stable surfels
+  for (int i = 0; i < a.size && a.n_classes > 0; ++i)
+    if (a.alive(i) && a.stable(i)) {
+      const int id = maps::bestClass(a, i).id;
+      if (id != 0) ++surfels[id];
+    }
+  std::vector<ClassLegendEntry> entries;
+  for (const auto& [id, n] : surfels) entries.push_back({id, m_classes.name(id), n});
+  std::sort(entries.begin(), entries.end(),
+            [](const auto& x, const auto& y) { return x.surfels > y.surfels; });
+  folder.writeImage("classes_legend.png", classLegendImage(entries));
+}
+
 void ClassificationStage::writeOutputs(OutputFolder& folder, const maps::CSurfelMap& map) {
   if (!m_params.enabled || !m_started) return;
   nlohmann::json classes = nlohmann::json::array();
+  const auto rgb = [](int id) {
+    const Bgr8 c = maps::labelColour(id);
+    return nlohmann::json::array({c.r, c.g, c.b});
+  };
   for (int id = 1; id <= m_classes.size(); ++id)
     classes.push_back({{"id", id},
                        {"name", m_classes.name(id)},
-                       {"source", m_classes.classes()[std::size_t(id - 1)].source}});
+                       {"source", m_classes.classes()[std::size_t(id - 1)].source},
+                       {"colour", rgb(id)}});
   folder.writeText("classes.json",
                    nlohmann::json{{"comment",
                                    "the map's class list (IV): surfel class evidence ids, "
-                                   "source = where the name came from"},
+                                   "source = where the name came from, colour = [r, g, b] in "
+                                   "map_classes.ply / .3Dscene and preview_classes.png at "
+                                   "probability 1, faded towards none_colour as it falls to "
+                                   "0.5 (classes_legend.png shows the classes in the map)"},
+                                  {"none_colour", rgb(0)},
                                   {"classes", classes}}
                            .dump(1) +
                        "\n");
+  writeClassLegend(folder, map);
   updateObjects();  // the final segment table (SegmentationStage::writeOutputs computed it)
   m_objects_by_class.clear();
   m_objects_counted = true;

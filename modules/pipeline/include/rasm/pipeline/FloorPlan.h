@@ -32,8 +32,8 @@
 
 namespace rasm::pipeline {
 
-/// One object of objects.json as the plan draws it.
-struct FloorPlanObject {
+/// One object of objects.json (its `objects`): what the floor plan and the 3-D scenes draw.
+struct ObjectBox {
   int id = 0;
   std::string class_name;
   int class_id = 0;  ///< classes.json id (its colour)
@@ -56,7 +56,7 @@ struct FloorPlanInput {
   std::vector<float> radii_m;                  ///< their radii (none: a point fills its cell)
   std::vector<Eigen::Isometry3d> T_world_cam;  ///< the camera path (optical frame)
   std::vector<FloorPlanGoal> goals;
-  std::vector<FloorPlanObject> objects;
+  std::vector<ObjectBox> objects;
   bool world_z_up = false;  ///< the world frame is gravity-aligned (robot and simulated runs)
   std::string title;        ///< first caption line (e.g. the output folder)
 };
@@ -98,7 +98,18 @@ FloorPlan drawFloorPlan(const FloorPlanInput& in, const FloorPlanParams& params 
 
 /// objects.json's `objects` (entries without an oriented_box are left out); exploration.json's
 /// `goals` (reached = outcome "reached"). Empty for a document without them.
-std::vector<FloorPlanObject> floorPlanObjects(const nlohmann::json& objects_json);
+std::vector<ObjectBox> objectBoxes(const nlohmann::json& objects_json);
 std::vector<FloorPlanGoal> floorPlanGoals(const nlohmann::json& exploration_json);
+
+/// classes_legend.png, the key to map_classes.ply / .3Dscene and preview_classes.png: one row per
+/// class (a swatch of its colour at probability 1, its name, the surfels whose best class it
+/// is), with a grey "none" row and a note that colours fade to that grey as the probability falls
+/// to the 0.5 prior. Rows in the order given.
+struct ClassLegendEntry {
+  int class_id = 0;
+  std::string name;
+  long long surfels = 0;
+};
+cv::Mat classLegendImage(const std::vector<ClassLegendEntry>& entries);
 
 }  // namespace rasm::pipeline

@@ -11,6 +11,9 @@
 //                      (the paper's Fig. 6): the last plan's candidates coloured by information
 //                      gain (jet: blue low, red high; grey = unreachable), the goals driven to
 //                      in magenta and thicker
+//   "objects"          each object of objects.json: its oriented box as a wireframe in its class
+//                      colour (labelColour, as map_classes.ply at probability 1) and a text label
+//                      "class probability" above it
 // The main viewport's camera points at the map's centre from a distance that shows it whole, and
 // the scene is marked followCamera, so SceneViewer3D and CDisplayWindow3D start there.
 
@@ -22,6 +25,7 @@
 #include <vector>
 
 #include "rasm/core/CameraIntrinsics.h"
+#include "rasm/pipeline/FloorPlan.h"
 #include "rasm/io/Trajectory.h"
 #include "rasm/surfel_map/MapExport.h"
 
@@ -50,10 +54,11 @@ struct RunOverlay {
   io::Trajectory estimate, groundtruth;  ///< T_world_cam (optical) per frame
   CameraIntrinsics K;                    ///< of the last frame: the frustum's field of view
   std::vector<SceneView> views;
+  std::vector<ObjectBox> objects;  ///< objects.json's objects
 };
 
-/// From a run folder: trajectory.txt (required: InputError naming it otherwise), groundtruth.txt
-/// and exploration.json's "candidate_views" when present. K keeps its default (the folder does
+/// From a run folder: trajectory.txt (required: InputError naming it otherwise), groundtruth.txt,
+/// exploration.json's "candidate_views" and objects.json's objects when present. K keeps its default (the folder does
 /// not record it).
 RunOverlay readRunOverlay(const std::string& dir);
 

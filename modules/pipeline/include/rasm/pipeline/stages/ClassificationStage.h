@@ -49,6 +49,8 @@ class ClassificationStage : public MapperStage {
   void csvValues(const FrameContext& ctx, CsvRow& row) const override;
   void report(nlohmann::json& rep) const override;
   void writeOutputs(OutputFolder& out, const maps::CSurfelMap& map) override;
+  /// classes_legend.png: the classes that are some stable surfel's best, by surfel count.
+  void writeClassLegend(OutputFolder& out, const maps::CSurfelMap& map) const;
 
   /// Adds a detector besides the configured ones (tests, programs embedding the Mapper); before
   /// the first frame.
