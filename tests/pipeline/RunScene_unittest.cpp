@@ -97,18 +97,39 @@ TEST(LinePlot, EqualAspectKeepsMetresSquare) {
   EXPECT_NEAR(double(y1 - y0) / double(x1 - x0), 0.25, 0.02);
 }
 
-TEST(RunPlots, TimingPlotHasOneCurvePerStageAndSkipsNonStageColumns) {
-  const CsvColumns c = parseCsvColumns(
-      "index,timestamp_s,tracked,icp_iterations,ms_tracking,ms_total\n"
-      "0,0.0,1,3,10.5,20\n1,0.1,0,x,12,25\n2,0.2,1,4,11,22\n");
-  ASSERT_EQ(c.rows, 3u);
-  EXPECT_EQ(c.values.at("ms_tracking"), (std::vector<double>{10.5, 12, 11}));
+TEST(LinePlot, TicksAreRoundAndFew) {
+  EXPECT_EQ(niceTicks(0, 240, 6), (std::vector<double>{0, 50, 100, 150, 200}));
+  EXPECT_EQ(niceTicks(0, 1, 5), (std::vector<double>{0, 0.5, 1}));
+  EXPECT_EQ(niceTicks(-3.2, 7.9, 10), (std::vector<double>{-2, 0, 2, 4, 6}));
+  EXPECT_EQ(niceTicks(0, 1, 11).size(), 11u) << "0.1 apart";
+  EXPECT_TRUE(niceTicks(1, 1, 5).empty());
+}
+
+TEST(RunPlots, TimingPlotStacksTheStagesUpToTheTotal) {
+  // Stages a (10 ms) and b (5 ms, of which its part b_part 3 ms), total 20 ms: three layers
+  // 10, 5 and the rest 5 ms high, the part not stacked again; a column that is no timer is not
+  // drawn.
+  std::string csv = "index,timestamp_s,tracked,icp_iterations,ms_a,ms_b,ms_b_part,ms_total\n";
+  for (int i = 0; i < 50; ++i)
+    csv += std::to_string(i) + ",0.0,1," + (i == 1 ? "x" : "3") + ",10,5,3,20\n";
+  const CsvColumns c = parseCsvColumns(csv);
+  ASSERT_EQ(c.rows, 50u);
   EXPECT_TRUE(std::isnan(c.values.at("icp_iterations")[1])) << "'x' is no number";
-  const cv::Mat img = timingPlot(c);
+  const cv::Mat img = timingPlot(c, {"a", "b"});
   ASSERT_FALSE(img.empty());
   EXPECT_EQ(img.cols, 900);
+  const auto light = [](const cv::Scalar& s) {  // a band's fill: halfway to white
+    cv::Vec3b v;
+    for (int k = 0; k < 3; ++k) v[k] = cv::saturate_cast<uchar>(0.5 * (s[k] + 255));
+    return v;
+  };
+  const int a = countColour(img, light({200, 80, 0})), b = countColour(img, light({0, 0, 200}));
+  const int rest = countColour(img, light({190, 190, 190}));
+  ASSERT_GT(b, 1000);
+  EXPECT_NEAR(double(a) / b, 2.0, 0.15) << "10 ms over 5 ms";
+  EXPECT_NEAR(double(rest) / b, 1.0, 0.1) << "20 - 10 - 5 ms";
   EXPECT_GT(countColour(img, cv::Vec3b(0, 0, 0)), 1500) << "the total, thick black, and the frame";
-  EXPECT_TRUE(timingPlot(parseCsvColumns("index,tracked\n0,1\n")).empty());
+  EXPECT_TRUE(timingPlot(parseCsvColumns("index,tracked\n0,1\n"), {"a"}).empty());
 }
 
 TEST(RunPlots, TrajectoryPlotMarksLostFrames) {

@@ -3,12 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <opencv2/imgproc.hpp>
 
 namespace rasm::pipeline {
 
 namespace {
-const cv::Scalar kBlack(0, 0, 0), kGuide(225, 225, 225);
+const cv::Scalar kBlack(0, 0, 0), kGuide(200, 200, 200), kGrid(236, 236, 236);
 constexpr int kFont = cv::FONT_HERSHEY_SIMPLEX;
 constexpr double kTextScale = 0.42;
 
@@ -59,7 +60,38 @@ std::vector<std::vector<const PlotSeries*>> legendRows(const std::vector<PlotSer
   if (rows.back().empty()) rows.pop_back();
   return rows;
 }
+/// The band between s.fill_base and s.y, one polygon per run of finite points.
+void fillBand(cv::Mat& clip, const PlotSeries& s, const std::function<cv::Point(double, double)>& px,
+              const cv::Point& o) {
+  const cv::Scalar light = 0.5 * (s.colour + cv::Scalar(255, 255, 255));
+  const std::size_t n = std::min({s.x.size(), s.y.size(), s.fill_base.size()});
+  std::size_t i = 0;
+  while (i < n) {
+    std::vector<cv::Point> top, bottom;
+    for (; i < n && std::isfinite(s.x[i]) && std::isfinite(s.y[i]) && std::isfinite(s.fill_base[i]);
+         ++i) {
+      top.push_back(px(s.x[i], s.y[i]) - o);
+      bottom.push_back(px(s.x[i], s.fill_base[i]) - o);
+    }
+    if (top.size() > 1) {
+      top.insert(top.end(), bottom.rbegin(), bottom.rend());
+      cv::fillPoly(clip, std::vector<std::vector<cv::Point>>{top}, light);
+    }
+    ++i;
+  }
+}
 }  // namespace
+
+std::vector<double> niceTicks(double lo, double hi, int max_ticks) {
+  std::vector<double> ticks;
+  if (!(hi > lo) || !std::isfinite(lo) || !std::isfinite(hi) || max_ticks < 1) return ticks;
+  double step = std::pow(10.0, std::floor(std::log10((hi - lo) / max_ticks)));
+  for (int k = 0; k < 4 && std::floor(hi / step) - std::ceil(lo / step) + 1 > max_ticks; ++k)
+    step *= (k % 3 == 1) ? 2.5 : 2.0;  // 1, 2, 5, 10, 20, ...
+  for (double t = std::ceil(lo / step - 1e-9) * step; t <= hi + 1e-9 * step; t += step)
+    ticks.push_back(std::abs(t) < 1e-12 * step ? 0.0 : t);
+  return ticks;
+}
 
 void drawLinePlot(cv::Mat& img, const cv::Rect& panel, const PlotAxes& axes,
                   const std::vector<PlotSeries>& series) {
@@ -81,11 +113,18 @@ void drawLinePlot(cv::Mat& img, const cv::Rect& panel, const PlotAxes& axes,
     return cv::Point(area.x + int(std::lround(area.width * (x - x0) / (x1 - x0))),
                      area.y + area.height - int(std::lround(area.height * (y - y0) / (y1 - y0))));
   };
+  // The grid at the ticks, under everything; the tick marks outside the frame.
+  const std::vector<double> xt = niceTicks(x0, x1, std::max(2, area.width / 90)),
+                            yt = niceTicks(y0, y1, std::max(2, area.height / 45));
+  for (double t : xt) cv::line(img, px(t, y0), px(t, y1), kGrid);
+  for (double t : yt) cv::line(img, px(x0, t), px(x1, t), kGrid);
   for (double g : axes.y_guides)
     if (g > y0 && g < y1) cv::line(img, px(x0, g), px(x1, g), kGuide);
   for (double g : axes.x_guides)
     if (g > x0 && g < x1) cv::line(img, px(g, y0), px(g, y1), kGuide);
   cv::rectangle(img, area, kBlack);
+  for (double t : xt) cv::line(img, px(t, y0), px(t, y0) + cv::Point(0, 5), kBlack);
+  for (double t : yt) cv::line(img, px(x0, t), px(x0, t) - cv::Point(5, 0), kBlack);
   if (!axes.title.empty())
     cv::putText(img, axes.title, cv::Point(panel.x + L, panel.y + 18), kFont, 0.48, kBlack);
   for (std::size_t r = 0; r < rows.size(); ++r) {
@@ -97,19 +136,20 @@ void drawLinePlot(cv::Mat& img, const cv::Rect& panel, const PlotAxes& axes,
       x += textWidth(s->label) + 34;
     }
   }
-  // Ranges at the corners, the guides' values, the axis names.
+  // The ticks' values (centred under x ticks, kept inside the panel), the guides', the names.
   const int by = area.y + area.height;
-  cv::putText(img, number(x0), cv::Point(area.x, by + 15), kFont, kTextScale, kBlack);
-  const std::string xs = number(x1);
-  cv::putText(img, xs, cv::Point(area.x + area.width - textWidth(xs), by + 15), kFont, kTextScale,
-              kBlack);
+  for (double t : xt) {
+    const std::string v = number(t);
+    const int x = std::clamp(px(t, y0).x - textWidth(v) / 2, panel.x + 2,
+                             panel.x + panel.width - 2 - textWidth(v));
+    cv::putText(img, v, cv::Point(x, by + 18), kFont, kTextScale, kBlack);
+  }
   auto yLabel = [&](double v) {  // the top one below the frame's edge, clear of the axis name
     const std::string t = number(v);
     const int y = std::max(px(x0, v).y + 5, area.y + 12);
-    cv::putText(img, t, cv::Point(area.x - 5 - textWidth(t), y), kFont, kTextScale, kBlack);
+    cv::putText(img, t, cv::Point(area.x - 7 - textWidth(t), y), kFont, kTextScale, kBlack);
   };
-  yLabel(y0);
-  yLabel(y1);
+  for (double t : yt) yLabel(t);
   for (double g : axes.y_guides)
     if (g > y0 && g < y1) yLabel(g);
   if (!axes.x_label.empty())
@@ -120,6 +160,8 @@ void drawLinePlot(cv::Mat& img, const cv::Rect& panel, const PlotAxes& axes,
     cv::putText(img, axes.y_label, cv::Point(panel.x + 4, area.y - 3), kFont, kTextScale, kBlack);
   cv::Mat clip = img(area);  // curves stay inside the frame
   const cv::Point o(area.x, area.y);
+  for (const PlotSeries& s : series)
+    if (!s.fill_base.empty()) fillBand(clip, s, px, o);
   for (const PlotSeries& s : series) {
     const std::size_t n = std::min(s.x.size(), s.y.size());
     for (std::size_t i = 0; i < n; ++i) {

@@ -63,6 +63,12 @@ void Mapper::indexTimers() {
   m_timers.push_back("total");
 }
 
+std::vector<std::string> Mapper::stageTimerNames() const {
+  std::vector<std::string> names;
+  for (const auto& s : m_stages) names.push_back(s->name());
+  return names;
+}
+
 void Mapper::addStage(std::unique_ptr<MapperStage> stage, const std::string& before) {
   if (m_frames > 0) throw std::logic_error("Mapper::addStage: before the first frame");
   auto at = m_stages.end();

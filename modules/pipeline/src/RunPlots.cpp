@@ -29,7 +29,6 @@ const cv::Scalar kStageColours[] = {{200, 80, 0},  {0, 0, 200},   {0, 150, 0},
                                     {150, 0, 150}, {0, 140, 255}, {140, 140, 0},
                                     {90, 60, 200}, {0, 90, 140},  {120, 120, 120}};
 constexpr int kRunningMean = 10;
-constexpr double kMinShareOfTotal = 0.05;
 
 double finiteMean(const std::vector<double>& v) {
   double sum = 0.0;
@@ -104,31 +103,48 @@ cv::Mat trajectoryPlot(const io::Trajectory& estimate, const io::Trajectory& gro
   return linePlot(axes, series, 560, 560);
 }
 
-cv::Mat timingPlot(const CsvColumns& frames) {
+cv::Mat timingPlot(const CsvColumns& frames, const std::vector<std::string>& stages) {
   const auto index = frames.values.find("index");
   const auto total = frames.values.find("ms_total");
   if (frames.rows == 0 || total == frames.values.end()) return {};
   std::vector<double> x;
   for (std::size_t i = 0; i < frames.rows; ++i)
     x.push_back(index != frames.values.end() ? index->second[i] : double(i));
-  const double total_mean = finiteMean(total->second);
+  // Stacked layers: each stage's running mean on top of the ones before it (a stage's own
+  // timer holds its parts, so only stages stack), then the rest of the frame up to the total.
   std::vector<PlotSeries> series;
+  std::vector<double> base(frames.rows, 0.0), stacked(frames.rows, 0.0);
   int k = 0;
-  for (const std::string& name : frames.names) {
-    if (name.rfind("ms_", 0) != 0 || name == "ms_total") continue;
-    const double mean = finiteMean(frames.values.at(name));
-    if (mean < kMinShareOfTotal * total_mean) continue;  // the small ones would only clutter
-    series.push_back(
-        timerSeries(name.substr(3), mean, x, frames.values.at(name), kStageColours[k++ % 9], 1));
+  const auto layer = [&](const std::string& name, const std::vector<double>& ms,
+                         const cv::Scalar& colour) {
+    PlotSeries s = timerSeries(name, finiteMean(ms), x, ms, colour, 1);
+    for (std::size_t i = 0; i < frames.rows; ++i) {
+      const double v = std::isfinite(s.y[i]) ? s.y[i] : 0.0;
+      stacked[i] = base[i] + v;
+    }
+    s.y = stacked;
+    s.fill_base = base;
+    base = stacked;
+    series.push_back(s);
+  };
+  std::vector<double> rest = total->second;
+  for (const std::string& name : stages) {
+    const auto col = frames.values.find("ms_" + name);
+    if (col == frames.values.end()) continue;
+    for (std::size_t i = 0; i < frames.rows; ++i)
+      if (std::isfinite(col->second[i]) && std::isfinite(rest[i])) rest[i] -= col->second[i];
+    layer(name, col->second, kStageColours[k++ % 9]);
   }
+  for (double& r : rest) r = std::max(0.0, r);  // the stages' own rounding
+  layer("rest of the frame", rest, cv::Scalar(190, 190, 190));
+  const double total_mean = finiteMean(total->second);
   series.push_back(timerSeries("total", total_mean, x, total->second, cv::Scalar(0, 0, 0), 2));
   std::vector<double> sorted;
   for (double t : series.back().y)
     if (std::isfinite(t)) sorted.push_back(t);
   PlotAxes axes;
-  axes.title = "ms per frame (frames.csv ms_*, " + std::to_string(kRunningMean) +
-               "-frame running mean; legend: mean), timers over " +
-               std::to_string(int(100 * kMinShareOfTotal)) + "% of the total";
+  axes.title = "ms per frame by stage, stacked (frames.csv ms_*, " +
+               std::to_string(kRunningMean) + "-frame running means; legend: mean)";
   axes.x_label = "frame";
   axes.x_min = x.front();
   axes.x_max = x.back();

@@ -72,6 +72,9 @@ class Mapper {
   void saveParams(mrpt::config::CConfigFileBase& out) const;
   /// Timer names in FrameResult::ms order: each stage, its parts, then "total".
   const std::vector<std::string>& timerNames() const { return m_timers; }
+  /// The stages' own timers in order (each holds its parts' time; they add up to the frame's
+  /// work apart from the map lock wait).
+  std::vector<std::string> stageTimerNames() const;
   /// frames.csv: the columns of the stages (index and timestamp first, timers last) and the row
   /// of the last frame processed.
   std::string csvHeader() const;

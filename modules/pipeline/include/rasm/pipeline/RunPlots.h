@@ -2,10 +2,12 @@
 // The plots of a run folder, drawn with LinePlot.h:
 //   plot_trajectory.png  top view (x, y in m, equal scales) of the estimated camera path against
 //                        the ground truth; frames tracking lost (frames.csv tracked = 0) in red
-//   plot_timing.png      milliseconds per frame of the Mapper's timers (frames.csv ms_* columns)
-//                        that take at least 5% of the total, and the total in black, as
-//                        10-frame running means over the frame index (legend: each timer's
-//                        mean); the y range ends at the 99th percentile of the total
+//   plot_timing.png      milliseconds per frame of the Mapper's stages (frames.csv ms_<stage>)
+//                        stacked in their order, then the rest of the frame (total minus the
+//                        stages, grey), so the layers add up to the total (black line); 10-frame
+//                        running means over the frame index (legend: each layer's mean); the
+//                        parts of a stage (ms_icp within ms_tracking) are not stacked again; the
+//                        y range ends at the 99th percentile of the total
 // (exploration.png, coverage and objects correct over simulated time, is ExplorationLoop's.)
 
 #include <map>
@@ -29,7 +31,8 @@ CsvColumns parseCsvColumns(const std::string& text);
 /// plot_trajectory.png. `frames` = frames.csv (for the tracked column; may be empty).
 cv::Mat trajectoryPlot(const io::Trajectory& estimate, const io::Trajectory& groundtruth,
                        const CsvColumns& frames);
-/// plot_timing.png; an empty image when frames.csv has no ms_total column or no row.
-cv::Mat timingPlot(const CsvColumns& frames);
+/// plot_timing.png; `stages`: the Mapper's stage timers in order (Mapper::stageTimerNames). An
+/// empty image when frames.csv has no ms_total column or no row.
+cv::Mat timingPlot(const CsvColumns& frames, const std::vector<std::string>& stages);
 
 }  // namespace rasm::pipeline
