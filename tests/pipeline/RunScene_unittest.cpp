@@ -143,6 +143,31 @@ TEST(RunPlots, TrajectoryPlotMarksLostFrames) {
   EXPECT_GT(countDominant(with_lost, 2), countDominant(none_lost, 2) + 10);
 }
 
+TEST(RunPlots, TrackingPlotShadesLostFramesInEveryPanel) {
+  // 41 frames, x 0-40; the ground truth 10 cm beside the estimate.
+  const io::Trajectory est = straightPath(41, 0.1);
+  io::Trajectory gt = est;
+  for (io::StampedPose& p : gt) p.T_world_cam.translation().y() += 0.1;
+  const auto csv = [](std::initializer_list<int> lost) {
+    std::string text = "index,tracked,inlier_fraction,check_agreement,rms_m\n";
+    for (int i = 0; i <= 40; ++i) {
+      const bool l = std::find(lost.begin(), lost.end(), i) != lost.end();
+      text += std::to_string(i) + (l ? ",0" : ",1") + ",0.8,0.95,0.004\n";
+    }
+    return parseCsvColumns(text);
+  };
+  const cv::Mat with_gt = trackingPlot(csv({10, 11}), est, gt);
+  EXPECT_EQ(with_gt.rows, 3 * 240) << "fraction, residual and world-frame error panels";
+  EXPECT_EQ(trackingPlot(csv({10, 11}), est, {}).rows, 2 * 240);
+  EXPECT_TRUE(trackingPlot(parseCsvColumns(""), est, gt).empty());
+  // The band: light red (halfway from BGR 150, 150, 255 to white), as wide as the lost frames.
+  const cv::Vec3b band(cv::saturate_cast<uchar>(202.5), cv::saturate_cast<uchar>(202.5), 255);
+  const int two = countColour(with_gt, band), four = countColour(trackingPlot(csv({10, 11, 30, 31}), est, gt), band);
+  EXPECT_EQ(countColour(trackingPlot(csv({}), est, gt), band), 0);
+  ASSERT_GT(two, 3 * 500) << "a band in each of the 3 panels";
+  EXPECT_NEAR(double(four) / two, 2.0, 0.2);
+}
+
 TEST(RunScene, ViewsSurviveJsonAndABadEntryIsNamed) {
   SceneView a;
   a.position = {1, 2, 0.5};

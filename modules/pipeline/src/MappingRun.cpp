@@ -674,6 +674,8 @@ void MappingRun::writePlots(const Accumulated& acc, OutputFolder& out) const {
   const CsvColumns frames = parseCsvColumns(acc.frames_csv);
   if (!acc.estimate.empty())
     out.writeImage("plot_trajectory.png", trajectoryPlot(acc.estimate, acc.groundtruth, frames));
+  const cv::Mat tracking = trackingPlot(frames, acc.estimate, acc.groundtruth);
+  if (!tracking.empty()) out.writeImage("plot_tracking.png", tracking);
   const cv::Mat timing = timingPlot(frames, m_mapper->stageTimerNames());
   if (!timing.empty()) out.writeImage("plot_timing.png", timing);
 }

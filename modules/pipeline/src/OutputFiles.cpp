@@ -248,7 +248,8 @@ const std::vector<std::string>& OutputFolder::knownNames() {
       "objects.json",         "map_classes.ply",      "map_classes.3Dscene",
       "exploration.json",     "exploration.png",      "annotated.rawlog",
       "plot_trajectory.png",  "plot_timing.png",
-      "floorplan.png",        "floorplan.svg",        "classes_legend.png"};
+      "floorplan.png",        "floorplan.svg",        "classes_legend.png",
+      "plot_tracking.png"};
   return names;
 }
 

@@ -57,8 +57,11 @@ const Doc kFiles[] = {
      "top view of the estimated path over the ground truth (when there is one), lost frames "
      "in red"},
     {"plot_timing.png",
-     "ms per frame of each stage above 5% of the total (10-frame running means), from "
-     "frames.csv"},
+     "ms per frame of each stage, stacked so the layers add up to the frame's total (10-frame "
+     "running means), from frames.csv"},
+    {"plot_tracking.png",
+     "per frame: ICP inlier fraction and pose-check agreement, ICP residual (mm) and, with "
+     "ground truth, the world-frame position error (cm, no alignment); lost frames shaded red"},
     {"floorplan.png",
      "the map from above: floor, furniture and walls, the camera path, goals, each object's "
      "outline with its class and probability, a legend, a scale bar; the caption says how up "

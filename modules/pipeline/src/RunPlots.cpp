@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "rasm/io/TimestampAssociation.h"
 #include "rasm/pipeline/LinePlot.h"
 
 namespace rasm::pipeline {
@@ -101,6 +102,86 @@ cv::Mat trajectoryPlot(const io::Trajectory& estimate, const io::Trajectory& gro
   series.push_back(est);
   if (!lost.x.empty()) series.push_back(lost);
   return linePlot(axes, series, 560, 560);
+}
+
+namespace {
+/// The frames.csv column `name`, NaN per row when it is missing.
+std::vector<double> column(const CsvColumns& frames, const std::string& name) {
+  const auto c = frames.values.find(name);
+  return c != frames.values.end() ? c->second
+                                  : std::vector<double>(frames.rows, std::nan(""));
+}
+
+/// A band from y_lo to y_hi over the frames tracking lost (light red), each lost frame half a
+/// frame either side of its x (a single one shows), NaN between the runs.
+PlotSeries lostBand(const std::vector<double>& x, const std::vector<double>& tracked, double y_lo,
+                    double y_hi, bool with_label) {
+  PlotSeries s{with_label ? "tracking lost" : "", {}, {}, cv::Scalar(150, 150, 255), 1};
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const bool lost = i < tracked.size() && tracked[i] == 0;
+    for (const double dx : {-0.5, 0.5}) {
+      s.x.push_back(x[i] + dx);
+      s.y.push_back(lost ? y_hi : std::nan(""));
+      s.fill_base.push_back(lost ? y_lo : std::nan(""));
+    }
+  }
+  return s;
+}
+}  // namespace
+
+cv::Mat trackingPlot(const CsvColumns& frames, const io::Trajectory& estimate,
+                     const io::Trajectory& groundtruth) {
+  if (frames.rows == 0) return {};
+  const std::vector<double> index = column(frames, "index"), tracked = column(frames, "tracked");
+  std::vector<double> x;
+  for (std::size_t i = 0; i < frames.rows; ++i)
+    x.push_back(std::isfinite(index[i]) ? index[i] : double(i));
+  // World-frame error per estimated pose, placed at its frame by order (trajectory.txt holds one
+  // pose per processed frame, as frames.csv one row).
+  std::vector<double> err_cm(frames.rows, std::nan(""));
+  std::vector<double> te, tg;
+  for (const io::StampedPose& p : estimate) te.push_back(p.timestamp_s);
+  for (const io::StampedPose& p : groundtruth) tg.push_back(p.timestamp_s);
+  bool have_error = false;
+  if (estimate.size() == frames.rows)
+    for (const auto& [i, j] : io::associateTimestamps(te, tg)) {
+      err_cm[i] = 100.0 * (estimate[i].T_world_cam.translation() -
+                           groundtruth[j].T_world_cam.translation())
+                              .norm();
+      have_error = true;
+    }
+  const int panels = have_error ? 3 : 2, h = 240;
+  cv::Mat img(panels * h, 900, CV_8UC3, cv::Scalar(255, 255, 255));
+  const auto max_finite = [](const std::vector<double>& v, double floor) {
+    double m = floor;
+    for (double t : v)
+      if (std::isfinite(t)) m = std::max(m, t);
+    return m;
+  };
+  PlotAxes a1;
+  a1.title = "tracking quality per frame (frames.csv); red: frames tracking lost";
+  a1.y_label = "fraction", a1.y_min = 0.0, a1.y_max = 1.05;
+  a1.x_min = x.front(), a1.x_max = x.back();
+  drawLinePlot(img, cv::Rect(0, 0, 900, h), a1,
+               {lostBand(x, tracked, 0.0, 1.05, true),
+                {"ICP inlier fraction", x, column(frames, "inlier_fraction"), {200, 80, 0}, 1},
+                {"pose check agreement", x, column(frames, "check_agreement"), {0, 150, 0}, 1}});
+  std::vector<double> rms_mm = column(frames, "rms_m");
+  for (double& v : rms_mm) v *= 1000.0;
+  PlotAxes a2 = a1;
+  a2.title.clear(), a2.y_label = "mm", a2.y_max = 1.05 * max_finite(rms_mm, 1.0);
+  a2.x_label = have_error ? "" : "frame";
+  drawLinePlot(img, cv::Rect(0, h, 900, h), a2,
+               {lostBand(x, tracked, 0.0, a2.y_max, false),
+                {"ICP residual (rms)", x, rms_mm, {0, 0, 200}, 1}});
+  if (have_error) {
+    PlotAxes a3 = a2;
+    a3.y_label = "cm", a3.x_label = "frame", a3.y_max = 1.05 * max_finite(err_cm, 1.0);
+    drawLinePlot(img, cv::Rect(0, 2 * h, 900, h), a3,
+                 {lostBand(x, tracked, 0.0, a3.y_max, false),
+                  {"world-frame position error (no alignment)", x, err_cm, {120, 0, 120}, 1}});
+  }
+  return img;
 }
 
 cv::Mat timingPlot(const CsvColumns& frames, const std::vector<std::string>& stages) {

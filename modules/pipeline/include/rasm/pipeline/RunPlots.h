@@ -8,6 +8,11 @@
 //                        running means over the frame index (legend: each layer's mean); the
 //                        parts of a stage (ms_icp within ms_tracking) are not stacked again; the
 //                        y range ends at the 99th percentile of the total
+//   plot_tracking.png    tracking quality per frame: the ICP inlier fraction and the pose check's
+//                        agreement (top), the ICP residual in mm (middle) and, with ground truth,
+//                        the camera's world-frame position error in cm (bottom; no alignment:
+//                        the map starts at the first true pose); frames tracking lost (frames.csv
+//                        tracked = 0) shaded red in every panel
 // (exploration.png, coverage and objects correct over simulated time, is ExplorationLoop's.)
 
 #include <map>
@@ -31,6 +36,9 @@ CsvColumns parseCsvColumns(const std::string& text);
 /// plot_trajectory.png. `frames` = frames.csv (for the tracked column; may be empty).
 cv::Mat trajectoryPlot(const io::Trajectory& estimate, const io::Trajectory& groundtruth,
                        const CsvColumns& frames);
+/// plot_tracking.png; an empty image when frames.csv has no row.
+cv::Mat trackingPlot(const CsvColumns& frames, const io::Trajectory& estimate,
+                     const io::Trajectory& groundtruth);
 /// plot_timing.png; `stages`: the Mapper's stage timers in order (Mapper::stageTimerNames). An
 /// empty image when frames.csv has no ms_total column or no row.
 cv::Mat timingPlot(const CsvColumns& frames, const std::vector<std::string>& stages);
