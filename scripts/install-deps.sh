@@ -18,6 +18,7 @@ PACKAGES=(
   clang libclang-rt-14-dev libomp-14-dev     # scripts/fuzz.sh: libFuzzer + ASan/UBSan, OpenMP for clang
   parallel                                   # GNU parallel: scripts/sweep.sh runs a sweep's tasks locally
   python3                                    # scripts/scoreboard.sh: metrics and the results table
+  python3-matplotlib                         # scripts/plots.py: publication plots of a run
 )
 
 SUDO=""

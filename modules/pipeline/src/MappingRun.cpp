@@ -783,6 +783,7 @@ nlohmann::json MappingRun::reportJson(const std::string& source, const Accumulat
     st[timers[s]] = {{"mean_ms", processed ? acc.ms_sum[s] / double(processed) : 0.0},
                      {"max_ms", acc.ms_max[s]}};
   rep["stages"] = st;
+  rep["stage_order"] = m_mapper->stageTimerNames();
   if (processed > 0) rep["final_pose"] = poseJson(m_mapper->pose());
   rep["frames_tracked"] = processed - sum.lost;
   rep["tracked_fraction"] = processed > 0 ? double(processed - sum.lost) / double(processed) : 0.0;

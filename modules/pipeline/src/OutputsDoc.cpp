@@ -137,6 +137,9 @@ const Doc kReport[] = {
     {"stages",
      "per timer (every stage, its parts, `map_lock_wait`, `total`; the frames.csv "
      "`ms_*` columns): `mean_ms` over the frames and `max_ms`"},
+    {"stage_order",
+     "the stages' own timers in pipeline order (each holds its parts; with the rest of the "
+     "frame they add up to `total`): what plot_timing.png and scripts/plots.py stack"},
     {"final_pose",
      "the last good camera pose T_world_cam (optical frame): `t` [x, y, z] m, "
      "`q_xyzw`"},
