@@ -1,5 +1,6 @@
-// rasm run [file.ini] [--set section.key=value ...] [--out DIR] [--force] [--max-frames N]
+// rasm run [file.ini | dataset] [--set section.key=value ...] [--out DIR] [--force] [--max-frames N]
 #include <cstdio>
+#include <filesystem>
 #include <initializer_list>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -71,6 +72,16 @@ void printFloorDrift(const nlohmann::json& report) {
       100.0 * (*f)["target_height_m"].get<double>(), (*f)["target_tilt_deg"].get<double>());
 }
 
+/// Whether `rasm run`'s file argument names data rather than an INI: a folder (TUM RGB-D,
+/// ICL-NUIM or 7-Scenes) or a rawlog. Such data is mapped with the embedded default's settings
+/// and [source] type = auto (io::openFrameSource picks the reader, or names what it expected).
+bool isDataset(const std::string& path) {
+  const auto ends = [&path](const std::string& ext) {
+    return path.size() >= ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
+  };
+  return std::filesystem::is_directory(path) || ends(".rawlog") || ends(".rawlog.gz");
+}
+
 int runMain(const std::vector<std::string>& args) {
   using namespace rasm::pipeline;
   std::string ini_path;
@@ -93,9 +104,11 @@ int runMain(const std::vector<std::string>& args) {
       overrides.push_back("mapper.load_map=" + value("a .surfelmap file"));
     else if (a == "-h" || a == "--help") {
       std::cout
-          << "usage: rasm run [file.ini] [--set section.key=value ...] [--out DIR] [--force] "
-             "[--max-frames N] [--map map.surfelmap]\n"
+          << "usage: rasm run [file.ini | FOLDER | FILE.rawlog] [--set section.key=value ...] "
+             "[--out DIR] [--force] [--max-frames N] [--map map.surfelmap]\n"
              "Without a file, runs the embedded default (the simulated office, ini/default.ini).\n"
+             "A folder (TUM RGB-D, ICL-NUIM, 7-Scenes sequence) or a rawlog is mapped with the\n"
+             "default's settings and its own camera ([source] type = auto, path = it).\n"
              "--out DIR: an empty or new folder (created; its parent folder must exist), or one\n"
              "of an earlier rasm run (only the files it listed in DIR/.rasm-run.json are\n"
              "removed). A folder holding other files is refused; --force ([output] overwrite =\n"
@@ -109,7 +122,13 @@ int runMain(const std::vector<std::string>& args) {
     else
       rasm::throwInputError("argument '" + a + "'", "unexpected: only one INI file is accepted");
   }
-  RunConfig cfg = ini_path.empty() ? RunConfig::embeddedDefault() : RunConfig::fromFile(ini_path);
+  const bool dataset = !ini_path.empty() && isDataset(ini_path);
+  RunConfig cfg = ini_path.empty() || dataset ? RunConfig::embeddedDefault()
+                                              : RunConfig::fromFile(ini_path);
+  if (dataset) {  // before the --set overrides, which may still change them
+    cfg.applyOverride("source.type=auto");
+    cfg.applyOverride("source.path=" + std::filesystem::absolute(ini_path).string());
+  }
   for (const auto& o : overrides) cfg.applyOverride(o);
   MappingRun run(cfg);
   // SIGINT / SIGTERM: stop after the current frame and write its outputs; again: abort at once.
@@ -182,7 +201,7 @@ int runMain(const std::vector<std::string>& args) {
 }
 
 const rasm::app::Registrar reg("run",
-                               "map a sequence: rasm run [file.ini] [--set s.k=v] [--out DIR]",
+                               "map a sequence: rasm run [file.ini | FOLDER | FILE.rawlog] [--set s.k=v] [--out DIR]",
                                runMain);
 
 }  // namespace

@@ -153,3 +153,24 @@ TEST(RasmCli, ObjectsListsTheObjectsAndWithAllTheOtherSegmentsAndWhy) {
   EXPECT_NE(old_format.output.find(" 7 "), std::string::npos) << old_format.output;
   fs::remove_all(dir);
 }
+
+// `rasm run FOLDER | FILE.rawlog` maps the data with the default's settings ([source] type =
+// auto); a folder that holds no known dataset is refused with what was expected.
+TEST(RasmCli, RunMapsADatasetGivenInsteadOfAnIni) {
+  const std::string out = freshDir("run_dataset");
+  const Result r = runRasm("run " + std::string(RASM_SOURCE_DIR) +
+                           "/rawlogs/sim_office_handheld_320x240.rawlog --max-frames 5 --out " +
+                           out + "/run");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string report = readFile(out + "/run/report.json");
+  EXPECT_NE(report.find("\"source\": \"rawlog " + std::string(RASM_SOURCE_DIR) +
+                        "/rawlogs/sim_office_handheld_320x240.rawlog\""),
+            std::string::npos)
+      << report.substr(0, 2000);
+  EXPECT_NE(report.find("\"frames\": 5"), std::string::npos);
+  fs::create_directories(out + "/not_a_dataset");
+  const Result bad = runRasm("run " + out + "/not_a_dataset --out " + out + "/bad");
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.output.find("neither a TUM RGB-D folder"), std::string::npos) << bad.output;
+  fs::remove_all(out);
+}
