@@ -45,6 +45,14 @@ Eigen::AlignedBox3f World::bounds() const {
 
 std::string simDataDir() {
   if (const char* env = std::getenv("RASM_SIM_DATA_DIR"); env && *env) return env;
+  // An installed binary (cmake --install, the .deb): <prefix>/bin/rasm beside
+  // <prefix>/share/rasm/sim.
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path installed = exe.parent_path().parent_path() / "share" / "rasm" / "sim";
+    if (fs::is_directory(installed / "worlds", ec)) return installed.string();
+  }
 #ifdef RASM_SIM_DATA_DIR
   return RASM_SIM_DATA_DIR;
 #else

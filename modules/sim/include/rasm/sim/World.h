@@ -64,8 +64,9 @@ struct World {
   Eigen::AlignedBox3f bounds() const;
 };
 
-/// Folder of the shipped worlds, models and trajectories: $RASM_SIM_DATA_DIR when set, else the
-/// source folder modules/sim compiled in as RASM_SIM_DATA_DIR.
+/// Folder of the shipped worlds, models and trajectories: $RASM_SIM_DATA_DIR when set, else
+/// <prefix>/share/rasm/sim beside an installed binary (<prefix>/bin), else the source folder
+/// modules/sim compiled in as RASM_SIM_DATA_DIR.
 std::string simDataDir();
 
 /// "office" -> <simDataDir>/worlds/office.yaml when that exists; anything else is a path.
