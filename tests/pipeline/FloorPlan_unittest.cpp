@@ -154,6 +154,8 @@ TEST(FloorPlan, PathGoalsAndObjectsAreDrawnWhereTheyAre) {
   EXPECT_NE(plan.svg.find(">dining table (1)</text>"), std::string::npos) << "legend";
   EXPECT_EQ(plan.classes_shown, 1);
   EXPECT_NE(plan.svg.find("up = world +z (no gravity in the data"), std::string::npos);
+  // The caption is wrapped to the plan's width: the image is no wider than the map and legend.
+  EXPECT_LE(plan.image.cols, std::max(480, int(std::ceil(4.6 / 0.02)) + 2 * 12 + 2 * 12 + 250));
 }
 
 TEST(FloorPlan, SvgHasTheImageSizeAndEmbedsTheCells) {

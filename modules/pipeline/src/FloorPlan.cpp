@@ -24,7 +24,7 @@ constexpr double kFloorNormalDeg = 25.0;  // an upward-facing surfel for the flo
 constexpr double kFloorBelowCameraM = 0.3;
 constexpr double kFloorBinM = 0.02;
 constexpr double kMarginM = 0.3;  // around everything drawn
-constexpr int kPad = 12, kLegendW = 250, kCaptionH = 44;
+constexpr int kPad = 12, kLegendW = 250, kLineH = 18, kMinWidth = 480;
 
 const cv::Scalar kWhite(255, 255, 255), kBlack(0, 0, 0), kGrid(215, 215, 215);
 const cv::Scalar kFloorShade(232, 232, 232), kFurnitureShade(165, 165, 165),
@@ -73,6 +73,24 @@ double fontScale(double height_px) { return height_px / 22.0; }
 cv::Size textSize(const std::string& s, double height_px) {
   int base = 0;
   return cv::getTextSize(s, kFont, fontScale(height_px), 1, &base);
+}
+
+/// `s` in lines of at most width_px (broken at spaces; a longer word stands alone).
+std::vector<std::string> wrapped(const std::string& s, int width_px, double height_px) {
+  std::vector<std::string> lines;
+  std::istringstream words(s);
+  std::string word, line;
+  while (words >> word) {
+    const std::string longer = line.empty() ? word : line + " " + word;
+    if (!line.empty() && textSize(longer, height_px).width > width_px) {
+      lines.push_back(line);
+      line = word;
+    } else {
+      line = longer;
+    }
+  }
+  if (!line.empty()) lines.push_back(line);
+  return lines;
 }
 
 void renderPng(cv::Mat& img, const std::vector<Shape>& shapes) {
@@ -499,15 +517,19 @@ FloorPlan drawFloorPlan(const FloorPlanInput& in, const FloorPlanParams& params)
   const double legend_x = area.br().x + 2.0 * kPad;
   const double legend_end = legend(in, legend_x, area.y + 8.0, plan, shapes);
   scaleBar(plan, {legend_x + 4, legend_end + 24}, kLegendW - 3 * kPad, shapes);
-  const int height = std::max(area.br().y, int(legend_end) + 40) + kCaptionH;
-  const std::string caption =
-      plan.up.how + "; floor at " + fmt("%.2f m", plan.floor_height_m) + "; 1 m grid";
-  const int width = std::max({area.br().x + 2 * kPad + kLegendW,
-                              textSize(caption, 12).width + 2 * kPad,
-                              textSize(in.title, 12).width + 2 * kPad});
+  // The caption (title, how up was found, the floor) in lines that fit the plan's width.
+  const int width = std::max(area.br().x + 2 * kPad + kLegendW, kMinWidth);
+  std::vector<std::string> lines;
+  if (!in.title.empty()) lines.push_back(in.title);
+  const std::vector<std::string> caption = wrapped(
+      plan.up.how + "; floor at " + fmt("%.2f m", plan.floor_height_m) + "; 1 m grid",
+      width - 2 * kPad, 12);
+  lines.insert(lines.end(), caption.begin(), caption.end());
+  const int map_bottom = std::max(area.br().y, int(legend_end) + 40);
+  const int height = map_bottom + kPad + kLineH * int(lines.size());
+  for (std::size_t k = 0; k < lines.size(); ++k)
+    shapes.push_back(text({double(kPad), map_bottom + kLineH * (k + 1.0)}, lines[k], 12));
   const cv::Size size(width, height);
-  if (!in.title.empty()) shapes.push_back(text({double(kPad), height - 26.0}, in.title, 12));
-  shapes.push_back(text({double(kPad), height - 8.0}, caption, 12));
 
   plan.image = cv::Mat(size, CV_8UC3, kWhite);
   cells.copyTo(plan.image(area));
