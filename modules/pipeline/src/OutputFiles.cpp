@@ -2,6 +2,7 @@
 
 #include <mrpt/io/CStream.h>
 #include <mrpt/serialization/CArchive.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
@@ -103,8 +105,21 @@ void writeAtomically(const std::string& path,
   std::string error;
   errno = 0;
   try {
+    // The temporary is registered with the abort handler before AtomicFile creates it when its
+    // usual name <path>.part is free: registered after, a writer thread preempted between the
+    // creation and the registration left it behind when the second signal came then (seen
+    // under load). A <path>.part already there is somebody else's (AtomicFile then takes a
+    // random name, registered once made): the handler must never remove it.
+    const std::string part = path + ".part";
+    std::optional<ScopedTemporary> registered;
+    struct stat st {};
+    if (::lstat(part.c_str(), &st) != 0 && errno == ENOENT) registered.emplace(part);
     AtomicFile file(path);  // removes its temporary unless committed
-    const ScopedTemporary registered(file.path());
+    if (file.path() != part) {
+      registered.reset();
+      registered.emplace(file.path());
+    }
+    errno = 0;
     write(file.path());
     file.commit();
     return;
