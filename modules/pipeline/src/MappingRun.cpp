@@ -621,22 +621,6 @@ std::string MappingRun::noFrameReason(const Accumulated& acc) const {
   return why;
 }
 
-void MappingRun::writeOutputs(const Accumulated& acc, OutputFolder& out) {
-  out.writeText("frames.csv", acc.frames_csv);
-  out.writeText("trajectory.txt",
-                io::tumTrajectoryText(acc.estimate, "rasm estimate (T_world_cam, optical frame)"));
-  if (!acc.groundtruth.empty())
-    out.writeText("groundtruth.txt",
-                  io::tumTrajectoryText(acc.groundtruth, "ground truth of the source"));
-  // The stages' files first: the scenes draw objects.json's objects.
-  m_mapper->writeOutputs(out);
-  if (m_explore) m_explore->writeOutputs(out);
-  writeMapFiles(acc, out);
-  if (m_output.preview_png && acc.have_K && acc.processed > 0) writePreviews(acc, out);
-  if (m_output.preview_png) writePlots(acc, out);
-  if (m_output.floorplan) writeFloorPlan(acc, out);
-}
-
 namespace {
 /// A JSON file this run wrote into `out` (null when it wrote none: the drawings go without).
 nlohmann::json writtenJson(const OutputFolder& out, const std::string& name) {
@@ -647,7 +631,25 @@ nlohmann::json writtenJson(const OutputFolder& out, const std::string& name) {
 }
 }  // namespace
 
-void MappingRun::writeFloorPlan(const Accumulated& acc, OutputFolder& out) const {
+void MappingRun::writeOutputs(const Accumulated& acc, OutputFolder& out) {
+  out.writeText("frames.csv", acc.frames_csv);
+  out.writeText("trajectory.txt",
+                io::tumTrajectoryText(acc.estimate, "rasm estimate (T_world_cam, optical frame)"));
+  if (!acc.groundtruth.empty())
+    out.writeText("groundtruth.txt",
+                  io::tumTrajectoryText(acc.groundtruth, "ground truth of the source"));
+  // The stages' files first: the scenes and the floor plan draw objects.json's objects.
+  m_mapper->writeOutputs(out);
+  if (m_explore) m_explore->writeOutputs(out);
+  const std::vector<ObjectBox> objects = objectBoxes(writtenJson(out, "objects.json"));
+  writeMapFiles(acc, objects, out);
+  if (m_output.preview_png && acc.have_K && acc.processed > 0) writePreviews(acc, out);
+  if (m_output.preview_png) writePlots(acc, out);
+  if (m_output.floorplan) writeFloorPlan(acc, objects, out);
+}
+
+void MappingRun::writeFloorPlan(const Accumulated& acc, const std::vector<ObjectBox>& objects,
+                                OutputFolder& out) const {
   FloorPlanInput in;
   const maps::SurfelArrays a = m_mapper->map().store().arrays();
   for (int i = 0; i < a.size; ++i)
@@ -662,7 +664,7 @@ void MappingRun::writeFloorPlan(const Accumulated& acc, OutputFolder& out) const
   // cameras' up axis decides (FloorPlan.h).
   in.world_z_up = m_source.type == "sim";
   in.title = "rasm " + m_output.dir;
-  in.objects = objectBoxes(writtenJson(out, "objects.json"));
+  in.objects = objects;
   in.goals = floorPlanGoals(writtenJson(out, "exploration.json"));
   const FloorPlan plan = drawFloorPlan(in);
   if (plan.image.empty()) return;
@@ -680,7 +682,8 @@ void MappingRun::writePlots(const Accumulated& acc, OutputFolder& out) const {
   if (!timing.empty()) out.writeImage("plot_timing.png", timing);
 }
 
-void MappingRun::writeMapFiles(const Accumulated& acc, OutputFolder& out) const {
+void MappingRun::writeMapFiles(const Accumulated& acc, const std::vector<ObjectBox>& objects,
+                               OutputFolder& out) const {
   const maps::CSurfelMap& map = m_mapper->map();
   if (m_output.write_ply) out.write("map.ply", [&](const std::string& p) { map.saveToPly(p); });
   if (m_output.write_3dscene) {
@@ -691,7 +694,7 @@ void MappingRun::writeMapFiles(const Accumulated& acc, OutputFolder& out) const 
     overlay.groundtruth = acc.groundtruth;
     if (acc.have_K) overlay.K = acc.last_K;
     if (m_explore) overlay.views = m_explore->sceneViews();
-    overlay.objects = objectBoxes(writtenJson(out, "objects.json"));
+    overlay.objects = objects;
     auto scene = [&](const char* name, maps::SurfelColouring colouring) {
       maps::SurfelVisualOptions vis = map.renderingOptions.visual;
       if (colouring != maps::SurfelColouring::Rgb) vis.colouring = colouring;

@@ -31,6 +31,7 @@
 #include "rasm/io/RealTimeFrameSource.h"
 #include "rasm/io/Trajectory.h"
 #include "rasm/navigation/TNavigationParams.h"
+#include "rasm/pipeline/FloorPlan.h"
 #include "rasm/pipeline/Mapper.h"
 #include "rasm/pipeline/OutputFiles.h"
 #include "rasm/pipeline/RunConfig.h"
@@ -152,13 +153,16 @@ class MappingRun {
   bool classMapView(const maps::RenderedMaps& view, cv::Mat& out) const;
   /// frames.csv, trajectory, ground truth, map files, the stages' files, previews.
   void writeOutputs(const Accumulated& acc, OutputFolder& out);
-  void writeMapFiles(const Accumulated& acc, OutputFolder& out) const;
+  /// `objects`: objects.json's objects as written (drawn in the scenes).
+  void writeMapFiles(const Accumulated& acc, const std::vector<ObjectBox>& objects,
+                     OutputFolder& out) const;
   /// plot_trajectory.png and plot_timing.png (RunPlots.h), with [output] preview_png.
   void writePlots(const Accumulated& acc, OutputFolder& out) const;
   void writePreviews(const Accumulated& acc, OutputFolder& out) const;
-  /// floorplan.png / .svg (FloorPlan.h) from the map, the path and the objects.json and
-  /// exploration.json just written.
-  void writeFloorPlan(const Accumulated& acc, OutputFolder& out) const;
+  /// floorplan.png / .svg (FloorPlan.h) from the map, the path, `objects` (objects.json's) and
+  /// the goals of the exploration.json just written.
+  void writeFloorPlan(const Accumulated& acc, const std::vector<ObjectBox>& objects,
+                      OutputFolder& out) const;
   /// report.json's fields (and the summary's ATE); `source` describes the source.
   nlohmann::json reportJson(const std::string& source, const Accumulated& acc,
                             RunSummary& sum) const;
