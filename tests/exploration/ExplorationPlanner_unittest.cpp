@@ -369,6 +369,90 @@ TEST(TourIgPlanner, AHallWhoseFarHalfIsUnknownGetsAGoalThereAlthoughNearViewsExi
   EXPECT_TRUE(far_early) << "the unknown half is not among the tour's first three stops";
 }
 
+// A doorway's frontier view sees the space behind it through the door only; the views from
+// frontier_behind_m past the door (in the unknown) are what going through would gain, and they
+// raise the door's weight in the tour. The guard: a way that crosses a wall is not a way through.
+TEST(TourIgPlanner, ADoorwaysFrontierViewWeighsWhatLiesPastItWhereverTheRobotHasBeen) {
+  TExplorationParams p = roomParams();
+  p.workspace_max_x_m = 6.5;  // room for the space behind the +x door
+  p.random_candidates = 6;
+  const auto octree = roomOctree(p, /*door_px=*/true, /*door_mx=*/false);
+  // The room's walls were seen at every height; the door (|y| < 0.7, z < 2) is a gap in them.
+  EXPECT_TRUE(octree->occupiedAlong({0.0, 1.5}, {3.0, 1.5}, p.band_min_z_m, 1.8));
+  EXPECT_FALSE(octree->occupiedAlong({0.0, 0.0}, {3.0, 0.0}, p.band_min_z_m, 1.8));
+  EXPECT_FALSE(octree->occupiedAlong({0.0, 0.0}, {1.0, 0.5}, p.band_min_z_m, 1.8));
+
+  // The room's walls as surfels (5 cm apart, facing in), the door a gap: the predictions see
+  // the walls and, through the door, the unknown.
+  maps::SurfelStore store;
+  for (int side = 0; side < 4; ++side)
+    for (int i = 0; i < 80; ++i)
+      for (int k = 0; k < 50; ++k) {
+        const float u = -2.0f + 0.05f * float(i) + 0.025f, z = 0.05f * float(k) + 0.025f;
+        const float sign = side % 2 ? -1.0f : 1.0f;  // walls at x = +-2 (side 0, 1), y = +-2
+        maps::Surfel sf;
+        sf.position = side < 2 ? Vec3f(2.0f * sign, u, z) : Vec3f(u, 2.0f * sign, z);
+        sf.normal = side < 2 ? Vec3f(-sign, 0, 0) : Vec3f(0, -sign, 0);
+        sf.basis = Vec3f(0, 0, 1);
+        if (side == 0 && std::abs(u) < kDoorHalfWidth && z < kDoorHeight) continue;
+        sf.radius = 0.04f;
+        sf.confidence = 10.0f;
+        sf.stable = true;
+        store.append(sf);
+      }
+  store.rebuildIndex();
+  const std::vector<segmentation::SegmentStats> segments;
+  PlannerInputs in = inputsFor(*octree, Eigen::Vector3d::Zero());
+  in.store = &store;
+  in.segments = &segments;
+  const auto door_of = [](const Plan& plan) -> std::pair<const ViewCandidate*, double> {
+    for (std::size_t k = 0; k < plan.ranked.size(); ++k)
+      if (plan.ranked[k].source == ViewCandidate::Source::Frontier && plan.ranked[k].pose.x() > 1.0)
+        return {&plan.ranked[k], k < plan.tour_weights.size() ? plan.tour_weights[k] : -1.0};
+    return {nullptr, -1.0};
+  };
+  const Plan with = TourIgPlanner(p).plan(in);
+  const auto [door, weight] = door_of(with);
+  ASSERT_NE(door, nullptr);
+  EXPECT_GT(door->target_xy.x(), 1.5);  // the frontier: the free cells at the door (x = 2)
+  EXPECT_LT(std::abs(door->target_xy.y()), kDoorHalfWidth);
+  // The door view sees the unknown through the door in one cone; the three views past it
+  // (~180 deg) see three cones of it.
+  EXPECT_GT(door->entropy_reduction, 0.0);
+  EXPECT_GT(door->entropy_behind, 1.5 * door->entropy_reduction);
+  ASSERT_GT(weight, 0.0) << "the door's view heads a cluster of the tour";
+  EXPECT_EQ(with.tour_weights.size(), with.tour_clusters);
+
+  p.frontier_behind_m = 0.0;
+  const Plan without = TourIgPlanner(p).plan(in);
+  const auto [door0, weight0] = door_of(without);
+  ASSERT_NE(door0, nullptr);
+  EXPECT_EQ(door0->entropy_behind, 0.0);
+  ASSERT_GT(weight0, 0.0);
+  EXPECT_GT(weight, weight0 * 1.2);
+
+  // Views taken near the door leave its weight alone (a frontier borders unknown space however
+  // often the robot stood near it); with tour_revisit_frontiers the discount applies as to the
+  // other views (tour_revisit_discount per view taken within tour_revisit_radius_m).
+  p.frontier_behind_m = 1.5;
+  const auto after_two_views = [&](bool discount_frontiers) {
+    TExplorationParams q = p;
+    q.tour_revisit_frontiers = discount_frontiers;
+    TourIgPlanner visited(q);
+    visited.goalOutcome({0.8, 0.6, 0.0}, true);
+    visited.goalOutcome({0.8, -0.6, 0.0}, true);
+    return door_of(visited.plan(in)).second;
+  };
+  EXPECT_DOUBLE_EQ(after_two_views(false), weight);
+  EXPECT_NEAR(after_two_views(true), weight * p.tour_revisit_discount * p.tour_revisit_discount,
+              1e-9);
+
+  // The room is known around its centre, the space past the door is not (knownFraction).
+  EXPECT_GT(knownFraction(with.grid, {0.0, 0.0}, 1.5), 0.7);
+  EXPECT_LT(knownFraction(with.grid, {4.0, 0.0}, 1.0), 0.1);
+  EXPECT_EQ(knownFraction(with.grid, {20.0, 0.0}, 1.0), 0.0);  // outside the grid
+}
+
 // ---- frontier ----
 
 TEST(FrontierPlanner, GoalIsNextToTheOpeningIntoUnknownSpaceAndReachable) {

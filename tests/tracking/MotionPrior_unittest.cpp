@@ -211,6 +211,50 @@ TEST(PoseCheck, OdometryThatAgreesOverrulesTheRelativeRuleAndOnlyThen) {
   }
 }
 
+/// check_odometry_confirms_sigmas: a prior whose floor part (height, here 3 cm off with a 1 cm
+/// sigma) is several sigmas from the pose does not confirm it as a whole; the wheels' part
+/// (x, y, yaw, right) does. The same frame with the wheels 8 cm off stays lost.
+TEST(PoseCheck, TheOdometrysPartAloneConfirmsWhereTheFloorPartIsOff) {
+  const Scene scene = Scene::room();
+  Scene changed = scene;
+  changed.boxes.push_back({{-1.8, 1.9, 0.2}, {1.8, 2.0, 2.8}, false});  // most of the far wall
+  const Eigen::Isometry3d T_a = lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5});
+  const Eigen::Isometry3d T_b = T_a * motion({0.02, 0.0, 0.01}, {0, 1, 0}, 1.0);
+  const WorldMaps model(pyramidOf(scene.render(K, T_a))[0], T_a);
+  const std::vector<FrameLevel> same = pyramidOf(scene.render(K, T_b, 0.002, 5));
+  const std::vector<FrameLevel> board = pyramidOf(changed.render(K, T_b, 0.002, 6));
+  const auto prior = [&](const Eigen::Vector3d& off) {  // world z: the floor's normal here
+    MotionPrior m = MotionPrior::fromStdDevs(translated(T_b, off), Eigen::Matrix3d::Identity(),
+                                             {0.01, 0.01, 0.01}, Eigen::Vector3d::Constant(0.5 * kDeg));
+    m.odometry_information =
+        MotionPrior::planarInformation(Eigen::Matrix3d::Identity(), 0.01, 0.5 * kDeg);
+    return m;
+  };
+  const MotionPrior floor_off = prior({0.0, 0.0, 0.03});
+  const MotionPrior wheels_off = prior({0.08, 0.0, 0.03});
+  for (const double confirms : {0.0, 2.0}) {
+    TTrackingParams p;
+    p.check_odometry_confirms_sigmas = confirms;
+    // (The height prior pulls the pose part of the way: 1.85 sigmas remain; the whole-prior
+    // rule at 1 sigma stands for the 2-3 sigmas seen in the flats.)
+    p.check_prior_confirms_sigmas = 1.0;
+    IcpTracker tr(p);
+    tr.reset(T_b);
+    for (int i = 0; i < 6; ++i) ASSERT_TRUE(tr.track(same, modelOf(model, T_a)).ok);
+    const TrackingResult r = tr.align(board, modelOf(model, T_a), T_b, {}, &floor_off);
+    ASSERT_LT(r.check_agreement, 0.85);
+    EXPECT_GT(r.prior_sigmas, p.check_prior_confirms_sigmas) << "the prior as a whole is off";
+    EXPECT_LT(r.odometry_sigmas, 1.0) << "the wheels agree";
+    if (confirms == 0.0) {
+      EXPECT_EQ(r.status, TrackingStatus::Inconsistent);
+    } else {
+      EXPECT_TRUE(r.ok) << toString(r.status);
+    }
+    const TrackingResult w = tr.align(board, modelOf(model, T_a), T_b, {}, &wheels_off);
+    EXPECT_FALSE(w.ok) << toString(w.status) << ", " << w.odometry_sigmas << " odometry sigmas";
+  }
+}
+
 /// A robot's view of a floor 1-3.5 m ahead at a grazing angle, tracked right: one pixel row of
 /// the model spans several cm of floor there, so the model pixel a frame point lands on holds a
 /// neighbouring point of the same plane. The check (point-to-plane, as ICP) passes the pose, and

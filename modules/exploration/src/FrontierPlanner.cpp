@@ -93,6 +93,8 @@ std::vector<FrontierView> frontierViews(const mrpt::maps::COccupancyGridMap2D& g
     FrontierView v;
     v.view.source = ViewCandidate::Source::Frontier;
     v.view.pose = Eigen::Vector3d(at.x(), at.y(), std::atan2(look.y(), look.x()));
+    v.view.target_xy = f.centroid;
+    v.outward = f.outward;
     v.found = goal.has_value();
     views.push_back(v);
   }

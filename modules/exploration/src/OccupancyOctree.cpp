@@ -211,6 +211,20 @@ double OccupancyOctree::predictedEntropyReduction(const Eigen::Isometry3d& T_wor
          reduction(occupied_keys, m_tree->getProbHitLog());
 }
 
+bool OccupancyOctree::occupiedAlong(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                    double z_min_m, double z_max_m) const {
+  const double res = m_params.resolution_m;
+  const int steps = std::max(1, int(std::ceil(2.0 * (b - a).norm() / res)));  // half a cell
+  for (int i = 0; i <= steps; ++i) {
+    const Eigen::Vector2d p = a + (b - a) * (double(i) / steps);
+    for (double z = z_min_m + 0.5 * res; z <= z_max_m; z += res) {  // (cells, as projectToGrid)
+      const octomap::OcTreeNode* node = m_tree->search(p.x(), p.y(), z);
+      if (node && m_tree->isNodeOccupied(node)) return true;
+    }
+  }
+  return false;
+}
+
 void OccupancyOctree::projectToGrid(mrpt::maps::COccupancyGridMap2D& grid) const {
   const double res = m_params.resolution_m;
   const auto coord = [&](octomap::key_type k) { return (double(k) - 32768.0) * res; };

@@ -62,6 +62,10 @@ void TExplorationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
   MRPT_LOAD_CONFIG_VAR(tour_min_gain_fraction, double, c, s);
   MRPT_LOAD_CONFIG_VAR(tour_revisit_radius_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(tour_revisit_discount, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(tour_revisit_frontiers, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(frontier_behind_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(tour_behind_fraction, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(tour_object_context_radius_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(oracle_target_spacing_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(oracle_headings, int, c, s);
   MRPT_LOAD_CONFIG_VAR(oracle_cover_fraction, double, c, s);
@@ -130,6 +134,9 @@ void TExplorationParams::validate(const std::string& s) const {
   requireInRange(tour_min_gain_fraction, 0.0, 1.0, s, "tour_min_gain_fraction");
   requireInRange(tour_revisit_radius_m, 0.0, 100.0, s, "tour_revisit_radius_m");
   requireInRange(tour_revisit_discount, 0.0, 1.0, s, "tour_revisit_discount");
+  requireInRange(frontier_behind_m, 0.0, 10.0, s, "frontier_behind_m");
+  requireInRange(tour_behind_fraction, 0.0, 10.0, s, "tour_behind_fraction");
+  requireInRange(tour_object_context_radius_m, 0.0, 10.0, s, "tour_object_context_radius_m");
   requireInRange(oracle_target_spacing_m, 0.0, 10.0, s, "oracle_target_spacing_m");
   requireInRange(oracle_headings, 1, 360, s, "oracle_headings");
   requireInRange(oracle_cover_fraction, 0.0, 1.0, s, "oracle_cover_fraction");
@@ -203,6 +210,10 @@ void TExplorationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(tour_min_gain_fraction, c, s);
   MRPT_SAVE_CONFIG_VAR(tour_revisit_radius_m, c, s);
   MRPT_SAVE_CONFIG_VAR(tour_revisit_discount, c, s);
+  MRPT_SAVE_CONFIG_VAR(tour_revisit_frontiers, c, s);
+  MRPT_SAVE_CONFIG_VAR(frontier_behind_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(tour_behind_fraction, c, s);
+  MRPT_SAVE_CONFIG_VAR(tour_object_context_radius_m, c, s);
   MRPT_SAVE_CONFIG_VAR(oracle_target_spacing_m, c, s);
   MRPT_SAVE_CONFIG_VAR(oracle_headings, c, s);
   MRPT_SAVE_CONFIG_VAR(oracle_cover_fraction, c, s);

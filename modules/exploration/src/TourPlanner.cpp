@@ -88,16 +88,45 @@ double TourIgPlanner::revisitDiscount(const Eigen::Vector3d& pose) const {
   return std::pow(m_params.tour_revisit_discount, double(visits));
 }
 
+double knownFraction(const mrpt::maps::COccupancyGridMap2D& grid, const Eigen::Vector2d& at,
+                     double radius_m) {
+  const double res = grid.getResolution();
+  const int r = int(std::ceil(radius_m / res));
+  const int cx = grid.x2idx(at.x()), cy = grid.y2idx(at.y());
+  int cells = 0, known = 0;
+  for (int iy = cy - r; iy <= cy + r; ++iy)
+    for (int ix = cx - r; ix <= cx + r; ++ix) {
+      if (std::hypot(grid.idx2x(ix) - at.x(), grid.idx2y(iy) - at.y()) > radius_m) continue;
+      ++cells;  // (outside the grid: outside the workspace, never known)
+      if (ix < 0 || iy < 0 || ix >= int(grid.getSizeX()) || iy >= int(grid.getSizeY())) continue;
+      const float v = grid.getCell(ix, iy);
+      known += v < 0.4f || v > 0.6f;
+    }
+  return cells > 0 ? double(known) / cells : 0.0;
+}
+
+double TourIgPlanner::tourWeight(const ViewCandidate& v, const Plan& plan,
+                                 const TExplorationParams& tour_params) const {
+  double dH = v.entropy_reduction;
+  if (v.source == ViewCandidate::Source::Frontier)
+    dH = std::max(dH, m_params.tour_behind_fraction * v.entropy_behind);
+  double w = informationGain(tour_params, dH, v.information, plan.best_entropy_reduction,
+                             plan.best_information);
+  if (v.source == ViewCandidate::Source::Object && m_params.tour_object_context_radius_m > 0.0)
+    w *= knownFraction(plan.grid, v.target_xy, m_params.tour_object_context_radius_m);
+  // A frontier view looks into unknown space wherever the robot has been (the doorway of a room
+  // beside the hallway views it took): the revisit discount is for known regions.
+  const bool frontier = v.source == ViewCandidate::Source::Frontier;
+  return (frontier && !m_params.tour_revisit_frontiers ? 1.0 : revisitDiscount(v.pose)) * w;
+}
+
 Plan TourIgPlanner::plan(const PlannerInputs& in) {
   Plan plan = IgPlanner::plan(in);
   // The tour's weights: IG with the object term scaled by how far the map's entropy has fallen.
   TExplorationParams tour_params = m_params;
   tour_params.w_ic *= objectWeight(*in.octree);
-  std::vector<double> gains;  // (best_*: the largest dH and dIC over plan.ranked)
-  for (const ViewCandidate& v : plan.ranked)
-    gains.push_back(revisitDiscount(v.pose) *
-                    informationGain(tour_params, v.entropy_reduction, v.information,
-                                    plan.best_entropy_reduction, plan.best_information));
+  std::vector<double> gains;
+  for (const ViewCandidate& v : plan.ranked) gains.push_back(tourWeight(v, plan, tour_params));
   const std::vector<int> heads =
       clusterViews(plan.ranked, gains, m_params.tour_cluster_radius_m, m_params.tour_max_clusters,
                    m_params.tour_min_gain_fraction);
@@ -114,7 +143,10 @@ Plan TourIgPlanner::plan(const PlannerInputs& in) {
   const std::vector<int> order = solveTour(tour);
   std::vector<ViewCandidate> ranked;
   std::vector<char> is_head(plan.ranked.size(), 0);
-  for (const int k : order) ranked.push_back(head_views[std::size_t(k)]);
+  for (const int k : order) {
+    ranked.push_back(head_views[std::size_t(k)]);
+    plan.tour_weights.push_back(tour.weight[std::size_t(k)]);
+  }
   for (const int h : heads) is_head[std::size_t(h)] = 1;
   for (std::size_t i = 0; i < plan.ranked.size(); ++i)
     if (!is_head[i]) ranked.push_back(plan.ranked[i]);

@@ -111,6 +111,7 @@ std::vector<ViewCandidate> objectViews(const std::vector<segmentation::SegmentSt
         ViewCandidate c = candidateAt(at.x(), at.y(), std::atan2(look.y(), look.x()),
                                       ViewCandidate::Source::Object);
         c.segment = s.id;
+        c.target_xy = s.centroid.head<2>();
         views.push_back(c);
       }
     }

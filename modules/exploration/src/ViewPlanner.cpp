@@ -1,6 +1,7 @@
 #include "rasm/exploration/ViewPlanner.h"
 
 #include <algorithm>
+#include <cmath>
 #include <exception>
 #include <random>
 
@@ -100,6 +101,62 @@ std::vector<int> ViewPlanner::screenCandidates(const maps::SurfelStore& store,
   return out;
 }
 
+namespace {
+/// A view from frontier_behind_m past a frontier (ViewCandidate::entropy_behind).
+struct BehindView {
+  int frontier = 0;  ///< index of the frontier's view among the candidates
+  ViewCandidate view;
+};
+
+/// Views from frontier_behind_m past the frontier of `f` (its centroid along the outward
+/// normal), facing outward and +-60 deg (the 57-63 deg camera's three views tile ~180 deg: what
+/// the robot sees as it turns once through); none
+/// when the frontier has no outward side, the spot is outside the workspace, or the way there
+/// crosses a cell seen occupied from the floor band up to 1.8 m (a wall, not a way through; a
+/// door's lintel is above).
+void addBehindViews(const FrontierView& f, int frontier_index, const OccupancyOctree& octree,
+                    const TExplorationParams& params, const Eigen::Isometry3d& T_base_cam,
+                    std::vector<BehindView>& out) {
+  if (params.frontier_behind_m <= 0.0 || f.outward.norm() < 0.5) return;
+  const Eigen::Vector2d at = f.view.target_xy + params.frontier_behind_m * f.outward;
+  if (at.x() < params.workspace_min_x_m || at.x() > params.workspace_max_x_m ||
+      at.y() < params.workspace_min_y_m || at.y() > params.workspace_max_y_m)
+    return;
+  if (octree.occupiedAlong(f.view.target_xy, at, params.band_min_z_m, 1.8)) return;
+  const double yaw = std::atan2(f.outward.y(), f.outward.x());
+  for (const double turn_deg : {0.0, 60.0, -60.0}) {
+    BehindView b;
+    b.frontier = frontier_index;
+    b.view.source = ViewCandidate::Source::Frontier;
+    b.view.pose = Eigen::Vector3d(at.x(), at.y(), yaw + turn_deg * M_PI / 180.0);
+    b.view.T_world_cam = cameraPoseOf(b.view.pose, T_base_cam);
+    out.push_back(b);
+  }
+}
+
+/// Sets entropy_behind of the frontier views among `predicted` (candidate indices) to the summed
+/// dH of their views beyond (`behind`), predicted like the candidates.
+void predictBehind(const TExplorationParams& params, const maps::SurfelStore& store,
+                   const PlannerInputs& in, const std::vector<int>& predicted,
+                   const std::vector<BehindView>& behind, std::vector<ViewCandidate>& candidates) {
+  std::vector<char> in_plan(candidates.size(), 0);
+  for (const int i : predicted) in_plan[std::size_t(i)] = 1;
+  std::vector<ViewCandidate> views;
+  std::vector<int> owner, which;
+  for (const BehindView& b : behind)
+    if (in_plan[std::size_t(b.frontier)]) {
+      which.push_back(int(views.size()));
+      views.push_back(b.view);
+      owner.push_back(b.frontier);
+    }
+  if (views.empty()) return;
+  const std::vector<ViewPrediction> dH = predictViews(params, store, in, views, which);
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    candidates[std::size_t(owner[k])].entropy_behind += dH[k].entropy_reduction;
+  }
+}
+}  // namespace
+
 Plan ViewPlanner::plan(const PlannerInputs& in) const {
   if (!in.store || !in.segments || !in.octree)
     throwInputError("exploration planner inputs", "store, segments and octree are required");
@@ -110,11 +167,15 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
   std::vector<ViewCandidate> candidates = sampleRandomViews(plan.grid, m_params, rng);
   const std::vector<ViewCandidate> objects = objectViews(*in.segments, plan.grid, m_params);
   candidates.insert(candidates.end(), objects.begin(), objects.end());
+  std::vector<BehindView> behind;       // frontier views' views beyond (entropy_behind)
   if (m_params.frontier_candidates) {  // (c) views at the map's frontiers, scored like the rest
     const ReachableCells reach =
         reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
     for (const FrontierView& f : frontierViews(plan.grid, reach, in.robot_pose, m_params))
-      if (f.found) candidates.push_back(f.view);
+      if (f.found) {
+        addBehindViews(f, int(candidates.size()), *in.octree, m_params, in.T_base_cam, behind);
+        candidates.push_back(f.view);
+      }
   }
   // The goal the robot drives to, last: measured and predicted like the candidates, scored
   // alongside them (Plan::current_goal), never offered.
@@ -144,6 +205,7 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
   const int n = int(reachable.size());
   const std::vector<ViewPrediction> predicted =
       predictViews(m_params, store, in, candidates, reachable);
+  predictBehind(m_params, store, in, reachable, behind, candidates);
   for (int j = 0; j < n; ++j) {
     ViewCandidate c = candidates[std::size_t(reachable[std::size_t(j)])];
     c.entropy_reduction = predicted[std::size_t(j)].entropy_reduction;

@@ -337,6 +337,8 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
                       {"gain", p.ranked[k].gain},
                       {"entropy_reduction", p.ranked[k].entropy_reduction},
                       {"information", p.ranked[k].information},
+                      {"entropy_behind", p.ranked[k].entropy_behind},
+                      {"weight", k < p.tour_weights.size() ? p.tour_weights[k] : 0.0},
                       {"travel_time_s", p.ranked[k].travel_time_s}});
     log["tour"] = tour;
   }

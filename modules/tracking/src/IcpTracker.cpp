@@ -626,8 +626,12 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
     const bool relative_rule_alone = c.agreement >= P.check_min_agreement &&
                                      c.behind <= P.check_max_behind &&
                                      1.0 - c.agreement > c.max_disagreement;
-    if (check_failed && relative_rule_alone && prior && P.check_prior_confirms_sigmas > 0 &&
-        res.prior_sigmas <= P.check_prior_confirms_sigmas)
+    const bool prior_confirms = prior && P.check_prior_confirms_sigmas > 0 &&
+                                res.prior_sigmas <= P.check_prior_confirms_sigmas;
+    const bool odometry_confirms = prior && P.check_odometry_confirms_sigmas > 0 &&
+                                   !prior->odometry_information.isZero() &&
+                                   res.odometry_sigmas <= P.check_odometry_confirms_sigmas;
+    if (check_failed && relative_rule_alone && (prior_confirms || odometry_confirms))
       check_failed = false;
   }
 

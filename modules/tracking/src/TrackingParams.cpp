@@ -83,6 +83,7 @@ void TTrackingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR_CS(check_min_disagreement, double);
   MRPT_LOAD_CONFIG_VAR_CS(check_history, int);
   MRPT_LOAD_CONFIG_VAR_CS(check_prior_confirms_sigmas, double);
+  MRPT_LOAD_CONFIG_VAR_CS(check_odometry_confirms_sigmas, double);
   MRPT_LOAD_CONFIG_VAR_CS(use_cuda, bool);
   validate(s);
 }
@@ -168,6 +169,8 @@ void TTrackingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   put(c, s, "check_history", check_history, "relative rule: accepted frames in the median");
   put(c, s, "check_prior_confirms_sigmas", check_prior_confirms_sigmas,
       "relative rule overruled within this many prior sigmas of the odometry (0 = off)");
+  put(c, s, "check_odometry_confirms_sigmas", check_odometry_confirms_sigmas,
+      "relative rule overruled within this many sigmas of the odometry's x, y, yaw (0 = off)");
   put(c, s, "use_cuda", use_cuda, "ICP reduction on the GPU");
 }
 
@@ -216,6 +219,7 @@ void TTrackingParams::validate(const std::string& s) const {
   requireInRange(check_min_disagreement, 0.0, 1.0, s, "check_min_disagreement");
   requireInRange(check_history, 1, 10000, s, "check_history");
   requireInRange(check_prior_confirms_sigmas, 0.0, 100.0, s, "check_prior_confirms_sigmas");
+  requireInRange(check_odometry_confirms_sigmas, 0.0, 100.0, s, "check_odometry_confirms_sigmas");
 }
 
 }  // namespace rasm::tracking

@@ -70,6 +70,8 @@ struct Plan {
   std::optional<ViewCandidate> current_goal;
   /// "ig": the number of view clusters the tour visits (ranked starts with them, in tour order).
   std::size_t tour_clusters = 0;
+  /// "ig": the tour's weight of each of those clusters (in tour order; TourIgPlanner).
+  std::vector<double> tour_weights;
   /// Reachable candidates a coarse prediction left out of the full one ([exploration]
   /// predict_screen_keep; not in ranked).
   std::size_t screened_out = 0;

@@ -41,7 +41,11 @@ class IgPlanner : public ExplorationPlanner {
 /// IG; then
 ///   weights: IG with the object term w2 dIC scaled by the map's saturation 1 - H(m) / H(m) at
 ///     the first plan (0 at the start, rising as the octree's entropy falls): geometric
-///     exploration first, the object views of V-B weighing more as the map fills in; times
+///     exploration first, the object views of V-B weighing more as the map fills in; a frontier
+///     view's dH at least tour_behind_fraction x entropy_behind (what the views past the frontier
+///     would see: a doorway opens a room, the view in front of it sees one cone of it); an object
+///     view's weight times the known fraction of the grid within tour_object_context_radius_m of
+///     its segment (knownFraction: an object seen through a doorway waits for its room); times
 ///     tour_revisit_discount per view the robot has taken within tour_revisit_radius_m (the
 ///     predicted dH of a visited region stays high: voxels inside furniture and behind objects
 ///     stay unknown whatever the view, so without it the region's crumbs always beat a far room);
@@ -66,8 +70,16 @@ class TourIgPlanner : public IgPlanner {
   double objectWeight(const OccupancyOctree& octree);
   /// tour_revisit_discount ^ (taken views within tour_revisit_radius_m of pose).
   double revisitDiscount(const Eigen::Vector3d& pose) const;
+  /// The tour's weight of a view (the class comment; best_* of `plan` normalise the terms).
+  double tourWeight(const ViewCandidate& v, const Plan& plan,
+                    const TExplorationParams& tour_params) const;
   double m_first_entropy_nats = -1.0;
 };
+
+/// The fraction of `grid`'s cells within radius_m of `at` that are known (free or occupied;
+/// cells outside the grid count as unknown).
+double knownFraction(const mrpt::maps::COccupancyGridMap2D& grid, const Eigen::Vector2d& at,
+                     double radius_m);
 
 /// The cluster heads of `views` (indices, by descending gains[i]; TourIgPlanner's clustering).
 std::vector<int> clusterViews(const std::vector<ViewCandidate>& views,
@@ -92,7 +104,8 @@ struct FrontierCluster {
 /// `found` false), facing a point 0.5 m past the centroid on the unknown side. Only pose and
 /// source (Frontier) are set.
 struct FrontierView {
-  ViewCandidate view;
+  ViewCandidate view;  ///< view.target_xy: the cluster's centroid
+  Eigen::Vector2d outward = Eigen::Vector2d::Zero();  ///< the cluster's (FrontierCluster)
   bool found = false;
 };
 std::vector<FrontierView> frontierViews(const mrpt::maps::COccupancyGridMap2D& grid,

@@ -76,6 +76,12 @@ class OccupancyOctree {
   double predictedEntropyReduction(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K,
                                    const Image<float>& predicted_depth_m) const;
 
+  /// Whether an occupied cell lies in a column crossed by the segment a -> b (x, y in m), between
+  /// heights z_min_m and z_max_m (the cells from the one above z_min_m, as projectToGrid's band:
+  /// the floor's cell is not an obstacle): a wall seen at any height, not only in the band.
+  bool occupiedAlong(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double z_min_m,
+                     double z_max_m) const;
+
   /// Known cells of the workspace and their counts (for tests and reports).
   struct CellCounts {
     std::int64_t occupied = 0, free = 0, unknown = 0;

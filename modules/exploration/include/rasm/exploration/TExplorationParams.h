@@ -134,6 +134,23 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   /// a far room; halving per view taken within 2 m (about a room's half-width) moves the tour on
   /// after a few views. 1 = off.
   double tour_revisit_radius_m = 2.0, tour_revisit_discount = 0.5;
+  /// Whether the revisit discount also applies to frontier views. false: a frontier borders
+  /// unknown space however many views were taken near it (flat 2101: the doorway of the room
+  /// beside the start, dH the plan's best, weighed 0.5 after two hallway views within 2 m, and the
+  /// robot drove past it for 200 s). true: as before (for comparisons).
+  bool tour_revisit_frontiers = false;
+  /// A frontier view's dH term in the tour's weight is the larger of its own predicted dH and
+  /// tour_behind_fraction x the summed dH of three views from frontier_behind_m past the
+  /// frontier's centroid along its outward normal (headings outward and +-60 deg, ~180 deg
+  /// together; the segment there crosses no occupied cell below 1.8 m). The view in front of a
+  /// doorway sees one cone through it; the room (or the hallway's rest) is what going through
+  /// gains. 0 = off (the view's own dH alone).
+  double frontier_behind_m = 1.5, tour_behind_fraction = 1.0;
+  /// An object view's tour weight is multiplied by the fraction of the planning grid's cells
+  /// within tour_object_context_radius_m of its segment's centroid that are known: an object
+  /// seen through a doorway waits until the room it stands in is mapped (the room's views come
+  /// first, and they see it too). 0 = off.
+  double tour_object_context_radius_m = 1.5;
   // ---- oracle (pipeline OraclePlanner.h: the reference with the world's ground truth) ----
   /// The surface samples are thinned to one target per cube of this edge (m) for the view sets
   /// (each target stands for its cube's samples); 0 = every sample a target (slower: the

@@ -30,6 +30,8 @@ struct ViewCandidate {
   enum class Source { Random, Object, Frontier, Sweep, Oracle };
   Source source = Source::Random;
   std::uint32_t segment = 0;                       ///< the segment an object view looks at
+  /// Object: the centroid (x, y, m) of the segment it looks at; Frontier: the frontier's centroid.
+  Eigen::Vector2d target_xy = Eigen::Vector2d::Zero();
   Eigen::Vector3d pose = Eigen::Vector3d::Zero();  ///< robot base (x m, y m, yaw rad)
   Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();  ///< optical frame
 
@@ -40,6 +42,10 @@ struct ViewCandidate {
 
   double entropy_reduction = 0.0;  ///< dH (nats), V-A
   double information = 0.0;        ///< dIC (class-weighted), V-B
+  /// Frontier views of "ig": the summed dH (nats) of the three views from frontier_behind_m past
+  /// the frontier (ViewPlanner.cpp: what the robot sees once through it, turning from one side
+  /// to the other; 0 when none was predicted).
+  double entropy_behind = 0.0;
   /// IG(a) = w1 dH / max dH + w2 dIC / max dIC ("ig"); the baselines set gain = rate =
   /// 1 / (1 + path_length_m), an ordering key only.
   double gain = 0.0;

@@ -251,6 +251,11 @@ struct TTrackingParams : public mrpt::config::CLoadableOptions {
   /// centimetres off does not. 0 = off (the relative rule alone decides). 2 halved the exploring
   /// default's inconsistent frames (docs/slam-eval.md "The simulated floor's bias").
   double check_prior_confirms_sigmas = 2.0;
+  /// The same with the odometry's part of the prior alone (x, y, yaw: what the wheels measure;
+  /// MotionPrior::odometry_information), either rule overrules. The floor part of a prior can be
+  /// 2-3 sigmas off where the model was fused a little off the floor, the wheels within 1 sigma
+  /// (flats 3952 and 3955: docs/results-worldframe.md). 0 = off.
+  double check_odometry_confirms_sigmas = 0.0;
 
   // ---- backend ----
   /// Run the ICP reduction on the GPU (CUDA launcher of the same kernel). Needs a CUDA build
