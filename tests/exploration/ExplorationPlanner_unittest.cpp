@@ -453,7 +453,107 @@ TEST(TourIgPlanner, ADoorwaysFrontierViewWeighsWhatLiesPastItWhereverTheRobotHas
   EXPECT_EQ(knownFraction(with.grid, {20.0, 0.0}, 1.0), 0.0);  // outside the grid
 }
 
+// A hallway, a wall with a 1 m doorway, and beyond it the cone a camera in the doorway saw: its
+// apex, right behind the door, is narrower than the footprint plus its growth. With the unknown
+// grown (PlannerSimple2D's model) the room is unreachable; with the clearance kept from occupied
+// cells only (unknownDoesNotGrow) paths enter it, over known free cells, and PlannerSimple2D
+// agrees; the jambs still keep the robot's clearance, and unknown space is never entered.
+TEST(PlanningGrid, TheConeSeenThroughADoorwayIsReachableWhenUnknownDoesNotGrow) {
+  mrpt::maps::COccupancyGridMap2D grid;
+  grid.setSize(0.0f, 6.0f, 0.0f, 6.0f, 0.1f, 0.5f);
+  for (int iy = 0; iy < 60; ++iy)
+    for (int ix = 0; ix < 60; ++ix) {
+      const double x = grid.idx2x(ix), y = grid.idx2y(iy);
+      if (y < 1.5) grid.setCell(ix, iy, 1.0f);                            // the hallway
+      else if (y < 1.7) grid.setCell(ix, iy, std::abs(x - 3.0) < 0.5 ? 1.0f : 0.0f);  // wall, door
+      else if (std::abs(x - 3.0) < 0.15 + 0.55 * (y - 1.7)) grid.setCell(ix, iy, 1.0f);  // cone
+    }
+  const Eigen::Vector3d robot(3.0, 1.2, M_PI / 2);
+  const Eigen::Vector2d inside(3.0, 4.0);
+  mrpt::maps::COccupancyGridMap2D grown = grid;
+  EXPECT_FALSE(reachableCells(grown, robot, 0.25).reachable(grown.x2idx(inside.x()),
+                                                           grown.y2idx(inside.y())));
+  unknownDoesNotGrow(grid, 0.25);
+  const ReachableCells reach = reachableCells(grid, robot, 0.25);
+  EXPECT_TRUE(reach.reachable(grid.x2idx(inside.x()), grid.y2idx(inside.y())));
+  // Paths run over known free cells, and over unknown ones only where a strip of unknown no
+  // wider than the growth lies between known free cells (here beside the cone's apex).
+  int reachable = 0, reachable_not_free = 0, unknown_left_free = 0;
+  for (int iy = 0; iy < 60; ++iy)
+    for (int ix = 0; ix < 60; ++ix) {
+      reachable += reach.reachable(ix, iy);
+      unknown_left_free += grid.getCell(ix, iy) > 0.6f && grown.getCell(ix, iy) <= 0.6f;
+      if (!reach.reachable(ix, iy) || grid.getCell(ix, iy) > 0.6f) continue;
+      ++reachable_not_free;
+      int free_near = 0;
+      for (int y = iy - 3; y <= iy + 3; ++y)
+        for (int x = ix - 3; x <= ix + 3; ++x)
+          free_near += x >= 0 && y >= 0 && x < 60 && y < 60 && grid.getCell(x, y) > 0.6f;
+      EXPECT_GT(free_near, 0) << ix << " " << iy;
+    }
+  EXPECT_LT(reachable_not_free, reachable / 50);
+  EXPECT_EQ(unknown_left_free, 0) << "no unknown cell became known free";
+  // The jambs (|x - 3| >= 0.5 at y 1.5-1.7) keep their growth: the doorway's passable cells are
+  // those >= 0.3 m from both.
+  for (int ix = 0; ix < 60; ++ix) {
+    const double x = grid.idx2x(ix);
+    if (reach.reachable(ix, grid.y2idx(1.6))) EXPECT_LT(std::abs(x - 3.0), 0.5 - 0.25);
+  }
+  TExplorationParams p;
+  std::vector<ViewCandidate> c(1);
+  c[0].pose = Eigen::Vector3d(inside.x(), inside.y(), M_PI / 2);
+  planPaths(grid, robot, p, c);
+  EXPECT_TRUE(c[0].reachable) << "PlannerSimple2D agrees";
+  EXPECT_NEAR(c[0].path_length_m, 2.8, 0.3);
+}
+
 // ---- frontier ----
+
+// A U of known free corridors (1 m wide) around an unknown block: its frontier is one connected
+// cluster whose centroid lies in the block, ~2 m from every reachable cell, so it had no view.
+// Split into pieces of at most frontier_max_radius_m, each piece gets one next to it.
+TEST(FrontierPlanner, ALargeFrontierIsSplitIntoPiecesThatEachHaveAView) {
+  mrpt::maps::COccupancyGridMap2D grid;
+  grid.setSize(0.0f, 10.0f, 0.0f, 10.0f, 0.1f, 0.5f);
+  const auto free_box = [&](double x0, double x1, double y0, double y1) {
+    for (double y = y0 + 0.05; y < y1; y += 0.1)
+      for (double x = x0 + 0.05; x < x1; x += 0.1) grid.setCell(grid.x2idx(x), grid.y2idx(y), 1.0f);
+  };
+  free_box(1, 2, 1, 9);
+  free_box(1, 9, 1, 2);
+  free_box(8, 9, 1, 9);
+  const Eigen::Vector3d robot(1.5, 1.5, 0.0);
+  const ReachableCells reach = reachableCells(grid, robot, 0.25);
+  TExplorationParams p;
+  p.frontier_max_radius_m = 0.0;
+  const std::vector<FrontierCluster> whole = findFrontiers(grid, p.frontier_min_cells);
+  ASSERT_EQ(whole.size(), 1u);
+  EXPECT_NEAR(whole[0].centroid.x(), 5.0, 0.3);
+  EXPECT_GT(whole[0].centroid.y(), 2.5) << "the centroid lies in the unknown block";
+  const std::vector<FrontierView> unsplit = frontierViews(grid, reach, robot, p);
+  ASSERT_EQ(unsplit.size(), 1u);
+  EXPECT_FALSE(unsplit[0].found);
+
+  p.frontier_max_radius_m = 1.5;
+  const std::vector<FrontierCluster> pieces =
+      findFrontiers(grid, p.frontier_min_cells, p.frontier_max_radius_m);
+  std::size_t cells = 0;
+  for (const FrontierCluster& f : pieces) {
+    cells += f.cells.size();
+    for (const Eigen::Vector2d& c : f.cells) EXPECT_LE((c - f.centroid).norm(), 1.5 + 1e-9);
+  }
+  EXPECT_GE(pieces.size(), 8u);  // ~28 m of frontier in pieces at most 3 m long
+  EXPECT_LE(cells, whole[0].cells.size());
+  EXPECT_GE(cells, whole[0].cells.size() - pieces.size() * p.frontier_min_cells);
+  int found = 0;
+  for (const FrontierView& v : frontierViews(grid, reach, robot, p)) {
+    if (!v.found) continue;
+    ++found;
+    EXPECT_TRUE(reach.reachable(grid.x2idx(v.view.pose.x()), grid.y2idx(v.view.pose.y())));
+    EXPECT_LE((v.view.pose.head<2>() - v.view.target_xy).norm(), p.frontier_goal_radius_m + 0.1);
+  }
+  EXPECT_GE(found, int(pieces.size()) / 2);
+}
 
 TEST(FrontierPlanner, GoalIsNextToTheOpeningIntoUnknownSpaceAndReachable) {
   TExplorationParams p = roomParams();

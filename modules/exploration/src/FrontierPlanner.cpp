@@ -1,4 +1,6 @@
 // "frontier": nearest-frontier exploration (Yamauchi 1997) on the planning grid.
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 
@@ -36,10 +38,51 @@ bool frontierCell(const mrpt::maps::COccupancyGridMap2D& g, int ix, int iy, Eige
   return any;
 }
 
+/// A frontier cell: centre (m) and the summed directions to its unknown neighbours.
+struct FrontierCell {
+  Eigen::Vector2d at, out;
+};
+
+/// `cells` as one cluster, or (their farthest cell more than max_radius_m from their centroid)
+/// split in two at the centroid across their principal axis, recursively (FUEL's split of large
+/// frontier clusters, Zhou et al. 2021): a room's whole boundary seen through its doorway is one
+/// connected frontier whose centroid lies in the middle of the unknown, far from every cell the
+/// robot can reach; its pieces each have a view. Pieces under min_cells are dropped.
+void splitCluster(std::vector<FrontierCell> cells, double max_radius_m, int min_cells,
+                  std::vector<FrontierCluster>& out) {
+  if (int(cells.size()) < min_cells) return;
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero(), outward = Eigen::Vector2d::Zero();
+  for (const FrontierCell& c : cells) centroid += c.at, outward += c.out;
+  centroid /= double(cells.size());
+  double radius = 0.0;
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const FrontierCell& c : cells) {
+    const Eigen::Vector2d d = c.at - centroid;
+    radius = std::max(radius, d.norm());
+    cov += d * d.transpose();
+  }
+  if (max_radius_m > 0.0 && radius > max_radius_m && cells.size() >= 2) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
+    const Eigen::Vector2d axis = eig.eigenvectors().col(1);  // the largest eigenvalue's
+    std::vector<FrontierCell> a, b;
+    for (const FrontierCell& c : cells) ((c.at - centroid).dot(axis) < 0.0 ? a : b).push_back(c);
+    if (!a.empty() && !b.empty()) {
+      splitCluster(std::move(a), max_radius_m, min_cells, out);
+      splitCluster(std::move(b), max_radius_m, min_cells, out);
+      return;
+    }
+  }
+  FrontierCluster f;
+  for (const FrontierCell& c : cells) f.cells.push_back(c.at);
+  f.centroid = centroid;
+  if (outward.norm() > 1e-9) f.outward = outward.normalized();
+  out.push_back(std::move(f));
+}
+
 }  // namespace
 
 std::vector<FrontierCluster> findFrontiers(const mrpt::maps::COccupancyGridMap2D& grid,
-                                           int min_cells) {
+                                           int min_cells, double max_radius_m) {
   const int nx = int(grid.getSizeX()), ny = int(grid.getSizeY());
   std::vector<Eigen::Vector2d> dir(std::size_t(nx) * ny, Eigen::Vector2d::Zero());
   std::vector<std::uint8_t> is_frontier(dir.size(), 0), seen(dir.size(), 0);
@@ -51,16 +94,14 @@ std::vector<FrontierCluster> findFrontiers(const mrpt::maps::COccupancyGridMap2D
   std::vector<int> stack;
   for (int start = 0; start < nx * ny; ++start) {
     if (!is_frontier[start] || seen[start]) continue;
-    FrontierCluster c;
-    Eigen::Vector2d out = Eigen::Vector2d::Zero();
+    std::vector<FrontierCell> cells;
     stack = {start};
     seen[start] = 1;
     while (!stack.empty()) {  // 8-connected flood fill
       const int cell = stack.back();
       stack.pop_back();
       const int cx = cell % nx, cy = cell / nx;
-      c.cells.emplace_back(grid.idx2x(cx), grid.idx2y(cy));
-      out += dir[cell];
+      cells.push_back({Eigen::Vector2d(grid.idx2x(cx), grid.idx2y(cy)), dir[cell]});
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
           const int jx = cx + dx, jy = cy + dy, j = jy * nx + jx;
@@ -69,11 +110,8 @@ std::vector<FrontierCluster> findFrontiers(const mrpt::maps::COccupancyGridMap2D
           stack.push_back(j);
         }
     }
-    if (int(c.cells.size()) < min_cells) continue;
-    for (const Eigen::Vector2d& p : c.cells) c.centroid += p;
-    c.centroid /= double(c.cells.size());
-    if (out.norm() > 1e-9) c.outward = out.normalized();
-    clusters.push_back(std::move(c));
+    if (int(cells.size()) < min_cells) continue;
+    splitCluster(std::move(cells), max_radius_m, min_cells, clusters);
   }
   return clusters;
 }
@@ -83,9 +121,11 @@ std::vector<FrontierView> frontierViews(const mrpt::maps::COccupancyGridMap2D& g
                                         const Eigen::Vector3d& robot_pose,
                                         const TExplorationParams& params) {
   std::vector<FrontierView> views;
-  for (const FrontierCluster& f : findFrontiers(grid, params.frontier_min_cells)) {
-    const std::optional<Eigen::Vector2d> goal = nearestReachableCell(
-        grid, reach, f.centroid.x(), f.centroid.y(), params.frontier_goal_radius_m);
+  for (const FrontierCluster& f :
+       findFrontiers(grid, params.frontier_min_cells, params.frontier_max_radius_m)) {
+    const std::optional<Eigen::Vector2d> goal =
+        nearestReachableCell(grid, reach, f.centroid.x(), f.centroid.y(),
+                             params.frontier_goal_radius_m, params.footprint_radius_m);
     // Face the unknown side: a point 0.5 m past the centroid along the frontier's outward normal.
     const Eigen::Vector2d at = goal ? *goal : f.centroid;
     Eigen::Vector2d look = f.centroid + 0.5 * f.outward - at;
@@ -95,6 +135,7 @@ std::vector<FrontierView> frontierViews(const mrpt::maps::COccupancyGridMap2D& g
     v.view.pose = Eigen::Vector3d(at.x(), at.y(), std::atan2(look.y(), look.x()));
     v.view.target_xy = f.centroid;
     v.outward = f.outward;
+    v.cells = int(f.cells.size());
     v.found = goal.has_value();
     views.push_back(v);
   }
@@ -121,6 +162,7 @@ Plan FrontierPlanner::plan(const PlannerInputs& in) {
       reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
   std::vector<ViewCandidate> candidates;
   for (const FrontierView& f : frontierViews(plan.grid, reach, in.robot_pose, m_params)) {
+    plan.frontiers.push_back({f.view.target_xy, f.cells, f.found});
     const ViewCandidate c = detail::baselineCandidate(f.view.pose.head<2>(), f.view.pose.z(),
                                                       ViewCandidate::Source::Frontier, in);
     if (!f.found)

@@ -95,11 +95,36 @@ Eigen::Vector2d planningStart(const mrpt::maps::COccupancyGridMap2D& grid,
   return {grid.idx2x(ix), grid.idx2y(iy)};
 }
 
+namespace {
+/// (0.51 reads back as 0.5: MRPT quantises log-odds.)
+constexpr float kClearanceOnly = 0.55f;
+}  // namespace
+
+void unknownDoesNotGrow(mrpt::maps::COccupancyGridMap2D& grid, double footprint_radius_m) {
+  const int g = int(std::ceil(footprint_radius_m / grid.getResolution()));
+  const int nx = int(grid.getSizeX()), ny = int(grid.getSizeY());
+  std::vector<std::uint8_t> near_free(std::size_t(nx) * ny, 0);
+  for (int iy = 0; iy < ny; ++iy)
+    for (int ix = 0; ix < nx; ++ix) {
+      if (!(grid.getCell(ix, iy) > 0.6f)) continue;
+      for (int y = std::max(0, iy - g); y <= std::min(ny - 1, iy + g); ++y)
+        for (int x = std::max(0, ix - g); x <= std::min(nx - 1, ix + g); ++x)
+          near_free[std::size_t(y) * nx + x] = 1;
+    }
+  for (int iy = 0; iy < ny; ++iy)
+    for (int ix = 0; ix < nx; ++ix) {
+      const float v = grid.getCell(ix, iy);
+      if (near_free[std::size_t(iy) * nx + ix] && v >= 0.4f && v <= 0.6f)
+        grid.setCell(ix, iy, kClearanceOnly);
+    }
+}
+
 void planningGrid(const OccupancyOctree& octree, const Eigen::Vector3d& robot_pose,
                   double footprint_radius_m, mrpt::maps::COccupancyGridMap2D& grid) {
   octree.projectToGrid(grid);
   // The robot stands on its footprint: those cells are free whatever the camera has seen.
   markFootprintFree(grid, robot_pose.x(), robot_pose.y(), footprint_radius_m);
+  if (!octree.params().clearance_from_unknown) unknownDoesNotGrow(grid, footprint_radius_m);
 }
 
 bool ReachableCells::reachable(int ix, int iy) const {
@@ -160,7 +185,7 @@ ReachableCells reachableCells(const mrpt::maps::COccupancyGridMap2D& grid,
 
 std::optional<Eigen::Vector2d> nearestReachableCell(const mrpt::maps::COccupancyGridMap2D& grid,
                                                     const ReachableCells& reach, double x, double y,
-                                                    double radius_m) {
+                                                    double radius_m, double footprint_radius_m) {
   const int r = int(std::ceil(radius_m / grid.getResolution())) + 1;
   const int cx = grid.x2idx(x), cy = grid.y2idx(y);
   std::optional<Eigen::Vector2d> best;
@@ -171,6 +196,8 @@ std::optional<Eigen::Vector2d> nearestReachableCell(const mrpt::maps::COccupancy
       const Eigen::Vector2d c(grid.idx2x(ix), grid.idx2y(iy));
       const double d = std::hypot(c.x() - x, c.y() - y);
       if (d > radius_m) continue;
+      if (footprint_radius_m > 0.0 && !footprintFree(grid, c.x(), c.y(), footprint_radius_m))
+        continue;
       const double path = reach.distance(ix, iy);
       if (d < best_d - 1e-9 || (d < best_d + 1e-9 && path < best_path)) {
         best = c, best_d = d, best_path = path;

@@ -54,6 +54,8 @@ void TExplorationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
   MRPT_LOAD_CONFIG_VAR(taken_view_heading_deg, double, c, s);
   MRPT_LOAD_CONFIG_VAR(frontier_min_cells, int, c, s);
   MRPT_LOAD_CONFIG_VAR(frontier_goal_radius_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(frontier_max_radius_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(clearance_from_unknown, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(lawnmower_spacing_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(lawnmower_step_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(lawnmower_axis, string, c, s);
@@ -125,6 +127,7 @@ void TExplorationParams::validate(const std::string& s) const {
   requireInRange(taken_view_heading_deg, 0.0, 180.0, s, "taken_view_heading_deg");
   requireInRange(frontier_min_cells, 1, 1000000, s, "frontier_min_cells");
   requireInRange(frontier_goal_radius_m, 0.0, 100.0, s, "frontier_goal_radius_m");
+  requireInRange(frontier_max_radius_m, 0.0, 100.0, s, "frontier_max_radius_m");
   requireInRange(lawnmower_spacing_m, 0.05, 1000.0, s, "lawnmower_spacing_m");
   requireInRange(lawnmower_step_m, 0.05, 1000.0, s, "lawnmower_step_m");
   if (lawnmower_axis != "x" && lawnmower_axis != "y")
@@ -202,6 +205,8 @@ void TExplorationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(taken_view_heading_deg, c, s);
   MRPT_SAVE_CONFIG_VAR(frontier_min_cells, c, s);
   MRPT_SAVE_CONFIG_VAR(frontier_goal_radius_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(frontier_max_radius_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(clearance_from_unknown, c, s);
   MRPT_SAVE_CONFIG_VAR(lawnmower_spacing_m, c, s);
   MRPT_SAVE_CONFIG_VAR(lawnmower_step_m, c, s);
   MRPT_SAVE_CONFIG_VAR(lawnmower_axis, c, s);

@@ -171,11 +171,13 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
   if (m_params.frontier_candidates) {  // (c) views at the map's frontiers, scored like the rest
     const ReachableCells reach =
         reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
-    for (const FrontierView& f : frontierViews(plan.grid, reach, in.robot_pose, m_params))
+    for (const FrontierView& f : frontierViews(plan.grid, reach, in.robot_pose, m_params)) {
+      plan.frontiers.push_back({f.view.target_xy, f.cells, f.found});
       if (f.found) {
         addBehindViews(f, int(candidates.size()), *in.octree, m_params, in.T_base_cam, behind);
         candidates.push_back(f.view);
       }
+    }
   }
   // The goal the robot drives to, last: measured and predicted like the candidates, scored
   // alongside them (Plan::current_goal), never offered.

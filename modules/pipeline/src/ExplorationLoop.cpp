@@ -329,6 +329,14 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
                    {"path_length_m", b.path_length_m}};
   }
   if (out.current_goal_score >= 0) log["current_goal_score"] = out.current_goal_score;
+  if (!p.frontiers.empty()) {
+    nlohmann::json frontiers = nlohmann::json::array();
+    for (const exploration::FrontierSummary& f : p.frontiers)
+      frontiers.push_back({{"centroid", {f.centroid.x(), f.centroid.y()}},
+                           {"cells", f.cells},
+                           {"found", f.found}});
+    log["frontiers"] = frontiers;
+  }
   if (p.tour_clusters > 0) {  // "ig": the clusters' views in tour order
     nlohmann::json tour = nlohmann::json::array();
     for (std::size_t k = 0; k < p.tour_clusters && k < p.ranked.size(); ++k)

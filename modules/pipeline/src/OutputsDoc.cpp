@@ -315,7 +315,9 @@ probability 1; it fades towards `none_colour` as the probability falls to the 0.
 when planned), `applied_t`, `robot` [x, y, yaw rad], `reachable`, `unreachable`, `blacklisted`
 (candidate views), `best_entropy_reduction`, `best_information`, `ms`, `while_driving`, `low`
 (counts towards the stopping rule), `best` {`pose`, `source` (object, frontier, sweep, random),
-`gain`, `rate`, `path_length_m`}, `current_goal_score`, and for `ig` `tour_clusters`,
+`gain`, `rate`, `path_length_m`}, `current_goal_score`, `frontiers` (`ig`, `frontier`: the
+planning grid's frontiers {`centroid` [x, y], `cells`, `found`: whether a reachable cell near it
+gave it a view}), and for `ig` `tour_clusters`,
 `screened_out` and `tour`: the clusters' views in tour order {`pose`, `source`, `gain`,
 `entropy_reduction`, `information`, `entropy_behind` (a frontier view: the best dH of the views
 past the frontier), `weight` (the tour's weight), `travel_time_s`}}; `goals`: the goals driven to {`goal`

@@ -56,8 +56,17 @@ struct PlannerInputs {
   std::optional<Eigen::Vector3d> current_goal;
 };
 
+/// A frontier of the planning grid as a plan saw it (exploration.json, for the reader).
+struct FrontierSummary {
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();  ///< m
+  int cells = 0;
+  bool found = false;  ///< a reachable cell for its view was found (frontierViews)
+};
+
 struct Plan {
   std::vector<ViewCandidate> ranked;       ///< reachable candidates, best first
+  /// The frontiers the plan's frontier views came from ("ig", "frontier").
+  std::vector<FrontierSummary> frontiers;
   std::vector<ViewCandidate> unreachable;  ///< pruned by the path planner
   /// Candidates dropped because they lie within blacklist_radius_m of a blacklisted goal.
   std::vector<ViewCandidate> blacklisted;

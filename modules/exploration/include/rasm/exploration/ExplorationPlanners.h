@@ -105,6 +105,7 @@ struct FrontierCluster {
 /// source (Frontier) are set.
 struct FrontierView {
   ViewCandidate view;  ///< view.target_xy: the cluster's centroid
+  int cells = 0;       ///< the cluster's
   Eigen::Vector2d outward = Eigen::Vector2d::Zero();  ///< the cluster's (FrontierCluster)
   bool found = false;
 };
@@ -113,8 +114,10 @@ std::vector<FrontierView> frontierViews(const mrpt::maps::COccupancyGridMap2D& g
                                         const Eigen::Vector3d& robot_pose,
                                         const TExplorationParams& params);
 
+/// Clusters whose cells lie farther than max_radius_m (> 0) from their centroid are split in
+/// two across their principal axis, recursively (pieces under min_cells dropped).
 std::vector<FrontierCluster> findFrontiers(const mrpt::maps::COccupancyGridMap2D& grid,
-                                           int min_cells);
+                                           int min_cells, double max_radius_m = 0.0);
 
 /// "frontier": nearest-frontier exploration (Yamauchi 1997). One goal per frontier cluster: the
 /// reachable cell nearest its centroid within frontier_goal_radius_m, facing a point 0.5 m past

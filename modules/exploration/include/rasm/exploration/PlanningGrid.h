@@ -22,8 +22,19 @@ namespace rasm::exploration {
 
 /// The octree's projection (projectToGrid) with the footprint disc at robot_pose marked free,
 /// written into `grid` (an output argument: MRPT grids copy slowly; Plan::grid is filled in place).
+/// Unless the octree's params say clearance_from_unknown, the unknown cells within the obstacle
+/// growth of a known free cell hold 0.55: not obstacles, so the robot keeps its clearance from
+/// occupied cells only, and paths still run over known free cells (a cell next to those would
+/// have unknown 0.5 cells in its growth square); footprintFree and the frontiers still see them as
+/// unknown (<= 0.6).
 void planningGrid(const OccupancyOctree& octree, const Eigen::Vector3d& robot_pose,
                   double footprint_radius_m, mrpt::maps::COccupancyGridMap2D& grid);
+
+/// Sets the unknown cells (P(free) in [0.4, 0.6]) within the growth square (ceil(radius / cell)
+/// cells) of a known free cell (> 0.6) to 0.55: above 0.5, so neither obstacles nor grown
+/// (PlannerSimple2D, reachableCells), and not above the 0.6 that footprintFree and the frontiers
+/// call known free.
+void unknownDoesNotGrow(mrpt::maps::COccupancyGridMap2D& grid, double footprint_radius_m);
 
 /// Where plans start: the robot's position, or, when the grown obstacles leave its cell no
 /// traversable neighbour (the robot stands closer to an obstacle than its footprint radius: after
@@ -56,10 +67,13 @@ ReachableCells reachableCells(const mrpt::maps::COccupancyGridMap2D& grid,
                               const Eigen::Vector3d& robot_pose, double footprint_radius_m);
 
 /// The centre of the reachable cell nearest (x, y) whose centre is within radius_m of it (ties:
-/// the shorter path from the robot, then row-major order); none when no such cell.
+/// the shorter path from the robot, then row-major order), and, with footprint_radius_m > 0,
+/// whose footprint disc is known free (footprintFree: a goal to stand on, not only to pass);
+/// none when no such cell.
 std::optional<Eigen::Vector2d> nearestReachableCell(const mrpt::maps::COccupancyGridMap2D& grid,
                                                     const ReachableCells& reach, double x, double y,
-                                                    double radius_m);
+                                                    double radius_m,
+                                                    double footprint_radius_m = 0.0);
 
 /// The way to `goal` (x, y) for a navigator that steers straight at its target (the reactive
 /// one of section VI sees obstacles but not rooms: a goal behind a wall beside a doorway drives it

@@ -110,6 +110,20 @@ struct TExplorationParams : mrpt::config::CLoadableOptions {
   /// (m); the footprint keeps goals ~footprint_radius_m + 1 cell from unknown space, and 1 m still
   /// sees the frontier well inside the 4 m depth range.
   double frontier_goal_radius_m = 1.0;
+  /// Frontiers whose cells lie farther than this (m) from their centroid are split across their
+  /// principal axis until none does (FUEL's split of large clusters): a room's boundary seen
+  /// through its doorway is one frontier whose centroid lies in the unknown, more than
+  /// frontier_goal_radius_m from every reachable cell, so it had no view (flat 2101 at 22 s: 99
+  /// cells, the room beside the robot). 1.5 m: a piece's view 1 m from its centroid sees all of
+  /// it in the 57-63 deg camera. 0 = no split.
+  double frontier_max_radius_m = 1.5;
+  /// Whether the robot's clearance on the planning grid is kept from unknown cells too (as
+  /// PlannerSimple2D grows every cell that is not known free). false: from occupied cells only
+  /// (planningGrid), paths still on known free cells. What the camera sees through a doorway is a
+  /// cone whose apex, near the robot, is narrower than the footprint plus its growth: with the
+  /// unknown grown, the room beyond was never reachable from the doorway (flat 2101 at 22 s: the
+  /// frontiers of the room beside the robot, 0.9-3.5 m in, all without a view).
+  bool clearance_from_unknown = false;
   /// Lawnmower: lanes this far apart (m) along lawnmower_axis ("x" or "y"), a waypoint every
   /// lawnmower_step_m (m) on each lane. 1.5 m: the 63-degree camera sees ~1.8 m across at 1.5 m,
   /// so neighbouring lanes overlap a little.
