@@ -8,7 +8,7 @@
 # and docs/results.json, and says what got better or worse beyond noise against the committed
 # docs/results.json of the same panel.
 #
-#   scripts/scoreboard.sh [--smoke | --quick | --full | --planners | --worldframe] [--out DIR] [--resume | --fresh]
+#   scripts/scoreboard.sh [--smoke | --quick | --full | --planners | --flats | --worldframe] [--out DIR] [--resume | --fresh]
 #       [--jobs J] [--only REGEX] [--dry-run] [--gather]
 #       [--compare PREV.json | --no-compare] [--out-md FILE] [--out-json FILE] [--no-docs]
 #       [--slurm FILE.sbatch [--slurm-time 02:00:00] [--slurm-cpus 2] [--slurm-mem 8G]
@@ -25,6 +25,9 @@
 #   --planners  the exploration planners alone: every planner (oracle included) on the shipped
 #            worlds, three generated rooms and four flats, true poses, 160x120, 240 s: ~1 h;
 #            its table goes to DIR/results.md (give --out-md docs/results-planners.md)
+#   --flats  ig, ig before the frontier changes of 2026-12-07 and the oracle on seven flats of 3-4
+#            rooms at 640x480, true poses, 240 s: ~2.5 h (docs/exploration.md "Rooms off the
+#            hallway"); scripts/scoreboard/planners_summary.py DIR tabulates it
 #   --worldframe  the map in the world frame while exploring: ig on five generated rooms, five
 #            flats and two_rooms, 320x240, 180 s, tracked and true poses, two seeds: ~1.5 h;
 #            scripts/scoreboard/worldframe_summary.py DIR states the targets
@@ -61,7 +64,7 @@ die() { echo "scoreboard.sh: $*" >&2; exit 2; }
 need() { [[ $# -ge 2 ]] || die "$1 needs a value"; }
 while [[ $# -gt 0 ]]; do
   case $1 in
-    --smoke | --quick | --full | --planners | --worldframe)
+    --smoke | --quick | --full | --planners | --flats | --worldframe)
       [[ -z $panel || $panel == "${1#--}" ]] || die "--$panel and $1 exclude each other"
       panel=${1#--} ;;
     --out) need "$@"; out=$2; shift ;;
@@ -117,7 +120,8 @@ fi
 [[ $gather_only -eq 1 && -z $panel ]] && panel=$old_panel
 panel=${panel:-full}
 # Where the table goes: docs/ for the quick and full panels, unless told otherwise.
-if [[ $panel == smoke || $panel == planners || $panel == worldframe || $no_docs -eq 1 || -n $only ]]; then
+if [[ $panel == smoke || $panel == planners || $panel == flats || $panel == worldframe ||
+      $no_docs -eq 1 || -n $only ]]; then
   docs_md="" docs_json=""
 else
   docs_md=$ROOT/docs/results.md docs_json=$ROOT/docs/results.json

@@ -167,7 +167,7 @@ class Panel:
         self.add(name, group, evals, args, est, pool=pool)
 
     def explore(self, name, world, planner, seed, budget_s, res, pool="", evals=("expl", "track"),
-                poses="tracked"):
+                poses="tracked", sets=()):
         """An exploring run: the robot explores `world` from its robot spec's start pose for
         `budget_s` simulated seconds (no wall-clock budget: the result must not depend on the
         machine's speed), deterministic planning (the embedded default's planner_thread = false).
@@ -178,7 +178,7 @@ class Panel:
                 "--set", "explore.enabled=true", "--set", f"explore.time_budget_s={budget_s}",
                 "--set", "explore.wall_budget_s=0", "--set", "output.write_ply=false",
                 "--set", f"mapper.poses={poses}"]
-        args += OUTPUTS_OFF + RES[res]
+        args += OUTPUTS_OFF + RES[res] + list(sets)
         est = START_S + budget_s * EXPLORE_S_PER_SIM_S[(planner, res)]
         self.add(name, "exploration", evals, args, est, pool=pool)
 
@@ -384,8 +384,31 @@ def worldframe(p, seeds=(3901, 3902, 3903, 3904, 3905),
                           poses=poses)
 
 
+# The global tour before the planning grid's and the tour's frontier changes of 2026-12-07
+# (docs/exploration.md "Rooms off the hallway"): the same binary, those changes switched off.
+IG_BEFORE = ["--set", "exploration.frontier_max_radius_m=0",
+             "--set", "exploration.clearance_from_unknown=true",
+             "--set", "exploration.frontier_behind_m=0",
+             "--set", "exploration.tour_object_context_radius_m=0",
+             "--set", "exploration.tour_revisit_frontiers=true"]
+
+
+def flats(p, worlds=((2101, 3), (2102, 4), (2103, 3), (2104, 4), (2105, 3), (2106, 3), (2107, 4))):
+    """Multi-room flats at the mission's camera (640x480), true poses, 240 s, seed = the world's:
+    ig, ig as it was before the frontier changes (flats_<world>_ig_before) and the oracle. 2101-2105
+    were looked at while the changes were made, 2106 and 2107 were not. 21 tasks, ~2.5 h on 2
+    cores."""
+    for seed, rooms in worlds:
+        w = p.gen(seed, rooms=rooms)
+        wname = os.path.basename(w)[:-5]
+        for planner, name, sets in (("ig", "ig", ()), ("ig", "ig_before", IG_BEFORE),
+                                    ("oracle", "oracle", ())):
+            p.explore(f"flats_{wname}_{name}", w, planner, seed, 240, "640x480",
+                      poses="groundtruth", sets=sets)
+
+
 PANELS = {"smoke": smoke, "quick": quick, "full": full, "planners": planners,
-          "worldframe": worldframe}
+          "worldframe": worldframe, "flats": flats}
 
 
 def main(argv):

@@ -22,7 +22,7 @@ import os
 import statistics
 import sys
 
-BASELINES = ("ig_greedy", "frontier", "random", "lawnmower")
+BASELINES = ("ig_greedy", "frontier", "random", "lawnmower", "ig_before")
 PLANNERS = ("ig",) + BASELINES + ("oracle",)
 FAILED = ("stuck", "collision", "unreachable", "timeout")
 
@@ -53,8 +53,10 @@ def curve_stats(path, horizon):
 
 
 def parse_task(name):
-    """planners_<world>_<planner>[_s<k>] -> (world, planner, seed index)."""
-    rest = name[len("planners_"):]
+    """planners_<world>_<planner>[_s<k>] (or flats_...) -> (world, planner, seed index)."""
+    if not name.startswith(("planners_", "flats_")):
+        return None
+    rest = name.split("_", 1)[1]
     seed = 1
     if rest.rsplit("_", 1)[-1].startswith("s") and rest.rsplit("_", 1)[-1][1:].isdigit():
         rest, s = rest.rsplit("_", 1)
