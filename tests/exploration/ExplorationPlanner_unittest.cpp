@@ -464,15 +464,18 @@ TEST(PlanningGrid, TheConeSeenThroughADoorwayIsReachableWhenUnknownDoesNotGrow) 
   for (int iy = 0; iy < 60; ++iy)
     for (int ix = 0; ix < 60; ++ix) {
       const double x = grid.idx2x(ix), y = grid.idx2y(iy);
-      if (y < 1.5) grid.setCell(ix, iy, 1.0f);                            // the hallway
-      else if (y < 1.7) grid.setCell(ix, iy, std::abs(x - 3.0) < 0.5 ? 1.0f : 0.0f);  // wall, door
-      else if (std::abs(x - 3.0) < 0.15 + 0.55 * (y - 1.7)) grid.setCell(ix, iy, 1.0f);  // cone
+      if (y < 1.5)
+        grid.setCell(ix, iy, 1.0f);  // the hallway
+      else if (y < 1.7)
+        grid.setCell(ix, iy, std::abs(x - 3.0) < 0.5 ? 1.0f : 0.0f);  // wall, door
+      else if (std::abs(x - 3.0) < 0.15 + 0.55 * (y - 1.7))
+        grid.setCell(ix, iy, 1.0f);  // cone
     }
   const Eigen::Vector3d robot(3.0, 1.2, M_PI / 2);
   const Eigen::Vector2d inside(3.0, 4.0);
   mrpt::maps::COccupancyGridMap2D grown = grid;
-  EXPECT_FALSE(reachableCells(grown, robot, 0.25).reachable(grown.x2idx(inside.x()),
-                                                           grown.y2idx(inside.y())));
+  EXPECT_FALSE(reachableCells(grown, robot, 0.25)
+                   .reachable(grown.x2idx(inside.x()), grown.y2idx(inside.y())));
   unknownDoesNotGrow(grid, 0.25);
   const ReachableCells reach = reachableCells(grid, robot, 0.25);
   EXPECT_TRUE(reach.reachable(grid.x2idx(inside.x()), grid.y2idx(inside.y())));

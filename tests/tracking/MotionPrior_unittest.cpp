@@ -224,8 +224,9 @@ TEST(PoseCheck, TheOdometrysPartAloneConfirmsWhereTheFloorPartIsOff) {
   const std::vector<FrameLevel> same = pyramidOf(scene.render(K, T_b, 0.002, 5));
   const std::vector<FrameLevel> board = pyramidOf(changed.render(K, T_b, 0.002, 6));
   const auto prior = [&](const Eigen::Vector3d& off) {  // world z: the floor's normal here
-    MotionPrior m = MotionPrior::fromStdDevs(translated(T_b, off), Eigen::Matrix3d::Identity(),
-                                             {0.01, 0.01, 0.01}, Eigen::Vector3d::Constant(0.5 * kDeg));
+    MotionPrior m =
+        MotionPrior::fromStdDevs(translated(T_b, off), Eigen::Matrix3d::Identity(),
+                                 {0.01, 0.01, 0.01}, Eigen::Vector3d::Constant(0.5 * kDeg));
     m.odometry_information =
         MotionPrior::planarInformation(Eigen::Matrix3d::Identity(), 0.01, 0.5 * kDeg);
     return m;

@@ -129,7 +129,8 @@ std::vector<FrontierView> frontierViews(const mrpt::maps::COccupancyGridMap2D& g
     // Face the unknown side: a point 0.5 m past the centroid along the frontier's outward normal.
     const Eigen::Vector2d at = goal ? *goal : f.centroid;
     Eigen::Vector2d look = f.centroid + 0.5 * f.outward - at;
-    if (look.norm() < 1e-6) look = Eigen::Vector2d(std::cos(robot_pose.z()), std::sin(robot_pose.z()));
+    if (look.norm() < 1e-6)
+      look = Eigen::Vector2d(std::cos(robot_pose.z()), std::sin(robot_pose.z()));
     FrontierView v;
     v.view.source = ViewCandidate::Source::Frontier;
     v.view.pose = Eigen::Vector3d(at.x(), at.y(), std::atan2(look.y(), look.x()));

@@ -110,10 +110,9 @@ struct BehindView {
 
 /// Views from frontier_behind_m past the frontier of `f` (its centroid along the outward
 /// normal), facing outward and +-60 deg (the 57-63 deg camera's three views tile ~180 deg: what
-/// the robot sees as it turns once through); none
-/// when the frontier has no outward side, the spot is outside the workspace, or the way there
-/// crosses a cell seen occupied from the floor band up to 1.8 m (a wall, not a way through; a
-/// door's lintel is above).
+/// the robot sees as it turns once through). None when the frontier has no outward side, the spot
+/// is outside the workspace, or the way there crosses a cell seen occupied from the floor band up
+/// to 1.8 m (a wall, not a way through; a door's lintel is above).
 void addBehindViews(const FrontierView& f, int frontier_index, const OccupancyOctree& octree,
                     const TExplorationParams& params, const Eigen::Isometry3d& T_base_cam,
                     std::vector<BehindView>& out) {
@@ -151,9 +150,8 @@ void predictBehind(const TExplorationParams& params, const maps::SurfelStore& st
     }
   if (views.empty()) return;
   const std::vector<ViewPrediction> dH = predictViews(params, store, in, views, which);
-  for (std::size_t k = 0; k < views.size(); ++k) {
+  for (std::size_t k = 0; k < views.size(); ++k)
     candidates[std::size_t(owner[k])].entropy_behind += dH[k].entropy_reduction;
-  }
 }
 }  // namespace
 
@@ -167,7 +165,7 @@ Plan ViewPlanner::plan(const PlannerInputs& in) const {
   std::vector<ViewCandidate> candidates = sampleRandomViews(plan.grid, m_params, rng);
   const std::vector<ViewCandidate> objects = objectViews(*in.segments, plan.grid, m_params);
   candidates.insert(candidates.end(), objects.begin(), objects.end());
-  std::vector<BehindView> behind;       // frontier views' views beyond (entropy_behind)
+  std::vector<BehindView> behind;      // the views past each frontier (entropy_behind)
   if (m_params.frontier_candidates) {  // (c) views at the map's frontiers, scored like the rest
     const ReachableCells reach =
         reachableCells(plan.grid, in.robot_pose, m_params.footprint_radius_m);
