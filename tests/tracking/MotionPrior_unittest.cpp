@@ -170,31 +170,52 @@ TEST(PoseCheck, TellsTheRightPoseFromWrongOnes) {
   EXPECT_EQ(empty.overlap, 0.0);
 }
 
+/// A room mapped from T_a; at T_b the camera sees it again (`same`) or with a board 10 cm proud
+/// of most of the far wall, 3-4 m away (`board`): a right pose whose view disagrees with the
+/// model in part, beyond the check's gate there.
+struct BoardBeforeTheWall {
+  Scene scene = Scene::room(), changed = withBoard(Scene::room());
+  Eigen::Isometry3d T_a = lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5});
+  Eigen::Isometry3d T_b = T_a * motion({0.02, 0.0, 0.01}, {0, 1, 0}, 1.0);
+  WorldMaps model{pyramidOf(scene.render(K, T_a))[0], T_a};
+  std::vector<FrameLevel> same = pyramidOf(scene.render(K, T_b, 0.002, 5));
+  std::vector<FrameLevel> board = pyramidOf(changed.render(K, T_b, 0.002, 6));
+
+  static Scene withBoard(Scene s) {
+    s.boxes.push_back({{-1.8, 1.9, 0.2}, {1.8, 2.0, 2.8}, false});
+    return s;
+  }
+  /// Puts the tracker at T_b and tracks six frames of `same` (the relative rule's history);
+  /// whether every one was ok.
+  bool warmUp(IcpTracker& tr) const {
+    tr.reset(T_b);
+    bool ok = true;
+    for (int i = 0; i < 6; ++i) ok = tr.track(same, modelOf(model, T_a)).ok && ok;
+    return ok;
+  }
+  TrackingResult alignBoard(IcpTracker& tr, const MotionPrior& prior) const {
+    return tr.align(board, modelOf(model, T_a), T_b, {}, &prior);
+  }
+};
+
 /// The relative rule flags a right pose whose view disagrees with the model in part (a board
 /// 10 cm proud of a mapped wall 3-4 m away, beyond the check's gate there); with
 /// check_prior_confirms_sigmas, odometry that agrees with the pose overrules it, and odometry
 /// that does not (the pose slid away from it) leaves the frame lost.
 TEST(PoseCheck, OdometryThatAgreesOverrulesTheRelativeRuleAndOnlyThen) {
-  const Scene scene = Scene::room();
-  Scene changed = scene;
-  changed.boxes.push_back({{-1.8, 1.9, 0.2}, {1.8, 2.0, 2.8}, false});  // most of the far wall
-  const Eigen::Isometry3d T_a = lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5});
-  const Eigen::Isometry3d T_b = T_a * motion({0.02, 0.0, 0.01}, {0, 1, 0}, 1.0);
-  const WorldMaps model(pyramidOf(scene.render(K, T_a))[0], T_a);
-  const std::vector<FrameLevel> same = pyramidOf(scene.render(K, T_b, 0.002, 5));
-  const std::vector<FrameLevel> board = pyramidOf(changed.render(K, T_b, 0.002, 6));
+  const BoardBeforeTheWall w;
+  const Eigen::Isometry3d& T_b = w.T_b;
   const MotionPrior odometry = MotionPrior::fromStdDevs(
       T_b, T_b.linear(), Eigen::Vector3d::Constant(0.01), Eigen::Vector3d::Constant(0.5 * kDeg));
-  const MotionPrior slid = MotionPrior::fromStdDevs(
-      translated(T_b, {0.08, 0.0, 0.0}), T_b.linear(), Eigen::Vector3d::Constant(0.01),
-      Eigen::Vector3d::Constant(0.5 * kDeg));
+  const MotionPrior slid = MotionPrior::fromStdDevs(translated(T_b, {0.08, 0.0, 0.0}), T_b.linear(),
+                                                    Eigen::Vector3d::Constant(0.01),
+                                                    Eigen::Vector3d::Constant(0.5 * kDeg));
   for (const double confirms : {0.0, 2.0}) {
     TTrackingParams p;
     p.check_prior_confirms_sigmas = confirms;
     IcpTracker tr(p);
-    tr.reset(T_b);
-    for (int i = 0; i < 6; ++i) ASSERT_TRUE(tr.track(same, modelOf(model, T_a)).ok);
-    const TrackingResult r = tr.align(board, modelOf(model, T_a), T_b, {}, &odometry);
+    ASSERT_TRUE(w.warmUp(tr));
+    const TrackingResult r = w.alignBoard(tr, odometry);
     // The board's pixels disagree: past the relative rule's 0.15, within the absolute 0.5.
     ASSERT_LT(r.check_agreement, 0.85);
     ASSERT_GT(r.check_agreement, p.check_min_agreement);
@@ -206,8 +227,8 @@ TEST(PoseCheck, OdometryThatAgreesOverrulesTheRelativeRuleAndOnlyThen) {
       EXPECT_TRUE(r.ok) << toString(r.status);
     }
     // Odometry 8 cm away: the data hold the pose where it is, 8 sigmas from the wheels.
-    const TrackingResult w = tr.align(board, modelOf(model, T_a), T_b, {}, &slid);
-    EXPECT_FALSE(w.ok) << toString(w.status) << ", " << w.prior_sigmas << " prior sigmas";
+    const TrackingResult s = w.alignBoard(tr, slid);
+    EXPECT_FALSE(s.ok) << toString(s.status) << ", " << s.prior_sigmas << " prior sigmas";
   }
 }
 
@@ -215,14 +236,8 @@ TEST(PoseCheck, OdometryThatAgreesOverrulesTheRelativeRuleAndOnlyThen) {
 /// sigma) is several sigmas from the pose does not confirm it as a whole; the wheels' part
 /// (x, y, yaw, right) does. The same frame with the wheels 8 cm off stays lost.
 TEST(PoseCheck, TheOdometrysPartAloneConfirmsWhereTheFloorPartIsOff) {
-  const Scene scene = Scene::room();
-  Scene changed = scene;
-  changed.boxes.push_back({{-1.8, 1.9, 0.2}, {1.8, 2.0, 2.8}, false});  // most of the far wall
-  const Eigen::Isometry3d T_a = lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5});
-  const Eigen::Isometry3d T_b = T_a * motion({0.02, 0.0, 0.01}, {0, 1, 0}, 1.0);
-  const WorldMaps model(pyramidOf(scene.render(K, T_a))[0], T_a);
-  const std::vector<FrameLevel> same = pyramidOf(scene.render(K, T_b, 0.002, 5));
-  const std::vector<FrameLevel> board = pyramidOf(changed.render(K, T_b, 0.002, 6));
+  const BoardBeforeTheWall w;
+  const Eigen::Isometry3d& T_b = w.T_b;
   const auto prior = [&](const Eigen::Vector3d& off) {  // world z: the floor's normal here
     MotionPrior m =
         MotionPrior::fromStdDevs(translated(T_b, off), Eigen::Matrix3d::Identity(),
@@ -240,9 +255,8 @@ TEST(PoseCheck, TheOdometrysPartAloneConfirmsWhereTheFloorPartIsOff) {
     // rule at 1 sigma stands for the 2-3 sigmas seen in the flats.)
     p.check_prior_confirms_sigmas = 1.0;
     IcpTracker tr(p);
-    tr.reset(T_b);
-    for (int i = 0; i < 6; ++i) ASSERT_TRUE(tr.track(same, modelOf(model, T_a)).ok);
-    const TrackingResult r = tr.align(board, modelOf(model, T_a), T_b, {}, &floor_off);
+    ASSERT_TRUE(w.warmUp(tr));
+    const TrackingResult r = w.alignBoard(tr, floor_off);
     ASSERT_LT(r.check_agreement, 0.85);
     EXPECT_GT(r.prior_sigmas, p.check_prior_confirms_sigmas) << "the prior as a whole is off";
     EXPECT_LT(r.odometry_sigmas, 1.0) << "the wheels agree";
@@ -251,8 +265,8 @@ TEST(PoseCheck, TheOdometrysPartAloneConfirmsWhereTheFloorPartIsOff) {
     } else {
       EXPECT_TRUE(r.ok) << toString(r.status);
     }
-    const TrackingResult w = tr.align(board, modelOf(model, T_a), T_b, {}, &wheels_off);
-    EXPECT_FALSE(w.ok) << toString(w.status) << ", " << w.odometry_sigmas << " odometry sigmas";
+    const TrackingResult s = w.alignBoard(tr, wheels_off);
+    EXPECT_FALSE(s.ok) << toString(s.status) << ", " << s.odometry_sigmas << " odometry sigmas";
   }
 }
 

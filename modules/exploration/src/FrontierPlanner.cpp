@@ -12,26 +12,18 @@ namespace rasm::exploration {
 
 namespace {
 
-/// MRPT grids store P(free): known free well above the unknown 0.5, occupied near 0.
-bool knownFree(float v) {
-  return v > 0.6f;
-}
-bool unknown(float v) {
-  return v >= 0.4f && v <= 0.6f;
-}
-
 /// Yamauchi's frontier cell: known free with an unknown 4-neighbour (inside the grid; the
 /// grid's border is the workspace's, beyond which nothing is to be explored). Returns the summed
 /// directions to those neighbours (zero vector and false when none).
 bool frontierCell(const mrpt::maps::COccupancyGridMap2D& g, int ix, int iy, Eigen::Vector2d& out) {
   const int nx = int(g.getSizeX()), ny = int(g.getSizeY());
-  if (!knownFree(g.getCell(ix, iy))) return false;
+  if (!knownFreeCell(g.getCell(ix, iy))) return false;
   static const int d[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
   bool any = false;
   out.setZero();
   for (const auto& s : d) {
     const int jx = ix + s[0], jy = iy + s[1];
-    if (jx < 0 || jy < 0 || jx >= nx || jy >= ny || !unknown(g.getCell(jx, jy))) continue;
+    if (jx < 0 || jy < 0 || jx >= nx || jy >= ny || !unknownCell(g.getCell(jx, jy))) continue;
     out += Eigen::Vector2d(s[0], s[1]);
     any = true;
   }

@@ -106,15 +106,14 @@ void unknownDoesNotGrow(mrpt::maps::COccupancyGridMap2D& grid, double footprint_
   std::vector<std::uint8_t> near_free(std::size_t(nx) * ny, 0);
   for (int iy = 0; iy < ny; ++iy)
     for (int ix = 0; ix < nx; ++ix) {
-      if (!(grid.getCell(ix, iy) > 0.6f)) continue;
+      if (!knownFreeCell(grid.getCell(ix, iy))) continue;
       for (int y = std::max(0, iy - g); y <= std::min(ny - 1, iy + g); ++y)
         for (int x = std::max(0, ix - g); x <= std::min(nx - 1, ix + g); ++x)
           near_free[std::size_t(y) * nx + x] = 1;
     }
   for (int iy = 0; iy < ny; ++iy)
     for (int ix = 0; ix < nx; ++ix) {
-      const float v = grid.getCell(ix, iy);
-      if (near_free[std::size_t(iy) * nx + ix] && v >= 0.4f && v <= 0.6f)
+      if (near_free[std::size_t(iy) * nx + ix] && unknownCell(grid.getCell(ix, iy)))
         grid.setCell(ix, iy, kClearanceOnly);
     }
 }

@@ -99,24 +99,22 @@ double knownFraction(const mrpt::maps::COccupancyGridMap2D& grid, const Eigen::V
       if (std::hypot(grid.idx2x(ix) - at.x(), grid.idx2y(iy) - at.y()) > radius_m) continue;
       ++cells;  // (outside the grid: outside the workspace, never known)
       if (ix < 0 || iy < 0 || ix >= int(grid.getSizeX()) || iy >= int(grid.getSizeY())) continue;
-      const float v = grid.getCell(ix, iy);
-      known += v < 0.4f || v > 0.6f;
+      known += !unknownCell(grid.getCell(ix, iy));
     }
   return cells > 0 ? double(known) / cells : 0.0;
 }
 
 double TourIgPlanner::tourWeight(const ViewCandidate& v, const Plan& plan,
                                  const TExplorationParams& tour_params) const {
+  const bool frontier = v.source == ViewCandidate::Source::Frontier;
   double dH = v.entropy_reduction;
-  if (v.source == ViewCandidate::Source::Frontier)
-    dH = std::max(dH, m_params.tour_behind_fraction * v.entropy_behind);
+  if (frontier) dH = std::max(dH, m_params.tour_behind_fraction * v.entropy_behind);
   double w = informationGain(tour_params, dH, v.information, plan.best_entropy_reduction,
                              plan.best_information);
   if (v.source == ViewCandidate::Source::Object && m_params.tour_object_context_radius_m > 0.0)
     w *= knownFraction(plan.grid, v.target_xy, m_params.tour_object_context_radius_m);
   // A frontier view looks into unknown space wherever the robot has been (the doorway of a room
   // beside the hallway views it took): the revisit discount is for known regions.
-  const bool frontier = v.source == ViewCandidate::Source::Frontier;
   return (frontier && !m_params.tour_revisit_frontiers ? 1.0 : revisitDiscount(v.pose)) * w;
 }
 

@@ -14,9 +14,6 @@ namespace rasm::exploration {
 
 namespace {
 
-/// MRPT grids store the probability of being free: known free well above the unknown 0.5.
-constexpr float kFreeAbove = 0.6f;
-
 bool insideGrid(const mrpt::maps::COccupancyGridMap2D& g, double x, double y) {
   return x > g.getXMin() && x < g.getXMax() && y > g.getYMin() && y < g.getYMax();
 }
@@ -59,7 +56,7 @@ bool footprintFree(const mrpt::maps::COccupancyGridMap2D& grid, double x, double
                    double radius_m) {
   if (!insideGrid(grid, x, y)) return false;
   return forEachFootprintCell(grid, x, y, radius_m,
-                              [&](int ix, int iy) { return grid.getCell(ix, iy) > kFreeAbove; });
+                              [&](int ix, int iy) { return knownFreeCell(grid.getCell(ix, iy)); });
 }
 
 void markFootprintFree(mrpt::maps::COccupancyGridMap2D& grid, double x, double y, double radius_m) {
@@ -77,7 +74,7 @@ std::vector<ViewCandidate> sampleRandomViews(const mrpt::maps::COccupancyGridMap
   const int nx = int(grid.getSizeX()), ny = int(grid.getSizeY());
   for (int iy = 0; iy < ny; ++iy)
     for (int ix = 0; ix < nx; ++ix)
-      if (grid.getCell(ix, iy) > kFreeAbove &&
+      if (knownFreeCell(grid.getCell(ix, iy)) &&
           footprintFree(grid, grid.idx2x(ix), grid.idx2y(iy), params.footprint_radius_m))
         cells.push_back(iy * nx + ix);
   std::vector<ViewCandidate> views;

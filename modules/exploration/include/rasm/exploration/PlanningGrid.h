@@ -20,6 +20,15 @@
 
 namespace rasm::exploration {
 
+/// What a planning grid's cell holds (MRPT grids store P(free): occupied near 0, unknown 0.5,
+/// known free near 1; unknownDoesNotGrow's 0.55 counts as unknown).
+inline bool knownFreeCell(float p_free) {
+  return p_free > 0.6f;
+}
+inline bool unknownCell(float p_free) {
+  return p_free >= 0.4f && p_free <= 0.6f;
+}
+
 /// The octree's projection (projectToGrid) with the footprint disc at robot_pose marked free,
 /// written into `grid` (an output argument: MRPT grids copy slowly; Plan::grid is filled in place).
 /// Unless the octree's params say clearance_from_unknown, the unknown cells within the obstacle
