@@ -117,6 +117,8 @@ void SurfelRenderer::cull(const SurfelStore& map, const Eigen::Isometry3d& T_wor
   test.min_confidence = opt.min_confidence;
   if (std::isfinite(opt.time_window_s))
     test.min_t_last = map.toMapTime(opt.now_s - opt.time_window_s);
+  if (std::isfinite(opt.created_after_s)) test.min_t_init = map.toMapTime(opt.created_after_s);
+  if (std::isfinite(opt.created_before_s)) test.max_t_init = map.toMapTime(opt.created_before_s);
   test.stable_only = opt.stable_only;
   test.cull_back_faces = opt.cull_back_faces;
   test.u_lo = -0.5f - margin_px;

@@ -24,12 +24,16 @@ int countValid(const Image<Vec3f>& v) {
 }  // namespace
 
 TrackingStage::TrackingStage()
-    : MapperStage("tracking", {"render_model", "icp", "relocalise"}), m_odometry(m_robot) {}
+    : MapperStage("tracking", {"render_model", "icp", "relocalise", "loop_closure"}),
+      m_odometry(m_robot) {}
 
 TrackingStage::~TrackingStage() = default;
 
 std::vector<ParamsSection> TrackingStage::sections() {
-  return {{"tracking", &m_tracking}, {"robot", &m_robot}, {"relocalisation", &m_relocalisation}};
+  return {{"tracking", &m_tracking},
+          {"robot", &m_robot},
+          {"relocalisation", &m_relocalisation},
+          {"loop_closure", &m_loop_params}};
 }
 
 void TrackingStage::configure(const TMapperParams& mapper) {
@@ -42,6 +46,12 @@ void TrackingStage::configure(const TMapperParams& mapper) {
   m_odometry = OdometryPrior(m_robot);
   m_reloc = tracking::Relocaliser(m_relocalisation);
   m_reloc_last_fused = tracking::Relocaliser(m_relocalisation.forLastFusedFrame());
+  m_loop = tracking::LoopClosure(m_loop_params);
+  tracking::TTrackingParams loop_icp = m_tracking;
+  loop_icp.min_inlier_fraction *= m_loop_params.min_inactive_fraction;
+  loop_icp.max_jump_translation_m =
+      std::max(loop_icp.max_jump_translation_m, 2.0 * m_loop_params.max_correction_m + 0.2);
+  m_loop_tracker = tracking::IcpTracker(loop_icp);
 }
 
 void TrackingStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
@@ -69,6 +79,7 @@ void TrackingStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
     initialise(ctx);
   } else {
     track(ctx, map);
+    if (m_loop_params.enabled && r.fusable()) checkLoop(ctx, map);
   }
   m_odometry.frameDone(r.tracked);
   m_T_prev_frame = r.T_world_cam;
@@ -110,6 +121,8 @@ void TrackingStage::initialise(FrameContext& ctx) {
   }
   m_tracker.reset(T0);
   m_odometry.start(T0, frame.odometry_xyyaw);
+  m_loop.reset();
+  if (frame.odometry_xyyaw) m_loop.setUpAxis(m_odometry.up());
   r.first = true;
   r.tracked = true;
   r.T_world_cam = T0;
@@ -254,7 +267,8 @@ nlohmann::json TrackingStage::floorDriftJson() const {
 
 tracking::ModelMaps TrackingStage::renderModel(FrameContext& ctx, const maps::CSurfelMap& map,
                                                const Eigen::Isometry3d& T_model, bool with_colour,
-                                               FrameResult& r, bool all_surfels) {
+                                               FrameResult& r, bool all_surfels,
+                                               const maps::RenderOptions* time_filter) {
   // II-C: model = the map rendered at the previous pose from its reliable surfels: those with
   // confidence >= [tracking] model_min_confidence, or the ones fusion flagged stable when that is
   // 0. Until enough of them exist (the first frames of a run, or a newly seen area), that model
@@ -267,6 +281,12 @@ tracking::ModelMaps TrackingStage::renderModel(FrameContext& ctx, const maps::CS
   ro.stable_only = !all_surfels && tp.model_min_confidence <= 0;
   ro.min_confidence = all_surfels ? 0.0f : float(tp.model_min_confidence);
   ro.outputs = maps::kRenderVertex | maps::kRenderNormal;
+  if (time_filter) {
+    ro.time_window_s = time_filter->time_window_s;
+    ro.now_s = time_filter->now_s;
+    ro.created_after_s = time_filter->created_after_s;
+    ro.created_before_s = time_filter->created_before_s;
+  }
   // Optional inputs of the tracker: colour for its photometric term, surfel confidence weights.
   if (with_colour) ro.outputs |= maps::kRenderColour;
   if (tp.confidence_full > 0) ro.outputs |= maps::kRenderConfidence;
@@ -348,7 +368,11 @@ const std::vector<maps::Keyframe>& TrackingStage::lastFusedKeyframe() {
 }
 
 void TrackingStage::finishFrame(FrameContext& ctx, maps::CSurfelMap& map) {
-  if (!ctx.result.fused) return;
+  if (!ctx.result.fused) {
+    m_pending_loop.reset();
+    return;
+  }
+  if (m_loop_params.enabled && m_mapper.poses != "groundtruth") closeLoop(ctx, map);
   m_reloc.maybeAddKeyframe(*ctx.frame, ctx.result.T_world_cam, map.keyframes());
   const RgbdFrame& f = *ctx.frame;
   if (!m_relocalisation.use_last_fused_frame || f.colour.empty()) return;
@@ -363,13 +387,134 @@ void TrackingStage::finishFrame(FrameContext& ctx, maps::CSurfelMap& map) {
   lf.attempted = false;
 }
 
+void TrackingStage::checkLoop(FrameContext& ctx, const maps::CSurfelMap& map) {
+  const tracking::TLoopClosureParams& lp = m_loop_params;
+  const double t_now = ctx.frame->timestamp_s;
+  const double t_inactive = t_now - lp.inactive_after_s;
+  if (m_loop.numNodes() < 2 || t_inactive <= m_loop.firstNodeTime()) return;
+  if (++m_frames_since_loop_check < lp.check_every_frames) return;
+  m_frames_since_loop_check = 0;
+  const auto t = Clock::now();
+  FrameResult& r = ctx.result;
+  const Eigen::Isometry3d T_track = r.T_world_cam;
+  const int frame_valid =
+      std::max(1, countValid(ctx.pyramid[std::size_t(m_tracking.model_level)].normal));
+  // The inactive map: what an earlier pass made and nothing fused since inactive_after_s.
+  maps::RenderOptions filter;
+  filter.created_before_s = t_inactive;
+  FrameResult probe;
+  const tracking::ModelMaps inactive = renderModel(ctx, map, T_track, false, probe, false, &filter);
+  if (probe.model_valid_pixels < lp.min_inactive_fraction * frame_valid) {
+    recordMs(ctx, kLoopClosure, msSince(t));
+    return;
+  }
+  ++m_loop_checks;
+  const double t_old = medianInitTime(map.store());
+  const tracking::TrackingResult v_in = registerForLoop(ctx, inactive, T_track);
+  if (!v_in.ok || v_in.check_overlap < m_tracking.check_min_overlap) {
+    r.loop_closure = std::string("unregistered: ") +
+                     (v_in.ok ? "overlap" : tracking::toString(v_in.status));
+    recordMs(ctx, kLoopClosure, msSince(t));
+    return;
+  }
+  // The active map: the trajectory's own continuation (the tracked pose when it covers too
+  // little of the view to register against).
+  filter = maps::RenderOptions();
+  filter.created_after_s = t_inactive;
+  const tracking::ModelMaps active = renderModel(ctx, map, T_track, false, probe, false, &filter);
+  Eigen::Isometry3d T_active = T_track;
+  if (probe.model_valid_pixels >= lp.min_inactive_fraction * frame_valid) {
+    const tracking::TrackingResult v_act = registerForLoop(ctx, active, T_track);
+    if (v_act.ok) T_active = v_act.T_world_cam;
+  }
+  const tracking::LoopVerdict verdict = m_loop.judge(T_active, v_in.T_world_cam, t_old, t_now);
+  r.loop_closure = verdict.name();
+  r.loop_correction_m = verdict.correction_m;
+  r.loop_correction_deg = verdict.correction_deg;
+  if (verdict.accepted()) {
+    // Closed when confirmations consecutive checks ask for the same correction.
+    const bool same = m_loop_candidate && m_loop_candidate_checks > 0 &&
+                      ctx.frame->index <= m_loop_candidate->frame + 2 * std::size_t(lp.check_every_frames) &&
+                      m_loop.sameCorrection(m_loop_candidate->verdict, verdict, T_track);
+    m_loop_candidate_checks = same ? m_loop_candidate_checks + 1 : 1;
+    m_loop_candidate = LoopCandidate{verdict, ctx.frame->index};
+    if (m_loop_candidate_checks >= lp.confirmations) {
+      m_pending_loop = PendingLoop{verdict, T_active, t_old, t_now};
+      m_loop_candidate_checks = 0;
+    } else {
+      r.loop_closure = "candidate";
+    }
+  } else {
+    m_loop_candidate_checks = 0;
+    if (verdict.kind == tracking::LoopVerdict::Kind::Refused) ++m_loops_refused;
+  }
+  recordMs(ctx, kLoopClosure, msSince(t));
+}
+
+tracking::TrackingResult TrackingStage::registerForLoop(FrameContext& ctx,
+                                                        const tracking::ModelMaps& model,
+                                                        const Eigen::Isometry3d& T_track) {
+  // No prior: a direction the part of the map does not constrain is reported (Degenerate) and
+  // the frame is not registered, rather than held where the drifted estimate put it.
+  m_loop_tracker.reset(T_track);
+  return m_loop_tracker.align(ctx.pyramid, model, T_track);
+}
+
+double TrackingStage::medianInitTime(const maps::SurfelStore& store) const {
+  const maps::SurfelArrays a = store.arrays();
+  std::vector<float> t_init;
+  const Image<std::int32_t>& index = m_model.index;
+  for (int y = 0; y < index.height(); y += 4)
+    for (int x = 0; x < index.width(); x += 4)
+      if (const std::int32_t i = index(x, y); i >= 0 && i < a.size) t_init.push_back(a.t_init[i]);
+  if (t_init.empty()) return store.fromMapTime(0.0f);
+  auto mid = t_init.begin() + std::ptrdiff_t(t_init.size() / 2);
+  std::nth_element(t_init.begin(), mid, t_init.end());
+  return store.fromMapTime(*mid);
+}
+
+void TrackingStage::closeLoop(FrameContext& ctx, maps::CSurfelMap& map) {
+  const FrameResult& r = ctx.result;
+  if (!m_pending_loop) {
+    m_loop.addNode(ctx.frame->timestamp_s, r.T_world_cam);
+    return;
+  }
+  const auto t = Clock::now();
+  const PendingLoop p = *m_pending_loop;
+  m_pending_loop.reset();
+  const tracking::TrajectoryCorrection c =
+      m_loop.close(p.t_now_s, p.T_active, p.verdict.T_loop, p.t_old_s);
+  if (c.empty()) return;
+  const int moved = tracking::deformSurfels(map.store(), c);
+  tracking::correctKeyframes(map.keyframes(), c);
+  const Eigen::Isometry3d C_now = c.at(p.t_now_s);
+  m_tracker.applyWorldCorrection(C_now);
+  m_T_prev_frame = C_now * m_T_prev_frame;
+  if (m_last_fused.valid) {
+    m_last_fused.T_world_cam = c.at(m_last_fused.frame.timestamp_s) * m_last_fused.T_world_cam;
+    m_last_fused.attempted = false;
+  }
+  m_odometry.resetHeadingWindow();
+  const double ms = msSince(t);
+  recordMs(ctx, kLoopClosure, ms);
+  m_loop_log.push_back({{"frame", r.index},
+                        {"timestamp_s", p.t_now_s},
+                        {"old_map_time_s", p.t_old_s},
+                        {"correction_m", p.verdict.correction_m},
+                        {"correction_deg", p.verdict.correction_deg},
+                        {"path_m", p.verdict.path_m},
+                        {"surfels_moved", moved},
+                        {"ms", ms}});
+}
+
 void TrackingStage::csvColumns(std::vector<std::string>& c) const {
   c.insert(c.end(),
            {"status", "inliers", "inlier_fraction", "rms_m", "model_pixels", "model_all_surfels",
             "icp_iterations", "icp_iterations_level0", "pose_source", "check_overlap",
             "check_agreement", "check_behind", "used_prior", "on_motion_model", "prior_sigmas",
             "odometry_sigmas", "heading_drift_sigmas", "floor_height_m", "floor_tilt_deg",
-            "relocalisation_failure"});
+            "relocalisation_failure", "loop_closure", "loop_correction_m",
+            "loop_correction_deg"});
 }
 
 void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
@@ -384,7 +529,8 @@ void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
       .add(t.odometry_sigmas, 4)
       .add(r.heading_drift_sigmas, 3)
       .add(r.floor_height_m, 4);
-  row.add(r.floor_tilt_deg, 3).add(r.relocalisation_failure);
+  row.add(r.floor_tilt_deg, 3).add(r.relocalisation_failure).add(r.loop_closure);
+  row.add(r.loop_correction_m, 4).add(r.loop_correction_deg, 3);
 }
 
 void TrackingStage::report(nlohmann::json& rep) const {
@@ -393,6 +539,15 @@ void TrackingStage::report(nlohmann::json& rep) const {
   // floor_max_*): the map drifted, though each frame agreed with it.
   rep["frames_off_floor"] = m_frames_off_floor;
   rep["frames_before_map"] = m_frames_before_map;
+  rep["loop_closure"] = {
+      {"comment",
+       "frames registered against the inactive map (surfels not fused for inactive_after_s), "
+       "loops refused as beyond the drift bound, and each loop closed (the map moved with it)"},
+      {"enabled", m_loop_params.enabled},
+      {"checks", m_loop_checks},
+      {"refused", m_loops_refused},
+      {"closed", m_loop_log.size()},
+      {"loops", m_loop_log}};
   if (m_frames_before_map > 0 && m_tracker.initialized())
     rep["warnings"].push_back("the map started after " + std::to_string(m_frames_before_map) +
                               " frame(s) without enough valid depth; they were skipped (not "

@@ -49,6 +49,11 @@ struct FrameResult {
   /// height above the mount's (m) and tilt (deg); NaN without odometry.
   double floor_height_m = std::numeric_limits<double>::quiet_NaN();
   double floor_tilt_deg = std::numeric_limits<double>::quiet_NaN();
+  /// Loop closure (LoopClosure.h), on the frames registered against the inactive map: "agrees",
+  /// "refused" (beyond the drift bound), "closed", "unregistered" (ICP against the inactive map
+  /// failed); empty when not checked. The correction asked for, where the camera is.
+  std::string loop_closure;
+  double loop_correction_m = 0.0, loop_correction_deg = 0.0;
   int model_valid_pixels = 0;      ///< valid pixels of the rendered model ICP aligned to
   bool model_all_surfels = false;  ///< model from all surfels: stable-only too sparse, or retried
   /// Milliseconds per timer, in the order of Mapper::timerNames() (stages, their parts, "total").

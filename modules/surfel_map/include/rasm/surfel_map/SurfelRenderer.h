@@ -57,6 +57,11 @@ struct RenderOptions {
   /// ElasticFusion's active-model window. Infinite window (default) = no time filter.
   double time_window_s = std::numeric_limits<double>::infinity();
   double now_s = 0.0;
+  /// Render only surfels created (t_init) at or after created_after_s and before
+  /// created_before_s (absolute s): the map an earlier pass made and the map made recently, that
+  /// a loop closure registers the frame against. NaN (default) = no bound.
+  double created_after_s = std::numeric_limits<double>::quiet_NaN();
+  double created_before_s = std::numeric_limits<double>::quiet_NaN();
   bool cull_back_faces = false;  ///< drop surfels whose normal faces away from the camera
   /// true: discs of the surfel radius; false: one pixel (the rounded projection) per surfel.
   bool splat = true;

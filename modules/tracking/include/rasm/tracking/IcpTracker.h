@@ -86,6 +86,13 @@ class IcpTracker {
   /// Replaces the last good pose (e.g. by its projection onto a motion constraint) without
   /// touching the pose before it, so the velocity follows the corrected pose.
   void correctLastPose(const Eigen::Isometry3d& T_world_cam) { m_T_last = T_world_cam; }
+  /// Moves the whole motion state by a correction of the world frame (a loop closure): the last
+  /// poses and the guess become C * T, so the velocity in the camera frame is kept.
+  void applyWorldCorrection(const Eigen::Isometry3d& C) {
+    m_T_last = C * m_T_last;
+    m_T_prev = C * m_T_prev;
+    m_last_guess = C * m_last_guess;
+  }
 
   /// Motion-model prediction for the next frame (constant velocity or previous pose). With
   /// constant velocity after k lost frames (k <= lost_velocity_frames) the last velocity applied

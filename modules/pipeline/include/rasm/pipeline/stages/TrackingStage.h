@@ -17,6 +17,12 @@
 //
 // Keyframes: fused frames become relocalisation keyframes of the map by the spacing rules of
 // [relocalisation] (finishFrame).
+//
+// Loop closure ([loop_closure], LoopClosure.h): fused frames become nodes of the trajectory graph;
+// every check_every_frames a tracked frame is registered against the inactive and the active map
+// (process, read phase) and an accepted loop is closed after the frame is fused (finishFrame,
+// under the map lock): the graph solved, the surfels and keyframes moved with their time's
+// correction, the tracker's pose with the current one. The exploration octree is not moved.
 
 #include <memory>
 #include <optional>
@@ -26,13 +32,14 @@
 #include "rasm/pipeline/OdometryPrior.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
 #include "rasm/tracking/IcpTracker.h"
+#include "rasm/tracking/LoopClosure.h"
 #include "rasm/tracking/Relocaliser.h"
 
 namespace rasm::pipeline {
 
 class TrackingStage : public MapperStage {
  public:
-  enum Part { kRenderModel = 0, kIcp, kRelocalise };
+  enum Part { kRenderModel = 0, kIcp, kRelocalise, kLoopClosure };
   TrackingStage();
   ~TrackingStage() override;
 
@@ -52,6 +59,8 @@ class TrackingStage : public MapperStage {
   const tracking::TRelocalisationParams& relocalisationParams() const { return m_relocalisation; }
   const tracking::IcpTracker& tracker() const { return m_tracker; }
   std::size_t relocalisations() const { return m_relocalisations; }
+  /// Loops closed so far (report.json loop_closure).
+  std::size_t loopsClosed() const { return m_loop_log.size(); }
   /// Pose of the last frame processed (tracked or propagated while lost).
   const Eigen::Isometry3d& lastFramePose() const { return m_T_prev_frame; }
 
@@ -61,9 +70,23 @@ class TrackingStage : public MapperStage {
   /// The tracking model: the map rendered at T_model (reliable surfels, all of them while too
   /// few, or with `all_surfels`), as the tracker sees it (valid until the next render); with
   /// its colour when the tracker's photometric term needs it.
+  /// `time_filter` (optional): only the active (inactive_before_s NaN, time_window_s finite) or
+  /// the inactive part of the map (loop closure).
   tracking::ModelMaps renderModel(FrameContext& ctx, const maps::CSurfelMap& map,
                                   const Eigen::Isometry3d& T_model, bool with_colour,
-                                  FrameResult& r, bool all_surfels = false);
+                                  FrameResult& r, bool all_surfels = false,
+                                  const maps::RenderOptions* time_filter = nullptr);
+  /// Loop closure, read phase: the frame registered against the inactive and the active map,
+  /// judged; an accepted loop waits in m_pending_loop for closeLoop().
+  void checkLoop(FrameContext& ctx, const maps::CSurfelMap& map);
+  /// Loop closure, write phase (finishFrame of a fused frame): the node, or the pending loop
+  /// closed and the map, keyframes and tracker moved.
+  void closeLoop(FrameContext& ctx, maps::CSurfelMap& map);
+  /// Median creation time (absolute s) of the surfels the last render drew (m_model.index).
+  double medianInitTime(const maps::SurfelStore& store) const;
+  /// The frame against a part of the map from T_track, without a prior.
+  tracking::TrackingResult registerForLoop(FrameContext& ctx, const tracking::ModelMaps& model,
+                                           const Eigen::Isometry3d& T_track);
   /// While lost: the pose from the last fused frame ([relocalisation] use_last_fused_frame),
   /// then from the map's keyframes, each candidate verified by ICP against the map rendered
   /// there; on success the tracker restarts from it (the frame becomes Relocalised).
@@ -84,11 +107,32 @@ class TrackingStage : public MapperStage {
   tracking::TTrackingParams m_tracking;
   TRobotParams m_robot;
   tracking::TRelocalisationParams m_relocalisation;
+  tracking::TLoopClosureParams m_loop_params;
   TMapperParams m_mapper;
   tracking::IcpTracker m_tracker;
   OdometryPrior m_odometry;
   tracking::Relocaliser m_reloc;
   tracking::Relocaliser m_reloc_last_fused;  ///< with [relocalisation] last_fused_* acceptance
+  tracking::LoopClosure m_loop;
+  /// Registers frames against the inactive / active map: [tracking] with the inlier fraction
+  /// scaled by min_inactive_fraction (the model covers part of the view) and the jump bound
+  /// raised to the loop's (judge() bounds the correction).
+  tracking::IcpTracker m_loop_tracker;
+  int m_frames_since_loop_check = 0;
+  struct PendingLoop {
+    tracking::LoopVerdict verdict;
+    Eigen::Isometry3d T_active;
+    double t_old_s = 0, t_now_s = 0;
+  };
+  std::optional<PendingLoop> m_pending_loop;
+  struct LoopCandidate {
+    tracking::LoopVerdict verdict;
+    std::size_t frame = 0;
+  };
+  std::optional<LoopCandidate> m_loop_candidate;  ///< the last accepted check
+  int m_loop_candidate_checks = 0;                ///< consecutive checks that agree with it
+  std::size_t m_loops_refused = 0, m_loop_checks = 0;
+  nlohmann::json m_loop_log = nlohmann::json::array();  ///< one entry per loop closed
   maps::SurfelRenderer m_renderer;
   maps::RenderedMaps m_model;
   bool m_localise_in_map = false;

@@ -127,6 +127,9 @@ struct VisibilityTest {
   float min_depth_m = 0.1f, max_depth_m = 10.0f;
   float min_confidence = 0.0f;
   float min_t_last = -3.0e38f;
+  /// Creation time window (map time): surfels made in [min_t_init, max_t_init) (loop closure's
+  /// inactive and active parts of the map).
+  float min_t_init = -3.0e38f, max_t_init = 3.0e38f;
   bool stable_only = false;
   bool cull_back_faces = false;
   float u_lo = 0, u_hi = 0, v_lo = 0, v_hi = 0;
@@ -135,7 +138,8 @@ struct VisibilityTest {
   /// pass over the spatial index (which holds live surfels only) need not load the flags, times or
   /// normals at all.
   RASM_HD_INLINE bool filtersAttributes() const {
-    return stable_only || min_confidence > 0.0f || min_t_last > -3.0e38f || cull_back_faces;
+    return stable_only || min_confidence > 0.0f || min_t_last > -3.0e38f ||
+           min_t_init > -3.0e38f || max_t_init < 3.0e38f || cull_back_faces;
   }
 
   /// The attribute and back-face filters only (for surfels known to be inside the frustum).
@@ -145,6 +149,9 @@ struct VisibilityTest {
     if (stable_only && !(cf & kSurfelStable)) return false;
     if (s.pos_conf[i].w() < min_confidence) return false;
     if (min_t_last > -3.0e38f && s.t_last[i] < min_t_last) return false;  // no window: no load
+    if ((min_t_init > -3.0e38f || max_t_init < 3.0e38f) &&
+        (s.t_init[i] < min_t_init || s.t_init[i] >= max_t_init))
+      return false;
     return !cull_back_faces || s.normal(i).dot(camera_centre_world - s.position(i)) > 0.0f;
   }
 

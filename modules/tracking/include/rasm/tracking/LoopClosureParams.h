@@ -1,0 +1,64 @@
+#pragma once
+// Options of the loop closure (rasm::tracking::LoopClosure, run by the tracking stage), INI
+// section [loop_closure]. Keys are the member names. Distances in metres, angles in degrees,
+// times in seconds. docs/tracking.md "Loop closure" explains the method and the measurements.
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+
+namespace rasm::tracking {
+
+struct TLoopClosureParams : public mrpt::config::CLoadableOptions {
+  /// Whether tracked frames are registered against the inactive map to close loops.
+  bool enabled = false;
+
+  // ---- the trajectory graph ----
+  /// A tracked frame becomes a node of the pose graph when this much time passed since the last
+  /// node (the surfels made between two nodes move with them).
+  double node_every_s = 0.5;
+  /// Uncertainty of the motion between two consecutive nodes (the edges of the chain): standard
+  /// deviation per metre travelled and per degree turned, and its floor per edge. They only
+  /// decide how a loop's correction is spread along the chain (more where the motion was larger).
+  /// Heading drifts while driving straight too (degenerate views, wheel slip): the rotation's
+  /// sigma grows with both, per degree turned and per metre travelled.
+  double chain_sigma_m_per_m = 0.02;
+  double chain_sigma_deg_per_deg = 0.002;
+  double chain_sigma_deg_per_m = 0.5;
+  double chain_sigma_min_m = 0.001;
+  double chain_sigma_min_deg = 0.05;
+  /// Uncertainty of a loop constraint (the frame registered against the inactive map).
+  double loop_sigma_m = 0.003;
+  double loop_sigma_deg = 0.1;
+
+  // ---- detection (ElasticFusion's local loop closure: active against inactive model) ----
+  /// Surfels created this long ago or earlier are the inactive map, those created since the
+  /// active map (ElasticFusion's delta_t, on the creation time: rasm tracks against and fuses
+  /// into the whole map, so an old surfel seen again is not made new by the fusion).
+  double inactive_after_s = 20.0;
+  /// A tracked frame is registered against the inactive model every this many frames.
+  int check_every_frames = 5;
+  /// ... when the inactive model covers at least this fraction of the frame's valid pixels.
+  double min_inactive_fraction = 0.3;
+  /// A loop is closed when this many consecutive checks (check_every_frames apart) ask for the
+  /// same correction (within min_correction_* plus a quarter of it): one registration that slid
+  /// along a weak direction does not move the map.
+  int confirmations = 2;
+  /// Corrections below both of these are agreement: nothing to close.
+  double min_correction_m = 0.02;
+  double min_correction_deg = 0.5;
+  /// Corrections beyond what the drift since the old map can explain are refused (a false loop,
+  /// e.g. a similar room): max_correction_m + drift_m_per_m x the path length (m) between the
+  /// old map's time and now, and the same for the angle.
+  double max_correction_m = 0.05;
+  double drift_m_per_m = 0.05;
+  double max_correction_deg = 1.0;
+  double drift_deg_per_m = 1.0;
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+  /// Throws InputError naming [section] key for an out-of-range value.
+  void validate(const std::string& section) const;
+};
+
+}  // namespace rasm::tracking
