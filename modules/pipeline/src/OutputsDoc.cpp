@@ -109,6 +109,11 @@ const Doc kReport[] = {
     {"lost_intervals", "runs of consecutive lost frames"},
     {"longest_lost_interval_frames", "the longest of them, in frames"},
     {"relocalisations", "times tracking was found again against the map's keyframes"},
+    {"loop_closure",
+     "`[loop_closure]`: `enabled`, `checks` (frames registered against the map made long ago), "
+     "`refused` (corrections beyond the drift bound), `closed` and `loops`: per loop closed the "
+     "`frame`, `timestamp_s`, `old_map_time_s`, `correction_m`, `correction_deg`, `path_m` "
+     "since the old map, `surfels_moved`, `ms`"},
     {"frames_off_floor",
      "tracked robot frames whose camera left the first frame's floor "
      "(`[robot] floor_max_height_m` / `floor_max_tilt_deg`)"},
@@ -237,6 +242,13 @@ const Doc kColumns[] = {
      "odometry"},
     {"floor_tilt_deg", "its tilt from the first frame's (deg); nan without odometry"},
     {"relocalisation_failure", "while lost: why relocalisation found nothing this frame"},
+    {"loop_closure",
+     "`[loop_closure]`: on frames registered against the map made more than inactive_after_s "
+     "ago: agrees, candidate (waiting for confirmation), closed, refused (beyond the drift bound: "
+     "a false loop), unregistered: <why> (ICP against that part of the map failed); empty "
+     "otherwise"},
+    {"loop_correction_m", "the correction of the camera position that registration asked for (m)"},
+    {"loop_correction_deg", "and of its orientation (deg)"},
     {"seg_frame_segments", "segments of this frame's edge map (III)"},
     {"seg_matched", "of those, matched to a map segment"},
     {"seg_created", "new map segments"},
