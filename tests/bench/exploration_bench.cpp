@@ -13,6 +13,7 @@
 
 #include "rasm/core/FrameProcessing.h"
 #include "rasm/exploration/ExplorationPlanners.h"
+#include "rasm/exploration/ViewCandidates.h"
 #include "rasm/exploration/ViewPlanner.h"
 #include "rasm/fusion/SurfelFusion.h"
 #include "rasm/segmentation/SegmentTable.h"
@@ -178,6 +179,20 @@ int main() {
   });
   std::printf(",\"plan_160x120_ms\":%.1f,\"plan_candidates\":%zu,\"plan_pruned\":%zu", plan_ms,
               ranked, pruned);
+  // Of which the paths to every candidate (planPaths on the plan's grid).
+  {
+    const exploration::Plan plan = exploration::ViewPlanner(ep).plan(in);
+    std::vector<exploration::ViewCandidate> all = plan.ranked;
+    all.insert(all.end(), plan.unreachable.begin(), plan.unreachable.end());
+    std::size_t reachable = 0;
+    const double paths_ms = medianMs(3, [&] {
+      exploration::planPaths(plan.grid, in.robot_pose, ep, all);
+      reachable = std::size_t(std::count_if(all.begin(), all.end(),
+                                            [](const auto& v) { return v.reachable; }));
+    });
+    std::printf(",\"paths_ms\":%.1f,\"paths_candidates\":%zu,\"paths_reachable\":%zu",
+                paths_ms, all.size(), reachable);
+  }
   // The same plan on a thinned map ([exploration] predict_max_surfels) and with the coarse
   // screen (predict_screen_keep): its cost, and how far
   // its predictions are from the whole map's (Spearman rank correlation of the candidates'
