@@ -77,7 +77,8 @@ void LoopClosure::reset() {
   m_loops.clear();
 }
 
-LoopClosure::Edge LoopClosure::chainEdge(const Node& a, const Node& b) const {
+LoopClosure::Edge LoopClosure::chainEdge(const Node& a, const Node& b,
+                                         double weak_fraction) const {
   Edge e;
   e.from = m_nodes.size() - 1;
   e.to = m_nodes.size();
@@ -88,16 +89,21 @@ LoopClosure::Edge LoopClosure::chainEdge(const Node& a, const Node& b) const {
   e.sigma_rad = kDeg * std::max(m_params.chain_sigma_min_deg,
                                 std::hypot(m_params.chain_sigma_deg_per_deg * turned_deg,
                                            m_params.chain_sigma_deg_per_m * travelled_m));
+  const double weak = 1.0 + (m_params.chain_sigma_weak_factor - 1.0) *
+                                std::clamp(weak_fraction, 0.0, 1.0);
+  e.sigma_m *= weak;
+  e.sigma_rad *= weak;
   return e;
 }
 
-bool LoopClosure::addNode(double t_s, const Eigen::Isometry3d& T_world_cam, bool force) {
+bool LoopClosure::addNode(double t_s, const Eigen::Isometry3d& T_world_cam, bool force,
+                          double weak_fraction) {
   if (!m_nodes.empty()) {
     if (t_s < m_nodes.back().t_s) return false;
     if (!force && t_s - m_nodes.back().t_s < m_params.node_every_s) return false;
   }
   const Node n{t_s, T_world_cam};
-  if (!m_nodes.empty()) m_chain.push_back(chainEdge(m_nodes.back(), n));
+  if (!m_nodes.empty()) m_chain.push_back(chainEdge(m_nodes.back(), n, weak_fraction));
   m_nodes.push_back(n);
   return true;
 }
@@ -167,11 +173,12 @@ bool LoopClosure::sameCorrection(const LoopVerdict& a, const LoopVerdict& b,
 }
 
 TrajectoryCorrection LoopClosure::close(double t_now_s, const Eigen::Isometry3d& T_active,
-                                        const Eigen::Isometry3d& T_loop, double t_old_s) {
+                                        const Eigen::Isometry3d& T_loop, double t_old_s,
+                                        double weak_fraction) {
   TrajectoryCorrection out;
   if (m_nodes.size() < 2) return out;
   const std::size_t old = nodeNear(t_old_s);
-  addNode(std::max(t_now_s, m_nodes.back().t_s), T_active, true);
+  addNode(std::max(t_now_s, m_nodes.back().t_s), T_active, true, weak_fraction);
   const std::size_t cur = m_nodes.size() - 1;
   if (old >= cur) return out;
   Edge loop;

@@ -21,6 +21,7 @@ void TLoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
   MRPT_LOAD_CONFIG_VAR_CS(chain_sigma_m_per_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(chain_sigma_deg_per_deg, double);
   MRPT_LOAD_CONFIG_VAR_CS(chain_sigma_deg_per_m, double);
+  MRPT_LOAD_CONFIG_VAR_CS(chain_sigma_weak_factor, double);
   MRPT_LOAD_CONFIG_VAR_CS(chain_sigma_min_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(chain_sigma_min_deg, double);
   MRPT_LOAD_CONFIG_VAR_CS(loop_sigma_m, double);
@@ -47,6 +48,8 @@ void TLoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
       "chain edge sigma per degree turned");
   put(c, s, "chain_sigma_deg_per_m", chain_sigma_deg_per_m,
       "chain edge rotation sigma per metre travelled");
+  put(c, s, "chain_sigma_weak_factor", chain_sigma_weak_factor,
+      "chain sigmas times up to this where frames were degenerate or lost");
   put(c, s, "chain_sigma_min_m", chain_sigma_min_m, "chain edge translation sigma, at least (m)");
   put(c, s, "chain_sigma_min_deg", chain_sigma_min_deg, "chain edge rotation sigma, at least");
   put(c, s, "loop_sigma_m", loop_sigma_m, "loop constraint translation sigma (m)");
@@ -74,6 +77,7 @@ void TLoopClosureParams::validate(const std::string& s) const {
   requireInRange(chain_sigma_m_per_m, 1e-6, 10.0, s, "chain_sigma_m_per_m");
   requireInRange(chain_sigma_deg_per_deg, 1e-6, 10.0, s, "chain_sigma_deg_per_deg");
   requireInRange(chain_sigma_deg_per_m, 0.0, 90.0, s, "chain_sigma_deg_per_m");
+  requireInRange(chain_sigma_weak_factor, 1.0, 1e4, s, "chain_sigma_weak_factor");
   requireInRange(chain_sigma_min_m, 1e-6, 10.0, s, "chain_sigma_min_m");
   requireInRange(chain_sigma_min_deg, 1e-6, 90.0, s, "chain_sigma_min_deg");
   requireInRange(loop_sigma_m, 1e-6, 10.0, s, "loop_sigma_m");

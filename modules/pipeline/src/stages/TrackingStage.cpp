@@ -82,6 +82,8 @@ void TrackingStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
     if (m_loop_params.enabled && r.fusable()) checkLoop(ctx, map);
   }
   m_odometry.frameDone(r.tracked);
+  ++m_frames_since_node;
+  if (r.tracking.status != tracking::TrackingStatus::Ok || !r.tracked) ++m_weak_frames_since_node;
   m_T_prev_frame = r.T_world_cam;
   if (r.tracked)
     m_lost_since_s.reset();
@@ -475,15 +477,20 @@ double TrackingStage::medianInitTime(const maps::SurfelStore& store) const {
 
 void TrackingStage::closeLoop(FrameContext& ctx, maps::CSurfelMap& map) {
   const FrameResult& r = ctx.result;
+  const double weak = m_frames_since_node > 0
+                          ? double(m_weak_frames_since_node) / double(m_frames_since_node)
+                          : 0.0;
   if (!m_pending_loop) {
-    m_loop.addNode(ctx.frame->timestamp_s, r.T_world_cam);
+    if (m_loop.addNode(ctx.frame->timestamp_s, r.T_world_cam, false, weak))
+      m_frames_since_node = m_weak_frames_since_node = 0;
     return;
   }
+  m_frames_since_node = m_weak_frames_since_node = 0;
   const auto t = Clock::now();
   const PendingLoop p = *m_pending_loop;
   m_pending_loop.reset();
   const tracking::TrajectoryCorrection c =
-      m_loop.close(p.t_now_s, p.T_active, p.verdict.T_loop, p.t_old_s);
+      m_loop.close(p.t_now_s, p.T_active, p.verdict.T_loop, p.t_old_s, weak);
   if (c.empty()) return;
   const int moved = tracking::deformSurfels(map.store(), c);
   tracking::correctKeyframes(map.keyframes(), c);

@@ -84,8 +84,10 @@ class LoopClosure {
   void reset();
 
   /// Adds a node at a tracked frame when node_every_s passed since the last one, or `force`.
-  /// Times must not decrease. Returns whether a node was added.
-  bool addNode(double t_s, const Eigen::Isometry3d& T_world_cam, bool force = false);
+  /// Times must not decrease. `weak_fraction`: of the frames since the last node, those the data
+  /// did not hold in every direction (chain_sigma_weak_factor). Returns whether a node was added.
+  bool addNode(double t_s, const Eigen::Isometry3d& T_world_cam, bool force = false,
+               double weak_fraction = 0.0);
   std::size_t numNodes() const { return m_nodes.size(); }
   std::size_t numLoopEdges() const { return m_loops.size(); }
   double firstNodeTime() const { return m_nodes.empty() ? 0.0 : m_nodes.front().t_s; }
@@ -101,7 +103,8 @@ class LoopClosure {
   /// for T_loop, solves the graph and returns the correction of every node (the nodes take their
   /// new poses). Empty when the solve fails (nothing changed then).
   TrajectoryCorrection close(double t_now_s, const Eigen::Isometry3d& T_active,
-                             const Eigen::Isometry3d& T_loop, double t_old_s);
+                             const Eigen::Isometry3d& T_loop, double t_old_s,
+                             double weak_fraction = 0.0);
 
   /// Whether two verdicts ask for the same correction of the camera at T_world_cam: positions
   /// within min_correction_m plus a quarter of the larger correction, rotations likewise.
@@ -123,7 +126,7 @@ class LoopClosure {
     double sigma_m, sigma_rad;
   };
   std::size_t nodeNear(double t_s) const;
-  Edge chainEdge(const Node& a, const Node& b) const;
+  Edge chainEdge(const Node& a, const Node& b, double weak_fraction) const;
 
   TLoopClosureParams m_params;
   std::optional<Eigen::Vector3d> m_up;

@@ -25,6 +25,11 @@ struct TLoopClosureParams : public mrpt::config::CLoadableOptions {
   double chain_sigma_m_per_m = 0.02;
   double chain_sigma_deg_per_deg = 0.002;
   double chain_sigma_deg_per_m = 0.5;
+  /// The frames between two nodes that the data did not hold in every direction (degenerate:
+  /// those directions are the odometry's; lost: propagated) make the edge's sigmas up to this
+  /// many times larger (1 + (factor - 1) x their fraction): drift happens there, so a loop's
+  /// correction goes there.
+  double chain_sigma_weak_factor = 10.0;
   double chain_sigma_min_m = 0.001;
   double chain_sigma_min_deg = 0.05;
   /// Uncertainty of a loop constraint (the frame registered against the inactive map).

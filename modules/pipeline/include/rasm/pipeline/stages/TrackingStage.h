@@ -119,6 +119,8 @@ class TrackingStage : public MapperStage {
   /// raised to the loop's (judge() bounds the correction).
   tracking::IcpTracker m_loop_tracker;
   int m_frames_since_loop_check = 0;
+  /// Frames since the last graph node, and those of them not tracked Ok (degenerate or lost).
+  int m_frames_since_node = 0, m_weak_frames_since_node = 0;
   struct PendingLoop {
     tracking::LoopVerdict verdict;
     Eigen::Isometry3d T_active;
