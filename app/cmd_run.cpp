@@ -102,10 +102,14 @@ int runMain(const std::vector<std::string>& args) {
       overrides.push_back("source.max_frames=" + value("a number"));
     else if (a == "--map")
       overrides.push_back("mapper.load_map=" + value("a .surfelmap file"));
+    else if (a == "-q" || a == "--quiet")
+      overrides.push_back("output.log_level=warning");
+    else if (a == "-v" || a == "--verbose")
+      overrides.push_back("output.log_level=debug");
     else if (a == "-h" || a == "--help") {
       std::cout
           << "usage: rasm run [file.ini | FOLDER | FILE.rawlog] [--set section.key=value ...] "
-             "[--out DIR] [--force] [--max-frames N] [--map map.surfelmap]\n"
+             "[--out DIR] [--force] [--max-frames N] [--map map.surfelmap] [-q | -v]\n"
              "Without a file, runs the embedded default (the simulated office, ini/default.ini).\n"
              "A folder (TUM RGB-D, ICL-NUIM, 7-Scenes sequence) or a rawlog is mapped with the\n"
              "default's settings and its own camera ([source] type = auto, path = it).\n"
@@ -113,7 +117,9 @@ int runMain(const std::vector<std::string>& args) {
              "of an earlier rasm run (only the files it listed in DIR/.rasm-run.json are\n"
              "removed). A folder holding other files is refused; --force ([output] overwrite =\n"
              "true) writes beside them: they are left alone, only rasm's own file names are\n"
-             "replaced.\n";
+             "replaced.\n"
+             "-q / --quiet shows warnings and errors only, -v / --verbose every message\n"
+             "([output] log_level); DIR/run.log holds every message of the run, time-stamped.\n";
       return 0;
     } else if (!a.empty() && a[0] == '-')
       rasm::throwInputError("option '" + a + "'", "unknown (see rasm run --help)");

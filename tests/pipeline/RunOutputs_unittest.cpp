@@ -159,8 +159,16 @@ TEST_P(NoFrameSource, FailsWithTheReasonWritesReportAndNoMap) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(c.expect), std::string::npos) << e.what();
   }
-  // Only this run's config.ini and report.json, and the user's file (--force).
-  EXPECT_EQ(filesIn(out), (std::vector<std::string>{"config.ini", "notes.txt", "report.json"}));
+  // Only this run's config.ini, report.json and run.log, and the user's file (--force).
+  EXPECT_EQ(filesIn(out), (std::vector<std::string>{"config.ini", "notes.txt", "report.json",
+                                                    "run.log"}));
+  // run.log says where the run read from and why it failed.
+  std::ifstream log_file(out + "/run.log");
+  const std::string log_text((std::istreambuf_iterator<char>(log_file)),
+                             std::istreambuf_iterator<char>());
+  EXPECT_NE(log_text.find(" info rasm run: "), std::string::npos) << log_text;
+  EXPECT_NE(log_text.find(" debug rasm run: failed after 0 frames"), std::string::npos) << log_text;
+  EXPECT_NE(log_text.find(c.expect), std::string::npos) << log_text;
   fs::remove(out + "/notes.txt");
   const nlohmann::json rep = expectCompleteRunFolder(out);
   EXPECT_EQ(rep["status"], "failed");

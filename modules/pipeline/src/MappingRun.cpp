@@ -21,6 +21,8 @@
 #include <sstream>
 
 #include "rasm/core/Error.h"
+#include "rasm/core/Log.h"
+#include <optional>
 #include "rasm/core/Params.h"
 #include "rasm/core/Printable.h"
 #include "rasm/core/SE3.h"
@@ -351,8 +353,8 @@ OutputFolder MappingRun::prepareOutputFolder() const {
   OutputFolder out =
       OutputFolder::claim(m_output.dir, overwritePolicy(m_output.overwrite), removed);
   if (!removed.empty())
-    std::fprintf(stderr, "rasm run: removed the %zu files the earlier run listed in %s/%s\n",
-                 removed.size(), m_output.dir.c_str(), kRunMarkerName);
+    log::info("rasm run: removed the " + std::to_string(removed.size()) +
+              " files the earlier run listed in " + m_output.dir + "/" + kRunMarkerName);
   if (!m_output.write_ply) out.leaveOut({"map.ply", "map_segments.ply", "map_classes.ply"});
   out.announce("report.json");  // an aborting signal may write it from here on
   setAbortReport(out.path("report.json"));
@@ -932,6 +934,21 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
     return sum;
   }
   OutputFolder out = prepareOutputFolder();
+  // Every message of the run also goes to run.log in the folder; the console shows those from
+  // [output] log_level up (set for this run, restored after it).
+  struct ConsoleLevel {
+    log::Level before = log::consoleLevel();
+    ~ConsoleLevel() { log::setConsoleLevel(before); }
+  } console_level;
+  log::setConsoleLevel(log::parseLevel(m_output.log_level, "[output] log_level"));
+  std::optional<log::FileGuard> run_log;
+  out.announce("run.log");
+  try {
+    run_log.emplace(out.path("run.log"));
+    out.recordWritten("run.log");
+  } catch (const std::exception& e) {
+    log::warning(std::string(e.what()) + " (the run goes on without run.log)");
+  }
   try {
     out.writeText("config.ini", effectiveConfig());
   } catch (const std::exception& e) {
@@ -948,8 +965,8 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   // Frame rate and CPU time count the mapping (not a preload before it).
   acc.t_start = std::chrono::steady_clock::now();
   acc.cpu_start_s = processCpuSeconds();
-  std::fprintf(stderr, "rasm run: %s -> %s\n", escapeControlChars(described).c_str(),
-               escapeControlChars(m_output.dir).c_str());
+  log::info("rasm run: " + escapeControlChars(described) + " -> " +
+            escapeControlChars(m_output.dir));
 
   if (source && acc.output_error.empty()) frameLoop(*source, acc, out, on_frame);
   finishFrames(acc);
@@ -965,6 +982,10 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   sum.status = !acc.error.empty() || !acc.output_error.empty() ? "failed"
                : acc.interrupted_by != 0                       ? "interrupted"
                                                                : "ok";
+  log::debug("rasm run: " + sum.status + " after " + std::to_string(acc.processed) +
+             " frames, " + std::to_string(sum.lost) + " lost" +
+             (acc.error.empty() ? "" : ": " + acc.error) +
+             (acc.output_error.empty() ? "" : "; output: " + acc.output_error));
   nlohmann::json rep = reportJson(described, acc, sum);
   rep["files"] = out.written();
   sum.report = rep;

@@ -1,3 +1,4 @@
+#include "rasm/core/Log.h"
 #include "rasm/pipeline/OraclePlanner.h"
 
 #include <mrpt/math/wrap2pi.h>
@@ -67,11 +68,13 @@ OraclePlanner::OraclePlanner(const sim::SurfaceCoverage& coverage, const sim::Ra
   excludeCrampedViews();
   m_reached_target.assign(numTargets(), 0);
   m_precompute_ms = msSince(t0);
-  std::fprintf(stderr,
-               "oracle planner: %zu views (%zu free positions x %d headings), %zu targets for %zu "
-               "observable samples, reachable fraction %.4f, %.1f s\n",
-               m_poses.size(), m_positions.size(), m_headings, numTargets(),
-               coverage.observableSamples(), m_reachable_fraction, m_precompute_ms / 1000.0);
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "oracle planner: %zu views (%zu free positions x %d headings), %zu targets for %zu "
+                "observable samples, reachable fraction %.4f, %.1f s",
+                m_poses.size(), m_positions.size(), m_headings, numTargets(),
+                coverage.observableSamples(), m_reachable_fraction, m_precompute_ms / 1000.0);
+  log::info(text);
 }
 
 /// Targets: the observable samples, one per cube of `spacing_m` (0: each its own), the first

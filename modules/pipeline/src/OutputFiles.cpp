@@ -264,7 +264,7 @@ const std::vector<std::string>& OutputFolder::knownNames() {
       "exploration.json",     "exploration.png",      "annotated.rawlog",
       "plot_trajectory.png",  "plot_timing.png",
       "floorplan.png",        "floorplan.svg",        "classes_legend.png",
-      "plot_tracking.png"};
+      "plot_tracking.png",    "run.log"};
   return names;
 }
 

@@ -24,6 +24,9 @@ const Doc kFiles[] = {
      "every key of the effective configuration (defaults included); "
      "`rasm run config.ini` repeats the run"},
     {"report.json", "the run's summary, written last and always (below)"},
+    {"run.log",
+     "every message of the run, one per line: UTC time, level (debug, info, warning, error), "
+     "text; the console shows those from `[output] log_level` up (`rasm run -q` / `-v`)"},
     {"frames.csv", "one row per frame processed (below)"},
     {"trajectory.txt", "the estimated camera pose of every frame (below)"},
     {"groundtruth.txt", "the source's ground-truth poses, same format, when it has them"},

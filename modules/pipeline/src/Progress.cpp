@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "rasm/core/Log.h"
+
 namespace rasm::pipeline {
 
 Progress::Progress(std::string label, long long total, double period_s, std::FILE* out, int tty)
@@ -42,6 +44,8 @@ void Progress::print(long long done, const std::string& extra, bool last) const 
                  extra.c_str(), end);
   }
   std::fflush(m_out);
+  // A message printed while the line shows starts a line of its own (rasm/core/Log.h).
+  if (m_tty && m_out == stderr) log::setProgressLineActive(!last);
 }
 
 }  // namespace rasm::pipeline

@@ -1,3 +1,4 @@
+#include "rasm/core/Log.h"
 #include "rasm/pipeline/RobotDriver.h"
 
 #include <chrono>
@@ -50,7 +51,7 @@ void WallClockRobotDriver::run() {
       try {
         m_robot.stop();
       } catch (const std::exception& e2) {
-        std::fprintf(stderr, "navigation thread: stopping the robot: %s\n", e2.what());
+        log::error(std::string("navigation thread: stopping the robot: ") + e2.what());
       }
       break;
     }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "rasm/core/Error.h"
+#include "rasm/core/Log.h"
 #include "rasm/core/Params.h"
 #include "rasm/pipeline/RunFolder.h"
 
@@ -255,6 +256,8 @@ void TOutputParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(preview_png, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(floorplan, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(overwrite, string, c, s);
+  MRPT_LOAD_CONFIG_VAR(log_level, string, c, s);
+  (void)log::parseLevel(log_level, "[" + s + "] log_level");
   if (dir.empty()) throwInputError("[" + s + "] dir", "must not be empty");
   (void)overwritePolicy(overwrite);  // validates
 }
@@ -268,6 +271,7 @@ void TOutputParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(preview_png, c, s);
   MRPT_SAVE_CONFIG_VAR(floorplan, c, s);
   MRPT_SAVE_CONFIG_VAR(overwrite, c, s);
+  MRPT_SAVE_CONFIG_VAR(log_level, c, s);
 }
 
 }  // namespace rasm::pipeline

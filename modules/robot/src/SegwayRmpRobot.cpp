@@ -1,3 +1,4 @@
+#include "rasm/core/Log.h"
 #include "rasm/robot/SegwayRmpRobot.h"
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -126,7 +127,7 @@ SegwayRmpRobot::~SegwayRmpRobot() {
   try {
     shutdown();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: shutdown: %s\n", describe().c_str(), e.what());
+    log::error(describe() + ": shutdown: " + e.what());
   }
 }
 

@@ -1,3 +1,4 @@
+#include "rasm/core/Log.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
 
 #include "rasm/classification/ObjectVerdict.h"
@@ -53,7 +54,7 @@ void ClassificationStage::startWorkers(maps::CSurfelMap& map) {
   for (auto& d : m_extra_detectors) built.detectors.push_back(std::move(d));
   m_extra_detectors.clear();
   m_warnings = std::move(built.warnings);
-  for (const std::string& w : m_warnings) std::fprintf(stderr, "rasm: warning: %s\n", w.c_str());
+  for (const std::string& w : m_warnings) log::warning(w);
   for (auto& d : built.detectors) {
     m_class_ids.push_back(m_classes.registerDetector(*d));
     m_object_map.setDetectorClasses(int(m_workers.size()), m_class_ids.back());
@@ -109,8 +110,7 @@ void ClassificationStage::updateObjects() {
 
 void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p, maps::CSurfelMap& map) {
   if (r.failed) {  // the worker disabled the detector; said now and in report.json "detectors"
-    std::fprintf(stderr, "\nrasm: warning: %s (mapping goes on without it)\n",
-                 m_workers[std::size_t(r.worker)]->error().c_str());
+    log::warning(m_workers[std::size_t(r.worker)]->error() + " (mapping goes on without it)");
     return;
   }
   ++m_results;

@@ -1,3 +1,4 @@
+#include "rasm/core/Log.h"
 #include "rasm/pipeline/stages/TrackingStage.h"
 
 #include <algorithm>
@@ -115,11 +116,11 @@ void TrackingStage::initialise(FrameContext& ctx) {
       return;
     }
     if (m_frames_before_map > 0)
-      std::fprintf(stderr,
-                   "rasm: warning: the map starts at frame %zu: the %zu frame(s) before it had "
-                   "too little valid depth (fewer than %d valid pixels) and were skipped "
-                   "(report.json frames_before_map)\n",
-                   frame.index, m_frames_before_map, needed);
+      log::warning("the map starts at frame " + std::to_string(frame.index) + ": the " +
+                   std::to_string(m_frames_before_map) +
+                   " frame(s) before it had too little valid depth (fewer than " +
+                   std::to_string(needed) +
+                   " valid pixels) and were skipped (report.json frames_before_map)");
   }
   m_tracker.reset(T0);
   m_odometry.start(T0, frame.odometry_xyyaw);

@@ -162,6 +162,9 @@ struct TOutputParams : mrpt::config::CLoadableOptions {
   /// earlier run (only its files are removed), refuse one holding other files; true (rasm run
   /// --force) = also write beside other files (left alone); false = only an empty or new folder.
   std::string overwrite = "auto";
+  /// Messages shown on the console from this level up: debug, info, warning, error (`rasm run
+  /// -v` / `-q`: debug / warning). run.log in the folder holds every message whatever this says.
+  std::string log_level = "info";
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
