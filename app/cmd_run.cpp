@@ -102,6 +102,8 @@ int runMain(const std::vector<std::string>& args) {
       overrides.push_back("source.max_frames=" + value("a number"));
     else if (a == "--map")
       overrides.push_back("mapper.load_map=" + value("a .surfelmap file"));
+    else if (a == "--view")
+      overrides.push_back("view.enabled=true");
     else if (a == "-q" || a == "--quiet")
       overrides.push_back("output.log_level=warning");
     else if (a == "-v" || a == "--verbose")
@@ -109,7 +111,7 @@ int runMain(const std::vector<std::string>& args) {
     else if (a == "-h" || a == "--help") {
       std::cout
           << "usage: rasm run [file.ini | FOLDER | FILE.rawlog] [--set section.key=value ...] "
-             "[--out DIR] [--force] [--max-frames N] [--map map.surfelmap] [-q | -v]\n"
+             "[--out DIR] [--force] [--max-frames N] [--map map.surfelmap] [--view] [-q | -v]\n"
              "Without a file, runs the embedded default (the simulated office, ini/default.ini).\n"
              "A folder (TUM RGB-D, ICL-NUIM, 7-Scenes sequence) or a rawlog is mapped with the\n"
              "default's settings and its own camera ([source] type = auto, path = it).\n"
@@ -118,6 +120,8 @@ int runMain(const std::vector<std::string>& args) {
              "removed). A folder holding other files is refused; --force ([output] overwrite =\n"
              "true) writes beside them: they are left alone, only rasm's own file names are\n"
              "replaced.\n"
+             "--view ([view] enabled) opens a 3-D window that shows the map growing, the path and\n"
+             "the camera (keys: 1 colour, 2 segments, 3 classes, p paths); it needs a display.\n"
              "-q / --quiet shows warnings and errors only, -v / --verbose every message\n"
              "([output] log_level); DIR/run.log holds every message of the run, time-stamped.\n";
       return 0;

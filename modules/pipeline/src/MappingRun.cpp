@@ -98,7 +98,7 @@ void TCameraParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
 std::vector<std::string> MappingRun::knownSections() const {
   std::vector<std::string> known = {"source", "camera"};
   for (const std::string& s : m_mapper->sectionNames()) known.push_back(s);
-  known.insert(known.end(), {"navigation", "output", "sim", "openni2", "segway_rmp"});
+  known.insert(known.end(), {"navigation", "output", "view", "sim", "openni2", "segway_rmp"});
   return known;
 }
 
@@ -112,6 +112,8 @@ MappingRun::MappingRun(const RunConfig& config) : m_config(config) {
   loadParamsStrict(ini, "source", m_source, src);
   loadParamsStrict(ini, "camera", m_camera, src);
   loadParamsStrict(ini, "output", m_output, src);
+  loadParamsStrict(ini, "view", m_view, src);
+  if (m_view.enabled) LiveView::requireDisplay();
   loadParamsStrict(ini, "navigation", m_navigation, src);
   loadParamsStrict(ini, "openni2", m_openni2, src);
   loadParamsStrict(ini, "segway_rmp", m_segway, src);
@@ -160,6 +162,7 @@ std::string MappingRun::effectiveConfig() const {
   m_openni2.saveToConfigFile(mem, "openni2");
   m_segway.saveToConfigFile(mem, "segway_rmp");
   m_output.saveToConfigFile(mem, "output");
+  m_view.saveToConfigFile(mem, "view");
   std::string text;
   mem.getContent(text);
   return "; effective configuration of a rasm run (every key, defaults included), from " +
@@ -968,7 +971,18 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   log::info("rasm run: " + escapeControlChars(described) + " -> " +
             escapeControlChars(m_output.dir));
 
-  if (source && acc.output_error.empty()) frameLoop(*source, acc, out, on_frame);
+  std::unique_ptr<LiveView> view;
+  if (m_view.enabled) try {
+      view = std::make_unique<LiveView>(*m_mapper, m_view);
+    } catch (const std::exception& e) {  // a window that does not open does not stop the mapping
+      log::warning(std::string("the live view did not open: ") + e.what());
+    }
+  const std::function<void(const FrameResult&)> each_frame = [&](const FrameResult& r) {
+    if (view) view->addFrame(r, acc.last_K);  // recordFrame has set it
+    if (on_frame) on_frame(r);
+  };
+  if (source && acc.output_error.empty()) frameLoop(*source, acc, out, each_frame);
+  view.reset();  // its last snapshot (and screenshot) before the outputs
   finishFrames(acc);
   RunSummary sum = summarise(acc);
   // Outputs of the frames done (none without a frame: no map of nothing), report.json last.

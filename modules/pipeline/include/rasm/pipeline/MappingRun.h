@@ -34,6 +34,7 @@
 #include "rasm/pipeline/FloorPlan.h"
 #include "rasm/pipeline/Mapper.h"
 #include "rasm/pipeline/OutputFiles.h"
+#include "rasm/pipeline/LiveView.h"
 #include "rasm/pipeline/RunConfig.h"
 #include "rasm/robot/SegwayRmpRobot.h"
 
@@ -176,6 +177,7 @@ class MappingRun {
   TSourceParams m_source;
   TCameraParams m_camera;
   TOutputParams m_output;
+  TViewParams m_view;  ///< [view]: the live window (LiveView.h)
   std::string m_sim_ini;  ///< [sim] section text, handed to the simulator source
   navigation::TNavigationParams m_navigation;  ///< [navigation]: the exploring robot's navigator
   io::TOpenNI2Params m_openni2;                ///< [openni2]: the live camera ([source] openni2)
