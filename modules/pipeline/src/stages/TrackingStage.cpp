@@ -53,11 +53,9 @@ void TrackingStage::configure(const TMapperParams& mapper) {
   loop_icp.max_jump_translation_m =
       std::max(loop_icp.max_jump_translation_m, 2.0 * m_loop_params.max_correction_m + 0.2);
   // A registration that moves the map must be held by the data in every direction: never a
-  // degenerate one, and the directions as well constrained as the tracker requires before the
-  // data may overrule a prior (prior_min_eigenvalue): a corridor's weak direction slid 7.7 cm
-  // on generated room 3905 at the tracking threshold, twice in a row.
+  // degenerate one. (Raising min_eigenvalue to prior_min_eigenvalue left no registration at all
+  // on the world-frame panel: the features confirm instead, checkLoop.)
   loop_icp.degenerate_min_inlier_fraction = 2.0;
-  loop_icp.min_eigenvalue = std::max(loop_icp.min_eigenvalue, loop_icp.prior_min_eigenvalue);
   m_loop_tracker = tracking::IcpTracker(loop_icp);
 }
 
@@ -441,7 +439,12 @@ void TrackingStage::checkLoop(FrameContext& ctx, const maps::CSurfelMap& map) {
   r.loop_closure = verdict.name();
   r.loop_correction_m = verdict.correction_m;
   r.loop_correction_deg = verdict.correction_deg;
-  if (verdict.accepted()) {
+  std::string unconfirmed;
+  if (verdict.accepted() && lp.feature_confirmation &&
+      !featuresConfirm(ctx, map, v_in.T_world_cam, t_inactive, verdict, unconfirmed)) {
+    r.loop_closure = "unconfirmed: " + unconfirmed;
+    m_loop_candidate_checks = 0;
+  } else if (verdict.accepted()) {
     // Closed when confirmations consecutive checks ask for the same correction.
     const bool same = m_loop_candidate && m_loop_candidate_checks > 0 &&
                       ctx.frame->index <= m_loop_candidate->frame + 2 * std::size_t(lp.check_every_frames) &&
@@ -459,6 +462,39 @@ void TrackingStage::checkLoop(FrameContext& ctx, const maps::CSurfelMap& map) {
     if (verdict.kind == tracking::LoopVerdict::Kind::Refused) ++m_loops_refused;
   }
   recordMs(ctx, kLoopClosure, msSince(t));
+}
+
+bool TrackingStage::featuresConfirm(FrameContext& ctx, const maps::CSurfelMap& map,
+                                    const Eigen::Isometry3d& T_inactive, double t_inactive,
+                                    const tracking::LoopVerdict& verdict, std::string& why) {
+  // The frame's ORB features against the keyframes of the old map (RANSAC PnP, checked against
+  // the frame's depth: Relocaliser.h) give a pose the geometry did not: a registration that slid
+  // along a corridor's weak direction is not where the texture puts the camera.
+  std::vector<maps::Keyframe> old;
+  for (const maps::Keyframe& kf : map.keyframes())
+    if (kf.timestamp_s < t_inactive) old.push_back(kf);
+  if (old.empty()) {
+    why = "no keyframe of the old map";
+    return false;
+  }
+  const std::optional<tracking::RelocalisationResult> pnp = m_reloc.relocalise(*ctx.frame, old);
+  if (!pnp) {
+    why = "features: " + m_reloc.lastStats().reason;
+    return false;
+  }
+  const tracking::TLoopClosureParams& lp = m_loop_params;
+  const double d_m = (pnp->T_world_cam.translation() - T_inactive.translation()).norm();
+  const double d_deg =
+      Eigen::AngleAxisd(pnp->T_world_cam.linear() * T_inactive.linear().transpose()).angle() *
+      180.0 / M_PI;
+  if (d_m > std::max(lp.feature_agreement_m, 0.3 * verdict.correction_m) ||
+      d_deg > std::max(lp.feature_agreement_deg, 0.3 * verdict.correction_deg)) {
+    char text[96];
+    std::snprintf(text, sizeof text, "features put the camera %.3f m / %.2f deg away", d_m, d_deg);
+    why = text;
+    return false;
+  }
+  return true;
 }
 
 tracking::TrackingResult TrackingStage::registerForLoop(FrameContext& ctx,

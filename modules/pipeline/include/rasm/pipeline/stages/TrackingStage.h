@@ -84,6 +84,12 @@ class TrackingStage : public MapperStage {
   void closeLoop(FrameContext& ctx, maps::CSurfelMap& map);
   /// Median creation time (absolute s) of the surfels the last render drew (m_model.index).
   double medianInitTime(const maps::SurfelStore& store) const;
+  /// Whether the frame's features against the keyframes made before t_inactive (PnP) put the
+  /// camera where the registration against the inactive map did ([loop_closure]
+  /// feature_agreement_*); `why` says why not.
+  bool featuresConfirm(FrameContext& ctx, const maps::CSurfelMap& map,
+                       const Eigen::Isometry3d& T_inactive, double t_inactive,
+                       const tracking::LoopVerdict& verdict, std::string& why);
   /// The frame against a part of the map from T_track, without a prior.
   tracking::TrackingResult registerForLoop(FrameContext& ctx, const tracking::ModelMaps& model,
                                            const Eigen::Isometry3d& T_track);
