@@ -30,7 +30,7 @@ void TLoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
   MRPT_LOAD_CONFIG_VAR_CS(check_every_frames, int);
   MRPT_LOAD_CONFIG_VAR_CS(min_inactive_fraction, double);
   MRPT_LOAD_CONFIG_VAR_CS(confirmations, int);
-  MRPT_LOAD_CONFIG_VAR_CS(feature_confirmation, bool);
+  MRPT_LOAD_CONFIG_VAR_CS(confirmation, string);
   MRPT_LOAD_CONFIG_VAR_CS(feature_agreement_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(feature_agreement_deg, double);
   MRPT_LOAD_CONFIG_VAR_CS(min_correction_m, double);
@@ -65,8 +65,8 @@ void TLoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
       "... when it covers this fraction of the frame's valid pixels");
   put(c, s, "confirmations", confirmations,
       "consecutive checks that must ask for the same correction");
-  put(c, s, "feature_confirmation", feature_confirmation,
-      "the old map's keyframes (ORB + PnP) must put the camera there too");
+  put(c, s, "confirmation", confirmation,
+      "colour | features | none: what must put the camera there too");
   put(c, s, "feature_agreement_m", feature_agreement_m, "... within this (m) or 30% ...");
   put(c, s, "feature_agreement_deg", feature_agreement_deg, "... and this (deg) or 30%");
   put(c, s, "min_correction_m", min_correction_m, "smaller corrections are agreement (m) ...");
@@ -93,6 +93,9 @@ void TLoopClosureParams::validate(const std::string& s) const {
   requireInRange(check_every_frames, 1, 1e6, s, "check_every_frames");
   requireInRange(min_inactive_fraction, 0.0, 1.0, s, "min_inactive_fraction");
   requireInRange(confirmations, 1, 100, s, "confirmations");
+  if (confirmation != "colour" && confirmation != "features" && confirmation != "none")
+    throwInputError("[" + s + "] confirmation",
+                    "is '" + confirmation + "'; expected colour, features or none");
   requireInRange(feature_agreement_m, 0.0, 10.0, s, "feature_agreement_m");
   requireInRange(feature_agreement_deg, 0.0, 180.0, s, "feature_agreement_deg");
   requireInRange(min_correction_m, 0.0, 10.0, s, "min_correction_m");

@@ -410,7 +410,10 @@ void TrackingStage::checkLoop(FrameContext& ctx, const maps::CSurfelMap& map) {
   maps::RenderOptions filter;
   filter.created_before_s = t_inactive;
   FrameResult probe;
-  const tracking::ModelMaps inactive = renderModel(ctx, map, T_track, false, probe, false, &filter);
+  const bool by_colour = lp.confirmation == "colour" && !ctx.frame->colour.empty() &&
+                         m_tracking.photometric_weight_degenerate > 0;
+  const tracking::ModelMaps inactive =
+      renderModel(ctx, map, T_track, by_colour, probe, false, &filter);
   if (probe.model_valid_pixels < lp.min_inactive_fraction * frame_valid) {
     recordMs(ctx, kLoopClosure, msSince(t));
     return;
@@ -440,8 +443,12 @@ void TrackingStage::checkLoop(FrameContext& ctx, const maps::CSurfelMap& map) {
   r.loop_correction_m = verdict.correction_m;
   r.loop_correction_deg = verdict.correction_deg;
   std::string unconfirmed;
-  if (verdict.accepted() && lp.feature_confirmation &&
+  if (verdict.accepted() && lp.confirmation == "features" &&
       !featuresConfirm(ctx, map, v_in.T_world_cam, t_inactive, verdict, unconfirmed)) {
+    r.loop_closure = "unconfirmed: " + unconfirmed;
+    m_loop_candidate_checks = 0;
+  } else if (verdict.accepted() && lp.confirmation == "colour" &&
+             !colourConfirms(ctx, inactive, T_track, v_in.T_world_cam, verdict, unconfirmed)) {
     r.loop_closure = "unconfirmed: " + unconfirmed;
     m_loop_candidate_checks = 0;
   } else if (verdict.accepted()) {
@@ -464,6 +471,41 @@ void TrackingStage::checkLoop(FrameContext& ctx, const maps::CSurfelMap& map) {
   recordMs(ctx, kLoopClosure, msSince(t));
 }
 
+bool TrackingStage::colourConfirms(FrameContext& ctx, const tracking::ModelMaps& inactive,
+                                   const Eigen::Isometry3d& T_track,
+                                   const Eigen::Isometry3d& T_inactive,
+                                   const tracking::LoopVerdict& verdict, std::string& why) {
+  if (ctx.frame->colour.empty() || inactive.colour.empty() ||
+      m_tracking.photometric_weight_degenerate <= 0) {
+    why = "no colour";
+    return false;
+  }
+  m_loop_tracker.reset(T_track);
+  const tracking::TrackingResult v =
+      m_loop_tracker.align(ctx.pyramid, inactive, T_track, ctx.frame->colour.cview(), nullptr,
+                           m_tracking.photometric_weight_degenerate);
+  if (!v.ok) {
+    why = std::string("colour: ") + tracking::toString(v.status);
+    return false;
+  }
+  return posesAgree(v.T_world_cam, T_inactive, verdict, "colour", why);
+}
+
+bool TrackingStage::posesAgree(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
+                               const tracking::LoopVerdict& verdict, const char* what,
+                               std::string& why) const {
+  const tracking::TLoopClosureParams& lp = m_loop_params;
+  const double d_m = (a.translation() - b.translation()).norm();
+  const double d_deg = Eigen::AngleAxisd(a.linear() * b.linear().transpose()).angle() * 180.0 / M_PI;
+  if (d_m <= std::max(lp.feature_agreement_m, 0.3 * verdict.correction_m) &&
+      d_deg <= std::max(lp.feature_agreement_deg, 0.3 * verdict.correction_deg))
+    return true;
+  char text[112];
+  std::snprintf(text, sizeof text, "%s puts the camera %.3f m / %.2f deg away", what, d_m, d_deg);
+  why = text;
+  return false;
+}
+
 bool TrackingStage::featuresConfirm(FrameContext& ctx, const maps::CSurfelMap& map,
                                     const Eigen::Isometry3d& T_inactive, double t_inactive,
                                     const tracking::LoopVerdict& verdict, std::string& why) {
@@ -482,19 +524,7 @@ bool TrackingStage::featuresConfirm(FrameContext& ctx, const maps::CSurfelMap& m
     why = "features: " + m_reloc.lastStats().reason;
     return false;
   }
-  const tracking::TLoopClosureParams& lp = m_loop_params;
-  const double d_m = (pnp->T_world_cam.translation() - T_inactive.translation()).norm();
-  const double d_deg =
-      Eigen::AngleAxisd(pnp->T_world_cam.linear() * T_inactive.linear().transpose()).angle() *
-      180.0 / M_PI;
-  if (d_m > std::max(lp.feature_agreement_m, 0.3 * verdict.correction_m) ||
-      d_deg > std::max(lp.feature_agreement_deg, 0.3 * verdict.correction_deg)) {
-    char text[96];
-    std::snprintf(text, sizeof text, "features put the camera %.3f m / %.2f deg away", d_m, d_deg);
-    why = text;
-    return false;
-  }
-  return true;
+  return posesAgree(pnp->T_world_cam, T_inactive, verdict, "features", why);
 }
 
 tracking::TrackingResult TrackingStage::registerForLoop(FrameContext& ctx,

@@ -49,11 +49,15 @@ struct TLoopClosureParams : public mrpt::config::CLoadableOptions {
   /// same correction (within min_correction_* plus a quarter of it): one registration that slid
   /// along a weak direction does not move the map.
   int confirmations = 2;
-  /// An accepted correction must also be where the frame's ORB features against the keyframes
-  /// of the old map (PnP, Relocaliser) put the camera: within feature_agreement_m or 30% of the
-  /// correction, and feature_agreement_deg or 30% of it. ICP against a corridor slid 7.7 cm along
-  /// its weak direction, twice, on generated room 3905; texture does not slide with it.
-  bool feature_confirmation = true;
+  /// What must confirm an accepted correction, within feature_agreement_m or 30% of the
+  /// correction and feature_agreement_deg or 30% of it (ICP against a corridor slid 7.7 cm along
+  /// its weak direction, twice, on generated room 3905; texture does not slide with it):
+  ///   colour:   the registration against the inactive map with its colour (joint ICP + RGB at
+  ///             [tracking] photometric_weight_degenerate, as ElasticFusion registers its
+  ///             models) gives the same pose as the geometric one;
+  ///   features: the frame's ORB features against the old map's keyframes (PnP, Relocaliser);
+  ///   none.
+  std::string confirmation = "colour";
   double feature_agreement_m = 0.03;
   double feature_agreement_deg = 1.5;
   /// Corrections below both of these are agreement: nothing to close.

@@ -90,6 +90,14 @@ class TrackingStage : public MapperStage {
   bool featuresConfirm(FrameContext& ctx, const maps::CSurfelMap& map,
                        const Eigen::Isometry3d& T_inactive, double t_inactive,
                        const tracking::LoopVerdict& verdict, std::string& why);
+  /// Whether the registration against the inactive map with its colour (joint ICP + RGB)
+  /// agrees with the geometric one, T_inactive.
+  bool colourConfirms(FrameContext& ctx, const tracking::ModelMaps& inactive,
+                      const Eigen::Isometry3d& T_track, const Eigen::Isometry3d& T_inactive,
+                      const tracking::LoopVerdict& verdict, std::string& why);
+  /// Within feature_agreement_* or 30% of the verdict's correction; `why` names `what` if not.
+  bool posesAgree(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
+                  const tracking::LoopVerdict& verdict, const char* what, std::string& why) const;
   /// The frame against a part of the map from T_track, without a prior.
   tracking::TrackingResult registerForLoop(FrameContext& ctx, const tracking::ModelMaps& model,
                                            const Eigen::Isometry3d& T_track);
