@@ -49,10 +49,9 @@ struct SquareLoop {
         Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
         step.translation() = Eigen::Vector3d(step_m, 0, 0);
         Eigen::Isometry3d drift = Eigen::Isometry3d::Identity();
-        drift.linear() =
-            Eigen::AngleAxisd((drifts ? drift_deg_per_m : 0.0) * step_m * kDeg,
-                              Eigen::Vector3d::UnitZ())
-                .toRotationMatrix();
+        drift.linear() = Eigen::AngleAxisd((drifts ? drift_deg_per_m : 0.0) * step_m * kDeg,
+                                           Eigen::Vector3d::UnitZ())
+                             .toRotationMatrix();
         T_true = T_true * step;
         T_est = T_est * step * drift;
         push();
@@ -70,7 +69,8 @@ struct SquareLoop {
 
 /// One surfel 1.5 m to the robot's left at each node (a wall along the path), fused where the
 /// estimate put it: the map drifts with the trajectory.
-maps::SurfelStore wallSeenAlongTheLoop(const SquareLoop& loop, std::vector<Eigen::Vector3d>& truth) {
+maps::SurfelStore wallSeenAlongTheLoop(const SquareLoop& loop,
+                                       std::vector<Eigen::Vector3d>& truth) {
   maps::SurfelStore store;
   for (std::size_t k = 0; k < loop.size(); ++k) {
     const Eigen::Vector3d p_cam(0.3, 1.5, 0.2);
@@ -102,7 +102,8 @@ TEST(LoopClosure, ADriftedLoopIsClosedAndItsSurfelsMoveOntoTheWorld) {
   // Back at the start, the frame registered against the inactive map (the first pass, made
   // at the start where the estimate was right) gives the true pose.
   const std::size_t last = loop.size() - 1;
-  const double before_m = (loop.estimate[last].translation() - loop.truth[last].translation()).norm();
+  const double before_m =
+      (loop.estimate[last].translation() - loop.truth[last].translation()).norm();
   ASSERT_GT(before_m, 0.3);
   const LoopVerdict v = lc.judge(loop.estimate[last], loop.truth[last], 0.0, loop.t_s[last]);
   ASSERT_TRUE(v.accepted()) << v.name() << " " << v.correction_m << " m, bound " << v.bound_m;
@@ -126,8 +127,8 @@ TEST(LoopClosure, ADriftedLoopIsClosedAndItsSurfelsMoveOntoTheWorld) {
     const double e = (s.position.cast<double>() - truth[i]).norm();
     max_after = std::max(max_after, e);
     sq_after += e * e;
-    sq_before += (loop.estimate[std::size_t(i)] * Eigen::Vector3d(0.3, 1.5, 0.2) - truth[i])
-                     .squaredNorm();
+    sq_before +=
+        (loop.estimate[std::size_t(i)] * Eigen::Vector3d(0.3, 1.5, 0.2) - truth[i]).squaredNorm();
     EXPECT_NEAR(s.position.z(), truth[i].z(), 1e-4) << "surfel " << i;
     EXPECT_NEAR(s.normal.norm(), 1.0f, 1e-5);
     if (i == 0 || i + 1 == store.size()) {

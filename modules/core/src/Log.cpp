@@ -27,10 +27,8 @@ State& state() {
 std::string utcNow() {
   const auto now = std::chrono::system_clock::now();
   const std::time_t t = std::chrono::system_clock::to_time_t(now);
-  const long ms = long(std::chrono::duration_cast<std::chrono::milliseconds>(
-                           now.time_since_epoch())
-                           .count() %
-                       1000);
+  const long ms = long(
+      std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count() % 1000);
   std::tm tm{};
   gmtime_r(&t, &tm);
   char buf[40];
@@ -79,7 +77,8 @@ void setConsoleStream(std::FILE* stream) {
 
 void attachFile(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "a");
-  if (!f) throwInputError("log file " + path, std::string("cannot be opened: ") + std::strerror(errno));
+  if (!f)
+    throwInputError("log file " + path, std::string("cannot be opened: ") + std::strerror(errno));
   std::lock_guard<std::mutex> lock(state().mutex);
   if (state().file) std::fclose(state().file);
   state().file = f;
@@ -105,9 +104,10 @@ void message(Level level, const std::string& text) {
   State& s = state();
   std::lock_guard<std::mutex> lock(s.mutex);
   if (level >= s.console_level) {
-    const char* prefix = level == Level::Info ? "" : level == Level::Debug ? "rasm: debug: "
-                                                  : level == Level::Warning ? "rasm: warning: "
-                                                                            : "rasm: error: ";
+    const char* prefix = level == Level::Info      ? ""
+                         : level == Level::Debug   ? "rasm: debug: "
+                         : level == Level::Warning ? "rasm: warning: "
+                                                   : "rasm: error: ";
     std::fprintf(s.console, "%s%s%s\n", s.progress_line ? "\n" : "", prefix, text.c_str());
     std::fflush(s.console);
     s.progress_line = false;

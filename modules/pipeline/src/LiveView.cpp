@@ -27,8 +27,7 @@ maps::SurfelColouring colouringOf(const std::string& name) {
 
 }  // namespace
 
-void TViewParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
-                                     const std::string& s) {
+void TViewParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
   MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(period_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_points, int, c, s);
@@ -143,8 +142,7 @@ void LiveView::drawOnce(bool first) {
   mrpt::gui::CDisplayWindow3D& win = m_window->win;
   if (first) {
     const mrpt::opengl::CCamera cam = scene->getViewport("main")->getCamera();
-    win.setCameraPointingToPoint(cam.getPointingAtX(), cam.getPointingAtY(),
-                                 cam.getPointingAtZ());
+    win.setCameraPointingToPoint(cam.getPointingAtX(), cam.getPointingAtY(), cam.getPointingAtZ());
     win.setCameraZoom(cam.getZoomDistance());
     win.setCameraAzimuthDeg(cam.getAzimuthDegrees());
     win.setCameraElevationDeg(cam.getElevationDegrees());

@@ -77,20 +77,19 @@ void LoopClosure::reset() {
   m_loops.clear();
 }
 
-LoopClosure::Edge LoopClosure::chainEdge(const Node& a, const Node& b,
-                                         double weak_fraction) const {
+LoopClosure::Edge LoopClosure::chainEdge(const Node& a, const Node& b, double weak_fraction) const {
   Edge e;
   e.from = m_nodes.size() - 1;
   e.to = m_nodes.size();
   e.Z = a.T.inverse() * b.T;
-  e.sigma_m = std::max(m_params.chain_sigma_min_m,
-                       m_params.chain_sigma_m_per_m * e.Z.translation().norm());
+  e.sigma_m =
+      std::max(m_params.chain_sigma_min_m, m_params.chain_sigma_m_per_m * e.Z.translation().norm());
   const double turned_deg = angleOf(e.Z.linear()) / kDeg, travelled_m = e.Z.translation().norm();
   e.sigma_rad = kDeg * std::max(m_params.chain_sigma_min_deg,
                                 std::hypot(m_params.chain_sigma_deg_per_deg * turned_deg,
                                            m_params.chain_sigma_deg_per_m * travelled_m));
-  const double weak = 1.0 + (m_params.chain_sigma_weak_factor - 1.0) *
-                                std::clamp(weak_fraction, 0.0, 1.0);
+  const double weak =
+      1.0 + (m_params.chain_sigma_weak_factor - 1.0) * std::clamp(weak_fraction, 0.0, 1.0);
   e.sigma_m *= weak;
   e.sigma_rad *= weak;
   return e;

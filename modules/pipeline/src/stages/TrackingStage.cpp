@@ -1,5 +1,5 @@
-#include "rasm/core/Log.h"
 #include "rasm/pipeline/stages/TrackingStage.h"
+#include "rasm/core/Log.h"
 
 #include <algorithm>
 #include <chrono>
@@ -164,11 +164,10 @@ void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
   // the model's colour is rendered only for that retry.
   const bool colour_retry =
       !prior && m_tracking.photometric_weight_degenerate > 0 && !frame.colour.empty();
-  const tracking::ModelMaps model =
-      renderModel(ctx, map,
-                  prior || m_tracker.extrapolatingThroughLoss() ? m_T_prev_frame
-                                                                : m_tracker.lastGoodPose(),
-                  photometric, r);
+  const tracking::ModelMaps model = renderModel(
+      ctx, map,
+      prior || m_tracker.extrapolatingThroughLoss() ? m_T_prev_frame : m_tracker.lastGoodPose(),
+      photometric, r);
   recordMs(ctx, kRenderModel, msSince(t));
 
   t = Clock::now();
@@ -422,8 +421,8 @@ void TrackingStage::checkLoop(FrameContext& ctx, const maps::CSurfelMap& map) {
   const double t_old = medianInitTime(map.store());
   const tracking::TrackingResult v_in = registerForLoop(ctx, inactive, T_track);
   if (!v_in.ok || v_in.check_overlap < m_tracking.check_min_overlap) {
-    r.loop_closure = std::string("unregistered: ") +
-                     (v_in.ok ? "overlap" : tracking::toString(v_in.status));
+    r.loop_closure =
+        std::string("unregistered: ") + (v_in.ok ? "overlap" : tracking::toString(v_in.status));
     m_loop_candidate_checks = 0;  // confirmations are consecutive checks
     recordMs(ctx, kLoopClosure, msSince(t));
     return;
@@ -453,9 +452,10 @@ void TrackingStage::checkLoop(FrameContext& ctx, const maps::CSurfelMap& map) {
     m_loop_candidate_checks = 0;
   } else if (verdict.accepted()) {
     // Closed when confirmations consecutive checks ask for the same correction.
-    const bool same = m_loop_candidate && m_loop_candidate_checks > 0 &&
-                      ctx.frame->index <= m_loop_candidate->frame + 2 * std::size_t(lp.check_every_frames) &&
-                      m_loop.sameCorrection(m_loop_candidate->verdict, verdict, T_track);
+    const bool same =
+        m_loop_candidate && m_loop_candidate_checks > 0 &&
+        ctx.frame->index <= m_loop_candidate->frame + 2 * std::size_t(lp.check_every_frames) &&
+        m_loop.sameCorrection(m_loop_candidate->verdict, verdict, T_track);
     m_loop_candidate_checks = same ? m_loop_candidate_checks + 1 : 1;
     m_loop_candidate = LoopCandidate{verdict, ctx.frame->index};
     if (m_loop_candidate_checks >= lp.confirmations) {
@@ -496,7 +496,8 @@ bool TrackingStage::posesAgree(const Eigen::Isometry3d& a, const Eigen::Isometry
                                std::string& why) const {
   const tracking::TLoopClosureParams& lp = m_loop_params;
   const double d_m = (a.translation() - b.translation()).norm();
-  const double d_deg = Eigen::AngleAxisd(a.linear() * b.linear().transpose()).angle() * 180.0 / M_PI;
+  const double d_deg =
+      Eigen::AngleAxisd(a.linear() * b.linear().transpose()).angle() * 180.0 / M_PI;
   if (d_m <= std::max(lp.feature_agreement_m, 0.3 * verdict.correction_m) &&
       d_deg <= std::max(lp.feature_agreement_deg, 0.3 * verdict.correction_deg))
     return true;
@@ -589,13 +590,29 @@ void TrackingStage::closeLoop(FrameContext& ctx, maps::CSurfelMap& map) {
 }
 
 void TrackingStage::csvColumns(std::vector<std::string>& c) const {
-  c.insert(c.end(),
-           {"status", "inliers", "inlier_fraction", "rms_m", "model_pixels", "model_all_surfels",
-            "icp_iterations", "icp_iterations_level0", "pose_source", "check_overlap",
-            "check_agreement", "check_behind", "used_prior", "on_motion_model", "prior_sigmas",
-            "odometry_sigmas", "heading_drift_sigmas", "floor_height_m", "floor_tilt_deg",
-            "relocalisation_failure", "loop_closure", "loop_correction_m",
-            "loop_correction_deg"});
+  c.insert(c.end(), {"status",
+                     "inliers",
+                     "inlier_fraction",
+                     "rms_m",
+                     "model_pixels",
+                     "model_all_surfels",
+                     "icp_iterations",
+                     "icp_iterations_level0",
+                     "pose_source",
+                     "check_overlap",
+                     "check_agreement",
+                     "check_behind",
+                     "used_prior",
+                     "on_motion_model",
+                     "prior_sigmas",
+                     "odometry_sigmas",
+                     "heading_drift_sigmas",
+                     "floor_height_m",
+                     "floor_tilt_deg",
+                     "relocalisation_failure",
+                     "loop_closure",
+                     "loop_correction_m",
+                     "loop_correction_deg"});
 }
 
 void TrackingStage::csvValues(const FrameContext& ctx, CsvRow& row) const {

@@ -36,10 +36,18 @@ bool fileAttached();
 void setProgressLineActive(bool active);
 
 void message(Level level, const std::string& text);
-inline void debug(const std::string& text) { message(Level::Debug, text); }
-inline void info(const std::string& text) { message(Level::Info, text); }
-inline void warning(const std::string& text) { message(Level::Warning, text); }
-inline void error(const std::string& text) { message(Level::Error, text); }
+inline void debug(const std::string& text) {
+  message(Level::Debug, text);
+}
+inline void info(const std::string& text) {
+  message(Level::Info, text);
+}
+inline void warning(const std::string& text) {
+  message(Level::Warning, text);
+}
+inline void error(const std::string& text) {
+  message(Level::Error, text);
+}
 
 /// Attaches `path` for the lifetime of the guard (detached by the destructor).
 class FileGuard {

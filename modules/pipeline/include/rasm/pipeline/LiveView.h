@@ -27,9 +27,9 @@ class Mapper;
 
 /// [view]
 struct TViewParams : mrpt::config::CLoadableOptions {
-  bool enabled = false;      ///< open the live window (rasm run --view)
-  double period_s = 0.5;     ///< a new snapshot this often (s)
-  int max_points = 300000;   ///< surfels drawn at most (every k-th beyond)
+  bool enabled = false;              ///< open the live window (rasm run --view)
+  double period_s = 0.5;             ///< a new snapshot this often (s)
+  int max_points = 300000;           ///< surfels drawn at most (every k-th beyond)
   std::string colouring = "colour";  ///< colour | segments | classes (keys 1-3 switch it)
   int width = 1024, height = 768;    ///< window size (pixels)
 
