@@ -248,8 +248,8 @@ const Doc kColumns[] = {
     {"loop_closure",
      "`[loop_closure]`: on frames registered against the map made more than inactive_after_s "
      "ago: agrees, candidate (waiting for confirmation), closed, refused (beyond the drift bound: "
-     "a false loop), unregistered: <why> (ICP against that part of the map failed); empty "
-     "otherwise"},
+     "a false loop), unconfirmed: <why> (the colour or the features put the camera elsewhere), "
+     "unregistered: <why> (ICP against that part of the map failed); empty otherwise"},
     {"loop_correction_m", "the correction of the camera position that registration asked for (m)"},
     {"loop_correction_deg", "and of its orientation (deg)"},
     {"seg_frame_segments", "segments of this frame's edge map (III)"},

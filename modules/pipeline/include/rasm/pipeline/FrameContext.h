@@ -50,7 +50,8 @@ struct FrameResult {
   double floor_height_m = std::numeric_limits<double>::quiet_NaN();
   double floor_tilt_deg = std::numeric_limits<double>::quiet_NaN();
   /// Loop closure (LoopClosure.h), on the frames registered against the inactive map: "agrees",
-  /// "refused" (beyond the drift bound), "closed", "unregistered" (ICP against the inactive map
+  /// "candidate", "refused" (beyond the drift bound), "closed", "unconfirmed: <why>",
+  /// "unregistered: <why>" (ICP against the inactive map
   /// failed); empty when not checked. The correction asked for, where the camera is.
   std::string loop_closure;
   double loop_correction_m = 0.0, loop_correction_deg = 0.0;
