@@ -77,7 +77,8 @@ LiveView::~LiveView() {
   m_stop = true;
   if (m_thread.joinable()) m_thread.join();
   try {
-    drawOnce(m_updates == 0);  // the map as the run left it
+    // The map as the run left it, unless the user closed the window.
+    if (m_window->win.isOpen()) drawOnce(m_updates == 0);
   } catch (const std::exception& e) {
     log::warning(std::string("live view: ") + e.what());
   }
