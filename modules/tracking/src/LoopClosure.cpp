@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "rasm/compute/Parallel.h"
+#include "rasm/core/SE3.h"
 
 namespace rasm::tracking {
 
@@ -18,21 +19,6 @@ constexpr double kDeg = M_PI / 180.0;
 
 double angleOf(const Eigen::Matrix3d& R) {
   return Eigen::AngleAxisd(R).angle();
-}
-
-mrpt::poses::CPose3D toMrpt(const Eigen::Isometry3d& T) {
-  mrpt::math::CMatrixDouble44 m;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) m(r, c) = T.matrix()(r, c);
-  return mrpt::poses::CPose3D(m);
-}
-
-Eigen::Isometry3d fromMrpt(const mrpt::poses::CPose3D& p) {
-  const auto m = p.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) T.matrix()(r, c) = m(r, c);
-  return T;
 }
 
 }  // namespace
@@ -165,8 +151,8 @@ LoopVerdict LoopClosure::judge(const Eigen::Isometry3d& T_active,
 bool LoopClosure::sameCorrection(const LoopVerdict& a, const LoopVerdict& b,
                                  const Eigen::Isometry3d& T_world_cam) const {
   const Eigen::Isometry3d Ta = a.correction * T_world_cam, Tb = b.correction * T_world_cam;
-  const double d_m = (Ta.translation() - Tb.translation()).norm();
-  const double d_deg = angleOf(Ta.linear() * Tb.linear().transpose()) / kDeg;
+  const double d_m = translationDistance(Ta, Tb);
+  const double d_deg = rotationAngle(Ta, Tb) / kDeg;
   return d_m <= m_params.min_correction_m + 0.25 * std::max(a.correction_m, b.correction_m) &&
          d_deg <= m_params.min_correction_deg + 0.25 * std::max(a.correction_deg, b.correction_deg);
 }
@@ -190,13 +176,13 @@ TrajectoryCorrection LoopClosure::close(double t_now_s, const Eigen::Isometry3d&
   using Graph = mrpt::graphs::CNetworkOfPoses3DInf;
   Graph g;
   g.root = 0;
-  for (std::size_t k = 0; k < m_nodes.size(); ++k) g.nodes[k] = toMrpt(m_nodes[k].T);
+  for (std::size_t k = 0; k < m_nodes.size(); ++k) g.nodes[k] = toCPose3D(m_nodes[k].T);
   const auto insert = [&](const Edge& e) {
     mrpt::math::CMatrixDouble66 info;
     info.setZero();
     for (int i = 0; i < 3; ++i) info(i, i) = 1.0 / (e.sigma_m * e.sigma_m);
     for (int i = 3; i < 6; ++i) info(i, i) = 1.0 / (e.sigma_rad * e.sigma_rad);
-    g.insertEdge(e.from, e.to, mrpt::poses::CPose3DPDFGaussianInf(toMrpt(e.Z), info));
+    g.insertEdge(e.from, e.to, mrpt::poses::CPose3DPDFGaussianInf(toCPose3D(e.Z), info));
   };
   for (const Edge& e : m_chain) insert(e);
   for (const Edge& e : m_loops) insert(e);
@@ -214,7 +200,7 @@ TrajectoryCorrection LoopClosure::close(double t_now_s, const Eigen::Isometry3d&
   m_loops.push_back(loop);
   out.t_s.reserve(m_nodes.size());
   for (std::size_t k = 0; k < m_nodes.size(); ++k) {
-    const Eigen::Isometry3d T_new = fromMrpt(g.nodes.at(k));
+    const Eigen::Isometry3d T_new = fromCPose3D(g.nodes.at(k));
     // The correction moves what was made at node k with it; with an up axis, about it only.
     const Eigen::Isometry3d C = constrain(T_new * m_nodes[k].T.inverse());
     m_nodes[k].T = C * m_nodes[k].T;

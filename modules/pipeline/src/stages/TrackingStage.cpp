@@ -1,5 +1,4 @@
 #include "rasm/pipeline/stages/TrackingStage.h"
-#include "rasm/core/Log.h"
 
 #include <algorithm>
 #include <chrono>
@@ -7,6 +6,8 @@
 
 #include "rasm/compute/Parallel.h"
 #include "rasm/core/Error.h"
+#include "rasm/core/Log.h"
+#include "rasm/core/SE3.h"
 #include "rasm/core/Timing.h"
 #include "rasm/core/kernels/FrameKernels.h"
 #include "rasm/io/TrajectoryEvaluator.h"
@@ -495,9 +496,8 @@ bool TrackingStage::posesAgree(const Eigen::Isometry3d& a, const Eigen::Isometry
                                const tracking::LoopVerdict& verdict, const char* what,
                                std::string& why) const {
   const tracking::TLoopClosureParams& lp = m_loop_params;
-  const double d_m = (a.translation() - b.translation()).norm();
-  const double d_deg =
-      Eigen::AngleAxisd(a.linear() * b.linear().transpose()).angle() * 180.0 / M_PI;
+  const double d_m = translationDistance(a, b);
+  const double d_deg = rotationAngle(a, b) * 180.0 / M_PI;
   if (d_m <= std::max(lp.feature_agreement_m, 0.3 * verdict.correction_m) &&
       d_deg <= std::max(lp.feature_agreement_deg, 0.3 * verdict.correction_deg))
     return true;
