@@ -14,43 +14,59 @@ namespace rasm::exploration {
 
 namespace {
 
-/// The free and occupied keys of rays from `origin` to the points of `scan`, as OctoMap's
+/// Where castRays puts its keys: the free and occupied key sets of OctoMap's computeUpdate (the
+/// tree's insertion: every key, in or out of the workspace).
+struct KeySetCells {
+  octomap::KeySet free, occupied, endpoints, endpoints_beyond;
+  bool firstEndpoint(const octomap::OcTreeKey& k, bool beyond) {
+    return (beyond ? endpoints_beyond : endpoints).insert(k).second;
+  }
+  void addFree(const octomap::KeyRay& ray) { free.insert(ray.begin(), ray.end()); }
+  void addOccupied(const octomap::OcTreeKey& k) { occupied.insert(k); }
+  /// Occupied wins over free.
+  void finish() {
+    for (auto it = free.begin(); it != free.end();)
+      it = occupied.count(*it) ? free.erase(it) : std::next(it);
+  }
+};
+
+/// Rays from `origin` to the points of `scan` into `cells`, as OctoMap's
 /// OccupancyOcTreeBase::computeUpdate without a bounding box (a ray longer than max_range_m frees
-/// its first max_range_m only; occupied wins over free), in the same order, with a KeyRay of the
-/// caller's: OctoMap's own keeps one ray buffer in the tree, so two threads casting through one
-/// tree (the planner's candidates, ViewPlanner.cpp) would share it.
+/// its first max_range_m only, and `no_endpoint` rays free space and mark nothing occupied), with
+/// a KeyRay of the caller's: OctoMap's own keeps one ray buffer in the tree, so two threads
+/// casting through one tree (the planner's candidates, ViewPlanner.cpp) would share it.
+template <typename Cells>
 void castRays(const octomap::OcTree& tree, const octomap::Pointcloud& scan,
-              const octomap::point3d& origin, double max_range_m, octomap::KeySet& free_keys,
-              octomap::KeySet& occupied_keys) {
+              const octomap::point3d& origin, double max_range_m, bool no_endpoint,
+              Cells& cells) {
   octomap::KeyRay ray;
   for (std::size_t i = 0; i < scan.size(); ++i) {
     const octomap::point3d& p = scan[i];
     if (max_range_m < 0.0 || (p - origin).norm() <= max_range_m) {
-      if (tree.computeRayKeys(origin, p, ray)) free_keys.insert(ray.begin(), ray.end());
+      if (tree.computeRayKeys(origin, p, ray)) cells.addFree(ray);
       octomap::OcTreeKey key;
-      if (tree.coordToKeyChecked(p, key)) occupied_keys.insert(key);
+      if (!no_endpoint && tree.coordToKeyChecked(p, key)) cells.addOccupied(key);
     } else {
       const octomap::point3d end = origin + (p - origin).normalized() * float(max_range_m);
-      if (tree.computeRayKeys(origin, end, ray)) free_keys.insert(ray.begin(), ray.end());
+      if (tree.computeRayKeys(origin, end, ray)) cells.addFree(ray);
     }
   }
-  for (auto it = free_keys.begin(); it != free_keys.end();)
-    it = occupied_keys.count(*it) ? free_keys.erase(it) : std::next(it);
 }
 
 /// castRays to the centres of the distinct cells of the points, as OctoMap's
-/// computeDiscreteUpdate (the first point of a cell stands for it).
+/// computeDiscreteUpdate (the first point of a cell stands for it). Rays without a return
+/// (`no_endpoint`) are thinned the same way: rays to one far cell free the same cells.
+template <typename Cells>
 void castRaysToCells(const octomap::OcTree& tree, const octomap::Pointcloud& scan,
-                     const octomap::point3d& origin, double max_range_m,
-                     octomap::KeySet& free_keys, octomap::KeySet& occupied_keys) {
-  octomap::Pointcloud cells;
-  cells.reserve(scan.size());
-  octomap::KeySet seen;
+                     const octomap::point3d& origin, double max_range_m, bool no_endpoint,
+                     Cells& cells) {
+  octomap::Pointcloud centres;
+  centres.reserve(scan.size());
   for (std::size_t i = 0; i < scan.size(); ++i) {
     const octomap::OcTreeKey k = tree.coordToKey(scan[i]);
-    if (seen.insert(k).second) cells.push_back(tree.keyToCoord(k));
+    if (cells.firstEndpoint(k, no_endpoint)) centres.push_back(tree.keyToCoord(k));
   }
-  castRays(tree, cells, origin, max_range_m, free_keys, occupied_keys);
+  castRays(tree, centres, origin, max_range_m, no_endpoint, cells);
 }
 
 /// Log-odds after one update of `delta`, clamped as OctoMap's updateNode does.
@@ -104,10 +120,10 @@ OccupancyOctree::OccupancyOctree(const TExplorationParams& params)
   }
 }
 
-void OccupancyOctree::computeUpdateKeys(const Image<float>& depth_m, const CameraIntrinsics& K,
-                                        const Eigen::Isometry3d& T_world_cam, int stride,
-                                        double no_return_free_m, octomap::KeySet& free_keys,
-                                        octomap::KeySet& occupied_keys) const {
+template <typename Cells>
+void OccupancyOctree::collectUpdateCells(const Image<float>& depth_m, const CameraIntrinsics& K,
+                                         const Eigen::Isometry3d& T_world_cam, int stride,
+                                         double no_return_free_m, Cells& cells) const {
   if (depth_m.width() != K.width || depth_m.height() != K.height)
     throwInputError("depth image", std::to_string(depth_m.width()) + "x" +
                                        std::to_string(depth_m.height()) +
@@ -132,22 +148,19 @@ void OccupancyOctree::computeUpdateKeys(const Image<float>& depth_m, const Camer
         no_returns.push_back(float(p.x()), float(p.y()), float(p.z()));
       }
     }
-  castRaysToCells(*m_tree, returns, origin, m_params.max_range_m, free_keys, occupied_keys);
-  if (no_returns.size() == 0) return;
-  octomap::KeySet free_beyond, none;
-  castRays(*m_tree, no_returns, origin, no_return_free_m, free_beyond, none);
-  for (const auto& k : free_beyond)
-    if (!occupied_keys.count(k)) free_keys.insert(k);
+  castRaysToCells(*m_tree, returns, origin, m_params.max_range_m, false, cells);
+  castRaysToCells(*m_tree, no_returns, origin, no_return_free_m, true, cells);
+  cells.finish();
 }
 
 void OccupancyOctree::insertDepthFrame(const Image<float>& depth_m, const CameraIntrinsics& K,
                                        const Eigen::Isometry3d& T_world_cam) {
-  octomap::KeySet free_keys, occupied_keys;
-  computeUpdateKeys(depth_m, K, T_world_cam, m_params.pixel_stride, m_params.no_return_free_m,
-                    free_keys, occupied_keys);
+  KeySetCells cells;
+  collectUpdateCells(depth_m, K, T_world_cam, m_params.pixel_stride, m_params.no_return_free_m,
+                     cells);
   // As OccupancyOcTreeBase::insertPointCloud: free first, then occupied.
-  for (const auto& k : free_keys) m_tree->updateNode(k, false);
-  for (const auto& k : occupied_keys) m_tree->updateNode(k, true);
+  for (const auto& k : cells.free) m_tree->updateNode(k, false);
+  for (const auto& k : cells.occupied) m_tree->updateNode(k, true);
 }
 
 std::int64_t OccupancyOctree::coveredCells(const octomap::OcTree::leaf_bbx_iterator& it) const {
@@ -189,26 +202,116 @@ OccupancyOctree::CellCounts OccupancyOctree::countCells() const {
   return c;
 }
 
+void ViewCells::reset(const WorkspaceKeys& box) {
+  for (int a = 0; a < 3; ++a) {
+    m_min[a] = box.min[a];
+    m_size[a] = int(box.max[a]) - int(box.min[a]) + 1;
+  }
+  const std::size_t n = std::size_t(m_size[0]) * m_size[1] * m_size[2];
+  if (m_state.size() < n) {
+    m_state.assign(n, 0);
+  } else {
+    for (const std::uint32_t i : m_touched) m_state[i] = 0;
+  }
+  m_touched.clear();
+}
+
+std::int64_t ViewCells::indexOf(const octomap::OcTreeKey& k) const {
+  std::int64_t i = 0;
+  for (int a = 2; a >= 0; --a) {
+    const int d = int(k[a]) - int(m_min[a]);
+    if (d < 0 || d >= m_size[a]) return -1;
+    i = i * m_size[a] + d;
+  }
+  return i;
+}
+
+octomap::OcTreeKey ViewCells::keyOf(std::uint32_t index) const {
+  octomap::OcTreeKey k;
+  for (int a = 0; a < 3; ++a) {
+    k[a] = octomap::key_type(int(m_min[a]) + int(index % std::uint32_t(m_size[a])));
+    index /= std::uint32_t(m_size[a]);
+  }
+  return k;
+}
+
+void ViewCells::mark(const octomap::OcTreeKey& k, std::uint8_t flag) {
+  const std::int64_t i = indexOf(k);
+  if (i < 0) return;  // outside the box: changes no entropy of the workspace
+  std::uint8_t& s = m_state[std::size_t(i)];
+  if (s == 0) m_touched.push_back(std::uint32_t(i));
+  s |= flag;
+}
+
+bool ViewCells::firstEndpoint(const octomap::OcTreeKey& k, bool beyond) {
+  const std::uint8_t flag = beyond ? kEndpointBeyond : kEndpoint;
+  const std::int64_t i = indexOf(k);
+  if (i < 0) {  // a ray to a cell outside the box may still cross it: keep it, once per cell
+    return (beyond ? m_outside_beyond : m_outside).insert(k).second;
+  }
+  const bool first = !(m_state[std::size_t(i)] & flag);
+  mark(k, flag);
+  return first;
+}
+
+void ViewCells::addFree(const octomap::KeyRay& ray) {
+  for (const auto& k : ray) mark(k, kFree);
+}
+
+void ViewCells::finish() {
+  m_outside.clear();
+  m_outside_beyond.clear();
+}
+
+/// The box of cells within reach of rays of `range_m` from `origin`, clipped to the workspace.
+WorkspaceKeys OccupancyOctree::reachBox(const octomap::point3d& origin, double range_m) const {
+  const int reach = int(std::ceil(range_m / m_params.resolution_m)) + 2;
+  const octomap::OcTreeKey c = m_tree->coordToKey(origin);
+  WorkspaceKeys box;
+  for (int a = 0; a < 3; ++a) {
+    box.min[a] = octomap::key_type(std::max(int(m_workspace.min[a]), int(c[a]) - reach));
+    box.max[a] = octomap::key_type(std::min(int(m_workspace.max[a]), int(c[a]) + reach));
+    if (box.max[a] < box.min[a]) box.max[a] = box.min[a];  // (origin far outside: nothing inside)
+  }
+  return box;
+}
+
+double OccupancyOctree::predictedEntropyReduction(const Eigen::Isometry3d& T_world_cam,
+                                                  const CameraIntrinsics& K,
+                                                  const Image<float>& predicted_depth_m,
+                                                  ViewCells& cells) const {
+  const Eigen::Vector3d o = T_world_cam.translation();
+  cells.reset(
+      reachBox(octomap::point3d(float(o.x()), float(o.y()), float(o.z())), m_params.max_range_m));
+  collectUpdateCells(predicted_depth_m, K, T_world_cam, 1, m_params.max_range_m, cells);
+  const float lo = m_tree->getClampingThresMinLog(), hi = m_tree->getClampingThresMaxLog();
+  const float miss = m_tree->getProbMissLog(), hit = m_tree->getProbHitLog();
+  // Unknown cells (the most of a view into new space) at p = 0.5: one reduction each.
+  const double h_unknown = cellEntropy(0.5);
+  const double unknown_free = h_unknown - cellEntropy(octomap::probability(
+                                              updatedLogOdds(0.0f, miss, lo, hi)));
+  const double unknown_occupied = h_unknown - cellEntropy(octomap::probability(
+                                                  updatedLogOdds(0.0f, hit, lo, hi)));
+  double sum = 0.0;
+  cells.forEachUpdated([&](const octomap::OcTreeKey& k, bool occupied) {
+    if (!m_workspace.contains(k)) return;
+    const octomap::OcTreeNode* node = m_tree->search(k);
+    if (!node) {
+      sum += occupied ? unknown_occupied : unknown_free;
+      return;
+    }
+    const float l = node->getLogOdds();
+    sum += cellEntropy(octomap::probability(l)) -
+           cellEntropy(octomap::probability(updatedLogOdds(l, occupied ? hit : miss, lo, hi)));
+  });
+  return sum;
+}
+
 double OccupancyOctree::predictedEntropyReduction(const Eigen::Isometry3d& T_world_cam,
                                                   const CameraIntrinsics& K,
                                                   const Image<float>& predicted_depth_m) const {
-  octomap::KeySet free_keys, occupied_keys;
-  computeUpdateKeys(predicted_depth_m, K, T_world_cam, 1, m_params.max_range_m, free_keys,
-                    occupied_keys);
-  const float lo = m_tree->getClampingThresMinLog(), hi = m_tree->getClampingThresMaxLog();
-  const auto reduction = [&](const octomap::KeySet& keys, float delta) {
-    double sum = 0.0;
-    for (const auto& k : keys) {
-      if (!m_workspace.contains(k)) continue;
-      const octomap::OcTreeNode* node = m_tree->search(k);
-      const float l = node ? node->getLogOdds() : 0.0f;  // unknown: p = 0.5
-      sum += cellEntropy(octomap::probability(l)) -
-             cellEntropy(octomap::probability(updatedLogOdds(l, delta, lo, hi)));
-    }
-    return sum;
-  };
-  return reduction(free_keys, m_tree->getProbMissLog()) +
-         reduction(occupied_keys, m_tree->getProbHitLog());
+  ViewCells cells;
+  return predictedEntropyReduction(T_world_cam, K, predicted_depth_m, cells);
 }
 
 bool OccupancyOctree::occupiedAlong(const Eigen::Vector2d& a, const Eigen::Vector2d& b,

@@ -42,7 +42,7 @@ ViewPrediction ViewPredictor::predict(const maps::SurfelStore& store, const Occu
   m_renderer.render(store, T_world_cam, Kp, m_options, m_maps);
   ViewPrediction p;
   // V-A: the predicted depth cast through the octree (empty pixels: unknown, seen through).
-  p.entropy_reduction = octree.predictedEntropyReduction(T_world_cam, Kp, m_maps.depth_m);
+  p.entropy_reduction = octree.predictedEntropyReduction(T_world_cam, Kp, m_maps.depth_m, m_cells);
   p.information = predictedInformationGain(store, m_maps.index, T_world_cam, m_model,
                                            float(m_params.ic_weight_floor));
   return p;

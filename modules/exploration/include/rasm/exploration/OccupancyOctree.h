@@ -20,6 +20,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "rasm/core/CameraIntrinsics.h"
 #include "rasm/core/Image.h"
@@ -37,6 +38,41 @@ struct WorkspaceKeys {
   octomap::OcTreeKey min, max;
   std::int64_t cells() const;
   bool contains(const octomap::OcTreeKey& k) const;
+};
+
+/// The cells one predicted view's rays would update (OccupancyOctree::predictedEntropyReduction):
+/// a dense box of per-cell flags around the camera, clipped to the workspace (a cell outside it
+/// changes no entropy of the workspace), in place of OctoMap's hashed key sets, which cost most of
+/// a prediction. Reused from view to view by one thread (only the touched cells are cleared).
+class ViewCells {
+ public:
+  /// Empties the cells and sets their box (keys, inclusive).
+  void reset(const WorkspaceKeys& box);
+  /// Whether this is the first ray endpoint in cell k (`beyond`: of the rays without a return).
+  bool firstEndpoint(const octomap::OcTreeKey& k, bool beyond);
+  void addFree(const octomap::KeyRay& ray);
+  void addOccupied(const octomap::OcTreeKey& k) { mark(k, kOccupied); }
+  void finish();
+  /// f(key, occupied) once per cell of the box an update reaches; occupied wins over free.
+  template <typename F>
+  void forEachUpdated(F&& f) const {
+    for (const std::uint32_t i : m_touched) {
+      const std::uint8_t s = m_state[i];
+      if (s & (kFree | kOccupied)) f(keyOf(i), (s & kOccupied) != 0);
+    }
+  }
+
+ private:
+  static constexpr std::uint8_t kFree = 1, kOccupied = 2, kEndpoint = 4, kEndpointBeyond = 8;
+  std::int64_t indexOf(const octomap::OcTreeKey& k) const;  ///< -1 outside the box
+  octomap::OcTreeKey keyOf(std::uint32_t index) const;
+  void mark(const octomap::OcTreeKey& k, std::uint8_t flag);
+
+  octomap::OcTreeKey m_min;
+  int m_size[3] = {0, 0, 0};
+  std::vector<std::uint8_t> m_state;
+  std::vector<std::uint32_t> m_touched;  ///< cells whose state is not 0, in first-touch order
+  octomap::KeySet m_outside, m_outside_beyond;  ///< endpoints outside the box already cast
 };
 
 /// Binary entropy -[p log p + (1 - p) log(1 - p)] in nats (0 at p = 0 or 1).
@@ -75,6 +111,9 @@ class OccupancyOctree {
   /// beyond the map is assumed seen through). Unknown cells start from p = 0.5.
   double predictedEntropyReduction(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K,
                                    const Image<float>& predicted_depth_m) const;
+  /// The same with the caller's cell buffer (one per thread, reused from view to view).
+  double predictedEntropyReduction(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K,
+                                   const Image<float>& predicted_depth_m, ViewCells& cells) const;
 
   /// Whether an occupied cell lies in a column crossed by the segment a -> b (x, y in m), between
   /// heights z_min_m and z_max_m (the cells from the one above z_min_m, as projectToGrid's band:
@@ -95,10 +134,15 @@ class OccupancyOctree {
   void projectToGrid(mrpt::maps::COccupancyGridMap2D& grid) const;
 
  private:
-  /// Keys a frame would update (occupied wins over free; both may reach outside the workspace).
-  void computeUpdateKeys(const Image<float>& depth_m, const CameraIntrinsics& K,
-                         const Eigen::Isometry3d& T_world_cam, int stride, double no_return_free_m,
-                         octomap::KeySet& free_keys, octomap::KeySet& occupied_keys) const;
+  /// The cells a frame would update into `cells` (KeySetCells or ViewCells; occupied wins over
+  /// free): every stride-th pixel's ray, returns to their cells' centres, pixels without a return
+  /// freeing space up to no_return_free_m.
+  template <typename Cells>
+  void collectUpdateCells(const Image<float>& depth_m, const CameraIntrinsics& K,
+                          const Eigen::Isometry3d& T_world_cam, int stride, double no_return_free_m,
+                          Cells& cells) const;
+  /// The workspace's cells within range_m (plus two cells) of `origin` on every axis.
+  WorkspaceKeys reachBox(const octomap::point3d& origin, double range_m) const;
   /// Cells of the workspace a leaf covers.
   std::int64_t coveredCells(const octomap::OcTree::leaf_bbx_iterator& it) const;
 

@@ -48,6 +48,7 @@ class ViewPredictor {
   maps::SurfelRenderer m_renderer;
   maps::RenderOptions m_options;
   maps::RenderedMaps m_maps;
+  ViewCells m_cells;
 };
 
 }  // namespace rasm::exploration
