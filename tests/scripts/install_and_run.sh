@@ -28,4 +28,6 @@ grep -q "$prefix/share/rasm/sim/trajectories" <<< "$out" ||
 grep -q '"status": "ok"' run3/report.json || fail "run3/report.json is not ok"
 [[ -f $prefix/share/rasm/ini/default.ini && -f $prefix/share/doc/rasm/README.md ]] ||
   fail "the INIs or the docs were not installed"
+[[ -s $prefix/share/man/man1/rasm.1 && -s $prefix/share/bash-completion/completions/rasm ]] ||
+  fail "the man page or the bash completion was not installed"
 echo "install_and_run: ok ($prefix)"
