@@ -55,8 +55,8 @@ int benchMain(const std::vector<std::string>& args) {
     }
   }
   // The mapping pipeline's speed: the embedded default's robot follows its scripted path
-  // (--set explore.enabled=auto explores, with the planner's pauses in the timings).
-  cfg.set("explore", "enabled", "false");
+  // (--set exploration.enabled=auto explores, with the planner's pauses in the timings).
+  cfg.set("exploration", "enabled", "false");
   for (const char* k : {"write_ply", "write_3dscene", "save_map", "preview_png", "write_rawlog"})
     cfg.set("output", k, "false");
   for (const auto& o : overrides) cfg.applyOverride(o);

@@ -27,7 +27,7 @@ namespace {
 const char* kUsage =
     "usage: rasm eval exploration <run folder>... [--times 60,120,180] [--json out.json]\n"
     "                             [--markdown out.md] [--plot out.png]\n"
-    "Each run folder is an exploring `rasm run` ([explore] enabled): its report.json, "
+    "Each run folder is an exploring `rasm run` ([exploration] enabled): its report.json, "
     "exploration.json\nand config.ini ([sim] world and seed). Runs are grouped by world and "
     "planner; values are means\nover the seeds (min-max in brackets). A run that stopped before "
     "a time keeps its final values.\n";
@@ -61,7 +61,8 @@ RunRow readRun(const std::string& dir) {
   r.dir = dir;
   const nlohmann::json rep = readJson(fs::path(dir) / "report.json");
   if (!rep.contains("exploration"))
-    throwInputError(dir + "/report.json", "has no exploration block ([explore] enabled = false?)");
+    throwInputError(dir + "/report.json",
+                    "has no exploration block ([exploration] enabled = false?)");
   const nlohmann::json ex = readJson(fs::path(dir) / "exploration.json");
   const fs::path ini = fs::path(dir) / "config.ini";
   if (!fs::is_regular_file(ini)) throwInputError(ini.string(), "missing; `rasm run` writes it");

@@ -100,7 +100,7 @@ else
       for s in ${seeds:-1}; do
         add_task "${wname}_${p}_s$s" "$wname" "$p" "$s" "" -- --set "sim.world=$w" \
           --set "sim.trajectory=$(robot_spec "$w")" --set "sim.seed=$s" \
-          --set "exploration.seed=$s" --set "exploration.planner=$p" --set explore.enabled=true
+          --set "exploration.seed=$s" --set "exploration.planner=$p" --set exploration.enabled=true
       done
     done
   done

@@ -155,7 +155,7 @@ class Panel:
         ply = "true" if ("seg" in evals or "cls" in evals) else "false"
         args = ["--set", "source.type=sim", "--set", f"sim.world={world}",
                 "--set", f"sim.trajectory={traj}", "--set", f"sim.seed={seed}",
-                "--set", "explore.enabled=false", "--set", f"output.write_ply={ply}"]
+                "--set", "exploration.enabled=false", "--set", f"output.write_ply={ply}"]
         args += OUTPUTS_OFF + RES[res] + list(sets)
         frames = FRAMES[traj] if traj in FRAMES else spec_frames(traj)
         if max_frames:
@@ -175,8 +175,8 @@ class Panel:
         args = ["--set", "source.type=sim", "--set", f"sim.world={world}",
                 "--set", f"sim.trajectory={robot_spec(world)}", "--set", f"sim.seed={seed}",
                 "--set", f"exploration.seed={seed}", "--set", f"exploration.planner={planner}",
-                "--set", "explore.enabled=true", "--set", f"explore.time_budget_s={budget_s}",
-                "--set", "explore.wall_budget_s=0", "--set", "output.write_ply=false",
+                "--set", "exploration.enabled=true", "--set", f"exploration.time_budget_s={budget_s}",
+                "--set", "exploration.wall_budget_s=0", "--set", "output.write_ply=false",
                 "--set", f"mapper.poses={poses}"]
         args += OUTPUTS_OFF + RES[res] + list(sets)
         est = START_S + budget_s * EXPLORE_S_PER_SIM_S[(planner, res)]
@@ -197,7 +197,7 @@ class Panel:
                     "camera_pitch_deg: -10}\n")
         args = ["--set", "source.type=sim", "--set", "sim.world=office",
                 "--set", f"sim.trajectory={spec}", "--set", "sim.seed=1",
-                "--set", "explore.enabled=false", "--set", "output.write_ply=false"]
+                "--set", "exploration.enabled=false", "--set", "output.write_ply=false"]
         args += OUTPUTS_OFF + RES[res]
         frames = laps * 25 * rate_hz  # ~25 s per lap
         if max_frames:

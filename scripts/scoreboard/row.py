@@ -293,7 +293,9 @@ def exploration(d, rep, m, detail):
     if not ev or not ev.get("groups"):
         return False
     g = ev["groups"][0]
-    budget = float(ini_value(os.path.join(d, "config.ini"), "explore", "time_budget_s", "0") or 0)
+    ini = os.path.join(d, "config.ini")  # (runs before the merge of [explore] into [exploration])
+    budget = float(ini_value(ini, "exploration", "time_budget_s", "")
+                   or ini_value(ini, "explore", "time_budget_s", "0") or 0)
     for t in (60, 120, 180):
         ok = budget <= 0 or t <= budget + 1e-6
         m[f"coverage_{t}"] = g.get("coverage_at", {}).get(str(t)) if ok else None

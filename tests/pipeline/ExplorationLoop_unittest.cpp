@@ -26,10 +26,10 @@ namespace {
 RunConfig smallExploringRun(const std::string& out, double budget_s) {
   RunConfig cfg = RunConfig::embeddedDefault();
   cfg.set("output", "dir", out);
-  cfg.set("explore", "enabled", "true");
-  cfg.set("explore", "time_budget_s", std::to_string(budget_s));
-  cfg.set("explore", "wall_budget_s", "0");  // (the embedded default's 5-minute box: not here)
-  cfg.set("explore", "metrics_period_s", "5");
+  cfg.set("exploration", "enabled", "true");
+  cfg.set("exploration", "time_budget_s", std::to_string(budget_s));
+  cfg.set("exploration", "wall_budget_s", "0");  // (the embedded default's 5-minute box: not here)
+  cfg.set("exploration", "metrics_period_s", "5");
   cfg.set("sim", "rate_hz", "10");
   setQuarterVgaCamera(cfg);
   cfg.set("output", "write_3dscene", "false");
@@ -109,12 +109,12 @@ TEST(ExplorationLoop, TrackedOfficeRunStaysWithinTheRobotTarget) {
   fs::remove_all(out);
 }
 
-// [explore] wall_budget_s (the embedded default's 5 minutes on a slow machine): exploring ends
+// [exploration] wall_budget_s (the embedded default's 5 minutes on a slow machine): exploring ends
 // by the wall clock, long before the simulated budget, and the run still writes every output.
 TEST(ExplorationLoop, WallBudgetEndsTheRunByTheClock) {
   const std::string out = tempDir("explore_wall");
   RunConfig cfg = smallExploringRun(out, 600.0);
-  cfg.set("explore", "wall_budget_s", "4");
+  cfg.set("exploration", "wall_budget_s", "4");
   cfg.set("mapper", "poses", "groundtruth");
   MappingRun run(cfg);
   const RunSummary s = run.run();
@@ -127,7 +127,7 @@ TEST(ExplorationLoop, WallBudgetEndsTheRunByTheClock) {
   fs::remove_all(out);
   // A negative budget is named.
   RunConfig bad = smallExploringRun(tempDir("explore_wall_bad"), 10.0);
-  bad.set("explore", "wall_budget_s", "-1");
+  bad.set("exploration", "wall_budget_s", "-1");
   try {
     MappingRun r(bad);
     r.run();
@@ -142,9 +142,9 @@ TEST(ExplorationLoop, WallBudgetEndsTheRunByTheClock) {
 TEST(ExplorationLoop, StopsWhenTheBestViewGainsTooLittle) {
   const std::string out = tempDir("explore_threshold");
   RunConfig cfg = smallExploringRun(out, 120.0);
-  cfg.set("explore", "stop_entropy_nats", "1e12");
-  cfg.set("explore", "stop_information", "1e12");
-  cfg.set("explore", "stop_plans", "2");
+  cfg.set("exploration", "stop_entropy_nats", "1e12");
+  cfg.set("exploration", "stop_information", "1e12");
+  cfg.set("exploration", "stop_plans", "2");
   MappingRun run(cfg);
   const RunSummary s = run.run();
   EXPECT_EQ(s.report.at("stop_reason").get<std::string>(), "information_gain_below_threshold");
@@ -190,7 +190,7 @@ TEST(ExplorationLoop, PlannerThreadPlansWhileMappingGoesOn) {
   // a loaded machine the first plan arrives ~10 simulated s after its request; 30 s left a goal
   // still being driven to at the end (seen under ctest -j2).
   RunConfig cfg = smallExploringRun(out, 50.0);
-  cfg.set("explore", "planner_thread", "true");
+  cfg.set("exploration", "planner_thread", "true");
   cfg.set("mapper", "poses", "groundtruth");
   MappingRun run(cfg);
   const RunSummary s = run.run();
@@ -237,13 +237,13 @@ TEST(ExplorationLoop, IgGoesThroughTheDoorwaysIntoTheSecondRoom) {
 TEST(ExplorationLoop, NeedsARobotItCanDrive) {
   {
     RunConfig cfg = RunConfig::fromString("[source]\ntype = rawlog\npath = " RASM_MRPT_TEST_RAWLOG
-                                          "\n[explore]\nenabled = true\n",
+                                          "\n[exploration]\nenabled = true\n",
                                           "test");
     try {
       MappingRun run(cfg);
       FAIL() << "a rawlog cannot be driven";
     } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("[explore] enabled"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("[exploration] enabled"), std::string::npos) << e.what();
     }
   }
   {

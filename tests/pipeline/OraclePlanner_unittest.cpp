@@ -61,10 +61,10 @@ RunConfig twoRoomsRun(const std::string& out, const std::string& planner, double
   cfg.set("sim", "rate_hz", "10");
   cfg.set("exploration", "seed", "1");
   cfg.set("exploration", "planner", planner);
-  cfg.set("explore", "enabled", "true");
-  cfg.set("explore", "planner_thread", "false");
-  cfg.set("explore", "time_budget_s", std::to_string(budget_s));
-  cfg.set("explore", "wall_budget_s", "0");
+  cfg.set("exploration", "enabled", "true");
+  cfg.set("exploration", "planner_thread", "false");
+  cfg.set("exploration", "time_budget_s", std::to_string(budget_s));
+  cfg.set("exploration", "wall_budget_s", "0");
   cfg.set("mapper", "poses", "groundtruth");
   setRunCamera(cfg, camera160x120());
   for (const char* k : {"write_3dscene", "write_rawlog", "write_ply", "preview_png", "save_map"})

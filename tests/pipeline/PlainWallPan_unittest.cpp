@@ -57,7 +57,7 @@ PanOutcome runPan(const std::string& name, const std::string& world_yaml) {
   std::ofstream(traj) << kPanAlongWall;
   RunConfig cfg = RunConfig::embeddedDefault();
   cfg.set("output", "dir", dir + "/out");
-  cfg.set("explore", "enabled", "false");
+  cfg.set("exploration", "enabled", "false");
   cfg.set("sim", "world", world);
   cfg.set("sim", "trajectory", traj);
   cfg.set("classification", "detectors", "");

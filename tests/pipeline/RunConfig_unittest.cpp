@@ -5,8 +5,10 @@
 #include <tuple>
 
 #include "rasm/core/Error.h"
+#include "rasm/core/Params.h"
 #include "rasm/pipeline/MappingRun.h"
 #include "rasm/pipeline/RunConfig.h"
+#include "rasm/pipeline/stages/ExplorationStage.h"
 #include "rasm/pipeline/stages/FusionStages.h"
 
 using namespace rasm;
@@ -110,7 +112,8 @@ TEST(RunConfig, ErrorsNameTheCommandLineOrTheFileLine) {
   EXPECT_NE(e.find("command line (mapper.pyramid_levels=9)"), std::string::npos) << e;
   EXPECT_NE(e.find("value 9 out of range"), std::string::npos) << e;
 
-  e = errorOf([] { MappingRun(RunConfig::fromString("; x\n[mapper]\n\nmax_depth_m = nan\n", "my.ini")); });
+  e = errorOf(
+      [] { MappingRun(RunConfig::fromString("; x\n[mapper]\n\nmax_depth_m = nan\n", "my.ini")); });
   EXPECT_NE(e.find("my.ini:4 [mapper] max_depth_m: 'nan' is not a finite number"),
             std::string::npos)
       << e;
@@ -119,6 +122,37 @@ TEST(RunConfig, ErrorsNameTheCommandLineOrTheFileLine) {
 
   e = errorOf([] { RunConfig::fromFile("/tmp"); });
   EXPECT_NE(e.find("is a folder"), std::string::npos) << e;
+}
+
+// [explore] was merged into [exploration]: an INI or override of the old section is refused with
+// what to write instead, and the planner's keys and the loop's share the one section without a
+// name in common (the loop's would shadow the planner's).
+TEST(RunConfig, TheOldExploreSectionIsRefusedWithItsNewName) {
+  std::string e = errorOf([] {
+    MappingRun(RunConfig::fromString("[mapper]\n[explore]\nenabled = true\n", "old.ini"));
+  });
+  EXPECT_NE(e.find("old.ini:2 [explore]: was merged into [exploration]"), std::string::npos) << e;
+  e = errorOf([] {
+    RunConfig cfg = RunConfig::embeddedDefault();
+    cfg.applyOverride("explore.time_budget_s=60");
+    MappingRun run(cfg);
+  });
+  EXPECT_NE(e.find("command line (explore.time_budget_s=60) [explore]"), std::string::npos) << e;
+  EXPECT_NE(e.find("--set exploration.KEY=value"), std::string::npos) << e;
+
+  RunConfig cfg = RunConfig::embeddedDefault();
+  cfg.applyOverride("exploration.time_budget_s=60");
+  cfg.applyOverride("exploration.planner=frontier");
+  MappingRun run(cfg);  // both halves of the section load
+  const auto& stage = run.mapper().stage<ExplorationStage>();
+  EXPECT_DOUBLE_EQ(stage.loopParams().time_budget_s, 60.0);
+  EXPECT_EQ(stage.params().planner, "frontier");
+
+  const auto planner_keys = knownKeys(exploration::TExplorationParams(), "exploration");
+  const auto loop_keys = knownKeys(TExplorationLoopParams(), "exploration");
+  EXPECT_GT(planner_keys.size(), 30u);
+  EXPECT_GT(loop_keys.size(), 10u);
+  for (const std::string& k : loop_keys) EXPECT_EQ(planner_keys.count(k), 0u) << k;
 }
 
 /// [camera] fx = nan / 0 / -517 were accepted (and silently replaced by the preset).

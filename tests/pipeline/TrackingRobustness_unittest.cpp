@@ -27,7 +27,7 @@ namespace {
 RunConfig smallSimConfig(const std::string& out, const std::string& trajectory, int frames) {
   RunConfig cfg = RunConfig::embeddedDefault();
   cfg.set("output", "dir", out);
-  cfg.set("explore", "enabled", "false");  // the scripted path, not an exploring robot
+  cfg.set("exploration", "enabled", "false");  // the scripted path, not an exploring robot
   cfg.set("sim", "trajectory", trajectory);
   cfg.set("source", "max_frames", std::to_string(frames));
   setQuarterVgaCamera(cfg);

@@ -63,7 +63,7 @@ bool isIntegerLiteral(const std::string& s) {
 
 /// The kind of a key, from how MRPT writes its default: integers as "%i", reals with a point or
 /// an exponent; anything else is text. Booleans are not told from text keys whose default is
-/// "true" (e.g. [explore] enabled = auto | true | false): the round trip below checks them.
+/// "true" (e.g. [exploration] enabled = auto | true | false): the round trip below checks them.
 enum class Kind { Text, Integer, Real };
 Kind kindOfDefault(const std::string& d) {
   if (isIntegerLiteral(d)) return Kind::Integer;
@@ -95,8 +95,7 @@ std::string valueProblem(Kind kind, const std::string& given) {
       errno = 0;
       const double v = std::strtod(b, &e);
       if (given.empty() || e == b || *e != '\0') return "'" + given + "' is not a number";
-      if (!std::isfinite(v) || errno == ERANGE)
-        return "'" + given + "' is not a finite number";
+      if (!std::isfinite(v) || errno == ERANGE) return "'" + given + "' is not a finite number";
       return "";
     }
   }

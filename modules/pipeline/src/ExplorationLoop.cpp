@@ -75,9 +75,9 @@ ExplorationLoop::ExplorationLoop(Mapper& mapper, sim::SimulatedSequence& seq,
                                  const navigation::TNavigationParams& nav_params)
     : m_mapper(mapper), m_stage(mapper.stage<ExplorationStage>()), m_seq(&seq) {
   if (!seq.robot())
-    throwInputError("[explore] enabled",
+    throwInputError("[exploration] enabled",
                     "needs a simulated robot ([sim] trajectory: a robot spec)");
-  if (m_stage.exploreParams().workspace_from_world) {
+  if (m_stage.loopParams().workspace_from_world) {
     const Eigen::AlignedBox3f b = seq.scene().world().bounds();
     const auto& p = m_stage.params();
     m_stage.setWorkspace(
@@ -122,7 +122,7 @@ void ExplorationLoop::start(const std::vector<Eigen::Vector2f>& footprint,
     if (m_nav) m_nav->update();
   });
   m_fusion_params = m_mapper.stage<FusionStage>().params();
-  if (m_stage.exploreParams().planner_thread) m_worker = std::thread([this] { plannerThread(); });
+  if (m_stage.loopParams().planner_thread) m_worker = std::thread([this] { plannerThread(); });
 }
 
 ExplorationLoop::~ExplorationLoop() {
@@ -202,7 +202,7 @@ void ExplorationLoop::afterFrame(const RgbdFrame& frame, const FrameResult& r) {
   }
   if (finished()) return;
 
-  const TExploreParams& xp = m_stage.exploreParams();
+  const TExplorationLoopParams& xp = m_stage.loopParams();
   if (xp.metrics_period_s > 0 && m_t - m_last_metrics_t >= xp.metrics_period_s) measure(m_t);
   if (xp.time_budget_s > 0 && m_t >= xp.time_budget_s) return stop("time_budget");
   if (xp.path_budget_m > 0 && m_path_m >= xp.path_budget_m) return stop("path_budget");
@@ -246,7 +246,7 @@ void ExplorationLoop::plan(double t, bool driving) {
   req.robot = estimatedBasePose();
   req.K = m_K;  // the camera of the frames (set in afterFrame before any plan)
   if (m_goal && driving) req.goal = m_goal->goal;
-  if (!m_stage.exploreParams().planner_thread) {
+  if (!m_stage.loopParams().planner_thread) {
     req.octree = &m_stage.octree();  // the mapping thread plans between frames: no copy
     return applyPlan(computePlan(req));
   }
@@ -291,9 +291,9 @@ ExplorationLoop::PlanOutput ExplorationLoop::computePlan(const PlanRequest& req)
 
 /// The way to the plan's best view on the grid it planned on (the oracle plans on the world's
 /// free space and leaves Plan::grid empty: then the octree's planning grid, as the others use).
-std::vector<Eigen::Vector2d> ExplorationLoop::routeToBest(const exploration::Plan& p,
-                                                          const exploration::OccupancyOctree& octree,
-                                                          const Eigen::Vector3d& robot) const {
+std::vector<Eigen::Vector2d> ExplorationLoop::routeToBest(
+    const exploration::Plan& p, const exploration::OccupancyOctree& octree,
+    const Eigen::Vector3d& robot) const {
   const double radius_m = m_stage.params().footprint_radius_m;
   mrpt::maps::COccupancyGridMap2D own;
   const bool planned_on_grid = p.grid.getSizeX() > 1 && p.grid.getSizeY() > 1;
@@ -332,9 +332,8 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
   if (!p.frontiers.empty()) {
     nlohmann::json frontiers = nlohmann::json::array();
     for (const exploration::FrontierSummary& f : p.frontiers)
-      frontiers.push_back({{"centroid", {f.centroid.x(), f.centroid.y()}},
-                           {"cells", f.cells},
-                           {"found", f.found}});
+      frontiers.push_back(
+          {{"centroid", {f.centroid.x(), f.centroid.y()}}, {"cells", f.cells}, {"found", f.found}});
     log["frontiers"] = frontiers;
   }
   if (p.tour_clusters > 0) {  // "ig": the clusters' views in tour order
@@ -355,7 +354,7 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
   // Stopping rule (V): over stop_plans consecutive plans, too little left to gain (ig) or nothing
   // offered (every planner; the robot turns a quarter between them, so a view hidden behind it
   // or a frontier the obstacle growth hid for a moment gets another chance).
-  const TExploreParams& xp = m_stage.exploreParams();
+  const TExplorationLoopParams& xp = m_stage.loopParams();
   const bool ig = m_planner->scoresInformation();
   const bool low =
       p.ranked.empty() || (ig && best_dH < xp.stop_entropy_nats && best_dIC < xp.stop_information);
@@ -391,12 +390,12 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
 }
 
 void ExplorationLoop::reportOutcome(const Eigen::Vector3d& goal, bool reached) {
-  if (!m_stage.exploreParams().planner_thread) return m_planner->goalOutcome(goal, reached);
+  if (!m_stage.loopParams().planner_thread) return m_planner->goalOutcome(goal, reached);
   std::lock_guard<std::mutex> lock(m_mx);  // the planner thread applies it before its next plan
   m_outcomes.emplace_back(goal, reached);
 }
 
-/// The planner thread ([explore] planner_thread): waits for a request, plans on a snapshot and
+/// The planner thread ([exploration] planner_thread): waits for a request, plans on a snapshot and
 /// the octree copy of the request, leaves the result for the mapping thread.
 void ExplorationLoop::plannerThread() {
   for (;;) {

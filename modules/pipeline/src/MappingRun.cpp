@@ -20,9 +20,9 @@
 #include <iomanip>
 #include <sstream>
 
+#include <optional>
 #include "rasm/core/Error.h"
 #include "rasm/core/Log.h"
-#include <optional>
 #include "rasm/core/Params.h"
 #include "rasm/core/Printable.h"
 #include "rasm/core/SE3.h"
@@ -126,10 +126,10 @@ MappingRun::MappingRun(const RunConfig& config) : m_config(config) {
   decideExploring(src);
 }
 
-/// [explore] enabled: true (a robot the run can drive, or an InputError), false, or auto (explore
-/// a simulated robot spec, map anything else). [robot] type must fit the source.
+/// [exploration] enabled: true (a robot the run can drive, or an InputError), false, or auto
+/// (explore a simulated robot spec, map anything else). [robot] type must fit the source.
 void MappingRun::decideExploring(const std::string& src) {
-  const std::string& mode = m_mapper->stage<ExplorationStage>().exploreParams().enabled;
+  const std::string& mode = m_mapper->stage<ExplorationStage>().loopParams().enabled;
   const std::string& robot = m_mapper->stage<TrackingStage>().robotParams().type;
   if (robot == "sim" && m_source.type != "sim")
     throwInputError(src + " [robot] type = sim",
@@ -140,7 +140,7 @@ void MappingRun::decideExploring(const std::string& src) {
         "needs a live camera on the robot: [source] type = openni2 (got " + m_source.type + ")");
   m_explore_real = mode == "true" && robot == "segway_rmp";
   if (mode == "true" && !m_explore_real && (m_source.type != "sim" || robot == "none"))
-    throwInputError(src + " [explore] enabled = true",
+    throwInputError(src + " [exploration] enabled = true",
                     "needs a robot the run can drive: [source] type = sim with a robot "
                     "trajectory spec, or [robot] type = segway_rmp (got [source] type = " +
                         m_source.type + ", [robot] type = " + robot + ")");
@@ -172,7 +172,7 @@ std::string MappingRun::effectiveConfig() const {
 std::unique_ptr<io::FrameSource> MappingRun::openSource() const {
   if (m_source.type == "sim")
     return openSimSource(m_sim_ini, m_config.source(), m_camera.intrinsics(), m_exploring,
-                         m_mapper->stage<ExplorationStage>().exploreParams().camera_rate_hz);
+                         m_mapper->stage<ExplorationStage>().loopParams().camera_rate_hz);
   if (m_source.type == "openni2" && m_live_camera) return m_live_camera();
   if (m_source.type == "openni2")  // opens at its first frame (a missing camera: report.json)
     return std::make_unique<io::OpenNI2FrameSource>(m_openni2, m_camera.intrinsics());
@@ -378,7 +378,7 @@ std::unique_ptr<io::FrameSource> MappingRun::wrapSource(std::unique_ptr<io::Fram
   // previous one led to (no read-ahead).
   if (m_exploring) {
     auto* sim_source = dynamic_cast<sim::SimFrameSource*>(source.get());
-    m_explore = std::make_unique<ExplorationLoop>(*m_mapper, sim_source->sequence(), m_navigation);
+    m_loop = std::make_unique<ExplorationLoop>(*m_mapper, sim_source->sequence(), m_navigation);
     return source;
   }
 #endif
@@ -418,20 +418,20 @@ std::unique_ptr<io::FrameSource> MappingRun::wrapLive(std::unique_ptr<io::FrameS
   return rt;
 }
 
-/// [explore] enabled = true on the Segway (VI): the navigator steps in a thread of its own at
+/// [exploration] enabled = true on the Segway (VI): the navigator steps in a thread of its own at
 /// [navigation] period_s of wall time and senses obstacles in the camera's depth (the RMP has no
-/// laser); the planner runs on map snapshots ([explore] planner_thread); the workspace is
+/// laser); the planner runs on map snapshots ([exploration] planner_thread); the workspace is
 /// [exploration] workspace_*; no ground truth.
 void MappingRun::startRealExploration(robot::SegwayRmpRobot& robot,
                                       const Eigen::Isometry3d& T_base_cam) {
 #ifdef RASM_HAVE_SIM
   auto driver = std::make_unique<WallClockRobotDriver>(robot, m_navigation.period_s);
   driver->enableDepthScan(T_base_cam, m_segway.depthScanParams());
-  m_explore = std::make_unique<ExplorationLoop>(*m_mapper, std::move(driver),
-                                                m_segway.footprintPolygon(), m_navigation);
+  m_loop = std::make_unique<ExplorationLoop>(*m_mapper, std::move(driver),
+                                             m_segway.footprintPolygon(), m_navigation);
 #else
   (void)T_base_cam;
-  throwInputError(robot.describe() + " [explore] enabled = true",
+  throwInputError(robot.describe() + " [exploration] enabled = true",
                   "this build has no navigation module (it comes with modules/sim)");
 #endif
 }
@@ -489,8 +489,8 @@ long long MappingRun::expectedFrames(const io::FrameSource& source) const {
     total = m_source.max_frames;
   }
 #ifdef RASM_HAVE_SIM
-  if (m_explore && total <= 0) {
-    const double budget = m_mapper->stage<ExplorationStage>().exploreParams().time_budget_s;
+  if (m_loop && total <= 0) {
+    const double budget = m_mapper->stage<ExplorationStage>().loopParams().time_budget_s;
     const auto* sim_source = dynamic_cast<const sim::SimFrameSource*>(&source);
     if (budget > 0 && sim_source)
       total = (long long)(budget / sim_source->sequence().frameInterval()) + 1;
@@ -523,8 +523,8 @@ void MappingRun::recordFrame(Accumulated& acc, const RgbdFrame& f, const FrameRe
 void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFolder& out,
                            const std::function<void(const FrameResult&)>& on_frame) {
   Progress progress("frames", expectedFrames(source));
-  if (m_explore)  // (a wall-clock budget ends the frames before the simulated one)
-    progress.setTimeLimit(m_mapper->stage<ExplorationStage>().exploreParams().wall_budget_s);
+  if (m_loop)  // (a wall-clock budget ends the frames before the simulated one)
+    progress.setTimeLimit(m_mapper->stage<ExplorationStage>().loopParams().wall_budget_s);
   // annotated.rawlog: each input observation with the ESTIMATED pose (writeAnnotated), followed
   // by a CObservationImage "MAP_VIEW" of the map rendered from that pose.
   // Its writer renames its temporary at close() and removes it when destroyed open.
@@ -540,7 +540,7 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFold
     while (m_source.max_frames == 0 || acc.processed < std::size_t(m_source.max_frames)) {
       if (stopSignal() != 0) break;  // SIGINT / SIGTERM: no further frame
       // The exploration stopped by its rule (a live camera does not end by itself).
-      if (m_explore && m_explore->finished()) break;
+      if (m_loop && m_loop->finished()) break;
       std::optional<RgbdFrame> f = source.next();
       if (!f) break;
       const long long idx = acc.read++;
@@ -552,7 +552,7 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFold
         if (!f->colour.empty()) f->colour.setTo(Bgr8{});
       }
       const FrameResult r = m_mapper->processFrame(*f);
-      if (m_explore) m_explore->afterFrame(*f, r);
+      if (m_loop) m_loop->afterFrame(*f, r);
       recordFrame(acc, *f, r);
       if (on_frame) on_frame(r);
       if (m_output.write_rawlog) {
@@ -573,7 +573,7 @@ void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFold
       std::snprintf(extra, sizeof extra, "surfels %d lost %zu %s", m_mapper->map().size(),
                     m_mapper->framesLost(), r.tracked ? "" : tracking::toString(r.tracking.status));
       progress.update(static_cast<long long>(acc.processed),
-                      m_explore ? std::string(extra) + " | " + m_explore->progressText() : extra);
+                      m_loop ? std::string(extra) + " | " + m_loop->progressText() : extra);
     }
   } catch (const std::exception& e) {
     acc.error = validUtf8(e.what());
@@ -645,7 +645,7 @@ void MappingRun::writeOutputs(const Accumulated& acc, OutputFolder& out) {
                   io::tumTrajectoryText(acc.groundtruth, "ground truth of the source"));
   // The stages' files first: the scenes and the floor plan draw objects.json's objects.
   m_mapper->writeOutputs(out);
-  if (m_explore) m_explore->writeOutputs(out);
+  if (m_loop) m_loop->writeOutputs(out);
   const std::vector<ObjectBox> objects = objectBoxes(writtenJson(out, "objects.json"));
   writeMapFiles(acc, objects, out);
   if (m_output.preview_png && acc.have_K && acc.processed > 0) writePreviews(acc, out);
@@ -698,7 +698,7 @@ void MappingRun::writeMapFiles(const Accumulated& acc, const std::vector<ObjectB
     overlay.estimate = acc.estimate;
     overlay.groundtruth = acc.groundtruth;
     if (acc.have_K) overlay.K = acc.last_K;
-    if (m_explore) overlay.views = m_explore->sceneViews();
+    if (m_loop) overlay.views = m_loop->sceneViews();
     overlay.objects = objects;
     auto scene = [&](const char* name, maps::SurfelColouring colouring) {
       maps::SurfelVisualOptions vis = map.renderingOptions.visual;
@@ -798,7 +798,7 @@ nlohmann::json MappingRun::reportJson(const std::string& source, const Accumulat
   rep["lost_intervals"] = acc.loss.intervals;
   rep["longest_lost_interval_frames"] = acc.loss.longest;
   m_mapper->report(rep);  // the stages' fields (relocalisations, keyframes, ...)
-  if (m_explore) m_explore->report(rep);
+  if (m_loop) m_loop->report(rep);
   liveReport(rep, processed, sum.seconds);
   addAte(acc, rep, sum);
   return rep;
@@ -890,10 +890,10 @@ void MappingRun::finishFrames(Accumulated& acc) {
     if (acc.error.empty()) acc.error = validUtf8(e.what());
   }
   // The exploration loop lets go of the source's robot here, while the source still lives.
-  if (m_explore) try {
-      m_explore->finish(!acc.error.empty()  ? "error"
-                        : stopSignal() != 0 ? "interrupted"
-                                            : "source_end");
+  if (m_loop) try {
+      m_loop->finish(!acc.error.empty()  ? "error"
+                     : stopSignal() != 0 ? "interrupted"
+                                         : "source_end");
     } catch (const std::exception& e) {
       if (acc.error.empty()) acc.error = validUtf8(e.what());
     }
@@ -916,7 +916,7 @@ RunSummary MappingRun::summarise(const Accumulated& acc) const {
   sum.lost_intervals = acc.loss.intervals;
   sum.relocalisations = m_mapper->relocalisations();
   sum.surfels = std::size_t(m_mapper->map().size());
-  sum.explored = m_explore != nullptr;
+  sum.explored = m_loop != nullptr;
   return sum;
 }
 
@@ -962,7 +962,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
     source = wrapSource(std::move(source), acc.preload_s);
   } catch (const std::exception& e) {
     acc.error = validUtf8(e.what());
-    m_explore.reset();  // its navigation thread drives the source's robot: it goes first
+    m_loop.reset();  // its navigation thread drives the source's robot: it goes first
     source.reset();
   }
   // Frame rate and CPU time count the mapping (not a preload before it).
@@ -996,9 +996,8 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   sum.status = !acc.error.empty() || !acc.output_error.empty() ? "failed"
                : acc.interrupted_by != 0                       ? "interrupted"
                                                                : "ok";
-  log::debug("rasm run: " + sum.status + " after " + std::to_string(acc.processed) +
-             " frames, " + std::to_string(sum.lost) + " lost" +
-             (acc.error.empty() ? "" : ": " + acc.error) +
+  log::debug("rasm run: " + sum.status + " after " + std::to_string(acc.processed) + " frames, " +
+             std::to_string(sum.lost) + " lost" + (acc.error.empty() ? "" : ": " + acc.error) +
              (acc.output_error.empty() ? "" : "; output: " + acc.output_error));
   nlohmann::json rep = reportJson(described, acc, sum);
   rep["files"] = out.written();

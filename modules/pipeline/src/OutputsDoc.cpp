@@ -373,7 +373,7 @@ the same command per task, `run_task.sh N`. Then `rasm sweep gather <sweep folde
 
 ```
 scripts/sweep.sh --out sweeps/planners --worlds "office two_rooms" --planners "ig frontier" \
-    --seeds "1 2 3" --jobs 2 -- --set explore.time_budget_s=120
+    --seeds "1 2 3" --jobs 2 -- --set exploration.time_budget_s=120
 scripts/sweep.sh --out sweeps/real --inputs "ini/tum_fr1_xyz.ini ini/7scenes_redkitchen.ini"
 scripts/sweep.sh --out /cluster/sweeps/a --seeds "$(seq -s ' ' 1 20)" --slurm a.sbatch \
     --slurm-time 00:30:00 --sbatch --partition=cpu   # then: sbatch a.sbatch

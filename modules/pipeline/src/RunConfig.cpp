@@ -148,6 +148,12 @@ void RunConfig::checkSections(const std::vector<std::string>& known) const {
     if (s.empty()) continue;
     bool ok = false;
     for (const auto& k : known) ok = ok || k == s;
+    if (!ok && s == "explore") {
+      const std::string o = m_ini.originOfSection(s);
+      throwInputError((o.empty() ? m_source : o) + " [explore]",
+                      "was merged into [exploration] (the same keys): write them under "
+                      "[exploration], or --set exploration.KEY=value");
+    }
     if (!ok) {
       std::string list;
       for (const auto& k : known) list += " [" + k + "]";

@@ -6,8 +6,8 @@
 
 namespace rasm::pipeline {
 
-void TExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
-                                        const std::string& s) {
+void TExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                                const std::string& s) {
   enabled = c.read_string(s, "enabled", enabled);
   MRPT_LOAD_CONFIG_VAR(camera_rate_hz, double, c, s);
   MRPT_LOAD_CONFIG_VAR(octree_every_n_frames, int, c, s);
@@ -40,8 +40,8 @@ void TExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   need(metrics_period_s >= 0.0, "metrics_period_s", "expected >= 0 (0: at the end only)");
 }
 
-void TExploreParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
-                                      const std::string& s) const {
+void TExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                              const std::string& s) const {
   MRPT_SAVE_CONFIG_VAR(enabled, c, s);
   MRPT_SAVE_CONFIG_VAR(camera_rate_hz, c, s);
   MRPT_SAVE_CONFIG_VAR(octree_every_n_frames, c, s);
@@ -83,7 +83,7 @@ void ExplorationStage::setWorkspace(const Eigen::AlignedBox3d& box) {
 void ExplorationStage::process(FrameContext& ctx, maps::CSurfelMap& /*map*/) {
   m_inserted_this_frame = false;
   if (!m_octree || !ctx.result.fusable()) return;
-  if (m_fused++ % std::size_t(m_explore.octree_every_n_frames) != 0) return;
+  if (m_fused++ % std::size_t(m_loop.octree_every_n_frames) != 0) return;
   const RgbdFrame& f = *ctx.frame;
   m_octree->insertDepthFrame(f.depth_m, f.intrinsics, ctx.result.T_world_cam);
   ++m_inserted;

@@ -10,15 +10,15 @@
 //                 RobotDriver steps it (RobotDriver.h, VI): in the simulator's substeps
 //                 (SimulatedSequence::setSubstepHook), or in a thread of its own at [navigation]
 //                 period_s of wall time on a real robot (WallClockRobotDriver);
-//   stopping      [explore]'s rule: the best view gains too little for stop_plans plans, the
+//   stopping      [exploration]'s rule: the best view gains too little for stop_plans plans, the
 //                 planner has nothing left, or a time / path budget is spent;
 //   metrics       with the simulator's ground truth: surface coverage and the fraction of the
 //                 world's detectable objects carrying their right class, over time. A real robot
 //                 has none: its metrics rows carry time, path, entropy and surfels only, and the
 //                 report's coverage fields are null.
-// Workspace (V-A): the simulated world's bounds ([explore] workspace_from_world), else (a real
+// Workspace (V-A): the simulated world's bounds ([exploration] workspace_from_world), else (a real
 // robot) [exploration] workspace_*. Times are seconds since the first frame.
-// Threads ([explore] planner_thread): true, the planner runs in a thread of its own on map
+// Threads ([exploration] planner_thread): true, the planner runs in a thread of its own on map
 // snapshots and a copy of the octree while mapping goes on, and its plan is applied on a later
 // frame (a robot); false, it runs on the mapping thread between frames at simulated times, so a
 // seed gives one run (the simulated embedded default, the evaluation, the tests).
@@ -122,7 +122,7 @@ class ExplorationLoop {
     /// The way to the plan's best view around walls (exploration::routeTo on the plan's grid):
     /// the navigator's waypoints before it.
     std::vector<Eigen::Vector2d> route;
-    std::string error;               ///< the planner thread's exception
+    std::string error;  ///< the planner thread's exception
   };
   void start(const std::vector<Eigen::Vector2f>& footprint,
              const navigation::TNavigationParams& nav_params);
@@ -133,7 +133,7 @@ class ExplorationLoop {
   void navSetGoal(const Eigen::Vector3d& goal, const std::vector<Eigen::Vector2d>& via = {});
   void navCancel();
   bool groundTruth() const { return m_coverage != nullptr; }
-  /// Plans now (deterministic mode) or asks the planner thread to ([explore] planner_thread).
+  /// Plans now (deterministic mode) or asks the planner thread to ([exploration] planner_thread).
   void plan(double t, bool driving);
   PlanOutput computePlan(const PlanRequest& req);
   std::vector<Eigen::Vector2d> routeToBest(const exploration::Plan& p,
@@ -158,7 +158,8 @@ class ExplorationLoop {
   std::unique_ptr<RobotDriver> m_driver;
   robot::IRobot* m_robot = nullptr;  ///< the driver's robot
   Eigen::Isometry3d m_T_base_cam;
-  CameraIntrinsics m_K;  ///< the intrinsics of the frames the run receives (planning predicts with them)
+  CameraIntrinsics
+      m_K;  ///< the intrinsics of the frames the run receives (planning predicts with them)
   mutable std::mutex m_nav_mx;  ///< the navigator: driver stepping vs the mapping thread
   mutable std::mutex m_loc_mx;  ///< the localisation estimate (read by the navigator)
   std::unique_ptr<navigation::Navigator> m_nav;  ///< null once released (finish())
@@ -174,7 +175,7 @@ class ExplorationLoop {
   double m_path_m = 0, m_t = 0, m_last_plan_t = -1e9, m_last_metrics_t = -1e9;
   std::optional<double> m_t0;  ///< the first frame's timestamp (times count from it)
   std::chrono::steady_clock::time_point m_wall_t0;  ///< when the first frame arrived
-  int m_spin_goals_left = 3;   ///< the initial turn in place, in thirds
+  int m_spin_goals_left = 3;                        ///< the initial turn in place, in thirds
   int m_low_plans = 0, m_plans = 0;
   std::optional<GoalRecord> m_goal;
   double m_goal_rate = 0.0;  ///< rate of the current goal when chosen (for switching)

@@ -32,9 +32,9 @@
 #include "rasm/io/Trajectory.h"
 #include "rasm/navigation/TNavigationParams.h"
 #include "rasm/pipeline/FloorPlan.h"
+#include "rasm/pipeline/LiveView.h"
 #include "rasm/pipeline/Mapper.h"
 #include "rasm/pipeline/OutputFiles.h"
-#include "rasm/pipeline/LiveView.h"
 #include "rasm/pipeline/RunConfig.h"
 #include "rasm/robot/SegwayRmpRobot.h"
 
@@ -74,7 +74,7 @@ struct RunSummary {
   std::optional<WorldFrameSummary> world_error, world_error_tracked;
   std::string truth;
   nlohmann::json report;   ///< what report.json holds
-  bool explored = false;   ///< [explore] enabled: report holds the exploration's fields
+  bool explored = false;   ///< [exploration] enabled: report holds the exploration's fields
   std::string status;      ///< report.json "status": ok, failed or interrupted
   int interrupted_by = 0;  ///< the signal that stopped the run (SIGINT, SIGTERM), 0 = none
 };
@@ -123,14 +123,14 @@ class MappingRun {
   OutputFolder prepareOutputFolder() const;
   void decideExploring(const std::string& src);
   /// The opened source with its read-ahead / preload wrapper; `preload_s` = seconds spent
-  /// preloading. An exploring run ([explore] enabled) gets no read-ahead: the source's robot is
+  /// preloading. An exploring run ([exploration] enabled) gets no read-ahead: the source's robot is
   /// driven by the exploration loop created here.
   std::unique_ptr<io::FrameSource> wrapSource(std::unique_ptr<io::FrameSource> source,
                                               double& preload_s);
   /// A live source or a real-time replay: the robot's odometry ([robot] type = segway_rmp, which
   /// connects here) and the real-time offering of frames (docs/hardware.md).
   std::unique_ptr<io::FrameSource> wrapLive(std::unique_ptr<io::FrameSource> source);
-  /// [explore] enabled = true on the Segway: the closed loop on the wall clock (m_explore).
+  /// [exploration] enabled = true on the Segway: the closed loop on the wall clock (m_loop).
   void startRealExploration(robot::SegwayRmpRobot& robot, const Eigen::Isometry3d& T_base_cam);
   /// report.json "real_time" (frames offered / dropped / processed, rates) and "robot".
   void liveReport(nlohmann::json& rep, std::size_t processed, double seconds) const;
@@ -177,18 +177,18 @@ class MappingRun {
   TSourceParams m_source;
   TCameraParams m_camera;
   TOutputParams m_output;
-  TViewParams m_view;  ///< [view]: the live window (LiveView.h)
+  TViewParams m_view;     ///< [view]: the live window (LiveView.h)
   std::string m_sim_ini;  ///< [sim] section text, handed to the simulator source
   navigation::TNavigationParams m_navigation;  ///< [navigation]: the exploring robot's navigator
   io::TOpenNI2Params m_openni2;                ///< [openni2]: the live camera ([source] openni2)
   robot::TSegwayRmpParams m_segway;            ///< [segway_rmp]: [robot] type = segway_rmp
-  bool m_explore_real = false;  ///< [explore] enabled = true on a real robot (segway_rmp)
+  bool m_explore_real = false;  ///< [exploration] enabled = true on a real robot (segway_rmp)
   const io::RealTimeFrameSource* m_realtime = nullptr;  ///< in the source chain, when real time
   const RobotFrameSource* m_robot_source = nullptr;     ///< in the source chain, segway_rmp
   std::unique_ptr<Mapper> m_mapper;
-  std::unique_ptr<ExplorationLoop> m_explore;  ///< exploring: the closed loop (V, VI)
-  bool m_exploring = false;                    ///< [explore] enabled and the source decide
-  std::vector<std::string> m_annotated_lost;   ///< annotated.rawlog: lost frames and why (200)
+  std::unique_ptr<ExplorationLoop> m_loop;    ///< exploring: the closed loop (V, VI)
+  bool m_exploring = false;                   ///< [exploration] enabled and the source decide
+  std::vector<std::string> m_annotated_lost;  ///< annotated.rawlog: lost frames and why (200)
   std::function<std::unique_ptr<io::FrameSource>()> m_live_camera;  ///< setLiveCamera
 };
 

@@ -1,11 +1,11 @@
 #pragma once
 // Section V-A as a stage of the Mapper, after classification (Mapper::assemble): the occupancy
 // octree of exploration, updated from every fused depth frame at its tracked pose (a lost or
-// relocalising frame's pose is not trusted, so it updates nothing). The stage owns the sections
-//   [exploration]  the octree, candidate views and the information-gain score (TExplorationParams)
-//   [explore]      whether the run explores, and the loop around the planner (TExploreParams:
-//                  planning period, stopping rule, budgets); ExplorationLoop reads them.
-// With [explore] enabled = false (hand-held runs and replays) the stage does nothing.
+// relocalising frame's pose is not trusted, so it updates nothing). The stage owns the section
+// [exploration]: the octree, candidate views and the information-gain score
+// (exploration::TExplorationParams), and whether the run explores and the loop around the planner
+// (TExplorationLoopParams: planning period, stopping rule, budgets; ExplorationLoop reads them).
+// With [exploration] enabled = false (hand-held runs and replays) the stage does nothing.
 
 #include <memory>
 
@@ -15,8 +15,9 @@
 
 namespace rasm::pipeline {
 
-/// [explore]: the closed loop of an exploring run (section V-VI; docs/exploration.md "The loop").
-struct TExploreParams : mrpt::config::CLoadableOptions {
+/// [exploration]'s loop keys: the closed loop of an exploring run (section V-VI;
+/// docs/exploration.md "The loop").
+struct TExplorationLoopParams : mrpt::config::CLoadableOptions {
   /// "true": drive the robot by information gain (needs a robot: [source] type = sim with a
   /// robot spec; an InputError otherwise); "false": map the source as it comes; "auto" (the
   /// embedded default): explore when the source is a simulated robot spec, map otherwise (a
@@ -63,13 +64,30 @@ struct TExploreParams : mrpt::config::CLoadableOptions {
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
 
+/// The one section [exploration]: the planner's keys and the loop's, loaded and saved together
+/// (their names are distinct: ExplorationStage's test checks).
+struct TExplorationSection : mrpt::config::CLoadableOptions {
+  TExplorationSection(exploration::TExplorationParams& planner, TExplorationLoopParams& loop)
+      : planner(planner), loop(loop) {}
+  exploration::TExplorationParams& planner;
+  TExplorationLoopParams& loop;
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override {
+    loop.loadFromConfigFile(c, s);
+    planner.loadFromConfigFile(c, s);
+  }
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override {
+    loop.saveToConfigFile(c, s);
+    planner.saveToConfigFile(c, s);
+  }
+};
+
 class ExplorationStage : public MapperStage {
  public:
   ExplorationStage() : MapperStage("occupancy") {}
+  ExplorationStage(const ExplorationStage&) = delete;  // (m_section refers to the members)
+  ExplorationStage& operator=(const ExplorationStage&) = delete;
 
-  std::vector<ParamsSection> sections() override {
-    return {{"exploration", &m_params}, {"explore", &m_explore}};
-  }
+  std::vector<ParamsSection> sections() override { return {{"exploration", &m_section}}; }
   void configure(const TMapperParams& mapper) override;
   void process(FrameContext& ctx, maps::CSurfelMap& map) override;
   void csvColumns(std::vector<std::string>& columns) const override;
@@ -77,8 +95,8 @@ class ExplorationStage : public MapperStage {
   void report(nlohmann::json& rep) const override;
 
   const exploration::TExplorationParams& params() const { return m_params; }
-  const TExploreParams& exploreParams() const { return m_explore; }
-  /// Whether this run explores (MappingRun decides from [explore] enabled and the source): the
+  const TExplorationLoopParams& loopParams() const { return m_loop; }
+  /// Whether this run explores (MappingRun decides from [exploration] enabled and the source): the
   /// octree exists only then.
   void setExploring(bool exploring);
   bool exploring() const { return m_octree != nullptr; }
@@ -89,7 +107,8 @@ class ExplorationStage : public MapperStage {
 
  private:
   exploration::TExplorationParams m_params;
-  TExploreParams m_explore;
+  TExplorationLoopParams m_loop;
+  TExplorationSection m_section{m_params, m_loop};
   std::unique_ptr<exploration::OccupancyOctree> m_octree;
   std::size_t m_fused = 0, m_inserted = 0;
   bool m_inserted_this_frame = false;
