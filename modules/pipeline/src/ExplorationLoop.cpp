@@ -285,6 +285,7 @@ ExplorationLoop::PlanOutput ExplorationLoop::computePlan(const PlanRequest& req)
     out.current_goal_score = exploration::rankingKey(m_stage.params(), *p.current_goal);
   if (!p.ranked.empty())
     out.route = p.route ? *p.route : routeToBest(out.plan, *req.octree, req.robot);
+  out.snapshot_ms = m_snapshot.copy_ms + m_snapshot.index_ms;
   out.ms = msSince(t0);
   return out;
 }
@@ -317,6 +318,7 @@ void ExplorationLoop::applyPlan(const PlanOutput& out) {
                         {"best_entropy_reduction", best_dH},
                         {"best_information", best_dIC},
                         {"ms", out.ms},
+                        {"snapshot_ms", out.snapshot_ms},
                         {"tour_clusters", p.tour_clusters},
                         {"screened_out", p.screened_out},
                         {"while_driving", out.driving}};

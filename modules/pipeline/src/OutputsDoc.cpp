@@ -328,7 +328,8 @@ probability 1; it fades towards `none_colour` as the probability falls to the 0.
 
 `comment`; `planner`; `stop_reason` (as in report.json); `plans`: one per plan {`t` (simulated s
 when planned), `applied_t`, `robot` [x, y, yaw rad], `reachable`, `unreachable`, `blacklisted`
-(candidate views), `best_entropy_reduction`, `best_information`, `ms`, `while_driving`, `low`
+(candidate views), `best_entropy_reduction`, `best_information`, `ms` (the whole plan, wall
+clock), `snapshot_ms` (of it: copying the map and indexing the copy), `while_driving`, `low`
 (counts towards the stopping rule), `best` {`pose`, `source` (object, frontier, sweep, random),
 `gain`, `rate`, `path_length_m`}, `current_goal_score`, `frontiers` (`ig`, `frontier`: the
 planning grid's frontiers {`centroid` [x, y], `cells`, `found`: whether a reachable cell near it

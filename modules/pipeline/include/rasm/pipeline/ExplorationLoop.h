@@ -115,6 +115,7 @@ class ExplorationLoop {
   struct PlanOutput {
     exploration::Plan plan;
     double t = 0, ms = 0;
+    double snapshot_ms = 0;  ///< of ms: copying the map and indexing the copy
     bool driving = false;
     Eigen::Vector3d robot = Eigen::Vector3d::Zero();
     std::optional<Eigen::Vector3d> goal;
