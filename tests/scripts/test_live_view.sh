@@ -43,6 +43,15 @@ xwd -silent -id "$id" | xwdtopnm 2>/dev/null | pnmtopng >"$work/window.png" || {
 wait $pid
 rc=$?
 [[ $rc -eq 0 ]] || { echo "FAIL: rasm run --view exited with $rc"; cat "$work/run.out"; exit 1; }
+# What the last snapshot drew (run.log): the exploring run's plan (candidate views) and goals
+# over the map; the objects drawn are counted (none may be confirmed yet after 150 frames).
+drawn=$(grep -o "live view: .*" "$work/run/run.log" | tail -1)
+echo "$drawn"
+[[ $drawn =~ ([0-9]+)\ surfels,\ ([0-9]+)\ views\ \(([0-9]+)\ goals\),\ ([0-9]+)\ objects ]] || {
+  echo "FAIL: run.log does not say what the live view drew"; exit 1; }
+(( BASH_REMATCH[1] > 1000 )) || { echo "FAIL: the live view drew no map"; exit 1; }
+(( BASH_REMATCH[2] > BASH_REMATCH[3] && BASH_REMATCH[3] >= 1 )) || {
+  echo "FAIL: the live view drew no candidate views or no goal of the exploring run"; exit 1; }
 /usr/bin/python3 - "$work/window.png" <<'PY' || exit 1
 import sys
 import matplotlib.image as mpimg

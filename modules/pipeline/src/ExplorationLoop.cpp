@@ -655,7 +655,9 @@ std::vector<SceneView> ExplorationLoop::candidateViews(const exploration::Plan& 
 
 std::vector<SceneView> ExplorationLoop::sceneViews() const {
   std::vector<SceneView> views = m_last_views;
-  for (const GoalRecord& g : m_goals) {
+  std::vector<GoalRecord> goals = m_goals;
+  if (m_goal) goals.push_back(*m_goal);  // the one being driven to (the live view's)
+  for (const GoalRecord& g : goals) {
     const Eigen::Isometry3d T = exploration::cameraPoseOf(g.goal, m_T_base_cam);
     SceneView v;
     v.position = T.translation();

@@ -7,6 +7,7 @@
 #include <mrpt/opengl/CSetOfObjects.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 
 #include "rasm/core/Error.h"
@@ -54,6 +55,19 @@ void TViewParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::
 struct LiveView::Window {
   mrpt::gui::CDisplayWindow3D win;
   maps::SurfelColouring colouring;
+  /// The camera frameCamera last set (pointing-at x, y, z; zoom; azimuth, elevation in deg).
+  struct Camera {
+    float x = 0, y = 0, z = 0, zoom = 0, azimuth_deg = 0, elevation_deg = 0;
+    bool sameAs(const Camera& o) const {
+      const auto near = [](float a, float b) {
+        return std::abs(a - b) <= 1e-3f * (1 + std::abs(b));
+      };
+      return near(x, o.x) && near(y, o.y) && near(z, o.z) && near(zoom, o.zoom) &&
+             near(azimuth_deg, o.azimuth_deg) && near(elevation_deg, o.elevation_deg);
+    }
+  } camera_set;
+  Eigen::AlignedBox3d framed;  ///< the map's box the camera was last pointed at
+  bool user_moved_camera = false;
   Window(int w, int h, maps::SurfelColouring c) : win("rasm run: live view", w, h), colouring(c) {}
 };
 
@@ -82,12 +96,27 @@ LiveView::~LiveView() {
   } catch (const std::exception& e) {
     log::warning(std::string("live view: ") + e.what());
   }
+  log::debug("live view: " + std::to_string(m_updates.load()) + " snapshots drawn; the last " +
+             m_last_drawn);
 }
 
 void LiveView::addFrame(const FrameResult& r, const CameraIntrinsics& K) {
   std::lock_guard<std::mutex> lock(m_mutex);
   m_path.push_back({r.timestamp_s, r.T_world_cam});
   m_K = K;
+}
+
+bool LiveView::overlayDue() const {
+  std::lock_guard<std::mutex> lock(m_mutex);
+  return std::chrono::steady_clock::now() - m_overlay_t >=
+         std::chrono::milliseconds(int(m_params.period_s * 1000));
+}
+
+void LiveView::setOverlay(std::vector<SceneView> views, std::vector<ObjectBox> objects) {
+  std::lock_guard<std::mutex> lock(m_mutex);
+  m_views = std::move(views);
+  m_objects = std::move(objects);
+  m_overlay_t = std::chrono::steady_clock::now();
 }
 
 void LiveView::loop() {
@@ -116,21 +145,56 @@ void LiveView::loop() {
   }
 }
 
-void LiveView::drawOnce(bool first) {
-  const std::shared_ptr<const MapSnapshot> snap = m_mapper.snapshot();
-  maps::SurfelStore thinned;
-  const maps::SurfelStore* store = &snap->store;
-  if (snap->store.size() > m_params.max_points) {
-    const int stride = (snap->store.size() + m_params.max_points - 1) / m_params.max_points;
-    thinned.copyThinnedFrom(snap->store, stride, 1.0f);
-    store = &thinned;
+/// The window's camera follows the map: it is pointed at the whole map (pointCameraAt) on the
+/// first snapshot and again whenever the map has grown out of the box it framed, until the user
+/// moves the camera (the window's camera is then no longer the one set here).
+void LiveView::frameCamera(mrpt::opengl::COpenGLScene& scene, const Eigen::AlignedBox3d& box,
+                           bool first) {
+  mrpt::gui::CDisplayWindow3D& win = m_window->win;
+  if (!first && m_window->user_moved_camera) return;
+  if (!first) {
+    float x = 0, y = 0, z = 0;
+    win.getCameraPointingToPoint(x, y, z);
+    const Window::Camera now{
+        x, y, z, win.getCameraZoom(), win.getCameraAzimuthDeg(), win.getCameraElevationDeg()};
+    if (!now.sameAs(m_window->camera_set)) {
+      m_window->user_moved_camera = true;
+      return;
+    }
+    // Grown: a corner of the map more than 20% of the framed box's size outside it.
+    const Eigen::Vector3d margin = 0.2 * m_window->framed.sizes();
+    Eigen::AlignedBox3d grown = m_window->framed;
+    grown.extend(m_window->framed.min() - margin).extend(m_window->framed.max() + margin);
+    if (box.isEmpty() || grown.contains(box)) return;
   }
+  pointCameraAt(scene, box);
+  const mrpt::opengl::CCamera cam = scene.getViewport("main")->getCamera();
+  m_window->camera_set = {cam.getPointingAtX(),    cam.getPointingAtY(),
+                          cam.getPointingAtZ(),    cam.getZoomDistance(),
+                          cam.getAzimuthDegrees(), cam.getElevationDegrees()};
+  m_window->framed = box;
+  win.setCameraPointingToPoint(cam.getPointingAtX(), cam.getPointingAtY(), cam.getPointingAtZ());
+  win.setCameraZoom(cam.getZoomDistance());
+  win.setCameraAzimuthDeg(cam.getAzimuthDegrees());
+  win.setCameraElevationDeg(cam.getElevationDegrees());
+}
+
+void LiveView::drawOnce(bool first) {
+  m_mapper.snapshotThinnedInto(m_snapshot, m_params.max_points);
+  const maps::SurfelStore* store = &m_snapshot.store;
   RunOverlay overlay;
   {
     std::lock_guard<std::mutex> lock(m_mutex);
     overlay.estimate = m_path;
     overlay.K = m_K;
+    overlay.views = m_views;
+    overlay.objects = m_objects;
   }
+  int goals = 0;
+  for (const SceneView& v : overlay.views) goals += v.goal;
+  m_last_drawn = std::to_string(store->size()) + " surfels, " +
+                 std::to_string(overlay.views.size()) + " views (" + std::to_string(goals) +
+                 " goals), " + std::to_string(overlay.objects.size()) + " objects";
   maps::SurfelVisualOptions vis;
   vis.colouring = m_window->colouring;
   auto scene = mrpt::opengl::COpenGLScene::Create();
@@ -139,15 +203,8 @@ void LiveView::drawOnce(bool first) {
   maps::surfelsToOpenGL(*store, vis, *layer);
   scene->insert(layer);
   addRunOverlay(*scene, overlay);
-  if (first) pointCameraAt(*scene, sceneBounds(*store, overlay));
+  frameCamera(*scene, sceneBounds(*store, overlay), first);
   mrpt::gui::CDisplayWindow3D& win = m_window->win;
-  if (first) {
-    const mrpt::opengl::CCamera cam = scene->getViewport("main")->getCamera();
-    win.setCameraPointingToPoint(cam.getPointingAtX(), cam.getPointingAtY(), cam.getPointingAtZ());
-    win.setCameraZoom(cam.getZoomDistance());
-    win.setCameraAzimuthDeg(cam.getAzimuthDegrees());
-    win.setCameraElevationDeg(cam.getElevationDegrees());
-  }
   win.get3DSceneAndLock() = scene;
   win.unlockAccess3DScene();
   win.forceRepaint();

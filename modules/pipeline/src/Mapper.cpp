@@ -211,6 +211,18 @@ std::shared_ptr<const MapSnapshot> Mapper::snapshot() const {
 }
 
 void Mapper::snapshotInto(MapSnapshot& snap) const {
+  copySnapshot(snap, 0);
+  const auto t = Clock::now();
+  snap.store.rebuildIndex();
+  snap.index_ms = msSince(t);
+}
+
+void Mapper::snapshotThinnedInto(MapSnapshot& snap, int max_surfels) const {
+  copySnapshot(snap, std::max(1, max_surfels));
+  snap.index_ms = 0.0;
+}
+
+void Mapper::copySnapshot(MapSnapshot& snap, int max_surfels) const {
   // From the mapping thread itself (between frames) nothing writes: copy at once.
   if (std::this_thread::get_id() != m_mapping_thread.load()) {
     std::unique_lock<std::mutex> lk(m_phase_mutex);
@@ -220,7 +232,11 @@ void Mapper::snapshotInto(MapSnapshot& snap) const {
   {
     std::shared_lock<std::shared_mutex> reading(m_map_mutex);
     const auto t = Clock::now();
-    snap.store.copySurfelsFrom(m_map->store());
+    const maps::SurfelStore& live = m_map->store();
+    if (max_surfels > 0 && live.size() > max_surfels)
+      snap.store.copyThinnedFrom(live, (live.size() + max_surfels - 1) / max_surfels, 1.0f);
+    else
+      snap.store.copySurfelsFrom(live);
     snap.segments.clear();
     snap.relabel_generation = 0;
     for (const auto& s : m_stages)
@@ -231,9 +247,6 @@ void Mapper::snapshotInto(MapSnapshot& snap) const {
     snap.frames = m_frames;
     snap.copy_ms = msSince(t);
   }
-  const auto t = Clock::now();
-  snap.store.rebuildIndex();
-  snap.index_ms = msSince(t);
 }
 
 void Mapper::loadMap(const std::string& path) {

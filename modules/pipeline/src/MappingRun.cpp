@@ -978,7 +978,12 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
       log::warning(std::string("the live view did not open: ") + e.what());
     }
   const std::function<void(const FrameResult&)> each_frame = [&](const FrameResult& r) {
-    if (view) view->addFrame(r, acc.last_K);  // recordFrame has set it
+    if (view) {
+      view->addFrame(r, acc.last_K);  // recordFrame has set it
+      if (view->overlayDue())         // what the run does, drawn over the map
+        view->setOverlay(m_loop ? m_loop->sceneViews() : std::vector<SceneView>{},
+                         m_mapper->stage<ClassificationStage>().reportedObjects());
+    }
     if (on_frame) on_frame(r);
   };
   if (source && acc.output_error.empty()) frameLoop(*source, acc, out, each_frame);

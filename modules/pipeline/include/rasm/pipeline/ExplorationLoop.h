@@ -87,7 +87,7 @@ class ExplorationLoop {
   void writeOutputs(OutputFolder& out) const;
   /// The views to draw over the map (RunScene.h, exploration.json "candidate_views"): the
   /// candidates of the last plan that offered any (reachable ones with their gain, unreachable
-  /// ones), then every goal driven to.
+  /// ones), then every goal driven to, the current one included.
   std::vector<SceneView> sceneViews() const;
 
  private:

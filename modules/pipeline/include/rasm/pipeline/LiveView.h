@@ -1,10 +1,14 @@
 #pragma once
 // The live 3-D view of a run (`rasm run --view`, [view] enabled): MRPT's CDisplayWindow3D shows
 // the map as it grows, the camera's path and the camera, from snapshots of the map taken on a
-// thread of its own every period_s (Mapper::snapshot: the mapping thread waits only when a copy
-// outlasts its read phase), thinned to max_points surfels; the same objects `rasm view` shows
-// after the run (RunScene.h: "trajectory", "camera"). Keys: 1 colour, 2 segments, 3 classes (the
-// next snapshot is drawn that way), p paths. Closing the window ends the view, not the run.
+// thread of its own every period_s (Mapper::snapshotThinnedInto: every k-th surfel up to
+// max_points, copied straight from the map; the mapping thread waits only when a copy outlasts
+// its read phase); over it what the run does, as `rasm view` shows it after the run (RunScene.h):
+// "trajectory", "camera", "candidate_views" (an exploring run's last plan and its goals) and
+// "objects" (the boxes and "class probability" labels of the objects objects.json would list
+// now). The camera follows the map as it grows until the user moves it. Keys: 1 colour,
+// 2 segments, 3 classes (the next snapshot is drawn that way), p paths. Closing the window ends
+// the view, not the run.
 // Headless (no DISPLAY) it refuses to start with an InputError naming [view] enabled. Tested
 // under Xvfb (tests/scripts/test_live_view.sh: the window, grabbed with xwd, is not blank; MRPT's
 // own window capture reads black under Xvfb's software GL).
@@ -12,6 +16,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -20,10 +25,14 @@
 #include "rasm/core/CameraIntrinsics.h"
 #include "rasm/io/Trajectory.h"
 #include "rasm/pipeline/FrameContext.h"
+#include "rasm/pipeline/Mapper.h"
+#include "rasm/pipeline/RunScene.h"
+
+namespace mrpt::opengl {
+class COpenGLScene;
+}
 
 namespace rasm::pipeline {
-
-class Mapper;
 
 /// [view]
 struct TViewParams : mrpt::config::CLoadableOptions {
@@ -51,6 +60,12 @@ class LiveView {
 
   /// A frame's result (mapping thread): its pose joins the drawn path.
   void addFrame(const FrameResult& r, const CameraIntrinsics& K);
+  /// Whether the overlay is due for an update (period_s since the last one): the mapping thread
+  /// asks before it collects the views and objects.
+  bool overlayDue() const;
+  /// The exploring run's views (candidates of the last plan, goals) and the objects to draw over
+  /// the map from the next snapshot on (mapping thread).
+  void setOverlay(std::vector<SceneView> views, std::vector<ObjectBox> objects);
   /// Snapshots drawn so far.
   int updates() const { return m_updates.load(); }
 
@@ -58,13 +73,19 @@ class LiveView {
   struct Window;
   void loop();
   void drawOnce(bool first);
+  void frameCamera(mrpt::opengl::COpenGLScene& scene, const Eigen::AlignedBox3d& box, bool first);
 
   const Mapper& m_mapper;
   TViewParams m_params;
   std::unique_ptr<Window> m_window;
-  std::mutex m_mutex;  ///< guards m_path and m_K
+  mutable std::mutex m_mutex;  ///< guards m_path, m_K, m_views, m_objects and m_overlay_t
   io::Trajectory m_path;
   CameraIntrinsics m_K;
+  std::vector<SceneView> m_views;
+  std::vector<ObjectBox> m_objects;
+  std::chrono::steady_clock::time_point m_overlay_t;
+  MapSnapshot m_snapshot;    ///< the view thread's, reused from snapshot to snapshot
+  std::string m_last_drawn;  ///< what the last snapshot drew (the run's log at the end)
   std::atomic<bool> m_stop{false};
   std::atomic<int> m_updates{0};
   std::thread m_thread;

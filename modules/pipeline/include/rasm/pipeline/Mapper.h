@@ -125,12 +125,18 @@ class Mapper {
   /// page faults of a fresh copy). Only the surfel arrays are copied under the lock; the spatial
   /// index is rebuilt after it is released, on the calling thread.
   void snapshotInto(MapSnapshot& out) const;
+  /// A thinned snapshot for drawing (the live view): every k-th alive surfel, k = ceil(surfels /
+  /// max_surfels), copied under the lock straight from the map (no full copy first) and not
+  /// indexed; segments and frames as snapshotInto.
+  void snapshotThinnedInto(MapSnapshot& out, int max_surfels) const;
 
   /// Renders the map's colour / segment view at a pose (previews, annotated rawlogs).
   void renderView(const Eigen::Isometry3d& T_world_cam, const CameraIntrinsics& K,
                   maps::RenderedMaps& out);
 
  private:
+  /// The copy of snapshotInto (every surfel) or snapshotThinnedInto (max_surfels > 0), not indexed.
+  void copySnapshot(MapSnapshot& out, int max_surfels) const;
   /// Builds the stage list: the one place a new stage is added.
   void assemble();
   /// Timer slots of the stages (after any change of the list).
