@@ -11,6 +11,7 @@ PACKAGES=(
   libeigen3-dev liboctomap-dev libnanoflann-dev
   libembree-dev libassimp-dev                # simulator: ray casting, meshes
   nlohmann-json3-dev libyaml-cpp-dev         # JSON outputs, world files
+  libopen3d-dev                              # mesh.ply: TSDF fusion and marching cubes (meshing/)
   zlib1g-dev                                 # io: a gzip rawlog is checked whole before its first frame
   libgtest-dev libgmock-dev googletest
   xvfb xauth netpbm x11-apps xdotool         # optional: screenshots of RawLogViewer / SceneViewer3D

@@ -98,7 +98,8 @@ void TCameraParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
 std::vector<std::string> MappingRun::knownSections() const {
   std::vector<std::string> known = {"source", "camera"};
   for (const std::string& s : m_mapper->sectionNames()) known.push_back(s);
-  known.insert(known.end(), {"navigation", "output", "view", "sim", "openni2", "segway_rmp"});
+  known.insert(known.end(),
+               {"navigation", "output", "view", "mesh", "sim", "openni2", "segway_rmp"});
   return known;
 }
 
@@ -113,6 +114,7 @@ MappingRun::MappingRun(const RunConfig& config) : m_config(config) {
   loadParamsStrict(ini, "camera", m_camera, src);
   loadParamsStrict(ini, "output", m_output, src);
   loadParamsStrict(ini, "view", m_view, src);
+  loadParamsStrict(ini, "mesh", m_mesh, src);
   if (m_view.enabled) LiveView::requireDisplay();
   loadParamsStrict(ini, "navigation", m_navigation, src);
   loadParamsStrict(ini, "openni2", m_openni2, src);
@@ -163,6 +165,7 @@ std::string MappingRun::effectiveConfig() const {
   m_segway.saveToConfigFile(mem, "segway_rmp");
   m_output.saveToConfigFile(mem, "output");
   m_view.saveToConfigFile(mem, "view");
+  m_mesh.saveToConfigFile(mem, "mesh");
   std::string text;
   mem.getContent(text);
   return "; effective configuration of a rasm run (every key, defaults included), from " +
@@ -721,6 +724,34 @@ void MappingRun::writeMapFiles(const Accumulated& acc, const std::vector<ObjectB
   }
   if (m_output.save_map)
     out.write("map.surfelmap", [&](const std::string& p) { writeGzArchive(p, map); });
+  if (m_output.write_mesh) writeMesh(acc, out);
+}
+
+/// mesh.ply (and mesh_classes.ply when any surfel carries a class): the map fused along the
+/// estimated path (SurfelMesh.h).
+void MappingRun::writeMesh(const Accumulated& acc, OutputFolder& out) const {
+  if (!acc.have_K || acc.estimate.empty()) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<Eigen::Isometry3d> poses;
+  for (const auto& p : acc.estimate) poses.push_back(p.T_world_cam);
+  const maps::SurfelStore& store = m_mapper->map().store();
+  meshing::SurfelMesh mesh = meshing::SurfelMesh::build(store, poses, acc.last_K, m_mesh);
+  out.write("mesh.ply", [&](const std::string& p) { mesh.writePly(p); });
+  const maps::SurfelArrays a = store.arrays();
+  bool classified = false;
+  for (int i = 0; i < a.size && !classified && a.n_classes > 0; ++i)
+    classified = a.alive(i) && maps::bestClass(a, i).id != 0;
+  if (classified) {
+    mesh.colourByClass(store);
+    out.write("mesh_classes.ply", [&](const std::string& p) { mesh.writePly(p); });
+  }
+  log::debug(
+      "mesh: " + std::to_string(mesh.triangles()) + " triangles, " +
+      std::to_string(mesh.vertices()) + " vertices from " + std::to_string(mesh.views()) +
+      " views in " +
+      std::to_string(int(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() * 1000)) +
+      " ms");
 }
 
 void MappingRun::writePreviews(const Accumulated& acc, OutputFolder& out) const {

@@ -254,17 +254,36 @@ void OutputFolder::leaveOut(const std::vector<std::string>& names) {
 const std::vector<std::string>& OutputFolder::knownNames() {
   // Every file MappingRun, the Mapper's stages and the exploration loop write (README "Outputs
   // of rasm run"); OutputFolder::write refuses others.
-  static const std::vector<std::string> names = {
-      "config.ini",           "report.json",          "frames.csv",
-      "trajectory.txt",       "groundtruth.txt",      "map.ply",
-      "map.3Dscene",          "map.surfelmap",        "preview.png",
-      "preview_segments.png", "preview_classes.png",  "segments.json",
-      "map_segments.ply",     "map_segments.3Dscene", "classes.json",
-      "objects.json",         "map_classes.ply",      "map_classes.3Dscene",
-      "exploration.json",     "exploration.png",      "annotated.rawlog",
-      "plot_trajectory.png",  "plot_timing.png",
-      "floorplan.png",        "floorplan.svg",        "classes_legend.png",
-      "plot_tracking.png",    "run.log"};
+  static const std::vector<std::string> names = {"config.ini",
+                                                 "report.json",
+                                                 "frames.csv",
+                                                 "trajectory.txt",
+                                                 "groundtruth.txt",
+                                                 "map.ply",
+                                                 "map.3Dscene",
+                                                 "map.surfelmap",
+                                                 "preview.png",
+                                                 "preview_segments.png",
+                                                 "preview_classes.png",
+                                                 "segments.json",
+                                                 "map_segments.ply",
+                                                 "map_segments.3Dscene",
+                                                 "classes.json",
+                                                 "objects.json",
+                                                 "map_classes.ply",
+                                                 "map_classes.3Dscene",
+                                                 "exploration.json",
+                                                 "exploration.png",
+                                                 "annotated.rawlog",
+                                                 "plot_trajectory.png",
+                                                 "plot_timing.png",
+                                                 "floorplan.png",
+                                                 "floorplan.svg",
+                                                 "classes_legend.png",
+                                                 "plot_tracking.png",
+                                                 "run.log",
+                                                 "mesh.ply",
+                                                 "mesh_classes.ply"};
   return names;
 }
 

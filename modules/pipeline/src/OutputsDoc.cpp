@@ -37,6 +37,13 @@ const Doc kFiles[] = {
     {"map.surfelmap",
      "the serialized `rasm::maps::CSurfelMap` with its relocalisation "
      "keyframes (gzip); `rasm run --map` continues in it; `[output] save_map`"},
+    {"mesh.ply",
+     "a triangle mesh of the map (binary PLY, vertex normals and RGB; MeshLab, Open3D, Blender): "
+     "the stable surfels rendered at up to `[mesh] max_views` poses along the path, fused into a "
+     "TSDF of `[mesh] voxel_m` cells, marching cubes; `[output] write_mesh`"},
+    {"mesh_classes.ply",
+     "mesh.ply with each vertex in the class colour of its nearest surfel, when a surfel carries "
+     "a class"},
     {"preview.png", "the map rendered from the last pose; `[output] preview_png`"},
     {"preview_segments.png", "the same view coloured by segment, when the map has segments"},
     {"preview_classes.png",

@@ -251,6 +251,7 @@ void TOutputParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(dir, string, c, s);
   MRPT_LOAD_CONFIG_VAR(write_ply, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(write_3dscene, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(write_mesh, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(save_map, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(write_rawlog, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(preview_png, bool, c, s);
@@ -266,6 +267,7 @@ void TOutputParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(dir, c, s);
   MRPT_SAVE_CONFIG_VAR(write_ply, c, s);
   MRPT_SAVE_CONFIG_VAR(write_3dscene, c, s);
+  MRPT_SAVE_CONFIG_VAR(write_mesh, c, s);
   MRPT_SAVE_CONFIG_VAR(save_map, c, s);
   MRPT_SAVE_CONFIG_VAR(write_rawlog, c, s);
   MRPT_SAVE_CONFIG_VAR(preview_png, c, s);

@@ -30,6 +30,7 @@
 #include "rasm/io/RawlogWriter.h"
 #include "rasm/io/RealTimeFrameSource.h"
 #include "rasm/io/Trajectory.h"
+#include "rasm/meshing/SurfelMesh.h"
 #include "rasm/navigation/TNavigationParams.h"
 #include "rasm/pipeline/FloorPlan.h"
 #include "rasm/pipeline/LiveView.h"
@@ -155,6 +156,7 @@ class MappingRun {
   /// frames.csv, trajectory, ground truth, map files, the stages' files, previews.
   void writeOutputs(const Accumulated& acc, OutputFolder& out);
   /// `objects`: objects.json's objects as written (drawn in the scenes).
+  void writeMesh(const Accumulated& acc, OutputFolder& out) const;
   void writeMapFiles(const Accumulated& acc, const std::vector<ObjectBox>& objects,
                      OutputFolder& out) const;
   /// plot_trajectory.png and plot_timing.png (RunPlots.h), with [output] preview_png.
@@ -177,8 +179,9 @@ class MappingRun {
   TSourceParams m_source;
   TCameraParams m_camera;
   TOutputParams m_output;
-  TViewParams m_view;     ///< [view]: the live window (LiveView.h)
-  std::string m_sim_ini;  ///< [sim] section text, handed to the simulator source
+  TViewParams m_view;           ///< [view]: the live window (LiveView.h)
+  meshing::TMeshParams m_mesh;  ///< [mesh]: mesh.ply (meshing/SurfelMesh.h)
+  std::string m_sim_ini;        ///< [sim] section text, handed to the simulator source
   navigation::TNavigationParams m_navigation;  ///< [navigation]: the exploring robot's navigator
   io::TOpenNI2Params m_openni2;                ///< [openni2]: the live camera ([source] openni2)
   robot::TSegwayRmpParams m_segway;            ///< [segway_rmp]: [robot] type = segway_rmp

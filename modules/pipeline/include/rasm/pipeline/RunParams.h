@@ -154,6 +154,9 @@ struct TOutputParams : mrpt::config::CLoadableOptions {
   std::string dir = "rasm_out";
   bool write_ply = true;
   bool write_3dscene = true;
+  /// mesh.ply (and mesh_classes.ply when any surfel carries a class): a triangle mesh of the map
+  /// ([mesh], meshing/SurfelMesh.h)
+  bool write_mesh = true;
   bool save_map = true;       ///< map.surfelmap: the CSurfelMap serialized for reloading
   bool write_rawlog = false;  ///< annotated.rawlog: input observations with estimated pose
   bool preview_png = true;    ///< preview.png: colour render of the map from the last pose

@@ -1,0 +1,72 @@
+#pragma once
+// A triangle mesh of the surfel map, for MeshLab, Open3D or Blender (mesh.ply, mesh_classes.ply).
+//
+// How: the map's stable surfels are rendered (SurfelRenderer: splatted depth and colour) at up to
+// max_views camera poses spread evenly along the run's path, at width x height with the run's
+// camera scaled, and the renders are fused into a truncated signed distance field (Curless and
+// Levoy 1996; Open3D's ScalableTSDFVolume, voxel_m cells, truncation_m) from which marching cubes
+// extracts the mesh, coloured by the fused RGB. The renders are the map itself seen from where the
+// camera was, so the mesh holds what the map holds (denoised by fusion), closed over the splats'
+// gaps, and nothing the camera never saw. A vertex's class colour (mesh_classes.ply) is that of
+// the nearest surfel (labelColour faded towards the no-class colour as map_classes.ply).
+// World frame, metres; binary PLY with vertex normals and colours.
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rasm/core/CameraIntrinsics.h"
+#include "rasm/surfel_map/SurfelStore.h"
+
+namespace open3d::geometry {
+class TriangleMesh;
+}
+
+namespace rasm::meshing {
+
+/// [mesh]
+struct TMeshParams : mrpt::config::CLoadableOptions {
+  double voxel_m = 0.02;       ///< TSDF cell: the mesh's resolution (the map's surfels are ~1 cm)
+  double truncation_m = 0.08;  ///< TSDF truncation: four cells, beyond the splats' depth noise
+  int max_views = 200;         ///< renders fused at most (evenly spaced along the path)
+  int width = 320, height = 240;  ///< render size (the camera's intrinsics scaled)
+  double max_depth_m = 4.0;       ///< farther rendered depth is not fused ([mapper] max_depth_m)
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+  /// InputError naming [section] and the key of a value out of range.
+  void validate(const std::string& section = "mesh") const;
+};
+
+class SurfelMesh {
+ public:
+  /// The mesh of `map` seen from the camera poses T_world_cam (optical frame) with intrinsics K.
+  /// Empty (no triangle) when no pose sees a stable surfel. Throws InputError when K is not
+  /// valid or params are out of range.
+  static SurfelMesh build(const maps::SurfelStore& map,
+                          const std::vector<Eigen::Isometry3d>& T_world_cam,
+                          const CameraIntrinsics& K, const TMeshParams& params = {});
+
+  std::size_t vertices() const;
+  std::size_t triangles() const;
+  int views() const { return m_views; }  ///< renders fused
+
+  /// Vertex colours become the class colour of the nearest alive surfel of `map`.
+  void colourByClass(const maps::SurfelStore& map);
+  /// Binary PLY (vertices with normals and RGB colours, triangles). Throws std::runtime_error
+  /// when the file cannot be written.
+  void writePly(const std::string& path) const;
+
+  /// Every vertex as a point (tests).
+  std::vector<Eigen::Vector3d> vertexPositions() const;
+  std::vector<Eigen::Vector3d> vertexColours() const;  ///< RGB in [0, 1]
+
+ private:
+  std::shared_ptr<open3d::geometry::TriangleMesh> m_mesh;
+  int m_views = 0;
+};
+
+}  // namespace rasm::meshing
