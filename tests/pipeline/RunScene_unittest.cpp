@@ -132,6 +132,34 @@ TEST(RunPlots, TimingPlotStacksTheStagesUpToTheTotal) {
   EXPECT_TRUE(timingPlot(parseCsvColumns("index,tracked\n0,1\n"), {"a"}).empty());
 }
 
+TEST(RunPlots, ObjectsPlotFollowsTheObjectList) {
+  // 1 object for 20 frames, then 3, then 5; one detection fused every 4th frame.
+  std::string csv = "index,tracked,cls_fused,objects\n";
+  for (int i = 0; i < 60; ++i)
+    csv += std::to_string(i) + ",1," + (i % 4 == 0 ? "1" : "0") + "," +
+           (i < 20   ? "0"
+            : i < 40 ? "3"
+                     : "5") +
+           "\n";
+  const cv::Mat img = objectsPlot(parseCsvColumns(csv));
+  ASSERT_EQ(img.rows, 2 * 240);
+  // The objects line (2 px, BGR 160, 60, 0) inside the top panel (below its legend): its highest
+  // pixels (5 objects) lie right of its lowest (1 object), the steps at frames 20 and 40.
+  int top_y = 1 << 30, bottom_y = -1, top_x = 0, bottom_x = 0;
+  for (int y = 45; y < 240; ++y)
+    for (int x = 60; x < 860; ++x)
+      if (img.at<cv::Vec3b>(y, x) == cv::Vec3b(160, 60, 0)) {
+        if (y < top_y) top_y = y, top_x = x;
+        if (y > bottom_y) bottom_y = y, bottom_x = x;
+      }
+  ASSERT_GE(bottom_y, 0) << "no objects line";
+  EXPECT_GT(bottom_y - top_y, 80) << "1 to 5 of 5.5 objects spans most of the panel";
+  EXPECT_GT(top_x, bottom_x);
+  EXPECT_GT(countColour(img, cv::Vec3b(0, 120, 0)), 300) << "the detections fused line";
+  EXPECT_TRUE(objectsPlot(parseCsvColumns("index,tracked\n0,1\n")).empty()) << "no column";
+  EXPECT_TRUE(objectsPlot(parseCsvColumns("")).empty());
+}
+
 TEST(RunPlots, TrajectoryPlotMarksLostFrames) {
   const io::Trajectory est = straightPath(20, 0.1);
   const CsvColumns frames = parseCsvColumns(
@@ -162,7 +190,8 @@ TEST(RunPlots, TrackingPlotShadesLostFramesInEveryPanel) {
   EXPECT_TRUE(trackingPlot(parseCsvColumns(""), est, gt).empty());
   // The band: light red (halfway from BGR 150, 150, 255 to white), as wide as the lost frames.
   const cv::Vec3b band(cv::saturate_cast<uchar>(202.5), cv::saturate_cast<uchar>(202.5), 255);
-  const int two = countColour(with_gt, band), four = countColour(trackingPlot(csv({10, 11, 30, 31}), est, gt), band);
+  const int two = countColour(with_gt, band),
+            four = countColour(trackingPlot(csv({10, 11, 30, 31}), est, gt), band);
   EXPECT_EQ(countColour(trackingPlot(csv({}), est, gt), band), 0);
   ASSERT_GT(two, 3 * 500) << "a band in each of the 3 panels";
   EXPECT_NEAR(double(four) / two, 2.0, 0.2);

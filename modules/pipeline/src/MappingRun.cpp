@@ -686,6 +686,8 @@ void MappingRun::writePlots(const Accumulated& acc, OutputFolder& out) const {
     out.writeImage("plot_trajectory.png", trajectoryPlot(acc.estimate, acc.groundtruth, frames));
   const cv::Mat tracking = trackingPlot(frames, acc.estimate, acc.groundtruth);
   if (!tracking.empty()) out.writeImage("plot_tracking.png", tracking);
+  const cv::Mat objects_plot = objectsPlot(frames);
+  if (!objects_plot.empty()) out.writeImage("plot_objects.png", objects_plot);
   const cv::Mat timing = timingPlot(frames, m_mapper->stageTimerNames());
   if (!timing.empty()) out.writeImage("plot_timing.png", timing);
 }

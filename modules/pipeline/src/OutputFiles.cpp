@@ -283,7 +283,8 @@ const std::vector<std::string>& OutputFolder::knownNames() {
                                                  "plot_tracking.png",
                                                  "run.log",
                                                  "mesh.ply",
-                                                 "mesh_classes.ply"};
+                                                 "mesh_classes.ply",
+                                                 "plot_objects.png"};
   return names;
 }
 

@@ -45,6 +45,9 @@ const Doc kFiles[] = {
      "mesh.ply with each vertex in the class colour of its nearest surfel, when a surfel carries "
      "a class"},
     {"preview.png", "the map rendered from the last pose; `[output] preview_png`"},
+    {"plot_objects.png",
+     "objects listed (frames.csv `objects`) and detections fused so far, per frame; "
+     "`[output] preview_png`, when classification runs"},
     {"preview_segments.png", "the same view coloured by segment, when the map has segments"},
     {"preview_classes.png",
      "the same view coloured by class (faded to grey as the probability "
@@ -274,6 +277,9 @@ const Doc kColumns[] = {
     {"cls_detections", "detections fused this frame (IV)"},
     {"cls_fused", "of those, associated with a segment"},
     {"cls_pending", "detector results waiting to be fused"},
+    {"objects",
+     "objects the object layer would list now (objects.json's rule, as of the last results "
+     "fused; the final list is regrouped with the final segments)"},
     {"octree_updated", "1 when the frame was inserted into the exploration octree"},
     {"rss_mb", "resident memory of the process after the frame (MB)"},
     {"map_memory_bytes", "memory of the map's arrays after the frame (bytes)"},

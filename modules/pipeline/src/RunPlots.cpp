@@ -108,8 +108,7 @@ namespace {
 /// The frames.csv column `name`, NaN per row when it is missing.
 std::vector<double> column(const CsvColumns& frames, const std::string& name) {
   const auto c = frames.values.find(name);
-  return c != frames.values.end() ? c->second
-                                  : std::vector<double>(frames.rows, std::nan(""));
+  return c != frames.values.end() ? c->second : std::vector<double>(frames.rows, std::nan(""));
 }
 
 /// A band from y_lo to y_hi over the frames tracking lost (light red), each lost frame half a
@@ -145,9 +144,9 @@ cv::Mat trackingPlot(const CsvColumns& frames, const io::Trajectory& estimate,
   bool have_error = false;
   if (estimate.size() == frames.rows)
     for (const auto& [i, j] : io::associateTimestamps(te, tg)) {
-      err_cm[i] = 100.0 * (estimate[i].T_world_cam.translation() -
-                           groundtruth[j].T_world_cam.translation())
-                              .norm();
+      err_cm[i] =
+          100.0 *
+          (estimate[i].T_world_cam.translation() - groundtruth[j].T_world_cam.translation()).norm();
       have_error = true;
     }
   const int panels = have_error ? 3 : 2, h = 240;
@@ -181,6 +180,34 @@ cv::Mat trackingPlot(const CsvColumns& frames, const io::Trajectory& estimate,
                  {lostBand(x, tracked, 0.0, a3.y_max, false),
                   {"world-frame position error (no alignment)", x, err_cm, {120, 0, 120}, 1}});
   }
+  return img;
+}
+
+cv::Mat objectsPlot(const CsvColumns& frames) {
+  if (frames.rows == 0 || !frames.values.count("objects")) return {};
+  const std::vector<double> index = column(frames, "index"), objects = column(frames, "objects");
+  const std::vector<double> fused = column(frames, "cls_fused");
+  std::vector<double> x, fused_so_far;
+  double sum = 0.0, most = 1.0;
+  for (std::size_t i = 0; i < frames.rows; ++i) {
+    x.push_back(std::isfinite(index[i]) ? index[i] : double(i));
+    if (std::isfinite(fused[i])) sum += fused[i];
+    fused_so_far.push_back(sum);
+    if (std::isfinite(objects[i])) most = std::max(most, objects[i]);
+  }
+  const int h = 240;
+  cv::Mat img(2 * h, 900, CV_8UC3, cv::Scalar(255, 255, 255));
+  PlotAxes a1;
+  a1.title = "the object list as it grows (frames.csv)";
+  a1.y_label = "objects", a1.y_min = 0.0, a1.y_max = 1.1 * most;
+  a1.x_min = x.front(), a1.x_max = std::max(x.back(), x.front() + 1.0);
+  drawLinePlot(img, cv::Rect(0, 0, 900, h), a1,
+               {{"objects listed (objects.json's rule)", x, objects, {160, 60, 0}, 2}});
+  PlotAxes a2 = a1;
+  a2.title.clear(), a2.y_label = "detections", a2.x_label = "frame";
+  a2.y_max = 1.05 * std::max(1.0, sum);
+  drawLinePlot(img, cv::Rect(0, h, 900, h), a2,
+               {{"detections fused so far", x, fused_so_far, {0, 120, 0}, 1}});
   return img;
 }
 
@@ -224,8 +251,8 @@ cv::Mat timingPlot(const CsvColumns& frames, const std::vector<std::string>& sta
   for (double t : series.back().y)
     if (std::isfinite(t)) sorted.push_back(t);
   PlotAxes axes;
-  axes.title = "ms per frame by stage, stacked (frames.csv ms_*, " +
-               std::to_string(kRunningMean) + "-frame running means; legend: mean)";
+  axes.title = "ms per frame by stage, stacked (frames.csv ms_*, " + std::to_string(kRunningMean) +
+               "-frame running means; legend: mean)";
   axes.x_label = "frame";
   axes.x_min = x.front();
   axes.x_max = x.back();

@@ -1,5 +1,5 @@
-#include "rasm/core/Log.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
+#include "rasm/core/Log.h"
 
 #include "rasm/classification/ObjectVerdict.h"
 
@@ -180,11 +180,13 @@ void ClassificationStage::finishRun(maps::CSurfelMap& map) {
 }
 
 void ClassificationStage::csvColumns(std::vector<std::string>& c) const {
-  c.insert(c.end(), {"cls_detections", "cls_fused", "cls_pending"});
+  c.insert(c.end(), {"cls_detections", "cls_fused", "cls_pending", "objects"});
 }
 
 void ClassificationStage::csvValues(const FrameContext& /*ctx*/, CsvRow& row) const {
-  row.add(m_frame_detections).add(m_frame_associated).add(m_pending.size());
+  std::size_t objects = 0;
+  for (const MapObject& o : m_object_map.objects()) objects += o.verdict == ObjectVerdict::Object;
+  row.add(m_frame_detections).add(m_frame_associated).add(m_pending.size()).add(objects);
 }
 
 void ClassificationStage::report(nlohmann::json& rep) const {

@@ -13,6 +13,9 @@
 //                        the camera's world-frame position error in cm (bottom; no alignment:
 //                        the map starts at the first true pose); frames tracking lost (frames.csv
 //                        tracked = 0) shaded red in every panel
+//   plot_objects.png     the object list as it grows: objects the object layer would list at
+//                        each frame (frames.csv objects, top) and the detections fused so far
+//                        (cumulative cls_fused, bottom), for every run that classifies
 // (exploration.png, coverage and objects correct over simulated time, is ExplorationLoop's.)
 
 #include <map>
@@ -36,6 +39,8 @@ CsvColumns parseCsvColumns(const std::string& text);
 /// plot_trajectory.png. `frames` = frames.csv (for the tracked column; may be empty).
 cv::Mat trajectoryPlot(const io::Trajectory& estimate, const io::Trajectory& groundtruth,
                        const CsvColumns& frames);
+/// plot_objects.png; an empty image when frames.csv has no row or no `objects` column.
+cv::Mat objectsPlot(const CsvColumns& frames);
 /// plot_tracking.png; an empty image when frames.csv has no row.
 cv::Mat trackingPlot(const CsvColumns& frames, const io::Trajectory& estimate,
                      const io::Trajectory& groundtruth);
