@@ -1015,7 +1015,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
       view->addFrame(r, acc.last_K);  // recordFrame has set it
       if (view->overlayDue())         // what the run does, drawn over the map
         view->setOverlay(m_loop ? m_loop->sceneViews() : std::vector<SceneView>{},
-                         m_mapper->stage<ClassificationStage>().reportedObjects());
+                         objectBoxes(m_mapper->stage<ClassificationStage>().reportedObjects()));
     }
     if (on_frame) on_frame(r);
   };

@@ -341,11 +341,11 @@ void ClassificationStage::writeClassLegend(OutputFolder& folder,
   folder.writeImage("classes_legend.png", classLegendImage(entries));
 }
 
-std::vector<ObjectBox> ClassificationStage::reportedObjects() const {
+nlohmann::json ClassificationStage::reportedObjects() const {
   nlohmann::json objects = nlohmann::json::array();
   for (const MapObject& o : m_object_map.objects())
     if (o.verdict == ObjectVerdict::Object) objects.push_back(objectEntry(o));
-  return objectBoxes(nlohmann::json{{"objects", objects}});
+  return nlohmann::json{{"objects", objects}};
 }
 
 void ClassificationStage::writeOutputs(OutputFolder& folder, const maps::CSurfelMap& map) {

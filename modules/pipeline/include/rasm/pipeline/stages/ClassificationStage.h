@@ -27,7 +27,6 @@
 #include "rasm/classification/ObjectVerdict.h"
 #include "rasm/classification/TClassificationParams.h"
 #include "rasm/classification/TObjectParams.h"
-#include "rasm/pipeline/FloorPlan.h"
 #include "rasm/pipeline/MapperStage.h"
 
 namespace rasm::pipeline {
@@ -67,9 +66,10 @@ class ClassificationStage : public MapperStage {
   std::map<std::uint32_t, std::string> segmentClassNames(const maps::CSurfelMap& map) const;
   /// The object layer (its objects are those of the last batch of results fused).
   const classification::ObjectMap& objectMap() const { return m_object_map; }
-  /// The objects objects.json would list now (its "objects": class, probability, oriented box),
-  /// from the object layer's last grouping (the live view draws them while the run goes).
-  std::vector<ObjectBox> reportedObjects() const;
+  /// The objects objects.json would list now ({"objects": [...]} as in objects.json: class,
+  /// probability, oriented box, ...), from the object layer's last grouping (the live view draws
+  /// them while the run goes).
+  nlohmann::json reportedObjects() const;
   /// Detections fused per segment so far (follows relabelling).
   const std::map<std::uint32_t, int>& detectionsPerSegment() const { return m_fused_per_segment; }
 
