@@ -161,6 +161,8 @@ TEST(SurfelMesh, NothingInViewGivesAnEmptyMeshAndBadParamsAreNamed) {
   const meshing::SurfelMesh mesh = meshing::SurfelMesh::build(store, {away}, kK);
   EXPECT_EQ(mesh.views(), 0);
   EXPECT_EQ(mesh.triangles(), 0u);
+  EXPECT_THROW(mesh.writePly((std::filesystem::temp_directory_path() / "rasm_empty.ply").string()),
+               std::runtime_error);
   meshing::TMeshParams bad;
   bad.truncation_m = 0.001;  // less than a cell
   try {

@@ -90,6 +90,53 @@ inline std::vector<std::string> filesIn(const std::string& dir) {
 /// other files, all listed in the folder's marker; every file reads back whole (JSON, PLY, gzip
 /// archives, PNG, TUM trajectories and the annotated rawlog with one pose / frame per frame done).
 /// Returns report.json.
+/// A binary little-endian PLY triangle mesh (mesh.ply): its header names vertices with x, y, z
+/// and colours and faces of vertex-index lists, at least one of each, and the file holds exactly
+/// the bytes the header announces (3 indices per face).
+inline void expectTriangleMeshPly(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line, element;
+  long long vertices = -1, faces = -1, vertex_bytes = 0;
+  bool colours = false;
+  std::getline(in, line);
+  EXPECT_EQ(line, "ply");
+  const auto size_of = [](const std::string& t) {
+    return t == "double"               ? 8
+           : t == "float"              ? 4
+           : t == "uchar"              ? 1
+           : t == "int" || t == "uint" ? 4
+                                       : 0;
+  };
+  while (std::getline(in, line) && line != "end_header") {
+    std::istringstream w(line);
+    std::string word, type, name;
+    w >> word;
+    if (word == "format") {
+      w >> type;
+      EXPECT_EQ(type, "binary_little_endian");
+    } else if (word == "element") {
+      w >> element;
+      (element == "vertex" ? vertices : faces) = [&] {
+        long long n = -1;
+        w >> n;
+        return n;
+      }();
+    } else if (word == "property" && element == "vertex") {
+      w >> type >> name;
+      vertex_bytes += size_of(type);
+      colours = colours || name == "red";
+    }
+  }
+  ASSERT_EQ(line, "end_header");
+  EXPECT_GT(vertices, 0);
+  EXPECT_GT(faces, 0);
+  EXPECT_TRUE(colours);
+  const long long body = vertices * vertex_bytes + faces * (1 + 3 * 4);
+  EXPECT_EQ(
+      static_cast<long long>(std::filesystem::file_size(path)) - static_cast<long long>(in.tellg()),
+      body);
+}
+
 inline nlohmann::json expectCompleteRunFolder(const std::string& dir) {
   namespace fs = std::filesystem;
   const nlohmann::json rep = readJson(dir + "/report.json");
@@ -118,6 +165,8 @@ inline nlohmann::json expectCompleteRunFolder(const std::string& dir) {
     SCOPED_TRACE(p);
     if (ext == ".json") {
       EXPECT_NO_THROW((void)readJson(p));
+    } else if (ext == ".ply" && f.rfind("mesh", 0) == 0) {
+      expectTriangleMeshPly(p);
     } else if (ext == ".ply") {
       maps::PlySurfels ply;
       EXPECT_NO_THROW(ply = maps::readSurfelPly(p));

@@ -155,9 +155,9 @@ void SurfelMesh::colourByClass(const maps::SurfelStore& map) {
 void SurfelMesh::writePly(const std::string& path) const {
   // (WriteTriangleMeshToPLY, not WriteTriangleMesh: the format is PLY whatever the name ends in,
   // e.g. the ".part" of OutputFolder's atomic writes)
-  const open3d::geometry::TriangleMesh empty;
-  if (!open3d::io::WriteTriangleMeshToPLY(path, m_mesh ? *m_mesh : empty, false, false, true, true,
-                                          false, false))
+  if (triangles() == 0)  // (Open3D writes no PLY of an empty mesh)
+    throw std::runtime_error("the mesh " + path + " has no triangle to write");
+  if (!open3d::io::WriteTriangleMeshToPLY(path, *m_mesh, false, false, true, true, false, false))
     throw std::runtime_error("could not write the mesh " + path);
 }
 

@@ -738,6 +738,10 @@ void MappingRun::writeMesh(const Accumulated& acc, OutputFolder& out) const {
   for (const auto& p : acc.estimate) poses.push_back(p.T_world_cam);
   const maps::SurfelStore& store = m_mapper->map().store();
   meshing::SurfelMesh mesh = meshing::SurfelMesh::build(store, poses, acc.last_K, m_mesh);
+  if (mesh.triangles() == 0) {  // no stable surface seen from the path (a few frames)
+    log::debug("mesh: no surface to mesh, mesh.ply not written");
+    return;
+  }
   out.write("mesh.ply", [&](const std::string& p) { mesh.writePly(p); });
   const maps::SurfelArrays a = store.arrays();
   bool classified = false;

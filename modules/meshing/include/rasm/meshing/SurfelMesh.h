@@ -57,7 +57,7 @@ class SurfelMesh {
   /// Vertex colours become the class colour of the nearest alive surfel of `map`.
   void colourByClass(const maps::SurfelStore& map);
   /// Binary PLY (vertices with normals and RGB colours, triangles). Throws std::runtime_error
-  /// when the file cannot be written.
+  /// when the mesh has no triangle or the file cannot be written.
   void writePly(const std::string& path) const;
 
   /// Every vertex as a point (tests).
