@@ -32,12 +32,15 @@ void TViewParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
   MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(period_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_points, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(point_size, double, c, s);
   MRPT_LOAD_CONFIG_VAR(colouring, string, c, s);
   MRPT_LOAD_CONFIG_VAR(width, int, c, s);
   MRPT_LOAD_CONFIG_VAR(height, int, c, s);
   if (!(period_s >= 0.05 && period_s <= 60))
     throwInputError("[" + s + "] period_s", "expected 0.05 to 60 s");
   if (max_points < 1000) throwInputError("[" + s + "] max_points", "expected >= 1000");
+  if (!(point_size >= 1.0 && point_size <= 20.0))
+    throwInputError("[" + s + "] point_size", "expected 1 to 20 pixels");
   if (width < 64 || height < 64 || width > 8192 || height > 8192)
     throwInputError("[" + s + "] width / height", "expected 64 to 8192 pixels");
   (void)colouringOf(colouring);
@@ -47,6 +50,7 @@ void TViewParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::
   MRPT_SAVE_CONFIG_VAR(enabled, c, s);
   MRPT_SAVE_CONFIG_VAR(period_s, c, s);
   MRPT_SAVE_CONFIG_VAR(max_points, c, s);
+  MRPT_SAVE_CONFIG_VAR(point_size, c, s);
   MRPT_SAVE_CONFIG_VAR(colouring, c, s);
   MRPT_SAVE_CONFIG_VAR(width, c, s);
   MRPT_SAVE_CONFIG_VAR(height, c, s);
@@ -197,6 +201,7 @@ void LiveView::drawOnce(bool first) {
                  " goals), " + std::to_string(overlay.objects.size()) + " objects";
   maps::SurfelVisualOptions vis;
   vis.colouring = m_window->colouring;
+  vis.point_size = float(m_params.point_size);
   auto scene = mrpt::opengl::COpenGLScene::Create();
   scene->insert(mrpt::opengl::CGridPlaneXY::Create(-10, 10, -10, 10, 0, 1));
   auto layer = mrpt::opengl::CSetOfObjects::Create();
