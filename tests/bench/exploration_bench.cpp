@@ -149,8 +149,7 @@ int main() {
     exploration::ViewPredictor predictor(ep, model);
     const Eigen::Isometry3d T =
         exploration::cameraPoseOf(Eigen::Vector3d(c.x(), c.y() + 0.5, 0.7), mount);
-    const CameraIntrinsics Kp =
-        exploration::scaledIntrinsics(K, ep.predict_width, ep.predict_height);
+    const CameraIntrinsics Kp = K.resized(ep.predict_width, ep.predict_height);
     maps::SurfelRenderer renderer;
     maps::RenderedMaps maps;
     maps::RenderOptions ro;
@@ -191,11 +190,11 @@ int main() {
     std::size_t reachable = 0;
     const double paths_ms = medianMs(3, [&] {
       exploration::planPaths(plan.grid, in.robot_pose, ep, all);
-      reachable = std::size_t(std::count_if(all.begin(), all.end(),
-                                            [](const auto& v) { return v.reachable; }));
+      reachable = std::size_t(
+          std::count_if(all.begin(), all.end(), [](const auto& v) { return v.reachable; }));
     });
-    std::printf(",\"paths_ms\":%.1f,\"paths_candidates\":%zu,\"paths_reachable\":%zu",
-                paths_ms, all.size(), reachable);
+    std::printf(",\"paths_ms\":%.1f,\"paths_candidates\":%zu,\"paths_reachable\":%zu", paths_ms,
+                all.size(), reachable);
   }
   // The same plan on a thinned map ([exploration] predict_max_surfels) and with the coarse
   // screen (predict_screen_keep): its cost, and how far
@@ -252,9 +251,10 @@ int main() {
     const double target_ms = 300.0;
     const int defaults[2] = {rp.predict_max_surfels, rp.predict_screen_keep};
     const int configs[][2] = {{defaults[0], defaults[1]}, {0, 0}, {200000, 0}, {200000, 40}};
-    std::printf(",\"run_sized\":{\"planner\":\"%s\",\"candidates\":%d,\"target_ms\":%.0f,"
-                "\"plans\":[",
-                rp.planner.c_str(), rp.random_candidates, target_ms);
+    std::printf(
+        ",\"run_sized\":{\"planner\":\"%s\",\"candidates\":%d,\"target_ms\":%.0f,"
+        "\"plans\":[",
+        rp.planner.c_str(), rp.random_candidates, target_ms);
     // Agreement with the whole map's greedy ranking of every candidate (ig_greedy, no screen).
     exploration::TExplorationParams whole = rp;
     whole.planner = "ig_greedy", whole.predict_max_surfels = 0, whole.predict_screen_keep = 0;
@@ -272,12 +272,12 @@ int main() {
       greedy.planner = "ig_greedy";
       const ThinnedAgreement a = agreement(reference, exploration::makePlanner(greedy)->plan(in));
       if (&cfg == &configs[0]) default_ms = ms;
-      std::printf("%s{\"predict_max_surfels\":%d,\"predict_screen_keep\":%d,\"default\":%s,"
-                  "\"plan_ms\":%.1f,\"offered\":%zu,\"screened_out\":%zu,\"same_best\":%s,"
-                  "\"top10_kept\":%d}",
-                  &cfg == &configs[0] ? "" : ",", cfg[0], cfg[1],
-                  &cfg == &configs[0] ? "true" : "false", ms, offered, screened_out,
-                  a.same_best ? "true" : "false", a.top10_kept);
+      std::printf(
+          "%s{\"predict_max_surfels\":%d,\"predict_screen_keep\":%d,\"default\":%s,"
+          "\"plan_ms\":%.1f,\"offered\":%zu,\"screened_out\":%zu,\"same_best\":%s,"
+          "\"top10_kept\":%d}",
+          &cfg == &configs[0] ? "" : ",", cfg[0], cfg[1], &cfg == &configs[0] ? "true" : "false",
+          ms, offered, screened_out, a.same_best ? "true" : "false", a.top10_kept);
     }
     // Of a plan's cost, the part that grows with the map: thinning it to 200 k surfels (copy and
     // spatial index).

@@ -85,6 +85,16 @@ TEST(CameraIntrinsics, TCameraRoundTripAndPresets) {
   const CameraIntrinsics l1 = k.level(1);
   EXPECT_EQ(l1.width, 320);
   EXPECT_NEAR(l1.cx, (318.6 + 0.5) / 2 - 0.5, 1e-12);
+  // resized: halving the size is a pyramid level; a quarter keeps the field of view (the image
+  // border's ray: (0 - 0.5 - cx) / fx is the same at every size).
+  const CameraIntrinsics r = k.resized(320, 240);
+  EXPECT_NEAR(r.fx, l1.fx, 1e-12);
+  EXPECT_NEAR(r.cx, l1.cx, 1e-12);
+  EXPECT_NEAR(r.cy, l1.cy, 1e-12);
+  const CameraIntrinsics q = k.resized(160, 120);
+  EXPECT_EQ(q.width, 160);
+  EXPECT_NEAR((-0.5 - q.cx) / q.fx, (-0.5 - k.cx) / k.fx, 1e-12);
+  EXPECT_NEAR((q.height - 0.5 - q.cy) / q.fy, (k.height - 0.5 - k.cy) / k.fy, 1e-12);
 }
 
 namespace {
@@ -211,7 +221,8 @@ TEST(ComputeParams, UnknownSimdOffPathIsNamed) {
     const std::string msg = e.what();
     EXPECT_NE(msg.find("simd_off"), std::string::npos) << msg;
     EXPECT_NE(msg.find("'splatt'"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("bilateral_filter"), std::string::npos) << msg;  // the known names are listed
+    EXPECT_NE(msg.find("bilateral_filter"), std::string::npos)
+        << msg;  // the known names are listed
   }
   // A deleted SSE path (docs/slam-eval.md "SSE paths") is no longer a name.
   mrpt::config::CConfigFileMemory gone(std::string("[compute]\nsimd_off = culling\n"));

@@ -187,7 +187,7 @@ TEST(ClassUncertaintyWeight, FloorWithoutEvidenceOneWhenUndecidedFloorWhenSettle
 
 TEST(ScaledIntrinsics, QuarterOfVga) {
   const CameraIntrinsics K(525.0, 525.0, 319.5, 239.5, 640, 480);
-  const CameraIntrinsics q = scaledIntrinsics(K, 160, 120);
+  const CameraIntrinsics q = K.resized(160, 120);
   EXPECT_DOUBLE_EQ(q.fx, 131.25);
   EXPECT_DOUBLE_EQ(q.cx, 79.5);
   EXPECT_DOUBLE_EQ(q.cy, 59.5);

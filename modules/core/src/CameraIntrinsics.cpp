@@ -33,6 +33,11 @@ std::string CameraIntrinsics::problem() const {
   return s.str();
 }
 
+CameraIntrinsics CameraIntrinsics::resized(int w, int h) const {
+  const double sx = double(w) / width, sy = double(h) / height;
+  return CameraIntrinsics(fx * sx, fy * sy, (cx + 0.5) * sx - 0.5, (cy + 0.5) * sy - 0.5, w, h);
+}
+
 CameraIntrinsics CameraIntrinsics::level(int lvl) const {
   CameraIntrinsics k = *this;
   for (int i = 0; i < lvl; ++i) {

@@ -4,12 +4,6 @@
 
 namespace rasm::exploration {
 
-CameraIntrinsics scaledIntrinsics(const CameraIntrinsics& K, int width, int height) {
-  const double sx = double(width) / K.width, sy = double(height) / K.height;
-  return CameraIntrinsics(K.fx * sx, K.fy * sy, (K.cx + 0.5) * sx - 0.5, (K.cy + 0.5) * sy - 0.5,
-                          width, height);
-}
-
 const maps::SurfelStore& predictionStore(const maps::SurfelStore& full,
                                          const TExplorationParams& params,
                                          maps::SurfelStore& thinned) {
@@ -38,7 +32,7 @@ ViewPredictor::ViewPredictor(const TExplorationParams& params, const ViewInfoMod
 ViewPrediction ViewPredictor::predict(const maps::SurfelStore& store, const OccupancyOctree& octree,
                                       const Eigen::Isometry3d& T_world_cam,
                                       const CameraIntrinsics& K) {
-  const CameraIntrinsics Kp = scaledIntrinsics(K, m_params.predict_width, m_params.predict_height);
+  const CameraIntrinsics Kp = K.resized(m_params.predict_width, m_params.predict_height);
   m_renderer.render(store, T_world_cam, Kp, m_options, m_maps);
   ViewPrediction p;
   // V-A: the predicted depth cast through the octree (empty pixels: unknown, seen through).

@@ -91,9 +91,7 @@ SurfelMesh SurfelMesh::build(const maps::SurfelStore& map,
     throwInputError("mesh camera", "intrinsics " + K.toString() + " are not valid");
   params.validate();
 
-  const double sx = double(params.width) / K.width, sy = double(params.height) / K.height;
-  const CameraIntrinsics Kr(K.fx * sx, K.fy * sy, (K.cx + 0.5) * sx - 0.5, (K.cy + 0.5) * sy - 0.5,
-                            params.width, params.height);
+  const CameraIntrinsics Kr = K.resized(params.width, params.height);
   const open3d::camera::PinholeCameraIntrinsic intrinsic(Kr.width, Kr.height, Kr.fx, Kr.fy, Kr.cx,
                                                          Kr.cy);
   open3d::pipelines::integration::ScalableTSDFVolume volume(

@@ -27,6 +27,9 @@ struct CameraIntrinsics {
   /// Intrinsics of pyramid level `level` (each level halves the resolution; pixel centres of the
   /// 2x2 block average sit at (x + 0.5) / 2 - 0.5).
   CameraIntrinsics level(int level) const;
+  /// The same camera rendering width x height pixels (focal lengths scaled per axis, pixel
+  /// centres at integer coordinates as level()): the predicted views of V, the mesh's renders.
+  CameraIntrinsics resized(int width, int height) const;
   /// Mean focal length (f in the radius formula of II-B).
   double focal() const { return 0.5 * (fx + fy); }
   /// Finite focal lengths > 0, an image size > 0 and the principal point inside the image.

@@ -14,9 +14,6 @@
 
 namespace rasm::exploration {
 
-/// K scaled to width x height (pixel centres at integer coordinates, as CameraIntrinsics::level).
-CameraIntrinsics scaledIntrinsics(const CameraIntrinsics& K, int width, int height);
-
 /// The map the predictions render: `full` itself when it holds at most
 /// params.predict_max_surfels alive surfels (or the limit is 0), else `thinned`, filled with
 /// every k-th surfel of it (SurfelStore::copyThinnedFrom, radius x sqrt(k)) and indexed.
