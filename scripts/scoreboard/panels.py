@@ -46,7 +46,8 @@ RES = {"640x480": [], "320x240": camera(320, 240), "160x120": camera(160, 120)}
 
 # Outputs no evaluation reads (map.ply only where seg / cls read it).
 OUTPUTS_OFF = ["--set", "output.write_3dscene=false", "--set", "output.preview_png=false",
-               "--set", "output.write_rawlog=false", "--set", "output.save_map=false"]
+               "--set", "output.write_rawlog=false", "--set", "output.save_map=false",
+               "--set", "output.write_mesh=false"]
 
 # ---- cost model (docs/scoreboard.md "Cost"): wall seconds on 2 free cores -----------------------
 # From smoke runs of the binary of fe50f96 (<= 30 frames, 20 simulated s, OMP_NUM_THREADS=1: CPU
