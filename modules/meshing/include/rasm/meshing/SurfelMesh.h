@@ -29,8 +29,13 @@ namespace rasm::meshing {
 
 /// [mesh]
 struct TMeshParams : mrpt::config::CLoadableOptions {
-  double voxel_m = 0.02;       ///< TSDF cell: the mesh's resolution (the map's surfels are ~1 cm)
-  double truncation_m = 0.08;  ///< TSDF truncation: four cells, beyond the splats' depth noise
+  /// TSDF cell: the mesh's resolution. Its memory grows as the band of cells around every
+  /// surface, ~1/voxel_m^2: on the embedded default's map 2 cm (4 cells of truncation) took
+  /// 509 MB more at its peak, 3 cm 220 MB (bench_mesh; docs/viewing.md "The mesh").
+  double voxel_m = 0.03;
+  /// TSDF truncation: three cells, beyond the rendered map's depth noise (the renders are the
+  /// fused map, not raw depth).
+  double truncation_m = 0.09;
   int max_views = 200;         ///< renders fused at most (evenly spaced along the path)
   int width = 320, height = 240;  ///< render size (the camera's intrinsics scaled)
   double max_depth_m = 4.0;       ///< farther rendered depth is not fused ([mapper] max_depth_m)
