@@ -11,10 +11,12 @@
 #include <open3d/io/TriangleMeshIO.h>
 #include <open3d/pipelines/integration/ScalableTSDFVolume.h>
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
 #include "rasm/core/Error.h"
+#include "rasm/core/Params.h"
 #include "rasm/surfel_map/MapExport.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
 
@@ -31,16 +33,13 @@ void TMeshParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
 }
 
 void TMeshParams::validate(const std::string& s) const {
-  const auto need = [&](bool ok, const char* key, const char* what) {
-    if (!ok) throwInputError("[" + s + "] " + key, what);
-  };
-  need(voxel_m >= 0.002 && voxel_m <= 0.5, "voxel_m", "expected 0.002 to 0.5 m");
-  need(truncation_m >= voxel_m && truncation_m <= 1.0, "truncation_m",
-       "expected voxel_m to 1 m (at least one cell)");
-  need(max_views >= 1 && max_views <= 100000, "max_views", "expected 1 to 100000");
-  need(width >= 16 && height >= 16 && width <= 4096 && height <= 4096, "width / height",
-       "expected 16 to 4096 pixels");
-  need(max_depth_m > 0.1 && max_depth_m <= 20.0, "max_depth_m", "expected 0.1 to 20 m");
+  requireInRange(voxel_m, 0.002, 0.5, s, "voxel_m");
+  requireInRange(truncation_m, voxel_m, 1.0, s, "truncation_m");  // at least one cell
+  requireInRange(max_views, 1, 100000, s, "max_views");
+  requireInRange(width, 16, 4096, s, "width");
+  requireInRange(height, 16, 4096, s, "height");
+  // Beyond the renders' 0.1 m near plane (build): a bound of 0.1 itself renders nothing.
+  requireInRange(max_depth_m, std::nextafter(0.1, 1.0), 20.0, s, "max_depth_m");
 }
 
 void TMeshParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {

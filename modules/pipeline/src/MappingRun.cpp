@@ -26,6 +26,7 @@
 #include "rasm/core/Params.h"
 #include "rasm/core/Printable.h"
 #include "rasm/core/SE3.h"
+#include "rasm/core/Timing.h"
 #include "rasm/io/EvaluationJson.h"
 #include "rasm/io/PrefetchingFrameSource.h"
 #include "rasm/io/PreloadedFrameSource.h"
@@ -195,6 +196,13 @@ std::unique_ptr<io::FrameSource> MappingRun::openSource() const {
 }
 
 namespace {
+/// Whether any alive surfel's best class is above the 0.5 prior (the class scenes and mesh).
+bool anySurfelClassified(const maps::SurfelArrays& a) {
+  for (int i = 0; i < a.size && a.n_classes > 0; ++i)
+    if (a.alive(i) && maps::bestClass(a, i).id != 0) return true;
+  return false;
+}
+
 /// CPU time of this process, all threads (s).
 double processCpuSeconds() {
   timespec ts{};
@@ -695,6 +703,8 @@ void MappingRun::writePlots(const Accumulated& acc, OutputFolder& out) const {
 void MappingRun::writeMapFiles(const Accumulated& acc, const std::vector<ObjectBox>& objects,
                                OutputFolder& out) const {
   const maps::CSurfelMap& map = m_mapper->map();
+  const bool classified =
+      (m_output.write_3dscene || m_output.write_mesh) && anySurfelClassified(map.store().arrays());
   if (m_output.write_ply) out.write("map.ply", [&](const std::string& p) { map.saveToPly(p); });
   if (m_output.write_3dscene) {
     const maps::SurfelArrays a = map.store().arrays();
@@ -719,21 +729,18 @@ void MappingRun::writeMapFiles(const Accumulated& acc, const std::vector<ObjectB
     for (int i = 0; i < a.size && !segmented; ++i) segmented = a.alive(i) && a.segment[i] != 0;
     if (segmented) scene("map_segments.3Dscene", maps::SurfelColouring::Segment);
     // And coloured by class (IV) when any surfel carries one.
-    bool classified = false;
-    for (int i = 0; i < a.size && !classified && a.n_classes > 0; ++i)
-      classified = a.alive(i) && maps::bestClass(a, i).id != 0;
     if (classified) scene("map_classes.3Dscene", maps::SurfelColouring::Class);
   }
   if (m_output.save_map)
     out.write("map.surfelmap", [&](const std::string& p) { writeGzArchive(p, map); });
-  if (m_output.write_mesh) writeMesh(acc, out);
+  if (m_output.write_mesh) writeMesh(acc, classified, out);
 }
 
-/// mesh.ply (and mesh_classes.ply when any surfel carries a class): the map fused along the
-/// estimated path (SurfelMesh.h).
-void MappingRun::writeMesh(const Accumulated& acc, OutputFolder& out) const {
+/// mesh.ply (and mesh_classes.ply when `classified`: a surfel carries a class): the map fused
+/// along the estimated path (SurfelMesh.h).
+void MappingRun::writeMesh(const Accumulated& acc, bool classified, OutputFolder& out) const {
   if (!acc.have_K || acc.estimate.empty()) return;
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   std::vector<Eigen::Isometry3d> poses;
   for (const auto& p : acc.estimate) poses.push_back(p.T_world_cam);
   const maps::SurfelStore& store = m_mapper->map().store();
@@ -743,21 +750,13 @@ void MappingRun::writeMesh(const Accumulated& acc, OutputFolder& out) const {
     return;
   }
   out.write("mesh.ply", [&](const std::string& p) { mesh.writePly(p); });
-  const maps::SurfelArrays a = store.arrays();
-  bool classified = false;
-  for (int i = 0; i < a.size && !classified && a.n_classes > 0; ++i)
-    classified = a.alive(i) && maps::bestClass(a, i).id != 0;
   if (classified) {
     mesh.colourByClass(store);
     out.write("mesh_classes.ply", [&](const std::string& p) { mesh.writePly(p); });
   }
-  log::debug(
-      "mesh: " + std::to_string(mesh.triangles()) + " triangles, " +
-      std::to_string(mesh.vertices()) + " vertices from " + std::to_string(mesh.views()) +
-      " views in " +
-      std::to_string(int(
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() * 1000)) +
-      " ms");
+  log::debug("mesh: " + std::to_string(mesh.triangles()) + " triangles, " +
+             std::to_string(mesh.vertices()) + " vertices from " + std::to_string(mesh.views()) +
+             " views in " + std::to_string(int(msSince(t0))) + " ms");
 }
 
 void MappingRun::writePreviews(const Accumulated& acc, OutputFolder& out) const {

@@ -111,6 +111,15 @@ std::vector<double> column(const CsvColumns& frames, const std::string& name) {
   return c != frames.values.end() ? c->second : std::vector<double>(frames.rows, std::nan(""));
 }
 
+/// The plots' x axis: frames.csv's `index` per row, the row number where it has none.
+std::vector<double> frameAxis(const CsvColumns& frames) {
+  const std::vector<double> index = column(frames, "index");
+  std::vector<double> x;
+  for (std::size_t i = 0; i < frames.rows; ++i)
+    x.push_back(std::isfinite(index[i]) ? index[i] : double(i));
+  return x;
+}
+
 /// A band from y_lo to y_hi over the frames tracking lost (light red), each lost frame half a
 /// frame either side of its x (a single one shows), NaN between the runs.
 PlotSeries lostBand(const std::vector<double>& x, const std::vector<double>& tracked, double y_lo,
@@ -131,10 +140,7 @@ PlotSeries lostBand(const std::vector<double>& x, const std::vector<double>& tra
 cv::Mat trackingPlot(const CsvColumns& frames, const io::Trajectory& estimate,
                      const io::Trajectory& groundtruth) {
   if (frames.rows == 0) return {};
-  const std::vector<double> index = column(frames, "index"), tracked = column(frames, "tracked");
-  std::vector<double> x;
-  for (std::size_t i = 0; i < frames.rows; ++i)
-    x.push_back(std::isfinite(index[i]) ? index[i] : double(i));
+  const std::vector<double> x = frameAxis(frames), tracked = column(frames, "tracked");
   // World-frame error per estimated pose, placed at its frame by order (trajectory.txt holds one
   // pose per processed frame, as frames.csv one row).
   std::vector<double> err_cm(frames.rows, std::nan(""));
@@ -185,12 +191,11 @@ cv::Mat trackingPlot(const CsvColumns& frames, const io::Trajectory& estimate,
 
 cv::Mat objectsPlot(const CsvColumns& frames) {
   if (frames.rows == 0 || !frames.values.count("objects")) return {};
-  const std::vector<double> index = column(frames, "index"), objects = column(frames, "objects");
+  const std::vector<double> x = frameAxis(frames), objects = column(frames, "objects");
   const std::vector<double> fused = column(frames, "cls_fused");
-  std::vector<double> x, fused_so_far;
+  std::vector<double> fused_so_far;
   double sum = 0.0, most = 1.0;
   for (std::size_t i = 0; i < frames.rows; ++i) {
-    x.push_back(std::isfinite(index[i]) ? index[i] : double(i));
     if (std::isfinite(fused[i])) sum += fused[i];
     fused_so_far.push_back(sum);
     if (std::isfinite(objects[i])) most = std::max(most, objects[i]);
@@ -212,12 +217,9 @@ cv::Mat objectsPlot(const CsvColumns& frames) {
 }
 
 cv::Mat timingPlot(const CsvColumns& frames, const std::vector<std::string>& stages) {
-  const auto index = frames.values.find("index");
   const auto total = frames.values.find("ms_total");
   if (frames.rows == 0 || total == frames.values.end()) return {};
-  std::vector<double> x;
-  for (std::size_t i = 0; i < frames.rows; ++i)
-    x.push_back(index != frames.values.end() ? index->second[i] : double(i));
+  const std::vector<double> x = frameAxis(frames);
   // Stacked layers: each stage's running mean on top of the ones before it (a stage's own
   // timer holds its parts, so only stages stack), then the rest of the frame up to the total.
   std::vector<PlotSeries> series;

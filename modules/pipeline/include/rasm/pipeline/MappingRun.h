@@ -156,7 +156,7 @@ class MappingRun {
   /// frames.csv, trajectory, ground truth, map files, the stages' files, previews.
   void writeOutputs(const Accumulated& acc, OutputFolder& out);
   /// `objects`: objects.json's objects as written (drawn in the scenes).
-  void writeMesh(const Accumulated& acc, OutputFolder& out) const;
+  void writeMesh(const Accumulated& acc, bool classified, OutputFolder& out) const;
   void writeMapFiles(const Accumulated& acc, const std::vector<ObjectBox>& objects,
                      OutputFolder& out) const;
   /// plot_trajectory.png and plot_timing.png (RunPlots.h), with [output] preview_png.
