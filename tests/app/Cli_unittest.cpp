@@ -174,3 +174,32 @@ TEST(RasmCli, RunMapsADatasetGivenInsteadOfAnIni) {
   EXPECT_NE(bad.output.find("neither a TUM RGB-D folder"), std::string::npos) << bad.output;
   fs::remove_all(out);
 }
+
+// mesh.ply comes from the Open3D plugin (meshing/SurfelMesh.h), loaded only when a mesh is built:
+// the binary itself does not link Open3D (it cost every run ~22 MB at start), and a run that
+// writes the mesh finds the plugin beside the meshing library.
+TEST(RasmCli, TheMeshComesFromAPluginThatOnlyMeshingRunsLoad) {
+  const Result deps = shell("ldd " + std::string(RASM_BINARY));
+  ASSERT_EQ(deps.status, 0) << deps.output;
+  EXPECT_EQ(deps.output.find("Open3D"), std::string::npos) << deps.output;
+  EXPECT_NE(deps.output.find("librasm_meshing.so"), std::string::npos) << deps.output;
+
+  const std::string out = freshDir("run_mesh");
+  const Result r = runRasm("run " + std::string(RASM_SOURCE_DIR) +
+                           "/rawlogs/sim_office_handheld_320x240.rawlog --max-frames 20 --out " +
+                           out + "/run");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string ply = readFile(out + "/run/mesh.ply");
+  ASSERT_EQ(ply.rfind("ply\n", 0), 0u) << ply.substr(0, 200);
+  const std::smatch face = [&] {
+    std::smatch m;
+    std::regex_search(ply.cbegin(), ply.cbegin() + std::min<std::size_t>(ply.size(), 2000), m,
+                      std::regex("element face ([0-9]+)"));
+    return m;
+  }();
+  ASSERT_EQ(face.size(), 2u) << ply.substr(0, 400);
+  // Twenty frames of the office at 320x240 see a desk, walls and the floor: thousands of
+  // triangles at 3 cm cells, not a handful.
+  EXPECT_GT(std::stol(face[1].str()), 1000) << ply.substr(0, 400);
+  fs::remove_all(out);
+}

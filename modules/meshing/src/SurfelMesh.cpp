@@ -1,24 +1,15 @@
 #include "rasm/meshing/SurfelMesh.h"
 
+#include <dlfcn.h>
 #include <mrpt/config/CConfigFileBase.h>
 
-#include <open3d/camera/PinholeCameraIntrinsic.h>
-#include <open3d/geometry/Image.h>
-#include <open3d/geometry/KDTreeFlann.h>
-#include <open3d/geometry/PointCloud.h>
-#include <open3d/geometry/RGBDImage.h>
-#include <open3d/geometry/TriangleMesh.h>
-#include <open3d/io/TriangleMeshIO.h>
-#include <open3d/pipelines/integration/ScalableTSDFVolume.h>
-#include <algorithm>
 #include <cmath>
-#include <cstring>
+#include <mutex>
 #include <stdexcept>
 
+#include "MeshBackend.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
-#include "rasm/surfel_map/MapExport.h"
-#include "rasm/surfel_map/SurfelRenderer.h"
 
 namespace rasm::meshing {
 
@@ -51,34 +42,43 @@ void TMeshParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::
   MRPT_SAVE_CONFIG_VAR(max_depth_m, c, s);
 }
 
+detail::MeshBackend::~MeshBackend() = default;
+
 namespace {
 
-/// A render as Open3D's RGB-D image: colour RGB8 (black where nothing was drawn), depth float
-/// metres (0 = none).
-std::shared_ptr<open3d::geometry::RGBDImage> toRgbd(const maps::RenderedMaps& r,
-                                                    double max_depth_m) {
-  const int w = r.depth_m.width(), h = r.depth_m.height();
-  open3d::geometry::Image colour, depth;
-  colour.Prepare(w, h, 3, 1);
-  depth.Prepare(w, h, 1, 4);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const Bgr8 c = r.colour(x, y);
-      std::uint8_t* px = colour.PointerAt<std::uint8_t>(x, y, 0);
-      px[0] = c.r, px[1] = c.g, px[2] = c.b;
-      *depth.PointerAt<float>(x, y) = r.depth_m(x, y);
-    }
-  return open3d::geometry::RGBDImage::CreateFromColorAndDepth(colour, depth, 1.0, max_depth_m,
-                                                              false);
-}
+struct Plugin {
+  detail::BuildFn build = nullptr;
+  std::string error;  ///< why build is null
+};
 
-/// Up to n indices spread evenly over [0, count).
-std::vector<std::size_t> evenlySpaced(std::size_t count, std::size_t n) {
-  std::vector<std::size_t> out;
-  if (count == 0) return out;
-  n = std::min(n, count);
-  for (std::size_t k = 0; k < n; ++k) out.push_back(n == 1 ? 0 : k * (count - 1) / (n - 1));
-  return out;
+/// The plugin's build function, loaded once from the folder this library was loaded from (the
+/// build tree's modules/meshing, or the installed lib/rasm). Never unloaded: meshes it made may
+/// outlive any caller.
+const Plugin& plugin() {
+  static std::once_flag once;
+  static Plugin loaded;
+  std::call_once(once, [] {
+    auto& build = loaded.build;
+    auto& error = loaded.error;
+    Dl_info self{};
+    std::string dir;
+    if (dladdr(reinterpret_cast<const void*>(&plugin), &self) != 0 && self.dli_fname) {
+      dir = self.dli_fname;
+      const std::size_t slash = dir.rfind('/');
+      dir = slash == std::string::npos ? std::string() : dir.substr(0, slash + 1);
+    }
+    const std::string path = dir + detail::kPluginFile;
+    void* lib = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!lib) {
+      const char* why = dlerror();
+      error = std::string("the mesh needs Open3D's plugin (Debian's libopen3d-dev): ") +
+              (why ? why : path + " did not load");
+      return;
+    }
+    build = reinterpret_cast<detail::BuildFn>(dlsym(lib, detail::kBuildSymbol));
+    if (!build) error = "the plugin " + path + " has no " + detail::kBuildSymbol;
+  });
+  return loaded;
 }
 
 }  // namespace
@@ -89,81 +89,43 @@ SurfelMesh SurfelMesh::build(const maps::SurfelStore& map,
   if (K.width <= 0 || K.height <= 0 || !(K.fx > 0) || !(K.fy > 0))
     throwInputError("mesh camera", "intrinsics " + K.toString() + " are not valid");
   params.validate();
-
-  const CameraIntrinsics Kr = K.resized(params.width, params.height);
-  const open3d::camera::PinholeCameraIntrinsic intrinsic(Kr.width, Kr.height, Kr.fx, Kr.fy, Kr.cx,
-                                                         Kr.cy);
-  open3d::pipelines::integration::ScalableTSDFVolume volume(
-      params.voxel_m, params.truncation_m,
-      open3d::pipelines::integration::TSDFVolumeColorType::RGB8);
-  maps::SurfelRenderer renderer;
-  maps::RenderOptions opt;
-  opt.stable_only = true;
-  opt.cull_back_faces = true;
-  opt.splat = true;
-  opt.min_depth_m = 0.1f;
-  opt.max_depth_m = float(params.max_depth_m);
-  opt.outputs = maps::kRenderDepth | maps::kRenderColour;
-  maps::RenderedMaps r;
+  const Plugin& p = plugin();
+  if (!p.build) throw std::runtime_error(p.error);
   SurfelMesh out;
-  for (const std::size_t i : evenlySpaced(T_world_cam.size(), std::size_t(params.max_views))) {
-    renderer.render(map, T_world_cam[i], Kr, opt, r);
-    bool any = false;
-    for (int y = 0; y < r.depth_m.height() && !any; ++y)
-      for (int x = 0; x < r.depth_m.width() && !any; ++x) any = r.depth_m(x, y) > 0.0f;
-    if (!any) continue;
-    volume.Integrate(*toRgbd(r, params.max_depth_m), intrinsic, T_world_cam[i].inverse().matrix());
-    ++out.m_views;
-  }
-  out.m_mesh = volume.ExtractTriangleMesh();
-  out.m_mesh->ComputeVertexNormals();
+  out.m_mesh.reset(p.build(map, T_world_cam, K, params));
   return out;
 }
 
+std::string SurfelMesh::unavailable() {
+  return plugin().error;
+}
+
 std::size_t SurfelMesh::vertices() const {
-  return m_mesh ? m_mesh->vertices_.size() : 0;
+  return m_mesh ? m_mesh->vertices() : 0;
 }
 std::size_t SurfelMesh::triangles() const {
-  return m_mesh ? m_mesh->triangles_.size() : 0;
+  return m_mesh ? m_mesh->triangles() : 0;
+}
+int SurfelMesh::views() const {
+  return m_mesh ? m_mesh->views() : 0;
 }
 
 void SurfelMesh::colourByClass(const maps::SurfelStore& map) {
-  if (!m_mesh || m_mesh->vertices_.empty()) return;
-  const maps::SurfelArrays a = map.arrays();
-  open3d::geometry::PointCloud surfels;
-  std::vector<int> index;
-  for (int i = 0; i < a.size; ++i)
-    if (a.alive(i)) {
-      surfels.points_.push_back(a.position(i).cast<double>());
-      index.push_back(i);
-    }
-  m_mesh->vertex_colors_.assign(m_mesh->vertices_.size(), Eigen::Vector3d::Constant(0.5));
-  if (index.empty()) return;
-  const open3d::geometry::KDTreeFlann tree(surfels);
-  std::vector<int> nearest(1);
-  std::vector<double> d2(1);
-  for (std::size_t v = 0; v < m_mesh->vertices_.size(); ++v) {
-    if (tree.SearchKNN(m_mesh->vertices_[v], 1, nearest, d2) < 1) continue;
-    const Bgr8 c = maps::classColour(maps::bestClass(a, index[std::size_t(nearest[0])]));
-    m_mesh->vertex_colors_[v] = Eigen::Vector3d(c.r, c.g, c.b) / 255.0;
-  }
+  if (m_mesh) m_mesh->colourByClass(map);
 }
 
 void SurfelMesh::writePly(const std::string& path) const {
-  // (WriteTriangleMeshToPLY, not WriteTriangleMesh: the format is PLY whatever the name ends in,
-  // e.g. the ".part" of OutputFolder's atomic writes)
   if (triangles() == 0)  // (Open3D writes no PLY of an empty mesh)
     throw std::runtime_error("the mesh " + path + " has no triangle to write");
-  if (!open3d::io::WriteTriangleMeshToPLY(path, *m_mesh, false, false, true, true, false, false))
-    throw std::runtime_error("could not write the mesh " + path);
+  m_mesh->writePly(path);
 }
 
 std::vector<Eigen::Vector3d> SurfelMesh::vertexPositions() const {
-  return m_mesh ? m_mesh->vertices_ : std::vector<Eigen::Vector3d>{};
+  return m_mesh ? m_mesh->vertexPositions() : std::vector<Eigen::Vector3d>{};
 }
 
 std::vector<Eigen::Vector3d> SurfelMesh::vertexColours() const {
-  return m_mesh ? m_mesh->vertex_colors_ : std::vector<Eigen::Vector3d>{};
+  return m_mesh ? m_mesh->vertexColours() : std::vector<Eigen::Vector3d>{};
 }
 
 }  // namespace rasm::meshing

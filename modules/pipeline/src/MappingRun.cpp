@@ -740,6 +740,10 @@ void MappingRun::writeMapFiles(const Accumulated& acc, const std::vector<ObjectB
 /// along the estimated path (SurfelMesh.h).
 void MappingRun::writeMesh(const Accumulated& acc, bool classified, OutputFolder& out) const {
   if (!acc.have_K || acc.estimate.empty()) return;
+  if (const std::string why = meshing::SurfelMesh::unavailable(); !why.empty()) {
+    log::warning(why + "; mesh.ply not written ([output] write_mesh = false skips it)");
+    return;
+  }
   const auto t0 = Clock::now();
   std::vector<Eigen::Isometry3d> poses;
   for (const auto& p : acc.estimate) poses.push_back(p.T_world_cam);

@@ -10,6 +10,10 @@
 // gaps, and nothing the camera never saw. A vertex's class colour (mesh_classes.ply) is that of
 // the nearest surfel (labelColour faded towards the no-class colour as map_classes.ply).
 // World frame, metres; binary PLY with vertex normals and colours.
+//
+// Open3D is loaded only when a mesh is built: the work happens in the plugin
+// librasm_meshing_open3d.so beside this library (dlopen), so a run that writes no mesh does not
+// pay Open3D's libraries in start-up time and memory (docs/viewing.md "The mesh").
 
 #include <mrpt/config/CLoadableOptions.h>
 
@@ -21,11 +25,11 @@
 #include "rasm/core/CameraIntrinsics.h"
 #include "rasm/surfel_map/SurfelStore.h"
 
-namespace open3d::geometry {
-class TriangleMesh;
-}
-
 namespace rasm::meshing {
+
+namespace detail {
+class MeshBackend;  // the mesh held by the Open3D plugin (src/MeshBackend.h)
+}
 
 /// [mesh]
 struct TMeshParams : mrpt::config::CLoadableOptions {
@@ -50,14 +54,19 @@ class SurfelMesh {
  public:
   /// The mesh of `map` seen from the camera poses T_world_cam (optical frame) with intrinsics K.
   /// Empty (no triangle) when no pose sees a stable surfel. Throws InputError when K is not
-  /// valid or params are out of range.
+  /// valid or params are out of range, std::runtime_error naming the plugin when Open3D's plugin
+  /// cannot be loaded.
   static SurfelMesh build(const maps::SurfelStore& map,
                           const std::vector<Eigen::Isometry3d>& T_world_cam,
                           const CameraIntrinsics& K, const TMeshParams& params = {});
 
+  /// Empty when meshes can be built; otherwise why not (Open3D's plugin did not load), to say
+  /// before a run's outputs skip the mesh.
+  static std::string unavailable();
+
   std::size_t vertices() const;
   std::size_t triangles() const;
-  int views() const { return m_views; }  ///< renders fused
+  int views() const;  ///< renders fused
 
   /// Vertex colours become the class colour of the nearest alive surfel of `map`.
   void colourByClass(const maps::SurfelStore& map);
@@ -70,8 +79,7 @@ class SurfelMesh {
   std::vector<Eigen::Vector3d> vertexColours() const;  ///< RGB in [0, 1]
 
  private:
-  std::shared_ptr<open3d::geometry::TriangleMesh> m_mesh;
-  int m_views = 0;
+  std::shared_ptr<detail::MeshBackend> m_mesh;
 };
 
 }  // namespace rasm::meshing
