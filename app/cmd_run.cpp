@@ -40,9 +40,9 @@ void printAccuracy(const rasm::pipeline::RunSummary& s) {
                     100.0 * s.world_error_tracked->max_m);
     std::printf(
         "world-frame error (no alignment, against %s): RMS %.1f cm, max %.1f cm; height max %.1f "
-        "cm; tilt max %.2f deg over %zu frames%s\n",
+        "cm; tilt max %.2f deg; heading max %.2f deg over %zu frames%s\n",
         s.truth.c_str(), 100.0 * w->rms_m, 100.0 * w->max_m, 100.0 * w->vertical_max_m,
-        w->tilt_max_deg, w->frames, tracked);
+        w->tilt_max_deg, w->heading_max_deg, w->frames, tracked);
   }
   if (!s.ate_rmse_m) return;
   char tracked[96] = "";

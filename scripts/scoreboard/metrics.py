@@ -62,6 +62,9 @@ TRACKING = [
     # report.json world_frame_error.all.tilt_deg.max: the camera's up direction against the
     # truth's (roll and pitch, not heading), the floor's tilt.
     Metric("tilt_max_deg", "tilt max (deg)", ".2f", "low", 0.05, 0.20),
+    # ... .heading_deg.rmse: the yaw error about the world's up, which becomes horizontal drift
+    # at (distance driven) x (heading error) (docs/results-worldframe.md "Heading").
+    Metric("heading_rms_deg", "heading RMS (deg)", ".2f", "low", 0.05, 0.20),
     Metric("unaligned_over_5cm", "unaligned >5 cm", "d", None, pool="sum", md=False),
 ]
 

@@ -151,6 +151,7 @@ def tracking(d, rep, m, detail):
         world = rep.get("world_frame_error", {}).get("all", {})
         if world:
             m["tilt_max_deg"] = world.get("tilt_deg", {}).get("max")
+            m["heading_rms_deg"] = world.get("heading_deg", {}).get("rmse")
             for key, ours in (("position_m", max_pos), ("vertical_m", max_z)):
                 theirs = world.get(key, {}).get("max")
                 if theirs is not None and abs(theirs - ours) > 1e-3:

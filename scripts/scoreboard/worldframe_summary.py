@@ -8,6 +8,9 @@ Per world and seed, the run on tracked poses (wf_<world>_tracked[_s<k>]) from it
   pos RMS / max   world-frame position error over every frame, no alignment (cm; lost frames at
                   their propagated pose), report.json world_frame_error.all.position_m;
   tilt max        the largest angle between the estimated and the true up direction (deg);
+  heading RMS     the yaw error about the world's up (deg; report.json
+                  world_frame_error.all.heading_deg, absent in runs before it): what becomes
+                  horizontal drift as the robot drives (docs/results-worldframe.md "Heading");
   lost            frames not tracked (%);
   cov / truth     coverage at the end (180 simulated s) of the tracked run and of the same world
                   and seed fused at the true poses (wf_<world>_truth[_s<k>]), and their ratio.
@@ -39,6 +42,7 @@ def tracked_row(r):
     w = r["world_frame_error"]["all"]
     return {"rms_cm": 100 * w["position_m"]["rmse"], "max_cm": 100 * w["position_m"]["max"],
             "tilt_deg": w["tilt_deg"]["max"],
+            "heading_deg": w.get("heading_deg", {}).get("rmse"),
             "lost_pct": 100.0 * r["frames_lost"] / max(1, r["frames"]),
             "cov": r.get("coverage_fraction")}
 
@@ -67,13 +71,15 @@ def main():
         row["ratio"] = (row["cov"] / row["truth"]) if row["truth"] and row["cov"] is not None \
             else None
         rows.append(row)
-    out = ["| world, seed | pos RMS / max (cm) | tilt max (deg) | lost (%) | cov tracked / truth | ratio |",
-           "|---|---|---|---|---|---|"]
+    out = ["| world, seed | pos RMS / max (cm) | tilt max (deg) | heading RMS (deg) | lost (%) "
+           "| cov tracked / truth | ratio |",
+           "|---|---|---|---|---|---|---|"]
     for r in rows:
         truth = f"{r['truth']:.3f}" if r["truth"] is not None else "-"
         ratio = f"{r['ratio']:.2f}" if r["ratio"] is not None else "-"
+        heading = f"{r['heading_deg']:.2f}" if r["heading_deg"] is not None else "-"
         out.append(f"| {r['name']} | {r['rms_cm']:.2f} / {r['max_cm']:.2f} | {r['tilt_deg']:.3f} "
-                   f"| {r['lost_pct']:.1f} | {r['cov']:.3f} / {truth} | {ratio} |")
+                   f"| {heading} | {r['lost_pct']:.1f} | {r['cov']:.3f} / {truth} | {ratio} |")
     out.append("")
     if rows:
         def med(k):
@@ -88,7 +94,7 @@ def main():
                    f"{med('rms_cm'):.2f} cm [<= {t['rms_cm']:g}: {meets('rms_cm')} of {n}], "
                    f"max {med('max_cm'):.2f} cm [<= {t['max_cm']:g}: {meets('max_cm')}], "
                    f"tilt max {med('tilt_deg'):.3f} deg [<= {t['tilt_deg']:g}: "
-                   f"{meets('tilt_deg')}], lost {med('lost_pct'):.1f}% "
+                   f"{meets('tilt_deg')}], heading RMS {med('heading_deg'):.2f} deg, lost {med('lost_pct'):.1f}% "
                    f"[< {LOST_BELOW_PCT:g}: {meets('lost_pct')}], coverage over the true poses' "
                    f"{med('ratio'):.2f} [median >= {RATIO_MEDIAN_MIN:g}].")
     if missing:

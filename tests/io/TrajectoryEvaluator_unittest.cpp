@@ -259,7 +259,11 @@ TEST(TrajectoryEvaluator, WorldFrameErrorSeesATiltTheAlignmentHides) {
   EXPECT_GT(max_z_m, 0.005);
   EXPECT_LT(TrajectoryEvaluator::computeAte(gt, est).translation_m.max, 1e-6);
 
+  // A tilt is no heading error; a yaw about the world's up is, the same on every frame.
+  EXPECT_LT(w.heading_deg.max, 1e-9);
   const WorldFrameError y = TrajectoryEvaluator::computeWorldFrameError(gt, yawed);
+  EXPECT_NEAR(y.heading_deg.min, 0.1 * 180.0 / M_PI, 1e-9);
+  EXPECT_NEAR(y.heading_deg.max, 0.1 * 180.0 / M_PI, 1e-9);
   EXPECT_LT(y.tilt_deg.max, 1e-9);
   EXPECT_LT(y.position_m.max, 1e-12);
   EXPECT_NEAR(y.start_rotation_error_deg, 0.1 * 180.0 / M_PI, 1e-9);

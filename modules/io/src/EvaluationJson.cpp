@@ -31,6 +31,7 @@ nlohmann::json toJson(const WorldFrameError& r, const WorldFrameOptions& opt) {
   j["vertical_m"] = toJson(r.vertical_m);
   j["horizontal_m"] = toJson(r.horizontal_m);
   j["tilt_deg"] = toJson(r.tilt_deg);
+  j["heading_deg"] = toJson(r.heading_deg);
   j["start_error"] = {{"position_m", r.start_position_error_m},
                       {"rotation_deg", r.start_rotation_error_deg}};
   j["options"] = {{"max_dt_s", opt.max_dt_s},

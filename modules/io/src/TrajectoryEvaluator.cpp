@@ -156,7 +156,7 @@ WorldFrameError TrajectoryEvaluator::computeWorldFrameError(const Trajectory& gr
   const std::size_t first_j = std::size_t(first_est - estimate.begin());
   WorldFrameError r;
   r.start_position_error_m = r.start_rotation_error_deg = std::numeric_limits<double>::quiet_NaN();
-  std::vector<double> position, vertical, horizontal, tilt;
+  std::vector<double> position, vertical, horizontal, tilt, heading;
   for (const auto& [i, j] : pairs) {
     const Eigen::Isometry3d& T_gt = ground_truth[i].T_world_cam;
     const Eigen::Isometry3d& T_est = estimate[j].T_world_cam;
@@ -169,6 +169,11 @@ WorldFrameError TrajectoryEvaluator::computeWorldFrameError(const Trajectory& gr
     const Eigen::Vector3d up_est = T_est.linear().transpose() * up;
     const Eigen::Vector3d up_gt = T_gt.linear().transpose() * up;
     tilt.push_back(std::atan2(up_est.cross(up_gt).norm(), up_est.dot(up_gt)) * 180.0 / M_PI);
+    // The twist about up of the world-frame rotation from the truth to the estimate (swing-twist
+    // decomposition of its quaternion): the heading error, whatever the tilt.
+    const Eigen::Quaterniond q(T_est.linear() * T_gt.linear().transpose());
+    const double twist = 2.0 * std::atan2(q.vec().dot(up), q.w());
+    heading.push_back(std::abs(std::remainder(twist, 2.0 * M_PI)) * 180.0 / M_PI);
     if (j == first_j) {
       r.start_position_error_m = d.norm();
       r.start_rotation_error_deg =
@@ -179,6 +184,7 @@ WorldFrameError TrajectoryEvaluator::computeWorldFrameError(const Trajectory& gr
   r.vertical_m = ErrorStats::of(std::move(vertical));
   r.horizontal_m = ErrorStats::of(std::move(horizontal));
   r.tilt_deg = ErrorStats::of(std::move(tilt));
+  r.heading_deg = ErrorStats::of(std::move(heading));
   return r;
 }
 

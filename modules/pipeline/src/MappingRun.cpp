@@ -886,7 +886,7 @@ void MappingRun::addWorldFrameError(const Accumulated& acc, const io::Trajectory
       " in the world frame, without alignment (the run started at the true pose: its first "
       "estimate within 1 mm and 0.05 deg of the ground truth there); errors: position, height "
       "(vertical, along up_world), horizontal, tilt (angle between the estimated and the true "
-      "camera's up direction: roll and pitch, not heading)";
+      "camera's up direction: roll and pitch, not heading), heading (rotation about up_world)";
   auto summary = [](const io::WorldFrameError& w) {
     WorldFrameSummary s;
     s.frames = w.position_m.count;
@@ -894,6 +894,7 @@ void MappingRun::addWorldFrameError(const Accumulated& acc, const io::Trajectory
     s.max_m = w.position_m.max;
     s.vertical_max_m = w.vertical_m.max;
     s.tilt_max_deg = w.tilt_deg.max;
+    s.heading_max_deg = w.heading_deg.max;
     return s;
   };
   try {

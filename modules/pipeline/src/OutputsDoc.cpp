@@ -173,8 +173,9 @@ const Doc kReport[] = {
      "tilt and lifts a height drift away): `started_at_ground_truth`, `comment`, `all` (every "
      "frame) and `tracked` (tracked frames), each {`pairs`, `position_m`, `vertical_m` (along "
      "the world's up, z), `horizontal_m`, `tilt_deg` (angle between the estimated and the true "
-     "camera's up direction: roll and pitch, not heading), each {rmse, mean, median, std, min, "
-     "max, count}; `start_error`, `options`}; when the run did not start there, only "
+     "camera's up direction: roll and pitch, not heading), `heading_deg` (rotation about the "
+     "world's up: the yaw error, which becomes horizontal drift as the robot drives), each "
+     "{rmse, mean, median, std, min, max, count}; `start_error`, `options`}; when the run did not start there, only "
      "`started_at_ground_truth` false, `start_error` and `comment`"},
     {"ate_error", "why the ground truth ([source] groundtruth) could not be read"},
     {"ate_tracked_error", "why the ATE over the tracked frames could not be computed"},

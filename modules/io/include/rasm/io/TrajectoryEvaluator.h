@@ -64,6 +64,9 @@ struct WorldFrameError {
   ErrorStats vertical_m;    ///< |(p_est - p_gt) . up_world|
   ErrorStats horizontal_m;  ///< |(p_est - p_gt)| across up_world
   ErrorStats tilt_deg;      ///< angle between R_est^T up_world and R_gt^T up_world
+  /// Heading (yaw) error: the rotation R_est R_gt^T about up_world (its twist about up), the
+  /// error that turns into horizontal drift as the robot drives (distance x heading error).
+  ErrorStats heading_deg;
   /// Of the estimate's first pose (its earliest stamp) against the ground truth it associates
   /// with: position (m) and rotation angle (deg); NaN when it associates with none.
   double start_position_error_m = 0, start_rotation_error_deg = 0;

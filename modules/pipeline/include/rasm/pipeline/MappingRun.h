@@ -59,6 +59,7 @@ struct WorldFrameSummary {
   double rms_m = 0, max_m = 0;  ///< position
   double vertical_max_m = 0;    ///< height (along the world's up)
   double tilt_max_deg = 0;      ///< angle of the camera's up direction (roll and pitch)
+  double heading_max_deg = 0;   ///< rotation about the world's up (yaw)
 };
 
 struct RunSummary {
