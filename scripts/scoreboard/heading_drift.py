@@ -61,6 +61,8 @@ def heading_error(r_est, r_gt):
 
 
 def analyse(run, gt_path, timeline_s):
+    if not os.path.isfile(gt_path):
+        raise SystemExit(f"{run}: no ground truth {gt_path} (give one with --groundtruth)")
     gt = load_tum(gt_path)
     est = load_tum(os.path.join(run, "trajectory.txt"))
     stamps = sorted(t for t in est if t in gt)
@@ -126,6 +128,8 @@ def main():
           "RMS (cm) |")
     print("|---|---|---|---|")
     for run in a.runs:
+        if not os.path.isfile(os.path.join(run, "trajectory.txt")):
+            raise SystemExit(f"{run}: not a run folder (expected {run}/trajectory.txt)")
         gt_path = a.groundtruth or os.path.join(run, "groundtruth.txt")
         if a.timeline:
             print(run)

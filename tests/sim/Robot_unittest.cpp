@@ -158,6 +158,45 @@ TEST(SimulatedDiffDriveRobot, OdometryNoiseIsSeededAndBounded) {
   EXPECT_LT(err, 0.3);  // 0.01 m/sqrt(m) and 0.005 rad/sqrt(m) over 4 m: a few cm
 }
 
+// The heading's error through a half turn in place, over many runs (seeds): a gyro's (its scale
+// factor and bias drawn per run, angle random walk) against the wheels' random walk per radian.
+TEST(SimulatedDiffDriveRobot, GyroHeadingErrorThroughATurnIsItsScaleBiasAndRandomWalk) {
+  const RayScene scene(wallWorld());
+  auto headingErrors = [&](const std::string& heading) {
+    std::vector<double> errors;
+    for (std::uint64_t seed = 1; seed <= 300; ++seed) {
+      TRobotParams p;
+      p.odometry_heading = heading;
+      SimulatedDiffDriveRobot robot(scene, p, Eigen::Vector3d(-4, -3, 0.0), seed);
+      robot.setVelocityCommand(0.0, M_PI / 4);    // 45 deg/s
+      for (int i = 0; i < 40; ++i) robot.step(0.1);  // 4 s: a half turn
+      const double turned = robot.pose().z(), measured = robot.odometry().z();
+      errors.push_back(std::remainder(measured - turned, 2 * M_PI));
+    }
+    return errors;
+  };
+  auto stddev = [](const std::vector<double>& v) {
+    double mean = 0, sq = 0;
+    for (double x : v) mean += x / double(v.size());
+    for (double x : v) sq += (x - mean) * (x - mean);
+    return std::sqrt(sq / double(v.size() - 1));
+  };
+  const TRobotParams d;
+  const double turn = M_PI, t = 4.0, deg = M_PI / 180.0;
+  const double gyro_expected =
+      std::sqrt(std::pow(d.gyro_scale_error * turn, 2) + std::pow(d.gyro_bias_degps * deg * t, 2) +
+                std::pow(d.gyro_arw_deg_per_sqrt_s * deg, 2) * t);
+  const double wheels_expected = d.odo_sigma_yaw_per_sqrt_rad * std::sqrt(turn);
+  // 300 draws: the sample standard deviation is within ~4% (1 sigma) of the true one.
+  EXPECT_NEAR(stddev(headingErrors("gyro")), gyro_expected, 0.15 * gyro_expected);
+  EXPECT_NEAR(stddev(headingErrors("wheels")), wheels_expected, 0.15 * wheels_expected);
+  EXPECT_LT(gyro_expected, 0.25 * wheels_expected);  // what the gyro is for
+  TRobotParams bad;
+  bad.odometry_heading = "compass";
+  EXPECT_THROW({ SimulatedDiffDriveRobot r(scene, bad, Eigen::Vector3d(-4, -3, 0.0)); },
+               rasm::InputError);
+}
+
 TEST(SimulatedDiffDriveRobot, CameraMount) {
   const RayScene scene(wallWorld());
   TRobotParams p = quietParams();

@@ -55,6 +55,10 @@ void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR_CS(odo_sigma_xy_per_sqrt_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(odo_sigma_yaw_per_sqrt_rad, double);
   MRPT_LOAD_CONFIG_VAR_CS(odo_sigma_yaw_per_sqrt_m, double);
+  MRPT_LOAD_CONFIG_VAR_CS(odometry_heading, string);
+  MRPT_LOAD_CONFIG_VAR_CS(gyro_scale_error, double);
+  MRPT_LOAD_CONFIG_VAR_CS(gyro_bias_degps, double);
+  MRPT_LOAD_CONFIG_VAR_CS(gyro_arw_deg_per_sqrt_s, double);
   MRPT_LOAD_CONFIG_VAR_CS(scan_height_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(scan_rays, int);
   MRPT_LOAD_CONFIG_VAR_CS(scan_max_range_m, double);
@@ -79,6 +83,10 @@ void TRobotParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
   RASM_SIM_SAVE(odo_sigma_xy_per_sqrt_m, "xy error std after 1 m (m)");
   RASM_SIM_SAVE(odo_sigma_yaw_per_sqrt_rad, "yaw error std after 1 rad turned (rad)");
   RASM_SIM_SAVE(odo_sigma_yaw_per_sqrt_m, "yaw error std after 1 m travelled (rad)");
+  RASM_SIM_SAVE(odometry_heading, "heading from: wheels (odo_sigma_yaw_*) | gyro (gyro_*)");
+  RASM_SIM_SAVE(gyro_scale_error, "gyro scale factor error std, drawn per run (fraction)");
+  RASM_SIM_SAVE(gyro_bias_degps, "gyro bias std after calibration, drawn per run (deg/s)");
+  RASM_SIM_SAVE(gyro_arw_deg_per_sqrt_s, "gyro angle random walk (deg per sqrt(s))");
   RASM_SIM_SAVE(scan_height_m, "planar obstacle scan height (m)");
   RASM_SIM_SAVE(scan_rays, "rays of the planar obstacle scan over 360 deg");
   RASM_SIM_SAVE(scan_max_range_m, "obstacle scan range (m)");
@@ -103,6 +111,12 @@ void TRobotParams::validate(const std::string& s) const {
   requireInRange(odo_sigma_xy_per_sqrt_m, 0.0, 1.0, s, "odo_sigma_xy_per_sqrt_m");
   requireInRange(odo_sigma_yaw_per_sqrt_rad, 0.0, 1.0, s, "odo_sigma_yaw_per_sqrt_rad");
   requireInRange(odo_sigma_yaw_per_sqrt_m, 0.0, 1.0, s, "odo_sigma_yaw_per_sqrt_m");
+  if (odometry_heading != "wheels" && odometry_heading != "gyro")
+    throwInputError("[" + s + "] odometry_heading",
+                    "expected wheels or gyro, got '" + odometry_heading + "'");
+  requireInRange(gyro_scale_error, 0.0, 0.5, s, "gyro_scale_error");
+  requireInRange(gyro_bias_degps, 0.0, 10.0, s, "gyro_bias_degps");
+  requireInRange(gyro_arw_deg_per_sqrt_s, 0.0, 10.0, s, "gyro_arw_deg_per_sqrt_s");
   requireInRange(scan_height_m, 0.0, 10.0, s, "scan_height_m");
   requireInRange(scan_rays, 1, 100000, s, "scan_rays");
   requireInRange(scan_max_range_m, 0.01, 1000.0, s, "scan_max_range_m");
@@ -177,6 +191,10 @@ SimulatedDiffDriveRobot::SimulatedDiffDriveRobot(const RayScene& scene, const TR
       m_sim(std::make_unique<ExactStepSimulator>()),
       m_rng(seed) {
   m_params.validate();
+  if (m_params.odometry_noise && m_params.odometry_heading == "gyro") {
+    m_gyro_scale = m_params.gyro_scale_error * gaussian(m_rng);
+    m_gyro_bias_radps = m_params.gyro_bias_degps * M_PI / 180.0 * gaussian(m_rng);
+  }
   m_sim->setDelayModelParams(m_params.velocity_tau_s, 0.0);
   if (collidesAt(start)) {
     std::ostringstream s;
@@ -214,6 +232,22 @@ bool SimulatedDiffDriveRobot::collidesAt(const Eigen::Vector3d& p) const {
   return m_raster.collidesPolygon(poly);
 }
 
+void SimulatedDiffDriveRobot::addOdometryNoise(Eigen::Vector3d& d, double dt) {
+  const double dist = std::hypot(d.x(), d.y()), turn = std::abs(d.z());
+  const double sxy = m_params.odo_sigma_xy_per_sqrt_m * std::sqrt(dist);
+  d.x() += sxy * gaussian(m_rng);
+  d.y() += sxy * gaussian(m_rng);
+  if (m_params.odometry_heading == "gyro") {
+    // The gyro's rate, integrated: scaled, biased, with white rate noise (angle random walk).
+    const double arw = m_params.gyro_arw_deg_per_sqrt_s * M_PI / 180.0;
+    d.z() += m_gyro_scale * d.z() + m_gyro_bias_radps * dt + arw * std::sqrt(dt) * gaussian(m_rng);
+    return;
+  }
+  const double syaw = std::sqrt(std::pow(m_params.odo_sigma_yaw_per_sqrt_rad, 2) * turn +
+                                std::pow(m_params.odo_sigma_yaw_per_sqrt_m, 2) * dist);
+  d.z() += syaw * gaussian(m_rng);
+}
+
 void SimulatedDiffDriveRobot::step(double dt) {
   if (!(dt > 0)) return;
   m_time_s += dt;
@@ -232,15 +266,7 @@ void SimulatedDiffDriveRobot::step(double dt) {
       continue;
     }
     Eigen::Vector3d d = between(before, after);
-    if (m_params.odometry_noise) {
-      const double dist = std::hypot(d.x(), d.y()), turn = std::abs(d.z());
-      const double sxy = m_params.odo_sigma_xy_per_sqrt_m * std::sqrt(dist);
-      const double syaw = std::sqrt(std::pow(m_params.odo_sigma_yaw_per_sqrt_rad, 2) * turn +
-                                    std::pow(m_params.odo_sigma_yaw_per_sqrt_m, 2) * dist);
-      d.x() += sxy * gaussian(m_rng);
-      d.y() += sxy * gaussian(m_rng);
-      d.z() += syaw * gaussian(m_rng);
-    }
+    if (m_params.odometry_noise) addOdometryNoise(d, h);
     m_odometry = compose(m_odometry, d);
   }
 }
