@@ -50,6 +50,7 @@ TEST(OdometryPrior, MountLooksForwardAndDown) {
 TEST(OdometryPrior, ExactOdometryPredictsTheCameraMotion) {
   TRobotParams p;
   p.floor_prior = false;  // the relative model alone (FloorPrior* below: with the floor)
+  p.odometry_heading = "wheels";  // the heading's random walks (a gyro's: below)
   p.camera_yaw_deg = 20;  // a mount not aligned with the base: the conjugation matters
   p.camera_roll_deg = 3;
   OdometryPrior op(p);
@@ -78,6 +79,18 @@ TEST(OdometryPrior, ExactOdometryPredictsTheCameraMotion) {
   // Height: tight.
   const double info_z = up.dot(prior->information.topLeftCorner<3, 3>() * up);
   EXPECT_NEAR(info_z, 1.0 / (p.odometry_sigma_z_m * p.odometry_sigma_z_m), 1e-3 * info_z);
+  // With a gyro the heading's sigma grows with the turn as its scale error, not as the wheels'
+  // random walks: 0.05 deg + 0.4% of 2.3 deg, five times tighter here.
+  TRobotParams g = p;
+  g.odometry_heading = "gyro";
+  OdometryPrior opg(g);
+  opg.start(cam0, odo0);
+  const auto prior_g = opg.predict(odo1, cam0);
+  ASSERT_TRUE(prior_g.has_value());
+  const double s_yaw_g = g.odometry_sigma_yaw_deg * kDeg + g.gyro_sigma_yaw_per_rad * a;
+  const double info_yaw_g = up.dot(prior_g->information.bottomRightCorner<3, 3>() * up);
+  EXPECT_NEAR(info_yaw_g, 1.0 / (s_yaw_g * s_yaw_g), 1e-6 / (s_yaw_g * s_yaw_g));
+  EXPECT_LT(s_yaw_g, 0.25 * s_yaw);
 
   // No reading on this frame or the one before: no prior.
   EXPECT_FALSE(op.predict(std::nullopt, cam1).has_value());
@@ -114,41 +127,55 @@ TEST(OdometryPrior, PlanarProjectionKeepsRobotPosesAndRemovesTilt) {
   EXPECT_NEAR(z_pb.z(), z_gt.z(), 1e-9) << "the viewing direction keeps the mount's pitch";
 }
 
-TEST(OdometryPrior, UnderRotatedTurnIsExposedAndAnAgreeingOneIsNot) {
-  // A turn in place at 3 deg per frame. Tracked poses that follow the odometry within its noise
-  // keep the accumulated heading disagreement small; tracked poses that under-rotate by 0.4 deg
-  // per frame (each well within one frame's 0.57 deg sigma) add up past 3 sigmas of the summed
-  // noise within the 30-frame window: 0.4 n > 3 * 0.57 sqrt(n) for n >= 20.
-  const TRobotParams p;
+/// A turn in place at 3 deg per frame, tracked `under_deg` per frame behind the odometry (0: an
+/// agreeing track that alternates +-noise_deg around it). The heading drift test's largest
+/// statistic, the frame it first passed 3 sigmas (-1: never), and the window's correction.
+struct HeadingDriftRun {
+  double worst = 0.0, correction = 0.0;
+  int first_over = -1;
+};
+HeadingDriftRun turnInPlace(const TRobotParams& p, double under_deg, double noise_deg) {
   const Eigen::Isometry3d M = p.T_base_cam();
-  for (const double under_deg : {0.0, 0.4}) {
-    OdometryPrior op(p);
-    Eigen::Vector3d odo(0, 0, 0);
-    Eigen::Isometry3d cam = base(0, 0, 0) * M;  // the tracked pose
-    op.start(cam, odo);
-    double worst = 0.0, correction = 0.0;
-    int first_over = -1;
-    for (int k = 1; k <= 30; ++k) {
-      odo.z() += 3.0 * kDeg;
-      const std::optional<tracking::MotionPrior> prior = op.predict(odo, cam);
-      ASSERT_TRUE(prior);
-      // Tracked: the prior's pose, turned back by under_deg about the floor normal; an agreeing
-      // track alternates +-0.3 deg around the odometry (noise, no bias).
-      const double e = under_deg > 0 ? -under_deg * kDeg : (k % 2 ? 0.3 : -0.3) * kDeg;
-      cam = prior->T_world_cam;
-      cam.linear() = Eigen::AngleAxisd(e, op.up()).toRotationMatrix() * cam.linear();
-      const double s = op.addHeadingResidual(*prior, cam, correction);
-      worst = std::max(worst, s);
-      if (s > 3.0 && first_over < 0) first_over = k;
-    }
-    if (under_deg == 0.0) {
-      EXPECT_LT(worst, 1.0);
-    } else {
-      EXPECT_GE(first_over, 15);
-      EXPECT_LE(first_over, 25);
-      EXPECT_NEAR(correction, -30 * under_deg * kDeg, 1e-9) << "the window's accumulated residual";
-    }
+  OdometryPrior op(p);
+  Eigen::Vector3d odo(0, 0, 0);
+  Eigen::Isometry3d cam = base(0, 0, 0) * M;  // the tracked pose
+  op.start(cam, odo);
+  HeadingDriftRun r;
+  for (int k = 1; k <= 30; ++k) {
+    odo.z() += 3.0 * kDeg;
+    const std::optional<tracking::MotionPrior> prior = op.predict(odo, cam);
+    if (!prior) ADD_FAILURE() << "no prior at frame " << k;
+    if (!prior) return r;
+    // Tracked: the prior's pose, turned back by under_deg about the floor normal, or +-noise.
+    const double e = under_deg > 0 ? -under_deg * kDeg : (k % 2 ? noise_deg : -noise_deg) * kDeg;
+    cam = prior->T_world_cam;
+    cam.linear() = Eigen::AngleAxisd(e, op.up()).toRotationMatrix() * cam.linear();
+    const double s = op.addHeadingResidual(*prior, cam, r.correction);
+    r.worst = std::max(r.worst, s);
+    if (s > 3.0 && r.first_over < 0) r.first_over = k;
   }
+  return r;
+}
+
+TEST(OdometryPrior, UnderRotatedTurnIsExposedAndAnAgreeingOneIsNot) {
+  // Wheels: tracked poses that under-rotate by 0.4 deg per frame (each well within one frame's
+  // 0.57 deg sigma) add up past 3 sigmas of the summed noise within the 30-frame window:
+  // 0.4 n > 3 * 0.57 sqrt(n) for n >= 20; an agreeing track (+-0.3 deg) stays small.
+  TRobotParams wheels;
+  wheels.odometry_heading = "wheels";
+  EXPECT_LT(turnInPlace(wheels, 0.0, 0.3).worst, 1.0);
+  const HeadingDriftRun under = turnInPlace(wheels, 0.4, 0.0);
+  EXPECT_GE(under.first_over, 15);
+  EXPECT_LE(under.first_over, 25);
+  EXPECT_NEAR(under.correction, -30 * 0.4 * kDeg, 1e-9) << "the window's accumulated residual";
+  // A gyro (one frame's sigma 0.05 + 0.4% of 3 deg = 0.062 deg): 0.1 deg per frame behind is
+  // exposed once 0.1 n > 3 * 0.062 sqrt(n), n >= 4; an agreeing track (+-0.03 deg) is not.
+  const TRobotParams gyro;
+  ASSERT_EQ(gyro.odometry_heading, "gyro");
+  EXPECT_LT(turnInPlace(gyro, 0.0, 0.03).worst, 1.0);
+  const HeadingDriftRun gyro_under = turnInPlace(gyro, 0.1, 0.0);
+  EXPECT_GE(gyro_under.first_over, 3);
+  EXPECT_LE(gyro_under.first_over, 5);
 }
 
 TEST(OdometryPrior, LostFramesWidenTheNextPrediction) {
@@ -205,6 +232,7 @@ struct DriftedStart {
   Eigen::Vector3d odo0{1.0, 0.5, 0.3}, odo1{1.03, 0.51, 0.33};
   Eigen::Isometry3d cam0, cam1, cam0_drifted;
   DriftedStart() {
+    params.odometry_heading = "wheels";  // the sigmas written out below are the wheels'
     cam0 = base(odo0.x(), odo0.y(), odo0.z()) * params.T_base_cam();
     cam1 = base(odo1.x(), odo1.y(), odo1.z()) * params.T_base_cam();
     cam0_drifted = cam0;

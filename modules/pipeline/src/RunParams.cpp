@@ -177,6 +177,8 @@ void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(odometry_sigma_yaw_deg, double, c, s);
   MRPT_LOAD_CONFIG_VAR(odometry_sigma_yaw_per_sqrt_rad, double, c, s);
   MRPT_LOAD_CONFIG_VAR(odometry_sigma_yaw_per_sqrt_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(odometry_heading, string, c, s);
+  MRPT_LOAD_CONFIG_VAR(gyro_sigma_yaw_per_rad, double, c, s);
   MRPT_LOAD_CONFIG_VAR(odometry_sigma_z_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(odometry_sigma_tilt_deg, double, c, s);
   MRPT_LOAD_CONFIG_VAR(heading_drift_window_frames, int, c, s);
@@ -211,6 +213,10 @@ void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireInRange(odometry_sigma_yaw_deg, 1e-6, 90.0, s, "odometry_sigma_yaw_deg");
   requireInRange(odometry_sigma_yaw_per_sqrt_rad, 0.0, 1.0, s, "odometry_sigma_yaw_per_sqrt_rad");
   requireInRange(odometry_sigma_yaw_per_sqrt_m, 0.0, 1.0, s, "odometry_sigma_yaw_per_sqrt_m");
+  if (odometry_heading != "gyro" && odometry_heading != "wheels")
+    throwInputError("[" + s + "] odometry_heading",
+                    "expected gyro or wheels, got '" + odometry_heading + "'");
+  requireInRange(gyro_sigma_yaw_per_rad, 0.0, 1.0, s, "gyro_sigma_yaw_per_rad");
   requireInRange(odometry_sigma_z_m, 1e-6, 1.0, s, "odometry_sigma_z_m");
   requireInRange(odometry_sigma_tilt_deg, 1e-6, 90.0, s, "odometry_sigma_tilt_deg");
   requireInRange(floor_prior_sigma_z_m, 1e-6, 1.0, s, "floor_prior_sigma_z_m");
@@ -231,6 +237,8 @@ void TRobotParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
   MRPT_SAVE_CONFIG_VAR(odometry_sigma_yaw_deg, c, s);
   MRPT_SAVE_CONFIG_VAR(odometry_sigma_yaw_per_sqrt_rad, c, s);
   MRPT_SAVE_CONFIG_VAR(odometry_sigma_yaw_per_sqrt_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(odometry_heading, c, s);
+  MRPT_SAVE_CONFIG_VAR(gyro_sigma_yaw_per_rad, c, s);
   MRPT_SAVE_CONFIG_VAR(odometry_sigma_z_m, c, s);
   MRPT_SAVE_CONFIG_VAR(odometry_sigma_tilt_deg, c, s);
   MRPT_SAVE_CONFIG_VAR(heading_drift_window_frames, c, s);

@@ -100,6 +100,14 @@ struct TRobotParams : mrpt::config::CLoadableOptions {
   double odometry_sigma_yaw_deg = 0.05;
   double odometry_sigma_yaw_per_sqrt_rad = 0.04;
   double odometry_sigma_yaw_per_sqrt_m = 0.01;
+  /// Where the odometry's heading comes from: "gyro" (a yaw-rate gyro, as the simulated robot's
+  /// by default, [sim_robot] odometry_heading) or "wheels". With a gyro, one increment's yaw
+  /// sigma is odometry_sigma_yaw_deg + gyro_sigma_yaw_per_rad x the turn (rad), its scale error
+  /// (twice the simulated gyro's 0.2%), in place of the wheels' random walks above: tight enough
+  /// that the heading drift test and max_odometry_sigmas catch ICP turning the camera where the
+  /// view does not hold the heading. The Segway RMP's heading is its wheels' (set wheels).
+  std::string odometry_heading = "gyro";
+  double gyro_sigma_yaw_per_rad = 0.004;
   /// A ground robot's base stays on the floor: the increment's height, roll and pitch have these
   /// standard deviations (bumps, suspension).
   double odometry_sigma_z_m = 0.005;
