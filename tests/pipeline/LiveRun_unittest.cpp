@@ -118,6 +118,16 @@ TEST(LiveRun, ShippedLiveInisValidate) {
   RunConfig bad = RunConfig::fromFile(shippedIni("segway_rmp_explore.ini"));
   bad.applyOverride("source.type=sim");
   EXPECT_THROW(MappingRun{bad}, InputError);
+  // The Segway's heading is its wheels': a gyro's noise model for it is refused, named.
+  RunConfig gyro = RunConfig::fromFile(shippedIni("segway_rmp_explore.ini"));
+  gyro.applyOverride("robot.odometry_heading=gyro");
+  try {
+    const MappingRun run{gyro};
+    ADD_FAILURE() << "a gyro's heading model on the Segway was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("[robot] odometry_heading = gyro"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(LiveRun, OpenNI2IniWithoutACameraFailsClearlyWithAReport) {

@@ -170,8 +170,8 @@ TEST(OdometryPrior, UnderRotatedTurnIsExposedAndAnAgreeingOneIsNot) {
   EXPECT_NEAR(under.correction, -30 * 0.4 * kDeg, 1e-9) << "the window's accumulated residual";
   // A gyro (one frame's sigma 0.05 + 0.4% of 3 deg = 0.062 deg): 0.1 deg per frame behind is
   // exposed once 0.1 n > 3 * 0.062 sqrt(n), n >= 4; an agreeing track (+-0.03 deg) is not.
-  const TRobotParams gyro;
-  ASSERT_EQ(gyro.odometry_heading, "gyro");
+  TRobotParams gyro;
+  gyro.odometry_heading = "gyro";
   EXPECT_LT(turnInPlace(gyro, 0.0, 0.03).worst, 1.0);
   const HeadingDriftRun gyro_under = turnInPlace(gyro, 0.1, 0.0);
   EXPECT_GE(gyro_under.first_over, 3);

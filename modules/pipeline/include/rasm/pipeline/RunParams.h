@@ -100,13 +100,14 @@ struct TRobotParams : mrpt::config::CLoadableOptions {
   double odometry_sigma_yaw_deg = 0.05;
   double odometry_sigma_yaw_per_sqrt_rad = 0.04;
   double odometry_sigma_yaw_per_sqrt_m = 0.01;
-  /// Where the odometry's heading comes from: "gyro" (a yaw-rate gyro, as the simulated robot's
-  /// by default, [sim_robot] odometry_heading) or "wheels". With a gyro, one increment's yaw
-  /// sigma is odometry_sigma_yaw_deg + gyro_sigma_yaw_per_rad x the turn (rad), its scale error
-  /// (twice the simulated gyro's 0.2%), in place of the wheels' random walks above: tight enough
-  /// that the heading drift test and max_odometry_sigmas catch ICP turning the camera where the
-  /// view does not hold the heading. The Segway RMP's heading is its wheels' (set wheels).
-  std::string odometry_heading = "gyro";
+  /// The noise model of the odometry's heading: "wheels" (the random walks above) or "gyro" (a
+  /// yaw-rate gyro's: one increment's yaw sigma is odometry_sigma_yaw_deg + gyro_sigma_yaw_per_rad
+  /// x the turn (rad), twice the simulated gyro's 0.2% scale error). Wheels by default, also
+  /// for the simulated robot whose heading is a gyro's ([sim_robot] odometry_heading): with the
+  /// gyro's tight sigmas max_odometry_sigmas refuses the frames in which ICP turns the camera
+  /// back onto the map after a heading error, and the world-frame panel lost more frames and
+  /// more coverage than it gained in silent frames (docs/results-worldframe.md "A gyro").
+  std::string odometry_heading = "wheels";
   double gyro_sigma_yaw_per_rad = 0.004;
   /// A ground robot's base stays on the floor: the increment's height, roll and pitch have these
   /// standard deviations (bumps, suspension).
