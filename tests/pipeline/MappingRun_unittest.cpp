@@ -172,3 +172,49 @@ TEST_P(MappingRunModes, SimulatedOfficeDefaultTracksWithinTarget) {
   }
   fs::remove_all(out);
 }
+
+// A run replayed from its annotated.rawlog (which holds the estimate, not the truth) with its
+// groundtruth.txt as [source] groundtruth starts at the true pose and reports its world-frame
+// error; without it the replay starts at the identity and says it cannot.
+TEST(MappingRun, ReplayWithTheRunsGroundTruthStartsThereAndReportsTheWorldFrameError) {
+  const std::string out = tempDir("replay_gt");
+  RunConfig first = RunConfig::fromString(
+      "[source]\ntype = rawlog\npath = " RASM_SOURCE_DIR
+      "/rawlogs/sim_office_handheld_320x240.rawlog\nmax_frames = 20\n",
+      "test");
+  first.set("output", "dir", out + "/first");
+  first.set("output", "write_rawlog", "true");
+  MappingRun(first).run();
+  ASSERT_TRUE(fs::exists(out + "/first/annotated.rawlog"));
+  ASSERT_TRUE(fs::exists(out + "/first/groundtruth.txt"));
+
+  auto replay = [&](const std::string& name, bool with_groundtruth) {
+    RunConfig cfg = RunConfig::fromString(
+        "[source]\ntype = rawlog\npath = " + out + "/first/annotated.rawlog\n", "test");
+    if (with_groundtruth) cfg.set("source", "groundtruth", out + "/first/groundtruth.txt");
+    cfg.set("output", "dir", out + "/" + name);
+    return MappingRun(cfg).run();
+  };
+  const RunSummary with = replay("with", true);
+  ASSERT_TRUE(with.report.contains("world_frame_error")) << with.report.dump().substr(0, 3000);
+  const auto& wf = with.report.at("world_frame_error");
+  EXPECT_TRUE(wf.at("started_at_ground_truth").get<bool>()) << wf.dump();
+  // Twenty hand-held frames of the office track within a centimetre or two of the truth.
+  EXPECT_LT(wf.at("all").at("position_m").at("max").get<double>(), 0.03) << wf.dump();
+  const RunSummary without = replay("without", false);
+  EXPECT_FALSE(without.report.contains("world_frame_error")) << "no ground truth, no error";
+  // A ground truth that cannot be read is named before anything is mapped.
+  RunConfig bad = RunConfig::fromString(
+      "[source]\ntype = rawlog\npath = " + out + "/first/annotated.rawlog\ngroundtruth = " + out +
+          "/missing.txt\n",
+      "test");
+  bad.set("output", "dir", out + "/bad");
+  try {
+    MappingRun(bad).run();
+    ADD_FAILURE() << "a missing ground truth was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("[source] groundtruth"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("missing.txt"), std::string::npos) << e.what();
+  }
+  fs::remove_all(out);
+}

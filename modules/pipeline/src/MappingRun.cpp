@@ -28,6 +28,7 @@
 #include "rasm/core/SE3.h"
 #include "rasm/core/Timing.h"
 #include "rasm/io/EvaluationJson.h"
+#include "rasm/io/GroundTruthFrameSource.h"
 #include "rasm/io/PrefetchingFrameSource.h"
 #include "rasm/io/PreloadedFrameSource.h"
 #include "rasm/io/RawlogFrameSource.h"
@@ -197,7 +198,17 @@ std::unique_ptr<io::FrameSource> MappingRun::openSource() const {
   if ((m_source.type == "tum" || m_source.type == "7scenes") && !is_dir)
     throwInputError("[source] path '" + m_source.path + "'",
                     "is a file, expected a dataset folder for type = " + m_source.type);
-  return io::openFrameSource(m_source.path, opt);
+  std::unique_ptr<io::FrameSource> source = io::openFrameSource(m_source.path, opt);
+  if (m_source.groundtruth.empty()) return source;
+  // Frames without a pose of their own take the file's (a replayed run's annotated.rawlog with
+  // its groundtruth.txt): the map starts at the true pose, the world-frame error is reported.
+  io::Trajectory groundtruth;
+  try {
+    groundtruth = io::readTumTrajectory(m_source.groundtruth);
+  } catch (const std::exception& e) {
+    throwInputError("[source] groundtruth '" + m_source.groundtruth + "'", e.what());
+  }
+  return std::make_unique<io::GroundTruthFrameSource>(std::move(source), std::move(groundtruth));
 }
 
 namespace {

@@ -20,7 +20,9 @@ struct TSourceParams : mrpt::config::CLoadableOptions {
   int start_frame = 0;  ///< frames before this are skipped
   int frame_step = 1;   ///< use every n-th frame
   /// Optional TUM trajectory to evaluate against (ATE in report.json) instead of the source's
-  /// own ground truth (rawlogs without poses, e.g. converted elsewhere).
+  /// own ground truth (rawlogs without poses, e.g. converted elsewhere). Frames without a pose
+  /// of their own take it (io::GroundTruthFrameSource): a run replayed from its annotated.rawlog
+  /// with its groundtruth.txt starts at the true pose and reports its world-frame error.
   std::string groundtruth;
   /// Frames read ahead on a separate thread (io::PrefetchingFrameSource) while the previous one
   /// is mapped; 0 = read in the mapping thread.
