@@ -158,9 +158,9 @@ TEST(RasmCli, ObjectsListsTheObjectsAndWithAllTheOtherSegmentsAndWhy) {
 // auto); a folder that holds no known dataset is refused with what was expected.
 TEST(RasmCli, RunMapsADatasetGivenInsteadOfAnIni) {
   const std::string out = freshDir("run_dataset");
-  const Result r = runRasm("run " + std::string(RASM_SOURCE_DIR) +
-                           "/rawlogs/sim_office_handheld_320x240.rawlog --max-frames 5 --out " +
-                           out + "/run");
+  const Result r =
+      runRasm("run " + std::string(RASM_SOURCE_DIR) +
+              "/rawlogs/sim_office_handheld_320x240.rawlog --max-frames 5 --out " + out + "/run");
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string report = readFile(out + "/run/report.json");
   EXPECT_NE(report.find("\"source\": \"rawlog " + std::string(RASM_SOURCE_DIR) +
@@ -185,9 +185,9 @@ TEST(RasmCli, TheMeshComesFromAPluginThatOnlyMeshingRunsLoad) {
   EXPECT_NE(deps.output.find("librasm_meshing.so"), std::string::npos) << deps.output;
 
   const std::string out = freshDir("run_mesh");
-  const Result r = runRasm("run " + std::string(RASM_SOURCE_DIR) +
-                           "/rawlogs/sim_office_handheld_320x240.rawlog --max-frames 20 --out " +
-                           out + "/run");
+  const Result r =
+      runRasm("run " + std::string(RASM_SOURCE_DIR) +
+              "/rawlogs/sim_office_handheld_320x240.rawlog --max-frames 20 --out " + out + "/run");
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string ply = readFile(out + "/run/mesh.ply");
   ASSERT_EQ(ply.rfind("ply\n", 0), 0u) << ply.substr(0, 200);

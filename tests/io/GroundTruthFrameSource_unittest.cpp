@@ -42,9 +42,9 @@ TEST(GroundTruthFrameSource, FramesWithoutAPoseTakeTheTrajectorysAtTheirTime) {
   // Samples out of order (the source sorts them): x = t m, yaw = t rad.
   const Trajectory gt = {sample(0.2, 0.2, 0.2), sample(0.0, 0.0, 0.0), sample(0.1, 0.1, 0.1),
                          sample(0.3, 0.3, 0.3)};
-  GroundTruthFrameSource src(std::make_unique<StampsSource>(
-                                 std::deque<double>{0.0, 0.1, 0.15, 0.25, 5.0}, 1),
-                             gt, 0.06);  // samples 0.1 s apart: a wider association
+  GroundTruthFrameSource src(
+      std::make_unique<StampsSource>(std::deque<double>{0.0, 0.1, 0.15, 0.25, 5.0}, 1), gt,
+      0.06);  // samples 0.1 s apart: a wider association
   EXPECT_EQ(src.describe(), "stamps");
   EXPECT_EQ(src.sizeHint(), 7);
   // Its own pose is kept.

@@ -178,10 +178,10 @@ TEST_P(MappingRunModes, SimulatedOfficeDefaultTracksWithinTarget) {
 // error; without it the replay starts at the identity and says it cannot.
 TEST(MappingRun, ReplayWithTheRunsGroundTruthStartsThereAndReportsTheWorldFrameError) {
   const std::string out = tempDir("replay_gt");
-  RunConfig first = RunConfig::fromString(
-      "[source]\ntype = rawlog\npath = " RASM_SOURCE_DIR
-      "/rawlogs/sim_office_handheld_320x240.rawlog\nmax_frames = 20\n",
-      "test");
+  RunConfig first =
+      RunConfig::fromString("[source]\ntype = rawlog\npath = " RASM_SOURCE_DIR
+                            "/rawlogs/sim_office_handheld_320x240.rawlog\nmax_frames = 20\n",
+                            "test");
   first.set("output", "dir", out + "/first");
   first.set("output", "write_rawlog", "true");
   MappingRun(first).run();
@@ -204,10 +204,10 @@ TEST(MappingRun, ReplayWithTheRunsGroundTruthStartsThereAndReportsTheWorldFrameE
   const RunSummary without = replay("without", false);
   EXPECT_FALSE(without.report.contains("world_frame_error")) << "no ground truth, no error";
   // A ground truth that cannot be read is named before anything is mapped.
-  RunConfig bad = RunConfig::fromString(
-      "[source]\ntype = rawlog\npath = " + out + "/first/annotated.rawlog\ngroundtruth = " + out +
-          "/missing.txt\n",
-      "test");
+  RunConfig bad =
+      RunConfig::fromString("[source]\ntype = rawlog\npath = " + out +
+                                "/first/annotated.rawlog\ngroundtruth = " + out + "/missing.txt\n",
+                            "test");
   bad.set("output", "dir", out + "/bad");
   try {
     MappingRun(bad).run();

@@ -49,9 +49,9 @@ TEST(OdometryPrior, MountLooksForwardAndDown) {
 
 TEST(OdometryPrior, ExactOdometryPredictsTheCameraMotion) {
   TRobotParams p;
-  p.floor_prior = false;  // the relative model alone (FloorPrior* below: with the floor)
+  p.floor_prior = false;          // the relative model alone (FloorPrior* below: with the floor)
   p.odometry_heading = "wheels";  // the heading's random walks (a gyro's: below)
-  p.camera_yaw_deg = 20;  // a mount not aligned with the base: the conjugation matters
+  p.camera_yaw_deg = 20;          // a mount not aligned with the base: the conjugation matters
   p.camera_roll_deg = 3;
   OdometryPrior op(p);
   const Eigen::Isometry3d M = p.T_base_cam();

@@ -168,7 +168,7 @@ TEST(SimulatedDiffDriveRobot, GyroHeadingErrorThroughATurnIsItsScaleBiasAndRando
       TRobotParams p;
       p.odometry_heading = heading;
       SimulatedDiffDriveRobot robot(scene, p, Eigen::Vector3d(-4, -3, 0.0), seed);
-      robot.setVelocityCommand(0.0, M_PI / 4);    // 45 deg/s
+      robot.setVelocityCommand(0.0, M_PI / 4);       // 45 deg/s
       for (int i = 0; i < 40; ++i) robot.step(0.1);  // 4 s: a half turn
       const double turned = robot.pose().z(), measured = robot.odometry().z();
       errors.push_back(std::remainder(measured - turned, 2 * M_PI));

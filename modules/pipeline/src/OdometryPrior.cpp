@@ -46,11 +46,11 @@ std::optional<tracking::MotionPrior> OdometryPrior::predict(
   const TRobotParams& p = m_params;
   // The heading's own noise: a gyro's scale error grows with the turn; the wheels' random walks
   // with the turn and the distance.
-  const double s_yaw = p.odometry_sigma_yaw_deg * kDeg +
-                       (p.odometry_heading == "gyro"
-                            ? p.gyro_sigma_yaw_per_rad * a
-                            : p.odometry_sigma_yaw_per_sqrt_rad * std::sqrt(a) +
-                                  p.odometry_sigma_yaw_per_sqrt_m * std::sqrt(d));
+  const double s_yaw =
+      p.odometry_sigma_yaw_deg * kDeg + (p.odometry_heading == "gyro"
+                                             ? p.gyro_sigma_yaw_per_rad * a
+                                             : p.odometry_sigma_yaw_per_sqrt_rad * std::sqrt(a) +
+                                                   p.odometry_sigma_yaw_per_sqrt_m * std::sqrt(d));
   // The camera is off the base's rotation centre: a yaw error moves it by lever * s_yaw.
   const double lever = m_T_base_cam.translation().head<2>().norm();
   const double s_xy_inc = p.odometry_sigma_xy_m + p.odometry_sigma_xy_per_sqrt_m * std::sqrt(d);

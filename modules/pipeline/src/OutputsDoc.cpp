@@ -175,8 +175,8 @@ const Doc kReport[] = {
      "the world's up, z), `horizontal_m`, `tilt_deg` (angle between the estimated and the true "
      "camera's up direction: roll and pitch, not heading), `heading_deg` (rotation about the "
      "world's up: the yaw error, which becomes horizontal drift as the robot drives), each "
-     "{rmse, mean, median, std, min, max, count}; `start_error`, `options`}; when the run did not start there, only "
-     "`started_at_ground_truth` false, `start_error` and `comment`"},
+     "{rmse, mean, median, std, min, max, count}; `start_error`, `options`}; when the run did not "
+     "start there, only `started_at_ground_truth` false, `start_error` and `comment`"},
     {"ate_error", "why the ground truth ([source] groundtruth) could not be read"},
     {"ate_tracked_error", "why the ATE over the tracked frames could not be computed"},
     {"segmentation",

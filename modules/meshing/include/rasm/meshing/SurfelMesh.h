@@ -40,7 +40,7 @@ struct TMeshParams : mrpt::config::CLoadableOptions {
   /// TSDF truncation: three cells, beyond the rendered map's depth noise (the renders are the
   /// fused map, not raw depth).
   double truncation_m = 0.09;
-  int max_views = 200;         ///< renders fused at most (evenly spaced along the path)
+  int max_views = 200;            ///< renders fused at most (evenly spaced along the path)
   int width = 320, height = 240;  ///< render size (the camera's intrinsics scaled)
   double max_depth_m = 4.0;       ///< farther rendered depth is not fused ([mapper] max_depth_m)
 
