@@ -23,8 +23,8 @@ if [[ -z ${RASM_VIEW_INSIDE:-} ]]; then
 fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-# The office robot loop at 320x240, 150 frames: long enough for several snapshots.
-"$rasm" run --view --max-frames 150 --out "$work/run" --set view.period_s=0.2 \
+# The office robot loop at 320x240, 300 frames: long enough for several snapshots.
+"$rasm" run --view --max-frames 300 --out "$work/run" --set view.period_s=0.2 \
   --set camera.preset= --set camera.width=320 --set camera.height=240 --set camera.fx=262.5 \
   --set camera.fy=262.5 --set camera.cx=159.5 --set camera.cy=119.5 \
   --set output.write_ply=false --set output.write_3dscene=false >"$work/run.out" 2>&1 &
@@ -37,14 +37,24 @@ for _ in $(seq 120); do
   sleep 0.25
 done
 [[ -n $id ]] || { echo "FAIL: no live view window appeared"; cat "$work/run.out"; exit 1; }
-sleep 4  # a few snapshots drawn
-xwd -silent -id "$id" | xwdtopnm 2>/dev/null | pnmtopng >"$work/window.png" || {
-  echo "FAIL: could not grab the window"; exit 1; }
+# Grab the window every quarter second for 4 s (a few snapshots drawn), keeping the last grab:
+# on a fast machine the run may end, and its window close, before the 4 s are over.
+grabbed=0
+for _ in $(seq 16); do
+  sleep 0.25
+  if xwd -silent -id "$id" 2>/dev/null | xwdtopnm 2>/dev/null | pnmtopng >"$work/next.png" 2>/dev/null &&
+    [[ -s $work/next.png ]]; then
+    mv "$work/next.png" "$work/window.png"
+    grabbed=1
+  fi
+  kill -0 $pid 2>/dev/null || break
+done
+[[ $grabbed -eq 1 ]] || { echo "FAIL: could not grab the window"; exit 1; }
 wait $pid
 rc=$?
 [[ $rc -eq 0 ]] || { echo "FAIL: rasm run --view exited with $rc"; cat "$work/run.out"; exit 1; }
 # What the last snapshot drew (run.log): the exploring run's plan (candidate views) and goals
-# over the map; the objects drawn are counted (none may be confirmed yet after 150 frames).
+# over the map; the objects drawn are counted (none may be confirmed yet after 300 frames).
 drawn=$(grep -o "live view: .*" "$work/run/run.log" | tail -1)
 echo "$drawn"
 [[ $drawn =~ ([0-9]+)\ surfels,\ ([0-9]+)\ views\ \(([0-9]+)\ goals\),\ ([0-9]+)\ objects ]] || {
