@@ -23,6 +23,9 @@ import math
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import row  # noqa: E402  (load_tum)
+
 
 def quat_to_rot(qx, qy, qz, qw):
     return [[1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw)],
@@ -42,16 +45,9 @@ def apply(a, v):
     return [sum(a[i][k] * v[k] for k in range(3)) for i in range(3)]
 
 
-def load_tum(path):
-    """{timestamp (ms, rounded): (R, t)}"""
-    poses = {}
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#") or not line.strip():
-                continue
-            v = [float(x) for x in line.split()]
-            poses[round(v[0] * 1000)] = (quat_to_rot(*v[4:8]), v[1:4])
-    return poses
+def load_poses(path):
+    """{timestamp: (R, t)} of a TUM trajectory (row.load_tum's keys: rounded to 0.1 ms)."""
+    return {t: (quat_to_rot(*v[3:7]), v[0:3]) for t, v in row.load_tum(path).items()}
 
 
 def heading_error(r_est, r_gt):
@@ -63,8 +59,8 @@ def heading_error(r_est, r_gt):
 def analyse(run, gt_path, timeline_s):
     if not os.path.isfile(gt_path):
         raise SystemExit(f"{run}: no ground truth {gt_path} (give one with --groundtruth)")
-    gt = load_tum(gt_path)
-    est = load_tum(os.path.join(run, "trajectory.txt"))
+    gt = load_poses(gt_path)
+    est = load_poses(os.path.join(run, "trajectory.txt"))
     stamps = sorted(t for t in est if t in gt)
     if len(stamps) < 2:
         raise SystemExit(f"{run}: fewer than two poses share a timestamp with {gt_path}")
@@ -84,8 +80,8 @@ def analyse(run, gt_path, timeline_s):
     csv_path = os.path.join(run, "frames.csv")
     if timeline_s and os.path.exists(csv_path):
         with open(csv_path) as f:
-            for row in csv.DictReader(f):
-                frames[round(float(row["timestamp_s"]) * 1000)] = row
+            for r in csv.DictReader(f):
+                frames[round(float(r["timestamp_s"]), 4)] = r
     pred = [0.0, 0.0]
     sq_err = sq_res = sq_head = 0.0
     max_head = 0.0
@@ -107,10 +103,10 @@ def analyse(run, gt_path, timeline_s):
         sq_res += (e[0] - pred[0]) ** 2 + (e[1] - pred[1]) ** 2
         sq_head += head * head
         max_head = max(max_head, abs(head))
-        if timeline_s and b / 1000.0 >= next_print:
-            row = frames.get(b, {})
-            print(f"  {b / 1000.0:7.1f} s  horizontal error {100 * math.hypot(*e):5.1f} cm  "
-                  f"heading error {head:6.2f} deg  {row.get('status', '')}")
+        if timeline_s and b >= next_print:
+            r = frames.get(b, {})
+            print(f"  {b:7.1f} s  horizontal error {100 * math.hypot(*e):5.1f} cm  "
+                  f"heading error {head:6.2f} deg  {r.get('status', '')}")
             next_print += timeline_s
         prev_r, prev_p = r_b, p_b
     n = len(stamps) - 1

@@ -103,12 +103,14 @@ TEST(ExplorationLoop, TrackedOfficeRunStaysWithinTheRobotTarget) {
   // ... and the odometry then: the wheels' heading. The simulated gyro (the default since
   // 2026-12-07) draws other noise and the robot drives another path (world-frame max 3.8 cm on
   // it, the tracked panel's median 3.6 cm: docs/results-worldframe.md "A gyro").
+  // The shipped spec, its robot's heading set to the wheels'.
+  std::string text = readText(RASM_SOURCE_DIR "/modules/sim/trajectories/office_robot_loop.yaml");
+  const std::string pitch = "camera_pitch_deg: -10}";
+  const std::size_t at = text.find(pitch);
+  ASSERT_NE(at, std::string::npos) << "office_robot_loop.yaml's robot line changed:\n" << text;
+  text.replace(at, pitch.size(), "camera_pitch_deg: -10, odometry_heading: wheels}");
   const std::string spec = out + "_office_robot_loop_wheels.yaml";
-  std::ofstream(spec) << "type: robot\nrate_hz: 30\nstart: {x: 1.2, y: 2.5, yaw_deg: 0}\n"
-                         "waypoints: [[4.3, 2.2], [4.3, 3.9], [1.5, 3.9]]\nloop: true\n"
-                         "controller: {lookahead_m: 0.5, max_v_mps: 0.35, max_w_degps: 45}\n"
-                         "robot: {footprint_radius_m: 0.25, camera_height_m: 0.55, "
-                         "camera_pitch_deg: -10, odometry_heading: wheels}\n";
+  std::ofstream(spec) << text;
   cfg.set("sim", "trajectory", spec);
   MappingRun run(cfg);
   const RunSummary s = run.run();

@@ -142,11 +142,6 @@ void MappingRun::decideExploring(const std::string& src) {
     throwInputError(
         src + " [robot] type = segway_rmp",
         "needs a live camera on the robot: [source] type = openni2 (got " + m_source.type + ")");
-  if (robot == "segway_rmp" &&
-      m_mapper->stage<TrackingStage>().robotParams().odometry_heading == "gyro")
-    throwInputError(src + " [robot] odometry_heading = gyro",
-                    "the Segway RMP's heading is its wheels' (no gyro is read): use "
-                    "[robot] odometry_heading = wheels (docs/hardware.md)");
   m_explore_real = mode == "true" && robot == "segway_rmp";
   if (mode == "true" && !m_explore_real && (m_source.type != "sim" || robot == "none"))
     throwInputError(src + " [exploration] enabled = true",

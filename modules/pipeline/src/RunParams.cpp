@@ -216,6 +216,10 @@ void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   if (odometry_heading != "gyro" && odometry_heading != "wheels")
     throwInputError("[" + s + "] odometry_heading",
                     "expected gyro or wheels, got '" + odometry_heading + "'");
+  if (type == "segway_rmp" && odometry_heading == "gyro")
+    throwInputError("[" + s + "] odometry_heading = gyro",
+                    "the Segway RMP's heading is its wheels' (no gyro is read): use [" + s +
+                        "] odometry_heading = wheels (docs/hardware.md)");
   requireInRange(gyro_sigma_yaw_per_rad, 0.0, 1.0, s, "gyro_sigma_yaw_per_rad");
   requireInRange(odometry_sigma_z_m, 1e-6, 1.0, s, "odometry_sigma_z_m");
   requireInRange(odometry_sigma_tilt_deg, 1e-6, 90.0, s, "odometry_sigma_tilt_deg");
