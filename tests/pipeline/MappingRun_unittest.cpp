@@ -3,9 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 
 #include <nlohmann/json.hpp>
@@ -15,6 +16,10 @@
 #include "rasm/core/Error.h"
 #include "rasm/io/Trajectory.h"
 #include "rasm/pipeline/MappingRun.h"
+#include "rasm/pipeline/RunPlots.h"
+#include "rasm/sim/SimClasses.h"
+#include "rasm/sim/SurfaceInstance.h"
+#include "rasm/sim/World.h"
 #include "rasm/surfel_map/MapExport.h"
 
 namespace fs = std::filesystem;
@@ -171,6 +176,79 @@ TEST_P(MappingRunModes, SimulatedOfficeDefaultTracksWithinTarget) {
     EXPECT_TRUE(segments.insert(o.at("segment").get<std::uint32_t>()).second) << o.dump();
   }
   fs::remove_all(out);
+}
+
+// A simulated run that is not explored measures the objects named right against the world's
+// truth every [output] objects_score_period_s of the sequence and after the final regrouping:
+// frames.csv objects_correct / objects_detectable on those rows only, report.json
+// objects_correct_fraction from the last. The detectable objects are the world's own count (COCO
+// classes that are not structure), whatever the map saw.
+TEST(MappingRun, SimulatedRunWithoutExplorationScoresItsObjectsOverTime) {
+  const std::string out = tempDir("objects_score");
+  RunConfig cfg = RunConfig::embeddedDefault();
+  cfg.set("output", "dir", out);
+  cfg.set("exploration", "enabled", "false");
+  cfg.set("source", "max_frames", "70");
+  setQuarterVgaCamera(cfg);
+  cfg.set("output", "write_3dscene", "false");
+  cfg.set("output", "write_mesh", "false");
+  MappingRun run(cfg);
+  const RunSummary s = run.run();
+  ASSERT_EQ(s.frames, 70u);
+
+  std::size_t detectable_world = 0;
+  for (const sim::WorldInstanceInfo& w : sim::worldInstances(sim::loadWorld("office")))
+    detectable_world += !w.is_structure && w.class_id != 0 && w.class_id <= sim::kNumCocoClasses;
+  ASSERT_EQ(detectable_world, 34u);  // modules/sim/worlds/office: 34 objects of COCO classes
+
+  std::ifstream frames_file(out + "/frames.csv");
+  const std::string text((std::istreambuf_iterator<char>(frames_file)),
+                         std::istreambuf_iterator<char>());
+  const CsvColumns f = parseCsvColumns(text);
+  ASSERT_EQ(f.rows, 70u);
+  const auto& t = f.values.at("timestamp_s");
+  const auto& correct = f.values.at("objects_correct");
+  const auto& detectable = f.values.at("objects_detectable");
+  double last_t = -1e9;
+  std::size_t measured = 0;
+  for (std::size_t i = 0; i < f.rows; ++i) {
+    const bool due = t[i] - last_t >= 1.0 - 1e-6;  // the period, 1 s by default
+    const bool last_row = i + 1 == f.rows;         // the final measurement
+    EXPECT_EQ(std::isfinite(correct[i]), due || last_row) << "row " << i << ", t " << t[i];
+    if (!std::isfinite(correct[i])) continue;
+    ++measured;
+    if (due) last_t = t[i];
+    EXPECT_EQ(detectable[i], double(detectable_world)) << "row " << i;
+    EXPECT_LE(correct[i], detectable[i]) << "row " << i;
+  }
+  EXPECT_GE(measured, 3u);     // 70 frames span more than 2 s of the sequence
+  EXPECT_EQ(correct[0], 0.0);  // nothing is classified before the first frame's detections
+  const double final_fraction = correct.back() / detectable.back();
+  EXPECT_DOUBLE_EQ(s.report.at("objects_correct_fraction").get<double>(), final_fraction);
+  EXPECT_EQ(s.report.at("classification").at("objects_correct").get<double>(), correct.back());
+  // Only the segments of listed objects carry a name (segmentClassNames), and each object named
+  // right needs one: no more objects right than segments of listed objects.
+  std::ifstream objects_file(out + "/objects.json");
+  const nlohmann::json objects = nlohmann::json::parse(objects_file);
+  std::size_t named_segments = 0;
+  for (const auto& o : objects.at("objects")) named_segments += o.at("segments").size();
+  EXPECT_LE(correct.back(), double(named_segments));
+  fs::remove_all(out);
+
+  // Period 0: no measurement at all.
+  const std::string out0 = tempDir("objects_score_off");
+  cfg.set("output", "dir", out0);
+  cfg.set("output", "objects_score_period_s", "0");
+  cfg.set("source", "max_frames", "5");
+  MappingRun off(cfg);
+  const RunSummary s0 = off.run();
+  EXPECT_FALSE(s0.report.contains("objects_correct_fraction"));
+  std::ifstream frames0(out0 + "/frames.csv");
+  const std::string text0((std::istreambuf_iterator<char>(frames0)),
+                          std::istreambuf_iterator<char>());
+  const CsvColumns f0 = parseCsvColumns(text0);
+  for (double v : f0.values.at("objects_correct")) EXPECT_FALSE(std::isfinite(v));
+  fs::remove_all(out0);
 }
 
 // A run replayed from its annotated.rawlog (which holds the estimate, not the truth) with its

@@ -15,13 +15,13 @@
 #include "rasm/pipeline/LinePlot.h"
 #include "rasm/pipeline/OraclePlanner.h"
 #include "rasm/pipeline/OutputFiles.h"
+#include "rasm/pipeline/SimObjectScore.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
 #include "rasm/pipeline/stages/FusionStages.h"
 #include "rasm/pipeline/stages/TrackingStage.h"
 #include "rasm/sim/SimClasses.h"
 #include "rasm/sim/SimulatedSequence.h"
 #include "rasm/sim/SurfaceCoverage.h"
-#include "rasm/sim/SurfaceInstance.h"
 
 namespace rasm::pipeline {
 
@@ -93,7 +93,7 @@ ExplorationLoop::ExplorationLoop(Mapper& mapper, sim::SimulatedSequence& seq,
       seq.scene().world(), seq.scene(),
       sim::coverageOptionsForRobot(robot.params(), seq.sensor().intrinsics(),
                                    mapper.mapperParams().max_depth_m));
-  m_instances = std::make_unique<sim::SurfaceInstanceQuery>(seq.scene());
+  m_object_score = std::make_unique<SimObjectScore>(seq.scene());
   if (m_stage.params().planner == "oracle")  // the ground truth's planner (start() builds others)
     m_planner = std::make_unique<OraclePlanner>(
         *m_coverage, seq.scene(), m_stage.params(),
@@ -481,28 +481,19 @@ void ExplorationLoop::measure(double t) {
     return;
   }
   row.coverage = m_coverage->evaluate(positions).fraction;
-  // Objects carrying their class: every detectable (COCO) object of the world counts, seen or not.
-  const auto nearest = m_instances->nearest(positions, 0.05f);
-  std::vector<std::uint32_t> instance(positions.size());
-  for (std::size_t i = 0; i < positions.size(); ++i) instance[i] = nearest[i].instance_id;
-  std::vector<classification::GtClassObject> objects;
-  for (const sim::WorldInstanceInfo& w : sim::worldInstances(m_seq->scene().world()))
-    objects.push_back(
-        {w.instance_id, w.class_name, w.name, w.size_m, w.is_structure || w.class_id == 0});
-  classification::ClassificationMetricsParams mp;
-  for (int id = 1; id <= sim::kNumCocoClasses; ++id)
-    mp.detectable_classes.insert(sim::className(id));
-  const auto m = classification::computeClassificationMetrics(
-      segment, instance, m_mapper.stage<ClassificationStage>().segmentClassNames(m_mapper.map()),
-      objects, mp);
-  for (const auto& o : m.per_object)
-    if (o.detectable) {
-      ++row.objects_total;
-      row.objects_ok += o.correct;
-    }
+  const SimObjectScore::Score objects = m_object_score->score(
+      positions, segment, m_mapper.stage<ClassificationStage>().segmentClassNames(m_mapper.map()));
+  row.objects_total = objects.detectable;
+  row.objects_ok = objects.correct;
   row.objects_correct =
       row.objects_total > 0 ? double(row.objects_ok) / double(row.objects_total) : 0.0;
   m_metrics.push_back(row);
+}
+
+std::optional<std::pair<std::size_t, std::size_t>> ExplorationLoop::objectsMeasuredThisFrame()
+    const {
+  if (!groundTruth() || m_metrics.empty() || m_metrics.back().frames != m_frames) return {};
+  return std::make_pair(m_metrics.back().objects_ok, m_metrics.back().objects_total);
 }
 
 void ExplorationLoop::stop(const std::string& reason) {

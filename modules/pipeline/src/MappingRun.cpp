@@ -44,6 +44,7 @@
 #include "rasm/pipeline/RobotFrameSource.h"
 #include "rasm/pipeline/RunPlots.h"
 #include "rasm/pipeline/RunScene.h"
+#include "rasm/pipeline/SimObjectScore.h"
 #include "rasm/pipeline/SimSource.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
 #include "rasm/pipeline/stages/ExplorationStage.h"
@@ -368,7 +369,11 @@ struct MappingRun::Accumulated {
   std::chrono::steady_clock::time_point t_start;
   std::string started_utc = utcNow();  ///< report.json started_utc
   double cpu_start_s = 0.0, preload_s = 0.0;
-  double cpu_s = 0.0;  ///< CPU seconds of the frame loop
+  double cpu_s = 0.0;                      ///< CPU seconds of the frame loop
+  double objects_scored_t = std::nan("");  ///< timestamp of the last m_object_score measurement
+  bool last_row_scored = false;            ///< frames.csv's last row has objects_correct
+  /// m_object_score's measurement after finishRun: (correct, detectable).
+  std::optional<std::pair<std::size_t, std::size_t>> final_objects;
 };
 
 OutputFolder MappingRun::prepareOutputFolder() const {
@@ -391,8 +396,11 @@ std::unique_ptr<io::FrameSource> MappingRun::wrapSource(std::unique_ptr<io::Fram
                                                         double& preload_s) {
 #ifdef RASM_HAVE_SIM
   // The simulated detector's occlusion test casts rays into the scene the frames come from.
-  if (const auto* sim_source = dynamic_cast<const sim::SimFrameSource*>(source.get()))
+  if (const auto* sim_source = dynamic_cast<const sim::SimFrameSource*>(source.get())) {
     m_mapper->stage<ClassificationStage>().setSimScene(&sim_source->sequence().scene());
+    if (!m_exploring && m_output.objects_score_period_s > 0)  // (the loop measures its own)
+      m_object_score = std::make_unique<SimObjectScore>(sim_source->sequence().scene());
+  }
 #endif
   preload_s = 0.0;
 #ifdef RASM_HAVE_SIM
@@ -537,9 +545,29 @@ void MappingRun::recordFrame(Accumulated& acc, const RgbdFrame& f, const FrameRe
   }
   acc.frames_csv += m_mapper->csvRow();
   char memory[64];  // runCsvColumns() after the stages': memory now (rasm eval memory)
-  std::snprintf(memory, sizeof memory, ",%.1f,%zu\n", currentRssMb(),
+  std::snprintf(memory, sizeof memory, ",%.1f,%zu", currentRssMb(),
                 m_mapper->map().store().memoryBytes());
-  acc.frames_csv += memory;
+  acc.frames_csv += memory + objectsScoreCells(acc, f) + "\n";
+}
+
+std::string MappingRun::objectsScoreCells(Accumulated& acc, const RgbdFrame& f) {
+  std::optional<std::pair<std::size_t, std::size_t>> measured;
+#ifdef RASM_HAVE_SIM
+  if (m_loop) {
+    measured = m_loop->objectsMeasuredThisFrame();
+  } else if (m_object_score && !(f.timestamp_s - acc.objects_scored_t <
+                                 m_output.objects_score_period_s)) {  // (NaN: the first frame)
+    acc.objects_scored_t = f.timestamp_s;
+    const SimObjectScore::Score s =
+        m_object_score->score(m_mapper->map(), m_mapper->stage<ClassificationStage>());
+    measured = std::make_pair(s.correct, s.detectable);
+  }
+#else
+  (void)f;
+#endif
+  acc.last_row_scored = measured.has_value();
+  if (!measured) return ",,";
+  return "," + std::to_string(measured->first) + "," + std::to_string(measured->second);
 }
 
 void MappingRun::frameLoop(io::FrameSource& source, Accumulated& acc, OutputFolder& out,
@@ -850,6 +878,13 @@ nlohmann::json MappingRun::reportJson(const std::string& source, const Accumulat
   rep["longest_lost_interval_frames"] = acc.loss.longest;
   m_mapper->report(rep);  // the stages' fields (relocalisations, keyframes, ...)
   if (m_loop) m_loop->report(rep);
+  if (const auto& o = acc.final_objects) {
+    rep["objects_correct_fraction"] = o->second > 0 ? double(o->first) / double(o->second) : 0.0;
+    if (rep.contains("classification")) {
+      rep["classification"]["objects_correct"] = o->first;
+      rep["classification"]["objects_detectable"] = o->second;
+    }
+  }
   liveReport(rep, processed, sum.seconds);
   addAte(acc, rep, sum);
   return rep;
@@ -949,6 +984,21 @@ void MappingRun::finishFrames(Accumulated& acc) {
     } catch (const std::exception& e) {
       if (acc.error.empty()) acc.error = validUtf8(e.what());
     }
+#ifdef RASM_HAVE_SIM
+  // The objects as the final regrouping left them: report.json and frames.csv's last row.
+  if (m_object_score && acc.processed > 0) try {
+      const SimObjectScore::Score s =
+          m_object_score->score(m_mapper->map(), m_mapper->stage<ClassificationStage>());
+      acc.final_objects = std::make_pair(s.correct, s.detectable);
+      const std::string empty = ",,\n", cells = "," + std::to_string(s.correct) + "," +
+                                                std::to_string(s.detectable) + "\n";
+      if (!acc.last_row_scored && acc.frames_csv.size() >= empty.size() &&
+          acc.frames_csv.compare(acc.frames_csv.size() - empty.size(), empty.size(), empty) == 0)
+        acc.frames_csv.replace(acc.frames_csv.size() - empty.size(), empty.size(), cells);
+    } catch (const std::exception& e) {
+      if (acc.error.empty()) acc.error = validUtf8(e.what());
+    }
+#endif
   if (acc.processed == 0 && acc.error.empty() && acc.output_error.empty() && stopSignal() == 0)
     acc.error = noFrameReason(acc);
   if (acc.processed > 0 && acc.error.empty() && acc.output_error.empty() && stopSignal() == 0)

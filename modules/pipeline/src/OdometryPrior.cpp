@@ -20,7 +20,11 @@ double wrapAngle(double a) {
 }  // namespace
 
 OdometryPrior::OdometryPrior(const TRobotParams& params)
-    : m_params(params), m_T_base_cam(params.T_base_cam()) {}
+    : m_params(params),
+      m_T_base_cam(params.T_base_cam()),
+      m_heading_model(params.odometry_heading == "gyro"     ? HeadingModel::Gyro
+                      : params.odometry_heading == "wheels" ? HeadingModel::Wheels
+                                                            : HeadingModel::GyroWhenDegenerate) {}
 
 void OdometryPrior::start(const Eigen::Isometry3d& T_world_cam0,
                           const std::optional<Eigen::Vector3d>& odometry) {
@@ -46,11 +50,12 @@ std::optional<tracking::MotionPrior> OdometryPrior::predict(
   const TRobotParams& p = m_params;
   // The heading's own noise: a gyro's scale error grows with the turn; the wheels' random walks
   // with the turn and the distance.
-  const double s_yaw =
-      p.odometry_sigma_yaw_deg * kDeg + (p.odometry_heading == "gyro"
-                                             ? p.gyro_sigma_yaw_per_rad * a
-                                             : p.odometry_sigma_yaw_per_sqrt_rad * std::sqrt(a) +
-                                                   p.odometry_sigma_yaw_per_sqrt_m * std::sqrt(d));
+  const double s_yaw_gyro = p.odometry_sigma_yaw_deg * kDeg + p.gyro_sigma_yaw_per_rad * a;
+  const double s_yaw = m_heading_model == HeadingModel::Gyro
+                           ? s_yaw_gyro
+                           : p.odometry_sigma_yaw_deg * kDeg +
+                                 p.odometry_sigma_yaw_per_sqrt_rad * std::sqrt(a) +
+                                 p.odometry_sigma_yaw_per_sqrt_m * std::sqrt(d);
   // The camera is off the base's rotation centre: a yaw error moves it by lever * s_yaw.
   const double lever = m_T_base_cam.translation().head<2>().norm();
   const double s_xy_inc = p.odometry_sigma_xy_m + p.odometry_sigma_xy_per_sqrt_m * std::sqrt(d);
@@ -66,14 +71,27 @@ std::optional<tracking::MotionPrior> OdometryPrior::predict(
   m_last_sigma_yaw = std::sqrt(v.yaw);
   const double s_xy = std::sqrt(v.xy + lever * lever * v.yaw);
   // A base on a flat floor: height, roll and pitch measured absolutely instead (the floor).
-  if (p.floor_prior) return floorMeasurement(T_pred, s_xy, m_last_sigma_yaw);
-  const Eigen::Matrix3d R_world_base =
-      T_world_cam_prev.linear() * m_T_base_cam.linear().transpose();
-  tracking::MotionPrior prior = tracking::MotionPrior::fromStdDevs(
-      T_pred, R_world_base, Eigen::Vector3d(s_xy, s_xy, std::sqrt(v.z)),
-      Eigen::Vector3d(std::sqrt(v.tilt), std::sqrt(v.tilt), m_last_sigma_yaw));
-  prior.odometry_information =
-      tracking::MotionPrior::planarInformation(R_world_base, s_xy, m_last_sigma_yaw);
+  tracking::MotionPrior prior;
+  if (p.floor_prior) {
+    prior = floorMeasurement(T_pred, s_xy, m_last_sigma_yaw);
+  } else {
+    const Eigen::Matrix3d R_world_base =
+        T_world_cam_prev.linear() * m_T_base_cam.linear().transpose();
+    prior = tracking::MotionPrior::fromStdDevs(
+        T_pred, R_world_base, Eigen::Vector3d(s_xy, s_xy, std::sqrt(v.z)),
+        Eigen::Vector3d(std::sqrt(v.tilt), std::sqrt(v.tilt), m_last_sigma_yaw));
+    prior.odometry_information =
+        tracking::MotionPrior::planarInformation(R_world_base, s_xy, m_last_sigma_yaw);
+  }
+  if (m_heading_model == HeadingModel::GyroWhenDegenerate) {
+    // The same x, y and yaw directions at the gyro's heading noise: the odometry check of the
+    // frames whose geometry leaves a direction free.
+    const double var_yaw_gyro = m_lost.yaw + s_yaw_gyro * s_yaw_gyro;
+    const double var_xy_gyro = v.xy + lever * lever * var_yaw_gyro;
+    prior.odometry_information_degenerate = prior.odometry_information;
+    prior.odometry_information_degenerate.topLeftCorner<3, 3>() *= (s_xy * s_xy) / var_xy_gyro;
+    prior.odometry_information_degenerate.bottomRightCorner<3, 3>() *= v.yaw / var_yaw_gyro;
+  }
   return prior;
 }
 

@@ -189,7 +189,8 @@ const Doc kReport[] = {
      "`surfel_updates_dropped`, `class_evidence_bytes_per_surfel`, `classes`, "
      "`detectors` [{name, frames_offered, frames_detected, frames_skipped, "
      "detections, ms_per_call, ms_max, disabled}], `warnings`, `objects`, "
-     "`objects_by_class` {class: count}"},
+     "`objects_by_class` {class: count}; a simulated source that is not explored adds "
+     "`objects_correct` and `objects_detectable` (against the world's truth, at the end)"},
     {"occupancy",
      "the exploration octree (V): `frames_inserted`, `resolution_m`, "
      "`entropy_nats`, `workspace_cells`, `cells_free`, `cells_occupied`, "
@@ -205,7 +206,7 @@ const Doc kReport[] = {
      "exploring run: fraction of the world's observable surface within 2 cm "
      "of a stable surfel, at the end (null on a real robot: no ground truth)"},
     {"objects_correct_fraction",
-     "exploring run: detectable objects of the world carrying their "
+     "simulated source (or an exploring run): detectable objects of the world carrying their "
      "class, at the end (null on a real robot)"},
     {"real_time",
      "`[source] real_time` or a live camera: `paced_by`, `frames_offered`, `frames_dropped` "
@@ -284,6 +285,14 @@ const Doc kColumns[] = {
     {"octree_updated", "1 when the frame was inserted into the exploration octree"},
     {"rss_mb", "resident memory of the process after the frame (MB)"},
     {"map_memory_bytes", "memory of the map's arrays after the frame (bytes)"},
+    {"objects_correct",
+     "simulated source: detectable objects of the world whose class the map names right "
+     "(SimObjectScore), measured every [output] objects_score_period_s of the sequence (an "
+     "exploring run: every [exploration] metrics_period_s) and on the last row after the run's "
+     "final regrouping; empty on the other rows"},
+    {"objects_detectable",
+     "simulated source: detectable (COCO class) objects of the world, on "
+     "the rows that measured objects_correct"},
 };
 
 // ---- the JSON files of the stages, the trajectory and the PLY layout

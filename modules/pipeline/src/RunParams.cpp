@@ -213,11 +213,13 @@ void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireInRange(odometry_sigma_yaw_deg, 1e-6, 90.0, s, "odometry_sigma_yaw_deg");
   requireInRange(odometry_sigma_yaw_per_sqrt_rad, 0.0, 1.0, s, "odometry_sigma_yaw_per_sqrt_rad");
   requireInRange(odometry_sigma_yaw_per_sqrt_m, 0.0, 1.0, s, "odometry_sigma_yaw_per_sqrt_m");
-  if (odometry_heading != "gyro" && odometry_heading != "wheels")
-    throwInputError("[" + s + "] odometry_heading",
-                    "expected gyro or wheels, got '" + odometry_heading + "'");
-  if (type == "segway_rmp" && odometry_heading == "gyro")
-    throwInputError("[" + s + "] odometry_heading = gyro",
+  if (odometry_heading != "gyro" && odometry_heading != "wheels" &&
+      odometry_heading != "gyro_when_degenerate")
+    throwInputError(
+        "[" + s + "] odometry_heading",
+        "expected wheels, gyro or gyro_when_degenerate, got '" + odometry_heading + "'");
+  if (type == "segway_rmp" && odometry_heading != "wheels")
+    throwInputError("[" + s + "] odometry_heading = " + odometry_heading,
                     "the Segway RMP's heading is its wheels' (no gyro is read): use [" + s +
                         "] odometry_heading = wheels (docs/hardware.md)");
   requireInRange(gyro_sigma_yaw_per_rad, 0.0, 1.0, s, "gyro_sigma_yaw_per_rad");
@@ -268,6 +270,8 @@ void TOutputParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(write_rawlog, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(preview_png, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(floorplan, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(objects_score_period_s, double, c, s);
+  requireInRange(objects_score_period_s, 0.0, 1e6, s, "objects_score_period_s");
   MRPT_LOAD_CONFIG_VAR(overwrite, string, c, s);
   MRPT_LOAD_CONFIG_VAR(log_level, string, c, s);
   (void)log::parseLevel(log_level, "[" + s + "] log_level");
@@ -284,6 +288,7 @@ void TOutputParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(write_rawlog, c, s);
   MRPT_SAVE_CONFIG_VAR(preview_png, c, s);
   MRPT_SAVE_CONFIG_VAR(floorplan, c, s);
+  MRPT_SAVE_CONFIG_VAR(objects_score_period_s, c, s);
   MRPT_SAVE_CONFIG_VAR(overwrite, c, s);
   MRPT_SAVE_CONFIG_VAR(log_level, c, s);
 }

@@ -200,14 +200,32 @@ cv::Mat objectsPlot(const CsvColumns& frames) {
     fused_so_far.push_back(sum);
     if (std::isfinite(objects[i])) most = std::max(most, objects[i]);
   }
+  // With a simulated world: the objects named right where they were measured (sparse rows).
+  const std::vector<double> correct = column(frames, "objects_correct"),
+                            detectable = column(frames, "objects_detectable");
+  PlotSeries right{"", {}, {}, {0, 140, 220}, 1};
+  for (std::size_t i = 0; i < frames.rows; ++i)
+    if (std::isfinite(correct[i]) && std::isfinite(detectable[i])) {
+      right.x.push_back(x[i]), right.y.push_back(correct[i]);
+      right.label = "objects of the world named right (ground truth; of " +
+                    std::to_string(int(detectable[i])) + " detectable)";
+      most = std::max(most, detectable[i]);
+    }
   const int h = 240;
   cv::Mat img(2 * h, 900, CV_8UC3, cv::Scalar(255, 255, 255));
   PlotAxes a1;
   a1.title = "the object list as it grows (frames.csv)";
   a1.y_label = "objects", a1.y_min = 0.0, a1.y_max = 1.1 * most;
   a1.x_min = x.front(), a1.x_max = std::max(x.back(), x.front() + 1.0);
-  drawLinePlot(img, cv::Rect(0, 0, 900, h), a1,
-               {{"objects listed (objects.json's rule)", x, objects, {160, 60, 0}, 2}});
+  std::vector<PlotSeries> top = {
+      {"objects listed (objects.json's rule)", x, objects, {160, 60, 0}, 2}};
+  if (!right.x.empty()) {
+    PlotSeries dots = right;
+    dots.label.clear(), dots.dots = true;
+    top.push_back(right);
+    top.push_back(dots);
+  }
+  drawLinePlot(img, cv::Rect(0, 0, 900, h), a1, top);
   PlotAxes a2 = a1;
   a2.title.clear(), a2.y_label = "detections", a2.x_label = "frame";
   a2.y_max = 1.05 * std::max(1.0, sum);

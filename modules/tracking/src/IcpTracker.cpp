@@ -613,7 +613,12 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
   if (prior && res.T_world_cam.matrix().allFinite()) {
     const Vector6d d = incrementTo(res.T_world_cam, prior->T_world_cam);
     res.prior_sigmas = std::sqrt(std::max(0.0, d.dot(prior->information * d)));
-    res.odometry_sigmas = std::sqrt(std::max(0.0, d.dot(prior->odometry_information * d)));
+    const bool degenerate_information =
+        res.unconstrained_directions > 0 && !prior->odometry_information_degenerate.isZero();
+    const Eigen::Matrix<double, 6, 6>& odometry_information =
+        degenerate_information ? prior->odometry_information_degenerate
+                               : prior->odometry_information;
+    res.odometry_sigmas = std::sqrt(std::max(0.0, d.dot(odometry_information * d)));
   }
   // Pose check: the aligned frame against the model it was aligned to.
   bool check_failed = false;

@@ -48,10 +48,11 @@
 namespace rasm::sim {
 class SimulatedSequence;
 class SurfaceCoverage;
-class SurfaceInstanceQuery;
 }  // namespace rasm::sim
 
 namespace rasm::pipeline {
+
+class SimObjectScore;
 
 class ExplorationLoop {
  public:
@@ -79,6 +80,9 @@ class ExplorationLoop {
 
   /// One-line state for the progress line.
   std::string progressText() const;
+  /// The objects measured against the simulator's truth in the last afterFrame() (every
+  /// [exploration] metrics_period_s): (correct, detectable); nothing when it measured none.
+  std::optional<std::pair<std::size_t, std::size_t>> objectsMeasuredThisFrame() const;
   /// Top-level report fields (coverage_fraction, objects_correct_fraction, path_length_m,
   /// sim_time_s, stop_reason) and the "exploration" block.
   void report(nlohmann::json& rep) const;
@@ -167,7 +171,7 @@ class ExplorationLoop {
   navigation::NavState m_nav_final = navigation::NavState::Idle;
   std::unique_ptr<exploration::ExplorationPlanner> m_planner;
   std::unique_ptr<sim::SurfaceCoverage> m_coverage;
-  std::unique_ptr<sim::SurfaceInstanceQuery> m_instances;
+  std::unique_ptr<SimObjectScore> m_object_score;
   MapSnapshot m_snapshot;
   // Localisation: the base pose estimated at the last frame and the odometry then.
   Eigen::Vector3d m_est_base = Eigen::Vector3d::Zero(), m_odo_at_est = Eigen::Vector3d::Zero();

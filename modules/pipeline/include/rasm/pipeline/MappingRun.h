@@ -83,6 +83,7 @@ struct RunSummary {
 
 class ExplorationLoop;
 class RobotFrameSource;
+class SimObjectScore;
 
 class MappingRun {
  public:
@@ -143,6 +144,10 @@ class MappingRun {
   void frameLoop(io::FrameSource& source, Accumulated& acc, OutputFolder& out,
                  const std::function<void(const FrameResult&)>& on_frame);
   void recordFrame(Accumulated& acc, const RgbdFrame& f, const FrameResult& r);
+  /// frames.csv objects_correct, objects_detectable of the frame just mapped: the exploration
+  /// loop's measurement, or m_object_score's every [output] objects_score_period_s; ",," when
+  /// none was made at this frame.
+  std::string objectsScoreCells(Accumulated& acc, const RgbdFrame& f);
   std::unique_ptr<io::RawlogWriter> openAnnotated(OutputFolder& out) const;
   void writeAnnotated(io::RawlogWriter& w, const RgbdFrame& frame, const FrameResult& r);
   /// annotated.rawlog's comment: what it holds (first), and at its end the frames lost and why.
@@ -190,7 +195,10 @@ class MappingRun {
   const io::RealTimeFrameSource* m_realtime = nullptr;  ///< in the source chain, when real time
   const RobotFrameSource* m_robot_source = nullptr;     ///< in the source chain, segway_rmp
   std::unique_ptr<Mapper> m_mapper;
-  std::unique_ptr<ExplorationLoop> m_loop;    ///< exploring: the closed loop (V, VI)
+  std::unique_ptr<ExplorationLoop> m_loop;  ///< exploring: the closed loop (V, VI)
+  /// A simulated source that is not explored: objects correct against its world ([output]
+  /// objects_score_period_s).
+  std::unique_ptr<SimObjectScore> m_object_score;
   bool m_exploring = false;                   ///< [exploration] enabled and the source decide
   std::vector<std::string> m_annotated_lost;  ///< annotated.rawlog: lost frames and why (200)
   std::function<std::unique_ptr<io::FrameSource>()> m_live_camera;  ///< setLiveCamera

@@ -82,6 +82,8 @@ class OdometryPrior {
  private:
   TRobotParams m_params;
   Eigen::Isometry3d m_T_base_cam;
+  /// TRobotParams::odometry_heading.
+  enum class HeadingModel { Wheels, Gyro, GyroWhenDegenerate } m_heading_model;
   Eigen::Isometry3d m_T_world_floor = Eigen::Isometry3d::Identity();
   std::optional<Eigen::Vector3d> m_last;  ///< reading of the previous frame
   double m_last_sigma_yaw = 0.0;          ///< of the last predict()

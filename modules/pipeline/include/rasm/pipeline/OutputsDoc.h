@@ -19,9 +19,11 @@ class Mapper;
 constexpr int kReportSchema = 1;
 constexpr int kFramesSchema = 1;
 
-/// The columns MappingRun appends to each frames.csv row after the Mapper's (memory now).
+/// The columns MappingRun appends to each frames.csv row after the Mapper's (memory now; the
+/// objects correct against a simulated world's truth where measured at this frame).
 inline const std::vector<std::string>& runCsvColumns() {
-  static const std::vector<std::string> c = {"rss_mb", "map_memory_bytes"};
+  static const std::vector<std::string> c = {"rss_mb", "map_memory_bytes", "objects_correct",
+                                             "objects_detectable"};
   return c;
 }
 

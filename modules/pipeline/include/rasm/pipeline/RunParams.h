@@ -109,6 +109,10 @@ struct TRobotParams : mrpt::config::CLoadableOptions {
   /// gyro's tight sigmas max_odometry_sigmas refuses the frames in which ICP turns the camera
   /// back onto the map after a heading error, and the world-frame panel lost more frames and
   /// more coverage than it gained in silent frames (docs/results-worldframe.md "A gyro").
+  /// "gyro_when_degenerate": the wheels' sigmas, except in max_odometry_sigmas's check of a
+  /// frame whose geometry leaves a direction free (MotionPrior::odometry_information_degenerate),
+  /// where the gyro's hold: ICP may re-align the camera where the data constrain the heading,
+  /// and may not slip where they do not.
   std::string odometry_heading = "wheels";
   double gyro_sigma_yaw_per_rad = 0.004;
   /// A ground robot's base stays on the floor: the increment's height, roll and pitch have these
@@ -172,6 +176,11 @@ struct TOutputParams : mrpt::config::CLoadableOptions {
   bool write_rawlog = false;  ///< annotated.rawlog: input observations with estimated pose
   bool preview_png = true;    ///< preview.png: colour render of the map from the last pose
   bool floorplan = true;      ///< floorplan.png / floorplan.svg: the labelled plan (FloorPlan.h)
+  /// A simulated source that is not explored: the objects carrying their class against the
+  /// world's truth (SimObjectScore) every this many seconds of the sequence, into frames.csv
+  /// objects_correct and plot_objects.png (0 = never). An exploring run measures them every
+  /// [exploration] metrics_period_s instead.
+  double objects_score_period_s = 1.0;
   /// A folder that is not empty (RunFolder.h OverwritePolicy): auto = reuse the folder of an
   /// earlier run (only its files are removed), refuse one holding other files; true (rasm run
   /// --force) = also write beside other files (left alone); false = only an empty or new folder.

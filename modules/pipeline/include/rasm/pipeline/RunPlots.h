@@ -15,7 +15,9 @@
 //                        tracked = 0) shaded red in every panel
 //   plot_objects.png     the object list as it grows: objects the object layer would list at
 //                        each frame (frames.csv objects, top) and the detections fused so far
-//                        (cumulative cls_fused, bottom), for every run that classifies
+//                        (cumulative cls_fused, bottom), for every run that classifies; with a
+//                        simulated world also the objects named right against its truth where
+//                        frames.csv measured them (objects_correct, of objects_detectable)
 // (exploration.png, coverage and objects correct over simulated time, is ExplorationLoop's.)
 
 #include <map>

@@ -14,6 +14,11 @@
 // the other directions and zero for a prior that does not come from odometry. IcpTracker's
 // odometry conflict (TTrackingParams::max_odometry_sigmas) is measured with it alone, so that
 // the directions an absolute floor measurement holds tightly do not hide a slide along the floor.
+// `odometry_information_degenerate`, when not zero, replaces it for that rule in a frame whose
+// geometry leaves a direction unconstrained (TrackingResult::unconstrained_directions): an
+// odometry whose heading is a gyro's is trusted at the gyro's precision where the data cannot
+// check it, and at the wheels' where they can (so that ICP may still turn the camera back onto
+// the map after a heading error).
 
 #include <Eigen/Geometry>
 
@@ -23,6 +28,7 @@ struct MotionPrior {
   Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Matrix<double, 6, 6> odometry_information = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 6> odometry_information_degenerate = Eigen::Matrix<double, 6, 6>::Zero();
 
   /// A prior with independent errors along the axes of a frame A (rotation R_world_A): standard
   /// deviations of the translation (m) and rotation (rad) along A's x, y, z.
