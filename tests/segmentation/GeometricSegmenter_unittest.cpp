@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 
+#include "rasm/core/Error.h"
 #include "rasm/core/FrameProcessing.h"
 #include "rasm/segmentation/kernels/EdgeKernels.h"
 
@@ -172,4 +173,52 @@ TEST(Components, SmallComponentsAreDropped) {
   EXPECT_EQ(s.count, 0);
   EXPECT_EQ(s.dropped_components, 1);
   EXPECT_EQ(s.labels(320, 240), 0u);
+}
+
+namespace {
+/// A wall's grey levels: 200 with a 60-grey rectangle (a sheet of paper on it: no depth) over
+/// pixels [x0, x1) x [y0, y1), plus +-noise of a fixed pattern (texture).
+Image<std::uint8_t> paperOnWall(int x0, int y0, int x1, int y1, int noise) {
+  Image<std::uint8_t> g(kK.width, kK.height);
+  for (int y = 0; y < kK.height; ++y)
+    for (int x = 0; x < kK.width; ++x) {
+      const int base = (x >= x0 && x < x1 && y >= y0 && y < y1) ? 60 : 200;
+      const int n = noise ? ((x * 7919 + y * 104729) % (2 * noise + 1)) - noise : 0;
+      g(x, y) = std::uint8_t(base + n);
+    }
+  return g;
+}
+}  // namespace
+
+// Issue 41's thin objects: what lies flat on a surface (paper on a wall, a keyboard on a desk) has
+// no depth edge and no fold; with colour edges its outline separates it, texture does not, and
+// beyond colour_edge_max_depth_m the colour is not used.
+TEST(Components, ColourEdgesSeparateWhatGeometryCannot) {
+  const Frame f =
+      render([](const Eigen::Vector3d& d) { return plane(d, Eigen::Vector3d(0, 0, 1), 2.0); });
+  // 0.4 x 0.3 m of paper at 2 m: 105 x 79 px around the centre.
+  const Image<std::uint8_t> grey = paperOnWall(268, 200, 373, 279, 10);
+  TSegmentationParams p;
+  p.level = 0;
+  GeometricSegmenter plain(p);
+  EXPECT_EQ(plain.segment(f.vertex, f.normal, 0, 0, &grey).count, 1) << "colour edges are off";
+  p.colour_edges = true;
+  GeometricSegmenter coloured(p);
+  const FrameSegments& s = coloured.segment(f.vertex, f.normal, 0, 0, &grey);
+  EXPECT_EQ(s.count, 2);
+  const std::uint32_t paper = s.labels(320, 240), wall = s.labels(20, 20);
+  EXPECT_NE(paper, 0u);
+  EXPECT_NE(paper, wall);
+  // The paper's segment is the paper: its area within the outline's pixel rings.
+  EXPECT_NEAR(double(s.pixels[paper]), 105.0 * 79.0, 0.06 * 105 * 79);
+  // Texture alone (+-10 grey levels) leaves the wall one segment.
+  const Image<std::uint8_t> textured = paperOnWall(0, 0, 0, 0, 10);
+  EXPECT_EQ(coloured.segment(f.vertex, f.normal, 0, 0, &textured).count, 1);
+  // Beyond the depth limit the paper is not separated.
+  p.colour_edge_max_depth_m = 1.5;
+  GeometricSegmenter near_only(p);
+  EXPECT_EQ(near_only.segment(f.vertex, f.normal, 0, 0, &grey).count, 1);
+  // An intensity image of another size is named.
+  Image<std::uint8_t> small(320, 240);
+  EXPECT_THROW(coloured.segment(f.vertex, f.normal, 0, 0, &small), InputError);
 }

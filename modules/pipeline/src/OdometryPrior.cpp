@@ -63,6 +63,7 @@ std::optional<tracking::MotionPrior> OdometryPrior::predict(
   // (frameDone), and a heading error accumulated while lost moves the camera over the distance.
   Variances v;
   v.yaw = m_lost.yaw + s_yaw * s_yaw;
+  v.yaw_gyro = m_lost.yaw_gyro + s_yaw_gyro * s_yaw_gyro;
   v.xy = m_lost.xy + s_xy_inc * s_xy_inc + m_lost.yaw * d * d;
   const double s_tilt = p.odometry_sigma_tilt_deg * kDeg;
   v.tilt = m_lost.tilt + s_tilt * s_tilt;
@@ -86,7 +87,7 @@ std::optional<tracking::MotionPrior> OdometryPrior::predict(
   if (m_heading_model == HeadingModel::GyroWhenDegenerate) {
     // The same x, y and yaw directions at the gyro's heading noise: the odometry check of the
     // frames whose geometry leaves a direction free.
-    const double var_yaw_gyro = m_lost.yaw + s_yaw_gyro * s_yaw_gyro;
+    const double var_yaw_gyro = v.yaw_gyro;  // (lost frames were propagated at the gyro's heading)
     const double var_xy_gyro = v.xy + lever * lever * var_yaw_gyro;
     prior.odometry_information_degenerate = prior.odometry_information;
     prior.odometry_information_degenerate.topLeftCorner<3, 3>() *= (s_xy * s_xy) / var_xy_gyro;

@@ -88,9 +88,31 @@ void fillEdges(cv::Mat& labels, const Image<Vec3f>& vertex, const TSegmentationP
 
 }  // namespace
 
+void GeometricSegmenter::addColourEdges(const Image<std::uint8_t>& intensity,
+                                        const Image<Vec3f>& vertex_cam, cv::Mat& is_edge) const {
+  if (!intensity.sameSize(vertex_cam))
+    throwInputError("GeometricSegmenter intensity",
+                    std::to_string(intensity.width()) + "x" + std::to_string(intensity.height()) +
+                        ", expected the maps' " + std::to_string(vertex_cam.width()) + "x" +
+                        std::to_string(vertex_cam.height()));
+  const cv::Mat grey(intensity.height(), intensity.width(), CV_8UC1,
+                     const_cast<std::uint8_t*>(intensity.data()), intensity.pitchBytes());
+  cv::Mat canny;
+  cv::Canny(grey, canny, m_params.colour_edge_low, m_params.colour_edge_high, 3, true);
+  const float max_z = float(m_params.colour_edge_max_depth_m);
+  compute::forEach1D(canny.rows, [&](int y) {
+    const std::uint8_t* c = canny.ptr<std::uint8_t>(y);
+    const Vec3f* v = vertex_cam.row(y);
+    std::uint8_t* e = is_edge.ptr<std::uint8_t>(y);
+    for (int x = 0; x < canny.cols; ++x)
+      if (c[x] && v[x].z() < max_z) e[x] = 255;  // (NaN depth: already invalid)
+  });
+}
+
 const FrameSegments& GeometricSegmenter::segment(const Image<Vec3f>& vertex_cam,
                                                  const Image<Vec3f>& normal_cam, int out_width,
-                                                 int out_height) {
+                                                 int out_height,
+                                                 const Image<std::uint8_t>* intensity) {
   const int w = vertex_cam.width(), h = vertex_cam.height();
   const int ow = out_width > 0 ? out_width : w, oh = out_height > 0 ? out_height : h;
   const int scale = w > 0 ? ow / w : 1;
@@ -127,6 +149,7 @@ const FrameSegments& GeometricSegmenter::segment(const Image<Vec3f>& vertex_cam,
   // than the element, so it is off by default (docs/segmentation.md).
   cv::Mat edges = matOf(o.edges, CV_8UC1);
   cv::Mat is_edge = edges != kernels::kInterior;  // 255 for edge or invalid
+  if (m_params.colour_edges && intensity) addColourEdges(*intensity, vertex_cam, is_edge);
   const cv::Mat element = cv::getStructuringElement(cv::MORPH_CROSS, cv::Size(3, 3));
   if (m_params.morphology_close_iterations > 0)
     cv::morphologyEx(is_edge, is_edge, cv::MORPH_CLOSE, element, cv::Point(-1, -1),

@@ -21,6 +21,10 @@ void TSegmentationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
   MRPT_LOAD_CONFIG_VAR(normal_filter_sigma_space_px, double, c, s);
   MRPT_LOAD_CONFIG_VAR(morphology_close_iterations, int, c, s);
   MRPT_LOAD_CONFIG_VAR(morphology_open_iterations, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(colour_edges, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(colour_edge_low, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(colour_edge_high, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(colour_edge_max_depth_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(min_component_px, int, c, s);
   MRPT_LOAD_CONFIG_VAR(edge_fill_iterations, int, c, s);
   MRPT_LOAD_CONFIG_VAR(propagation_min_overlap, double, c, s);
@@ -46,6 +50,9 @@ void TSegmentationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
   requireInRange(normal_filter_sigma_space_px, 0.1, 50.0, s, "normal_filter_sigma_space_px");
   requireInRange(morphology_close_iterations, 0, 10, s, "morphology_close_iterations");
   requireInRange(morphology_open_iterations, 0, 10, s, "morphology_open_iterations");
+  requireInRange(colour_edge_low, 0.0, 2000.0, s, "colour_edge_low");
+  requireInRange(colour_edge_high, colour_edge_low, 2000.0, s, "colour_edge_high");
+  requireInRange(colour_edge_max_depth_m, 0.0, 100.0, s, "colour_edge_max_depth_m");
   requireInRange(min_component_px, 1, 1e7, s, "min_component_px");
   requireInRange(edge_fill_iterations, 0, 32, s, "edge_fill_iterations");
   requireInRange(propagation_min_overlap, 0.0, 1.0, s, "propagation_min_overlap");
@@ -76,6 +83,10 @@ void TSegmentationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(normal_filter_sigma_space_px, c, s);
   MRPT_SAVE_CONFIG_VAR(morphology_close_iterations, c, s);
   MRPT_SAVE_CONFIG_VAR(morphology_open_iterations, c, s);
+  MRPT_SAVE_CONFIG_VAR(colour_edges, c, s);
+  MRPT_SAVE_CONFIG_VAR(colour_edge_low, c, s);
+  MRPT_SAVE_CONFIG_VAR(colour_edge_high, c, s);
+  MRPT_SAVE_CONFIG_VAR(colour_edge_max_depth_m, c, s);
   MRPT_SAVE_CONFIG_VAR(min_component_px, c, s);
   MRPT_SAVE_CONFIG_VAR(edge_fill_iterations, c, s);
   MRPT_SAVE_CONFIG_VAR(propagation_min_overlap, c, s);

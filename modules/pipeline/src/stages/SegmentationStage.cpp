@@ -4,6 +4,7 @@
 #include <chrono>
 #include <filesystem>
 #include <numeric>
+#include <opencv2/imgproc.hpp>
 
 #include "rasm/core/Timing.h"
 #include "rasm/pipeline/OutputFiles.h"
@@ -13,6 +14,19 @@ namespace rasm::pipeline {
 
 void SegmentationStage::configure(const TMapperParams& /*mapper*/) {
   m_segmenter.setParams(m_params);
+}
+
+const Image<std::uint8_t>* SegmentationStage::intensityAt(const RgbdFrame& frame, int width,
+                                                          int height) {
+  if (!m_params.colour_edges || frame.colour.empty()) return nullptr;
+  const cv::Mat bgr(frame.colour.height(), frame.colour.width(), CV_8UC3,
+                    const_cast<Bgr8*>(frame.colour.data()), frame.colour.pitchBytes());
+  cv::Mat grey;
+  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  m_intensity.resize(width, height);
+  cv::Mat out(height, width, CV_8UC1, m_intensity.data(), m_intensity.pitchBytes());
+  cv::resize(grey, out, out.size(), 0, 0, cv::INTER_AREA);
+  return &m_intensity;
 }
 
 void SegmentationStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
@@ -30,7 +44,8 @@ void SegmentationStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
   const FrameLevel& Ls =
       ctx.pyramid[std::min<std::size_t>(std::size_t(m_params.level), ctx.pyramid.size() - 1)];
   const segmentation::FrameSegments& seg =
-      m_segmenter.segment(Ls.vertex, Ls.normal, L0.K.width, L0.K.height);
+      m_segmenter.segment(Ls.vertex, Ls.normal, L0.K.width, L0.K.height,
+                          intensityAt(*ctx.frame, Ls.K.width, Ls.K.height));
   recordMs(ctx, kEdges, seg.ms_normals + seg.ms_edges);
   recordMs(ctx, kComponents, seg.ms_components);
   const auto t = Clock::now();

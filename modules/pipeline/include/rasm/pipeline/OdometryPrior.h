@@ -89,6 +89,7 @@ class OdometryPrior {
   double m_last_sigma_yaw = 0.0;          ///< of the last predict()
   struct Variances {                      ///< of the predicted pose, along the base's axes
     double xy = 0, z = 0, tilt = 0, yaw = 0;
+    double yaw_gyro = 0;  ///< the yaw's at the gyro's noise (odometry_heading gyro_when_degenerate)
   };
   Variances m_pending;  ///< of the last predict()
   Variances m_lost;     ///< of the last propagated (lost) pose; zero after a tracked frame

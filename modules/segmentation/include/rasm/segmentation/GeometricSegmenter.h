@@ -5,9 +5,14 @@
 //
 //   GeometricSegmenter seg(params);
 //   const FrameSegments& s = seg.segment(vertex_cam, normal_cam);   // s.labels = L_t
+//
+// With TSegmentationParams::colour_edges, the intensity's Canny edges join E_t where the pixel
+// has depth within colour_edge_max_depth_m (surfaces that geometry cannot tell apart).
 
 #include <cstdint>
 #include <vector>
+
+#include <opencv2/core/mat.hpp>
 
 #include "rasm/compute/Types.h"
 #include "rasm/core/Image.h"
@@ -38,11 +43,18 @@ class GeometricSegmenter {
   /// Segments one frame (V_t, N_t in the camera frame, the same size; invalid = x NaN), the
   /// labels upsampled (nearest) to out_width x out_height, an integer multiple of the maps' size
   /// (0 = the maps' size). Throws InputError when the sizes do not fit.
+  /// `intensity` (optional, the maps' size, 8-bit grey): the frame's colour for the colour edges
+  /// (TSegmentationParams::colour_edges); ignored when they are off.
   const FrameSegments& segment(const Image<Vec3f>& vertex_cam, const Image<Vec3f>& normal_cam,
-                               int out_width = 0, int out_height = 0);
+                               int out_width = 0, int out_height = 0,
+                               const Image<std::uint8_t>* intensity = nullptr);
   const FrameSegments& last() const { return m_out; }
 
  private:
+  /// is_edge (255 = edge or invalid, the maps' size) |= the intensity's Canny edges with depth
+  /// nearer than colour_edge_max_depth_m.
+  void addColourEdges(const Image<std::uint8_t>& intensity, const Image<Vec3f>& vertex_cam,
+                      cv::Mat& is_edge) const;
   TSegmentationParams m_params;
   Image<Vec3f> m_normal_filtered;
   FrameSegments m_out;

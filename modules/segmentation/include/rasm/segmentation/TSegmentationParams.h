@@ -45,6 +45,16 @@ struct TSegmentationParams : mrpt::config::CLoadableOptions {
   /// element (which then no longer separate segments), so it is off by default.
   int morphology_close_iterations = 1;
   int morphology_open_iterations = 0;
+  /// Colour edges (not in Tateno et al.; issue 41's thin objects): where depth and normals are
+  /// flat, an object lying on another (a keyboard on a desk, books side by side) is separated
+  /// only by its colour. Canny (OpenCV) on the frame's intensity at the segmentation level with
+  /// hysteresis thresholds colour_edge_low / colour_edge_high (8-bit grey levels per Sobel 3x3
+  /// gradient), kept only within colour_edge_max_depth_m (beyond, one pixel spans several cm
+  /// and texture aliases into edges). Off by default (docs/segmentation.md "Colour edges").
+  bool colour_edges = false;
+  double colour_edge_low = 40.0;
+  double colour_edge_high = 100.0;
+  double colour_edge_max_depth_m = 2.5;
 
   // ---- connected components -> L_t ----
   /// Components smaller than this (pixels at 640x480, whatever the level; scaled with the image

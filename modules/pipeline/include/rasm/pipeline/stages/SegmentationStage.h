@@ -63,6 +63,10 @@ class SegmentationStage : public MapperStage {
 
   segmentation::TSegmentationParams m_params;
   segmentation::GeometricSegmenter m_segmenter;
+  /// The frame's grey levels at the segmentation level (colour_edges; empty when off or the
+  /// source has no colour).
+  Image<std::uint8_t> m_intensity;
+  const Image<std::uint8_t>* intensityAt(const RgbdFrame& frame, int width, int height);
   segmentation::Propagation m_prop;
   segmentation::MergeConfidence m_psi;
   segmentation::SegmentTable m_table;
