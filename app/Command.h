@@ -1,12 +1,15 @@
 #pragma once
-// Subcommand registry of the `rasm` executable. Each app/cmd_<name>.cpp defines one
-// `static rasm::app::Registrar r{"name", "one-line help", &fn, kUsage};` and stays a thin layer
-// over a module or pipeline class (the logic lives in libraries so tests drive the same code).
+// Command registry of the `rasm` executable. Each app/cmd_<name>.cpp declares its command line
+// once (Options.h: CommandDecl, its positionals and options) and registers it with the function
+// that runs it: `const rasm::app::Registrar reg{kDecl, &fn};`. A command made of subcommands
+// registers its own declaration without a function ("eval") and one per subcommand ("eval ate").
+// Commands stay thin layers over module or pipeline classes (the logic lives in libraries, so
+// tests drive the same code).
 //
-// Help is uniform: `rasm <name> ... --help` (or -h, anywhere among the arguments) prints the
-// command's usage and exits 0 without running it (main.cpp); a subcommand with its own usage
-// registers it with UsageRegistrar{"name sub", kUsage} (`rasm eval exploration --help`). A command
-// registered without a usage gets --help passed to it and must handle it itself (`rasm run`).
+// runCommand resolves the subcommand, reads the arguments through the declaration (parseArgs) and
+// calls the function. Help is uniform: `rasm <name> [sub] ... --help` (or -h anywhere) prints
+// the usage generated from the declaration and exits 0 without running (main.cpp); the man page
+// and the bash completion list the same options (ShellDocs.h).
 
 #include <functional>
 #include <map>
@@ -14,64 +17,49 @@
 #include <string>
 #include <vector>
 
+#include "Options.h"
+
 namespace rasm::app {
 
-/// args excludes the program and subcommand names; returns the process exit code.
-using CommandFn = std::function<int(const std::vector<std::string>& args)>;
+/// Runs a command on its parsed arguments; returns the process exit code.
+using CommandFn = std::function<int(const ParsedArgs& args)>;
 
 struct CommandInfo {
-  std::string help;  ///< one line for the command list
-  CommandFn fn;
-  std::string usage;  ///< `rasm <name> --help`; empty: the command handles --help itself
+  CommandDecl decl;
+  CommandFn fn;  ///< empty for a command made of subcommands
 };
 
-inline std::map<std::string, CommandInfo>& commands() {
-  static std::map<std::string, CommandInfo> c;
-  return c;
-}
-
-/// Usages of subcommands, keyed "command subcommand".
-inline std::map<std::string, std::string>& subcommandUsages() {
-  static std::map<std::string, std::string> u;
-  return u;
-}
+/// Every command and subcommand, by name ("run", "eval ate").
+std::map<std::string, CommandInfo>& commands();
 
 struct Registrar {
-  Registrar(const std::string& name, const std::string& help, CommandFn fn,
-            const std::string& usage = "") {
-    commands()[name] = CommandInfo{help, std::move(fn), usage};
-  }
+  Registrar(CommandDecl decl, CommandFn fn = {});
 };
 
-struct UsageRegistrar {
-  UsageRegistrar(const std::string& command_and_subcommand, const std::string& usage) {
-    subcommandUsages()[command_and_subcommand] = usage;
-  }
-};
+/// The top-level commands (no subcommands), in name order.
+std::vector<const CommandInfo*> topLevelCommands();
+
+/// The subcommands of a command ("eval": "eval ate", ...), in name order.
+std::vector<const CommandDecl*> subcommandsOf(const std::string& name);
+
+/// The command or subcommand `rasm <name> <args>` names: "eval ate" when args[0] is "ate" and
+/// registered as a subcommand of "eval", else `name`; nullptr when unknown. `rest` receives the
+/// arguments after the subcommand.
+const CommandInfo* resolveCommand(const std::string& name, const std::vector<std::string>& args,
+                                  std::vector<std::string>& rest);
+
+/// The usage `rasm <decl.name> --help` prints (Options.h usageText, with its subcommands).
+std::string usageOf(const CommandDecl& decl);
+
+/// `rasm <name> <args>`: resolves the subcommand, parses the arguments (InputError on bad ones)
+/// and runs it. A command made of subcommands without one prints its usage on stderr (exit 1);
+/// an unknown subcommand is an InputError.
+int runCommand(const std::string& name, const std::vector<std::string>& args);
 
 /// Whether the arguments ask for help (--help or -h anywhere).
-inline bool wantsHelp(const std::vector<std::string>& args) {
-  for (const std::string& a : args)
-    if (a == "--help" || a == "-h") return true;
-  return false;
-}
-
-/// The usage `rasm <name> <args>` --help prints: the subcommand's (args[0]) when it has one, else
-/// the command's; empty when neither is registered (the command handles --help itself).
-inline std::string usageOf(const std::string& name, const std::vector<std::string>& args) {
-  if (!args.empty()) {
-    const auto sub = subcommandUsages().find(name + " " + args[0]);
-    if (sub != subcommandUsages().end()) return sub->second;
-  }
-  const auto it = commands().find(name);
-  return it == commands().end() ? std::string() : it->second.usage;
-}
+bool wantsHelp(const std::vector<std::string>& args);
 
 /// `rasm help`: the command list.
-inline void printCommandList(std::ostream& out) {
-  out << "usage: rasm <command> [args]   (rasm <command> --help: its usage; rasm --version)\n\n"
-         "commands:\n";
-  for (const auto& [name, info] : commands()) out << "  " << name << "\t" << info.help << "\n";
-}
+void printCommandList(std::ostream& out);
 
 }  // namespace rasm::app

@@ -1,8 +1,7 @@
 #include "ShellDocs.h"
 
+#include <algorithm>
 #include <iostream>
-#include <regex>
-#include <set>
 #include <sstream>
 
 #include "Command.h"
@@ -35,48 +34,73 @@ std::string roffEscape(const std::string& text) {
   return out;
 }
 
-/// The options a usage text names (--long, -s), sorted.
-std::set<std::string> optionsOf(const std::string& usage) {
-  std::set<std::string> opts;
-  static const std::regex option(R"((^|[\s\[|(])(--?[A-Za-z][A-Za-z0-9-]*))");
-  for (auto it = std::sregex_iterator(usage.begin(), usage.end(), option);
-       it != std::sregex_iterator(); ++it)
-    opts.insert((*it)[2].str());
-  opts.insert("--help");
-  return opts;
+/// `rasm <name>` in the man page: its summary, synopsis, notes, arguments and options; a command
+/// made of subcommands is followed by each subcommand as an entry of its own.
+void writeManCommand(std::ostream& out, const CommandDecl& decl) {
+  out << ".TP\n.B " << roffEscape(decl.name) << "\n" << roffEscape(decl.summary) << "\n";
+  const std::vector<const CommandDecl*> subs = subcommandsOf(decl.name);
+  if (!subs.empty()) {
+    if (!decl.notes.empty()) out << ".RS\n.nf\n" << roffEscape(decl.notes) << "\n.fi\n.RE\n";
+    for (const CommandDecl* sub : subs) writeManCommand(out, *sub);
+    return;
+  }
+  out << ".RS\n.nf\n" << roffEscape(synopsis(decl)) << "\n";
+  if (!decl.notes.empty()) out << "\n" << roffEscape(decl.notes) << "\n";
+  out << ".fi\n";
+  if (!decl.positionals.empty()) {
+    out << ".PP\nArguments:\n";
+    for (const PositionalDecl& p : decl.positionals)
+      out << ".TP\n.I " << roffEscape(p.name) << "\n"
+          << roffEscape(p.help + (p.required ? "" : " (optional)")) << "\n";
+  }
+  out << ".PP\nOptions:\n";
+  for (const OptionDecl& o : decl.options)
+    out << ".TP\n.B " << roffEscape(optionLabel(o)) << "\n"
+        << roffEscape(o.help + (o.required ? " (required)" : "") +
+                      (o.repeatable ? " (repeatable)" : ""))
+        << "\n";
+  out << ".TP\n.B \\-h, \\-\\-help\nthis usage\n.RE\n";
 }
 
-/// The subcommands a usage text names after `rasm <name>` on its usage lines ("rasm eval ate",
-/// "rasm sim record", ...): words that are not placeholders or options.
-std::set<std::string> subcommandsOf(const std::string& name, const std::string& usage) {
-  std::set<std::string> subs;
-  const std::regex line("rasm " + name + R"( ([a-z0-9][a-z0-9_-]*)(\s|$))");
-  for (auto it = std::sregex_iterator(usage.begin(), usage.end(), line);
-       it != std::sregex_iterator(); ++it)
-    subs.insert((*it)[1].str());
-  for (const auto& [key, u] : subcommandUsages()) {
-    (void)u;
-    if (key.rfind(name + " ", 0) == 0) subs.insert(key.substr(name.size() + 1));
+/// How the completion completes an option's value: "dirs" (a folder), "files", the words of a
+/// choice ("on off"), or "" (a number, coordinates: nothing to offer).
+std::string valueCompletion(const OptionDecl& o) {
+  if (o.value.find("DIR") != std::string::npos) return "dirs";
+  if (o.value.find('|') != std::string::npos &&
+      o.value.find_first_not_of("abcdefghijklmnopqrstuvwxyz_|") == std::string::npos) {
+    std::string words = o.value;
+    std::replace(words.begin(), words.end(), '|', ' ');
+    return words;
   }
-  return subs;
+  if (o.value.find('.') != std::string::npos || o.value.find('|') != std::string::npos ||
+      o.value == "name" || o.value == "preset")
+    return "files";
+  return "";
+}
+
+/// The bash lines that complete the arguments of one command or subcommand: the value of the
+/// option before the cursor, else its options (`words`).
+void writeCompletionCase(std::ostream& out, const CommandDecl& decl, const std::string& indent) {
+  out << indent << "case $prev in\n";
+  for (const OptionDecl& o : decl.options) {
+    if (o.value.empty() || o.name == "set") continue;  // --set: the keys, before this case
+    const std::string how = valueCompletion(o);
+    out << indent << "  --" << o.name << (o.short_name.empty() ? "" : "|-" + o.short_name) << ") ";
+    if (how == "dirs")
+      out << "COMPREPLY=($(compgen -d -- \"$cur\")); ";
+    else if (how == "files")
+      out << "COMPREPLY=($(compgen -f -- \"$cur\")); ";
+    else if (!how.empty())
+      out << "COMPREPLY=($(compgen -W \"" << how << "\" -- \"$cur\")); ";
+    out << "return;;\n";
+  }
+  out << indent << "esac\n" << indent << "words=\"";
+  for (const OptionDecl& o : decl.options)
+    out << (o.short_name.empty() ? "" : "-" + o.short_name + " ") << "--" << o.name << " ";
+  out << "--help\"\n";
 }
 
 }  // namespace
-
-std::string usageText(const std::string& name) {
-  const std::string usage = usageOf(name, {});
-  if (!usage.empty()) return usage;
-  const auto it = commands().find(name);
-  if (it == commands().end()) return "";
-  std::ostringstream captured;  // the command prints its own usage on std::cout
-  std::streambuf* old = std::cout.rdbuf(captured.rdbuf());
-  try {
-    it->second.fn({"--help"});
-  } catch (...) {
-  }
-  std::cout.rdbuf(old);
-  return captured.str();
-}
 
 void writeManPage(std::ostream& out) {
   out << ".TH RASM 1 \"" << pipeline::buildInfo().date << "\" \"rasm "
@@ -94,11 +118,7 @@ void writeManPage(std::ostream& out) {
          "every file of a run folder. Configuration is INI (MRPT's format); \\fBrasm config\\fR "
          "prints every key with its value.\n"
       << ".SH COMMANDS\n";
-  for (const auto& [name, info] : commands()) {
-    out << ".TP\n.B " << name << "\n" << roffEscape(info.help) << "\n";
-    const std::string usage = usageText(name);
-    if (!usage.empty()) out << ".RS\n.nf\n" << roffEscape(usage) << "\n.fi\n.RE\n";
-  }
+  for (const CommandInfo* info : topLevelCommands()) writeManCommand(out, info->decl);
   out << ".SH OPTIONS\n.TP\n.B \\-\\-verbose\n(any command) error messages in full, MRPT's "
          "backtraces included.\n.TP\n.BR \\-\\-help \", \" \\-h\n(any command) its usage.\n"
       << ".SH EXIT STATUS\n.TP\n.B 0\nsuccess\n.TP\n.B 1\nno command given\n.TP\n.B 2\n"
@@ -130,7 +150,7 @@ void writeBashCompletion(std::ostream& out) {
          "  local cmd=${COMP_WORDS[1]} words\n"
          "  if (( COMP_CWORD == 1 )); then\n"
          "    words=\"";
-  for (const auto& [name, info] : commands()) out << name << " ";
+  for (const CommandInfo* info : topLevelCommands()) out << info->decl.name << " ";
   out << "--help --version\"\n"
          "    COMPREPLY=($(compgen -W \"$words\" -- \"$cur\"))\n"
          "    return\n"
@@ -141,19 +161,27 @@ void writeBashCompletion(std::ostream& out) {
          "      COMPREPLY=($(compgen -W \"$(_rasm_set_keys \"${COMP_WORDS[0]}\")\" -- \"$cur\"))\n"
          "      compopt -o nospace 2>/dev/null\n"
          "      return;;\n"
-         "    --out|--bank) COMPREPLY=($(compgen -d -- \"$cur\")); return;;\n"
-         "    --frames|--max-frames|--times|--seed) return;;\n"
          "  esac\n"
          "  case $cmd in\n";
-  for (const auto& [name, info] : commands()) {
-    const std::string usage = usageText(name);
-    std::string opts;
-    for (const std::string& o : optionsOf(usage)) opts += o + " ";
-    std::string subs;
-    for (const std::string& s : subcommandsOf(name, usage)) subs += s + " ";
-    out << "    " << name << ")\n      words=\"" << opts << "\"\n";
-    if (!subs.empty())
-      out << "      (( COMP_CWORD == 2 )) && [[ $cur != -* ]] && words=\"" << subs << "\"\n";
+  for (const CommandInfo* info : topLevelCommands()) {
+    const CommandDecl& decl = info->decl;
+    out << "    " << decl.name << ")\n";
+    const std::vector<const CommandDecl*> subs = subcommandsOf(decl.name);
+    if (subs.empty()) {
+      writeCompletionCase(out, decl, "      ");
+    } else {
+      std::string names;
+      out << "      words=\"--help\"\n      case ${COMP_WORDS[2]} in\n";
+      for (const CommandDecl* sub : subs) {
+        const std::string word = sub->name.substr(decl.name.size() + 1);
+        names += word + " ";
+        out << "        " << word << ")\n";
+        writeCompletionCase(out, *sub, "          ");
+        out << "          ;;\n";
+      }
+      out << "      esac\n      (( COMP_CWORD == 2 )) && [[ $cur != -* ]] && words=\"" << names
+          << "\"\n";
+    }
     out << "      ;;\n";
   }
   out << "  esac\n"

@@ -5,20 +5,16 @@
 // them (share/man/man1/rasm.1, share/bash-completion/completions/rasm).
 
 #include <ostream>
-#include <string>
 
 namespace rasm::app {
 
-/// The usage text `rasm <name> --help` prints (the registered usage, or what the command itself
-/// prints for --help).
-std::string usageText(const std::string& name);
-
-/// rasm(1) in roff (man -l reads it): name, synopsis, every command with its usage, exit status,
-/// environment, files.
+/// rasm(1) in roff (man -l reads it): name, synopsis, every command and subcommand with its
+/// synopsis, notes and options (from its declaration, Options.h), exit status, environment, files.
 void writeManPage(std::ostream& out);
 
-/// A bash completion script (bash builtins only: complete, compgen): commands; each command's
-/// options as its usage lists them; --set section.key= from `rasm config` (the keys of the binary
+/// A bash completion script (bash builtins only: complete, compgen): commands, subcommands; each
+/// one's options as its declaration lists them, with folders, files or the choices for their
+/// values; --set section.key= from `rasm config` (the keys of the binary
 /// that completes); files for the arguments (ini, rawlog, folders).
 void writeBashCompletion(std::ostream& out);
 

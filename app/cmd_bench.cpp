@@ -17,34 +17,36 @@
 
 namespace {
 
-const char* kUsage =
-    "usage: rasm bench [file.ini | rawlog | dataset folder] [--frames N] [--preload]\n"
-    "                  [--set section.key=value ...]\n"
+const rasm::app::CommandDecl kDecl{
+    "bench",
+    "frame rate and per-stage ms as JSON: rasm bench <ini|rawlog|folder> [--frames N] [--preload]",
+    {{"file.ini | rawlog | dataset folder",
+      "what to map (default: the embedded default on its scripted path)", false}},
+    {{"frames", "N", "stop after N frames ([source] max_frames)"},
+     {"preload", "", "decode every frame before the clock starts ([source] preload)"},
+     {"set", "section.key=value", "set one key of the configuration", "", true}},
     "Maps without writing map outputs and prints one JSON object: frames/s, per-stage mean/max\n"
     "ms, surfels, map bytes, peak RSS (report.json's fields). Without an input: the embedded\n"
-    "default on its scripted path (no exploration). --preload decodes every frame first.\n";
+    "default on its scripted path (no exploration). --preload decodes every frame first.\n"};
 
-int benchMain(const std::vector<std::string>& args) {
-  using namespace rasm::pipeline;
-  std::string input;
+/// The configuration overrides the options stand for, in the order given.
+std::vector<std::string> overridesOf(const rasm::app::ParsedArgs& args) {
   std::vector<std::string> overrides;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&](const char* what) -> std::string {
-      if (i + 1 >= args.size()) rasm::throwInputError(a, std::string("expects ") + what);
-      return args[++i];
-    };
-    if (a == "--frames")
-      overrides.push_back("source.max_frames=" + value("a number"));
-    else if (a == "--preload")
+  for (const auto& [option, value] : args.given()) {
+    if (option == "frames")
+      overrides.push_back("source.max_frames=" + value);
+    else if (option == "preload")
       overrides.push_back("source.preload=true");
-    else if (a == "--set")
-      overrides.push_back(value("section.key=value"));
-    else if (!a.empty() && a[0] == '-')
-      rasm::throwInputError("option '" + a + "'", "unknown");
-    else
-      input = a;
+    else if (option == "set")
+      overrides.push_back(value);
   }
+  return overrides;
+}
+
+int benchMain(const rasm::app::ParsedArgs& args) {
+  using namespace rasm::pipeline;
+  const std::string input = args.positional(kDecl.positionals[0].name);
+  const std::vector<std::string> overrides = overridesOf(args);
   RunConfig cfg = RunConfig::embeddedDefault();
   if (!input.empty()) {
     if (input.size() > 4 && input.substr(input.size() - 4) == ".ini") {
@@ -76,9 +78,6 @@ int benchMain(const std::vector<std::string>& args) {
   return stopSignal() != 0 ? 128 + stopSignal() : 0;
 }
 
-const rasm::app::Registrar reg(
-    "bench",
-    "frame rate and per-stage ms as JSON: rasm bench <ini|rawlog|folder> [--frames N] [--preload]",
-    benchMain, kUsage);
+const rasm::app::Registrar reg{kDecl, &benchMain};
 
 }  // namespace

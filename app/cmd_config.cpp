@@ -9,32 +9,24 @@
 
 namespace {
 
-const char* kUsage =
-    "usage: rasm config [file.ini] [--set section.key=value ...]\n"
+const rasm::app::CommandDecl kDecl{
+    "config",
+    "print the effective configuration: rasm config [file.ini] [--set s.k=v]",
+    {{"file.ini", "the configuration (default: the embedded default, ini/default.ini)", false}},
+    {{"set", "section.key=value", "set one key of the configuration", "", true}},
     "Prints the effective configuration (every section and key, defaults included) without\n"
-    "running anything; unknown sections or keys and bad values stop it as they stop rasm run.\n";
+    "running anything; unknown sections or keys and bad values stop it as they stop rasm run.\n"};
 
-int configMain(const std::vector<std::string>& args) {
+int configMain(const rasm::app::ParsedArgs& args) {
   using namespace rasm::pipeline;
-  std::string ini_path;
-  std::vector<std::string> overrides;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--set" && i + 1 < args.size())
-      overrides.push_back(args[++i]);
-    else if (!args[i].empty() && args[i][0] == '-')
-      rasm::throwInputError("option '" + args[i] + "'", "unknown");
-    else
-      ini_path = args[i];
-  }
+  const std::string ini_path = args.positional("file.ini");
   RunConfig cfg = ini_path.empty() ? RunConfig::embeddedDefault() : RunConfig::fromFile(ini_path);
-  for (const auto& o : overrides) cfg.applyOverride(o);
+  for (const auto& o : args.values("set")) cfg.applyOverride(o);
   const MappingRun run(cfg);
   std::cout << run.effectiveConfig();
   return 0;
 }
 
-const rasm::app::Registrar reg(
-    "config", "print the effective configuration: rasm config [file.ini] [--set s.k=v]", configMain,
-    kUsage);
+const rasm::app::Registrar reg{kDecl, &configMain};
 
 }  // namespace

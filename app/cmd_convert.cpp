@@ -17,17 +17,23 @@
 
 namespace {
 
-const char* kUsage =
-    "usage: rasm convert tum <folder> <out.rawlog> [--intrinsics fx,fy,cx,cy] [--preset name]\n"
-    "                        [--depth-factor F] [--max-frames N] [--external-images]\n"
-    "       rasm convert 7scenes <folder> <out.rawlog> [--intrinsics fx,fy,cx,cy] [--max-frames "
-    "N]\n"
-    "                        [--external-images] [--no-register]\n"
+const rasm::app::CommandDecl kDecl{
+    "convert",
+    "dataset folder (tum | 7scenes) -> rawlog + ground truth",
+    {{"tum|7scenes", "the dataset's format: TUM RGB-D / ICL-NUIM, or 7-Scenes"},
+     {"folder", "the sequence folder"},
+     {"out.rawlog", "the rawlog to write (in an existing folder)"}},
+    {{"intrinsics", "fx,fy,cx,cy", "the depth camera's intrinsics (default: the dataset's)"},
+     {"preset", "name", "intrinsics of a preset camera (tum only; listed below)"},
+     {"depth-factor", "F", "depth counts per metre (tum only; default 5000)"},
+     {"max-frames", "N", "convert the first N frames only"},
+     {"external-images", "", "images in files beside the rawlog, not inside it"},
+     {"no-register", "", "use 7-Scenes colour as is (treated as registered)"}},
     "7-Scenes colour is resampled into the depth camera with an approximate Kinect calibration;\n"
     "--no-register uses it as is (treated as registered).\n"
-    "Writes <out.rawlog> (CObservation3DRangeScan per frame) and <out stem>_groundtruth.txt "
+    "Writes <out.rawlog> (CObservation3DRangeScan per frame) and <out stem>_groundtruth.txt\n"
     "(TUM).\n"
-    "Presets: kinect_v1 xtion tum_fr1 tum_fr2 tum_fr3 tum_default icl_nuim 7scenes\n";
+    "Presets: kinect_v1 xtion tum_fr1 tum_fr2 tum_fr3 tum_default icl_nuim 7scenes\n"};
 
 double parseNumber(const std::string& opt, const std::string& text) {
   try {
@@ -83,68 +89,47 @@ class Progress {
   bool printed_ = false;
 };
 
-int convert(const std::vector<std::string>& args) {
-  if (args.empty()) {
-    std::cout << kUsage;
-    return 1;
-  }
-  std::vector<std::string> pos;
+/// The frame source of `rasm convert <format> <folder>` with the options that apply to it.
+std::unique_ptr<rasm::io::FrameSource> openSource(const rasm::app::ParsedArgs& args) {
+  const std::string format = args.positional("tum|7scenes"), folder = args.positional("folder");
   std::optional<rasm::CameraIntrinsics> K;
-  rasm::io::ConvertOptions copt;
-  double depth_factor = 0.0;
-  bool register_colour = true;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) rasm::throwInputError(a, "needs a value\n" + std::string(kUsage));
-      return args[++i];
-    };
-    if (a == "--intrinsics") {
-      K = parseIntrinsics(value());
-    } else if (a == "--preset") {
-      K = rasm::CameraIntrinsics::preset(value());
-    } else if (a == "--max-frames") {
-      copt.max_frames = (long long)parseNumber(a, value());
-    } else if (a == "--depth-factor") {
-      depth_factor = parseNumber(a, value());
-    } else if (a == "--no-register") {
-      register_colour = false;
-    } else if (a == "--external-images") {
-      copt.writer.external_images = true;
-    } else if (a.rfind("--", 0) == 0) {
-      throw rasm::InputError("unknown option '" + a + "'\n" + std::string(kUsage));
-    } else {
-      pos.push_back(a);
-    }
-  }
-  if (pos.size() != 3)
-    throw rasm::InputError("expected <format> <folder> <out.rawlog>\n" + std::string(kUsage));
-  const std::string& format = pos[0];
-
-  std::unique_ptr<rasm::io::FrameSource> src;
+  if (args.has("intrinsics")) K = parseIntrinsics(args.value("intrinsics"));
+  if (args.has("preset")) K = rasm::CameraIntrinsics::preset(args.value("preset"));
+  const double depth_factor =
+      args.has("depth-factor") ? parseNumber("--depth-factor", args.value("depth-factor")) : 0.0;
+  const bool register_colour = !args.has("no-register");
   if (format == "tum") {
     if (!register_colour) throw rasm::InputError("--no-register applies to 7scenes only");
     rasm::io::TumSourceOptions t;
     t.intrinsics_override = K;
     if (depth_factor > 0) t.depth_factor = depth_factor;
-    auto s = std::make_unique<rasm::io::TumFrameSource>(pos[1], t);
-    std::cout << "TUM sequence " << pos[1] << ": " << s->sizeHint()
+    auto s = std::make_unique<rasm::io::TumFrameSource>(folder, t);
+    std::cout << "TUM sequence " << folder << ": " << s->sizeHint()
               << " associated frames, intrinsics " << s->intrinsics().toString()
               << (s->flipsRows() ? " (negative fy given: rows flipped)" : "") << "\n";
-    src = std::move(s);
-  } else if (format == "7scenes") {
+    return s;
+  }
+  if (format == "7scenes") {
     if (depth_factor > 0) throw rasm::InputError("--depth-factor applies to tum only");
     rasm::io::SevenScenesSourceOptions o;
     o.intrinsics_override = K;
     o.register_colour = register_colour;
-    auto s = std::make_unique<rasm::io::SevenScenesFrameSource>(pos[1], o);
-    std::cout << "7-Scenes sequence " << pos[1] << ": " << s->sizeHint() << " frames, intrinsics "
+    auto s = std::make_unique<rasm::io::SevenScenesFrameSource>(folder, o);
+    std::cout << "7-Scenes sequence " << folder << ": " << s->sizeHint() << " frames, intrinsics "
               << s->intrinsics().toString() << "\n";
-    src = std::move(s);
-  } else {
-    throw rasm::InputError("unknown format '" + format + "' (expected tum or 7scenes)\n" + kUsage);
+    return s;
   }
+  throw rasm::InputError("unknown format '" + format + "' (expected tum or 7scenes)");
+}
 
+int convert(const rasm::app::ParsedArgs& args) {
+  const std::vector<std::string> pos = {args.positional("tum|7scenes"), args.positional("folder"),
+                                        args.positional("out.rawlog")};
+  rasm::io::ConvertOptions copt;
+  if (args.has("max-frames"))
+    copt.max_frames = (long long)parseNumber("--max-frames", args.value("max-frames"));
+  copt.writer.external_images = args.has("external-images");
+  const std::unique_ptr<rasm::io::FrameSource> src = openSource(args);
   // The outputs must not replace a file of the input folder (its depth.txt, an image, ...); an
   // earlier conversion's rawlog and ground truth there may be replaced.
   {
@@ -178,7 +163,6 @@ int convert(const std::vector<std::string>& args) {
   return 0;
 }
 
-const rasm::app::Registrar reg{"convert", "dataset folder (tum | 7scenes) -> rawlog + ground truth",
-                               &convert, kUsage};
+const rasm::app::Registrar reg{kDecl, &convert};
 
 }  // namespace

@@ -1,12 +1,10 @@
-// rasm detect <image> [file.ini] [--set section.key=value ...] [--out boxes.png] [--threads N]
-//             [--repeat N]
-// Runs the configured 2-D detector of section IV ([dnn_detector], rasm::classification::
-// DnnDetector) on one image and prints the detections as JSON: class, score, box (x, y, w, h in
-// pixels) and every reported class's score. --out draws the boxes and labels into a PNG. Without
-// an INI: Yolo-Fastest 1.1 (COCO) from the shared data folder. Paths under "../shared/data/" that
-// do not exist relative to the working directory are looked up in $RASM_SHARED_DATA, the
-// compiled-in shared data folder and next to the source tree of this binary
-// (rasm/core/SharedData.h), so the default works from any directory. --threads sets OpenCV's
+// `rasm detect <image> [file.ini] [options]`: runs the configured 2-D detector of section IV
+// ([dnn_detector], rasm::classification:: DnnDetector) on one image and prints the detections as
+// JSON: class, score, box (x, y, w, h in pixels) and every reported class's score. --out draws the
+// boxes and labels into a PNG. Without an INI: Yolo-Fastest 1.1 (COCO) from the shared data folder.
+// Paths under "../shared/data/" that do not exist relative to the working directory are looked up
+// in $RASM_SHARED_DATA, the compiled-in shared data folder and next to the source tree of this
+// binary (rasm/core/SharedData.h), so the default works from any directory. --threads sets OpenCV's
 // thread count, --repeat N times N calls and reports their median (docs/classification.md "DNN
 // detector").
 #if defined(RASM_HAVE_MODULE_CLASSIFICATION) && defined(RASM_HAVE_MODULE_PIPELINE)
@@ -42,13 +40,21 @@ namespace fs = std::filesystem;
 using rasm::classification::Detection;
 using rasm::classification::Detector;
 
-const char* kUsage =
-    "usage: rasm detect <image> [file.ini] [--set section.key=value ...] [--out boxes.png]\n"
-    "                   [--threads N] [--repeat N]\n"
+const rasm::app::CommandDecl kDecl{
+    "detect",
+    "2-D detections on one image as JSON: rasm detect <image> [file.ini] [--set s.k=v] "
+    "[--out boxes.png]",
+    {{"image", "the image"},
+     {"file.ini", "the configuration of the detectors (default: Yolo-Fastest 1.1)", false}},
+    {{"set", "section.key=value", "set one key of the configuration", "", true},
+     {"out", "boxes.png", "draw the detections into a PNG"},
+     {"threads", "N", "OpenCV's thread count"},
+     {"repeat", "N", "run each detector N times and report the median time"}},
     "Runs the detectors [classification] detectors lists (dnn_detector, zero_shot), or\n"
     "[dnn_detector] alone when the INI does not set that key (default: Yolo-Fastest 1.1 from\n"
-    "../shared/data), on one image and prints the detections as JSON (with several detectors, one\n"
-    "entry per detector under \"detectors\"); --out draws them into a PNG.\n";
+    "../shared/data), on one image and prints the detections as JSON (with several detectors,\n"
+    "one entry per detector under \"detectors\"); --out draws them into a PNG.\n"};
+
 /// The detector `rasm detect` runs, from the configuration (one place, so more detectors join
 /// here). InputError when it is disabled or its files are missing (whatever `required` says).
 std::unique_ptr<Detector> makeConfiguredDnn(const rasm::pipeline::RunConfig& cfg) {
@@ -151,35 +157,12 @@ int positiveInt(const std::string& opt, const std::string& text) {
   return v;
 }
 
-int detectMain(const std::vector<std::string>& args) {
+int detectMain(const rasm::app::ParsedArgs& args) {
   using rasm::pipeline::RunConfig;
-  std::vector<std::string> positional, overrides;
-  std::string out_png;
-  int repeat = 1;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&](const char* what) -> std::string {
-      if (i + 1 >= args.size()) rasm::throwInputError(a, std::string("expects ") + what);
-      return args[++i];
-    };
-    if (a == "--set")
-      overrides.push_back(value("section.key=value"));
-    else if (a == "--out")
-      out_png = value("a PNG path");
-    else if (a == "--threads")
-      cv::setNumThreads(positiveInt(a, value("a thread count")));
-    else if (a == "--repeat")
-      repeat = positiveInt(a, value("a count"));
-    else if (!a.empty() && a[0] == '-')
-      rasm::throwInputError("option '" + a + "'", "unknown");
-    else
-      positional.push_back(a);
-  }
-  if (positional.empty() || positional.size() > 2) {
-    std::cerr << kUsage;
-    return 2;
-  }
-  const std::string& image_path = positional[0];
+  const std::string image_path = args.positional("image"), ini = args.positional("file.ini");
+  const std::string out_png = args.value("out");
+  if (args.has("threads")) cv::setNumThreads(positiveInt("--threads", args.value("threads")));
+  const int repeat = args.has("repeat") ? positiveInt("--repeat", args.value("repeat")) : 1;
   std::error_code ec;
   if (!fs::is_regular_file(image_path, ec))
     rasm::throwInputError("image '" + image_path + "'", "not found");
@@ -187,10 +170,9 @@ int detectMain(const std::vector<std::string>& args) {
   if (bgr.empty())
     rasm::throwInputError("image '" + image_path + "'", "cannot be decoded as an image");
 
-  RunConfig cfg = positional.size() == 2
-                      ? RunConfig::fromFile(positional[1])
-                      : RunConfig::fromString("", "built-in default (Yolo-Fastest 1.1)");
-  for (const auto& o : overrides) cfg.applyOverride(o);
+  RunConfig cfg = !ini.empty() ? RunConfig::fromFile(ini)
+                               : RunConfig::fromString("", "built-in default (Yolo-Fastest 1.1)");
+  for (const auto& o : args.values("set")) cfg.applyOverride(o);
   const std::vector<std::unique_ptr<Detector>> detectors = makeConfiguredDetectors(cfg);
 
   rasm::classification::DetectorInput input;
@@ -223,11 +205,7 @@ int detectMain(const std::vector<std::string>& args) {
   return 0;
 }
 
-const rasm::app::Registrar reg(
-    "detect",
-    "2-D detections on one image as JSON: rasm detect <image> [file.ini] [--set s.k=v] "
-    "[--out boxes.png]",
-    detectMain, kUsage);
+const rasm::app::Registrar reg{kDecl, &detectMain};
 
 }  // namespace
 

@@ -14,7 +14,6 @@
 #include <optional>
 
 #include "Command.h"
-#include "EvalCommands.h"
 #include "RunObjects.h"
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
@@ -37,28 +36,85 @@
 
 namespace {
 
-const char* kUsage =
-    "usage: rasm eval ate <groundtruth.txt> <estimate.txt> [--no-align | --scale] [--max-dt S]\n"
-    "                     [--offset S] [--json out.json]\n"
-    "       rasm eval rpe <groundtruth.txt> <estimate.txt> [--delta D] [--frames] [--offset S]\n"
-    "                     [--json out.json]\n"
-    "       rasm eval segmentation <run folder> [--world NAME|YAML] [--json out.json]\n"
-    "                     [--max-dist-m 0.05] [--min-size-m 0.10] [--min-surfels 50] "
-    "[--stable-only]\n"
-    "       rasm eval classification <run folder> [--world NAME|YAML] [--json out.json]\n"
-    "                     [--max-dist-m 0.05] [--min-size-m 0.10] [--min-surfels 50]\n"
-    "       rasm eval exploration <run folder>... [--times 60,120,180] [--json out.json]\n"
-    "                     [--markdown out.md] [--plot out.png]\n"
-    "       rasm eval memory <run folder> [--json out.json] [--plot out.png] [--max-growth 0.05]\n"
+using rasm::app::CommandDecl;
+using rasm::app::OptionDecl;
+using rasm::app::ParsedArgs;
+
+const char* kTrajectoryNotes =
     "Trajectories in TUM format (timestamp tx ty tz qx qy qz qw). ATE aligns the estimate to the\n"
-    "ground truth (Horn/Umeyama, SE(3); --scale: Sim(3)); RPE uses intervals of D s (default 1) "
-    "or\n"
-    "D frames (--frames).\n"
-    "Segmentation: <run folder>/map.ply of `rasm run` against the simulator world of its "
-    "config.ini\n"
-    "([sim] world; --world for runs of a rawlog recorded in the simulator): each surfel takes "
-    "the\n"
-    "instance of the nearest world surface (none beyond --max-dist-m); docs/segmentation.md.\n";
+    "ground truth (Horn/Umeyama, SE(3); --scale: Sim(3)); RPE uses intervals of D s (default 1)\n"
+    "or D frames (--frames).\n";
+const char* kSegmentationNotes =
+    "Segmentation: <run folder>/map.ply of `rasm run` against the simulator world of its\n"
+    "config.ini ([sim] world; --world for runs of a rawlog recorded in the simulator): each\n"
+    "surfel takes the instance of the nearest world surface (none beyond --max-dist-m);\n"
+    "docs/segmentation.md.\n";
+
+const CommandDecl kEvalDecl{
+    "eval",
+    "trajectory metrics: ate | rpe <groundtruth.txt> <estimate.txt>; segmentation | classification "
+    "<run folder>",
+    {},
+    {},
+    std::string(kTrajectoryNotes) + kSegmentationNotes};
+
+const OptionDecl kJson{"json", "out.json", "also write the result as JSON"};
+const OptionDecl kOffset{"offset", "S", "added to the estimate's timestamps, s (default 0)"};
+
+const CommandDecl kAteDecl{
+    "eval ate",
+    "absolute trajectory error of an estimate against the ground truth",
+    {{"groundtruth.txt", "the ground-truth trajectory (TUM format)"},
+     {"estimate.txt", "the estimated trajectory (TUM format)"}},
+    {{"no-align", "", "no alignment: both trajectories in the same world frame"},
+     {"scale", "", "Sim(3) alignment (scale too) instead of SE(3)"},
+     {"max-dt", "S", "largest time difference of an associated pose pair, s (default 0.02)"},
+     kOffset,
+     kJson},
+    kTrajectoryNotes};
+
+const CommandDecl kRpeDecl{
+    "eval rpe",
+    "relative pose error of an estimate against the ground truth",
+    {{"groundtruth.txt", "the ground-truth trajectory (TUM format)"},
+     {"estimate.txt", "the estimated trajectory (TUM format)"}},
+    {{"delta", "D", "the interval: D s, or D frames with --frames (default 1)"},
+     {"frames", "", "--delta counts frames, not seconds"},
+     kOffset,
+     kJson},
+    kTrajectoryNotes};
+
+#ifdef RASM_EVAL_SEGMENTATION
+/// The options `rasm eval segmentation` and `rasm eval classification` share.
+std::vector<OptionDecl> runEvalOptions() {
+  return {
+      {"world", "NAME|YAML", "the ground-truth world (default: [sim] world of its config.ini)"},
+      kJson,
+      {"max-dist-m", "D", "a surfel farther from every world surface has none (default 0.05)"},
+      {"min-size-m", "S", "objects smaller than this are not evaluated (default 0.10)"},
+      {"min-surfels", "N", "objects with fewer surfels in the map are not evaluated (default 50)"}};
+}
+
+CommandDecl segmentationDecl() {
+  CommandDecl d{"eval segmentation",
+                "a run's segmented map against the simulator's ground truth",
+                {{"run folder", "the output folder of `rasm run` (map.ply, config.ini)"}},
+                runEvalOptions(),
+                kSegmentationNotes};
+  d.options.push_back({"stable-only", "", "only the surfels marked stable"});
+  return d;
+}
+
+#endif
+#ifdef RASM_EVAL_CLASSIFICATION
+CommandDecl classificationDecl() {
+  return {"eval classification",
+          "a run's classified objects against the simulator's ground truth",
+          {{"run folder", "the output folder of `rasm run` (map.ply, objects.json, config.ini)"}},
+          runEvalOptions(),
+          kSegmentationNotes};
+}
+#endif
 
 double parseNumber(const std::string& opt, const std::string& text) {
   try {
@@ -209,41 +265,21 @@ struct RunEvalOptions {
   bool stable_only = false;
 };
 
-/// Parses `<run folder> [--json F] [--world W] [--max-dist-m D] [--min-size-m S] [--min-surfels
-/// N]` (and --stable-only when `stable_only_allowed`); `what` names the metric in errors.
-RunEvalOptions parseRunEvalOptions(const std::vector<std::string>& args, const char* what,
-                                   bool stable_only_allowed) {
+/// The options of `rasm eval segmentation` and `rasm eval classification`, checked.
+RunEvalOptions runEvalOptionsOf(const ParsedArgs& args) {
   RunEvalOptions o;
-  std::vector<std::string> pos;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) rasm::throwInputError(a, "needs a value\n" + std::string(kUsage));
-      return args[++i];
-    };
-    if (a == "--json")
-      o.json = value();
-    else if (a == "--world")
-      o.world = value();
-    else if (a == "--max-dist-m")
-      o.max_dist_m = parseNumber(a, value());
-    else if (a == "--min-size-m")
-      o.min_size_m = parseNumber(a, value());
-    else if (a == "--min-surfels") {
-      const double v = parseNumber(a, value());
-      if (!(v >= 0.0) || v != std::floor(v))
-        rasm::throwInputError(a, "expected a non-negative integer");
-      o.min_surfels = std::size_t(v);
-    } else if (a == "--stable-only" && stable_only_allowed)
-      o.stable_only = true;
-    else if (a.rfind("--", 0) == 0)
-      throw rasm::InputError("unknown option '" + a + "'\n" + std::string(kUsage));
-    else
-      pos.push_back(a);
+  o.run = args.positional("run folder");
+  o.json = args.value("json");
+  o.world = args.value("world");
+  if (args.has("max-dist-m")) o.max_dist_m = parseNumber("--max-dist-m", args.value("max-dist-m"));
+  if (args.has("min-size-m")) o.min_size_m = parseNumber("--min-size-m", args.value("min-size-m"));
+  if (args.has("min-surfels")) {
+    const double v = parseNumber("--min-surfels", args.value("min-surfels"));
+    if (!(v >= 0.0) || v != std::floor(v))
+      rasm::throwInputError("--min-surfels", "expected a non-negative integer");
+    o.min_surfels = std::size_t(v);
   }
-  if (pos.size() != 1)
-    throw rasm::InputError(std::string("expected ") + what + " <run folder>\n" + kUsage);
-  o.run = pos[0];
+  o.stable_only = args.has("stable-only");
   if (!(o.max_dist_m > 0.0) || !std::isfinite(o.max_dist_m))
     rasm::throwInputError("--max-dist-m", "expected a distance > 0");
   if (!(o.min_size_m >= 0.0) || !std::isfinite(o.min_size_m))
@@ -251,8 +287,8 @@ RunEvalOptions parseRunEvalOptions(const std::vector<std::string>& args, const c
   return o;
 }
 
-int evalSegmentation(const std::vector<std::string>& args) {
-  const RunEvalOptions o = parseRunEvalOptions(args, "segmentation", true);
+int evalSegmentation(const ParsedArgs& args) {
+  const RunEvalOptions o = runEvalOptionsOf(args);
   const std::string json = o.json, world_opt = o.world;
   const double max_dist = o.max_dist_m;
   rasm::segmentation::SegmentationMetricsParams mp;
@@ -550,8 +586,8 @@ nlohmann::json classificationJson(const rasm::classification::ClassificationMetr
   return j;
 }
 
-int evalClassification(const std::vector<std::string>& args) {
-  const RunEvalOptions o = parseRunEvalOptions(args, "classification", false);
+int evalClassification(const ParsedArgs& args) {
+  const RunEvalOptions o = runEvalOptionsOf(args);
   const std::string json = o.json, world_opt = o.world;
   const double max_dist = o.max_dist_m;
   rasm::classification::ClassificationMetricsParams mp;
@@ -629,97 +665,60 @@ int evalClassification(const std::vector<std::string>& args) {
 
 #endif  // RASM_EVAL_CLASSIFICATION
 
-int eval(const std::vector<std::string>& args) {
-  if (args.empty()) {
-    std::cout << kUsage;
-    return 1;
-  }
-  if (args[0] == "segmentation") {
-#ifdef RASM_EVAL_SEGMENTATION
-    return evalSegmentation(std::vector<std::string>(args.begin() + 1, args.end()));
-#else
-    rasm::throwInputError("rasm eval segmentation",
-                          "this build lacks the sim, segmentation or surfel_map module");
-#endif
-  }
-  if (args[0] == "exploration")
-    return rasm::app::evalExploration(std::vector<std::string>(args.begin() + 1, args.end()));
-  if (args[0] == "memory")
-    return rasm::app::evalMemory(std::vector<std::string>(args.begin() + 1, args.end()));
-  if (args[0] == "classification") {
-#ifdef RASM_EVAL_CLASSIFICATION
-    return evalClassification(std::vector<std::string>(args.begin() + 1, args.end()));
-#else
-    rasm::throwInputError("rasm eval classification", "this build lacks the classification module");
-#endif
-  }
-  std::vector<std::string> pos;
-  rasm::io::AteOptions ate;
-  rasm::io::RpeOptions rpe;
-  std::string json;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) rasm::throwInputError(a, "needs a value\n" + std::string(kUsage));
-      return args[++i];
-    };
-    if (a == "--no-align")
-      ate.align = false;
-    else if (a == "--scale")
-      ate.scale = true;
-    else if (a == "--max-dt")
-      ate.max_dt_s = parsePositive(a, value(), "s");
-    else if (a == "--offset")
-      ate.offset_s = rpe.offset_s = parseNumber(a, value());
-    else if (a == "--delta")
-      rpe.delta = parsePositive(a, value(), "(s, or frames with --frames)");
-    else if (a == "--frames")
-      rpe.delta_in_frames = true;
-    else if (a == "--json")
-      json = value();
-    else if (a.rfind("--", 0) == 0)
-      throw rasm::InputError("unknown option '" + a + "'\n" + std::string(kUsage));
-    else
-      pos.push_back(a);
-  }
-  if (pos.size() != 3)
-    throw rasm::InputError("expected ate|rpe <groundtruth> <estimate>\n" + std::string(kUsage));
-  if (!ate.align && ate.scale) throw rasm::InputError("--scale needs alignment (drop --no-align)");
-  if (rpe.delta_in_frames && (rpe.delta < 1 || rpe.delta != std::floor(rpe.delta)))
-    rasm::throwInputError("--delta " + std::to_string(rpe.delta),
-                          "expected a whole number of frames >= 1 with --frames");
-  const auto gt = readTrajectoryFile(pos[1], "ground truth");
-  const auto est = readTrajectoryFile(pos[2], "estimate");
+/// The two trajectories of `rasm eval ate|rpe`.
+std::pair<rasm::io::Trajectory, rasm::io::Trajectory> readTrajectories(const ParsedArgs& args) {
+  return {readTrajectoryFile(args.positional("groundtruth.txt"), "ground truth"),
+          readTrajectoryFile(args.positional("estimate.txt"), "estimate")};
+}
 
-  if (pos[0] == "ate") {
-    const auto r = rasm::io::TrajectoryEvaluator::computeAte(gt, est, ate);
-    std::printf(
-        "ATE  %s  %zu pose pairs (|dt| < %.3f s)  ground truth %zu poses, estimate %zu poses\n",
-        !ate.align  ? "no alignment"
-        : ate.scale ? "Sim(3) alignment"
-                    : "SE(3) alignment",
-        r.translation_m.count, ate.max_dt_s, gt.size(), est.size());
-    printStats("translation", "[m]", r.translation_m);
-    if (ate.scale) std::printf("  scale %.6f\n", r.scale);
-    if (!json.empty()) writeJson(json, rasm::io::toJson(r, ate));
-  } else if (pos[0] == "rpe") {
-    const auto r = rasm::io::TrajectoryEvaluator::computeRpe(gt, est, rpe);
-    std::printf("RPE  delta %g %s  %zu pose pairs\n", rpe.delta,
-                rpe.delta_in_frames ? "frames" : "s", r.pairs);
-    printStats("translation", "[m]", r.translation_m);
-    printStats("rotation", "[deg]", r.rotation_deg);
-    if (!json.empty()) writeJson(json, rasm::io::toJson(r, rpe));
-  } else {
-    throw rasm::InputError("unknown metric '" + pos[0] + "' (expected ate, rpe or segmentation)\n" +
-                           kUsage);
-  }
+int evalAte(const ParsedArgs& args) {
+  rasm::io::AteOptions ate;
+  ate.align = !args.has("no-align");
+  ate.scale = args.has("scale");
+  if (args.has("max-dt")) ate.max_dt_s = parsePositive("--max-dt", args.value("max-dt"), "s");
+  if (args.has("offset")) ate.offset_s = parseNumber("--offset", args.value("offset"));
+  if (!ate.align && ate.scale) throw rasm::InputError("--scale needs alignment (drop --no-align)");
+  const auto [gt, est] = readTrajectories(args);
+  const auto r = rasm::io::TrajectoryEvaluator::computeAte(gt, est, ate);
+  std::printf(
+      "ATE  %s  %zu pose pairs (|dt| < %.3f s)  ground truth %zu poses, estimate %zu poses\n",
+      !ate.align  ? "no alignment"
+      : ate.scale ? "Sim(3) alignment"
+                  : "SE(3) alignment",
+      r.translation_m.count, ate.max_dt_s, gt.size(), est.size());
+  printStats("translation", "[m]", r.translation_m);
+  if (ate.scale) std::printf("  scale %.6f\n", r.scale);
+  if (args.has("json")) writeJson(args.value("json"), rasm::io::toJson(r, ate));
   return 0;
 }
 
-const rasm::app::Registrar reg{
-    "eval",
-    "trajectory metrics: ate | rpe <groundtruth.txt> <estimate.txt>; segmentation | classification "
-    "<run folder>",
-    &eval, kUsage};
+int evalRpe(const ParsedArgs& args) {
+  rasm::io::RpeOptions rpe;
+  if (args.has("delta"))
+    rpe.delta = parsePositive("--delta", args.value("delta"), "(s, or frames with --frames)");
+  rpe.delta_in_frames = args.has("frames");
+  if (args.has("offset")) rpe.offset_s = parseNumber("--offset", args.value("offset"));
+  if (rpe.delta_in_frames && (rpe.delta < 1 || rpe.delta != std::floor(rpe.delta)))
+    rasm::throwInputError("--delta " + std::to_string(rpe.delta),
+                          "expected a whole number of frames >= 1 with --frames");
+  const auto [gt, est] = readTrajectories(args);
+  const auto r = rasm::io::TrajectoryEvaluator::computeRpe(gt, est, rpe);
+  std::printf("RPE  delta %g %s  %zu pose pairs\n", rpe.delta, rpe.delta_in_frames ? "frames" : "s",
+              r.pairs);
+  printStats("translation", "[m]", r.translation_m);
+  printStats("rotation", "[deg]", r.rotation_deg);
+  if (args.has("json")) writeJson(args.value("json"), rasm::io::toJson(r, rpe));
+  return 0;
+}
+
+const rasm::app::Registrar reg{kEvalDecl};
+const rasm::app::Registrar reg_ate{kAteDecl, &evalAte};
+const rasm::app::Registrar reg_rpe{kRpeDecl, &evalRpe};
+#ifdef RASM_EVAL_SEGMENTATION
+const rasm::app::Registrar reg_segmentation{segmentationDecl(), &evalSegmentation};
+#endif
+#ifdef RASM_EVAL_CLASSIFICATION
+const rasm::app::Registrar reg_classification{classificationDecl(), &evalClassification};
+#endif
 
 }  // namespace

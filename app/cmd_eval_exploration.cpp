@@ -12,7 +12,6 @@
 #include <sstream>
 
 #include "Command.h"
-#include "EvalCommands.h"
 #include "RunObjects.h"
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
@@ -24,15 +23,18 @@ namespace fs = std::filesystem;
 namespace rasm::app {
 namespace {
 
-const char* kUsage =
-    "usage: rasm eval exploration <run folder>... [--times 60,120,180] [--json out.json]\n"
-    "                             [--markdown out.md] [--plot out.png]\n"
-    "Each run folder is an exploring `rasm run` ([exploration] enabled): its report.json, "
-    "exploration.json\nand config.ini ([sim] world and seed). Runs are grouped by world and "
-    "planner; values are means\nover the seeds (min-max in brackets). A run that stopped before "
-    "a time keeps its final values.\n";
-
-const UsageRegistrar usage{"eval exploration", kUsage};  // rasm eval exploration --help
+const CommandDecl kDecl{
+    "eval exploration",
+    "exploring runs grouped by world and planner: coverage and objects correct over time",
+    {{"run folder", "an exploring `rasm run` ([exploration] enabled)", true, true}},
+    {{"times", "60,120,180", "the simulated times (s) of the coverage and objects columns"},
+     {"json", "out.json", "also write the groups as JSON"},
+     {"markdown", "out.md", "also write the table as Markdown"},
+     {"plot", "out.png", "plot coverage against simulated time, one panel per world"}},
+    "Each run folder is an exploring `rasm run` ([exploration] enabled): its report.json,\n"
+    "exploration.json and config.ini ([sim] world and seed). Runs are grouped by world and\n"
+    "planner; values are means over the seeds (min-max in brackets). A run that stopped before\n"
+    "a time keeps its final values.\n"};
 
 struct Series {
   std::vector<double> t, coverage, objects;
@@ -168,43 +170,27 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
   std::printf("wrote %s\n", path.c_str());
 }
 
-}  // namespace
-
-int evalExploration(const std::vector<std::string>& args) {
-  std::vector<std::string> dirs;
-  std::vector<double> times = {60, 120, 180};
-  std::string json, markdown, plot_path;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throwInputError(a, "needs a value\n" + std::string(kUsage));
-      return args[++i];
-    };
-    if (a == "--json") {
-      json = value();
-    } else if (a == "--markdown") {
-      markdown = value();
-    } else if (a == "--plot") {
-      plot_path = value();
-    } else if (a == "--times") {
-      times.clear();
-      std::stringstream ss(value());
-      std::string item;
-      while (std::getline(ss, item, ',')) {
-        char* end = nullptr;
-        const double t = std::strtod(item.c_str(), &end);
-        if (end == item.c_str() || *end != 0 || !(t >= 0))
-          throwInputError("--times", "'" + item + "' is not a non-negative number of seconds");
-        times.push_back(t);
-      }
-    } else if (a.rfind("--", 0) == 0) {
-      throw InputError("unknown option '" + a + "'\n" + std::string(kUsage));
-    } else {
-      dirs.push_back(a);
-    }
+/// --times: non-negative seconds, comma-separated.
+std::vector<double> parseTimes(const std::string& text) {
+  std::vector<double> times;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    const double t = std::strtod(item.c_str(), &end);
+    if (end == item.c_str() || *end != 0 || !(t >= 0))
+      throwInputError("--times", "'" + item + "' is not a non-negative number of seconds");
+    times.push_back(t);
   }
-  if (dirs.empty()) throw InputError("expected at least one run folder\n" + std::string(kUsage));
+  return times;
+}
 
+int evalExploration(const ParsedArgs& args) {
+  const std::vector<std::string> dirs = args.positionals("run folder");
+  const std::vector<double> times =
+      args.has("times") ? parseTimes(args.value("times")) : std::vector<double>{60, 120, 180};
+  const std::string json = args.value("json"), markdown = args.value("markdown"),
+                    plot_path = args.value("plot");
   std::map<std::string, std::vector<RunRow>> groups;  // "world / planner"
   double tmax = 0;
   for (const std::string& d : dirs) {
@@ -308,4 +294,7 @@ int evalExploration(const std::vector<std::string>& args) {
   return 0;
 }
 
+const Registrar reg{kDecl, &evalExploration};
+
+}  // namespace
 }  // namespace rasm::app

@@ -17,7 +17,6 @@
 #include <vector>
 
 #include "Command.h"
-#include "EvalCommands.h"
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/pipeline/LinePlot.h"
@@ -26,13 +25,16 @@
 namespace rasm::app {
 namespace {
 
-const char* kUsage =
-    "usage: rasm eval memory <run folder> [--json out.json] [--plot out.png] [--max-growth 0.05]\n"
+const CommandDecl kDecl{
+    "eval memory",
+    "a run's memory against time and whether it plateaus",
+    {{"run folder", "the output folder of a `rasm run` (its frames.csv)"}},
+    {{"json", "out.json", "also write the result as JSON"},
+     {"plot", "out.png", "plot surfels, RSS and the map store against time"},
+     {"max-growth", "0.05", "the largest growth over the second half that still plateaus"}},
     "Memory of a run against time from its frames.csv (surfels, rss_mb, map_memory_bytes): value\n"
     "at half time, at the end, growth over the second half; exit 1 when surfels or RSS grow\n"
-    "more than --max-growth over the second half.\n";
-
-const UsageRegistrar usage{"eval memory", kUsage};  // rasm eval memory --help
+    "more than --max-growth over the second half.\n"};
 
 /// The columns of frames.csv this command reads, one value per frame.
 struct MemoryCurves {
@@ -52,8 +54,8 @@ MemoryCurves readFramesCsv(const std::string& path) {
   }
   for (const char* c : {"timestamp_s", "surfels", "rss_mb", "map_memory_bytes"})
     if (!col.count(c))
-      throwInputError(path, std::string("has no column '") + c +
-                                "' (a run folder of an older rasm: rerun it)");
+      throwInputError(
+          path, std::string("has no column '") + c + "' (a run folder of an older rasm: rerun it)");
   MemoryCurves m;
   for (long long row = 2; std::getline(f, line); ++row) {
     std::vector<std::string> v;
@@ -136,34 +138,20 @@ void plotCurves(const std::string& path, const MemoryCurves& m, const std::strin
   }
 }
 
-}  // namespace
+/// --max-growth: a non-negative fraction.
+double parseMaxGrowth(const std::string& v) {
+  char* end = nullptr;
+  const double g = std::strtod(v.c_str(), &end);
+  if (end == v.c_str() || *end != 0 || !(g >= 0) || !std::isfinite(g))
+    throwInputError("--max-growth", "'" + v + "' is not a non-negative fraction");
+  return g;
+}
 
-int evalMemory(const std::vector<std::string>& args) {
-  std::string dir, json_path, plot_path;
-  double max_growth = 0.05;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throwInputError(a, "needs a value\n" + std::string(kUsage));
-      return args[++i];
-    };
-    if (a == "--json") {
-      json_path = value();
-    } else if (a == "--plot") {
-      plot_path = value();
-    } else if (a == "--max-growth") {
-      const std::string& v = value();
-      char* end = nullptr;
-      max_growth = std::strtod(v.c_str(), &end);
-      if (end == v.c_str() || *end != 0 || !(max_growth >= 0) || !std::isfinite(max_growth))
-        throwInputError("--max-growth", "'" + v + "' is not a non-negative fraction");
-    } else if (a.rfind("--", 0) == 0 || !dir.empty()) {
-      throw InputError("unexpected argument '" + a + "'\n" + std::string(kUsage));
-    } else {
-      dir = a;
-    }
-  }
-  if (dir.empty()) throw InputError("expected a run folder\n" + std::string(kUsage));
+int evalMemory(const ParsedArgs& args) {
+  const std::string dir = args.positional("run folder");
+  const std::string json_path = args.value("json"), plot_path = args.value("plot");
+  const double max_growth =
+      args.has("max-growth") ? parseMaxGrowth(args.value("max-growth")) : 0.05;
   const MemoryCurves m = readFramesCsv(dir + "/frames.csv");
   nlohmann::json out;
   out["run"] = dir;
@@ -203,4 +191,7 @@ int evalMemory(const std::vector<std::string>& args) {
   return plateau ? 0 : 1;
 }
 
+const Registrar reg{kDecl, &evalMemory};
+
+}  // namespace
 }  // namespace rasm::app

@@ -11,17 +11,20 @@
 
 namespace {
 
-const char* kUsage =
-    "usage: rasm objects <run folder> [--all]\n"
-    "Prints <run folder>/objects.json: each object once: its id, class and probability, "
-    "runner-up,\n"
-    "existence probability (views detected / views), surfels, detections fused, the frames it was\n"
-    "seen in (count, first-last), centroid and upright extents (m), its segments and the\n"
-    "zero-shot pose hint. With --all also its other_segments (classified segments that are not\n"
-    "part of a reported object, with their object's id), with the reason: unconfirmed (no class\n"
-    "reached min_object_probability), fragment (too few surfels or too small), structure (a "
-    "floor,\n"
-    "wall or ceiling) or rarely_detected (detected in too few of the views that should have).\n";
+const rasm::app::CommandDecl kDecl{
+    "objects",
+    "the objects of a run: rasm objects <run folder>",
+    {{"run folder", "the output folder of a `rasm run` (its objects.json)"}},
+    {{"all", "", "also the classified segments that are not objects, with the reason"}},
+    "Prints <run folder>/objects.json: each object once: its id, class and probability,\n"
+    "runner-up, existence probability (views detected / views), surfels, detections fused, the\n"
+    "frames it was seen in (count, first-last), centroid and upright extents (m), its segments "
+    "and\n"
+    "the zero-shot pose hint. With --all also its other_segments (classified segments that are\n"
+    "not part of a reported object, with their object's id), with the reason: unconfirmed (no\n"
+    "class reached min_object_probability), fragment (too few surfels or too small), structure (a\n"
+    "floor, wall or ceiling) or rarely_detected (detected in too few of the views that should\n"
+    "have).\n"};
 
 double at(const nlohmann::json& v, int k) {
   return v.is_array() && int(v.size()) > k && v[k].is_number() ? v[k].get<double>() : 0.0;
@@ -65,18 +68,9 @@ void printRow(const nlohmann::json& o, const std::string& path) {
       at(e, 0), at(e, 1), at(e, 2), segmentList(o, path).c_str(), note.c_str());
 }
 
-int objects(const std::vector<std::string>& args) {
-  std::string run;
-  bool all = false;
-  for (const std::string& a : args) {
-    if (a == "--all")
-      all = true;
-    else if (a.rfind("--", 0) == 0)
-      throw rasm::InputError("unknown option '" + a + "'\n" + kUsage);
-    else
-      run = a;
-  }
-  if (run.empty()) throw rasm::InputError(std::string("expected <run folder>\n") + kUsage);
+int objects(const rasm::app::ParsedArgs& args) {
+  const std::string run = args.positional("run folder");
+  const bool all = args.has("all");
   nlohmann::json objects = rasm::app::readRunObjects(run);
   const std::string path = (std::filesystem::path(run) / "objects.json").string();
   const std::size_t n_objects = objects.size();
@@ -92,7 +86,6 @@ int objects(const std::vector<std::string>& args) {
   return 0;
 }
 
-const rasm::app::Registrar reg{"objects", "the objects of a run: rasm objects <run folder>",
-                               &objects, kUsage};
+const rasm::app::Registrar reg{kDecl, &objects};
 
 }  // namespace

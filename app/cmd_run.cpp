@@ -1,4 +1,6 @@
-// rasm run [file.ini | dataset] [--set section.key=value ...] [--out DIR] [--force] [--max-frames N]
+// `rasm run [file.ini | FOLDER | FILE.rawlog] [options]`: one mapping run
+// (rasm::pipeline::MappingRun) and its summary. Its options other than --set stand for INI keys and
+// apply in the order given.
 #include <cstdio>
 #include <filesystem>
 #include <initializer_list>
@@ -77,64 +79,71 @@ void printFloorDrift(const nlohmann::json& report) {
 /// and [source] type = auto (io::openFrameSource picks the reader, or names what it expected).
 bool isDataset(const std::string& path) {
   const auto ends = [&path](const std::string& ext) {
-    return path.size() >= ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
+    return path.size() >= ext.size() &&
+           path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
   };
   return std::filesystem::is_directory(path) || ends(".rawlog") || ends(".rawlog.gz");
 }
 
-int runMain(const std::vector<std::string>& args) {
-  using namespace rasm::pipeline;
-  std::string ini_path;
+const rasm::app::CommandDecl kDecl{
+    "run",
+    "map a sequence: rasm run [file.ini | FOLDER | FILE.rawlog] [--set s.k=v] [--out DIR]",
+    {{"file.ini | FOLDER | FILE.rawlog",
+      "the configuration, or data mapped with the embedded default's settings", false}},
+    {{"set", "section.key=value", "set one key of the configuration", "", true},
+     {"out", "DIR", "the output folder ([output] dir)"},
+     {"force", "", "write into a folder holding other files ([output] overwrite = true)"},
+     {"max-frames", "N", "stop after N frames ([source] max_frames)"},
+     {"map", "map.surfelmap", "start from a saved map ([mapper] load_map)"},
+     {"view", "", "open the live 3-D window ([view] enabled = true)"},
+     {"quiet", "", "warnings and errors only ([output] log_level = warning)", "q"},
+     {"verbose", "", "every message ([output] log_level = debug); errors in full", "v"}},
+    "Without a file, runs the embedded default (the simulated office, ini/default.ini).\n"
+    "A folder (TUM RGB-D, ICL-NUIM, 7-Scenes sequence) or a rawlog is mapped with the\n"
+    "default's settings and its own camera ([source] type = auto, path = it).\n"
+    "--out DIR: an empty or new folder (created; its parent folder must exist), or one\n"
+    "of an earlier rasm run (only the files it listed in DIR/.rasm-run.json are\n"
+    "removed). A folder holding other files is refused; --force ([output] overwrite =\n"
+    "true) writes beside them: they are left alone, only rasm's own file names are\n"
+    "replaced.\n"
+    "--view ([view] enabled) opens a 3-D window that shows the map growing, the path and\n"
+    "the camera (keys: 1 colour, 2 segments, 3 classes, p paths); it needs a display.\n"
+    "-q / --quiet shows warnings and errors only, -v / --verbose every message\n"
+    "([output] log_level); DIR/run.log holds every message of the run, time-stamped.\n"};
+
+/// The configuration overrides the options stand for, in the order given.
+std::vector<std::string> overridesOf(const rasm::app::ParsedArgs& args) {
   std::vector<std::string> overrides;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&](const char* what) -> std::string {
-      if (i + 1 >= args.size()) rasm::throwInputError(a, std::string("expects ") + what);
-      return args[++i];
-    };
-    if (a == "--set")
-      overrides.push_back(value("section.key=value"));
-    else if (a == "--out")
-      overrides.push_back("output.dir=" + value("a folder"));
-    else if (a == "--force")
+  for (const auto& [option, value] : args.given()) {
+    if (option == "set")
+      overrides.push_back(value);
+    else if (option == "out")
+      overrides.push_back("output.dir=" + value);
+    else if (option == "force")
       overrides.push_back("output.overwrite=true");
-    else if (a == "--max-frames")
-      overrides.push_back("source.max_frames=" + value("a number"));
-    else if (a == "--map")
-      overrides.push_back("mapper.load_map=" + value("a .surfelmap file"));
-    else if (a == "--view")
+    else if (option == "max-frames")
+      overrides.push_back("source.max_frames=" + value);
+    else if (option == "map")
+      overrides.push_back("mapper.load_map=" + value);
+    else if (option == "view")
       overrides.push_back("view.enabled=true");
-    else if (a == "-q" || a == "--quiet")
+    else if (option == "quiet")
       overrides.push_back("output.log_level=warning");
-    else if (a == "-v" || a == "--verbose")
+    else if (option == "verbose")
       overrides.push_back("output.log_level=debug");
-    else if (a == "-h" || a == "--help") {
-      std::cout
-          << "usage: rasm run [file.ini | FOLDER | FILE.rawlog] [--set section.key=value ...] "
-             "[--out DIR] [--force] [--max-frames N] [--map map.surfelmap] [--view] [-q | -v]\n"
-             "Without a file, runs the embedded default (the simulated office, ini/default.ini).\n"
-             "A folder (TUM RGB-D, ICL-NUIM, 7-Scenes sequence) or a rawlog is mapped with the\n"
-             "default's settings and its own camera ([source] type = auto, path = it).\n"
-             "--out DIR: an empty or new folder (created; its parent folder must exist), or one\n"
-             "of an earlier rasm run (only the files it listed in DIR/.rasm-run.json are\n"
-             "removed). A folder holding other files is refused; --force ([output] overwrite =\n"
-             "true) writes beside them: they are left alone, only rasm's own file names are\n"
-             "replaced.\n"
-             "--view ([view] enabled) opens a 3-D window that shows the map growing, the path and\n"
-             "the camera (keys: 1 colour, 2 segments, 3 classes, p paths); it needs a display.\n"
-             "-q / --quiet shows warnings and errors only, -v / --verbose every message\n"
-             "([output] log_level); DIR/run.log holds every message of the run, time-stamped.\n";
-      return 0;
-    } else if (!a.empty() && a[0] == '-')
-      rasm::throwInputError("option '" + a + "'", "unknown (see rasm run --help)");
-    else if (ini_path.empty())
-      ini_path = a;
-    else
-      rasm::throwInputError("argument '" + a + "'", "unexpected: only one INI file is accepted");
   }
+  return overrides;
+}
+
+int printSummary(const rasm::pipeline::MappingRun& run, const rasm::pipeline::RunSummary& s);
+
+int runMain(const rasm::app::ParsedArgs& args) {
+  using namespace rasm::pipeline;
+  const std::string ini_path = args.positional(kDecl.positionals[0].name);
+  const std::vector<std::string> overrides = overridesOf(args);
   const bool dataset = !ini_path.empty() && isDataset(ini_path);
-  RunConfig cfg = ini_path.empty() || dataset ? RunConfig::embeddedDefault()
-                                              : RunConfig::fromFile(ini_path);
+  RunConfig cfg =
+      ini_path.empty() || dataset ? RunConfig::embeddedDefault() : RunConfig::fromFile(ini_path);
   if (dataset) {  // before the --set overrides, which may still change them
     cfg.applyOverride("source.type=auto");
     cfg.applyOverride("source.path=" + std::filesystem::absolute(ini_path).string());
@@ -143,7 +152,13 @@ int runMain(const std::vector<std::string>& args) {
   MappingRun run(cfg);
   // SIGINT / SIGTERM: stop after the current frame and write its outputs; again: abort at once.
   installInterruptHandlers();
-  const RunSummary s = run.run();
+  return printSummary(run, run.run());
+}
+
+/// What the run did, after it: frames, accuracy, outputs, segments, objects, exploration and
+/// warnings; returns the exit code (128 + the signal when interrupted).
+int printSummary(const rasm::pipeline::MappingRun& run, const rasm::pipeline::RunSummary& s) {
+  using rasm::pipeline::signalName;
   const double lost_pct = s.frames ? 100.0 * double(s.lost) / double(s.frames) : 0.0;
   std::printf(
       "frames %zu (tracked %zu, lost %zu = %.1f%% in %zu intervals, %zu relocalisations) in %.1f s "
@@ -210,8 +225,6 @@ int runMain(const std::vector<std::string>& args) {
   return 0;
 }
 
-const rasm::app::Registrar reg("run",
-                               "map a sequence: rasm run [file.ini | FOLDER | FILE.rawlog] [--set s.k=v] [--out DIR]",
-                               runMain);
+const rasm::app::Registrar reg{kDecl, &runMain};
 
 }  // namespace

@@ -1,16 +1,6 @@
-// `rasm sim ...`: the simulator's command line (thin layer over rasm::sim).
-//   rasm sim record <world> <trajectory.yaml> <out.rawlog> [--seed N] [--noise on|off] [--camera
-//   preset]
-//                   [--max-frames N] [--set sim_sensor.key=value] [--set sim_robot.key=value]
-//   rasm sim render <world> <out_prefix> (--eye x,y,z (--yaw deg [--pitch deg] | --look-at x,y,z))
-//                   [--seed N] [--noise on|off] [--camera preset]
-//   rasm sim info <world>
-//   rasm sim make-models [dir]
-//   rasm sim generate <out.yaml> --seed N [--size WxD] [--kind office|lab|mixed|break_room]
-//                     [--layout room|flat] [--rooms N] [--plain-walls N]
-//                     [--trajectories DIR_OR_PREFIX] [--fast]
-//   rasm sim check-map <world> <map.ply> [--max-dist-m 0.05] [--cap-m 0.5] [--stable-only]
-//                      [--json out.json]
+// `rasm sim ...`: the simulator's command line (thin layer over rasm::sim): record rawlogs from
+// worlds, render previews, describe worlds, write the procedural models, generate rooms and check
+// maps against the ground-truth surface. Each subcommand declares its arguments below.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -44,87 +34,40 @@
 
 namespace {
 
-using Args = std::vector<std::string>;
+using rasm::app::CommandDecl;
+using rasm::app::OptionDecl;
+using rasm::app::ParsedArgs;
 
-const char* kUsage =
-    "usage:\n"
-    "  rasm sim record <world> <trajectory.yaml> <out.rawlog> [--seed N] [--noise on|off] "
-    "[--camera preset]\n"
-    "                  [--max-frames N] [--set sim_sensor.key=value] [--set sim_robot.key=value]\n"
-    "  rasm sim render <world> <out_prefix> --eye x,y,z (--yaw deg [--pitch deg] | --look-at "
-    "x,y,z)\n"
-    "                  [--seed N] [--noise on|off] [--camera preset]\n"
-    "  rasm sim info <world>\n"
-    "  rasm sim make-models [dir]\n"
-    "  rasm sim generate <out.yaml> --seed N [--size WxD] [--kind office|lab|mixed|break_room]\n"
-    "                    [--layout room|flat] [--rooms N] [--plain-walls N]\n"
-    "                    [--trajectories DIR_OR_PREFIX] [--fast]\n"
-    "  rasm sim check-map <world> <map.ply> [--max-dist-m 0.05] [--cap-m 0.5] [--stable-only]\n"
-    "                     [--json out.json]\n"
+const char* kWorldNote =
     "<world> is a shipped world name (office, cluttered_lab, two_rooms) or a YAML file "
     "(docs/sim.md).\n";
+const rasm::app::PositionalDecl kWorld{"world", "a shipped world name or a world YAML file"};
+const OptionDecl kSeed{"seed", "N", "the noise seed (default 0)"};
+const OptionDecl kNoise{"noise", "on|off", "sensor noise and dropouts (default on)"};
+const OptionDecl kCamera{"camera", "preset", "the camera preset ([sim_sensor] camera)"};
 
-/// Splits positional arguments from --key value options and --flag options (no value).
-struct Parsed {
-  Args positional;
-  std::map<std::string, std::string> options;
-  std::vector<std::string> sets;  ///< every --set value, in order
-  std::vector<std::string> flags;
-  bool flag(const std::string& f) const {
-    return std::find(flags.begin(), flags.end(), f) != flags.end();
-  }
-};
-
-Parsed parse(const Args& args, std::initializer_list<const char*> known,
-             std::initializer_list<const char*> flags = {}) {
-  Parsed p;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a.rfind("--", 0) != 0) {
-      p.positional.push_back(a);
-      continue;
-    }
-    const std::string key = a.substr(2);
-    bool is_flag = false;
-    for (const char* f : flags) is_flag = is_flag || key == f;
-    if (is_flag) {
-      p.flags.push_back(key);
-      continue;
-    }
-    bool ok = false;
-    for (const char* k : known) ok = ok || key == k;
-    if (!ok) rasm::throwInputError("option " + a, "unknown option\n" + std::string(kUsage));
-    if (i + 1 >= args.size()) rasm::throwInputError("option " + a, "missing value");
-    if (key == "set")
-      p.sets.push_back(args[++i]);
-    else
-      p.options[key] = args[++i];
-  }
-  return p;
-}
-
-std::uint64_t parseSeed(const Parsed& p) {
-  const auto it = p.options.find("seed");
-  if (it == p.options.end()) return 0;
+std::uint64_t parseSeed(const ParsedArgs& p) {
+  if (!p.has("seed")) return 0;
+  const std::string v = p.value("seed");
   try {
     std::size_t n = 0;
-    const unsigned long long v = std::stoull(it->second, &n);
-    if (n == it->second.size()) return v;
+    const unsigned long long seed = std::stoull(v, &n);
+    if (n == v.size()) return seed;
   } catch (const std::exception&) {
   }
-  rasm::throwInputError("--seed " + it->second, "expected a non-negative integer");
+  rasm::throwInputError("--seed " + v, "expected a non-negative integer");
 }
 
-bool parseOnOff(const Parsed& p, const std::string& key, bool def) {
-  const auto it = p.options.find(key);
-  if (it == p.options.end()) return def;
-  if (it->second == "on") return true;
-  if (it->second == "off") return false;
-  rasm::throwInputError("--" + key + " " + it->second, "expected on or off");
+bool parseOnOff(const ParsedArgs& p, const std::string& key, bool def) {
+  if (!p.has(key)) return def;
+  const std::string v = p.value(key);
+  if (v == "on") return true;
+  if (v == "off") return false;
+  rasm::throwInputError("--" + key + " " + v, "expected on or off");
 }
 
-Eigen::Vector3d parseVec3(const Parsed& p, const std::string& key) {
-  const std::string& s = p.options.at(key);
+Eigen::Vector3d parseVec3(const ParsedArgs& p, const std::string& key) {
+  const std::string s = p.value(key);
   Eigen::Vector3d v;
   char c1 = 0, c2 = 0;
   std::istringstream in(s);
@@ -134,21 +77,21 @@ Eigen::Vector3d parseVec3(const Parsed& p, const std::string& key) {
   return v;
 }
 
-double parseDouble(const Parsed& p, const std::string& key, double def) {
-  const auto it = p.options.find(key);
-  if (it == p.options.end()) return def;
+double parseDouble(const ParsedArgs& p, const std::string& key, double def) {
+  if (!p.has(key)) return def;
+  const std::string v = p.value(key);
   try {
     std::size_t n = 0;
-    const double v = std::stod(it->second, &n);
-    if (n == it->second.size() && std::isfinite(v)) return v;
+    const double d = std::stod(v, &n);
+    if (n == v.size() && std::isfinite(d)) return d;
   } catch (const std::exception&) {
   }
-  rasm::throwInputError("--" + key + " " + it->second, "expected a finite number");
+  rasm::throwInputError("--" + key + " " + v, "expected a finite number");
 }
 
 /// --set sim_sensor.key=value / sim_robot.key=value into the recorder's overrides.
-void applySets(const Parsed& p, rasm::sim::RecordOptions& opt) {
-  for (const std::string& s : p.sets) {
+void applySets(const ParsedArgs& p, rasm::sim::RecordOptions& opt) {
+  for (const std::string& s : p.values("set")) {
     const auto dot = s.find('.'), eq = s.find('=');
     if (dot == std::string::npos || eq == std::string::npos || eq < dot)
       rasm::throwInputError("--set " + s, "expected section.key=value");
@@ -164,23 +107,32 @@ void applySets(const Parsed& p, rasm::sim::RecordOptions& opt) {
   }
 }
 
-int cmdRecord(const Args& args) {
-  const Parsed p = parse(args, {"seed", "noise", "camera", "max-frames", "set"});
-  if (p.positional.size() != 3)
-    rasm::throwInputError("rasm sim record", "expected <world> <trajectory.yaml> <out.rawlog>\n" +
-                                                 std::string(kUsage));
+const CommandDecl kRecordDecl{
+    "sim record",
+    "render a trajectory through a world into a rawlog with its ground truth and labels",
+    {kWorld,
+     {"trajectory.yaml", "the camera or robot path (docs/sim.md)"},
+     {"out.rawlog", "the rawlog to write (ground truth and labels beside it)"}},
+    {kSeed,
+     kNoise,
+     kCamera,
+     {"max-frames", "N", "stop after N frames"},
+     {"set", "section.key=value", "set a key of [sim_sensor] or [sim_robot]", "", true}},
+    kWorldNote};
+
+int cmdRecord(const ParsedArgs& p) {
   rasm::sim::RecordOptions opt;
-  opt.world = p.positional[0];
-  opt.trajectory_spec = p.positional[1];
-  opt.out_rawlog = p.positional[2];
+  opt.world = p.positional("world");
+  opt.trajectory_spec = p.positional("trajectory.yaml");
+  opt.out_rawlog = p.positional("out.rawlog");
   opt.seed = parseSeed(p);
-  if (p.options.count("noise")) {
+  if (p.has("noise")) {
     const char* v = parseOnOff(p, "noise", true) ? "true" : "false";
     opt.sensor_overrides["noise"] = v;  // --noise off: exact depth, no dropouts
     opt.sensor_overrides["dropouts"] = v;
   }
-  if (p.options.count("camera")) opt.sensor_overrides["camera"] = p.options.at("camera");
-  if (p.options.count("max-frames")) opt.max_frames = (long long)parseDouble(p, "max-frames", -1);
+  if (p.has("camera")) opt.sensor_overrides["camera"] = p.value("camera");
+  if (p.has("max-frames")) opt.max_frames = (long long)parseDouble(p, "max-frames", -1);
   applySets(p, opt);
   opt.progress = true;
   const rasm::sim::RecordResult r = rasm::sim::recordSequence(opt);
@@ -189,43 +141,52 @@ int cmdRecord(const Args& args) {
   return 0;
 }
 
-int cmdRender(const Args& args) {
-  const Parsed p = parse(args, {"eye", "yaw", "pitch", "look-at", "seed", "noise", "camera"});
-  if (p.positional.size() != 2)
-    rasm::throwInputError("rasm sim render",
-                          "expected <world> <out_prefix>\n" + std::string(kUsage));
-  if (!p.options.count("eye")) rasm::throwInputError("rasm sim render", "--eye x,y,z is required");
+const CommandDecl kRenderDecl{
+    "sim render",
+    "render one view of a world: colour, depth, instance and class PNGs",
+    {kWorld, {"out_prefix", "writes <out_prefix>_{colour,depth,instance,class}.png"}},
+    {{"eye", "x,y,z", "the camera position (m)", "", false, true},
+     {"yaw", "deg", "the heading (default 0)"},
+     {"pitch", "deg", "up (+) or down (-), -90..90 (default 0)"},
+     {"look-at", "x,y,z", "the point the camera looks at (instead of --yaw and --pitch)"},
+     kSeed,
+     kNoise,
+     kCamera},
+    kWorldNote};
+
+int cmdRender(const ParsedArgs& p) {
   const Eigen::Vector3d eye = parseVec3(p, "eye");
   Eigen::Isometry3d T;
-  if (p.options.count("look-at")) {
+  if (p.has("look-at")) {
     try {
       T = rasm::sim::cameraPoseLookingAt(eye, parseVec3(p, "look-at"));
     } catch (const std::invalid_argument& e) {
-      rasm::throwInputError("--look-at " + p.options.at("look-at"), e.what());
+      rasm::throwInputError("--look-at " + p.value("look-at"), e.what());
     }
   } else {
     const double yaw = parseDouble(p, "yaw", 0.0), pitch = parseDouble(p, "pitch", 0.0);
-    rasm::requireAngleDeg(yaw, "--yaw " + (p.options.count("yaw") ? p.options.at("yaw") : ""));
-    rasm::requireFiniteIn(pitch, -90, 90,
-                          "--pitch " + (p.options.count("pitch") ? p.options.at("pitch") : ""));
+    rasm::requireAngleDeg(yaw, "--yaw " + p.value("yaw"));
+    rasm::requireFiniteIn(pitch, -90, 90, "--pitch " + p.value("pitch"));
     T = rasm::sim::cameraPoseFromHeading(eye, yaw, pitch);
   }
   rasm::sim::TSensorParams sp;
   sp.noise = parseOnOff(p, "noise", true);
   sp.dropouts = sp.noise;
-  if (p.options.count("camera")) sp.camera = p.options.at("camera");
-  const rasm::sim::RayScene scene(rasm::sim::loadWorld(p.positional[0]));
+  if (p.has("camera")) sp.camera = p.value("camera");
+  const rasm::sim::RayScene scene(rasm::sim::loadWorld(p.positional("world")));
   const rasm::sim::RgbdSensor sensor(scene, sp);
   const rasm::RgbdFrame f = sensor.render(T, parseSeed(p), 0);
-  rasm::sim::savePreviewImages(f, p.positional[1], sp.max_depth_m);
-  std::cout << "wrote " << p.positional[1] << "_{colour,depth,instance,class}.png\n";
+  const std::string prefix = p.positional("out_prefix");
+  rasm::sim::savePreviewImages(f, prefix, sp.max_depth_m);
+  std::cout << "wrote " << prefix << "_{colour,depth,instance,class}.png\n";
   return 0;
 }
 
-int cmdInfo(const Args& args) {
-  if (args.size() != 1)
-    rasm::throwInputError("rasm sim info", "expected <world>\n" + std::string(kUsage));
-  const rasm::sim::World w = rasm::sim::loadWorld(args[0]);
+const CommandDecl kInfoDecl{
+    "sim info", "a world's objects per class, triangles and bounds", {kWorld}, {}, kWorldNote};
+
+int cmdInfo(const ParsedArgs& p) {
+  const rasm::sim::World w = rasm::sim::loadWorld(p.positional("world"));
   std::map<std::string, int> per_class;
   std::size_t tris = 0;
   for (const auto& o : w.objects) {
@@ -241,10 +202,15 @@ int cmdInfo(const Args& args) {
   return 0;
 }
 
-int cmdMakeModels(const Args& args) {
-  if (args.size() > 1)
-    rasm::throwInputError("rasm sim make-models", "expected at most one directory");
-  const std::string dir = args.empty() ? rasm::sim::simDataDir() + "/models" : args[0];
+const CommandDecl kMakeModelsDecl{
+    "sim make-models",
+    "write the procedural object models",
+    {{"dir", "where to write them (default: the simulator's models folder)", false}},
+    {}};
+
+int cmdMakeModels(const ParsedArgs& p) {
+  const std::string dir =
+      p.positional("dir").empty() ? rasm::sim::simDataDir() + "/models" : p.positional("dir");
   for (const auto& f : rasm::sim::writeProceduralModels(dir)) std::cout << "wrote " << f << "\n";
   return 0;
 }
@@ -259,9 +225,9 @@ void parseSize(const std::string& s, double& w, double& d) {
 }
 
 /// An integer option (`--rooms`, `--plain-walls`) within [lo, hi]; `expected` says what it is.
-int parseIntOption(const Parsed& p, const std::string& key, int lo, int hi,
+int parseIntOption(const ParsedArgs& p, const std::string& key, int lo, int hi,
                    const std::string& expected) {
-  const std::string& v = p.options.at(key);
+  const std::string v = p.value(key);
   std::size_t used = 0;
   int n = 0;
   try {
@@ -274,56 +240,67 @@ int parseIntOption(const Parsed& p, const std::string& key, int lo, int hi,
   return n;
 }
 
-int cmdGenerate(const Args& args) {
-  const Parsed p = parse(
-      args, {"seed", "size", "kind", "layout", "rooms", "plain-walls", "trajectories"}, {"fast"});
-  if (p.positional.size() != 1)
-    rasm::throwInputError("rasm sim generate", "expected one <out.yaml>\n" + std::string(kUsage));
-  if (!p.options.count("seed"))
-    rasm::throwInputError("rasm sim generate",
-                          "--seed N is required (the world is a function of it)");
+const CommandDecl kGenerateDecl{
+    "sim generate",
+    "generate a furnished room or flat (world YAML) and, with --trajectories, paths through it",
+    {{"out.yaml", "the world file to write"}},
+    {{"seed", "N", "the world is a function of it", "", false, true},
+     {"size", "WxD", "interior in metres, each side 3-16 (default: drawn from the seed)"},
+     {"kind", "office|lab|mixed|break_room", "what furnishes the rooms (default mixed)"},
+     {"layout", "room|flat", "one room (default), or a flat of rooms"},
+     {"rooms", "N", "a flat's rooms, 2-5 (default 3; only with --layout flat)"},
+     {"plain-walls", "N", "long sides of every room left plain: 0, 1 or 2"},
+     {"trajectories", "DIR_OR_PREFIX", "where the trajectory specs go (default: beside the world)"},
+     {"fast", "", "also the _handheld_fast and _robot_fast trajectories"}},
+    "Writes <out.yaml> and the trajectories <stem>_handheld.yaml, <stem>_robot.yaml; the same\n"
+    "options give byte-identical files (docs/sim.md \"Generated worlds\").\n"};
+
+int cmdGenerate(const ParsedArgs& p) {
   rasm::sim::TWorldGenParams wp;
   wp.seed = parseSeed(p);
-  if (p.options.count("size")) parseSize(p.options.at("size"), wp.width_m, wp.depth_m);
-  if (p.options.count("kind"))
-    wp.kind = rasm::sim::roomKindFromName(p.options.at("kind"), "--kind");
-  if (p.options.count("layout"))
-    wp.layout = rasm::sim::worldLayoutFromName(p.options.at("layout"), "--layout");
-  if (p.options.count("rooms")) {
+  if (p.has("size")) parseSize(p.value("size"), wp.width_m, wp.depth_m);
+  if (p.has("kind")) wp.kind = rasm::sim::roomKindFromName(p.value("kind"), "--kind");
+  if (p.has("layout")) wp.layout = rasm::sim::worldLayoutFromName(p.value("layout"), "--layout");
+  if (p.has("rooms")) {
     if (wp.layout != rasm::sim::WorldLayout::Flat)
-      rasm::throwInputError("--rooms " + p.options.at("rooms"),
+      rasm::throwInputError("--rooms " + p.value("rooms"),
                             "only with --layout flat (the room layout is one room)");
     wp.rooms = parseIntOption(p, "rooms", 2, 5, "2 to 5 rooms in a flat");
   }
-  if (p.options.count("plain-walls"))
+  if (p.has("plain-walls"))
     wp.plain_walls = parseIntOption(p, "plain-walls", 0, 2,
                                     "0, 1 or 2 (long sides of each room left without furniture)");
   wp.validate();
-  const std::string traj = p.options.count("trajectories") ? p.options.at("trajectories") : "";
-  const rasm::sim::GenerateFilesResult r =
-      rasm::sim::generateWorldFiles(wp, p.positional[0], traj, p.flag("fast"));
+  const rasm::sim::GenerateFilesResult r = rasm::sim::generateWorldFiles(
+      wp, p.positional("out.yaml"), p.value("trajectories"), p.has("fast"));
   for (const std::string& line : r.summary) std::cout << "wrote " << line << "\n";
   return 0;
 }
 
+const CommandDecl kCheckMapDecl{
+    "sim check-map",
+    "how many surfels of a map lie farther than --max-dist-m from the world's surface",
+    {kWorld, {"map.ply", "the surfel PLY of a `rasm run`"}},
+    {{"max-dist-m", "0.05", "the distance (m) beyond which a surfel counts as off the surface"},
+     {"cap-m", "0.5", "distances are measured up to this (m)"},
+     {"stable-only", "", "only the surfels marked stable"},
+     {"json", "out.json", "also write the result as JSON"}},
+    kWorldNote};
+
 /// `rasm sim check-map`: how many surfels of a map (PLY of `rasm run`) lie further than
 /// --max-dist-m from the world's ground-truth surface (SurfaceDistance.h: an upper bound of the
 /// distance by ray casts).
-int cmdCheckMap(const Args& args) {
-  const Parsed p = parse(args, {"max-dist-m", "cap-m", "json"}, {"stable-only"});
-  if (p.positional.size() != 2)
-    rasm::throwInputError("rasm sim check-map",
-                          "expected <world> <map.ply>\n" + std::string(kUsage));
+int cmdCheckMap(const ParsedArgs& p) {
   const double max_dist = parseDouble(p, "max-dist-m", 0.05);
   const double cap = parseDouble(p, "cap-m", 0.5);
   if (!(max_dist >= 0.0) || !std::isfinite(max_dist))
-    rasm::throwInputError("--max-dist-m " + p.options.at("max-dist-m"), "expected a distance >= 0");
+    rasm::throwInputError("--max-dist-m " + p.value("max-dist-m"), "expected a distance >= 0");
   if (!(cap > 0.0) || !std::isfinite(cap))
-    rasm::throwInputError("--cap-m " + p.options.at("cap-m"), "expected a distance > 0");
+    rasm::throwInputError("--cap-m " + p.value("cap-m"), "expected a distance > 0");
 #ifdef RASM_HAVE_MODULE_SURFEL_MAP
-  const std::string& ply = p.positional[1];
+  const std::string ply = p.positional("map.ply");
   const rasm::maps::PlySurfels map = rasm::maps::readSurfelPly(ply);
-  const bool stable_only = p.flag("stable-only");
+  const bool stable_only = p.has("stable-only");
   std::vector<Eigen::Vector3f> positions, normals;
   positions.reserve(map.size());
   normals.reserve(map.size());
@@ -332,7 +309,7 @@ int cmdCheckMap(const Args& args) {
     positions.push_back(map.position[i]);
     normals.push_back(map.normal[i]);
   }
-  const rasm::sim::RayScene scene(rasm::sim::loadWorld(p.positional[0]));
+  const rasm::sim::RayScene scene(rasm::sim::loadWorld(p.positional("world")));
   const rasm::sim::SurfaceDistanceStats s =
       rasm::sim::surfaceDistanceStats(scene, positions, normals, max_dist, cap);
   std::printf(
@@ -341,8 +318,8 @@ int cmdCheckMap(const Args& args) {
       ply.c_str(), s.points, stable_only ? "stable " : "", s.within, max_dist,
       scene.world().name.c_str(), s.beyond, 100.0 * s.fraction_beyond, s.p50_m, s.p90_m, s.p95_m,
       s.p99_m, s.max_m, cap);
-  if (p.options.count("json")) {
-    const std::string out = p.options.at("json");
+  if (p.has("json")) {
+    const std::string out = p.value("json");
     nlohmann::json j;
     j["map"] = ply;
     j["world"] = scene.world().name;
@@ -370,29 +347,18 @@ int cmdCheckMap(const Args& args) {
 #endif
 }
 
-int cmdSim(const Args& args) {
-  if (args.empty()) {
-    std::cerr << kUsage;
-    return 1;
-  }
-  const Args rest(args.begin() + 1, args.end());
-  if (args[0] == "record") return cmdRecord(rest);
-  if (args[0] == "render") return cmdRender(rest);
-  if (args[0] == "info") return cmdInfo(rest);
-  if (args[0] == "make-models") return cmdMakeModels(rest);
-  if (args[0] == "generate") return cmdGenerate(rest);
-  if (args[0] == "check-map") return cmdCheckMap(rest);
-  if (args[0] == "help") {
-    std::cout << kUsage;
-    return 0;
-  }
-  rasm::throwInputError("rasm sim " + args[0], "unknown subcommand\n" + std::string(kUsage));
-}
-
-const rasm::app::Registrar kRegistrar{
-    "sim",
-    "simulator: record rawlogs from worlds, render previews, generate rooms, check maps against "
-    "the ground truth (rasm sim help)",
-    &cmdSim, kUsage};
+const rasm::app::Registrar reg{
+    {"sim",
+     "simulator: record rawlogs from worlds, render previews, generate rooms, check maps against "
+     "the ground truth (rasm sim help)",
+     {},
+     {},
+     kWorldNote}};
+const rasm::app::Registrar reg_record{kRecordDecl, &cmdRecord};
+const rasm::app::Registrar reg_render{kRenderDecl, &cmdRender};
+const rasm::app::Registrar reg_info{kInfoDecl, &cmdInfo};
+const rasm::app::Registrar reg_make_models{kMakeModelsDecl, &cmdMakeModels};
+const rasm::app::Registrar reg_generate{kGenerateDecl, &cmdGenerate};
+const rasm::app::Registrar reg_check_map{kCheckMapDecl, &cmdCheckMap};
 
 }  // namespace

@@ -14,7 +14,6 @@
 #include <vector>
 
 #include "Command.h"
-#include "EvalCommands.h"
 #include "RunObjects.h"
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
@@ -23,16 +22,28 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* kUsage =
-    "usage: rasm sweep gather <sweep folder> [--markdown out.md] [--json out.json] [--csv "
-    "out.csv]\n"
+const rasm::app::CommandDecl kSweepDecl{
+    "sweep",
+    "the table of a sweep (scripts/sweep.sh): rasm sweep gather <folder>",
+    {},
+    {},
+    "scripts/sweep.sh runs the sweep (GNU parallel or a Slurm array job); rasm sweep gather\n"
+    "tabulates it.\n"};
+
+const rasm::app::CommandDecl kGatherDecl{
+    "sweep gather",
+    "one row per task of a sweep: its parameters and its report.json's headline numbers",
+    {{"sweep folder", "the --out folder of scripts/sweep.sh"}},
+    {{"markdown", "out.md", "the Markdown table (default: <sweep folder>/results.md)"},
+     {"json", "out.json", "the rows as JSON (default: <sweep folder>/results.json)"},
+     {"csv", "out.csv", "the rows as CSV (default: <sweep folder>/results.csv)"}},
     "One row per task of <sweep folder>/tasks.tsv (scripts/sweep.sh writes it; without it, every\n"
     "<sweep folder>/runs/<name> holding a report.json): the task's columns (world, planner, seed,\n"
     "input) and its report.json's status, frames, tracked fraction, ATE, frame rate, segments,\n"
     "objects, coverage, objects correct, path, simulated and wall time, stop reason, commit.\n"
     "Tasks without a report.json are rows with status \"missing\" (see runs/<name>.log).\n"
     "Writes <sweep folder>/results.{md,json,csv} unless given other paths; when every finished\n"
-    "task explored, also exploration.{md,json} (rasm eval exploration over them).\n";
+    "task explored, also exploration.{md,json} (rasm eval exploration over them).\n"};
 
 /// One task: its parameters (tasks.tsv columns other than args) and its run folder.
 struct Task {
@@ -189,28 +200,10 @@ void writeFile(const std::string& path, const std::string& text, const char* opt
   std::fprintf(stderr, "wrote %s\n", path.c_str());
 }
 
-int gather(const std::vector<std::string>& args) {
-  std::string folder, md_path, json_path, csv_path;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) rasm::throwInputError(a, "needs a value\n" + std::string(kUsage));
-      return args[++i];
-    };
-    if (a == "--markdown")
-      md_path = value();
-    else if (a == "--json")
-      json_path = value();
-    else if (a == "--csv")
-      csv_path = value();
-    else if (a.rfind("--", 0) == 0)
-      throw rasm::InputError("unknown option '" + a + "'\n" + std::string(kUsage));
-    else if (folder.empty())
-      folder = a;
-    else
-      rasm::throwInputError("argument '" + a + "'", "unexpected: one sweep folder");
-  }
-  if (folder.empty()) throw rasm::InputError("expected <sweep folder>\n" + std::string(kUsage));
+int gather(const rasm::app::ParsedArgs& args) {
+  const std::string folder = args.positional("sweep folder");
+  const std::string md_path = args.value("markdown"), json_path = args.value("json"),
+                    csv_path = args.value("csv");
   const fs::path sweep(folder);
   if (!fs::is_directory(sweep)) rasm::throwInputError(folder, "is not a folder");
   const std::vector<Task> tasks = readTasks(sweep);
@@ -247,24 +240,12 @@ int gather(const std::vector<std::string>& args) {
     std::vector<std::string> ex = explored_dirs;
     ex.insert(ex.end(), {"--markdown", (sweep / "exploration.md").string(), "--json",
                          (sweep / "exploration.json").string()});
-    return rasm::app::evalExploration(ex);
+    return rasm::app::runCommand("eval exploration", ex);
   }
   return 0;
 }
 
-int sweepMain(const std::vector<std::string>& args) {
-  if (args.empty()) {
-    std::cerr << kUsage;
-    return 1;
-  }
-  if (args[0] == "gather") return gather(std::vector<std::string>(args.begin() + 1, args.end()));
-  rasm::throwInputError(
-      "rasm sweep " + args[0],
-      "unknown subcommand (expected gather; scripts/sweep.sh runs sweeps)\n" + std::string(kUsage));
-}
-
-const rasm::app::Registrar reg(
-    "sweep", "the table of a sweep (scripts/sweep.sh): rasm sweep gather <folder>", sweepMain,
-    kUsage);
+const rasm::app::Registrar reg{kSweepDecl};
+const rasm::app::Registrar reg_gather{kGatherDecl, &gather};
 
 }  // namespace

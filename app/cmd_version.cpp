@@ -8,20 +8,21 @@
 
 namespace {
 
-const char* kUsage =
-    "usage: rasm version   (or rasm --version)\n"
+const rasm::app::CommandDecl kDecl{
+    "version",
+    "version, git commit and build date (also --version)",
+    {},
+    {},
     "Prints the version, the git commit the binary was built from (\"-dirty\": with uncommitted\n"
-    "changes; \"unknown\": not built from a git checkout) and the build date (UTC).\n";
+    "changes; \"unknown\": not built from a git checkout) and the build date (UTC).\n"
+    "rasm --version prints the same.\n"};
 
-int versionMain(const std::vector<std::string>& args) {
-  if (!args.empty())
-    rasm::throwInputError("argument '" + args[0] + "'", "unexpected: rasm version takes none");
+int versionMain(const rasm::app::ParsedArgs&) {
   const rasm::pipeline::BuildInfo& b = rasm::pipeline::buildInfo();
   std::cout << "rasm " << b.version << "\ncommit " << b.commit << "\nbuilt " << b.date << "\n";
   return 0;
 }
 
-const rasm::app::Registrar reg("version", "version, git commit and build date (also --version)",
-                               versionMain, kUsage);
+const rasm::app::Registrar reg{kDecl, &versionMain};
 
 }  // namespace

@@ -28,17 +28,23 @@ namespace {
 namespace fs = std::filesystem;
 using rasm::maps::SurfelColouring;
 
-const char* kUsage =
-    "usage: rasm view <run folder> [--colour rgb|segments|classes] [--png out.png]\n"
-    "                 [--size WIDTHxHEIGHT] [--no-views]\n"
+const rasm::app::CommandDecl kDecl{
+    "view",
+    "a run's map, paths and candidate views in a 3-D window, or offscreen to a PNG",
+    {{"run folder", "the output folder of a `rasm run` (its map.surfelmap)"}},
+    {{"colour", "rgb|segments|classes", "the surfels' colouring (default rgb)"},
+     {"color", "rgb|segments|classes", "the same as --colour"},
+     {"png", "out.png", "render offscreen to this PNG (without a display: view.png)"},
+     {"size", "WIDTHxHEIGHT", "pixels, 16-8192 each (default 1280x960)"},
+     {"no-views", "", "leave out the exploration's candidate views"}},
     "Shows the run's map (map.surfelmap) with the estimated camera path (orange), the ground\n"
-    "truth (green), the last camera (white frustum) and the exploration's candidate views (arrows "
-    "coloured by\n"
-    "information gain, blue low .. red high, grey unreachable; goals driven to in magenta).\n"
+    "truth (green), the last camera (white frustum) and the exploration's candidate views\n"
+    "(arrows coloured by information gain, blue low .. red high, grey unreachable; goals driven\n"
+    "to in magenta).\n"
     "With a display (DISPLAY set) and no --png: MRPT's 3-D window; keys 1 colour, 2 segments,\n"
     "3 classes, v views, p paths, q or Esc quits; the mouse turns (left), zooms (wheel) and pans\n"
     "(right). Without a display, or with --png: renders offscreen to out.png (default view.png),\n"
-    "--size pixels (default 1280x960).\n";
+    "--size pixels (default 1280x960).\n"};
 
 const char* const kLayers[] = {"colour", "segments", "classes"};
 
@@ -49,42 +55,28 @@ struct ViewArgs {
   bool views = true;
 };
 
-ViewArgs parse(const std::vector<std::string>& args) {
+ViewArgs viewArgsOf(const rasm::app::ParsedArgs& args) {
   ViewArgs v;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= args.size()) throw rasm::InputError(a + ": expected a value\n" + kUsage);
-      return args[++i];
-    };
-    if (a == "--png") {
-      v.png = value();
-    } else if (a == "--no-views") {
-      v.views = false;
-    } else if (a == "--colour" || a == "--color") {
-      const std::string c = value();
-      if (c == "rgb" || c == "colour")
-        v.colouring = SurfelColouring::Rgb;
-      else if (c == "segments")
-        v.colouring = SurfelColouring::Segment;
-      else if (c == "classes")
-        v.colouring = SurfelColouring::Class;
-      else
-        throw rasm::InputError("--colour '" + c + "': expected rgb, segments or classes");
-    } else if (a == "--size") {
-      const std::string s = value();
-      if (std::sscanf(s.c_str(), "%dx%d", &v.width, &v.height) != 2 || v.width < 16 ||
-          v.height < 16 || v.width > 8192 || v.height > 8192)
-        throw rasm::InputError("--size '" + s + "': expected WIDTHxHEIGHT, 16-8192 pixels each");
-    } else if (a.rfind("--", 0) == 0) {
-      throw rasm::InputError("unknown option '" + a + "'\n" + kUsage);
-    } else if (v.run.empty()) {
-      v.run = a;
-    } else {
-      throw rasm::InputError("unexpected argument '" + a + "'\n" + kUsage);
-    }
+  v.run = args.positional("run folder");
+  v.png = args.value("png");
+  v.views = !args.has("no-views");
+  for (const auto& [option, c] : args.given()) {
+    if (option != "colour" && option != "color") continue;
+    if (c == "rgb" || c == "colour")
+      v.colouring = SurfelColouring::Rgb;
+    else if (c == "segments")
+      v.colouring = SurfelColouring::Segment;
+    else if (c == "classes")
+      v.colouring = SurfelColouring::Class;
+    else
+      throw rasm::InputError("--colour '" + c + "': expected rgb, segments or classes");
   }
-  if (v.run.empty()) throw rasm::InputError(std::string("expected <run folder>\n") + kUsage);
+  if (args.has("size")) {
+    const std::string s = args.value("size");
+    if (std::sscanf(s.c_str(), "%dx%d", &v.width, &v.height) != 2 || v.width < 16 ||
+        v.height < 16 || v.width > 8192 || v.height > 8192)
+      throw rasm::InputError("--size '" + s + "': expected WIDTHxHEIGHT, 16-8192 pixels each");
+  }
   if (!fs::is_directory(v.run)) rasm::throwInputError(v.run, "is not a folder (a run folder)");
   return v;
 }
@@ -172,13 +164,8 @@ void showWindow(const mrpt::opengl::COpenGLScene::Ptr& scene, const ViewArgs& v)
   }
 }
 
-int view(const std::vector<std::string>& args) {
-  for (const std::string& a : args)
-    if (a == "--help" || a == "-h") {
-      std::printf("%s", kUsage);
-      return 0;
-    }
-  const ViewArgs v = parse(args);
+int view(const rasm::app::ParsedArgs& args) {
+  const ViewArgs v = viewArgsOf(args);
   const auto map = loadMap(v.run);
   rasm::pipeline::RunOverlay overlay = rasm::pipeline::readRunOverlay(v.run);
   if (!v.views) overlay.views.clear();
@@ -191,8 +178,6 @@ int view(const std::vector<std::string>& args) {
   return 0;
 }
 
-const rasm::app::Registrar kRegistrar{
-    "view", "a run's map, paths and candidate views in a 3-D window, or offscreen to a PNG", &view,
-    kUsage};
+const rasm::app::Registrar reg{kDecl, &view};
 
 }  // namespace

@@ -1,7 +1,5 @@
-// `rasm zsc ...`: the zero-shot classifier of paper IV-A (thin layer over
+// `rasm zsc train | detect`: the zero-shot classifier of paper IV-A (thin layer over
 // rasm::classification::TemplateBank / ZeroShotDetector; docs/classification-zero-shot.md).
-//   rasm zsc train <models.yaml> <bank>
-//   rasm zsc detect <bank> <image> [--out boxes.png] [--set zero_shot.key=value ...]
 #ifdef RASM_HAVE_MODULE_CLASSIFICATION
 #include <mrpt/config/CConfigFileMemory.h>
 
@@ -24,22 +22,32 @@
 namespace {
 
 using namespace rasm::classification;
-using Args = std::vector<std::string>;
+using rasm::app::CommandDecl;
+using rasm::app::ParsedArgs;
 
-const char* kUsage =
-    "usage:\n"
-    "  rasm zsc train <models.yaml> <bank>\n"
-    "  rasm zsc detect <bank> <image> [--out boxes.png] [--set zero_shot.key=value ...]\n"
+const char* kModelsNote =
     "models.yaml: docs/classification-zero-shot.md (shipped: "
     "modules/classification/models/*.yaml)\n";
 
-int train(const Args& a) {
-  if (a.size() != 2) {
-    std::cerr << kUsage;
-    return 2;
-  }
+const CommandDecl kTrainDecl{
+    "zsc train",
+    "render the models' templates into a template bank",
+    {{"models.yaml", "the models and their views"}, {"bank", "the template bank to write"}},
+    {},
+    kModelsNote};
+
+const CommandDecl kDetectDecl{
+    "zsc detect",
+    "zero-shot detections on one image as JSON",
+    {{"bank", "a template bank of rasm zsc train"}, {"image", "the image"}},
+    {{"out", "boxes.png", "draw the detections into a PNG"},
+     {"set", "zero_shot.key=value", "set one key of [zero_shot]", "", true}},
+    kModelsNote};
+
+int train(const ParsedArgs& args) {
+  const std::string models = args.positional("models.yaml"), bank_path = args.positional("bank");
   const rasm::Clock::time_point t0 = rasm::Clock::now();
-  const ModelsSpec spec = loadModelsSpec(a[0]);
+  const ModelsSpec spec = loadModelsSpec(models);
   const TemplateBank bank =
       trainTemplateBank(spec, [&](std::size_t i, std::size_t n, std::size_t t) {
         std::fprintf(stderr, "\rtraining: model %zu/%zu (%s), %zu templates", i, n,
@@ -47,9 +55,9 @@ int train(const Args& a) {
         std::fflush(stderr);
       });
   std::fprintf(stderr, "\n");
-  saveTemplateBank(bank, a[1]);
+  saveTemplateBank(bank, bank_path);
   nlohmann::json j;
-  j["bank"] = a[1];
+  j["bank"] = bank_path;
   j["templates"] = bank.size();
   j["descriptor_length"] = bank.descriptors.cols;
   for (int c = 0; c < int(bank.class_names.size()); ++c)
@@ -87,35 +95,18 @@ void drawDetections(cv::Mat& image, const std::vector<Detection>& dets,
   }
 }
 
-int detect(const Args& args) {
-  Args pos, sets;
-  std::string out;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if ((a == "--out" || a == "--set") && i + 1 >= args.size())
-      rasm::throwInputError("option '" + a + "'", "expects a value");
-    if (a == "--out")
-      out = args[++i];
-    else if (a == "--set")
-      sets.push_back(args[++i]);
-    else if (a.rfind("--", 0) == 0)
-      rasm::throwInputError("option '" + a + "'", "unknown");
-    else
-      pos.push_back(a);
-  }
-  if (pos.size() != 2) {
-    std::cerr << kUsage;
-    return 2;
-  }
-  TZeroShotParams params = paramsFromOverrides(sets);
-  ZeroShotDetector detector(loadTemplateBank(pos[0]), params);
-  cv::Mat image = cv::imread(pos[1], cv::IMREAD_COLOR);
-  if (image.empty()) rasm::throwInputError("image '" + pos[1] + "'", "missing or unreadable");
+int detect(const ParsedArgs& args) {
+  const std::string bank = args.positional("bank"), image_path = args.positional("image"),
+                    out = args.value("out");
+  TZeroShotParams params = paramsFromOverrides(args.values("set"));
+  ZeroShotDetector detector(loadTemplateBank(bank), params);
+  cv::Mat image = cv::imread(image_path, cv::IMREAD_COLOR);
+  if (image.empty()) rasm::throwInputError("image '" + image_path + "'", "missing or unreadable");
   DetectorInput in;
   in.bgr = image;
   const std::vector<Detection> dets = detector.detect(in);
   nlohmann::json j;
-  j["image"] = pos[1];
+  j["image"] = image_path;
   j["proposal_ms"] = detector.lastProposalMs();
   j["match_ms"] = detector.lastMatchMs();
   j["detections"] = nlohmann::json::array();
@@ -144,22 +135,14 @@ int detect(const Args& args) {
   return 0;
 }
 
-int zscMain(const Args& args) {
-  if (args.empty()) {
-    std::cerr << kUsage;
-    return 2;
-  }
-  const Args rest(args.begin() + 1, args.end());
-  if (args[0] == "train") return train(rest);
-  if (args[0] == "detect") return detect(rest);
-  std::cerr << "rasm zsc: unknown subcommand '" << args[0] << "'\n" << kUsage;
-  return 2;
-}
-
-const rasm::app::Registrar reg(
-    "zsc",
-    "zero-shot classifier (IV-A): rasm zsc train <models.yaml> <bank> | detect <bank> <image>",
-    zscMain, kUsage);
+const rasm::app::Registrar reg{
+    {"zsc",
+     "zero-shot classifier (IV-A): rasm zsc train <models.yaml> <bank> | detect <bank> <image>",
+     {},
+     {},
+     kModelsNote}};
+const rasm::app::Registrar reg_train{kTrainDecl, &train};
+const rasm::app::Registrar reg_detect{kDetectDecl, &detect};
 
 }  // namespace
 #endif  // RASM_HAVE_MODULE_CLASSIFICATION

@@ -63,33 +63,35 @@ int main(int argc, char** argv) {
     ::execv("/proc/self/exe", argv);  // returns only on failure: then go on with the default
   }
   using namespace rasm::app;
-  const auto& cmds = commands();
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
     printCommandList(std::cout);
     return argc < 2 ? 1 : 0;
   }
   const std::string name = std::string(argv[1]) == "--version" ? "version" : argv[1];
-  const auto it = cmds.find(name);
-  if (it == cmds.end()) {
+  const auto it = commands().find(name);
+  if (it == commands().end() || name.find(' ') != std::string::npos) {
     std::cerr << "rasm: unknown command '" << forPeople(argv[1], true) << "' (try `rasm help`)\n";
     return 2;
   }
-  // --verbose (any command): error messages in full, MRPT's backtraces included.
-  std::vector<std::string> args(argv + 2, argv + argc);
-  const auto v = std::remove(args.begin(), args.end(), std::string("--verbose"));
-  const bool verbose = v != args.end() || std::getenv("RASM_VERBOSE") != nullptr;
-  args.erase(v, args.end());
-  if (const std::string usage = usageOf(name, args); !usage.empty() && wantsHelp(args)) {
-    std::cout << usage;
+  // --verbose (any command): error messages in full, MRPT's backtraces included. It stays among
+  // the arguments of a command that declares it too (rasm run: every log message).
+  std::vector<std::string> args(argv + 2, argv + argc), stripped = args, rest;
+  const auto v = std::remove(stripped.begin(), stripped.end(), std::string("--verbose"));
+  const bool verbose = v != stripped.end() || std::getenv("RASM_VERBOSE") != nullptr;
+  stripped.erase(v, stripped.end());
+  const CommandInfo* info = resolveCommand(name, stripped, rest);
+  if (!declaresOption(info->decl, "verbose")) args = stripped;
+  if (wantsHelp(args)) {
+    std::cout << usageOf(info->decl);
     return 0;
   }
   try {
-    return it->second.fn(args);
+    return runCommand(name, args);
   } catch (const rasm::InputError& e) {
-    std::cerr << "rasm " << name << ": error: " << forPeople(e.what(), verbose) << "\n";
+    std::cerr << "rasm " << info->decl.name << ": error: " << forPeople(e.what(), verbose) << "\n";
     return 3;
   } catch (const std::exception& e) {
-    std::cerr << "rasm " << name << ": failed: " << forPeople(e.what(), verbose) << "\n";
+    std::cerr << "rasm " << info->decl.name << ": failed: " << forPeople(e.what(), verbose) << "\n";
     return 4;
   }
 }

@@ -6,6 +6,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake ninja-build ccache pkg-config git
   libmrpt-dev mrpt-apps mrpt-common         # MRPT 2.5: obs, maps, nav, kinematics, opengl, hwdrivers
+  libmrpt-tclap-dev                          # MRPT's TCLAP: the command line of rasm (app/Options.h)
   libopencv-dev libopencv-contrib-dev        # image ops, DNN loading; ximgproc (Edge Boxes, IV-A)
   darknet                                    # /usr/share/darknet: yolov3.cfg, coco.names, dog.jpg (IV tests)
   libeigen3-dev liboctomap-dev libnanoflann-dev

@@ -18,6 +18,8 @@ if command -v groff >/dev/null; then
     grep -q "^       $c" <<<"$text" || fail "the man page does not document '$c'"
   done
   grep -q -- "--set section.key=value" <<<"$text" || fail "the man page lacks rasm run's usage"
+  grep -q "^ *\-\-max\-frames N" <<<"$text" || grep -q -- "--max-frames N" <<<"$text" ||
+    fail "the man page lacks rasm run's options"
 else
   echo "note: groff not found, the man page was only checked for its commands"
   for c in $commands; do grep -q "^.B $c\$" "$build/rasm.1" || fail "rasm.1 lacks '$c'"; done
@@ -48,4 +50,20 @@ expect ate eval a
 expect generate sim gen
 expect --max-frames run --max-f
 [[ -z $(complete_line run --set no_such_section.) ]] || fail "--set completes a key that does not exist"
+# Every option a command's (or subcommand's) --help lists is offered after `rasm <command> [sub] --`.
+for c in $commands; do
+  subs=$("$rasm" "$c" --help | awk '/^subcommands/{s=1; next} /^$/{s=0} s && /^  [a-z]/{print $1}')
+  invocations=$c  # a command made of subcommands: theirs
+  [[ -z $subs ]] || invocations=$(for s in $subs; do echo "$c:$s"; done)
+  for inv in $invocations; do
+    read -ra words <<<"${inv/:/ }"
+    opts=$("$rasm" "${words[@]}" --help | awk '/^options:/{o=1; next} /^$/{o=0}
+      o && /^  -/{for (i = 1; i <= NF; i++) if ($i ~ /^--[a-z]/) {sub(/,$/, "", $i); print $i; break}}')
+    [[ -n $opts ]] || fail "rasm ${words[*]} --help lists no options"
+    offered=$(complete_line "${words[@]}" --)
+    for o in $opts; do
+      grep -qx -- "$o" <<<"$offered" || fail "completing 'rasm ${words[*]} --' does not offer $o"
+    done
+  done
+done
 echo "man page: $(wc -l <"$build/rasm.1") lines; completion: $(echo $commands | wc -w) commands, --set keys: $(_rasm_set_keys "$rasm" | wc -l)"
