@@ -192,6 +192,11 @@ int printSummary(const rasm::pipeline::MappingRun& run, const rasm::pipeline::Ru
                                         "preview_classes.png"})
                     .c_str(),
                 out_dir.c_str());
+    if (cls->contains("objects_correct"))  // a simulated run that did not explore
+      std::printf(
+          "objects against the simulated world: %d of its %d detectable objects carry their "
+          "class (frames.csv objects_correct, plot_objects.png)\n",
+          (*cls)["objects_correct"].get<int>(), (*cls)["objects_detectable"].get<int>());
     for (const auto& d : (*cls)["detectors"])
       if (d.contains("disabled"))
         std::printf("WARNING: %s\n", d["disabled"].get<std::string>().c_str());
