@@ -206,6 +206,41 @@ TEST(OdometryPrior, LostFramesWidenTheNextPrediction) {
   EXPECT_NEAR(yawSigma(*op.predict(odo, cam)), one, 1e-9);
 }
 
+TEST(OdometryPrior, GyroWhenDegenerateHoldsTheHeadingAtTheGyrosNoiseInDegenerateFramesOnly) {
+  // A turn in place at 5 deg per frame. gyro_when_degenerate: the prior and the check of a frame
+  // the geometry constrains use the wheels' yaw sigma; the check of a degenerate frame uses the
+  // gyro's, 0.05 deg + 0.4% of the turn = 0.07 deg, and over lost frames (propagated at the
+  // gyro's heading) the gyro's variances add up, not the wheels'.
+  TRobotParams p;
+  p.floor_prior = false;  // world z = the floor normal; the information blocks are the base's
+  p.odometry_heading = "gyro_when_degenerate";
+  OdometryPrior op(p);
+  Eigen::Vector3d odo(0, 0, 0);
+  const Eigen::Isometry3d cam = base(0, 0, 0) * p.T_base_cam();
+  op.start(cam, odo);
+  const auto yawSigma = [](const Eigen::Matrix<double, 6, 6>& info) {
+    return 1.0 / std::sqrt(info(5, 5));
+  };
+  const double gyro = (0.05 + 0.004 * 5.0) * kDeg;
+  const double wheels =
+      p.odometry_sigma_yaw_deg * kDeg + p.odometry_sigma_yaw_per_sqrt_rad * std::sqrt(5.0 * kDeg);
+  for (int k = 0; k < 3; ++k) {
+    odo.z() += 5 * kDeg;
+    const tracking::MotionPrior m = *op.predict(odo, cam);
+    EXPECT_NEAR(yawSigma(m.information), wheels * std::sqrt(k + 1.0), 1e-9);
+    EXPECT_NEAR(yawSigma(m.odometry_information), wheels * std::sqrt(k + 1.0), 1e-9);
+    EXPECT_NEAR(yawSigma(m.odometry_information_degenerate), gyro * std::sqrt(k + 1.0), 1e-9);
+    op.frameDone(false);
+  }
+  // The wheels' model has no degenerate-frame part.
+  TRobotParams w = p;
+  w.odometry_heading = "wheels";
+  OdometryPrior wheels_only(w);
+  wheels_only.start(cam, Eigen::Vector3d(0, 0, 0));
+  EXPECT_TRUE(wheels_only.predict(Eigen::Vector3d(0, 0, 5 * kDeg), cam)
+                  ->odometry_information_degenerate.isZero());
+}
+
 TEST(OdometryPrior, FloorDeviationMeasuresHeightAndTiltOffTheFirstFloor) {
   // The drift report: a ground robot's camera stays at the mount's height and tilt over the
   // first frame's floor, wherever it drives and turns; a map whose floor rose or tilted moves it.

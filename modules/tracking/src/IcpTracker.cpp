@@ -223,6 +223,7 @@ TrackingResult IcpTracker::track(const std::vector<FrameLevel>& frame, const Mod
   }
   const Eigen::Isometry3d guess = prior ? prior->T_world_cam : predictPose();
   TrackingResult r = alignWithColourRetry(frame, model, guess, frame_colour, prior, coloured_model);
+  if (prior) r = retryHeldByOdometry(frame, model, guess, frame_colour, *prior, std::move(r));
   const bool unsupported = r.status == TrackingStatus::TooFewInliers ||
                            (r.status == TrackingStatus::Degenerate && !r.ok);
   if (unsupported && denser_model) {
@@ -295,6 +296,25 @@ TrackingResult IcpTracker::alignWithColourRetry(const std::vector<FrameLevel>& f
   if (rc.status != TrackingStatus::Ok) return r;
   rc.photometric_retry = true;
   return rc;
+}
+
+TrackingResult IcpTracker::retryHeldByOdometry(const std::vector<FrameLevel>& frame,
+                                               const ModelMaps& model,
+                                               const Eigen::Isometry3d& guess,
+                                               ImageView<const Bgr8> frame_colour,
+                                               const MotionPrior& prior, TrackingResult r) {
+  if (r.status != TrackingStatus::PriorConflict || r.unconstrained_directions == 0 ||
+      prior.odometry_information_degenerate.isZero())
+    return r;
+  // The geometry left a direction free and ICP moved along it further than the odometry allows
+  // there: solve again with the odometry's x, y and yaw held at their degenerate-frame precision
+  // (a gyro's heading), so that the free direction follows the odometry and the others the data.
+  MotionPrior held = prior;
+  held.information += prior.odometry_information_degenerate - prior.odometry_information;
+  TrackingResult rh = align(frame, model, guess, frame_colour, &held);
+  if (!rh.ok) return r;
+  rh.held_by_odometry = true;
+  return rh;
 }
 
 IcpTracker::PoseCheck IcpTracker::checkPose(const std::vector<FrameLevel>& frame,

@@ -166,6 +166,13 @@ class IcpTracker {
                                       const Eigen::Isometry3d& guess,
                                       ImageView<const Bgr8> frame_colour, const MotionPrior* prior,
                                       const DenserModel& coloured_model = {});
+  /// `r` when it is not a prior conflict of a degenerate frame or the prior has no
+  /// odometry_information_degenerate; else align() again with the odometry's x, y and yaw held
+  /// at that precision: that result when it is ok (held_by_odometry), else `r`.
+  TrackingResult retryHeldByOdometry(const std::vector<FrameLevel>& frame, const ModelMaps& model,
+                                     const Eigen::Isometry3d& guess,
+                                     ImageView<const Bgr8> frame_colour, const MotionPrior& prior,
+                                     TrackingResult r);
   PoseCheck checkPoseBuilt(const std::vector<FrameLevel>& frame, const ModelMaps& model,
                            const Eigen::Isometry3d& T_world_cam) const;
   void buildModelPyramid(const ModelMaps& model, bool intensity, bool confidence);

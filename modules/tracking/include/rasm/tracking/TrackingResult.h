@@ -94,6 +94,9 @@ struct TrackingResult {
   /// The geometry alone left a direction unconstrained and this result is the photometric
   /// retry's (TTrackingParams::photometric_weight_degenerate).
   bool photometric_retry = false;
+  /// A degenerate frame that conflicted with the odometry, solved again with the odometry's x, y
+  /// and yaw at MotionPrior::odometry_information_degenerate (IcpTracker::track).
+  bool held_by_odometry = false;
   std::vector<TrackingLevelStats> levels;  ///< in the order run (coarsest first)
 };
 
