@@ -4,7 +4,8 @@
 // the first `--warmup`: the segmentation steps' mean and median ms (edges incl. the normal filter,
 // components, propagation, merge), the whole frame's median ms and process-CPU ms per frame with
 // and without segmentation, and their difference.
-//   bench_segmentation --source DIR [--frames 150] [--warmup 10]
+//   bench_segmentation --source DIR [--frames 150] [--warmup 10] [--set section.key=value ...]
+// (--set: keys of the Mapper with the stage, e.g. segmentation.colour_edges=true)
 #include <time.h>
 
 #include <algorithm>
@@ -42,6 +43,7 @@ double mean(const std::vector<double>& v) {
 int main(int argc, char** argv) {
   std::string source;
   int frames = 150, warmup = 10;
+  std::vector<std::string> sets;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--source")
@@ -50,19 +52,32 @@ int main(int argc, char** argv) {
       frames = std::atoi(argv[i + 1]);
     else if (a == "--warmup")
       warmup = std::atoi(argv[i + 1]);
+    else if (a == "--set")
+      sets.push_back(argv[i + 1]);
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;
     }
   }
   if (source.empty()) {
-    std::fprintf(stderr, "usage: bench_segmentation --source DIR [--frames 150] [--warmup 10]\n");
+    std::fprintf(
+        stderr,
+        "usage: bench_segmentation --source DIR [--frames 150] [--warmup 10] [--set s.k=v ...]\n");
     return 2;
   }
   try {
     auto src = io::openFrameSource(source, io::FrameSourceOptions());
     mrpt::config::CConfigFileMemory on_ini, off_ini;
     off_ini.write("segmentation", "enabled", "false");
+    for (const std::string& kv : sets) {
+      const auto dot = kv.find('.'), eq = kv.find('=');
+      if (dot == std::string::npos || eq == std::string::npos || eq < dot) {
+        std::fprintf(stderr, "bench_segmentation: --set %s: expected section.key=value\n",
+                     kv.c_str());
+        return 2;
+      }
+      on_ini.write(kv.substr(0, dot), kv.substr(dot + 1, eq - dot - 1), kv.substr(eq + 1));
+    }
     pipeline::Mapper with(on_ini, "bench"), without(off_ini, "bench");
     const auto& timers = with.timerNames();
     std::map<std::string, std::vector<double>> ms;
