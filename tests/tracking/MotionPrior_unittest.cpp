@@ -392,3 +392,57 @@ TEST(MotionPrior, ASlideAlongTheFloorBeyondTheOdometrySigmasIsRefused) {
     EXPECT_GT(r.prior_sigmas, r.odometry_sigmas + 0.5);
   }
 }
+
+/// odometry_information_degenerate: the odometry check of a frame whose geometry leaves a
+/// direction free uses it, a frame that constrains every direction the ordinary part. The same
+/// prior, its yaw 1 deg from the truth that the data hold (wheels: 0.5 deg sigma, 2 sigmas; a
+/// gyro: 0.05 deg, 20 sigmas): in the floor-and-wall view (the slide along the wall free) the
+/// frame is refused by the gyro's part, and the re-solve with the yaw held at the gyro's
+/// precision is refused too (the wall holds the yaw 1 deg away); in the room (nothing free) the
+/// wheels' part lets it pass.
+TEST(MotionPrior, ADegenerateFrameIsCheckedAgainstTheOdometrysDegenerateFramePrecision) {
+  const double s_xy = 0.01, s_yaw = 0.5 * kDeg, s_yaw_gyro = 0.05 * kDeg;
+  const auto prior = [&](const Eigen::Isometry3d& T_true, bool with_gyro) {
+    Eigen::Isometry3d T = T_true;
+    T.linear() = Eigen::AngleAxisd(1.0 * kDeg, Eigen::Vector3d::UnitZ()) * T_true.linear();
+    MotionPrior m =
+        MotionPrior::fromStdDevs(T, Eigen::Matrix3d::Identity(), Eigen::Vector3d(s_xy, s_xy, 0.005),
+                                 Eigen::Vector3d(0.3 * kDeg, 0.3 * kDeg, s_yaw));
+    m.odometry_information =
+        MotionPrior::planarInformation(Eigen::Matrix3d::Identity(), s_xy, s_yaw);
+    if (with_gyro)
+      m.odometry_information_degenerate =
+          MotionPrior::planarInformation(Eigen::Matrix3d::Identity(), s_xy, s_yaw_gyro);
+    return m;
+  };
+  const TTrackingParams p = mechanismParams();
+  const FloorAndWall s;
+  for (const bool with_gyro : {false, true}) {
+    IcpTracker tr(p);
+    tr.reset(s.T_a);
+    const MotionPrior m = prior(s.T_b, with_gyro);
+    const TrackingResult r = tr.track(s.pyr_b, modelOf(*s.model, s.T_a), {}, &m);
+    ASSERT_GT(r.unconstrained_directions, 0) << "the slide along the wall is free";
+    if (!with_gyro) {
+      EXPECT_TRUE(r.ok) << toString(r.status) << ", " << r.odometry_sigmas << " odometry sigmas";
+      EXPECT_LT(r.odometry_sigmas, p.max_odometry_sigmas);
+    } else {
+      EXPECT_FALSE(r.ok) << r.odometry_sigmas << " odometry sigmas";
+      EXPECT_EQ(r.status, TrackingStatus::PriorConflict);
+      EXPECT_GT(r.odometry_sigmas, 10.0);
+      EXPECT_FALSE(r.held_by_odometry);
+    }
+  }
+  // The room constrains every direction: the gyro's part is not used.
+  const Scene scene = Scene::room();
+  const Eigen::Isometry3d T_a = lookAt({0.3, -1.5, 1.3}, {-0.2, 0.8, 0.5});
+  const Eigen::Isometry3d T_b = T_a * motion({0.02, -0.01, 0.03}, {0.2, 1, 0.1}, 1.5);
+  const WorldMaps model(pyramidOf(scene.render(K, T_a))[0], T_a);
+  IcpTracker tr(p);
+  tr.reset(T_a);
+  const MotionPrior m = prior(T_b, true);
+  const TrackingResult r = tr.track(pyramidOf(scene.render(K, T_b)), modelOf(model, T_a), {}, &m);
+  EXPECT_EQ(r.unconstrained_directions, 0);
+  EXPECT_TRUE(r.ok) << toString(r.status) << ", " << r.odometry_sigmas << " odometry sigmas";
+  EXPECT_LT(r.odometry_sigmas, p.max_odometry_sigmas);
+}
