@@ -9,6 +9,7 @@
 #include "rasm/core/Params.h"
 #include "rasm/pipeline/RunConfig.h"
 #include "rasm/pipeline/RunParams.h"
+#include "rasm/tracking/TRobotParams.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
@@ -24,7 +25,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     cfg.checkSections({"source", "camera", "mapper", "robot", "output", "sim"});
     rasm::pipeline::TSourceParams source;
     rasm::pipeline::TMapperParams mapper;
-    rasm::pipeline::TRobotParams robot;
+    rasm::tracking::TRobotParams robot;
     rasm::pipeline::TOutputParams output;
     rasm::loadParamsStrict(cfg.ini(), "source", source, cfg.source());
     rasm::loadParamsStrict(cfg.ini(), "mapper", mapper, cfg.source());

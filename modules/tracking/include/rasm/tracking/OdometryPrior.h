@@ -22,10 +22,10 @@
 #include <optional>
 #include <utility>
 
-#include "rasm/pipeline/RunParams.h"
 #include "rasm/tracking/MotionPrior.h"
+#include "rasm/tracking/TRobotParams.h"
 
-namespace rasm::pipeline {
+namespace rasm::tracking {
 
 class OdometryPrior {
  public:
@@ -37,8 +37,8 @@ class OdometryPrior {
   /// The prior of a frame with odometry reading `odometry` (nullopt: none), given the pose of
   /// the previous frame (estimated or propagated). nullopt when odometry is off or this or the
   /// previous frame has no reading.
-  std::optional<tracking::MotionPrior> predict(const std::optional<Eigen::Vector3d>& odometry,
-                                               const Eigen::Isometry3d& T_world_cam_prev);
+  std::optional<MotionPrior> predict(const std::optional<Eigen::Vector3d>& odometry,
+                                     const Eigen::Isometry3d& T_world_cam_prev);
 
   /// Whether the frame of the last predict() was tracked. While frames are lost, their poses
   /// are odometry propagations, so the next prediction's uncertainty is the increments' summed
@@ -53,7 +53,7 @@ class OdometryPrior {
   /// exposes it. Call once per tracked frame that had `prior`; returns that statistic and sets
   /// `correction_rad` to the accumulated residual (rotate the pose about the floor normal by
   /// -correction_rad to take the odometry's heading).
-  double addHeadingResidual(const tracking::MotionPrior& prior, const Eigen::Isometry3d& T_tracked,
+  double addHeadingResidual(const MotionPrior& prior, const Eigen::Isometry3d& T_tracked,
                             double& correction_rad);
   /// Forgets the accumulated residuals (after a correction, when lost).
   void resetHeadingWindow() { m_heading.clear(); }
@@ -74,8 +74,8 @@ class OdometryPrior {
   /// height, roll and pitch the mount's), with standard deviations along the floor frame at the
   /// base's heading: sigma_xy_m (x, y) and sigma_yaw_rad (yaw) of the relative prediction,
   /// TRobotParams::floor_prior_sigma_z_m and floor_prior_sigma_tilt_deg (height, roll, pitch).
-  tracking::MotionPrior floorMeasurement(const Eigen::Isometry3d& T_world_cam_pred,
-                                         double sigma_xy_m, double sigma_yaw_rad) const;
+  MotionPrior floorMeasurement(const Eigen::Isometry3d& T_world_cam_pred, double sigma_xy_m,
+                               double sigma_yaw_rad) const;
 
   const Eigen::Isometry3d& T_base_cam() const { return m_T_base_cam; }
 
@@ -97,4 +97,4 @@ class OdometryPrior {
   std::deque<std::pair<double, double>> m_heading;
 };
 
-}  // namespace rasm::pipeline
+}  // namespace rasm::tracking

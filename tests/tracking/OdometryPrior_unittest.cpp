@@ -7,8 +7,8 @@
 
 #include "rasm/core/FrameProcessing.h"
 #include "rasm/core/SE3.h"
-#include "rasm/pipeline/OdometryPrior.h"
 #include "rasm/tracking/IcpTracker.h"
+#include "rasm/tracking/OdometryPrior.h"
 #include "tracking/SyntheticScene.h"
 #if __has_include("rasm/sim/SimulatedDiffDriveRobot.h")
 #define RASM_TEST_HAVE_SIM 1
@@ -16,7 +16,7 @@
 #endif
 
 using namespace rasm;
-using namespace rasm::pipeline;
+using namespace rasm::tracking;
 
 namespace {
 constexpr double kDeg = M_PI / 180.0;

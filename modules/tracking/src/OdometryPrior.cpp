@@ -1,8 +1,8 @@
-#include "rasm/pipeline/OdometryPrior.h"
+#include "rasm/tracking/OdometryPrior.h"
 
 #include <cmath>
 
-namespace rasm::pipeline {
+namespace rasm::tracking {
 
 namespace {
 constexpr double kDeg = M_PI / 180.0;
@@ -33,8 +33,8 @@ void OdometryPrior::start(const Eigen::Isometry3d& T_world_cam0,
   m_lost = m_pending = Variances{};
 }
 
-std::optional<tracking::MotionPrior> OdometryPrior::predict(
-    const std::optional<Eigen::Vector3d>& odometry, const Eigen::Isometry3d& T_world_cam_prev) {
+std::optional<MotionPrior> OdometryPrior::predict(const std::optional<Eigen::Vector3d>& odometry,
+                                                  const Eigen::Isometry3d& T_world_cam_prev) {
   const std::optional<Eigen::Vector3d> last = m_last;
   m_last = odometry;
   m_pending = Variances{};
@@ -72,17 +72,17 @@ std::optional<tracking::MotionPrior> OdometryPrior::predict(
   m_last_sigma_yaw = std::sqrt(v.yaw);
   const double s_xy = std::sqrt(v.xy + lever * lever * v.yaw);
   // A base on a flat floor: height, roll and pitch measured absolutely instead (the floor).
-  tracking::MotionPrior prior;
+  MotionPrior prior;
   if (p.floor_prior) {
     prior = floorMeasurement(T_pred, s_xy, m_last_sigma_yaw);
   } else {
     const Eigen::Matrix3d R_world_base =
         T_world_cam_prev.linear() * m_T_base_cam.linear().transpose();
-    prior = tracking::MotionPrior::fromStdDevs(
+    prior = MotionPrior::fromStdDevs(
         T_pred, R_world_base, Eigen::Vector3d(s_xy, s_xy, std::sqrt(v.z)),
         Eigen::Vector3d(std::sqrt(v.tilt), std::sqrt(v.tilt), m_last_sigma_yaw));
     prior.odometry_information =
-        tracking::MotionPrior::planarInformation(R_world_base, s_xy, m_last_sigma_yaw);
+        MotionPrior::planarInformation(R_world_base, s_xy, m_last_sigma_yaw);
   }
   if (m_heading_model == HeadingModel::GyroWhenDegenerate) {
     // The same x, y and yaw directions at the gyro's heading noise: the odometry check of the
@@ -100,7 +100,7 @@ void OdometryPrior::frameDone(bool tracked) {
   m_lost = tracked ? Variances{} : m_pending;
 }
 
-double OdometryPrior::addHeadingResidual(const tracking::MotionPrior& prior,
+double OdometryPrior::addHeadingResidual(const MotionPrior& prior,
                                          const Eigen::Isometry3d& T_tracked,
                                          double& correction_rad) {
   // Rotation from the predicted to the tracked orientation (world frame), about the floor normal.
@@ -126,21 +126,20 @@ std::pair<double, double> OdometryPrior::floorDeviation(
   return {height, tilt};
 }
 
-tracking::MotionPrior OdometryPrior::floorMeasurement(const Eigen::Isometry3d& T_world_cam_pred,
-                                                      double sigma_xy_m,
-                                                      double sigma_yaw_rad) const {
+MotionPrior OdometryPrior::floorMeasurement(const Eigen::Isometry3d& T_world_cam_pred,
+                                            double sigma_xy_m, double sigma_yaw_rad) const {
   // Height, roll and pitch are absolute (the mount on the first frame's floor), not increments:
   // their uncertainty is the floor's, whatever the previous pose or lost frames accumulated.
   const Eigen::Isometry3d T_floor_pred = projectToFloor(T_world_cam_pred);
   const Eigen::Matrix3d R_world_floorbase =
       T_floor_pred.linear() * m_T_base_cam.linear().transpose();
   const double s_tilt = m_params.floor_prior_sigma_tilt_deg * kDeg;
-  tracking::MotionPrior prior = tracking::MotionPrior::fromStdDevs(
+  MotionPrior prior = MotionPrior::fromStdDevs(
       T_floor_pred, R_world_floorbase,
       Eigen::Vector3d(sigma_xy_m, sigma_xy_m, m_params.floor_prior_sigma_z_m),
       Eigen::Vector3d(s_tilt, s_tilt, sigma_yaw_rad));
   prior.odometry_information =
-      tracking::MotionPrior::planarInformation(R_world_floorbase, sigma_xy_m, sigma_yaw_rad);
+      MotionPrior::planarInformation(R_world_floorbase, sigma_xy_m, sigma_yaw_rad);
   return prior;
 }
 
@@ -157,4 +156,4 @@ Eigen::Isometry3d OdometryPrior::projectToFloor(const Eigen::Isometry3d& T_world
   return m_T_world_floor * planar(base_xy.x(), base_xy.y(), yaw) * m_T_base_cam;
 }
 
-}  // namespace rasm::pipeline
+}  // namespace rasm::tracking
