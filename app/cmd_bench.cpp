@@ -13,7 +13,7 @@
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 #include "rasm/pipeline/Interrupts.h"
-#include "rasm/pipeline/MappingRun.h"
+#include "rasm/run/MappingRun.h"
 
 namespace {
 
@@ -45,6 +45,7 @@ std::vector<std::string> overridesOf(const rasm::app::ParsedArgs& args) {
 
 int benchMain(const rasm::app::ParsedArgs& args) {
   using namespace rasm::pipeline;
+  using namespace rasm::run;
   const std::string input = args.positional(kDecl.positionals[0].name);
   const std::vector<std::string> overrides = overridesOf(args);
   RunConfig cfg = RunConfig::embeddedDefault();

@@ -5,7 +5,7 @@
 
 #include "Command.h"
 #include "rasm/core/Error.h"
-#include "rasm/pipeline/MappingRun.h"
+#include "rasm/run/MappingRun.h"
 
 namespace {
 
@@ -19,6 +19,7 @@ const rasm::app::CommandDecl kDecl{
 
 int configMain(const rasm::app::ParsedArgs& args) {
   using namespace rasm::pipeline;
+  using namespace rasm::run;
   const std::string ini_path = args.positional("file.ini");
   RunConfig cfg = ini_path.empty() ? RunConfig::embeddedDefault() : RunConfig::fromFile(ini_path);
   for (const auto& o : args.values("set")) cfg.applyOverride(o);

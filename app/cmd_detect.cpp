@@ -7,7 +7,7 @@
 // binary (rasm/core/SharedData.h), so the default works from any directory. --threads sets OpenCV's
 // thread count, --repeat N times N calls and reports their median (docs/classification.md "DNN
 // detector").
-#if defined(RASM_HAVE_MODULE_CLASSIFICATION) && defined(RASM_HAVE_MODULE_PIPELINE)
+#if defined(RASM_HAVE_MODULE_CLASSIFICATION) && defined(RASM_HAVE_MODULE_RUN)
 
 #include <algorithm>
 #include <cmath>
@@ -32,7 +32,7 @@
 #include "rasm/core/SharedData.h"
 #include "rasm/core/Timing.h"
 #include "rasm/pipeline/OutputFiles.h"
-#include "rasm/pipeline/RunConfig.h"
+#include "rasm/run/RunConfig.h"
 
 namespace {
 
@@ -57,7 +57,7 @@ const rasm::app::CommandDecl kDecl{
 
 /// The detector `rasm detect` runs, from the configuration (one place, so more detectors join
 /// here). InputError when it is disabled or its files are missing (whatever `required` says).
-std::unique_ptr<Detector> makeConfiguredDnn(const rasm::pipeline::RunConfig& cfg) {
+std::unique_ptr<Detector> makeConfiguredDnn(const rasm::run::RunConfig& cfg) {
   rasm::classification::TDnnDetectorParams params;
   rasm::loadParamsStrict(cfg.ini(), "dnn_detector", params, cfg.source());
   for (std::string* p : {&params.model, &params.weights, &params.names})
@@ -70,8 +70,7 @@ std::unique_ptr<Detector> makeConfiguredDnn(const rasm::pipeline::RunConfig& cfg
 
 /// The detectors [classification] detectors lists (the DNN detector alone when the INI does not
 /// set that key): the same detectors a run with this INI would use, on one image.
-std::vector<std::unique_ptr<Detector>> makeConfiguredDetectors(
-    const rasm::pipeline::RunConfig& cfg) {
+std::vector<std::unique_ptr<Detector>> makeConfiguredDetectors(const rasm::run::RunConfig& cfg) {
   std::vector<std::unique_ptr<Detector>> out;
   if (!cfg.ini().keyExists("classification", "detectors")) {
     out.push_back(makeConfiguredDnn(cfg));
@@ -158,7 +157,7 @@ int positiveInt(const std::string& opt, const std::string& text) {
 }
 
 int detectMain(const rasm::app::ParsedArgs& args) {
-  using rasm::pipeline::RunConfig;
+  using rasm::run::RunConfig;
   const std::string image_path = args.positional("image"), ini = args.positional("file.ini");
   const std::string out_png = args.value("out");
   if (args.has("threads")) cv::setNumThreads(positiveInt("--threads", args.value("threads")));

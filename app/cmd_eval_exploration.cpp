@@ -15,8 +15,8 @@
 #include "RunObjects.h"
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
-#include "rasm/pipeline/LinePlot.h"
 #include "rasm/pipeline/OutputFiles.h"
+#include "rasm/run/LinePlot.h"
 
 namespace fs = std::filesystem;
 
@@ -132,7 +132,7 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
                                 {150, 0, 150}, {0, 140, 255}, {90, 90, 90}};
   int panel = 0;
   for (const auto& [world, planners] : worlds) {
-    std::vector<rasm::pipeline::PlotSeries> series;
+    std::vector<rasm::run::PlotSeries> series;
     for (const auto& [planner, runs] : planners) {
       // One colour per planner in every panel; runs on tracked poses drawn thin.
       const std::string base = planner.substr(0, planner.find(' '));
@@ -142,7 +142,7 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
                      : base == "lawnmower" ? 2
                      : base == "ig_greedy" ? 4
                                            : 5;
-      rasm::pipeline::PlotSeries s{
+      rasm::run::PlotSeries s{
           planner, {}, {}, colours[ci], planner.find("gt poses") != std::string::npos ? 2 : 1};
       for (int i = 0; i <= 100; ++i) {
         const double t = tmax * i / 100.0;
@@ -153,14 +153,14 @@ void plot(const std::string& path, const std::map<std::string, std::vector<RunRo
       }
       series.push_back(std::move(s));
     }
-    rasm::pipeline::PlotAxes axes;
+    rasm::run::PlotAxes axes;
     axes.title = world + ": coverage vs simulated time (s)";
     axes.x_min = 0.0;
     axes.x_max = tmax;
     axes.y_min = 0.0;
     axes.y_max = 1.0;
     axes.y_guides = {0.25, 0.5, 0.75, 0.9};
-    rasm::pipeline::drawLinePlot(img, cv::Rect(panel++ * W, 0, W, H), axes, series);
+    rasm::run::drawLinePlot(img, cv::Rect(panel++ * W, 0, W, H), axes, series);
   }
   try {
     rasm::pipeline::writeImageAtomically(path, img);

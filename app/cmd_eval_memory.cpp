@@ -19,8 +19,8 @@
 #include "Command.h"
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
-#include "rasm/pipeline/LinePlot.h"
 #include "rasm/pipeline/OutputFiles.h"
+#include "rasm/run/LinePlot.h"
 
 namespace rasm::app {
 namespace {
@@ -112,16 +112,16 @@ void plotCurves(const std::string& path, const MemoryCurves& m, const std::strin
   const Curve curves[] = {{&m.surfels, "surfels", {200, 80, 0}},
                           {&m.rss_mb, "RSS (MB)", {0, 0, 200}},
                           {&m.map_mb, "map store (MB)", {0, 150, 0}}};
-  std::vector<rasm::pipeline::PlotSeries> series;
+  std::vector<rasm::run::PlotSeries> series;
   for (const Curve& c : curves) {
     const double top = std::max(1e-9, *std::max_element(c.v->begin(), c.v->end()));
     char label[96];
     std::snprintf(label, sizeof label, "%s, max %.4g", c.name, top);
-    rasm::pipeline::PlotSeries s{label, m.t, {}, c.colour, 1};
+    rasm::run::PlotSeries s{label, m.t, {}, c.colour, 1};
     for (double v : *c.v) s.y.push_back(v / top);
     series.push_back(std::move(s));
   }
-  rasm::pipeline::PlotAxes axes;
+  rasm::run::PlotAxes axes;
   axes.title = title;
   axes.x_label = "time (s); each curve scaled to its own maximum";
   axes.x_min = m.t.front();
@@ -130,7 +130,7 @@ void plotCurves(const std::string& path, const MemoryCurves& m, const std::strin
   axes.y_max = 1.0;
   axes.y_guides = {0.5};
   axes.x_guides = {0.5 * (axes.x_min + axes.x_max)};  // the halves the growth compares
-  const cv::Mat img = rasm::pipeline::linePlot(axes, series, 760, 400);
+  const cv::Mat img = rasm::run::linePlot(axes, series, 760, 400);
   try {
     rasm::pipeline::writeImageAtomically(path, img);
   } catch (const std::exception& e) {

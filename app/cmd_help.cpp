@@ -1,5 +1,5 @@
 // `rasm help [command [subcommand] | outputs]`: the command list, a command's usage, or what every
-// file, field and column of a run folder holds (rasm::pipeline::outputsDocumentation, built from
+// file, field and column of a run folder holds (rasm::run::outputsDocumentation, built from
 // the assembled Mapper's stage list; docs/outputs.md is its output).
 #include <iostream>
 
@@ -7,7 +7,7 @@
 #include "ShellDocs.h"
 #include "rasm/core/Error.h"
 #include "rasm/pipeline/Mapper.h"
-#include "rasm/pipeline/OutputsDoc.h"
+#include "rasm/run/OutputsDoc.h"
 
 namespace {
 
@@ -36,7 +36,7 @@ int helpMain(const rasm::app::ParsedArgs& parsed) {
       rasm::throwInputError("argument '" + topic[1] + "'",
                             "unexpected after rasm help " + topic[0]);
     if (topic[0] == "outputs")
-      std::cout << rasm::pipeline::outputsDocumentation(rasm::pipeline::Mapper());
+      std::cout << rasm::run::outputsDocumentation(rasm::pipeline::Mapper());
     else if (topic[0] == "man")
       writeManPage(std::cout);
     else

@@ -1,5 +1,5 @@
 // `rasm run [file.ini | FOLDER | FILE.rawlog] [options]`: one mapping run
-// (rasm::pipeline::MappingRun) and its summary. Its options other than --set stand for INI keys and
+// (rasm::run::MappingRun) and its summary. Its options other than --set stand for INI keys and
 // apply in the order given.
 #include <cstdio>
 #include <filesystem>
@@ -12,7 +12,7 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/Printable.h"
 #include "rasm/pipeline/Interrupts.h"
-#include "rasm/pipeline/MappingRun.h"
+#include "rasm/run/MappingRun.h"
 
 namespace {
 
@@ -32,7 +32,7 @@ std::string writtenAmong(const nlohmann::json& report, std::initializer_list<con
 /// The run's accuracy against the ground truth: first the world-frame error (no alignment) when
 /// the run started at the true pose, then the ATE after its SE(3) alignment; nothing without
 /// ground truth.
-void printAccuracy(const rasm::pipeline::RunSummary& s) {
+void printAccuracy(const rasm::run::RunSummary& s) {
   const std::size_t tracked_frames = s.frames - s.lost;
   if (const auto& w = s.world_error) {
     char tracked[128] = "";
@@ -135,10 +135,11 @@ std::vector<std::string> overridesOf(const rasm::app::ParsedArgs& args) {
   return overrides;
 }
 
-int printSummary(const rasm::pipeline::MappingRun& run, const rasm::pipeline::RunSummary& s);
+int printSummary(const rasm::run::MappingRun& run, const rasm::run::RunSummary& s);
 
 int runMain(const rasm::app::ParsedArgs& args) {
   using namespace rasm::pipeline;
+  using namespace rasm::run;
   const std::string ini_path = args.positional(kDecl.positionals[0].name);
   const std::vector<std::string> overrides = overridesOf(args);
   const bool dataset = !ini_path.empty() && isDataset(ini_path);
@@ -157,7 +158,7 @@ int runMain(const rasm::app::ParsedArgs& args) {
 
 /// What the run did, after it: frames, accuracy, outputs, segments, objects, exploration and
 /// warnings; returns the exit code (128 + the signal when interrupted).
-int printSummary(const rasm::pipeline::MappingRun& run, const rasm::pipeline::RunSummary& s) {
+int printSummary(const rasm::run::MappingRun& run, const rasm::run::RunSummary& s) {
   using rasm::pipeline::signalName;
   const double lost_pct = s.frames ? 100.0 * double(s.lost) / double(s.frames) : 0.0;
   std::printf(

@@ -20,7 +20,7 @@
 #include "Command.h"
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
-#include "rasm/pipeline/RunScene.h"
+#include "rasm/run/RunScene.h"
 #include "rasm/surfel_map/CSurfelMap.h"
 
 namespace {
@@ -97,7 +97,7 @@ std::unique_ptr<rasm::maps::CSurfelMap> loadMap(const std::string& run) {
 
 /// The map in its three colourings (one visible), the grid and the run's overlay.
 mrpt::opengl::COpenGLScene::Ptr viewScene(const rasm::maps::CSurfelMap& map,
-                                          const rasm::pipeline::RunOverlay& overlay,
+                                          const rasm::run::RunOverlay& overlay,
                                           SurfelColouring shown) {
   auto scene = mrpt::opengl::COpenGLScene::Create();
   scene->insert(mrpt::opengl::CGridPlaneXY::Create(-10, 10, -10, 10, 0, 1));
@@ -112,8 +112,8 @@ mrpt::opengl::COpenGLScene::Ptr viewScene(const rasm::maps::CSurfelMap& map,
     layer->setVisibility(colourings[k] == shown);
     scene->insert(layer);
   }
-  rasm::pipeline::addRunOverlay(*scene, overlay);
-  rasm::pipeline::pointCameraAt(*scene, rasm::pipeline::sceneBounds(map.store(), overlay));
+  rasm::run::addRunOverlay(*scene, overlay);
+  rasm::run::pointCameraAt(*scene, rasm::run::sceneBounds(map.store(), overlay));
   return scene;
 }
 
@@ -167,7 +167,7 @@ void showWindow(const mrpt::opengl::COpenGLScene::Ptr& scene, const ViewArgs& v)
 int view(const rasm::app::ParsedArgs& args) {
   const ViewArgs v = viewArgsOf(args);
   const auto map = loadMap(v.run);
-  rasm::pipeline::RunOverlay overlay = rasm::pipeline::readRunOverlay(v.run);
+  rasm::run::RunOverlay overlay = rasm::run::readRunOverlay(v.run);
   if (!v.views) overlay.views.clear();
   const auto scene = viewScene(*map, overlay, v.colouring);
   const char* display = std::getenv("DISPLAY");

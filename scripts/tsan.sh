@@ -5,7 +5,7 @@
 # test (issue 13, 3), the classification stage's late-result test and the detector workers
 # (issue 17: results for frame t fused with frame t's L^p while mapping goes on), and the
 # exploration planner thread (issue 18: snapshots and an octree copy while mapping goes on; ~2 min).
-#   scripts/tsan.sh [gtest filter for test_pipeline, default
+#   scripts/tsan.sh [gtest filter for test_pipeline and test_autonomy, default
 #                    MapSnapshot.*:ClassificationStage.*:ExplorationLoop.PlannerThread*]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -17,8 +17,9 @@ if [[ ! -f "$BUILD_DIR/CMakeCache.txt" ]]; then
     -DRASM_BUILD_BENCH=OFF -DCMAKE_CXX_FLAGS="-fsanitize=thread" \
     -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=thread"
 fi
-cmake --build "$BUILD_DIR" -j "$RASM_JOBS" --target test_pipeline test_classification
+cmake --build "$BUILD_DIR" -j "$RASM_JOBS" --target test_pipeline test_autonomy test_classification
 export OMP_NUM_THREADS=1
 export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$PWD/scripts/tsan.supp"
 "$BUILD_DIR/tests/test_pipeline" --gtest_filter="$FILTER"
+"$BUILD_DIR/tests/test_autonomy" --gtest_filter="$FILTER"
 "$BUILD_DIR/tests/test_classification" --gtest_filter="DetectorWorker.*"

@@ -13,10 +13,10 @@
 #include <thread>
 #include <vector>
 
-#include "pipeline/RunTestFiles.h"
+#include "run/RunTestFiles.h"
 
 namespace fs = std::filesystem;
-using namespace rasm::pipeline::testing;
+using namespace rasm::run::testing;
 using Clock = std::chrono::steady_clock;
 
 namespace {
@@ -29,8 +29,7 @@ struct Child {
 /// fresh folder; its output goes to <out>.log.
 /// Forks and execs `args` (args[0] the binary) with stdout and stderr to `log`; `tmpdir`, when
 /// not empty, becomes the child's $TMPDIR. Returns the child's pid.
-pid_t spawn(std::vector<std::string> args, const std::string& log,
-            const std::string& tmpdir = "") {
+pid_t spawn(std::vector<std::string> args, const std::string& log, const std::string& tmpdir = "") {
   std::fflush(stdout);  // else the child's freopen flushes our buffer a second time
   std::fflush(stderr);
   const pid_t pid = fork();

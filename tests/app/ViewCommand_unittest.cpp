@@ -11,10 +11,10 @@
 #include <string>
 
 #include "RasmProcess.h"
-#include "pipeline/RunTestFiles.h"
+#include "run/RunTestFiles.h"
 
 namespace fs = std::filesystem;
-using namespace rasm::pipeline::testing;
+using namespace rasm::run::testing;
 
 namespace {
 using rasm::app::testing::Result;

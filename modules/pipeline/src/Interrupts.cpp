@@ -10,7 +10,7 @@
 #include <cstring>
 
 #include "rasm/pipeline/BuildInfo.h"
-#include "rasm/pipeline/OutputsDoc.h"
+#include "rasm/pipeline/OutputSchema.h"
 
 namespace rasm::pipeline {
 

@@ -9,7 +9,7 @@
 #include "rasm/classification/ClassFusion.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/Timing.h"
-#include "rasm/pipeline/FloorPlan.h"
+#include "rasm/pipeline/ClassLegend.h"
 #include "rasm/pipeline/OutputFiles.h"
 #include "rasm/pipeline/stages/SegmentationStage.h"
 #include "rasm/surfel_map/MapExport.h"

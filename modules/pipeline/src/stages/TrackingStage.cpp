@@ -45,7 +45,7 @@ void TrackingStage::configure(const TMapperParams& mapper) {
                                                    std::to_string(m_tracking.numLevels()) + ")");
   m_mapper = mapper;
   m_tracker = tracking::IcpTracker(m_tracking);
-  m_odometry = OdometryPrior(m_robot);
+  m_odometry = tracking::OdometryPrior(m_robot);
   m_reloc = tracking::Relocaliser(m_relocalisation);
   m_reloc_last_fused = tracking::Relocaliser(m_relocalisation.forLastFusedFrame());
   m_loop = tracking::LoopClosure(m_loop_params);

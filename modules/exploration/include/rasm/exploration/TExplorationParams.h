@@ -2,7 +2,7 @@
 // [exploration]: information-gain exploration of section V (occupancy octree V-A, object-centric
 // view information V-B, candidate views and their score IG(a) = w1 dH + w2 dIC). Defaults and the
 // reasons for them: docs/exploration.md. The camera mount is not repeated here: candidates take
-// T_base_cam from the run's [robot] section (pipeline TRobotParams::T_base_cam()).
+// T_base_cam from the run's [robot] section (tracking TRobotParams::T_base_cam()).
 
 #include <mrpt/config/CLoadableOptions.h>
 

@@ -1,7 +1,7 @@
 #pragma once
 // Candidate views of section V and their reachability. A candidate is an SE(2) pose of the robot
 // (x, y, yaw; the paper's a in SE(2), VI) whose camera pose is the base pose composed with the
-// camera's mounting pose T_base_cam (the run's [robot] mount, pipeline TRobotParams::T_base_cam).
+// camera's mounting pose T_base_cam (the run's [robot] mount, tracking TRobotParams::T_base_cam).
 //   (a) random: uniform over the cells of the 2-D projection that are known free with the whole
 //       robot footprint (a disc) known free, with a uniform heading;
 //   (b) object views: for each segment of plausible object size (largest upright extent in
@@ -29,7 +29,7 @@ struct ViewCandidate {
   /// "lawnmower" baselines' goals ("random" offers Random ones); Oracle: the "oracle"'s views.
   enum class Source { Random, Object, Frontier, Sweep, Oracle };
   Source source = Source::Random;
-  std::uint32_t segment = 0;                       ///< the segment an object view looks at
+  std::uint32_t segment = 0;  ///< the segment an object view looks at
   /// Object: the centroid (x, y, m) of the segment it looks at; Frontier: the frontier's centroid.
   Eigen::Vector2d target_xy = Eigen::Vector2d::Zero();
   Eigen::Vector3d pose = Eigen::Vector3d::Zero();  ///< robot base (x m, y m, yaw rad)

@@ -29,10 +29,10 @@
 #include <vector>
 
 #include "rasm/pipeline/MapperStage.h"
-#include "rasm/pipeline/OdometryPrior.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
 #include "rasm/tracking/IcpTracker.h"
 #include "rasm/tracking/LoopClosure.h"
+#include "rasm/tracking/OdometryPrior.h"
 #include "rasm/tracking/Relocaliser.h"
 
 namespace rasm::pipeline {
@@ -55,7 +55,7 @@ class TrackingStage : public MapperStage {
   void localiseInLoadedMap() { m_localise_in_map = true; }
 
   const tracking::TTrackingParams& params() const { return m_tracking; }
-  const TRobotParams& robotParams() const { return m_robot; }
+  const tracking::TRobotParams& robotParams() const { return m_robot; }
   const tracking::TRelocalisationParams& relocalisationParams() const { return m_relocalisation; }
   const tracking::IcpTracker& tracker() const { return m_tracker; }
   std::size_t relocalisations() const { return m_relocalisations; }
@@ -119,12 +119,12 @@ class TrackingStage : public MapperStage {
   nlohmann::json floorDriftJson() const;
 
   tracking::TTrackingParams m_tracking;
-  TRobotParams m_robot;
+  tracking::TRobotParams m_robot;
   tracking::TRelocalisationParams m_relocalisation;
   tracking::TLoopClosureParams m_loop_params;
   TMapperParams m_mapper;
   tracking::IcpTracker m_tracker;
-  OdometryPrior m_odometry;
+  tracking::OdometryPrior m_odometry;
   tracking::Relocaliser m_reloc;
   tracking::Relocaliser m_reloc_last_fused;  ///< with [relocalisation] last_fused_* acceptance
   tracking::LoopClosure m_loop;
