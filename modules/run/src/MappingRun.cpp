@@ -395,6 +395,18 @@ OutputFolder MappingRun::prepareOutputFolder() const {
   return out;
 }
 
+void MappingRun::resolveOdometryHeading(const io::FrameSource& source) {
+  bool gyro = false;  // a rawlog, a dataset or a live robot: the wheels' heading
+#ifdef RASM_HAVE_SIM
+  if (const auto* sim_source = dynamic_cast<const sim::SimFrameSource*>(&source))
+    gyro = sim_source->sequence().robot() &&
+           sim_source->sequence().robot()->params().odometry_heading == "gyro";
+#else
+  (void)source;
+#endif
+  m_mapper->stage<TrackingStage>().resolveOdometryHeading(gyro);
+}
+
 std::unique_ptr<io::FrameSource> MappingRun::wrapSource(std::unique_ptr<io::FrameSource> source,
                                                         double& preload_s) {
 #ifdef RASM_HAVE_SIM
@@ -1038,6 +1050,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   // What can be checked without a frame is checked before the output folder changes: a run that
   // fails here leaves an earlier run's files as they were.
   std::unique_ptr<io::FrameSource> source = openSource();
+  resolveOdometryHeading(*source);  // before config.ini, which records what the run used
   if (!m_mapper->mapperParams().load_map.empty())
     m_mapper->loadMap(m_mapper->mapperParams().load_map);
   if (stopSignal() != 0) {  // stopped before it began: the folder stays as it was

@@ -22,9 +22,10 @@ double wrapAngle(double a) {
 OdometryPrior::OdometryPrior(const TRobotParams& params)
     : m_params(params),
       m_T_base_cam(params.T_base_cam()),
-      m_heading_model(params.odometry_heading == "gyro"     ? HeadingModel::Gyro
-                      : params.odometry_heading == "wheels" ? HeadingModel::Wheels
-                                                            : HeadingModel::GyroWhenDegenerate) {}
+      m_heading_model(params.odometry_heading == "gyro" ? HeadingModel::Gyro
+                      : params.odometry_heading == "gyro_when_degenerate"
+                          ? HeadingModel::GyroWhenDegenerate
+                          : HeadingModel::Wheels) {}  // (auto, unresolved: the wheels')
 
 void OdometryPrior::start(const Eigen::Isometry3d& T_world_cam0,
                           const std::optional<Eigen::Vector3d>& odometry) {

@@ -76,12 +76,12 @@ void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireInRange(odometry_sigma_yaw_deg, 1e-6, 90.0, s, "odometry_sigma_yaw_deg");
   requireInRange(odometry_sigma_yaw_per_sqrt_rad, 0.0, 1.0, s, "odometry_sigma_yaw_per_sqrt_rad");
   requireInRange(odometry_sigma_yaw_per_sqrt_m, 0.0, 1.0, s, "odometry_sigma_yaw_per_sqrt_m");
-  if (odometry_heading != "gyro" && odometry_heading != "wheels" &&
+  if (odometry_heading != "auto" && odometry_heading != "gyro" && odometry_heading != "wheels" &&
       odometry_heading != "gyro_when_degenerate")
     throwInputError(
         "[" + s + "] odometry_heading",
-        "expected wheels, gyro or gyro_when_degenerate, got '" + odometry_heading + "'");
-  if (type == "segway_rmp" && odometry_heading != "wheels")
+        "expected auto, wheels, gyro or gyro_when_degenerate, got '" + odometry_heading + "'");
+  if (type == "segway_rmp" && odometry_heading != "wheels" && odometry_heading != "auto")
     throwInputError("[" + s + "] odometry_heading = " + odometry_heading,
                     "the Segway RMP's heading is its wheels' (no gyro is read): use [" + s +
                         "] odometry_heading = wheels (docs/hardware.md)");
@@ -90,6 +90,11 @@ void TRobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireInRange(odometry_sigma_tilt_deg, 1e-6, 90.0, s, "odometry_sigma_tilt_deg");
   requireInRange(floor_prior_sigma_z_m, 1e-6, 1.0, s, "floor_prior_sigma_z_m");
   requireInRange(floor_prior_sigma_tilt_deg, 1e-6, 90.0, s, "floor_prior_sigma_tilt_deg");
+}
+
+void TRobotParams::resolveHeading(bool odometry_from_gyro) {
+  if (odometry_heading == "auto")
+    odometry_heading = odometry_from_gyro ? "gyro_when_degenerate" : "wheels";
 }
 
 void TRobotParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {

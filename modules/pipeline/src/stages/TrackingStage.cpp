@@ -60,6 +60,11 @@ void TrackingStage::configure(const TMapperParams& mapper) {
   m_loop_tracker = tracking::IcpTracker(loop_icp);
 }
 
+void TrackingStage::resolveOdometryHeading(bool odometry_from_gyro) {
+  m_robot.resolveHeading(odometry_from_gyro);
+  m_odometry = tracking::OdometryPrior(m_robot);
+}
+
 void TrackingStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
   FrameResult& r = ctx.result;
   if (m_mapper.poses == "groundtruth") {

@@ -127,6 +127,9 @@ class MappingRun {
   /// Claims the output folder (OutputFolder::claim; InputError when it cannot be used).
   pipeline::OutputFolder prepareOutputFolder() const;
   void decideExploring(const std::string& src);
+  /// [robot] odometry_heading = auto made definite for this source (TRobotParams::resolveHeading:
+  /// the simulated robot's gyro, else the wheels).
+  void resolveOdometryHeading(const io::FrameSource& source);
   /// The opened source with its read-ahead / preload wrapper; `preload_s` = seconds spent
   /// preloading. An exploring run ([exploration] enabled) gets no read-ahead: the source's robot is
   /// driven by the exploration loop created here.

@@ -50,10 +50,12 @@ struct TSegmentationParams : mrpt::config::CLoadableOptions {
   /// only by its colour. Canny (OpenCV) on the frame's intensity at the segmentation level with
   /// hysteresis thresholds colour_edge_low / colour_edge_high (8-bit grey levels per Sobel 3x3
   /// gradient), kept only within colour_edge_max_depth_m (beyond, one pixel spans several cm
-  /// and texture aliases into edges). Off by default (docs/segmentation.md "Colour edges").
-  bool colour_edges = false;
-  double colour_edge_low = 40.0;
-  double colour_edge_high = 100.0;
+  /// and texture aliases into edges). On three simulated hand-held rooms and four nobody had
+  /// looked at, the object list's precision rose on five of six and PQ stayed level or rose; 40 /
+  /// 100 split real textures too often (docs/segmentation.md "Colour edges").
+  bool colour_edges = true;
+  double colour_edge_low = 70.0;
+  double colour_edge_high = 160.0;
   double colour_edge_max_depth_m = 2.5;
 
   // ---- connected components -> L_t ----

@@ -37,18 +37,22 @@ struct TRobotParams : mrpt::config::CLoadableOptions {
   double odometry_sigma_yaw_deg = 0.05;
   double odometry_sigma_yaw_per_sqrt_rad = 0.04;
   double odometry_sigma_yaw_per_sqrt_m = 0.01;
-  /// The noise model of the odometry's heading: "wheels" (the random walks above) or "gyro" (a
-  /// yaw-rate gyro's: one increment's yaw sigma is odometry_sigma_yaw_deg + gyro_sigma_yaw_per_rad
-  /// x the turn (rad), twice the simulated gyro's 0.2% scale error). Wheels by default, also
-  /// for the simulated robot whose heading is a gyro's ([sim_robot] odometry_heading): with the
-  /// gyro's tight sigmas max_odometry_sigmas refuses the frames in which ICP turns the camera
-  /// back onto the map after a heading error, and the world-frame panel lost more frames and
-  /// more coverage than it gained in silent frames (docs/results-worldframe.md "A gyro").
-  /// "gyro_when_degenerate": the wheels' sigmas, except in max_odometry_sigmas's check of a
-  /// frame whose geometry leaves a direction free (MotionPrior::odometry_information_degenerate),
-  /// where the gyro's hold: ICP may re-align the camera where the data constrain the heading,
-  /// and may not slip where they do not.
-  std::string odometry_heading = "wheels";
+  /// The noise model of the odometry's heading:
+  /// - "wheels": the random walks above, in the prior and in every check;
+  /// - "gyro": a yaw-rate gyro's, one increment's yaw sigma odometry_sigma_yaw_deg +
+  ///   gyro_sigma_yaw_per_rad x the turn (rad), twice the simulated gyro's 0.2% scale error, in
+  ///   the prior and every check: it refuses the frames in which ICP turns the camera back onto
+  ///   the map after a heading error (docs/results-worldframe.md "A gyro": not adopted);
+  /// - "gyro_when_degenerate": the wheels' sigmas in the prior and in the check of a frame the
+  ///   geometry constrains; the gyro's in the check of a frame whose geometry leaves a direction
+  ///   free (MotionPrior::odometry_information_degenerate), and a conflict there is solved again
+  ///   with the heading held at the gyro's precision (IcpTracker): ICP may re-align the camera
+  ///   where the data hold the heading, and may not slip where they do not
+  ///   (docs/results-worldframe.md "The gyro's sigmas in degenerate frames only");
+  /// - "auto": gyro_when_degenerate for the simulated robot whose heading is a gyro's
+  ///   ([sim_robot] odometry_heading, its default), wheels for any other robot (the Segway's
+  ///   heading is its wheels'; a rawlog does not say). resolveHeading() decides it.
+  std::string odometry_heading = "auto";
   double gyro_sigma_yaw_per_rad = 0.004;
   /// A ground robot's base stays on the floor: the increment's height, roll and pitch have these
   /// standard deviations (bumps, suspension).
@@ -93,6 +97,9 @@ struct TRobotParams : mrpt::config::CLoadableOptions {
   double floor_target_tilt_deg = 0.15;
   double floor_target_max_fraction = 0.05;
 
+  /// odometry_heading = auto made definite: gyro_when_degenerate when `odometry_from_gyro` (the
+  /// frames' odometry heading is a gyro's), else wheels; other values are kept.
+  void resolveHeading(bool odometry_from_gyro);
   /// T_base_cam of the mount (optical camera frame in the base frame).
   Eigen::Isometry3d T_base_cam() const;
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;

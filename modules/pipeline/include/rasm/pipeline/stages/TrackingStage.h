@@ -56,6 +56,9 @@ class TrackingStage : public MapperStage {
 
   const tracking::TTrackingParams& params() const { return m_tracking; }
   const tracking::TRobotParams& robotParams() const { return m_robot; }
+  /// [robot] odometry_heading = auto made definite before the first frame
+  /// (TRobotParams::resolveHeading): whether the frames' odometry heading is a gyro's.
+  void resolveOdometryHeading(bool odometry_from_gyro);
   const tracking::TRelocalisationParams& relocalisationParams() const { return m_relocalisation; }
   const tracking::IcpTracker& tracker() const { return m_tracker; }
   std::size_t relocalisations() const { return m_relocalisations; }
