@@ -200,6 +200,7 @@ TEST(Components, ColourEdgesSeparateWhatGeometryCannot) {
   const Image<std::uint8_t> grey = paperOnWall(268, 200, 373, 279, 10);
   TSegmentationParams p;
   p.level = 0;
+  p.colour_edges = false;
   GeometricSegmenter plain(p);
   EXPECT_EQ(plain.segment(f.vertex, f.normal, 0, 0, &grey).count, 1) << "colour edges are off";
   p.colour_edges = true;
