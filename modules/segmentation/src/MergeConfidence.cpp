@@ -1,6 +1,7 @@
 #include "rasm/segmentation/MergeConfidence.h"
 
 #include <algorithm>
+#include <numeric>
 
 namespace rasm::segmentation {
 
@@ -57,6 +58,27 @@ void MergeConfidence::remap(const std::vector<std::uint32_t>& table) {
 int MergeConfidence::confidence(std::uint32_t a, std::uint32_t b) const {
   const auto it = m_psi.find(key(a, b));
   return it == m_psi.end() ? 0 : it->second;
+}
+
+std::vector<std::uint32_t> mergeTable(const std::vector<MergeConfidence::Pair>& due, int& merges) {
+  std::uint32_t top = 0;
+  for (const auto& [a, b] : due) top = std::max({top, a, b});
+  std::vector<std::uint32_t> parent(std::size_t(top) + 1);
+  std::iota(parent.begin(), parent.end(), 0u);
+  const auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  merges = 0;
+  for (const auto& [a, b] : due) {
+    const std::uint32_t ra = find(a), rb = find(b);
+    if (ra == rb) continue;
+    parent[std::max(ra, rb)] = std::min(ra, rb);
+    ++merges;
+  }
+  std::vector<std::uint32_t> table(parent.size());
+  for (std::uint32_t l = 0; l < table.size(); ++l) table[l] = find(l);
+  return table;
 }
 
 }  // namespace rasm::segmentation

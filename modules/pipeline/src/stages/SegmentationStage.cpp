@@ -71,25 +71,8 @@ void SegmentationStage::finishFrame(FrameContext& ctx, maps::CSurfelMap& map) {
 
 int SegmentationStage::merge(maps::CSurfelMap& map,
                              const std::vector<segmentation::MergeConfidence::Pair>& due) {
-  // Union-find over the labels involved; each set goes to its smallest label (III).
-  std::uint32_t top = 0;
-  for (const auto& [a, b] : due) top = std::max({top, a, b});
-  std::vector<std::uint32_t> parent(std::size_t(top) + 1);
-  std::iota(parent.begin(), parent.end(), 0u);
-  const auto find = [&](std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
   int merges = 0;
-  for (const auto& [a, b] : due) {
-    const std::uint32_t ra = find(a), rb = find(b);
-    if (ra == rb) continue;
-    parent[std::max(ra, rb)] = std::min(ra, rb);
-    ++merges;
-  }
-  std::vector<std::uint32_t> table(parent.size());
-  for (std::uint32_t l = 0; l < table.size(); ++l) table[l] = find(l);
-  applyRelabelling(map, table);
+  applyRelabelling(map, segmentation::mergeTable(due, merges));
   return merges;
 }
 

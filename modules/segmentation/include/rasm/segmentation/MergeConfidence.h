@@ -38,4 +38,10 @@ class MergeConfidence {
   std::unordered_map<std::uint64_t, int> m_psi;
 };
 
+/// The merge of section III: the labels of `due` (pairs over the threshold) joined by union-find,
+/// each connected set into its smallest label. Returns the relabelling table, new = table[old],
+/// over labels 0..max label of `due` (labels beyond it keep their id), and the number of unions
+/// made in `merges` (pairs already joined through others count once).
+std::vector<std::uint32_t> mergeTable(const std::vector<MergeConfidence::Pair>& due, int& merges);
+
 }  // namespace rasm::segmentation

@@ -50,10 +50,13 @@ struct TSegmentationParams : mrpt::config::CLoadableOptions {
   /// only by its colour. Canny (OpenCV) on the frame's intensity at the segmentation level with
   /// hysteresis thresholds colour_edge_low / colour_edge_high (8-bit grey levels per Sobel 3x3
   /// gradient), kept only within colour_edge_max_depth_m (beyond, one pixel spans several cm
-  /// and texture aliases into edges). On three simulated hand-held rooms and four nobody had
-  /// looked at, the object list's precision rose on five of six and PQ stayed level or rose; 40 /
-  /// 100 split real textures too often (docs/segmentation.md "Colour edges").
-  bool colour_edges = true;
+  /// and texture aliases into edges). Hand-held, on three simulated rooms and four nobody had
+  /// looked at, the object list's precision rose on five of six and PQ stayed level or rose; on
+  /// the exploring robot's runs the objects named right fell (the quick panel's eight, summed
+  /// 2.46 -> 2.25) or stayed level (the default at 640x480), so it is off by default: turn it on
+  /// for hand-held work. 40 / 100 split real textures too often (docs/segmentation.md "Colour
+  /// edges").
+  bool colour_edges = false;
   double colour_edge_low = 70.0;
   double colour_edge_high = 160.0;
   double colour_edge_max_depth_m = 2.5;
