@@ -466,28 +466,19 @@ void ExplorationLoop::measure(double t) {
   row.path_m = m_path_m;
   row.frames = m_frames;
   row.entropy = m_stage.octree().entropy();
-  const maps::SurfelArrays a = m_mapper.map().store().arrays();
-  std::vector<Eigen::Vector3f> positions;
-  std::vector<std::uint32_t> segment;
-  positions.reserve(std::size_t(a.size));
-  segment.reserve(std::size_t(a.size));
-  for (int i = 0; i < a.size; ++i)
-    if (a.alive(i) && a.stable(i)) {  // the map proper: unstable surfels come and go (II-B)
-      positions.push_back(a.position(i));
-      segment.push_back(a.segment[i]);
-    }
-  row.surfels = positions.size();
+  const StableSurfels stable = stableSurfels(m_mapper.map());
+  row.surfels = stable.positions.size();
   if (!groundTruth()) {  // a real robot: no world to compare with
     m_metrics.push_back(row);
     return;
   }
-  row.coverage = m_coverage->evaluate(positions).fraction;
+  row.coverage = m_coverage->evaluate(stable.positions).fraction;
   const SimObjectScore::Score objects = m_object_score->score(
-      positions, segment, m_mapper.stage<ClassificationStage>().segmentClassNames(m_mapper.map()));
+      stable.positions, stable.segment,
+      m_mapper.stage<ClassificationStage>().segmentClassNames(m_mapper.map()));
   row.objects_total = objects.detectable;
   row.objects_ok = objects.correct;
-  row.objects_correct =
-      row.objects_total > 0 ? double(row.objects_ok) / double(row.objects_total) : 0.0;
+  row.objects_correct = objects.fraction();
   m_metrics.push_back(row);
 }
 

@@ -37,19 +37,23 @@ SimObjectScore::Score SimObjectScore::score(
   return s;
 }
 
+StableSurfels stableSurfels(const maps::CSurfelMap& map) {
+  const maps::SurfelArrays a = map.store().arrays();
+  StableSurfels out;
+  out.positions.reserve(std::size_t(a.size));
+  out.segment.reserve(std::size_t(a.size));
+  for (int i = 0; i < a.size; ++i)
+    if (a.alive(i) && a.stable(i)) {
+      out.positions.push_back(a.position(i));
+      out.segment.push_back(a.segment[i]);
+    }
+  return out;
+}
+
 SimObjectScore::Score SimObjectScore::score(const maps::CSurfelMap& map,
                                             const ClassificationStage& classification) const {
-  const maps::SurfelArrays a = map.store().arrays();
-  std::vector<Eigen::Vector3f> positions;
-  std::vector<std::uint32_t> segment;
-  positions.reserve(std::size_t(a.size));
-  segment.reserve(std::size_t(a.size));
-  for (int i = 0; i < a.size; ++i)
-    if (a.alive(i) && a.stable(i)) {  // the map proper: unstable surfels come and go (II-B)
-      positions.push_back(a.position(i));
-      segment.push_back(a.segment[i]);
-    }
-  return score(positions, segment, classification.segmentClassNames(map));
+  const StableSurfels s = stableSurfels(map);
+  return score(s.positions, s.segment, classification.segmentClassNames(map));
 }
 
 }  // namespace rasm::autonomy

@@ -30,6 +30,14 @@ class ClassificationStage;
 
 namespace rasm::autonomy {
 
+/// The map proper: its alive, stable surfels (unstable ones come and go, II-B), their positions
+/// (world frame, m) and segment ids, index by index.
+struct StableSurfels {
+  std::vector<Eigen::Vector3f> positions;
+  std::vector<std::uint32_t> segment;
+};
+StableSurfels stableSurfels(const maps::CSurfelMap& map);
+
 class SimObjectScore {
  public:
   /// `scene`: the world the frames come from (it must outlive this).
