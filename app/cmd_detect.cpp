@@ -78,6 +78,7 @@ std::vector<std::unique_ptr<Detector>> makeConfiguredDetectors(const rasm::run::
   }
   rasm::classification::TClassificationParams params;
   rasm::loadParamsStrict(cfg.ini(), "classification", params, cfg.source());
+  params.resolveAuto(/*simulated_source=*/false);  // an image: auto is the DNN detector
   for (const std::string& name : params.detectorList()) {
     if (name == "dnn_detector") {
       out.push_back(makeConfiguredDnn(cfg));

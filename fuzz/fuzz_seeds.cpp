@@ -142,8 +142,8 @@ int main(int argc, char** argv) {
        "[source]\ntype = tum\npath = x\n[camera]\npreset = tum_fr1\nfx = 517.3\nfy = 516.5\n"
        "cx = 318.6\ncy = 255.3\n[mapper]\nmax_depth_m = 3.5\n--set\nmapper.pyramid_levels=2\n"
        "source.drop_frames=3-5,9\nrobot.camera_pitch_deg=-12.5\noutput.dir=out\n");
-  // The hostile INIs of the input probe (docs/io.md): a BOM, a key before any section, a key twice, an unterminated
-  // section header, an absurd focal length.
+  // The hostile INIs of the input probe (docs/io.md): a BOM, a key before any section, a key twice,
+  // an unterminated section header, an absurd focal length.
   seed(out / "config", "bom.ini", -1, "\xEF\xBB\xBF[source]\ntype = sim\n");
   seed(out / "config", "before_section.ini", -1, "max_depth_m = 3\n[mapper]\n");
   seed(out / "config", "twice.ini", -1,

@@ -40,8 +40,8 @@ int main(int argc, char** argv) {
     return double(u.ru_maxrss) / 1024.0;
   };
   if (args.size() != 1 && args.size() != 7) {
-    std::fprintf(stderr,
-                 "usage: bench_mesh RUN_FOLDER [fx fy cx cy width height] [--reps N] [--voxel M]\n");
+    std::fprintf(
+        stderr, "usage: bench_mesh RUN_FOLDER [fx fy cx cy width height] [--reps N] [--voxel M]\n");
     return 2;
   }
   const std::string dir = args[0];
@@ -56,7 +56,8 @@ int main(int argc, char** argv) {
     a >> map;
   }
   std::vector<Eigen::Isometry3d> poses;
-  for (const auto& p : io::readTumTrajectory(dir + "/trajectory.txt")) poses.push_back(p.T_world_cam);
+  for (const auto& p : io::readTumTrajectory(dir + "/trajectory.txt"))
+    poses.push_back(p.T_world_cam);
   const auto ms = [](auto t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   };

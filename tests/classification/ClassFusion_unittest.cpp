@@ -9,9 +9,9 @@
 #include <thread>
 
 #include "rasm/classification/ClassFusion.h"
-#include "rasm/classification/ObjectVerdict.h"
 #include "rasm/classification/ClassList.h"
 #include "rasm/classification/DetectorWorker.h"
+#include "rasm/classification/ObjectVerdict.h"
 #include "rasm/core/Error.h"
 #include "rasm/surfel_map/SurfelStore.h"
 

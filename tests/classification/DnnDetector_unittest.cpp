@@ -105,7 +105,7 @@ TEST(DnnDetector, YoloFastestFindsDogBicycleAndTruckInDogJpg) {
   const fs::path dir = kDetectors / "yolo-fastest-1.1-coco";
   if (!fs::exists(dir / "yolo-fastest-1.1.weights") || !fs::exists(kDogJpg))
     GTEST_SKIP() << "needs " << dir << " (../shared/data) and " << kDogJpg << " (package darknet)";
-  TDnnDetectorParams p;  // the defaults are Yolo-Fastest's: Darknet, 320x320 stretched, 1/255 RGB
+  auto p = TDnnDetectorParams::fromPreset("yolo_fastest");  // Darknet, 320x320 stretched, 1/255 RGB
   p.model = (dir / "yolo-fastest-1.1.cfg").string();
   p.weights = (dir / "yolo-fastest-1.1.weights").string();
   p.names = (dir / "coco.names").string();
@@ -184,7 +184,7 @@ TEST(DnnDetector, TinyDarknetNetworkDecodesToTheKnownBoxAndClasses) {
   TempDir tmp;
   TinyDarknet::write(tmp.file("tiny.cfg"), tmp.file("tiny.weights"));
   writeText(tmp.file("tiny.names"), "zero\none\n");
-  TDnnDetectorParams p;
+  auto p = TDnnDetectorParams::fromPreset("yolo_fastest");  // Darknet, 320x320 stretched, 1/255 RGB
   p.model = tmp.file("tiny.cfg");
   p.weights = tmp.file("tiny.weights");
   p.names = tmp.file("tiny.names");
@@ -235,7 +235,7 @@ TEST(DnnDetector, NamesFileWithTheWrongClassCountIsAnError) {
   TempDir tmp;
   TinyDarknet::write(tmp.file("tiny.cfg"), tmp.file("tiny.weights"));
   writeText(tmp.file("three.names"), "a\nb\nc\n");
-  TDnnDetectorParams p;
+  auto p = TDnnDetectorParams::fromPreset("yolo_fastest");  // Darknet, 320x320 stretched, 1/255 RGB
   p.model = tmp.file("tiny.cfg");
   p.weights = tmp.file("tiny.weights");
   p.names = tmp.file("three.names");
@@ -363,8 +363,10 @@ cv::Mat tinyOnnxImage() {
 
 TDnnDetectorParams tinyOnnxParams(const std::string& model, const std::string& names,
                                   const std::string& layout) {
-  TDnnDetectorParams p;
+  // The YOLO input normalisation (1/255, no mean, RGB) on an ONNX model.
+  auto p = TDnnDetectorParams::fromPreset("yolo_fastest");
   p.format = "onnx";
+  p.weights.clear();
   p.layout = layout;
   p.model = model;
   p.names = names;
@@ -544,7 +546,7 @@ TEST(DnnDetector, MissingWeightsAreNamedWithTheirKeyAndHowToGetThem) {
   TempDir tmp;
   TinyDarknet::write(tmp.file("yolov3.cfg"), tmp.file("unused.weights"));
   writeText(tmp.file("two.names"), "zero\none\n");
-  TDnnDetectorParams p;
+  auto p = TDnnDetectorParams::fromPreset("yolo_fastest");  // Darknet, 320x320 stretched, 1/255 RGB
   p.model = tmp.file("yolov3.cfg");
   p.weights = tmp.file("missing/yolov3.weights");
   p.names = tmp.file("two.names");
@@ -626,7 +628,7 @@ TEST(DnnDetector, IniKeysAreLoadedStrictlyAndValidated) {
   const std::string layout = loadError("[dnn_detector]\nlayout = yolox\n");
   EXPECT_NE(layout.find("[dnn_detector] layout"), std::string::npos) << layout;
   EXPECT_NE(layout.find("yolox"), std::string::npos) << layout;
-  const std::string mismatch = loadError("[dnn_detector]\nformat = onnx\n");  // layout yolo
+  const std::string mismatch = loadError("[dnn_detector]\nformat = darknet\n");  // layout nanodet
   EXPECT_NE(mismatch.find("[dnn_detector] layout"), std::string::npos) << mismatch;
   const std::string size = loadError("[dnn_detector]\ninput_width = 300\n");
   EXPECT_NE(size.find("[dnn_detector] input_width"), std::string::npos) << size;
@@ -639,13 +641,58 @@ TEST(DnnDetector, IniKeysAreLoadedStrictlyAndValidated) {
   EXPECT_NE(backend.find("[dnn_detector] backend"), std::string::npos) << backend;
 }
 
+TEST(DnnDetector, PresetFillsTheModelKeysAndKeysBesideItOverrideIt) {
+  TDnnDetectorParams by_default;  // NanoDet-m, the default for real data
+  EXPECT_EQ(by_default.preset, "nanodet_m");
+  EXPECT_EQ(by_default.format, "onnx");
+  EXPECT_EQ(by_default.layout, "nanodet");
+  EXPECT_TRUE(by_default.letterbox);
+  EXPECT_NE(by_default.model.find("nanodet-m-320-onnx/nanodet.onnx"), std::string::npos);
+  EXPECT_NO_THROW(by_default.validate());
+
+  mrpt::config::CConfigFileMemory cfg;
+  cfg.setContent("[dnn_detector]\npreset = yolo_fastest\nconfidence_threshold = 0.3\n");
+  TDnnDetectorParams yolo;
+  loadParamsStrict(cfg, "dnn_detector", yolo, "test.ini");
+  const auto reference = TDnnDetectorParams::fromPreset("yolo_fastest");
+  EXPECT_EQ(yolo.format, "darknet");
+  EXPECT_EQ(yolo.layout, "yolo");
+  EXPECT_FALSE(yolo.letterbox);
+  EXPECT_TRUE(yolo.swap_rb);
+  EXPECT_DOUBLE_EQ(yolo.scale, 1.0 / 255.0);
+  EXPECT_EQ(yolo.model, reference.model);
+  EXPECT_EQ(yolo.weights, reference.weights);
+  EXPECT_DOUBLE_EQ(yolo.confidence_threshold, 0.3);  // not a preset key: kept
+
+  // A key beside the preset wins; the saved section reloads to the same params.
+  cfg.setContent("[dnn_detector]\npreset = yolo_fastest\ninput_width = 416\n");
+  TDnnDetectorParams wider;
+  loadParamsStrict(cfg, "dnn_detector", wider, "test.ini");
+  EXPECT_EQ(wider.input_width, 416);
+  mrpt::config::CConfigFileMemory saved;
+  wider.saveToConfigFile(saved, "dnn_detector");
+  TDnnDetectorParams reloaded;
+  reloaded.loadFromConfigFile(saved, "dnn_detector");
+  EXPECT_EQ(reloaded.input_width, 416);
+  EXPECT_EQ(reloaded.format, "darknet");
+  EXPECT_EQ(reloaded.model, wider.model);
+
+  const std::string unknown = loadError("[dnn_detector]\npreset = yolov9\n");
+  EXPECT_NE(unknown.find("[dnn_detector] preset"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("yolov9"), std::string::npos) << unknown;
+  // A Darknet cfg under the default (ONNX) preset is named, with the preset that fits it.
+  const std::string cfg_file = loadError("[dnn_detector]\nmodel = my.cfg\n");
+  EXPECT_NE(cfg_file.find("[dnn_detector] model = my.cfg"), std::string::npos) << cfg_file;
+  EXPECT_NE(cfg_file.find("yolo_fastest"), std::string::npos) << cfg_file;
+}
+
 TEST(DnnDetector, CudaBackendWithoutCudaInOpenCvIsAnErrorThatSaysSo) {
   const std::string why = cudaUnavailableReason();
   if (why.empty()) GTEST_SKIP() << "this OpenCV has a CUDA dnn backend";
   TempDir tmp;
   TinyDarknet::write(tmp.file("tiny.cfg"), tmp.file("tiny.weights"));
   writeText(tmp.file("two.names"), "zero\none\n");
-  TDnnDetectorParams p;
+  auto p = TDnnDetectorParams::fromPreset("yolo_fastest");  // Darknet, 320x320 stretched, 1/255 RGB
   p.model = tmp.file("tiny.cfg");
   p.weights = tmp.file("tiny.weights");
   p.names = tmp.file("two.names");
@@ -681,7 +728,7 @@ TEST(DnnDetector, TruncatedOrForeignDarknetWeightsAreAnError) {
     bytes = ss.str();
   }
   ASSERT_EQ(bytes.size(), 20u + 4u * 28u);
-  TDnnDetectorParams p;
+  auto p = TDnnDetectorParams::fromPreset("yolo_fastest");  // Darknet, 320x320 stretched, 1/255 RGB
   p.model = tmp.file("tiny.cfg");
   p.names = tmp.file("tiny.names");
   p.input_width = TinyDarknet::kWidth;
@@ -710,7 +757,7 @@ TEST(DnnDetector, TruncatedOrForeignDarknetWeightsAreAnError) {
 TEST(DnnDetector, YoloFastestWithTheXlWeightsIsAnError) {
   const fs::path dir = fs::path(RASM_SHARED_DATA) / "detectors/yolo-fastest-1.1-coco";
   if (!fs::exists(dir / "yolo-fastest-1.1-xl.weights")) GTEST_SKIP() << "no " << dir;
-  TDnnDetectorParams p;
+  auto p = TDnnDetectorParams::fromPreset("yolo_fastest");  // Darknet, 320x320 stretched, 1/255 RGB
   p.model = (dir / "yolo-fastest-1.1.cfg").string();
   p.weights = (dir / "yolo-fastest-1.1-xl.weights").string();
   p.names = (dir / "coco.names").string();

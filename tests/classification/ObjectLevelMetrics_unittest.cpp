@@ -112,10 +112,10 @@ TEST(ObjectLevelMetrics, EmptyAndInconsistentInputs) {
       computeObjectLevelMetrics(map.segment, map.instance, {}, kObjects, params());
   EXPECT_TRUE(std::isnan(none.precision));
   EXPECT_DOUBLE_EQ(none.recall, 0.0);
-  EXPECT_THROW(computeObjectLevelMetrics(map.segment, map.instance,
-                                         {{1, "chair", {20}}, {2, "chair", {20}}}, kObjects,
-                                         params()),
-               std::invalid_argument);
+  EXPECT_THROW(
+      computeObjectLevelMetrics(map.segment, map.instance, {{1, "chair", {20}}, {2, "chair", {20}}},
+                                kObjects, params()),
+      std::invalid_argument);
   EXPECT_THROW(computeObjectLevelMetrics({1, 2}, {1}, {}, kObjects, params()),
                std::invalid_argument);
 }

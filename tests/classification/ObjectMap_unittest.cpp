@@ -156,16 +156,15 @@ TEST(ObjectMap, TwoDesksSideBySideStayTwoObjects) {
 TEST(ObjectMap, APieceOfTheFloorNamedATableIsStructure) {
   constexpr int kBook = 74;
   std::vector<segmentation::SegmentStats> table = {
-      segmentBox(1, {0.0, 0.0, -0.01}, {7.0, 5.0, 0.01}, 40000),     // the floor
-      segmentBox(2, {1.0, 1.0, 0.0}, {3.9, 2.5, 0.087}, 5000),       // the floor piece
-      segmentBox(3, {1.0, 1.0, 0.715}, {2.6, 1.8, 0.745}, 6000),     // a desk's top
-      segmentBox(4, {5.0, 3.0, 0.0}, {5.3, 3.2, 0.03}, 300)};        // a book on the floor
+      segmentBox(1, {0.0, 0.0, -0.01}, {7.0, 5.0, 0.01}, 40000),  // the floor
+      segmentBox(2, {1.0, 1.0, 0.0}, {3.9, 2.5, 0.087}, 5000),    // the floor piece
+      segmentBox(3, {1.0, 1.0, 0.715}, {2.6, 1.8, 0.745}, 6000),  // a desk's top
+      segmentBox(4, {5.0, 3.0, 0.0}, {5.3, 3.2, 0.03}, 300)};     // a book on the floor
   ObjectMap m;
   for (std::size_t f = 0; f < 5; ++f)
-    m.addDetectorView(view(5 * f, {{1, 20000}, {2, 5000}, {3, 9000}, {4, 400}},
-                           {{2, kDiningTable, 0.9f, 0.5f},
-                            {3, kDiningTable, 0.9f, 0.8f},
-                            {4, kBook, 0.9f, 0.8f}}));
+    m.addDetectorView(view(
+        5 * f, {{1, 20000}, {2, 5000}, {3, 9000}, {4, 400}},
+        {{2, kDiningTable, 0.9f, 0.5f}, {3, kDiningTable, 0.9f, 0.8f}, {4, kBook, 0.9f, 0.8f}}));
   m.update(table);
   EXPECT_EQ(m.objectOfSegment(2)->verdict, ObjectVerdict::Structure);
   EXPECT_EQ(m.objectOfSegment(3)->verdict, ObjectVerdict::Object);

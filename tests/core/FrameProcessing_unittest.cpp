@@ -419,9 +419,9 @@ TEST(NearestPixel, RoundsInsideAndRefusesNanHugeBehindAndOutside) {
   EXPECT_EQ(u, 0);
   EXPECT_EQ(v, 0);
   const float nan = std::nanf(""), huge = 1e30f;
-  for (const Eigen::Vector3f& p : {Eigen::Vector3f(nan, 0, 1), Eigen::Vector3f(0, 0, nan),
-                                  Eigen::Vector3f(huge, 0, 1), Eigen::Vector3f(0, -huge, 1),
-                                  Eigen::Vector3f(0, 0, -1), Eigen::Vector3f(0, 0, 0),
-                                  Eigen::Vector3f(2.0f, 0, 1)})
+  for (const Eigen::Vector3f& p :
+       {Eigen::Vector3f(nan, 0, 1), Eigen::Vector3f(0, 0, nan), Eigen::Vector3f(huge, 0, 1),
+        Eigen::Vector3f(0, -huge, 1), Eigen::Vector3f(0, 0, -1), Eigen::Vector3f(0, 0, 0),
+        Eigen::Vector3f(2.0f, 0, 1)})
     EXPECT_FALSE(rasm::nearestPixel(K, p, 640, 480, u, v)) << p.transpose();
 }

@@ -346,9 +346,9 @@ TEST(TourIgPlanner, AHallWhoseFarHalfIsUnknownGetsAGoalThereAlthoughNearViewsExi
   const Plan plan = planner.plan(in);
   expectSoundGoals(plan, p);
   ASSERT_FALSE(plan.ranked.empty());
-  const auto near_views = std::count_if(plan.ranked.begin(), plan.ranked.end(), [&](const ViewCandidate& c) {
-    return (c.pose.head<2>() - robot.head<2>()).norm() < 1.5;
-  });
+  const auto near_views = std::count_if(
+      plan.ranked.begin(), plan.ranked.end(),
+      [&](const ViewCandidate& c) { return (c.pose.head<2>() - robot.head<2>()).norm() < 1.5; });
   EXPECT_GT(near_views, 0) << "no near view to prefer: the test shows nothing";
   for (std::size_t k = 0; k < plan.tour_clusters; ++k)
     std::printf("tour %zu: (%.2f, %.2f, %.0f deg) gain %.3f, dH %.0f nats, travel %.1f s\n", k,

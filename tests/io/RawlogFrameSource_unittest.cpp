@@ -438,7 +438,9 @@ void expectReadError(const std::string& path, const std::string& reason) {
   }
 }
 
-std::string u32(std::uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); }
+std::string u32(std::uint32_t v) {
+  return std::string(reinterpret_cast<const char*>(&v), 4);
+}
 }  // namespace
 
 TEST(RawlogFrameSource, CorruptStringLengthIsAnErrorNotAnAllocation) {
@@ -472,7 +474,8 @@ TEST(RawlogFrameSource, CorruptRangeImageSizeIsAnErrorNotAnAllocation) {
   std::string units(4, '\0');
   std::memcpy(units.data(), &obs.rangeUnits, 4);
   const std::string path = dir / "corrupt.rawlog";
-  writeWithCorruptField(obs, units + u32(24) + u32(32), units + u32(1u << 20) + u32(1u << 20), path);
+  writeWithCorruptField(obs, units + u32(24) + u32(32), units + u32(1u << 20) + u32(1u << 20),
+                        path);
   expectReadError(path, "range image of 1048576 x 1048576 pixels");
   // Below the limit, a size that does not match the data fails at the end of the stream as before.
   writeWithCorruptField(obs, units + u32(24) + u32(32), units + u32(600) + u32(800), path);
@@ -580,7 +583,8 @@ TEST(RawlogFrameSource, CorruptImageByteCountIsAnErrorNotAnAllocation) {
     read(bytes, img);
     FAIL() << "a 4 GB JPEG byte count was accepted";
   } catch (const std::exception& e) {
-    EXPECT_NE(std::string(e.what()).find("serialized JPEG image of 4026531840 bytes"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("serialized JPEG image of 4026531840 bytes"),
+              std::string::npos)
         << e.what();
   }
   // Intact images read back as MRPT wrote them.
@@ -588,7 +592,8 @@ TEST(RawlogFrameSource, CorruptImageByteCountIsAnErrorNotAnAllocation) {
   ASSERT_EQ(img.getWidth(), 8u);
   ASSERT_EQ(img.getHeight(), 6u);
   EXPECT_TRUE(img.isColor());
-  for (int c = 0; c < 3; ++c) EXPECT_NEAR(*img(3, 2, c), *colour(3, 2, c), 12) << c;  // JPEG, BGR kept
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(*img(3, 2, c), *colour(3, 2, c), 12) << c;  // JPEG, BGR kept
   mrpt::img::CImage grey(5, 4, mrpt::img::CH_GRAY);
   for (int y = 0; y < 4; ++y)
     for (int x = 0; x < 5; ++x) *grey(x, y) = std::uint8_t(11 * x + 3 * y);
@@ -619,7 +624,8 @@ TEST(RawlogFrameSource, CorruptObservationFlagIsNamed) {
     FAIL() << "a flag byte of 30 was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("test entry 7"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("flag hasIntensityImage holds the byte 30"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("flag hasIntensityImage holds the byte 30"),
+              std::string::npos)
         << e.what();
   }
   const unsigned char one = 1;
@@ -638,7 +644,8 @@ TEST(RawlogFrameSource, NonFinitePosesInAnObservationAreNamed) {
     frameFromObservation(obs, "entry 3");
     FAIL() << "a NaN colour camera pose was accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("relativePoseIntensityWRTDepth) is not finite"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("relativePoseIntensityWRTDepth) is not finite"),
+              std::string::npos)
         << e.what();
   }
   observationFromFrame(syntheticFrame(0), obs);
@@ -649,7 +656,8 @@ TEST(RawlogFrameSource, NonFinitePosesInAnObservationAreNamed) {
     frameFromObservation(obs, "entry 4", opt);
     FAIL() << "an infinite ground-truth pose was accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("ground-truth pose (sensorPose) is not finite"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("ground-truth pose (sensorPose) is not finite"),
+              std::string::npos)
         << e.what();
   }
 }

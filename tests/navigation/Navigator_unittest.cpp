@@ -188,9 +188,8 @@ TEST(Navigator, FollowsARouteThroughADoorwayToAGoalBehindAWall) {
       through = o.trajectory[k].y() > 0.6 && o.trajectory[k].y() < 1.5;
   EXPECT_TRUE(through);
   // The route's length is ~7.4 m; the path no more than 25% longer.
-  EXPECT_LT(rig.nav.pathLength_m(), 1.25 * ((Eigen::Vector2d(1.4, 1.05) - Eigen::Vector2d(0, -1.5))
-                                                    .norm() +
-                                                1.2 + 3.55));
+  EXPECT_LT(rig.nav.pathLength_m(),
+            1.25 * ((Eigen::Vector2d(1.4, 1.05) - Eigen::Vector2d(0, -1.5)).norm() + 1.2 + 3.55));
   // A route with a non-finite waypoint is refused.
   EXPECT_THROW(rig.nav.setGoal(goal, {Eigen::Vector2d(NAN, 0)}), InputError);
 }
@@ -215,8 +214,8 @@ TEST(Navigator, FollowsARouteAlongAHallwayFromRoomToRoom) {
   const TNavigationParams p = testParams();
   Rig rig(floorWorld(walls), Eigen::Vector3d(10.08, 2.6, -90 * kDeg), p);
   const Eigen::Vector3d goal(7.32, 3.05, M_PI);
-  const std::vector<Eigen::Vector2d> route = {{10.075, 1.55}, {9.825, 1.30}, {6.825, 1.30},
-                                              {6.575, 1.55}, {6.575, 2.30}};
+  const std::vector<Eigen::Vector2d> route = {
+      {10.075, 1.55}, {9.825, 1.30}, {6.825, 1.30}, {6.575, 1.55}, {6.575, 2.30}};
   rig.nav.setGoal(goal, route);
   const Outcome o = drive(rig.robot, rig.nav, p.goal_timeout_s);
   std::printf("room to room: %s in %.1f s, path %.2f m\n", toString(o.state), o.time_s,

@@ -79,8 +79,10 @@ TEST(MapperStage, AStagePlugsInWithOneCallAndItsLabelsReachTheMap) {
     ASSERT_EQ(r.ms.size(), timers.size());
     // frames.csv: every stage writes as many values as it names columns.
     const std::string header = mapper.csvHeader(), row = mapper.csvRow();
-    ASSERT_EQ(std::count(row.begin(), row.end(), ','), std::count(header.begin(), header.end(), ','))
-        << header << "\n" << row;
+    ASSERT_EQ(std::count(row.begin(), row.end(), ','),
+              std::count(header.begin(), header.end(), ','))
+        << header << "\n"
+        << row;
     fused += r.fused;
     if (fused >= 3) break;
   }

@@ -12,9 +12,9 @@
 #include <map>
 #include <set>
 
+#include "pipeline/AnalyticScene.h"
 #include "rasm/pipeline/Mapper.h"
 #include "rasm/pipeline/stages/SegmentationStage.h"
-#include "pipeline/AnalyticScene.h"
 
 using namespace rasm;
 using namespace rasm::pipeline;
@@ -153,8 +153,8 @@ TEST(SegmentationStage, AnObjectFusedIntoItsSupportFromAfarGetsItsOwnLabelWhenSe
   const Box plate{{-0.15, -0.35, 2.98}, {0.15, -0.05, 3.0}};
   const Box wall_patch{{0.3, -0.35, 2.99}, {0.6, -0.05, 3.01}};
   for (const double share : {0.3, 0.0}) {
-    std::unique_ptr<Mapper> mp = mapperWith({{"split_max_share", std::to_string(share)},
-                                             {"remap_every_n_frames", "1000"}});
+    std::unique_ptr<Mapper> mp =
+        mapperWith({{"split_max_share", std::to_string(share)}, {"remap_every_n_frames", "1000"}});
     Mapper& mapper = *mp;
     Eigen::Isometry3d near = at(0.0);
     near.translation().z() = 2.28;

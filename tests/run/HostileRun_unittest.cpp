@@ -9,7 +9,10 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "rasm/classification/DnnDetector.h"
 #include "rasm/core/Error.h"
+#include "rasm/core/Params.h"
+#include "rasm/core/SharedData.h"
 #include "rasm/run/MappingRun.h"
 #include "rasm/run/RunConfig.h"
 #include "run/RunTestFiles.h"
@@ -242,12 +245,15 @@ TEST(HostileRun, MapOfAnotherSceneLosesEveryFrameAndIsFailed) {
   fs::remove_all(dir);
 }
 
-/// The shipped INIs name their data relative to themselves: the detector and the sequence are
-/// found whatever the working directory (the tests run in build/tests).
+/// The shipped INIs name their data relative to themselves, and their detector presets the shared
+/// data folder: the detector and the sequence are found whatever the working directory (the
+/// tests run in build/tests).
 TEST(HostileIni, ShippedIniFindsItsDataFromAnyFolder) {
-  for (const char* name : {"7scenes_redkitchen.ini", "7scenes_redkitchen_nanodet.ini"}) {
+  for (const char* name : {"7scenes_redkitchen.ini", "7scenes_redkitchen_yolo_fastest.ini"}) {
     const RunConfig c = RunConfig::fromFile(std::string(RASM_SOURCE_DIR) + "/ini/" + name);
-    const std::string model = c.ini().read_string("dnn_detector", "model", "");
+    rasm::classification::TDnnDetectorParams dnn;
+    rasm::loadParamsStrict(c.ini(), "dnn_detector", dnn, name);
+    const std::string model = rasm::resolveSharedData(dnn.model);
     const std::string path = c.ini().read_string("source", "path", "");
     EXPECT_TRUE(has(model, "/shared/data/detectors/")) << name << ": " << model;
     if (!fs::exists(std::string(RASM_SHARED_DATA))) continue;

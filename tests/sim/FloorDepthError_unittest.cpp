@@ -90,9 +90,9 @@ void printTable(const std::vector<RangeBin>& bins) {
 }  // namespace
 
 TEST(FloorDepthError, IsUnbiasedWithTheNoiseOfTheNguyenModelAtEveryRange) {
-  TSensorParams p;  // the shipped model: Kinect v1 preset, every noise term and quantization on
-  p.dropouts = false;    // every floor pixel, also the grazing ones
-  p.max_depth_m = 6.0;   // no bin cut by the range limit (it would bias the last one)
+  TSensorParams p;      // the shipped model: Kinect v1 preset, every noise term and quantization on
+  p.dropouts = false;   // every floor pixel, also the grazing ones
+  p.max_depth_m = 6.0;  // no bin cut by the range limit (it would bias the last one)
   const std::vector<RangeBin> bins = floorDepthError(p, 16);
   printTable(bins);
   int checked = 0;

@@ -220,7 +220,8 @@ struct EdgeFlips {
 };
 EdgeFlips lateralEdgeFlips(int width, int height, double f) {
   const World w = planeWorld(
-      3.0, "  - {id: 2, class: box, primitive: box, size: [0.2, 1.0, 1.0], position: [1.6, 0, 0]}\n");
+      3.0,
+      "  - {id: 2, class: box, primitive: box, size: [0.2, 1.0, 1.0], position: [1.6, 0, 0]}\n");
   const RayScene scene(w);
   TSensorParams p;
   p.dropouts = false;
@@ -233,8 +234,7 @@ EdgeFlips lateralEdgeFlips(int width, int height, double f) {
   p.cy = (height - 1) / 2.0;
   TSensorParams exact = p;
   exact.noise = false;
-  const Eigen::Isometry3d T_world_cam =
-      cameraPoseFromHeading(Eigen::Vector3d::Zero(), 15.0, 0.0);
+  const Eigen::Isometry3d T_world_cam = cameraPoseFromHeading(Eigen::Vector3d::Zero(), 15.0, 0.0);
   const RgbdFrame truth = RgbdSensor(scene, exact).render(T_world_cam);
   const DepthModelParams model = p.depthModel();
   EdgeFlips out;
@@ -278,9 +278,9 @@ TEST(RgbdSensor, LateralNoiseMovesDepthEdgesByTheModelsSigmaAndLeavesPlanesExact
                 e.predicted, e.interior);
     // The flips are Bernoulli draws: 250-1400 of them have a standard error of 3-6%, so 15% is
     // 2.5-5 standard errors; unscaled sigma_L at 320x240 flips 5x the prediction, none without it.
-    EXPECT_NEAR(e.measured / e.predicted, 1.0, 0.15) << w << "x" << h << ": " << e.measured
-                                                    << " pixels flipped, " << e.predicted
-                                                    << " predicted";
+    EXPECT_NEAR(e.measured / e.predicted, 1.0, 0.15)
+        << w << "x" << h << ": " << e.measured << " pixels flipped, " << e.predicted
+        << " predicted";
     // Away from the edges the lateral offset leaves the wall and the box face exact.
     EXPECT_GT(e.interior, 1000);
     EXPECT_EQ(e.interior_not_exact, 0) << w << "x" << h;

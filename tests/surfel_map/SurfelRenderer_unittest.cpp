@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "rasm/core/ComputeOptions.h"
 #include <omp.h>
+#include "rasm/core/ComputeOptions.h"
 
 #include <algorithm>
 #include <cmath>

@@ -341,4 +341,3 @@ TEST(IcpKernels, PhotometricJacobianMatchesFiniteDifferences) {
     }
   EXPECT_GT(checked, 20);
 }
-

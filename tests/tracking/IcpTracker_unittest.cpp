@@ -522,9 +522,9 @@ TEST(IcpTracker, DegenerateRetryIsTakenOnlyWithAPrior) {
   EXPECT_FALSE(r.denser_model);
 
   // A prior at the true pose, 1 cm / 1 deg: the degenerate retry stands, at the true pose.
-  const MotionPrior prior = MotionPrior::fromStdDevs(
-      T_b, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Constant(0.01),
-      Eigen::Vector3d::Constant(kDeg));
+  const MotionPrior prior =
+      MotionPrior::fromStdDevs(T_b, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Constant(0.01),
+                               Eigen::Vector3d::Constant(kDeg));
   IcpTracker tp;
   tp.reset(T_a);
   const TrackingResult rp = tp.track(p.pyr_b, modelOf(sparse, T_a), {}, &prior, dense);

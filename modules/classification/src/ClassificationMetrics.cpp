@@ -1,8 +1,8 @@
 #include "rasm/classification/ClassificationMetrics.h"
 
 #include <cmath>
-#include <stdexcept>
 #include <set>
+#include <stdexcept>
 #include <unordered_map>
 
 namespace rasm::classification {
@@ -33,7 +33,8 @@ std::uint32_t argmax(const Counts& c, std::size_t* best_count = nullptr) {
 
 /// An evaluated object (header): not structure, larger than min_object_size_m, with at least
 /// min_object_surfels surfels in the map.
-bool isEvaluated(const GtClassObject& o, std::size_t surfels, const ClassificationMetricsParams& p) {
+bool isEvaluated(const GtClassObject& o, std::size_t surfels,
+                 const ClassificationMetricsParams& p) {
   return !o.is_structure && o.size_m > p.min_object_size_m && surfels >= p.min_object_surfels;
 }
 

@@ -47,14 +47,6 @@ bool parseTriple(const std::string& text, cv::Scalar& out) {
   return true;
 }
 
-void requireOneOf(const std::string& value, const std::vector<std::string>& allowed,
-                  const std::string& section, const std::string& key) {
-  if (std::find(allowed.begin(), allowed.end(), value) != allowed.end()) return;
-  std::string list;
-  for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-  throwInputError(keyName(section, key), "unknown value '" + value + "', expected one of " + list);
-}
-
 std::string lower(std::string s) {
   for (auto& ch : s) ch = char(std::tolower(static_cast<unsigned char>(ch)));
   return s;
@@ -190,9 +182,49 @@ std::string shapeText(const cv::Mat& m) {
 // ---------------------------------------------------------------------------------------------
 // [dnn_detector]
 
+TDnnDetectorParams TDnnDetectorParams::fromPreset(const std::string& name,
+                                                  const std::string& section) {
+  TDnnDetectorParams p;
+  p.applyPreset(name, section);
+  return p;
+}
+
+void TDnnDetectorParams::applyPreset(const std::string& name, const std::string& section) {
+  requireOneOf(name, {"nanodet_m", "yolo_fastest"}, section, "preset");
+  preset = name;
+  input_width = input_height = 320;
+  nanodet_cell_offset = 0.5;
+  if (name == "nanodet_m") {
+    const std::string dir = "../shared/data/detectors/nanodet-m-320-onnx/";
+    format = "onnx";
+    model = dir + "nanodet.onnx";
+    weights.clear();
+    names = dir + "coco.names";
+    layout = "nanodet";
+    letterbox = true;
+    scale = 1.0;
+    mean = "103.53 116.28 123.675";
+    stddev = "57.375 57.12 58.395";
+    swap_rb = false;
+  } else {
+    const std::string dir = "../shared/data/detectors/yolo-fastest-1.1-coco/";
+    format = "darknet";
+    model = dir + "yolo-fastest-1.1.cfg";
+    weights = dir + "yolo-fastest-1.1.weights";
+    names = dir + "coco.names";
+    layout = "yolo";
+    letterbox = false;
+    scale = 1.0 / 255.0;
+    mean = "0 0 0";
+    stddev = "1 1 1";
+    swap_rb = true;
+  }
+}
+
 void TDnnDetectorParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                             const std::string& s) {
   MRPT_LOAD_CONFIG_VAR_CS(enabled, bool);
+  applyPreset(c.read_string(s, "preset", preset), s);
   MRPT_LOAD_CONFIG_VAR_CS(format, string);
   MRPT_LOAD_CONFIG_VAR_CS(model, string);
   MRPT_LOAD_CONFIG_VAR_CS(weights, string);
@@ -216,6 +248,7 @@ void TDnnDetectorParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 void TDnnDetectorParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                                           const std::string& s) const {
   put(c, s, "enabled", enabled, "false: no DNN detector");
+  put(c, s, "preset", preset, "nanodet_m | yolo_fastest: the model keys below, overridable");
   put(c, s, "format", format, "darknet (model = .cfg, weights = .weights) | onnx");
   put(c, s, "model", model, "Darknet .cfg or .onnx file");
   put(c, s, "weights", weights, "Darknet .weights file (format = darknet)");
@@ -244,6 +277,13 @@ void TDnnDetectorParams::validate(const std::string& s) const {
                     "'" + layout + "' does not fit format = " + format +
                         " (Darknet models use layout yolo; ONNX models yolov5, yolov8 or nanodet)");
   if (model.empty()) throwInputError(keyName(s, "model"), "empty: expected a model file");
+  const std::string extension = lower(fs::path(model).extension().string());
+  if ((extension == ".cfg" && format != "darknet") || (extension == ".onnx" && format != "onnx"))
+    throwInputError(keyName(s, "model") + " = " + model,
+                    "a " + extension + " file does not fit format = " + format +
+                        " (preset = " + preset +
+                        "; preset = yolo_fastest sets format, layout and input keys for Darknet "
+                        "models, nanodet_m for NanoDet-m's ONNX)");
   if (names.empty()) throwInputError(keyName(s, "names"), "empty: expected a class-names file");
   if (format == "darknet" && weights.empty())
     throwInputError(keyName(s, "weights"), "empty: a Darknet model needs its .weights file");

@@ -137,7 +137,8 @@ void ObjectMap::relabel(const std::vector<std::uint32_t>& table) {
     for (const auto& [key, detected] : r.views) into.views[key] = into.views[key] || detected;
   }
   m_segments = std::move(records);
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> pairs;  // merged into one: no longer a pair
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int>
+      pairs;  // merged into one: no longer a pair
   for (const auto& [ab, n] : m_codetections) {
     const std::uint32_t a = apply(ab.first), b = apply(ab.second);
     if (a != 0 && b != 0 && a != b) pairs[{std::min(a, b), std::max(a, b)}] += n;

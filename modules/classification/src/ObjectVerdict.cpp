@@ -7,11 +7,16 @@ namespace rasm::classification {
 
 const char* toString(ObjectVerdict v) {
   switch (v) {
-    case ObjectVerdict::Object: return "object";
-    case ObjectVerdict::Unconfirmed: return "unconfirmed";
-    case ObjectVerdict::Fragment: return "fragment";
-    case ObjectVerdict::Structure: return "structure";
-    case ObjectVerdict::RarelyDetected: return "rarely_detected";
+    case ObjectVerdict::Object:
+      return "object";
+    case ObjectVerdict::Unconfirmed:
+      return "unconfirmed";
+    case ObjectVerdict::Fragment:
+      return "fragment";
+    case ObjectVerdict::Structure:
+      return "structure";
+    case ObjectVerdict::RarelyDetected:
+      return "rarely_detected";
   }
   return "?";
 }
@@ -19,8 +24,8 @@ const char* toString(ObjectVerdict v) {
 bool isStructure(const Eigen::Vector3d& extents_m, const TClassificationParams& params) {
   Eigen::Vector3d e = extents_m.cwiseAbs();
   std::sort(e.data(), e.data() + 3, std::greater<double>());
-  const double max_thickness_m = std::max(params.structure_max_thickness_m,
-                                          params.structure_max_thickness_fraction * e[1]);
+  const double max_thickness_m =
+      std::max(params.structure_max_thickness_m, params.structure_max_thickness_fraction * e[1]);
   return e[1] > params.structure_min_extent_m && e[2] < max_thickness_m;
 }
 

@@ -11,6 +11,12 @@ std::vector<std::string> TClassificationParams::detectorList() const {
   return splitList(detectors);
 }
 
+void TClassificationParams::resolveAuto(bool simulated_source) {
+  if (detectors == "auto") detectors = simulated_source ? "sim_detector" : "dnn_detector";
+  if (threaded_auto) threaded = !simulated_source;
+  threaded_auto = false;
+}
+
 ScoreModel TClassificationParams::scoreModel() const {
   return score_model == "vote" ? ScoreModel::Vote : ScoreModel::Probability;
 }
@@ -20,7 +26,13 @@ void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
   detectors = c.read_string(s, "detectors", detectors);
   MRPT_LOAD_CONFIG_VAR(every_n_frames, int, c, s);
-  MRPT_LOAD_CONFIG_VAR(threaded, bool, c, s);
+  {
+    const std::string given =
+        c.read_string(s, "threaded", threaded_auto ? "auto" : (threaded ? "true" : "false"));
+    requireOneOf(given, {"true", "false", "auto"}, s, "threaded");
+    threaded_auto = given == "auto";
+    if (!threaded_auto) threaded = given == "true";
+  }
   MRPT_LOAD_CONFIG_VAR(min_iou, double, c, s);
   score_model = c.read_string(s, "score_model", score_model);
   MRPT_LOAD_CONFIG_VAR(vote_neutral_score, double, c, s);
@@ -34,7 +46,12 @@ void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(structure_max_thickness_fraction, double, c, s);
   MRPT_LOAD_CONFIG_VAR(structure_piece_min_extent_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(structure_piece_max_offset_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(pose_consensus, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(pose_agreement_deg, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(pose_min_view_change_deg, double, c, s);
   MRPT_LOAD_CONFIG_VAR(seed, int, c, s);
+  requireInRange(pose_agreement_deg, 0.0, 180.0, s, "pose_agreement_deg");
+  requireInRange(pose_min_view_change_deg, 0.0, 180.0, s, "pose_min_view_change_deg");
   requireInRange(every_n_frames, 1, 100000, s, "every_n_frames");
   requireInRange(min_iou, 0.0, 1.0, s, "min_iou");
   requireInRange(max_detection_probability, 0.5, 1.0, s, "max_detection_probability");
@@ -44,26 +61,27 @@ void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   requireInRange(min_object_size_m, 0.0, 100.0, s, "min_object_size_m");
   requireInRange(structure_min_extent_m, 0.0, 1000.0, s, "structure_min_extent_m");
   requireInRange(structure_max_thickness_m, 0.0, 1000.0, s, "structure_max_thickness_m");
-  requireInRange(structure_max_thickness_fraction, 0.0, 1.0, s,
-                 "structure_max_thickness_fraction");
+  requireInRange(structure_max_thickness_fraction, 0.0, 1.0, s, "structure_max_thickness_fraction");
   requireInRange(structure_piece_min_extent_m, 0.0, 1000.0, s, "structure_piece_min_extent_m");
   requireInRange(structure_piece_max_offset_m, 0.0, 10.0, s, "structure_piece_max_offset_m");
   if (score_model != "probability" && score_model != "vote")
     throwInputError("[" + s + "] score_model = " + score_model, "expected 'probability' or 'vote'");
   for (const std::string& d : detectorList())
-    if (d != "sim_detector" && d != "dnn_detector" && d != "zero_shot")
-      throwInputError(
-          "[" + s + "] detectors = " + detectors,
-          "unknown detector '" + d + "'; expected sim_detector, dnn_detector or zero_shot");
+    if (detectors != "auto" && d != "sim_detector" && d != "dnn_detector" && d != "zero_shot")
+      throwInputError("[" + s + "] detectors = " + detectors,
+                      "unknown detector '" + d +
+                          "'; expected auto or a list of sim_detector, dnn_detector, zero_shot");
 }
 
 void TClassificationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                                              const std::string& s) const {
   c.write(s, "enabled", enabled, -1, -1, "false: no classification stage work");
   c.write(s, "detectors", detectors, -1, -1,
-          "comma list of detector sections: sim_detector, dnn_detector, zero_shot");
+          "auto | comma list of detector sections: sim_detector, dnn_detector, zero_shot");
   c.write(s, "every_n_frames", every_n_frames, -1, -1, "offer every n-th fused frame");
-  c.write(s, "threaded", threaded, -1, -1, "detectors on worker threads (false: deterministic)");
+  c.write(s, "threaded",
+          threaded_auto ? std::string("auto") : std::string(threaded ? "true" : "false"), -1, -1,
+          "detectors on worker threads (false: deterministic; auto: false on the simulator)");
   c.write(s, "min_iou", min_iou, -1, -1, "box / L^p segment IoU needed to fuse a detection");
   c.write(s, "score_model", score_model, -1, -1, "p_d from a score: probability | vote");
   c.write(s, "vote_neutral_score", vote_neutral_score, -1, -1,
@@ -88,6 +106,12 @@ void TClassificationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
           "objects.json: a thin plane this large both ways in a structure's plane is part of it");
   c.write(s, "structure_piece_max_offset_m", structure_piece_max_offset_m, -1, -1,
           "objects.json: ... within this distance of that plane");
+  c.write(s, "pose_consensus", pose_consensus, -1, -1,
+          "fuse template-pose detections only when views agree on the object's orientation");
+  c.write(s, "pose_agreement_deg", pose_agreement_deg, -1, -1,
+          "pose consensus: orientations this close agree (deg)");
+  c.write(s, "pose_min_view_change_deg", pose_min_view_change_deg, -1, -1,
+          "pose consensus: views at least this far apart (deg) count");
   c.write(s, "seed", seed, -1, -1, "seed of the simulated detector's noise");
 }
 

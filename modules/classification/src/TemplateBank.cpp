@@ -301,6 +301,16 @@ std::size_t TemplateBank::templatesOfClass(int class_index) const {
   }));
 }
 
+float modelAzimuthPeriodDeg(const TemplateBank& bank, int model_index) {
+  float max_azimuth = -1.f;
+  for (const TemplateInfo& t : bank.templates)
+    if (t.model_index == model_index) max_azimuth = std::max(max_azimuth, t.azimuth_deg);
+  if (max_azimuth < 0.f) return 360.f;
+  const float span = max_azimuth + bank.views.azimuth_step_deg;
+  const int symmetry = std::max(1, int(std::lround(360.f / std::max(span, 1e-3f))));
+  return 360.f / float(symmetry);
+}
+
 cv::Mat renderTemplateView(const sim::TriangleMesh& mesh, float azimuth_deg, float elevation_deg,
                            int render_px, float* aspect) {
   const float az = azimuth_deg * kDegToRad, el = elevation_deg * kDegToRad;

@@ -98,6 +98,8 @@ ZeroShotDetector::ZeroShotDetector(TemplateBank bank, const TZeroShotParams& par
     : m_bank(std::move(bank)), m_params(params), m_name(std::move(name)) {
   if (m_bank.size() == 0 || m_bank.descriptors.rows != int(m_bank.size()))
     throwInputError("zero-shot detector '" + m_name + "'", "empty template bank");
+  for (int m = 0; m < int(m_bank.model_sources.size()); ++m)
+    m_azimuth_period_deg.push_back(modelAzimuthPeriodDeg(m_bank, m));
 }
 
 std::unique_ptr<ZeroShotDetector> ZeroShotDetector::fromParams(const TZeroShotParams& params,
@@ -257,7 +259,11 @@ std::vector<Detection> ZeroShotDetector::detectionsFrom(
                      [](const ClassScore& a, const ClassScore& b) { return a.score > b.score; });
     const int t = m.best_template[d.bestIndex()];
     const TemplateInfo& info = m_bank.templates[t];
-    d.pose = {true, info.azimuth_deg, info.elevation_deg, t};
+    const int model = info.model_index;
+    d.pose = {true, info.azimuth_deg, info.elevation_deg, t,
+              model >= 0 && model < int(m_azimuth_period_deg.size())
+                  ? m_azimuth_period_deg[std::size_t(model)]
+                  : 360.f};
     detections.push_back(std::move(d));
   }
   detections = suppressPerClass(std::move(detections), 0.f, float(m_params.nms_iou));

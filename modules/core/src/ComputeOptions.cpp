@@ -18,7 +18,9 @@ constexpr std::array<const char*, kPaths> kNames = {"bilateral_filter", "fusion"
 std::array<std::atomic<bool>, kPaths> g_scalar;
 }  // namespace
 
-const char* compute::simdPathName(SimdPath path) { return kNames.at(std::size_t(path)); }
+const char* compute::simdPathName(SimdPath path) {
+  return kNames.at(std::size_t(path));
+}
 
 std::vector<compute::SimdPath> compute::simdPaths() {
   std::vector<SimdPath> v;
@@ -45,9 +47,9 @@ std::vector<compute::SimdPath> TComputeParams::simdOff() const {
     if (found < 0) {
       std::string known;
       for (const char* n : kNames) known += std::string(known.empty() ? "" : ", ") + n;
-      throwInputError("[compute] simd_off", "unknown path '" + name +
-                                                "' (expected a comma-separated list of: " + known +
-                                                ")");
+      throwInputError(
+          "[compute] simd_off",
+          "unknown path '" + name + "' (expected a comma-separated list of: " + known + ")");
     }
     off.push_back(compute::SimdPath(found));
   }
@@ -60,13 +62,15 @@ void TComputeParams::apply() const {
   for (compute::SimdPath p : off) compute::setSimdEnabled(p, false);
 }
 
-void TComputeParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void TComputeParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                        const std::string& s) {
   MRPT_LOAD_CONFIG_VAR(simd, bool, c, s);
   simd_off = c.read_string(s, "simd_off", simd_off);
   simdOff();  // an unknown name fails at loading, naming it
 }
 
-void TComputeParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+void TComputeParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                      const std::string& s) const {
   MRPT_SAVE_CONFIG_VAR(simd, c, s);
   c.write(s, "simd_off", simd_off);
 }

@@ -253,7 +253,8 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
   out.resize(w, h);
   if (w == 0 || h == 0) return;
   if (!compute::simdEnabled(compute::SimdPath::BilateralFilter)) {  // the CUDA path's kernel
-    const kernels::BilateralDepthKernel k{in.view(), out.view(), radius, sigma_space_px, sigma_depth_m};
+    const kernels::BilateralDepthKernel k{in.view(), out.view(), radius, sigma_space_px,
+                                          sigma_depth_m};
     return compute::forEach2D(w, h, k);
   }
   // BilateralDepthKernel's filter (the CUDA path's): a circular window (dx^2 + dy^2 <= radius^2,
@@ -266,8 +267,8 @@ void bilateralFilterDepth(const Image<float>& in, Image<float>& out, int radius,
   // are gathered in registers (GroupSums) and added to the band's accumulator rows once per group
   // and row, aligned (overlapping unaligned read-modify-writes stalled on store forwarding). The
   // sums' order differs from the kernel's, within float rounding; it does not depend on the
-  // thread count. Why not OpenCV's bilateralFilter: docs/history/slam-eval.md (its TBB threads competed
-  // with the OpenMP team).
+  // thread count. Why not OpenCV's bilateralFilter: docs/history/slam-eval.md (its TBB threads
+  // competed with the OpenMP team).
   //
   // Padded copy, invalid depths as 0: `radius` rows above and below, `radius` columns left and
   // at least radius + 3 right, so that every group of four pixels reads inside it.

@@ -212,6 +212,15 @@ std::vector<std::string> splitList(const std::string& text) {
   return out;
 }
 
+void requireOneOf(const std::string& value, const std::vector<std::string>& allowed,
+                  const std::string& section, const std::string& key) {
+  if (std::find(allowed.begin(), allowed.end(), value) != allowed.end()) return;
+  std::string list;
+  for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+  throwInputError("[" + section + "] " + key,
+                  "unknown value '" + value + "', expected one of " + list);
+}
+
 void requireInRange(double value, double lo, double hi, const std::string& section,
                     const std::string& key) {
   if (!(value >= lo && value <= hi)) {

@@ -9,7 +9,8 @@ namespace rasm {
 
 void RgbdFrame::validate(const std::string& source) const {
   if (!intrinsics.valid())
-    throwInputError(source, "invalid intrinsics " + intrinsics.toString() + ": " + intrinsics.problem());
+    throwInputError(source,
+                    "invalid intrinsics " + intrinsics.toString() + ": " + intrinsics.problem());
   if (depth_m.empty()) throwInputError(source, "no depth image");
   if (!depth_m.sameSize(intrinsics.width, intrinsics.height)) {
     std::ostringstream s;

@@ -69,7 +69,7 @@ Plan LawnmowerPlanner::plan(const PlannerInputs& in) {
     if (m_states[i] != State::Pending) continue;
     const Eigen::Vector3d& w = m_waypoints[i];
     if (const auto goal = nearestReachableCell(plan.grid, reach, w.x(), w.y(), snap,
-                                             m_params.footprint_radius_m)) {
+                                               m_params.footprint_radius_m)) {
       detail::measureInto(
           m_params, in, {detail::baselineCandidate(*goal, w.z(), ViewCandidate::Source::Sweep, in)},
           plan);

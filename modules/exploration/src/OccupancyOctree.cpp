@@ -37,8 +37,7 @@ struct KeySetCells {
 /// casting through one tree (the planner's candidates, ViewPlanner.cpp) would share it.
 template <typename Cells>
 void castRays(const octomap::OcTree& tree, const octomap::Pointcloud& scan,
-              const octomap::point3d& origin, double max_range_m, bool no_endpoint,
-              Cells& cells) {
+              const octomap::point3d& origin, double max_range_m, bool no_endpoint, Cells& cells) {
   octomap::KeyRay ray;
   for (std::size_t i = 0; i < scan.size(); ++i) {
     const octomap::point3d& p = scan[i];
@@ -288,10 +287,10 @@ double OccupancyOctree::predictedEntropyReduction(const Eigen::Isometry3d& T_wor
   const float miss = m_tree->getProbMissLog(), hit = m_tree->getProbHitLog();
   // Unknown cells (the most of a view into new space) at p = 0.5: one reduction each.
   const double h_unknown = cellEntropy(0.5);
-  const double unknown_free = h_unknown - cellEntropy(octomap::probability(
-                                              updatedLogOdds(0.0f, miss, lo, hi)));
-  const double unknown_occupied = h_unknown - cellEntropy(octomap::probability(
-                                                  updatedLogOdds(0.0f, hit, lo, hi)));
+  const double unknown_free =
+      h_unknown - cellEntropy(octomap::probability(updatedLogOdds(0.0f, miss, lo, hi)));
+  const double unknown_occupied =
+      h_unknown - cellEntropy(octomap::probability(updatedLogOdds(0.0f, hit, lo, hi)));
   double sum = 0.0;
   cells.forEachUpdated([&](const octomap::OcTreeKey& k, bool occupied) {
     if (!m_workspace.contains(k)) return;

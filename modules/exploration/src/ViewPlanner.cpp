@@ -64,10 +64,10 @@ std::vector<int> ViewPlanner::screenCandidates(const maps::SurfelStore& store,
   // A render costs per surfel in view, not per pixel: the screen's smaller image gets a map
   // thinned in proportion to its pixels (splats as wide in pixels as the full prediction's).
   if (m_params.predict_max_surfels > 0)
-    coarse_params.predict_max_surfels = std::max<int>(
-        1000, int(std::int64_t(m_params.predict_max_surfels) * coarse_params.predict_width *
-                  coarse_params.predict_height /
-                  (std::int64_t(m_params.predict_width) * m_params.predict_height)));
+    coarse_params.predict_max_surfels =
+        std::max<int>(1000, int(std::int64_t(m_params.predict_max_surfels) *
+                                coarse_params.predict_width * coarse_params.predict_height /
+                                (std::int64_t(m_params.predict_width) * m_params.predict_height)));
   maps::SurfelStore coarse_thinned;
   const std::vector<ViewPrediction> coarse =
       predictViews(coarse_params, predictionStore(store, coarse_params, coarse_thinned), in,

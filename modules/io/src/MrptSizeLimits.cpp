@@ -64,13 +64,14 @@ namespace {
 template <typename Fn>
 Fn mrptDefinition(const char* mangled) {
   void* f = dlsym(RTLD_NEXT, mangled);
-  if (f == nullptr) THROW_EXCEPTION_FMT("rasm: MRPT's %s not found (dlsym: %s)", mangled, dlerror());
+  if (f == nullptr)
+    THROW_EXCEPTION_FMT("rasm: MRPT's %s not found (dlsym: %s)", mangled, dlerror());
   return reinterpret_cast<Fn>(f);
 }
 
 void checkImageSize(const char* what, std::int64_t height, std::int64_t width) {
-  if (height < 0 || width < 0 || std::uint64_t(height) > kMaxSide || std::uint64_t(width) > kMaxSide ||
-      std::uint64_t(height) * std::uint64_t(width) > kMaxPixels)
+  if (height < 0 || width < 0 || std::uint64_t(height) > kMaxSide ||
+      std::uint64_t(width) > kMaxSide || std::uint64_t(height) * std::uint64_t(width) > kMaxPixels)
     THROW_EXCEPTION_FMT(
         "serialized %s of %lld x %lld pixels (corrupt file?); rasm reads images of at most %llu "
         "pixels per side and %llu in all",
@@ -84,18 +85,20 @@ namespace mrpt::obs {
 
 void CObservation3DRangeScan::rangeImage_setSize(const int H, const int W) {
   using Fn = void (*)(CObservation3DRangeScan*, int, int);
-  static const Fn mrpt = rasm::io::mrptDefinition<Fn>("_ZN4mrpt3obs23CObservation3DRangeScan18rangeImage_setSizeEii");
+  static const Fn mrpt =
+      rasm::io::mrptDefinition<Fn>("_ZN4mrpt3obs23CObservation3DRangeScan18rangeImage_setSizeEii");
   rasm::io::checkImageSize("range image", H, W);
   mrpt(this, H, W);
 }
 
 void CObservation3DRangeScan::resizePoints3DVectors(const size_t nPoints) {
   using Fn = void (*)(CObservation3DRangeScan*, size_t);
-  static const Fn mrpt =
-      rasm::io::mrptDefinition<Fn>("_ZN4mrpt3obs23CObservation3DRangeScan21resizePoints3DVectorsEm");
+  static const Fn mrpt = rasm::io::mrptDefinition<Fn>(
+      "_ZN4mrpt3obs23CObservation3DRangeScan21resizePoints3DVectorsEm");
   if (nPoints > rasm::io::kMaxPixels)
-    THROW_EXCEPTION_FMT("serialized point cloud of %zu points (corrupt file?); rasm reads at most %llu",
-                        nPoints, static_cast<unsigned long long>(rasm::io::kMaxPixels));
+    THROW_EXCEPTION_FMT(
+        "serialized point cloud of %zu points (corrupt file?); rasm reads at most %llu", nPoints,
+        static_cast<unsigned long long>(rasm::io::kMaxPixels));
   mrpt(this, nPoints);
 }
 
@@ -103,11 +106,13 @@ void CObservation3DRangeScan::resizePoints3DVectors(const size_t nPoints) {
 
 namespace mrpt::img {
 
-void CImage::resize(std::size_t width, std::size_t height, TImageChannels nChannels, PixelDepth depth) {
+void CImage::resize(std::size_t width, std::size_t height, TImageChannels nChannels,
+                    PixelDepth depth) {
   using Fn = void (*)(CImage*, std::size_t, std::size_t, TImageChannels, PixelDepth);
-  static const Fn mrpt =
-      rasm::io::mrptDefinition<Fn>("_ZN4mrpt3img6CImage6resizeEmmNS0_14TImageChannelsENS0_10PixelDepthE");
-  rasm::io::checkImageSize("image", static_cast<std::int64_t>(std::min<std::size_t>(height, 1u << 31)),
+  static const Fn mrpt = rasm::io::mrptDefinition<Fn>(
+      "_ZN4mrpt3img6CImage6resizeEmmNS0_14TImageChannelsENS0_10PixelDepthE");
+  rasm::io::checkImageSize("image",
+                           static_cast<std::int64_t>(std::min<std::size_t>(height, 1u << 31)),
                            static_cast<std::int64_t>(std::min<std::size_t>(width, 1u << 31)));
   mrpt(this, width, height, nChannels, depth);
 }
@@ -132,7 +137,8 @@ void readJpeg(mrpt::serialization::CArchive& in, std::uint32_t n, CImage& img) {
   if (buf.size() < 2 || buf[0] != 0xFF || buf[1] != 0xD8)
     THROW_EXCEPTION("corrupt JPEG image: no start-of-image marker (FF D8)");
   const cv::Mat decoded = cv::imdecode(buf, cv::IMREAD_UNCHANGED);
-  if (decoded.empty() || decoded.depth() != CV_8U || (decoded.channels() != 1 && decoded.channels() != 3))
+  if (decoded.empty() || decoded.depth() != CV_8U ||
+      (decoded.channels() != 1 && decoded.channels() != 3))
     THROW_EXCEPTION_FMT("corrupt JPEG image (%zu bytes): OpenCV cannot decode it", buf.size());
   img = CImage(decoded, DEEP_COPY);
 }
@@ -142,8 +148,9 @@ void readRaw(mrpt::serialization::CArchive& in, std::size_t bytes, CImage& img) 
   cv::Mat& m = img.asCvMatRef();
   const std::size_t have = m.isContinuous() ? m.total() * m.elemSize() : 0;
   if (bytes > have)
-    THROW_EXCEPTION_FMT("serialized image of %zu bytes for a %d x %d image of %zu bytes (corrupt file?)",
-                        bytes, m.cols, m.rows, have);
+    THROW_EXCEPTION_FMT(
+        "serialized image of %zu bytes for a %d x %d image of %zu bytes (corrupt file?)", bytes,
+        m.cols, m.rows, have);
   if (bytes > 0 && in.ReadBuffer(m.data, bytes) != bytes) THROW_EXCEPTION("truncated image data");
 }
 
@@ -152,7 +159,8 @@ void readRaw(mrpt::serialization::CArchive& in, std::size_t bytes, CImage& img) 
 bool readFlag(mrpt::serialization::CArchive& in, const char* name) {
   std::uint8_t byte = 0;
   in >> byte;
-  if (byte > 1) THROW_EXCEPTION_FMT("corrupt CImage: flag %s holds the byte %u", name, unsigned(byte));
+  if (byte > 1)
+    THROW_EXCEPTION_FMT("corrupt CImage: flag %s holds the byte %u", name, unsigned(byte));
   return byte == 1;
 }
 
@@ -189,7 +197,8 @@ void readInMemory(mrpt::serialization::CArchive& in, std::uint8_t version, CImag
         const cv::Mat& m = img.asCvMatRef();
         readRaw(in, std::size_t(m.cols) * 3 * std::size_t(m.rows), img);
       } else {  // 0 x N or N x 0: nothing follows
-        img.resize(std::uint32_t(width), std::uint32_t(height), CH_RGB);  // bounded: corrupt sizes throw
+        img.resize(std::uint32_t(width), std::uint32_t(height),
+                   CH_RGB);  // bounded: corrupt sizes throw
       }
       return;
     }
@@ -221,7 +230,14 @@ void CImage::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
       readJpeg(in, n, *this);
       return;
     }
-    case 2: case 3: case 4: case 5: case 6: case 7: case 8: case 9:
+    case 2:
+    case 3:
+    case 4:
+    case 5:
+    case 6:
+    case 7:
+    case 8:
+    case 9:
       m_imgIsExternalStorage = version >= 6 && readFlag(in, "m_imgIsExternalStorage");
       if (m_imgIsExternalStorage) {
         in >> m_externalFile;
@@ -242,8 +258,9 @@ using AlignedAllocFn = void* (*)(std::size_t, std::size_t);
 /// `bytes` from MRPT's allocator `mrpt`, bounded by kMaxAlignedBytes; a refusal is bad_alloc.
 void* boundedAlignedAlloc(AlignedAllocFn mrpt, std::size_t bytes, std::size_t alignment) {
   if (bytes > kMaxAlignedBytes)
-    THROW_EXCEPTION_FMT("MRPT allocation of %zu bytes (corrupt file?); rasm allows at most %zu per block",
-                        bytes, kMaxAlignedBytes);
+    THROW_EXCEPTION_FMT(
+        "MRPT allocation of %zu bytes (corrupt file?); rasm allows at most %zu per block", bytes,
+        kMaxAlignedBytes);
   void* p = mrpt(bytes, alignment);
   if (p == nullptr && bytes != 0) throw std::bad_alloc();
   return p;
@@ -254,12 +271,14 @@ void* boundedAlignedAlloc(AlignedAllocFn mrpt, std::size_t bytes, std::size_t al
 namespace mrpt {
 
 void* aligned_malloc(std::size_t size, std::size_t alignment) {
-  static const auto mrpt = rasm::io::mrptDefinition<rasm::io::AlignedAllocFn>("_ZN4mrpt14aligned_mallocEmm");
+  static const auto mrpt =
+      rasm::io::mrptDefinition<rasm::io::AlignedAllocFn>("_ZN4mrpt14aligned_mallocEmm");
   return rasm::io::boundedAlignedAlloc(mrpt, size, alignment);
 }
 
 void* aligned_calloc(std::size_t bytes, std::size_t alignment) {
-  static const auto mrpt = rasm::io::mrptDefinition<rasm::io::AlignedAllocFn>("_ZN4mrpt14aligned_callocEmm");
+  static const auto mrpt =
+      rasm::io::mrptDefinition<rasm::io::AlignedAllocFn>("_ZN4mrpt14aligned_callocEmm");
   return rasm::io::boundedAlignedAlloc(mrpt, bytes, alignment);
 }
 

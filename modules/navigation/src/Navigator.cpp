@@ -474,7 +474,8 @@ Navigator::~Navigator() {
     m_impl->finish(NavState::Idle, "");
 }
 
-void Navigator::setGoal(const Eigen::Vector3d& goal_xyyaw, const std::vector<Eigen::Vector2d>& via) {
+void Navigator::setGoal(const Eigen::Vector3d& goal_xyyaw,
+                        const std::vector<Eigen::Vector2d>& via) {
   Impl& m = *m_impl;
   m.stopMrpt();
   m.goal = goal_xyyaw;
@@ -485,9 +486,9 @@ void Navigator::setGoal(const Eigen::Vector3d& goal_xyyaw, const std::vector<Eig
   m.via_next = 0;
   m.via_tail_m.assign(via.size(), 0.0);
   for (std::size_t k = via.size(); k-- > 0;)
-    m.via_tail_m[k] = ((k + 1 < via.size() ? via[k + 1] : Eigen::Vector2d(m.goal.head<2>())) -
-                       via[k]).norm() +
-                      (k + 1 < via.size() ? m.via_tail_m[k + 1] : 0.0);
+    m.via_tail_m[k] =
+        ((k + 1 < via.size() ? via[k + 1] : Eigen::Vector2d(m.goal.head<2>())) - via[k]).norm() +
+        (k + 1 < via.size() ? m.via_tail_m[k + 1] : 0.0);
   m.state = NavState::Navigating;
   m.reason.clear();
   m.goal_t = m.best_t = m.robot.time_s();

@@ -1,5 +1,5 @@
-#include "rasm/core/Log.h"
 #include "rasm/robot/SegwayRmpRobot.h"
+#include "rasm/core/Log.h"
 
 #include <mrpt/config/CConfigFileBase.h>
 

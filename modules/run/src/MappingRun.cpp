@@ -395,16 +395,20 @@ OutputFolder MappingRun::prepareOutputFolder() const {
   return out;
 }
 
-void MappingRun::resolveOdometryHeading(const io::FrameSource& source) {
+void MappingRun::resolveAutoSettings(const io::FrameSource& source) {
+  bool simulated = false;
   bool gyro = false;  // a rawlog, a dataset or a live robot: the wheels' heading
 #ifdef RASM_HAVE_SIM
-  if (const auto* sim_source = dynamic_cast<const sim::SimFrameSource*>(&source))
+  if (const auto* sim_source = dynamic_cast<const sim::SimFrameSource*>(&source)) {
+    simulated = true;
     gyro = sim_source->sequence().robot() &&
            sim_source->sequence().robot()->params().odometry_heading == "gyro";
+  }
 #else
   (void)source;
 #endif
   m_mapper->stage<TrackingStage>().resolveOdometryHeading(gyro);
+  m_mapper->stage<ClassificationStage>().resolveAuto(simulated);
 }
 
 std::unique_ptr<io::FrameSource> MappingRun::wrapSource(std::unique_ptr<io::FrameSource> source,
@@ -1050,7 +1054,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   // What can be checked without a frame is checked before the output folder changes: a run that
   // fails here leaves an earlier run's files as they were.
   std::unique_ptr<io::FrameSource> source = openSource();
-  resolveOdometryHeading(*source);  // before config.ini, which records what the run used
+  resolveAutoSettings(*source);  // before config.ini, which records what the run used
   if (!m_mapper->mapperParams().load_map.empty())
     m_mapper->loadMap(m_mapper->mapperParams().load_map);
   if (stopSignal() != 0) {  // stopped before it began: the folder stays as it was

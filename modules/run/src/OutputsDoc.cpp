@@ -187,7 +187,9 @@ const Doc kReport[] = {
     {"classification",
      "classification (IV): `enabled`, `threaded`, `every_n_frames`, "
      "`frames_offered`, `results_fused`, `detections`, `detections_fused`, "
-     "`detections_without_segment`, `surfel_updates`, "
+     "`detections_without_segment`, `surfel_updates`, `pose_consensus` {`enabled`, "
+     "`detections_released`, `detections_held` (zero-shot detections whose views never agreed "
+     "on the object's orientation, never fused)}, "
      "`surfel_updates_dropped`, `class_evidence_bytes_per_surfel`, `classes`, "
      "`detectors` [{name, frames_offered, frames_detected, frames_skipped, "
      "detections, ms_per_call, ms_max, disabled}], `warnings`, `objects`, "

@@ -267,7 +267,8 @@ std::string readBoundedString(mrpt::serialization::CArchive& in, const std::stri
   uint32_t n;
   in >> n;
   if (n > kMaxSerializedString)
-    throwInputError(what, "string of " + std::to_string(n) + " bytes (corrupt file?), expected at most " +
+    throwInputError(what, "string of " + std::to_string(n) +
+                              " bytes (corrupt file?), expected at most " +
                               std::to_string(kMaxSerializedString));
   std::string s(n, '\0');
   if (n > 0) in.ReadBuffer(s.data(), n);
@@ -457,7 +458,7 @@ void CSurfelMap::serializeTo(mrpt::serialization::CArchive& out) const {
     if (a.n_classes > 0) writeClassEvidence(out, a.class_ev, n);  // version 2
     if (a.n_view_bins > 0) out.WriteBuffer(a.view_ic, n * std::size_t(a.n_view_bins));
   }
-  writeKeyframes(out, m_keyframes);  // version 1
+  writeKeyframes(out, m_keyframes);   // version 1
   out << uint32_t(m_classes.size());  // version 3
   for (const MapClass& c : m_classes) out << c.name << c.source;
 }
@@ -487,7 +488,8 @@ void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t versio
       uint32_t nkeys;
       in >> nkeys;
       if (nkeys > kMaxFusionKeys)
-        throwInputError(what, std::to_string(nkeys) + " fusion keys (corrupt file?), expected at most " +
+        throwInputError(what, std::to_string(nkeys) +
+                                  " fusion keys (corrupt file?), expected at most " +
                                   std::to_string(kMaxFusionKeys));
       insertionOptions.fusion_keys.clear();
       for (uint32_t k = 0; k < nkeys; ++k) {
@@ -535,9 +537,9 @@ void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t versio
         const float* nr = reinterpret_cast<const float*>(a.normal_radius);
         for (std::size_t i = 0; i < 4 * n; ++i)
           if (!(std::fabs(nr[i]) <= 1e6f))
-            throwInputError(what + " surfel " + std::to_string(i / 4),
-                            "normal or radius " + std::to_string(nr[i]) +
-                                " is not finite (corrupt file?)");
+            throwInputError(
+                what + " surfel " + std::to_string(i / 4),
+                "normal or radius " + std::to_string(nr[i]) + " is not finite (corrupt file?)");
         in.ReadBufferFixEndianness(a.colour_flags, n);
         for (std::size_t i = 0; i < n; ++i)  // a saved map holds live surfels only
           if (a.colour_flags[i] & kSurfelFree)
@@ -578,9 +580,8 @@ void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t versio
         uint32_t nclasses;
         in >> nclasses;
         if (nclasses > uint32_t(kMaxClassId))
-          throwInputError(what, "class list of " + std::to_string(nclasses) +
-                                    " names (at most " + std::to_string(kMaxClassId) +
-                                    "; corrupt file?)");
+          throwInputError(what, "class list of " + std::to_string(nclasses) + " names (at most " +
+                                    std::to_string(kMaxClassId) + "; corrupt file?)");
         m_classes.resize(nclasses);
         for (MapClass& c : m_classes) {
           c.name = readBoundedString(in, what + " class name");

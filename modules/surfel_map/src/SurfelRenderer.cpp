@@ -232,8 +232,7 @@ inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribut
       if (want_normals) __builtin_prefetch(&a.normal_radius[m[k + kAhead]]);
     }
     const int i = m[k];
-    if (attribute_filters ? !test.attributes(i) : a.pos_conf[i].w() < test.min_confidence)
-      continue;
+    if (attribute_filters ? !test.attributes(i) : a.pos_conf[i].w() < test.min_confidence) continue;
     const Vec3f pc = test.T_cam_world.apply(a.position(i));
     const float u = test.K.fx * pc.x() / pc.z() + test.K.cx;
     const float v = test.K.fy * pc.y() / pc.z() + test.K.cy;
@@ -701,8 +700,14 @@ void SurfelRenderer::render(const SurfelStore& map, const Eigen::Isometry3d& T_w
     // [compute] simd = false: the splat kernel the CUDA path runs, one surfel per call (atomic
     // depth test), instead of splatCpu's SSE footprints and banded rasterization.
     fillEmpty(packed_);
-    const kernels::SplatKernel k{arr, visible_.data(), T_cw, Kp, opt.min_depth_m, opt.max_depth_m,
-                                 opt.max_splat_radius_px, packed_.view()};
+    const kernels::SplatKernel k{arr,
+                                 visible_.data(),
+                                 T_cw,
+                                 Kp,
+                                 opt.min_depth_m,
+                                 opt.max_depth_m,
+                                 opt.max_splat_radius_px,
+                                 packed_.view()};
     compute::forEach1D(int(visible_.size()), k);
   } else {
     fillEmpty(packed_);

@@ -43,12 +43,19 @@ void ClassificationStage::addDetector(std::unique_ptr<Detector> detector) {
   m_extra_detectors.push_back(std::move(detector));
 }
 
+void ClassificationStage::resolveAuto(bool simulated_source) {
+  if (m_started) throw std::logic_error("ClassificationStage::resolveAuto: after the first frame");
+  m_params.resolveAuto(simulated_source);
+}
+
 void ClassificationStage::startWorkers(maps::CSurfelMap& map) {
+  m_params.resolveAuto(m_sim_scene != nullptr);
   m_started = true;
   // The map's class list: a loaded map's, else the default; the detectors' classes join it.
   m_classes = ClassList(map.classes().empty() ? ClassList::defaultClasses() : map.classes(),
                         map.creationOptions().n_classes);
   m_object_map = ObjectMap(m_object_params, m_params);
+  m_pose_consensus = PoseConsensus(m_params.pose_agreement_deg, m_params.pose_min_view_change_deg);
   if (!m_params.enabled) return;
   DetectorBuild built = makeDetectors(m_params, m_detector_sections, m_sim_scene);
   for (auto& d : m_extra_detectors) built.detectors.push_back(std::move(d));
@@ -77,6 +84,8 @@ void ClassificationStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
   auto frame = std::make_shared<const RgbdFrame>(*ctx.frame);
   Pending& pending = m_pending[frame->index];
   pending.labels = ctx.labels;
+  pending.T_world_cam = ctx.result.T_world_cam;
+  pending.intrinsics = frame->intrinsics;
   ++m_frames_offered;
   for (auto& w : m_workers) pending.outstanding += w->offer(frame);
   if (pending.outstanding == 0) m_pending.erase(frame->index);
@@ -130,19 +139,31 @@ void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p, maps::
     ++m_associated;
     ++m_frame_associated;
     const Detection& det = r.detections[d];
+    std::vector<SegmentEvidence> items;
+    for (const ClassScore& cs : det.scores) {
+      if (cs.class_index < 0 || cs.class_index >= int(ids.size())) continue;
+      items.push_back({assoc[d].segment, ids[std::size_t(cs.class_index)],
+                       detectionProbability(cs.score, m_params.scoreModel(),
+                                            float(m_params.max_detection_probability),
+                                            float(m_params.vote_neutral_score)),
+                       m_params.iou_weighted_evidence ? assoc[d].iou : 1.f});
+    }
+    const bool posed = det.pose.valid && det.bestIndex() >= 0 && det.bestIndex() < int(ids.size());
+    if (posed && m_params.pose_consensus) {
+      const int class_id = ids[std::size_t(det.bestIndex())];
+      const PoseConsensus::Released released =
+          consensus(det, assoc[d].segment, class_id, std::move(items), p, r.frame_index);
+      evidence.insert(evidence.end(), released.evidence.begin(), released.evidence.end());
+      m_fused_per_segment[assoc[d].segment] += released.detections - int(released.this_one);
+      if (!released.this_one) continue;  // held until another view agrees
+    } else {
+      evidence.insert(evidence.end(), items.begin(), items.end());
+    }
     ++m_fused_per_segment[assoc[d].segment];
     view.detected_segments.push_back(assoc[d].segment);
     for (const std::uint32_t piece : assoc[d].pieces)
       view.co_detected.emplace_back(assoc[d].segment, piece);
-    for (const ClassScore& cs : det.scores) {
-      if (cs.class_index < 0 || cs.class_index >= int(ids.size())) continue;
-      evidence.push_back({assoc[d].segment, ids[std::size_t(cs.class_index)],
-                          detectionProbability(cs.score, m_params.scoreModel(),
-                                               float(m_params.max_detection_probability),
-                                               float(m_params.vote_neutral_score)),
-                          m_params.iou_weighted_evidence ? assoc[d].iou : 1.f});
-    }
-    if (det.pose.valid && det.bestIndex() >= 0 && det.bestIndex() < int(ids.size())) {
+    if (posed) {
       PoseRecord& rec = m_pose_per_segment[assoc[d].segment];
       if (det.bestScore() >= rec.score)
         rec = {det.pose, ids[std::size_t(det.bestIndex())], det.bestScore()};
@@ -154,9 +175,26 @@ void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p, maps::
   m_object_map.addDetectorView(view);
 }
 
+PoseConsensus::Released ClassificationStage::consensus(const Detection& det, std::uint32_t segment,
+                                                       int class_id,
+                                                       std::vector<SegmentEvidence> items,
+                                                       const Pending& p, std::size_t frame) {
+  const cv::Point2f centre(det.box.x + 0.5f * det.box.width, det.box.y + 0.5f * det.box.height);
+  const Eigen::Vector3d ray_cam((centre.x - p.intrinsics.cx) / p.intrinsics.fx,
+                                (centre.y - p.intrinsics.cy) / p.intrinsics.fy, 1.0);
+  PoseObservation o;
+  o.R_world_model = impliedModelRotation(det.pose, p.T_world_cam.linear(), ray_cam);
+  o.sight_world = (p.T_world_cam.linear() * ray_cam).normalized();
+  o.azimuth_period_deg = det.pose.azimuth_period_deg;
+  o.frame = frame;
+  o.evidence = std::move(items);
+  return m_pose_consensus.add(segment, class_id, std::move(o));
+}
+
 void ClassificationStage::relabel(const std::vector<std::uint32_t>& table) {
   const auto apply = [&](std::uint32_t l) { return l < table.size() ? table[l] : l; };
   m_object_map.relabel(table);
+  m_pose_consensus.relabel(table);
   for (auto& [index, p] : m_pending)
     for (int y = 0; y < p.labels.height(); ++y) {
       std::uint32_t* row = p.labels.row(y);
@@ -200,6 +238,9 @@ void ClassificationStage::report(nlohmann::json& rep) const {
   j["detections_fused"] = m_associated;
   j["detections_without_segment"] = m_detections - m_associated;
   j["surfel_updates"] = m_surfel_updates;
+  j["pose_consensus"] = {{"enabled", m_params.pose_consensus},
+                         {"detections_released", m_pose_consensus.releasedDetections()},
+                         {"detections_held", m_pose_consensus.heldDetections()}};
   j["surfel_updates_dropped"] = m_dropped_updates;
   j["class_evidence_bytes_per_surfel"] = sizeof(maps::ClassEvidence);
   j["classes"] = m_classes.size();

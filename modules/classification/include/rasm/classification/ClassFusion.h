@@ -90,5 +90,4 @@ struct SegmentClass {
 /// Every segment with live surfels, sorted by segment id.
 std::vector<SegmentClass> segmentClasses(const maps::SurfelArrays& surfels);
 
-
 }  // namespace rasm::classification

@@ -115,7 +115,7 @@ struct ReportedObjectResult {
   std::size_t surfels = 0;
   std::uint32_t best_instance = 0;  ///< the ground-truth instance of largest IoU, 0 = none
   std::string best_name, best_class = "none";
-  double iou = 0.0;  ///< with best_instance
+  double iou = 0.0;      ///< with best_instance
   bool correct = false;  ///< iou > min_object_iou and best_class == the object's class
 };
 

@@ -18,12 +18,15 @@ struct ClassScore {
 
 /// The viewpoint of the zero-shot template that matched (IV-A: "the matching pose is also
 /// detected"): azimuth / elevation of the camera around the model (degrees, model frame of
-/// ProceduralModels.h: z up, +x the object's front) and the template's index in its bank.
+/// ProceduralModels.h: z up, +x the object's front) and the template's index in its bank. The
+/// model looks the same every azimuth_period_deg (its bank's azimuth symmetry; 360: none), so the
+/// azimuth is known modulo that.
 struct PoseHint {
   bool valid = false;
   float azimuth_deg = 0.f;
   float elevation_deg = 0.f;
   int template_index = -1;
+  float azimuth_period_deg = 360.f;
 };
 
 struct Detection {

@@ -24,31 +24,35 @@
 
 namespace rasm::classification {
 
-/// [dnn_detector]. Relative paths are relative to the working directory (an INI's to its folder);
-/// the defaults name Yolo-Fastest 1.1 (COCO) in the shared data folder next to the source tree
-/// ("../shared/data/..."), which makeDnnDetector looks up in rasm::sharedDataFolders() when it is
-/// not there relative to the working directory (the compiled-in folder, $RASM_SHARED_DATA), so a
-/// run from any folder finds it.
+/// [dnn_detector]. Relative paths are relative to the working directory (an INI's to its folder).
+/// `preset` names a model of the shared data folder next to the source tree ("../shared/data/...",
+/// which makeDnnDetector looks up in rasm::sharedDataFolders() when it is not there relative to
+/// the working directory: the compiled-in folder, $RASM_SHARED_DATA) and fills in every key that
+/// describes it (format, files, layout, input size and normalisation); keys given beside it
+/// override it. The default is NanoDet-m, the best COCO detector the project has that runs on
+/// 2 cores (docs/classification.md "Which detector").
 struct TDnnDetectorParams : mrpt::config::CLoadableOptions {
   bool enabled = true;
+  /// nanodet_m (NanoDet-m 320, ONNX) | yolo_fastest (Yolo-Fastest 1.1, Darknet).
+  std::string preset = "nanodet_m";
   /// darknet: `model` is the .cfg and `weights` the .weights; onnx: `model` is the .onnx file
   /// (`weights` unused).
-  std::string format = "darknet";
-  std::string model = "../shared/data/detectors/yolo-fastest-1.1-coco/yolo-fastest-1.1.cfg";
-  std::string weights = "../shared/data/detectors/yolo-fastest-1.1-coco/yolo-fastest-1.1.weights";
+  std::string format = "onnx";
+  std::string model = "../shared/data/detectors/nanodet-m-320-onnx/nanodet.onnx";
+  std::string weights;
   /// Class names, one per line: line k names class index k.
-  std::string names = "../shared/data/detectors/yolo-fastest-1.1-coco/coco.names";
+  std::string names = "../shared/data/detectors/nanodet-m-320-onnx/coco.names";
   /// How to read the outputs: yolo (Darknet [yolo] layers through OpenCV: rows [cx cy w h] in
   /// 0..1 of the input, objectness, obj * class probability), yolov5 ([1 N 5+nc]: cx cy w h in
   /// input pixels, objectness, class probabilities), yolov8 ([1 4+nc N]: cx cy w h in input
   /// pixels, class probabilities), nanodet (NanoDet-m GFL heads: per level an nc-column score map
   /// and a 4*(reg_max+1)-column side distribution, matched by row count).
-  std::string layout = "yolo";
+  std::string layout = "nanodet";
   int input_width = 320;
   int input_height = 320;
-  /// true: keep the aspect ratio and pad (grey 114, centred; YOLOv5/v8); false: stretch to the
-  /// input size (Darknet YOLO, NanoDet-m as trained).
-  bool letterbox = false;
+  /// true: keep the aspect ratio and pad (grey 114, centred; YOLOv5/v8, NanoDet-m: stretched,
+  /// it gives a dog 0.19 instead of 0.50); false: stretch to the input size (Darknet YOLO).
+  bool letterbox = true;
   /// A class is reported for a box when its score is >= this. Darknet [yolo] layers in OpenCV
   /// zero the scores at or below the cfg's `thresh` (0.2 unless set), so lower values see no more.
   double confidence_threshold = 0.25;
@@ -57,10 +61,10 @@ struct TDnnDetectorParams : mrpt::config::CLoadableOptions {
   /// Input normalisation, per channel of the network's input (after swap_rb):
   /// (pixel - mean) * scale / stddev. Darknet / YOLOv5/v8: scale 1/255, mean 0, stddev 1, swap_rb;
   /// NanoDet-m: scale 1, mean "103.53 116.28 123.675", stddev "57.375 57.12 58.395", BGR.
-  double scale = 1.0 / 255.0;
-  std::string mean = "0 0 0";
-  std::string stddev = "1 1 1";
-  bool swap_rb = true;
+  double scale = 1.0;
+  std::string mean = "103.53 116.28 123.675";
+  std::string stddev = "57.375 57.12 58.395";
+  bool swap_rb = false;
   /// NanoDet: centre of cell (x, y) at ((x + offset) * stride, (y + offset) * stride): 0.5 for
   /// NanoDet-m (GFL head), 0 for NanoDet-Plus.
   double nanodet_cell_offset = 0.5;
@@ -71,6 +75,15 @@ struct TDnnDetectorParams : mrpt::config::CLoadableOptions {
   /// without this detector (makeDnnDetector).
   bool required = false;
 
+  /// The params of a preset (the other keys at their defaults); InputError naming
+  /// "[section] preset" for an unknown name.
+  static TDnnDetectorParams fromPreset(const std::string& name,
+                                       const std::string& section = "dnn_detector");
+  /// Sets the keys the preset describes (format, model, weights, names, layout, input size,
+  /// letterbox, normalisation, NanoDet cell offset), leaving thresholds, backend and the rest.
+  void applyPreset(const std::string& name, const std::string& section = "dnn_detector");
+
+  /// `preset` first, then every other key given overrides it.
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
   /// InputError naming "[section] key" for a bad value (not for missing files: modelFileProblem).

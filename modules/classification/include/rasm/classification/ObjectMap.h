@@ -93,9 +93,9 @@ struct MapObject {
   int views_detected = 0;
   double existence_probability = 0.5;  ///< (views_detected + 1) / (views + 2)
   std::size_t first_seen_frame = 0, last_seen_frame = 0;
-  int frames_seen = 0;        ///< distinct frames with a view of it (any detector)
-  int frames_detected = 0;    ///< distinct frames in which a detection went to it
-  int surfels = 0;            ///< of its segments with geometry
+  int frames_seen = 0;      ///< distinct frames with a view of it (any detector)
+  int frames_detected = 0;  ///< distinct frames in which a detection went to it
+  int surfels = 0;          ///< of its segments with geometry
   /// false: none of its segments is in the segment table (gone from the map, or no segmentation
   /// stage): no surfels, so never reported (a fragment at most).
   bool has_geometry = false;

@@ -16,13 +16,18 @@ namespace rasm::classification {
 struct TClassificationParams : mrpt::config::CLoadableOptions {
   bool enabled = true;
   /// The detectors to run, by section name, comma separated: sim_detector, dnn_detector,
-  /// zero_shot (empty: none). Each runs on its own worker thread on the same frames.
-  std::string detectors = "dnn_detector";
+  /// zero_shot (empty: none), or auto: sim_detector on the simulator's frames (it needs their
+  /// ground truth), dnn_detector (NanoDet-m by default) on every other source (resolveAuto).
+  /// Each runs on its own worker thread on the same frames.
+  std::string detectors = "auto";
   /// Offer every n-th fused frame to the detectors (a busy detector skips it, counted).
   int every_n_frames = 5;
   /// true: detectors on worker threads, results fused when they arrive (never blocking mapping);
-  /// false: detect on the mapping thread and fuse in the same frame (deterministic runs).
+  /// false: detect on the mapping thread and fuse in the same frame (deterministic runs);
+  /// auto (threaded_auto): false on the simulator's frames (the same seed gives the same run),
+  /// true on every other source (resolveAuto).
   bool threaded = true;
+  bool threaded_auto = true;
   /// A detection is fused into the segment of L^p with the highest IoU with its box when that
   /// IoU reaches this (IV).
   double min_iou = 0.25;
@@ -69,10 +74,20 @@ struct TClassificationParams : mrpt::config::CLoadableOptions {
   /// detections into it).
   double structure_piece_min_extent_m = 0.5;
   double structure_piece_max_offset_m = 0.05;
+  /// VII-A: a detection with a template pose (the zero-shot classifier's) is fused only when a
+  /// detection of its class on its segment, from a view at least pose_min_view_change_deg away,
+  /// implies the same orientation of the object within pose_agreement_deg (PoseConsensus.h);
+  /// false: fused as it comes, as the paper's IV-A does.
+  bool pose_consensus = true;
+  double pose_agreement_deg = 30.0;
+  double pose_min_view_change_deg = 10.0;
   /// Seed of the simulated detector's noise (sim_detector only).
   int seed = 1;
 
   std::vector<std::string> detectorList() const;
+  /// Resolves detectors = auto and threaded = auto for the source the run maps (the simulator's
+  /// frames or not); nothing else changes. Idempotent.
+  void resolveAuto(bool simulated_source);
   ScoreModel scoreModel() const;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;

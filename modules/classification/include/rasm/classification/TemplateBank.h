@@ -108,6 +108,10 @@ struct TemplateBank {
   std::size_t templatesOfClass(int class_index) const;
 };
 
+/// The azimuth period of a model of the bank (360 / its azimuth_symmetry): the largest azimuth
+/// rendered for it plus one azimuth step, as the nearest divisor of 360.
+float modelAzimuthPeriodDeg(const TemplateBank& bank, int model_index);
+
 /// Called after each model with (model index, models total, templates so far).
 using TrainingProgress = std::function<void(std::size_t, std::size_t, std::size_t)>;
 

@@ -113,6 +113,7 @@ class ZeroShotDetector : public Detector {
 
  private:
   TemplateBank m_bank;
+  std::vector<float> m_azimuth_period_deg;  ///< per model of the bank (modelAzimuthPeriodDeg)
   TZeroShotParams m_params;
   std::string m_name;
   double m_proposal_ms = 0, m_match_ms = 0;

@@ -52,5 +52,8 @@ std::vector<std::string> splitList(const std::string& text);
 /// Helpers for range checks inside loadFromConfigFile implementations.
 void requireInRange(double value, double lo, double hi, const std::string& section,
                     const std::string& key);
+/// InputError naming "[section] key" and the allowed values unless `value` is one of them.
+void requireOneOf(const std::string& value, const std::vector<std::string>& allowed,
+                  const std::string& section, const std::string& key);
 
 }  // namespace rasm

@@ -64,7 +64,7 @@ struct FrontierSummary {
 };
 
 struct Plan {
-  std::vector<ViewCandidate> ranked;       ///< reachable candidates, best first
+  std::vector<ViewCandidate> ranked;  ///< reachable candidates, best first
   /// The frontiers the plan's frontier views came from ("ig", "frontier").
   std::vector<FrontierSummary> frontiers;
   std::vector<ViewCandidate> unreachable;  ///< pruned by the path planner

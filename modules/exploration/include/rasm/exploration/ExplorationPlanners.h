@@ -104,8 +104,8 @@ struct FrontierCluster {
 /// `found` false), facing a point 0.5 m past the centroid on the unknown side. Only pose and
 /// source (Frontier) are set.
 struct FrontierView {
-  ViewCandidate view;  ///< view.target_xy: the cluster's centroid
-  int cells = 0;       ///< the cluster's
+  ViewCandidate view;                                 ///< view.target_xy: the cluster's centroid
+  int cells = 0;                                      ///< the cluster's
   Eigen::Vector2d outward = Eigen::Vector2d::Zero();  ///< the cluster's (FrontierCluster)
   bool found = false;
 };

@@ -127,9 +127,11 @@ class MappingRun {
   /// Claims the output folder (OutputFolder::claim; InputError when it cannot be used).
   pipeline::OutputFolder prepareOutputFolder() const;
   void decideExploring(const std::string& src);
-  /// [robot] odometry_heading = auto made definite for this source (TRobotParams::resolveHeading:
-  /// the simulated robot's gyro, else the wheels).
-  void resolveOdometryHeading(const io::FrameSource& source);
+  /// The settings that are auto made definite for this source: [robot] odometry_heading
+  /// (TRobotParams::resolveHeading: the simulated robot's gyro, else the wheels) and
+  /// [classification] detectors / threaded (the simulator's detector on the mapping thread for
+  /// the simulator's frames, the DNN detector on a worker thread for every other source).
+  void resolveAutoSettings(const io::FrameSource& source);
   /// The opened source with its read-ahead / preload wrapper; `preload_s` = seconds spent
   /// preloading. An exploring run ([exploration] enabled) gets no read-ahead: the source's robot is
   /// driven by the exploration loop created here.

@@ -30,10 +30,10 @@ RASM_HD_INLINE float incidenceAngleFactor(float theta_rad) {
 
 /// The constants of sigma_z; the defaults are Nguyen et al.'s fit for the Kinect v1.
 struct AxialNoiseModel {
-  float sigma0_m = 0.0012f;    ///< constant term
-  float sigma_quad = 0.0019f;  ///< coefficient of (z - z0)^2 (1/m)
-  float z0_m = 0.4f;           ///< z0 of the quadratic term
-  float sigma_angle = 0.0001f; ///< coefficient of the angle term (m^1.5)
+  float sigma0_m = 0.0012f;     ///< constant term
+  float sigma_quad = 0.0019f;   ///< coefficient of (z - z0)^2 (1/m)
+  float z0_m = 0.4f;            ///< z0 of the quadratic term
+  float sigma_angle = 0.0001f;  ///< coefficient of the angle term (m^1.5)
 
   /// sigma_z (m) at depth z_m for the angle factor g = incidenceAngleFactor(theta).
   RASM_HD_INLINE float sigmaG(float z_m, float g) const {

@@ -16,6 +16,7 @@
 // classes.json (the map's class list), map_classes.ply (coloured by class; MappingRun writes
 // map_classes.3Dscene with [output] write_3dscene, next to map_segments.3Dscene).
 
+#include <Eigen/Geometry>
 #include <map>
 #include <memory>
 #include <vector>
@@ -25,8 +26,10 @@
 #include "rasm/classification/DetectorWorker.h"
 #include "rasm/classification/ObjectMap.h"
 #include "rasm/classification/ObjectVerdict.h"
+#include "rasm/classification/PoseConsensus.h"
 #include "rasm/classification/TClassificationParams.h"
 #include "rasm/classification/TObjectParams.h"
+#include "rasm/core/CameraIntrinsics.h"
 #include "rasm/pipeline/MapperStage.h"
 
 namespace rasm::pipeline {
@@ -57,6 +60,10 @@ class ClassificationStage : public MapperStage {
   void addDetector(std::unique_ptr<classification::Detector> detector);
   /// The simulator's scene for the simulated detector's occlusion test (before the first frame).
   void setSimScene(const sim::RayScene* scene) { m_sim_scene = scene; }
+  /// Resolves [classification] detectors = auto and threaded = auto for the run's source
+  /// (TClassificationParams::resolveAuto) before the first frame, so that config.ini records
+  /// what ran; unresolved at the first frame, they follow whether a simulator scene was set.
+  void resolveAuto(bool simulated_source);
   const classification::TClassificationParams& params() const { return m_params; }
   const classification::ClassList& classList() const { return m_classes; }
   /// Whether any class evidence has been fused into the map (the class map has something to show).
@@ -82,6 +89,8 @@ class ClassificationStage : public MapperStage {
   /// L^p of a frame whose detections are still running.
   struct Pending {
     Image<std::uint32_t> labels;
+    Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();  ///< the frame's pose
+    CameraIntrinsics intrinsics;
     int outstanding = 0;  ///< workers that took the frame and have not returned
   };
   struct PoseRecord {
@@ -92,12 +101,18 @@ class ClassificationStage : public MapperStage {
   void startWorkers(maps::CSurfelMap& map);
   void fuseArrived(maps::CSurfelMap& map);
   void fuseResult(const classification::DetectorResult& r, Pending& p, maps::CSurfelMap& map);
+  /// A detection with a template pose through the pose consensus (PoseConsensus.h): what it
+  /// releases, its own evidence among them only once views agree.
+  classification::PoseConsensus::Released consensus(
+      const classification::Detection& det, std::uint32_t segment, int class_id,
+      std::vector<classification::SegmentEvidence> items, const Pending& p, std::size_t frame);
   void relabel(const std::vector<std::uint32_t>& table);
 
   SegmentationStage* m_segmentation;
   classification::TClassificationParams m_params;
   classification::TObjectParams m_object_params;
   classification::ObjectMap m_object_map;
+  classification::PoseConsensus m_pose_consensus;
   classification::DetectorSections m_detector_sections;
   const sim::RayScene* m_sim_scene = nullptr;
   classification::ClassList m_classes;

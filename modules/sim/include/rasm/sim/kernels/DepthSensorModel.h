@@ -1,6 +1,7 @@
 #pragma once
 // Structured-light (Kinect v1 class) depth sensor model, applied to exact ray-cast depth.
-//  - Axial noise: sigma_z(z, theta) of Nguyen, Izadi & Lovell 2012 (core/kernels/DepthNoiseModel.h),
+//  - Axial noise: sigma_z(z, theta) of Nguyen, Izadi & Lovell 2012
+//  (core/kernels/DepthNoiseModel.h),
 //    theta the angle between the surface normal and the viewing ray.
 //  - Lateral noise (same paper, eq. 2): sigma_L(theta) = 0.8 + 0.035 theta / (pi/2 - theta) pixels;
 //    where the ray through u + N(0, sigma_L^2) meets another surface than the ray through u (a

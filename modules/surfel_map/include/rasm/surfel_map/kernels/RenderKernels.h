@@ -138,8 +138,8 @@ struct VisibilityTest {
   /// pass over the spatial index (which holds live surfels only) need not load the flags, times or
   /// normals at all.
   RASM_HD_INLINE bool filtersAttributes() const {
-    return stable_only || min_confidence > 0.0f || min_t_last > -3.0e38f ||
-           min_t_init > -3.0e38f || max_t_init < 3.0e38f || cull_back_faces;
+    return stable_only || min_confidence > 0.0f || min_t_last > -3.0e38f || min_t_init > -3.0e38f ||
+           max_t_init < 3.0e38f || cull_back_faces;
   }
 
   /// The attribute and back-face filters only (for surfels known to be inside the frustum).
