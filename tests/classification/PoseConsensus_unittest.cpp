@@ -119,20 +119,22 @@ TEST(PoseConsensus, AnObjectSeenFromTwoViewsIsReleasedAndFalseMatchesAreNot) {
   const Eigen::Matrix3d R_true =
       Eigen::AngleAxisd(40 * kDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   PoseConsensus consensus(30.0, 10.0);
-  const auto first = consensus.add(
-      7, 3,
-      observation(viewpoint(R_true, Eigen::Vector3d::Zero(), cameraAt(30), true), viewFrom(30), 5,
-                  7, 3));
+  const auto first =
+      consensus.add(7, 3,
+                    observation(viewpoint(R_true, Eigen::Vector3d::Zero(), cameraAt(30), true),
+                                viewFrom(30), 5, 7, 3));
   EXPECT_FALSE(first.this_one);
   EXPECT_TRUE(first.evidence.empty());
   EXPECT_EQ(consensus.heldDetections(), 1u);
-  const auto second = consensus.add(
-      7, 3,
-      observation(viewpoint(R_true, Eigen::Vector3d::Zero(), cameraAt(60), true), viewFrom(60), 10,
-                  7, 3));
+  const auto second =
+      consensus.add(7, 3,
+                    observation(viewpoint(R_true, Eigen::Vector3d::Zero(), cameraAt(60), true),
+                                viewFrom(60), 10, 7, 3));
   EXPECT_TRUE(second.this_one);
   EXPECT_EQ(second.detections, 2);
   ASSERT_EQ(second.evidence.size(), 2u);  // the held one and this one
+  ASSERT_EQ(second.earlier_frames.size(), 1u);
+  EXPECT_EQ(second.earlier_frames[0], 5u);  // the object layer counts it as detected there
   EXPECT_EQ(consensus.heldDetections(), 0u);
   EXPECT_EQ(consensus.releasedDetections(), 2u);
 

@@ -74,6 +74,7 @@ PoseConsensus::Released PoseConsensus::add(std::uint32_t segment, int class_id,
     if (!earlier.released) {
       earlier.released = true;
       ++out.detections;
+      out.earlier_frames.push_back(earlier.frame);
       out.evidence.insert(out.evidence.end(), earlier.evidence.begin(), earlier.evidence.end());
       earlier.evidence.clear();
     }
@@ -103,10 +104,9 @@ void PoseConsensus::relabel(const std::vector<std::uint32_t>& table) {
     }
   }
   for (auto& [key, list] : moved) {
-    std::stable_sort(list.begin(), list.end(), [](const PoseObservation& a,
-                                                  const PoseObservation& b) {
-      return a.frame < b.frame;
-    });
+    std::stable_sort(
+        list.begin(), list.end(),
+        [](const PoseObservation& a, const PoseObservation& b) { return a.frame < b.frame; });
     if (list.size() > kMaxObservationsPerKey)
       list.erase(list.begin(), list.end() - std::ptrdiff_t(kMaxObservationsPerKey));
   }

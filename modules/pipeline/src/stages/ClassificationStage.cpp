@@ -155,6 +155,13 @@ void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p, maps::
           consensus(det, assoc[d].segment, class_id, std::move(items), p, r.frame_index);
       evidence.insert(evidence.end(), released.evidence.begin(), released.evidence.end());
       m_fused_per_segment[assoc[d].segment] += released.detections - int(released.this_one);
+      for (const std::size_t frame : released.earlier_frames) {  // detected there after all
+        DetectorView earlier;
+        earlier.frame = frame;
+        earlier.detector = r.worker;
+        earlier.detected_segments.push_back(assoc[d].segment);
+        m_object_map.addDetectorView(earlier);
+      }
       if (!released.this_one) continue;  // held until another view agrees
     } else {
       evidence.insert(evidence.end(), items.begin(), items.end());

@@ -60,9 +60,10 @@ class PoseConsensus {
   PoseConsensus(double agreement_deg = 30.0, double min_view_change_deg = 10.0);
 
   struct Released {
-    std::vector<SegmentEvidence> evidence;  ///< to fuse now (this detection's and earlier held)
-    int detections = 0;                     ///< detections released now (this one included)
-    bool this_one = false;                  ///< whether the added detection is among them
+    std::vector<SegmentEvidence> evidence;    ///< to fuse now (this detection's and earlier held)
+    int detections = 0;                       ///< detections released now (this one included)
+    bool this_one = false;                    ///< whether the added detection is among them
+    std::vector<std::size_t> earlier_frames;  ///< the frames of the earlier ones released
   };
   /// Adds a detection of `class_id` on `segment` (its evidence items name that segment) and
   /// returns what agreement releases now.
