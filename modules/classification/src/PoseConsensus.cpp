@@ -53,14 +53,20 @@ double orientationDisagreementDeg(const Eigen::Matrix3d& R_world_model_a,
   return best;
 }
 
-PoseConsensus::PoseConsensus(double agreement_deg, double min_view_change_deg)
-    : m_agreement_deg(agreement_deg), m_min_view_change_deg(min_view_change_deg) {}
+PoseConsensus::PoseConsensus(double agreement_deg, double min_view_change_deg,
+                             double max_fraction_of_view_change)
+    : m_agreement_deg(agreement_deg),
+      m_min_view_change_deg(min_view_change_deg),
+      m_max_fraction_of_view_change(max_fraction_of_view_change) {}
 
 bool PoseConsensus::agree(const PoseObservation& a, const PoseObservation& b) const {
   const double cos_view = std::clamp(a.sight_world.dot(b.sight_world), -1.0, 1.0);
-  if (std::acos(cos_view) / kDegToRad < m_min_view_change_deg) return false;
+  const double view_change_deg = std::acos(cos_view) / kDegToRad;
+  if (view_change_deg < m_min_view_change_deg) return false;
   const double period = std::max(a.azimuth_period_deg, b.azimuth_period_deg);
-  return orientationDisagreementDeg(a.R_world_model, b.R_world_model, period) <= m_agreement_deg;
+  const double apart_deg = orientationDisagreementDeg(a.R_world_model, b.R_world_model, period);
+  return apart_deg <= m_agreement_deg &&
+         apart_deg <= m_max_fraction_of_view_change * view_change_deg;
 }
 
 PoseConsensus::Released PoseConsensus::add(std::uint32_t segment, int class_id,

@@ -49,9 +49,12 @@ void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(pose_consensus, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(pose_agreement_deg, double, c, s);
   MRPT_LOAD_CONFIG_VAR(pose_min_view_change_deg, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(pose_max_fraction_of_view_change, double, c, s);
   MRPT_LOAD_CONFIG_VAR(seed, int, c, s);
   requireInRange(pose_agreement_deg, 0.0, 180.0, s, "pose_agreement_deg");
   requireInRange(pose_min_view_change_deg, 0.0, 180.0, s, "pose_min_view_change_deg");
+  requireInRange(pose_max_fraction_of_view_change, 0.0, 10.0, s,
+                 "pose_max_fraction_of_view_change");
   requireInRange(every_n_frames, 1, 100000, s, "every_n_frames");
   requireInRange(min_iou, 0.0, 1.0, s, "min_iou");
   requireInRange(max_detection_probability, 0.5, 1.0, s, "max_detection_probability");
@@ -112,6 +115,8 @@ void TClassificationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
           "pose consensus: orientations this close agree (deg)");
   c.write(s, "pose_min_view_change_deg", pose_min_view_change_deg, -1, -1,
           "pose consensus: views at least this far apart (deg) count");
+  c.write(s, "pose_max_fraction_of_view_change", pose_max_fraction_of_view_change, -1, -1,
+          "pose consensus: orientations at most this fraction of the view change apart agree");
   c.write(s, "seed", seed, -1, -1, "seed of the simulated detector's noise");
 }
 

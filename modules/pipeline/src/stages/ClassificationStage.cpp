@@ -55,7 +55,8 @@ void ClassificationStage::startWorkers(maps::CSurfelMap& map) {
   m_classes = ClassList(map.classes().empty() ? ClassList::defaultClasses() : map.classes(),
                         map.creationOptions().n_classes);
   m_object_map = ObjectMap(m_object_params, m_params);
-  m_pose_consensus = PoseConsensus(m_params.pose_agreement_deg, m_params.pose_min_view_change_deg);
+  m_pose_consensus = PoseConsensus(m_params.pose_agreement_deg, m_params.pose_min_view_change_deg,
+                                   m_params.pose_max_fraction_of_view_change);
   if (!m_params.enabled) return;
   DetectorBuild built = makeDetectors(m_params, m_detector_sections, m_sim_scene);
   for (auto& d : m_extra_detectors) built.detectors.push_back(std::move(d));

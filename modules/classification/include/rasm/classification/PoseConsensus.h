@@ -11,9 +11,12 @@
 // PoseConsensus holds each such detection's class evidence, per (segment, best class), until a
 // detection of the same class on the same segment from a view at least min_view_change_deg
 // away (two images of the same outline from one place agree trivially) implies the same
-// orientation within agreement_deg; then both are released to the map's Bayes update (IV) and
-// every later one is released when it agrees with any earlier one. Evidence that never agrees
-// is never fused. Segment ids follow the segmentation's merges (relabel).
+// orientation within agreement_deg and within max_fraction_of_view_change of the change of view
+// (an outline that matches one template whatever the view implies orientations that turn with
+// the camera, as far apart as the views; a real object's stay put); then both are released to
+// the map's Bayes update (IV) and every later one is released when it agrees with any earlier
+// one. Evidence that never agrees is never fused. Segment ids follow the segmentation's merges
+// (relabel).
 //
 // The camera's roll about the line of sight is taken as the model's: the camera's up (-y) is the
 // model's up seen from there, as for an upright robot camera or a hand-held one held level (the
@@ -57,7 +60,8 @@ struct PoseObservation {
 
 class PoseConsensus {
  public:
-  PoseConsensus(double agreement_deg = 30.0, double min_view_change_deg = 10.0);
+  PoseConsensus(double agreement_deg = 30.0, double min_view_change_deg = 10.0,
+                double max_fraction_of_view_change = 0.7);
 
   struct Released {
     std::vector<SegmentEvidence> evidence;    ///< to fuse now (this detection's and earlier held)
@@ -79,7 +83,7 @@ class PoseConsensus {
  private:
   bool agree(const PoseObservation& a, const PoseObservation& b) const;
 
-  double m_agreement_deg, m_min_view_change_deg;
+  double m_agreement_deg, m_min_view_change_deg, m_max_fraction_of_view_change;
   std::map<std::pair<std::uint32_t, int>, std::vector<PoseObservation>> m_observations;
   std::size_t m_released = 0;
 };

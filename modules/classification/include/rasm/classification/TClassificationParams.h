@@ -76,11 +76,13 @@ struct TClassificationParams : mrpt::config::CLoadableOptions {
   double structure_piece_max_offset_m = 0.05;
   /// VII-A: a detection with a template pose (the zero-shot classifier's) is fused only when a
   /// detection of its class on its segment, from a view at least pose_min_view_change_deg away,
-  /// implies the same orientation of the object within pose_agreement_deg (PoseConsensus.h);
-  /// false: fused as it comes, as the paper's IV-A does.
+  /// implies the same orientation of the object within pose_agreement_deg and within
+  /// pose_max_fraction_of_view_change of the view change (PoseConsensus.h); false: fused as it
+  /// comes, as the paper's IV-A does.
   bool pose_consensus = true;
   double pose_agreement_deg = 30.0;
   double pose_min_view_change_deg = 10.0;
+  double pose_max_fraction_of_view_change = 0.7;
   /// Seed of the simulated detector's noise (sim_detector only).
   int seed = 1;
 
