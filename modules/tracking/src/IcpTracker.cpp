@@ -185,6 +185,128 @@ void checkMap(const ImageView<const Vec3f>& v, const ImageView<const Vec3f>& n,
                                              std::to_string(n.height) + " differ in size");
 }
 
+/// InputError naming what does not fit: the frame pyramid against [tracking] num_levels, the
+/// maps' validity, the model maps against their intrinsics and the model level, and the colour
+/// and confidence images used.
+void checkAlignInputs(const TTrackingParams& P, const std::vector<FrameLevel>& frame,
+                      const ModelMaps& model, ImageView<const Bgr8> frame_colour, bool photometric,
+                      bool confidence) {
+  const int L = P.num_levels;
+  if (static_cast<int>(frame.size()) < L)
+    throwInputError("tracking: frame pyramid",
+                    "has " + std::to_string(frame.size()) +
+                        " levels, [tracking] num_levels = " + std::to_string(L));
+  for (int l = 0; l < L; ++l) {
+    const FrameLevel& F = frame[l];
+    checkMap(F.vertex.view(), F.normal.view(), "frame level " + std::to_string(l));
+    if (F.vertex.empty())
+      throwInputError("tracking: frame level " + std::to_string(l),
+                      "empty vertex map (build it with buildFramePyramid)");
+  }
+  checkMap(model.vertex_world, model.normal_world, "model maps");
+  if (model.vertex_world.empty()) return;
+  const auto size = [](int w, int h) { return std::to_string(w) + "x" + std::to_string(h); };
+  if (model.K.width != model.vertex_world.width || model.K.height != model.vertex_world.height)
+    throwInputError("tracking: model maps",
+                    "size " + size(model.vertex_world.width, model.vertex_world.height) +
+                        " differs from the model intrinsics " + model.K.toString());
+  const FrameLevel& model_frame_level = frame[P.model_level];
+  if (model.K.width != model_frame_level.depth_m.width() ||
+      model.K.height != model_frame_level.depth_m.height())
+    throwInputError(
+        "tracking: model maps",
+        "size " + size(model.K.width, model.K.height) + " differs from frame level " +
+            std::to_string(P.model_level) + " ([tracking] model_level), " +
+            size(model_frame_level.depth_m.width(), model_frame_level.depth_m.height()));
+  if (photometric) {
+    if (model.colour.width != model.vertex_world.width ||
+        model.colour.height != model.vertex_world.height)
+      throwInputError(
+          "tracking: model colour",
+          "size " + size(model.colour.width, model.colour.height) + " differs from the vertex map");
+    if (frame_colour.width != frame[0].depth_m.width() ||
+        frame_colour.height != frame[0].depth_m.height())
+      throwInputError("tracking: frame colour", "size " +
+                                                    size(frame_colour.width, frame_colour.height) +
+                                                    " differs from the level-0 depth image");
+  }
+  if (confidence && (model.confidence.width != model.vertex_world.width ||
+                     model.confidence.height != model.vertex_world.height))
+    throwInputError("tracking: model confidence",
+                    "size " + size(model.confidence.width, model.confidence.height) +
+                        " differs from the vertex map");
+}
+
+/// T <- P exp(xi) P^-1 T (left-multiplicative about the pivot c, see IcpKernels.h), the step's
+/// size in `st`; false when the step or the pose is not finite (diverged).
+bool applyStep(const Vector6d& xi, Eigen::Isometry3d& T, TrackingLevelStats& st) {
+  if (!xi.allFinite()) return false;
+  Eigen::Isometry3d Pc = Eigen::Isometry3d::Identity();
+  Pc.translation() = T.translation();
+  T = Pc * se3Exp(xi) * Pc.inverse() * T;
+  st.last_step_translation_m = xi.head<3>().norm();
+  st.last_step_rotation_rad = xi.tail<3>().norm();
+  return T.matrix().allFinite();
+}
+
+/// The result's fit: inliers and residual from level 0's last system, the eigen-analysis and
+/// unconstrained directions from the weakest level's (have_weakest false: no level had enough
+/// inliers, all six directions unconstrained), the correction from the guess, and the distances
+/// to the prior in its sigmas.
+void summariseFit(const TTrackingParams& P, const IcpSystem& last, const IcpSystem& weakest,
+                  bool have_weakest, const MotionPrior* prior, TrackingResult& res) {
+  res.inliers = int(last.inliers);
+  res.inlier_fraction = last.valid > 0 ? last.inliers / last.valid : 0.0;
+  res.rms_m = last.rms_m;
+  res.eigenvalues = weakest.eigenvalues;
+  res.eigenvectors = weakest.eigenvectors;
+  res.min_eigenvalue = weakest.eigenvalues(0);
+  res.unconstrained_directions = have_weakest ? 0 : 6;
+  for (int i = 0; i < 6 && have_weakest; ++i)
+    if (weakest.eigenvalues(i) < P.min_eigenvalue) ++res.unconstrained_directions;
+  res.correction_translation_m = translationDistance(res.T_world_cam_guess, res.T_world_cam);
+  res.correction_rotation_rad = rotationAngle(res.T_world_cam_guess, res.T_world_cam);
+  if (prior && res.T_world_cam.matrix().allFinite()) {
+    const Vector6d d = incrementTo(res.T_world_cam, prior->T_world_cam);
+    res.prior_sigmas = std::sqrt(std::max(0.0, d.dot(prior->information * d)));
+    const bool degenerate_information =
+        res.unconstrained_directions > 0 && !prior->odometry_information_degenerate.isZero();
+    const Eigen::Matrix<double, 6, 6>& odometry_information =
+        degenerate_information ? prior->odometry_information_degenerate
+                               : prior->odometry_information;
+    res.odometry_sigmas = std::sqrt(std::max(0.0, d.dot(odometry_information * d)));
+  }
+}
+
+/// The quality rules (most severe first) and whether the frame is accepted.
+void judgeQuality(const TTrackingParams& P, bool diverged, bool check_failed, bool with_prior,
+                  TrackingResult& res) {
+  if (diverged || !res.T_world_cam.matrix().allFinite())
+    res.status = TrackingStatus::Diverged;
+  else if (res.inliers < P.min_inliers || res.inlier_fraction < P.min_inlier_fraction)
+    res.status = TrackingStatus::TooFewInliers;
+  else if (res.rms_m > P.max_rms_m)
+    res.status = TrackingStatus::HighResidual;
+  else if (res.correction_translation_m > P.max_jump_translation_m ||
+           res.correction_rotation_rad > P.max_jump_rotation_deg * kDegToRad)
+    res.status = TrackingStatus::ExcessiveMotion;
+  else if (check_failed)
+    res.status = TrackingStatus::Inconsistent;
+  else if ((P.max_prior_sigmas > 0 && res.prior_sigmas > P.max_prior_sigmas) ||
+           (P.max_odometry_sigmas > 0 && res.odometry_sigmas > P.max_odometry_sigmas))
+    res.status = TrackingStatus::PriorConflict;
+  else if (res.unconstrained_directions > 0)
+    res.status = TrackingStatus::Degenerate;
+  else
+    res.status = TrackingStatus::Ok;
+  // A degenerate frame: with a prior its weak directions come from the prior (per direction,
+  // not a reason to drop the frame); without one, only near-total agreement with the model
+  // supports the directions the geometry cannot check.
+  res.ok = res.status == TrackingStatus::Ok ||
+           (res.status == TrackingStatus::Degenerate &&
+            (with_prior || res.inlier_fraction >= P.degenerate_min_inlier_fraction));
+}
+
 }  // namespace
 
 IcpTracker::IcpTracker(const TTrackingParams& params) : m_params(params) {
@@ -426,68 +548,19 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
                                  ImageView<const Bgr8> frame_colour, const MotionPrior* prior,
                                  std::optional<double> photometric_weight) {
   const TTrackingParams& P = m_params;
-  const int L = P.num_levels;
-  if (static_cast<int>(frame.size()) < L)
-    throwInputError("tracking: frame pyramid",
-                    "has " + std::to_string(frame.size()) +
-                        " levels, [tracking] num_levels = " + std::to_string(L));
-  for (int l = 0; l < L; ++l) {
-    const FrameLevel& F = frame[l];
-    checkMap(F.vertex.view(), F.normal.view(), "frame level " + std::to_string(l));
-    if (F.vertex.empty())
-      throwInputError("tracking: frame level " + std::to_string(l),
-                      "empty vertex map (build it with buildFramePyramid)");
-  }
-  checkMap(model.vertex_world, model.normal_world, "model maps");
   const bool model_empty = model.vertex_world.empty();
-  if (!model_empty &&
-      (model.K.width != model.vertex_world.width || model.K.height != model.vertex_world.height))
-    throwInputError("tracking: model maps", "size " + std::to_string(model.vertex_world.width) +
-                                                "x" + std::to_string(model.vertex_world.height) +
-                                                " differs from the model intrinsics " +
-                                                model.K.toString());
-  const FrameLevel& model_frame_level = frame[P.model_level];
-  if (!model_empty && (model.K.width != model_frame_level.depth_m.width() ||
-                       model.K.height != model_frame_level.depth_m.height()))
-    throwInputError("tracking: model maps",
-                    "size " + std::to_string(model.K.width) + "x" + std::to_string(model.K.height) +
-                        " differs from frame level " + std::to_string(P.model_level) +
-                        " ([tracking] model_level), " +
-                        std::to_string(model_frame_level.depth_m.width()) + "x" +
-                        std::to_string(model_frame_level.depth_m.height()));
   // Photometric term: only with both colour images (and a model to render them from).
   const double kappa = photometric_weight ? std::max(0.0, *photometric_weight)
                                           : P.photometricWeight(prior != nullptr);
   const bool photometric =
       kappa > 0 && !model_empty && !model.colour.empty() && !frame_colour.empty();
-  if (photometric) {
-    if (model.colour.width != model.vertex_world.width ||
-        model.colour.height != model.vertex_world.height)
-      throwInputError("tracking: model colour", "size " + std::to_string(model.colour.width) + "x" +
-                                                    std::to_string(model.colour.height) +
-                                                    " differs from the vertex map");
-    if (frame_colour.width != frame[0].depth_m.width() ||
-        frame_colour.height != frame[0].depth_m.height())
-      throwInputError("tracking: frame colour", "size " + std::to_string(frame_colour.width) + "x" +
-                                                    std::to_string(frame_colour.height) +
-                                                    " differs from the level-0 depth image");
-  }
-  if (P.use_cuda) {
-    const auto avail = compute::cudaAvailability();
-    if (!avail.available)
-      throwInputError("[tracking] use_cuda", "CUDA is not usable: " + avail.reason);
-    if (!m_cuda) m_cuda = std::make_unique<cuda::IcpCudaReducer>();
-  }
+  const bool confidence = P.confidence_full > 0 && !model_empty && !model.confidence.empty();
+  checkAlignInputs(P, frame, model, frame_colour, photometric, confidence);
+  if (P.use_cuda) ensureCudaReducer();
 
   TrackingResult res;
   res.T_world_cam_guess = T_world_cam_guess;
   Eigen::Isometry3d T = T_world_cam_guess;
-  const bool confidence = P.confidence_full > 0 && !model_empty && !model.confidence.empty();
-  if (confidence && (model.confidence.width != model.vertex_world.width ||
-                     model.confidence.height != model.vertex_world.height))
-    throwInputError("tracking: model confidence",
-                    "size " + std::to_string(model.confidence.width) + "x" +
-                        std::to_string(model.confidence.height) + " differs from the vertex map");
   if (!model_empty) buildModelPyramid(model, photometric, confidence);
   if (photometric) buildFrameIntensity(frame, frame_colour);
   const Eigen::Isometry3d T_model_world = model.T_world_model.inverse();
@@ -499,43 +572,12 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
   IcpSystem last(kernels::IcpAccumulator{});  // level 0's last system
   IcpSystem weakest = last;  // the level's last system with the smallest eigenvalue
   bool have_weakest = false;
-  for (int l = L - 1; l >= 0 && !diverged; --l) {
+  for (int l = P.num_levels - 1; l >= 0 && !diverged; --l) {
     TrackingLevelStats st;
     st.level = l;
     kernels::IcpReduceKernel k;
-    k.frame_vertex = frame[l].vertex.view();
-    k.frame_normal = frame[l].normal.view();
-    const int ml = std::max(0, l - P.model_level);  // model level associated with frame level l
-    if (!model_empty) {
-      k.model_vertex =
-          ml == 0 ? model.vertex_world : ImageView<const Vec3f>(m_model_vertex[ml - 1].view());
-      k.model_normal =
-          ml == 0 ? model.normal_world : ImageView<const Vec3f>(m_model_normal[ml - 1].view());
-    }
-    k.K_model = model.K.level(ml).plain();
-    k.max_dist_m = float(P.max_dist_m[l]);
-    k.min_normal_cos = float(std::cos(P.max_normal_angle_deg[l] * kDegToRad));
-    k.huber_delta_m = float(P.huber_delta_m);
-    k.depth_noise_weighting = P.depth_noise_weighting;
-    k.depth_noise_incidence = P.depth_noise_incidence;
-    if (confidence) {
-      k.model_confidence =
-          ml == 0 ? model.confidence : ImageView<const float>(m_model_confidence[ml - 1].cview());
-      k.confidence_full = float(P.confidence_full);
-    }
-    k.stride = l == 0 ? P.level0_pixel_stride : 1;
     kernels::PhotometricReduceKernel pk;
-    if (photometric) {
-      pk.model_vertex = k.model_vertex;
-      pk.model_intensity = m_model_intensity[ml].cview();
-      pk.frame_igrad = m_frame_igrad[l].cview();
-      pk.frame_depth_m = frame[l].depth_m.cview();
-      pk.K_frame = frame[l].K.plain();
-      pk.max_depth_diff_m = k.max_dist_m;
-      pk.min_gradient = float(P.photometric_min_gradient);
-      pk.huber_delta = float(P.photometric_huber);
-      pk.stride = k.stride;
-    }
+    levelKernels(l, frame, model, photometric, confidence, k, pk);
     IcpSystem level_last(kernels::IcpAccumulator{});
     if (P.use_cuda && !model_empty) m_cuda->upload(l, k);
 
@@ -543,20 +585,8 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
       k.T_world_cam = toRigidF(T);
       k.T_model_cam = toRigidF(T_model_world * T);
       k.pivot_world = T.translation().cast<float>();
-      kernels::IcpAccumulator acc;
-      if (model_empty) {
-        // Nothing to associate with: only count the valid frame pixels.
-        for (int y = 0; y < k.frame_vertex.height; y += k.stride)
-          for (int x = 0; x < k.frame_vertex.width; x += k.stride)
-            if (k.frame_vertex(x, y).x() == k.frame_vertex(x, y).x() &&
-                k.frame_normal(x, y).x() == k.frame_normal(x, y).x())
-              acc.s[kernels::IcpAccumulator::kValid] += 1;
-      } else if (P.use_cuda) {
-        acc = m_cuda->reduce(l, k);
-      } else {
-        acc = compute::reduce1D<kernels::IcpAccumulator>(k.items(), k);
-      }
       kernels::IcpAccumulator acc_photo;
+      const kernels::IcpAccumulator acc = reduceLevel(l, k, model_empty);
       if (photometric) {
         pk.T_world_cam = k.T_world_cam;
         pk.T_cam_world = toRigidF(T.inverse());
@@ -585,20 +615,8 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
                            P.prior_min_eigenvalue, xi);
       else
         sys.solve(P.min_eigenvalue, xi);
-      if (!xi.allFinite()) {
-        diverged = true;
-        break;
-      }
-      // T <- P exp(xi) P^-1 T (left-multiplicative about the pivot c, see IcpKernels.h).
-      Eigen::Isometry3d Pc = Eigen::Isometry3d::Identity();
-      Pc.translation() = T.translation();
-      T = Pc * se3Exp(xi) * Pc.inverse() * T;
-      st.last_step_translation_m = xi.head<3>().norm();
-      st.last_step_rotation_rad = xi.tail<3>().norm();
-      if (!T.matrix().allFinite()) {
-        diverged = true;
-        break;
-      }
+      diverged = !applyStep(xi, T, st);
+      if (diverged) break;
       if (st.last_step_translation_m < P.convergence_translation_m &&
           st.last_step_rotation_rad < conv_rot_rad)
         break;
@@ -618,74 +636,94 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
   }
 
   res.T_world_cam = orthonormalize(T);
-  res.inliers = int(last.inliers);
-  res.inlier_fraction = last.valid > 0 ? last.inliers / last.valid : 0.0;
-  res.rms_m = last.rms_m;
-  res.eigenvalues = weakest.eigenvalues;
-  res.eigenvectors = weakest.eigenvectors;
-  res.min_eigenvalue = weakest.eigenvalues(0);
-  res.unconstrained_directions = have_weakest ? 0 : 6;
-  for (int i = 0; i < 6 && have_weakest; ++i)
-    if (weakest.eigenvalues(i) < P.min_eigenvalue) ++res.unconstrained_directions;
-  res.correction_translation_m = translationDistance(T_world_cam_guess, res.T_world_cam);
-  res.correction_rotation_rad = rotationAngle(T_world_cam_guess, res.T_world_cam);
-
-  if (prior && res.T_world_cam.matrix().allFinite()) {
-    const Vector6d d = incrementTo(res.T_world_cam, prior->T_world_cam);
-    res.prior_sigmas = std::sqrt(std::max(0.0, d.dot(prior->information * d)));
-    const bool degenerate_information =
-        res.unconstrained_directions > 0 && !prior->odometry_information_degenerate.isZero();
-    const Eigen::Matrix<double, 6, 6>& odometry_information =
-        degenerate_information ? prior->odometry_information_degenerate
-                               : prior->odometry_information;
-    res.odometry_sigmas = std::sqrt(std::max(0.0, d.dot(odometry_information * d)));
-  }
-  // Pose check: the aligned frame against the model it was aligned to.
-  bool check_failed = false;
-  if (!model_empty && res.T_world_cam.matrix().allFinite()) {
-    const PoseCheck c = checkPoseBuilt(frame, model, res.T_world_cam);
-    res.check_overlap = c.overlap;
-    res.check_agreement = c.agreement;
-    res.check_behind = c.behind;
-    check_failed = c.overlap >= P.check_min_overlap && !c.passed;
-    const bool relative_rule_alone = c.agreement >= P.check_min_agreement &&
-                                     c.behind <= P.check_max_behind &&
-                                     1.0 - c.agreement > c.max_disagreement;
-    const bool prior_confirms = prior && P.check_prior_confirms_sigmas > 0 &&
-                                res.prior_sigmas <= P.check_prior_confirms_sigmas;
-    const bool odometry_confirms = prior && P.check_odometry_confirms_sigmas > 0 &&
-                                   !prior->odometry_information.isZero() &&
-                                   res.odometry_sigmas <= P.check_odometry_confirms_sigmas;
-    if (check_failed && relative_rule_alone && (prior_confirms || odometry_confirms))
-      check_failed = false;
-  }
-
-  // Quality rules (most severe first).
-  if (diverged || !res.T_world_cam.matrix().allFinite())
-    res.status = TrackingStatus::Diverged;
-  else if (res.inliers < P.min_inliers || res.inlier_fraction < P.min_inlier_fraction)
-    res.status = TrackingStatus::TooFewInliers;
-  else if (res.rms_m > P.max_rms_m)
-    res.status = TrackingStatus::HighResidual;
-  else if (res.correction_translation_m > P.max_jump_translation_m ||
-           res.correction_rotation_rad > P.max_jump_rotation_deg * kDegToRad)
-    res.status = TrackingStatus::ExcessiveMotion;
-  else if (check_failed)
-    res.status = TrackingStatus::Inconsistent;
-  else if ((P.max_prior_sigmas > 0 && res.prior_sigmas > P.max_prior_sigmas) ||
-           (P.max_odometry_sigmas > 0 && res.odometry_sigmas > P.max_odometry_sigmas))
-    res.status = TrackingStatus::PriorConflict;
-  else if (res.unconstrained_directions > 0)
-    res.status = TrackingStatus::Degenerate;
-  else
-    res.status = TrackingStatus::Ok;
-  // A degenerate frame: with a prior its weak directions come from the prior (per direction,
-  // not a reason to drop the frame); without one, only near-total agreement with the model
-  // supports the directions the geometry cannot check.
-  res.ok = res.status == TrackingStatus::Ok ||
-           (res.status == TrackingStatus::Degenerate &&
-            (prior || res.inlier_fraction >= P.degenerate_min_inlier_fraction));
+  summariseFit(P, last, weakest, have_weakest, prior, res);
+  const bool check_failed = poseCheckFailed(frame, model, prior, res);
+  judgeQuality(P, diverged, check_failed, prior != nullptr, res);
   return res;
+}
+
+void IcpTracker::levelKernels(int l, const std::vector<FrameLevel>& frame, const ModelMaps& model,
+                              bool photometric, bool confidence, kernels::IcpReduceKernel& k,
+                              kernels::PhotometricReduceKernel& pk) const {
+  const TTrackingParams& P = m_params;
+  k.frame_vertex = frame[l].vertex.view();
+  k.frame_normal = frame[l].normal.view();
+  const int ml = std::max(0, l - P.model_level);  // model level associated with frame level l
+  if (!model.vertex_world.empty()) {
+    k.model_vertex =
+        ml == 0 ? model.vertex_world : ImageView<const Vec3f>(m_model_vertex[ml - 1].view());
+    k.model_normal =
+        ml == 0 ? model.normal_world : ImageView<const Vec3f>(m_model_normal[ml - 1].view());
+  }
+  k.K_model = model.K.level(ml).plain();
+  k.max_dist_m = float(P.max_dist_m[l]);
+  k.min_normal_cos = float(std::cos(P.max_normal_angle_deg[l] * kDegToRad));
+  k.huber_delta_m = float(P.huber_delta_m);
+  k.depth_noise_weighting = P.depth_noise_weighting;
+  k.depth_noise_incidence = P.depth_noise_incidence;
+  if (confidence) {
+    k.model_confidence =
+        ml == 0 ? model.confidence : ImageView<const float>(m_model_confidence[ml - 1].cview());
+    k.confidence_full = float(P.confidence_full);
+  }
+  k.stride = l == 0 ? P.level0_pixel_stride : 1;
+  if (photometric) {
+    pk.model_vertex = k.model_vertex;
+    pk.model_intensity = m_model_intensity[ml].cview();
+    pk.frame_igrad = m_frame_igrad[l].cview();
+    pk.frame_depth_m = frame[l].depth_m.cview();
+    pk.K_frame = frame[l].K.plain();
+    pk.max_depth_diff_m = k.max_dist_m;
+    pk.min_gradient = float(P.photometric_min_gradient);
+    pk.huber_delta = float(P.photometric_huber);
+    pk.stride = k.stride;
+  }
+}
+
+void IcpTracker::ensureCudaReducer() {
+  const auto avail = compute::cudaAvailability();
+  if (!avail.available)
+    throwInputError("[tracking] use_cuda", "CUDA is not usable: " + avail.reason);
+  if (!m_cuda) m_cuda = std::make_unique<cuda::IcpCudaReducer>();
+}
+
+kernels::IcpAccumulator IcpTracker::reduceLevel(int l, const kernels::IcpReduceKernel& k,
+                                                bool model_empty) {
+  kernels::IcpAccumulator acc;
+  if (model_empty) {
+    // Nothing to associate with: only count the valid frame pixels.
+    for (int y = 0; y < k.frame_vertex.height; y += k.stride)
+      for (int x = 0; x < k.frame_vertex.width; x += k.stride)
+        if (k.frame_vertex(x, y).x() == k.frame_vertex(x, y).x() &&
+            k.frame_normal(x, y).x() == k.frame_normal(x, y).x())
+          acc.s[kernels::IcpAccumulator::kValid] += 1;
+  } else if (m_params.use_cuda) {
+    acc = m_cuda->reduce(l, k);
+  } else {
+    acc = compute::reduce1D<kernels::IcpAccumulator>(k.items(), k);
+  }
+  return acc;
+}
+
+bool IcpTracker::poseCheckFailed(const std::vector<FrameLevel>& frame, const ModelMaps& model,
+                                 const MotionPrior* prior, TrackingResult& res) const {
+  // Pose check: the aligned frame against the model it was aligned to.
+  const TTrackingParams& P = m_params;
+  if (model.vertex_world.empty() || !res.T_world_cam.matrix().allFinite()) return false;
+  const PoseCheck c = checkPoseBuilt(frame, model, res.T_world_cam);
+  res.check_overlap = c.overlap;
+  res.check_agreement = c.agreement;
+  res.check_behind = c.behind;
+  const bool failed = c.overlap >= P.check_min_overlap && !c.passed;
+  const bool relative_rule_alone = c.agreement >= P.check_min_agreement &&
+                                   c.behind <= P.check_max_behind &&
+                                   1.0 - c.agreement > c.max_disagreement;
+  const bool prior_confirms = prior && P.check_prior_confirms_sigmas > 0 &&
+                              res.prior_sigmas <= P.check_prior_confirms_sigmas;
+  const bool odometry_confirms = prior && P.check_odometry_confirms_sigmas > 0 &&
+                                 !prior->odometry_information.isZero() &&
+                                 res.odometry_sigmas <= P.check_odometry_confirms_sigmas;
+  return failed && !(relative_rule_alone && (prior_confirms || odometry_confirms));
 }
 
 }  // namespace rasm::tracking

@@ -313,6 +313,114 @@ void rvecTvecFromPose(const Eigen::Isometry3d& T_world_cam, cv::Mat& rvec, cv::M
           T_cam_world.translation().z());
 }
 
+using Matches = std::vector<std::pair<int, int>>;  ///< (frame feature, keyframe feature)
+
+/// Step 1: the keyframes to try, by ratio-test matches of the strongest frame features (all of
+/// them when there are at most candidate_keyframes).
+std::vector<std::size_t> rankKeyframes(const cv::Mat& desc, const std::vector<int>& all,
+                                       const std::vector<cv::KeyPoint>& kps,
+                                       const std::vector<Keyframe>& db,
+                                       const TRelocalisationParams& P) {
+  std::vector<std::size_t> candidates;
+  if (int(db.size()) <= P.candidate_keyframes) {
+    for (std::size_t k = 0; k < db.size(); ++k) candidates.push_back(k);
+    return candidates;
+  }
+  std::vector<int> strongest = all;
+  std::stable_sort(strongest.begin(), strongest.end(),
+                   [&](int a, int b) { return kps[a].response > kps[b].response; });
+  if (int(strongest.size()) > P.ranking_features) strongest.resize(std::size_t(P.ranking_features));
+  std::vector<std::pair<int, std::size_t>> score;  // (matches, keyframe)
+  score.reserve(db.size());
+  for (std::size_t k = 0; k < db.size(); ++k) {
+    const int n =
+        int(matchDescriptors(desc, strongest, db[k].descriptors.data(), int(db[k].numFeatures()),
+                             P.match_ratio, P.max_hamming_distance)
+                .size());
+    if (n > 0) score.emplace_back(n, k);
+  }
+  std::stable_sort(score.begin(), score.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (std::size_t i = 0; i < score.size() && int(i) < P.candidate_keyframes; ++i)
+    candidates.push_back(score[i].second);
+  return candidates;
+}
+
+struct Hypothesis {
+  std::size_t keyframe;
+  int matches, ransac_inliers;
+  Eigen::Isometry3d T_world_cam;
+};
+
+/// Step 2: RANSAC PnP on the matches `m` of the frame with keyframe k; nullopt when it fails or
+/// keeps fewer than 6 inliers.
+std::optional<Hypothesis> pnpHypothesis(std::size_t k, const Matches& m,
+                                        const std::vector<cv::KeyPoint>& kps,
+                                        const std::vector<Keyframe>& db, const cv::Matx33d& K,
+                                        const TRelocalisationParams& P) {
+  std::vector<cv::Point3f> obj;
+  std::vector<cv::Point2f> img;
+  for (const auto& [q, t] : m) {
+    const Eigen::Vector3f& p = db[k].points_world[std::size_t(t)];
+    obj.emplace_back(p.x(), p.y(), p.z());
+    img.push_back(kps[std::size_t(q)].pt);
+  }
+  cv::Mat rvec, tvec;
+  std::vector<int> inl;
+  bool ok = false;
+  try {
+    ok = cv::solvePnPRansac(obj, img, K, cv::noArray(), rvec, tvec, false, P.ransac_iterations,
+                            float(P.ransac_reprojection_px), 0.999, inl, cv::SOLVEPNP_AP3P);
+  } catch (const cv::Exception&) {
+    ok = false;  // degenerate point sets (e.g. all collinear) can make the minimal solver throw
+  }
+  if (!ok || inl.size() < 6) return std::nullopt;
+  return Hypothesis{k, int(m.size()), int(inl.size()), poseFromRvecTvec(rvec, tvec)};
+}
+
+/// The keyframe of hypothesis h and its neighbour_keyframes nearest keyframes (in pose).
+std::vector<std::size_t> keyframePool(std::size_t keyframe, const std::vector<Keyframe>& db,
+                                      const TRelocalisationParams& P) {
+  std::vector<std::pair<double, std::size_t>> near;
+  for (std::size_t k = 0; k < db.size(); ++k)
+    if (k != keyframe)
+      near.emplace_back(spacing(db[keyframe].T_world_cam, db[k].T_world_cam, P), k);
+  const std::size_t n_near = std::min(near.size(), std::size_t(P.neighbour_keyframes));
+  std::partial_sort(near.begin(), near.begin() + std::ptrdiff_t(n_near), near.end());
+  std::vector<std::size_t> pool{keyframe};
+  for (std::size_t i = 0; i < n_near; ++i) pool.push_back(near[i].second);
+  return pool;
+}
+
+bool byFrameFeature(const Correspondence& a, const Correspondence& b) {
+  return a.q < b.q;
+}
+
+/// Step 3's refinement: up to two Levenberg-Marquardt refinements of T on its inliers among
+/// `cs`, each kept when it does not lose inliers; T and its support on return.
+PoseSupport refineOnInliers(Eigen::Isometry3d& T, const std::vector<Correspondence>& cs,
+                            const RgbdFrame& frame, const cv::Matx33d& K,
+                            const TRelocalisationParams& P) {
+  PoseSupport s = support(T, cs, frame, P);
+  for (int iter = 0; iter < 2 && s.inliers >= 6; ++iter) {
+    std::vector<cv::Point3f> obj;
+    std::vector<cv::Point2f> img;
+    for (const Correspondence* c : s.best) {
+      obj.emplace_back(float(c->p_world.x()), float(c->p_world.y()), float(c->p_world.z()));
+      img.push_back(c->uv);
+    }
+    cv::Mat rvec, tvec;
+    rvecTvecFromPose(T, rvec, tvec);
+    cv::solvePnPRefineLM(obj, img, K, cv::noArray(), rvec, tvec);
+    const Eigen::Isometry3d T_refined = poseFromRvecTvec(rvec, tvec);
+    PoseSupport s2 = support(T_refined, cs, frame, P);
+    if (s2.inliers < s.inliers) break;
+    T = T_refined;
+    s = std::move(s2);
+  }
+  return s;
+}
+
 }  // namespace
 
 std::optional<RelocalisationResult> Relocaliser::relocalise(const RgbdFrame& frame,
@@ -346,8 +454,8 @@ std::optional<RelocalisationResult> Relocaliser::relocalise(const RgbdFrame& fra
   std::iota(all.begin(), all.end(), 0);
 
   // Full matches of the frame with keyframe k (computed once per call).
-  std::vector<std::optional<std::vector<std::pair<int, int>>>> full(db.size());
-  auto matchesWith = [&](std::size_t k) -> const std::vector<std::pair<int, int>>& {
+  std::vector<std::optional<Matches>> full(db.size());
+  auto matchesWith = [&](std::size_t k) -> const Matches& {
     if (!full[k]) {
       const auto tm = std::chrono::steady_clock::now();
       full[k] = matchDescriptors(desc, all, db[k].descriptors.data(), int(db[k].numFeatures()),
@@ -359,66 +467,22 @@ std::optional<RelocalisationResult> Relocaliser::relocalise(const RgbdFrame& fra
 
   // 1. Rank keyframes by ratio-test matches of the strongest frame features.
   const auto t_rank = std::chrono::steady_clock::now();
-  std::vector<std::size_t> candidates;
-  if (int(db.size()) <= P.candidate_keyframes) {
-    for (std::size_t k = 0; k < db.size(); ++k) candidates.push_back(k);
-  } else {
-    std::vector<int> strongest = all;
-    std::stable_sort(strongest.begin(), strongest.end(),
-                     [&](int a, int b) { return kps[a].response > kps[b].response; });
-    if (int(strongest.size()) > P.ranking_features)
-      strongest.resize(std::size_t(P.ranking_features));
-    std::vector<std::pair<int, std::size_t>> score;  // (matches, keyframe)
-    score.reserve(db.size());
-    for (std::size_t k = 0; k < db.size(); ++k) {
-      const int n =
-          int(matchDescriptors(desc, strongest, db[k].descriptors.data(), int(db[k].numFeatures()),
-                               P.match_ratio, P.max_hamming_distance)
-                  .size());
-      if (n > 0) score.emplace_back(n, k);
-    }
-    std::stable_sort(score.begin(), score.end(),
-                     [](const auto& a, const auto& b) { return a.first > b.first; });
-    for (std::size_t i = 0; i < score.size() && int(i) < P.candidate_keyframes; ++i)
-      candidates.push_back(score[i].second);
-  }
+  const std::vector<std::size_t> candidates = rankKeyframes(desc, all, kps, db, P);
   m_stats.match_ms += elapsedMs(t_rank);
 
   // 2. A pose hypothesis per candidate: RANSAC PnP on its own matches.
   const cv::Matx33d K(frame.intrinsics.fx, 0, frame.intrinsics.cx, 0, frame.intrinsics.fy,
                       frame.intrinsics.cy, 0, 0, 1);
-  struct Hypothesis {
-    std::size_t keyframe;
-    int matches, ransac_inliers;
-    Eigen::Isometry3d T_world_cam;
-  };
   std::vector<Hypothesis> hyps;
   for (std::size_t k : candidates) {
-    const std::vector<std::pair<int, int>>& m = matchesWith(k);
+    const Matches& m = matchesWith(k);
     m_stats.best_matches = std::max(m_stats.best_matches, int(m.size()));
     if (int(m.size()) < P.min_matches) continue;
     ++m_stats.candidates_tried;
-    std::vector<cv::Point3f> obj;
-    std::vector<cv::Point2f> img;
-    for (const auto& [q, t] : m) {
-      const Eigen::Vector3f& p = db[k].points_world[std::size_t(t)];
-      obj.emplace_back(p.x(), p.y(), p.z());
-      img.push_back(kps[std::size_t(q)].pt);
-    }
-    cv::Mat rvec, tvec;
-    std::vector<int> inl;
-    bool ok = false;
-    try {
-      ok = cv::solvePnPRansac(obj, img, K, cv::noArray(), rvec, tvec, false, P.ransac_iterations,
-                              float(P.ransac_reprojection_px), 0.999, inl, cv::SOLVEPNP_AP3P);
-    } catch (const cv::Exception&) {
-      ok = false;  // degenerate point sets (e.g. all collinear) can make the minimal solver throw
-    }
-    if (!ok || inl.size() < 6) {
+    if (std::optional<Hypothesis> h = pnpHypothesis(k, m, kps, db, K, P))
+      hyps.push_back(*h);
+    else
       note(1, "too few inliers");
-      continue;
-    }
-    hyps.push_back({k, int(m.size()), int(inl.size()), poseFromRvecTvec(rvec, tvec)});
   }
   std::stable_sort(hyps.begin(), hyps.end(), [](const Hypothesis& a, const Hypothesis& b) {
     return a.ransac_inliers > b.ransac_inliers;
@@ -431,40 +495,15 @@ std::optional<RelocalisationResult> Relocaliser::relocalise(const RgbdFrame& fra
       note(2, "inlier ratio");
       continue;
     }
-    std::vector<std::pair<double, std::size_t>> near;
-    for (std::size_t k = 0; k < db.size(); ++k)
-      if (k != h.keyframe)
-        near.emplace_back(spacing(db[h.keyframe].T_world_cam, db[k].T_world_cam, P), k);
-    const std::size_t n_near = std::min(near.size(), std::size_t(P.neighbour_keyframes));
-    std::partial_sort(near.begin(), near.begin() + std::ptrdiff_t(n_near), near.end());
-    std::vector<std::size_t> pool{h.keyframe};
-    for (std::size_t i = 0; i < n_near; ++i) pool.push_back(near[i].second);
     std::vector<Correspondence> cs;
-    for (std::size_t k : pool)
+    for (std::size_t k : keyframePool(h.keyframe, db, P))
       for (const auto& [q, t] : matchesWith(k))
         cs.push_back(
             {q, kps[std::size_t(q)].pt, db[k].points_world[std::size_t(t)].cast<double>()});
-    std::stable_sort(cs.begin(), cs.end(),
-                     [](const Correspondence& a, const Correspondence& b) { return a.q < b.q; });
+    std::stable_sort(cs.begin(), cs.end(), byFrameFeature);
 
     Eigen::Isometry3d T = h.T_world_cam;
-    PoseSupport s = support(T, cs, frame, P);
-    for (int iter = 0; iter < 2 && s.inliers >= 6; ++iter) {
-      std::vector<cv::Point3f> obj;
-      std::vector<cv::Point2f> img;
-      for (const Correspondence* c : s.best) {
-        obj.emplace_back(float(c->p_world.x()), float(c->p_world.y()), float(c->p_world.z()));
-        img.push_back(c->uv);
-      }
-      cv::Mat rvec, tvec;
-      rvecTvecFromPose(T, rvec, tvec);
-      cv::solvePnPRefineLM(obj, img, K, cv::noArray(), rvec, tvec);
-      const Eigen::Isometry3d T_refined = poseFromRvecTvec(rvec, tvec);
-      PoseSupport s2 = support(T_refined, cs, frame, P);
-      if (s2.inliers < s.inliers) break;
-      T = T_refined;
-      s = std::move(s2);
-    }
+    const PoseSupport s = refineOnInliers(T, cs, frame, K, P);
     if (s.inliers > m_stats.best_inliers) {
       m_stats.best_inliers = s.inliers;
       m_stats.best_depth_checked = s.depth_checked;
@@ -479,16 +518,9 @@ std::optional<RelocalisationResult> Relocaliser::relocalise(const RgbdFrame& fra
       note(4, "depth check");
       continue;
     }
-    RelocalisationResult r;
-    r.T_world_cam = T;
-    r.keyframe = h.keyframe;
-    r.matches = int(cs.size());
-    r.inliers = s.inliers;
-    r.reprojection_rms_px = s.rms_px;
-    r.depth_checked = s.depth_checked;
-    r.depth_agreeing = s.depth_agreeing;
     m_stats.ms = elapsedMs(t0);
-    return r;
+    return RelocalisationResult{T,        h.keyframe,      int(cs.size()),  s.inliers,
+                                s.rms_px, s.depth_checked, s.depth_agreeing};
   }
   return fail(reason);
 }

@@ -50,6 +50,7 @@
 #include "rasm/tracking/MotionPrior.h"
 #include "rasm/tracking/TrackingParams.h"
 #include "rasm/tracking/TrackingResult.h"
+#include "rasm/tracking/kernels/IcpKernels.h"
 
 namespace rasm::tracking {
 
@@ -175,6 +176,20 @@ class IcpTracker {
                                      TrackingResult r);
   PoseCheck checkPoseBuilt(const std::vector<FrameLevel>& frame, const ModelMaps& model,
                            const Eigen::Isometry3d& T_world_cam) const;
+  /// The point-to-plane and photometric kernels of frame level l against its model level (the
+  /// pose fields are set per iteration).
+  void levelKernels(int l, const std::vector<FrameLevel>& frame, const ModelMaps& model,
+                    bool photometric, bool confidence, kernels::IcpReduceKernel& k,
+                    kernels::PhotometricReduceKernel& pk) const;
+  /// One point-to-plane reduction of level l at k's pose (CPU or CUDA); with no model, only the
+  /// valid frame pixels are counted.
+  kernels::IcpAccumulator reduceLevel(int l, const kernels::IcpReduceKernel& k, bool model_empty);
+  /// The CUDA reducer, created on first use; InputError when CUDA is not usable.
+  void ensureCudaReducer();
+  /// Fills res's pose-check fields; whether the check failed and neither the prior nor the
+  /// odometry confirms the pose under the relative rule alone.
+  bool poseCheckFailed(const std::vector<FrameLevel>& frame, const ModelMaps& model,
+                       const MotionPrior* prior, TrackingResult& res) const;
   void buildModelPyramid(const ModelMaps& model, bool intensity, bool confidence);
   void buildFrameIntensity(const std::vector<FrameLevel>& frame, ImageView<const Bgr8> colour);
 
