@@ -463,131 +463,146 @@ void CSurfelMap::serializeTo(mrpt::serialization::CArchive& out) const {
   for (const MapClass& c : m_classes) out << c.name << c.source;
 }
 
+int32_t CSurfelMap::readLayoutAndOptions(mrpt::serialization::CArchive& in, uint8_t version,
+                                         const std::string& what) {
+  int32_t nc, az, el;
+  TCreationOptions co;
+  in >> nc >> az >> el >> co.block_size_m;
+  if (!(co.block_size_m >= 0.01 && co.block_size_m <= 100.0))
+    throwInputError(what, "block size " + std::to_string(co.block_size_m) +
+                              " m (corrupt file?), expected [0.01, 100] m");
+  if (nc < 0 || nc > (version >= 2 ? kMaxClassId : 4096) || az < 0 || az > 256 || el < 0 || el > 64)
+    throwInputError(what, "layout n_classes = " + std::to_string(nc) + ", view bins " +
+                              std::to_string(az) + " x " + std::to_string(el) + " (corrupt file?)");
+  // Old maps with more than 255 classes keep 255 (evidence beyond them is an error below).
+  co.n_classes = std::min<int>(nc, kMaxClassId);
+  co.view_bins_azimuth = az;
+  co.view_bins_elevation = el;
+  uint32_t nkeys;
+  in >> nkeys;
+  if (nkeys > kMaxFusionKeys)
+    throwInputError(what, std::to_string(nkeys) +
+                              " fusion keys (corrupt file?), expected at most " +
+                              std::to_string(kMaxFusionKeys));
+  insertionOptions.fusion_keys.clear();
+  for (uint32_t k = 0; k < nkeys; ++k) {
+    std::string key = readBoundedString(in, what + " fusion key");
+    insertionOptions.fusion_keys.emplace_back(std::move(key),
+                                              readBoundedString(in, what + " fusion value"));
+  }
+  int32_t dec, colouring;
+  in >> likelihoodOptions.sigma_m >> dec >> likelihoodOptions.max_depth_m;
+  likelihoodOptions.decimation = dec;
+  in >> colouring >> renderingOptions.visual.point_size >> renderingOptions.visual.stable_only >>
+      renderingOptions.visual.min_confidence;
+  renderingOptions.visual.colouring = SurfelColouring(colouring);
+  in >> genericMapParams;
+  double t0;
+  in >> t0;
+
+  resetLayout(co);
+  m_store.setTimeOrigin(t0);
+  return nc;
+}
+
+void CSurfelMap::readSurfelArrays(mrpt::serialization::CArchive& in, uint8_t version, int32_t nc,
+                                  const std::string& what) {
+  uint64_t n;
+  in >> n;
+  if (n > uint64_t(kMaxSerializedSurfels))
+    throwInputError(what, std::to_string(n) + " surfels (corrupt file?), expected at most " +
+                              std::to_string(kMaxSerializedSurfels));
+  // The first array is read in chunks before the store is allocated, so a corrupt count in a
+  // short file fails at its end instead of allocating ~100 bytes per surfel it claims.
+  std::vector<float> pos_conf;
+  for (uint64_t k = 0; k < n; k += kClassChunk) {
+    const std::size_t m = std::size_t(std::min<uint64_t>(n - k, kClassChunk));
+    pos_conf.resize(pos_conf.size() + 4 * m);
+    in.ReadBufferFixEndianness(pos_conf.data() + pos_conf.size() - 4 * m, 4 * m);
+  }
+  for (std::size_t i = 0; i < pos_conf.size(); ++i)
+    if (!(std::fabs(pos_conf[i]) <= (i % 4 == 3 ? 1e30f : kMaxSurfelCoordinateM)))
+      throwInputError(what + " surfel " + std::to_string(i / 4),
+                      "position or confidence " + std::to_string(pos_conf[i]) +
+                          " is not finite or beyond " + std::to_string(kMaxSurfelCoordinateM) +
+                          " m (corrupt file?)");
+  m_store.allocate(int(n));
+  const SurfelArrays a = m_store.arrays();
+  if (n > 0) {
+    std::copy(pos_conf.begin(), pos_conf.end(), reinterpret_cast<float*>(a.pos_conf));
+    pos_conf = {};
+    in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.normal_radius), 4 * n);
+    const float* nr = reinterpret_cast<const float*>(a.normal_radius);
+    for (std::size_t i = 0; i < 4 * n; ++i)
+      if (!(std::fabs(nr[i]) <= 1e6f))
+        throwInputError(
+            what + " surfel " + std::to_string(i / 4),
+            "normal or radius " + std::to_string(nr[i]) + " is not finite (corrupt file?)");
+    in.ReadBufferFixEndianness(a.colour_flags, n);
+    for (std::size_t i = 0; i < n; ++i)  // a saved map holds live surfels only
+      if (a.colour_flags[i] & kSurfelFree)
+        throwInputError(what + " surfel " + std::to_string(i),
+                        "is marked as a free slot (corrupt file?)");
+    in.ReadBufferFixEndianness(a.t_init, n);
+    in.ReadBufferFixEndianness(a.t_last, n);
+    in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.basis), 3 * n);
+    in.ReadBufferFixEndianness(a.segment, n);
+    in.ReadBufferFixEndianness(a.segment_w, n);
+    if (version >= 2) {
+      if (a.n_classes > 0) readClassEvidence(in, a.class_ev, n, a.n_classes);
+    } else if (nc > 0) {
+      // Versions 0 and 1: n_classes linear u8 probabilities per surfel, converted.
+      const std::size_t chunk = std::max<std::size_t>(1, (std::size_t(1) << 24) / nc);
+      std::vector<std::uint8_t> rows(std::min<std::size_t>(n, chunk) * std::size_t(nc));
+      for (std::size_t k = 0; k < n; k += chunk) {
+        const std::size_t m = std::min<std::size_t>(n - k, chunk);
+        in.ReadBuffer(rows.data(), m * std::size_t(nc));
+        for (std::size_t j = 0; j < m; ++j) {
+          try {
+            a.class_ev[k + j] = convertLinearClassRow(rows.data() + j * nc, nc);
+          } catch (const std::invalid_argument& e) {
+            throwInputError(what + " surfel " + std::to_string(k + j), e.what());
+          }
+        }
+      }
+    }
+    if (a.n_view_bins > 0) in.ReadBuffer(a.view_ic, n * std::size_t(a.n_view_bins));
+  }
+}
+
+namespace {
+std::vector<MapClass> readClassList(mrpt::serialization::CArchive& in, const std::string& what) {
+  std::vector<MapClass> classes;
+  uint32_t nclasses;
+  in >> nclasses;
+  if (nclasses > uint32_t(kMaxClassId))
+    throwInputError(what, "class list of " + std::to_string(nclasses) + " names (at most " +
+                              std::to_string(kMaxClassId) + "; corrupt file?)");
+  classes.resize(nclasses);
+  for (MapClass& c : classes) {
+    c.name = readBoundedString(in, what + " class name");
+    c.source = readBoundedString(in, what + " class source");
+  }
+  return classes;
+}
+}  // namespace
+
 void CSurfelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
   switch (version) {
     case 0:
     case 1:
     case 2:
     case 3: {
-      int32_t nc, az, el;
-      TCreationOptions co;
-      in >> nc >> az >> el >> co.block_size_m;
       const std::string what = "CSurfelMap (serialization version " + std::to_string(version) + ")";
-      if (!(co.block_size_m >= 0.01 && co.block_size_m <= 100.0))
-        throwInputError(what, "block size " + std::to_string(co.block_size_m) +
-                                  " m (corrupt file?), expected [0.01, 100] m");
-      if (nc < 0 || nc > (version >= 2 ? kMaxClassId : 4096) || az < 0 || az > 256 || el < 0 ||
-          el > 64)
-        throwInputError(what, "layout n_classes = " + std::to_string(nc) + ", view bins " +
-                                  std::to_string(az) + " x " + std::to_string(el) +
-                                  " (corrupt file?)");
-      // Old maps with more than 255 classes keep 255 (evidence beyond them is an error below).
-      co.n_classes = std::min<int>(nc, kMaxClassId);
-      co.view_bins_azimuth = az;
-      co.view_bins_elevation = el;
-      uint32_t nkeys;
-      in >> nkeys;
-      if (nkeys > kMaxFusionKeys)
-        throwInputError(what, std::to_string(nkeys) +
-                                  " fusion keys (corrupt file?), expected at most " +
-                                  std::to_string(kMaxFusionKeys));
-      insertionOptions.fusion_keys.clear();
-      for (uint32_t k = 0; k < nkeys; ++k) {
-        std::string key = readBoundedString(in, what + " fusion key");
-        insertionOptions.fusion_keys.emplace_back(std::move(key),
-                                                  readBoundedString(in, what + " fusion value"));
-      }
-      int32_t dec, colouring;
-      in >> likelihoodOptions.sigma_m >> dec >> likelihoodOptions.max_depth_m;
-      likelihoodOptions.decimation = dec;
-      in >> colouring >> renderingOptions.visual.point_size >>
-          renderingOptions.visual.stable_only >> renderingOptions.visual.min_confidence;
-      renderingOptions.visual.colouring = SurfelColouring(colouring);
-      in >> genericMapParams;
-      double t0;
-      in >> t0;
-
-      resetLayout(co);
-      m_store.setTimeOrigin(t0);
-      uint64_t n;
-      in >> n;
-      if (n > uint64_t(kMaxSerializedSurfels))
-        throwInputError(what, std::to_string(n) + " surfels (corrupt file?), expected at most " +
-                                  std::to_string(kMaxSerializedSurfels));
-      // The first array is read in chunks before the store is allocated, so a corrupt count in a
-      // short file fails at its end instead of allocating ~100 bytes per surfel it claims.
-      std::vector<float> pos_conf;
-      for (uint64_t k = 0; k < n; k += kClassChunk) {
-        const std::size_t m = std::size_t(std::min<uint64_t>(n - k, kClassChunk));
-        pos_conf.resize(pos_conf.size() + 4 * m);
-        in.ReadBufferFixEndianness(pos_conf.data() + pos_conf.size() - 4 * m, 4 * m);
-      }
-      for (std::size_t i = 0; i < pos_conf.size(); ++i)
-        if (!(std::fabs(pos_conf[i]) <= (i % 4 == 3 ? 1e30f : kMaxSurfelCoordinateM)))
-          throwInputError(what + " surfel " + std::to_string(i / 4),
-                          "position or confidence " + std::to_string(pos_conf[i]) +
-                              " is not finite or beyond " + std::to_string(kMaxSurfelCoordinateM) +
-                              " m (corrupt file?)");
-      m_store.allocate(int(n));
-      const SurfelArrays a = m_store.arrays();
-      if (n > 0) {
-        std::copy(pos_conf.begin(), pos_conf.end(), reinterpret_cast<float*>(a.pos_conf));
-        pos_conf = {};
-        in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.normal_radius), 4 * n);
-        const float* nr = reinterpret_cast<const float*>(a.normal_radius);
-        for (std::size_t i = 0; i < 4 * n; ++i)
-          if (!(std::fabs(nr[i]) <= 1e6f))
-            throwInputError(
-                what + " surfel " + std::to_string(i / 4),
-                "normal or radius " + std::to_string(nr[i]) + " is not finite (corrupt file?)");
-        in.ReadBufferFixEndianness(a.colour_flags, n);
-        for (std::size_t i = 0; i < n; ++i)  // a saved map holds live surfels only
-          if (a.colour_flags[i] & kSurfelFree)
-            throwInputError(what + " surfel " + std::to_string(i),
-                            "is marked as a free slot (corrupt file?)");
-        in.ReadBufferFixEndianness(a.t_init, n);
-        in.ReadBufferFixEndianness(a.t_last, n);
-        in.ReadBufferFixEndianness(reinterpret_cast<float*>(a.basis), 3 * n);
-        in.ReadBufferFixEndianness(a.segment, n);
-        in.ReadBufferFixEndianness(a.segment_w, n);
-        if (version >= 2) {
-          if (a.n_classes > 0) readClassEvidence(in, a.class_ev, n, a.n_classes);
-        } else if (nc > 0) {
-          // Versions 0 and 1: n_classes linear u8 probabilities per surfel, converted.
-          const std::size_t chunk = std::max<std::size_t>(1, (std::size_t(1) << 24) / nc);
-          std::vector<std::uint8_t> rows(std::min<std::size_t>(n, chunk) * std::size_t(nc));
-          for (std::size_t k = 0; k < n; k += chunk) {
-            const std::size_t m = std::min<std::size_t>(n - k, chunk);
-            in.ReadBuffer(rows.data(), m * std::size_t(nc));
-            for (std::size_t j = 0; j < m; ++j) {
-              try {
-                a.class_ev[k + j] = convertLinearClassRow(rows.data() + j * nc, nc);
-              } catch (const std::invalid_argument& e) {
-                throwInputError(what + " surfel " + std::to_string(k + j), e.what());
-              }
-            }
-          }
-        }
-        if (a.n_view_bins > 0) in.ReadBuffer(a.view_ic, n * std::size_t(a.n_view_bins));
-      }
+      const int32_t nc = readLayoutAndOptions(in, version, what);
+      readSurfelArrays(in, version, nc, what);
       m_store.rebuildIndex();
       if (version >= 1)
         readKeyframes(in, m_keyframes);
       else
         m_keyframes.clear();
       m_classes.clear();
-      if (version >= 3) {
-        uint32_t nclasses;
-        in >> nclasses;
-        if (nclasses > uint32_t(kMaxClassId))
-          throwInputError(what, "class list of " + std::to_string(nclasses) + " names (at most " +
-                                    std::to_string(kMaxClassId) + "; corrupt file?)");
-        m_classes.resize(nclasses);
-        for (MapClass& c : m_classes) {
-          c.name = readBoundedString(in, what + " class name");
-          c.source = readBoundedString(in, what + " class source");
-        }
-      }
+      if (version >= 3) m_classes = readClassList(in, what);
     } break;
     default:
       MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);

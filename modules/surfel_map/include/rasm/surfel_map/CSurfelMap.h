@@ -143,6 +143,12 @@ class CSurfelMap : public mrpt::maps::CMetricMap {
   std::string asString() const override;
 
  private:
+  /// serializeFrom's parts: the layout (checked, then resetLayout), options and time origin;
+  /// returns the stored class count. Then the surfel arrays, each checked as it is read.
+  int32_t readLayoutAndOptions(mrpt::serialization::CArchive& in, uint8_t version,
+                               const std::string& what);
+  void readSurfelArrays(mrpt::serialization::CArchive& in, uint8_t version, int32_t nc,
+                        const std::string& what);
   void internal_clear() override;
   /// CObservation3DRangeScan only (returns false for other types): the frame is fused at
   /// robotPose (+) obs.sensorPose without tracking.
