@@ -185,6 +185,77 @@ std::vector<double> parseTimes(const std::string& text) {
   return times;
 }
 
+/// One group's (world, poses, planner) markdown row, appended to `md`, and JSON entry: the
+/// statistics of its runs at `times` and at their end, and each run.
+nlohmann::json groupRow(const std::vector<RunRow>& runs, const std::vector<double>& times,
+                        std::ostringstream& md) {
+  std::map<std::string, int> reasons;
+  std::vector<double> cov_final, t90, path, sim, wall, lost, ate_cm;
+  int reached90 = 0;
+  for (const RunRow& r : runs) {
+    cov_final.push_back(r.coverage);
+    if (r.t90 >= 0) {
+      t90.push_back(r.t90);
+      ++reached90;
+    }
+    path.push_back(r.path_m);
+    sim.push_back(r.sim_s);
+    wall.push_back(r.wall_s);
+    lost.push_back(r.lost_fraction);
+    if (r.ate_m >= 0) ate_cm.push_back(100.0 * r.ate_m);
+    ++reasons[r.stop_reason];
+  }
+  md << "| " << runs.front().world << " | " << runs.front().poses << " | " << runs.front().planner
+     << " | " << runs.size() << " |";
+  nlohmann::json j = {{"world", runs.front().world},
+                      {"poses", runs.front().poses},
+                      {"planner", runs.front().planner},
+                      {"runs", runs.size()}};
+  for (double t : times) {
+    std::vector<double> v;
+    for (const RunRow& r : runs) v.push_back(Series::at(r.series.t, r.series.coverage, t));
+    md << " " << fmt(stat(v), 3) << " |";
+    j["coverage_at"][std::to_string(int(t))] = stat(v).mean;
+  }
+  md << " " << fmt(stat(cov_final), 3) << " | " << fmt(stat(t90), 0)
+     << (reached90 < int(runs.size())
+             ? " (" + std::to_string(reached90) + " of " + std::to_string(runs.size()) + " reached)"
+             : std::string())
+     << " |";
+  for (double t : times) {
+    std::vector<double> v;
+    for (const RunRow& r : runs) v.push_back(Series::at(r.series.t, r.series.objects, t));
+    md << " " << fmt(stat(v), 3) << " |";
+    j["objects_correct_at"][std::to_string(int(t))] = stat(v).mean;
+  }
+  std::string why;
+  for (const auto& [reason, n] : reasons)
+    why += (why.empty() ? "" : ", ") + reason + (n > 1 ? " x" + std::to_string(n) : "");
+  md << " " << fmt(stat(path), 1) << " | " << fmt(stat(sim), 0) << " | " << fmt(stat(wall), 0)
+     << " | " << fmt(stat(lost), 3) << " | " << fmt(stat(ate_cm), 1) << " | " << why << " |\n";
+  j["coverage_final"] = stat(cov_final).mean;
+  j["time_to_90_coverage_s"] = t90.empty() ? nlohmann::json() : nlohmann::json(stat(t90).mean);
+  j["runs_reaching_90"] = reached90;
+  j["path_length_m"] = stat(path).mean;
+  j["sim_time_s"] = stat(sim).mean;
+  j["frames_lost_fraction"] = stat(lost).mean;
+  j["ate_rmse_cm"] = ate_cm.empty() ? nlohmann::json() : nlohmann::json(stat(ate_cm).mean);
+  j["stop_reasons"] = reasons;
+  nlohmann::json seeds = nlohmann::json::array();
+  for (const RunRow& r : runs)
+    seeds.push_back(
+        {{"dir", r.dir},
+         {"seed", r.seed},
+         {"coverage", r.coverage},
+         {"objects_correct_fraction", r.objects},
+         {"path_length_m", r.path_m},
+         {"sim_time_s", r.sim_s},
+         {"stop_reason", r.stop_reason},
+         {"time_to_90_coverage_s", r.t90 < 0 ? nlohmann::json() : nlohmann::json(r.t90)}});
+  j["per_run"] = seeds;
+  return j;
+}
+
 int evalExploration(const ParsedArgs& args) {
   const std::vector<std::string> dirs = args.positionals("run folder");
   const std::vector<double> times =
@@ -208,73 +279,7 @@ int evalExploration(const ParsedArgs& args) {
   for (std::size_t i = 0; i < 2 * times.size() + 8; ++i) md << "---|";
   md << "\n";
   nlohmann::json out = nlohmann::json::array();
-  for (const auto& [key, runs] : groups) {
-    std::map<std::string, int> reasons;
-    std::vector<double> cov_final, t90, path, sim, wall, lost, ate_cm;
-    int reached90 = 0;
-    for (const RunRow& r : runs) {
-      cov_final.push_back(r.coverage);
-      if (r.t90 >= 0) {
-        t90.push_back(r.t90);
-        ++reached90;
-      }
-      path.push_back(r.path_m);
-      sim.push_back(r.sim_s);
-      wall.push_back(r.wall_s);
-      lost.push_back(r.lost_fraction);
-      if (r.ate_m >= 0) ate_cm.push_back(100.0 * r.ate_m);
-      ++reasons[r.stop_reason];
-    }
-    md << "| " << runs.front().world << " | " << runs.front().poses << " | " << runs.front().planner
-       << " | " << runs.size() << " |";
-    nlohmann::json j = {{"world", runs.front().world},
-                        {"poses", runs.front().poses},
-                        {"planner", runs.front().planner},
-                        {"runs", runs.size()}};
-    for (double t : times) {
-      std::vector<double> v;
-      for (const RunRow& r : runs) v.push_back(Series::at(r.series.t, r.series.coverage, t));
-      md << " " << fmt(stat(v), 3) << " |";
-      j["coverage_at"][std::to_string(int(t))] = stat(v).mean;
-    }
-    md << " " << fmt(stat(cov_final), 3) << " | " << fmt(stat(t90), 0)
-       << (reached90 < int(runs.size()) ? " (" + std::to_string(reached90) + " of " +
-                                              std::to_string(runs.size()) + " reached)"
-                                        : std::string())
-       << " |";
-    for (double t : times) {
-      std::vector<double> v;
-      for (const RunRow& r : runs) v.push_back(Series::at(r.series.t, r.series.objects, t));
-      md << " " << fmt(stat(v), 3) << " |";
-      j["objects_correct_at"][std::to_string(int(t))] = stat(v).mean;
-    }
-    std::string why;
-    for (const auto& [reason, n] : reasons)
-      why += (why.empty() ? "" : ", ") + reason + (n > 1 ? " x" + std::to_string(n) : "");
-    md << " " << fmt(stat(path), 1) << " | " << fmt(stat(sim), 0) << " | " << fmt(stat(wall), 0)
-       << " | " << fmt(stat(lost), 3) << " | " << fmt(stat(ate_cm), 1) << " | " << why << " |\n";
-    j["coverage_final"] = stat(cov_final).mean;
-    j["time_to_90_coverage_s"] = t90.empty() ? nlohmann::json() : nlohmann::json(stat(t90).mean);
-    j["runs_reaching_90"] = reached90;
-    j["path_length_m"] = stat(path).mean;
-    j["sim_time_s"] = stat(sim).mean;
-    j["frames_lost_fraction"] = stat(lost).mean;
-    j["ate_rmse_cm"] = ate_cm.empty() ? nlohmann::json() : nlohmann::json(stat(ate_cm).mean);
-    j["stop_reasons"] = reasons;
-    nlohmann::json seeds = nlohmann::json::array();
-    for (const RunRow& r : runs)
-      seeds.push_back(
-          {{"dir", r.dir},
-           {"seed", r.seed},
-           {"coverage", r.coverage},
-           {"objects_correct_fraction", r.objects},
-           {"path_length_m", r.path_m},
-           {"sim_time_s", r.sim_s},
-           {"stop_reason", r.stop_reason},
-           {"time_to_90_coverage_s", r.t90 < 0 ? nlohmann::json() : nlohmann::json(r.t90)}});
-    j["per_run"] = seeds;
-    out.push_back(j);
-  }
+  for (const auto& [key, runs] : groups) out.push_back(groupRow(runs, times, md));
   std::printf("%s", md.str().c_str());
   if (!markdown.empty()) {
     try {

@@ -1047,6 +1047,19 @@ RunSummary MappingRun::summarise(const Accumulated& acc) const {
   return sum;
 }
 
+namespace {
+/// run.log in the folder; a folder that refuses it is a warning, not the run's end.
+void openRunLog(OutputFolder& out, std::optional<log::FileGuard>& run_log) {
+  out.announce("run.log");
+  try {
+    run_log.emplace(out.path("run.log"));
+    out.recordWritten("run.log");
+  } catch (const std::exception& e) {
+    log::warning(std::string(e.what()) + " (the run goes on without run.log)");
+  }
+}
+}  // namespace
+
 RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_frame) {
   if (m_mapper->framesProcessed() > 0)
     throw std::logic_error("MappingRun::run: once per MappingRun");
@@ -1073,13 +1086,7 @@ RunSummary MappingRun::run(const std::function<void(const FrameResult&)>& on_fra
   } console_level;
   log::setConsoleLevel(log::parseLevel(m_output.log_level, "[output] log_level"));
   std::optional<log::FileGuard> run_log;
-  out.announce("run.log");
-  try {
-    run_log.emplace(out.path("run.log"));
-    out.recordWritten("run.log");
-  } catch (const std::exception& e) {
-    log::warning(std::string(e.what()) + " (the run goes on without run.log)");
-  }
+  openRunLog(out, run_log);
   try {
     out.writeText("config.ini", effectiveConfig());
   } catch (const std::exception& e) {
