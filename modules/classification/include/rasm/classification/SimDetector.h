@@ -2,7 +2,7 @@
 // The simulator's detector (rasm/sim/SimulatedDetector.h: misses, false positives, box jitter,
 // confusions, drawn from the frame's ground truth) behind the Detector interface, so simulated
 // runs exercise the same workers, association and fusion as real detectors. Its classes are the
-// simulator's (SimClasses.h) in id order: class index k is sim class id k + 1.
+// class vocabulary's (models/ClassVocabulary.h) in id order: class index k is sim class id k + 1.
 
 #include <cstdint>
 
