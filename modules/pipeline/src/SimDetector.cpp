@@ -1,9 +1,12 @@
-#include "rasm/classification/SimDetector.h"
+#include "rasm/pipeline/SimDetector.h"
 
 #include "rasm/core/Error.h"
 #include "rasm/models/ClassVocabulary.h"
 
-namespace rasm::classification {
+namespace rasm::pipeline {
+
+using classification::Detection;
+using classification::DetectorInput;
 
 SimDetector::SimDetector(const sim::TDetectorParams& params, const sim::RayScene* scene,
                          std::uint64_t seed)
@@ -30,4 +33,4 @@ std::vector<Detection> SimDetector::detect(const DetectorInput& input) {
   return out;
 }
 
-}  // namespace rasm::classification
+}  // namespace rasm::pipeline
