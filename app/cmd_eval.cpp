@@ -31,7 +31,7 @@
 #if defined(RASM_EVAL_SEGMENTATION) && defined(RASM_HAVE_MODULE_CLASSIFICATION)
 #define RASM_EVAL_CLASSIFICATION 1
 #include "rasm/classification/ClassificationMetrics.h"
-#include "rasm/sim/SimClasses.h"
+#include "rasm/models/ClassVocabulary.h"
 #endif
 
 namespace {
@@ -491,8 +491,8 @@ std::map<std::uint32_t, std::string> readSegmentClasses(const std::string& run,
     if (!o.contains("class") || !o["class"].is_string())
       rasm::throwInputError(path, "an object without \"class\"");
     std::string name = o["class"].get<std::string>();
-    const int id = rasm::sim::classIdFromName(name);
-    if (id > 0) name = rasm::sim::className(id);
+    const int id = rasm::models::classIdFromName(name);
+    if (id > 0) name = rasm::models::className(id);
     for (const std::uint32_t s : rasm::app::objectSegments(o, path)) {
       if (out.count(s) != 0)
         rasm::throwInputError(path, "segment " + std::to_string(s) + " is in two objects");
@@ -512,8 +512,8 @@ std::vector<rasm::classification::ReportedObject> readReportedObjects(const std:
     rasm::classification::ReportedObject r;
     r.id = o.value("id", std::uint32_t(out.size()));
     r.class_name = o.at("class").get<std::string>();
-    const int id = rasm::sim::classIdFromName(r.class_name);
-    if (id > 0) r.class_name = rasm::sim::className(id);
+    const int id = rasm::models::classIdFromName(r.class_name);
+    if (id > 0) r.class_name = rasm::models::className(id);
     r.segments = rasm::app::objectSegments(o, path);
     out.push_back(std::move(r));
   }
@@ -613,8 +613,8 @@ int evalClassification(const ParsedArgs& args) {
   for (const rasm::sim::WorldInstanceInfo& w : rasm::sim::worldInstances(scene.world()))
     objects.push_back(
         {w.instance_id, w.class_name, w.name, w.size_m, w.is_structure || w.class_id == 0});
-  for (int id = 1; id <= rasm::sim::kNumCocoClasses; ++id)
-    mp.detectable_classes.insert(rasm::sim::className(id));
+  for (int id = 1; id <= rasm::models::kNumCocoClasses; ++id)
+    mp.detectable_classes.insert(rasm::models::className(id));
   const auto m = rasm::classification::computeClassificationMetrics(
       map.segment, instance, segment_class, objects, mp, segment_detections);
   std::printf("classification of %s against world %s\n", run.c_str(), scene.world().name.c_str());

@@ -17,13 +17,13 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/Printable.h"
 #include "rasm/core/Validate.h"
+#include "rasm/models/ClassVocabulary.h"
+#include "rasm/models/ProceduralModels.h"
 #include "rasm/sim/CameraPoses.h"
 #include "rasm/sim/FrameImages.h"
-#include "rasm/sim/ProceduralModels.h"
 #include "rasm/sim/RayScene.h"
 #include "rasm/sim/Recorder.h"
 #include "rasm/sim/RgbdSensor.h"
-#include "rasm/sim/SimClasses.h"
 #include "rasm/sim/SurfaceDistance.h"
 #include "rasm/sim/TrajectoryGenerator.h"
 #include "rasm/sim/World.h"
@@ -190,7 +190,7 @@ int cmdInfo(const ParsedArgs& p) {
   std::map<std::string, int> per_class;
   std::size_t tris = 0;
   for (const auto& o : w.objects) {
-    ++per_class[rasm::sim::className(o.class_id)];
+    ++per_class[rasm::models::className(o.class_id)];
     tris += o.mesh.triangles.size();
   }
   const Eigen::AlignedBox3f b = w.bounds();
@@ -211,7 +211,7 @@ const CommandDecl kMakeModelsDecl{
 int cmdMakeModels(const ParsedArgs& p) {
   const std::string dir =
       p.positional("dir").empty() ? rasm::sim::simDataDir() + "/models" : p.positional("dir");
-  for (const auto& f : rasm::sim::writeProceduralModels(dir)) std::cout << "wrote " << f << "\n";
+  for (const auto& f : rasm::models::writeProceduralModels(dir)) std::cout << "wrote " << f << "\n";
   return 0;
 }
 

@@ -33,7 +33,7 @@
 #include "rasm/classification/ZeroShotDetector.h"
 #include "rasm/core/Params.h"
 #include "rasm/core/Timing.h"
-#include "rasm/sim/SimClasses.h"
+#include "rasm/models/ClassVocabulary.h"
 #include "rasm/sim/SimulatedSequence.h"
 #include "rasm/sim/Trajectory.h"
 #include "rasm/sim/World.h"
@@ -186,7 +186,7 @@ std::vector<GtBox> groundTruthBoxes(const RgbdFrame& f, int min_px) {
     }
   std::vector<GtBox> out;
   for (auto& [id, g] : by_instance) {
-    if (g.pixels < min_px || sim::isStructureClass(g.class_id)) continue;
+    if (g.pixels < min_px || models::isStructureClass(g.class_id)) continue;
     g.box = cv::Rect(lo[id], hi[id] + cv::Point(1, 1));
     out.push_back(g);
   }
@@ -263,7 +263,7 @@ int runSimulated(const BenchArgs& a, ZeroShotDetector& detector, nlohmann::json 
   const TemplateBank& bank = detector.bank();
   const TZeroShotParams& p = a.params;
   std::vector<int> class_ids;  // simulator class id of each bank class (-1: unknown there)
-  for (const auto& n : bank.class_names) class_ids.push_back(sim::classIdFromName(n));
+  for (const auto& n : bank.class_names) class_ids.push_back(models::classIdFromName(n));
   // Similarity thresholds of the precision / recall table and the scores they map to.
   std::vector<double> thresholds;
   for (double t : {p.similarity_threshold, 0.8, 0.85, 0.9, 0.95})

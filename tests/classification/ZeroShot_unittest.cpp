@@ -117,14 +117,15 @@ TEST(ZeroShotTraining, BankFileRoundTrips) {
 TEST(ZeroShotTraining, RendersABoxWithItsProportions) {
   // 0.2 (x) x 0.4 (y) x 0.1 (z) seen from the front (+x, elevation 0): the outline is y by z,
   // 4:1, its longer side spanning render_px * 14 / 16 = 56 of 64 pixels.
-  const cv::Mat view = renderTemplateView(sim::makeBox({0.2f, 0.4f, 0.1f}), 0.f, 0.f, 64);
+  const cv::Mat view = renderTemplateView(models::makeBox({0.2f, 0.4f, 0.1f}), 0.f, 0.f, 64);
   const cv::Rect outline = cv::boundingRect(view > 0);
   EXPECT_NEAR(outline.width, 56, 1);
   EXPECT_NEAR(outline.height, 14, 1);
   EXPECT_NEAR(outline.x + outline.width / 2.0, 32, 1);
   // From the side (+y, azimuth 90) it is x by z, 2:1.
   float aspect = 0.f;
-  const cv::Mat side = renderTemplateView(sim::makeBox({0.2f, 0.4f, 0.1f}), 90.f, 0.f, 64, &aspect);
+  const cv::Mat side =
+      renderTemplateView(models::makeBox({0.2f, 0.4f, 0.1f}), 90.f, 0.f, 64, &aspect);
   EXPECT_NEAR(aspect, 2.f, 1e-4f);
   const cv::Rect side_outline = cv::boundingRect(side > 0);
   EXPECT_NEAR(side_outline.width, 56, 1);

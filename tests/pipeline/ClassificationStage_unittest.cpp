@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "pipeline/AnalyticScene.h"
+#include "rasm/core/Error.h"
 #include "rasm/pipeline/Mapper.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
 
@@ -92,6 +93,41 @@ class BoxDetector : public classification::Detector {
 };
 
 }  // namespace
+
+// The simulator's detector is a detector kind the stage adds (pipeline/SimDetector.h): its
+// section [sim_detector] comes before the built-in detectors' (config.ini keeps that order), is
+// loaded strictly and validated, and `detectors = sim_detector` builds it; on frames without the
+// simulator's ground truth it refuses to run and is disabled.
+TEST(ClassificationStage, TheSimulatedDetectorIsADetectorKindOfTheStage) {
+  Mapper defaults;
+  std::vector<std::string> names;
+  for (const ParamsSection& s : defaults.stage<ClassificationStage>().sections())
+    names.push_back(s.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"classification", "objects", "sim_detector",
+                                             "dnn_detector", "zero_shot"}));
+  mrpt::config::CConfigFileMemory unknown_key, out_of_range;
+  unknown_key.write("sim_detector", "no_such_key", 1);
+  EXPECT_THROW(Mapper(unknown_key, "test.ini"), InputError);
+  out_of_range.write("sim_detector", "p_max", 2.0);
+  EXPECT_THROW(Mapper(out_of_range, "test.ini"), InputError);
+
+  mrpt::config::CConfigFileMemory ini;
+  ini.write("classification", "detectors", "sim_detector");
+  ini.write("classification", "threaded", "false");
+  ini.write("classification", "every_n_frames", "1");
+  Mapper mapper(ini, "test");
+  mapper.addStage(std::make_unique<GroundTruthPose>(), "index_map");
+  const Box a{{-0.5, -0.2, 1.8}, {-0.1, 0.2, 2.2}};
+  for (int k = 0; k < 3; ++k) mapper.processFrame(render({a}, at(0.0), k));
+  mapper.finishRun();
+  nlohmann::json rep;
+  mapper.report(rep);
+  const nlohmann::json& detectors = rep["classification"]["detectors"];
+  ASSERT_EQ(detectors.size(), 1u);
+  EXPECT_EQ(detectors[0]["name"], "sim_detector");
+  ASSERT_TRUE(detectors[0].contains("disabled"));
+  EXPECT_NE(detectors[0]["disabled"].get<std::string>().find("ground truth"), std::string::npos);
+}
 
 // The camera looks at a tv (A) and a chair (B), slides 2.6 m to the right until both have left
 // the view, and comes back: the object layer lists each once, with the id it had from its first

@@ -14,9 +14,9 @@
 #include "rasm/core/ComputeOptions.h"
 #include "rasm/core/Error.h"
 #include "rasm/io/Trajectory.h"
+#include "rasm/models/ClassVocabulary.h"
 #include "rasm/run/MappingRun.h"
 #include "rasm/run/RunPlots.h"
-#include "rasm/sim/SimClasses.h"
 #include "rasm/sim/SurfaceInstance.h"
 #include "rasm/sim/World.h"
 #include "rasm/surfel_map/MapExport.h"
@@ -200,7 +200,7 @@ TEST(MappingRun, SimulatedRunWithoutExplorationScoresItsObjectsOverTime) {
 
   std::size_t detectable_world = 0;
   for (const sim::WorldInstanceInfo& w : sim::worldInstances(sim::loadWorld("office")))
-    detectable_world += !w.is_structure && w.class_id != 0 && w.class_id <= sim::kNumCocoClasses;
+    detectable_world += !w.is_structure && w.class_id != 0 && w.class_id <= models::kNumCocoClasses;
   ASSERT_EQ(detectable_world, 34u);  // modules/sim/worlds/office: 34 objects of COCO classes
 
   std::ifstream frames_file(out + "/frames.csv");

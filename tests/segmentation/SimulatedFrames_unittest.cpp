@@ -11,9 +11,9 @@
 #include <sstream>
 
 #include "rasm/core/FrameProcessing.h"
+#include "rasm/models/ClassVocabulary.h"
 #include "rasm/segmentation/GeometricSegmenter.h"
 #include "rasm/segmentation/kernels/EdgeKernels.h"
-#include "rasm/sim/SimClasses.h"
 #include "rasm/sim/SimulatedSequence.h"
 #include "rasm/surfel_map/MapExport.h"
 
@@ -67,7 +67,7 @@ FrameScore score(const FrameSegments& s, const RgbdFrame& f, const sim::World& w
   for (const auto& [i, n] : inst) {
     const int k = world.indexOfInstance(std::uint16_t(i));
     if (i == 0 || k < 0 || n < min_px ||
-        sim::isStructureClass(world.objects[std::size_t(k)].class_id))
+        models::isStructureClass(world.objects[std::size_t(k)].class_id))
       continue;
     ++sc.objects;
     double best = 0;

@@ -17,8 +17,8 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 #include "rasm/core/SE3.h"
+#include "rasm/models/ClassVocabulary.h"
 #include "rasm/sim/FrameImages.h"
-#include "rasm/sim/SimClasses.h"
 
 #ifdef RASM_SIM_HAVE_IO
 #include "rasm/io/FrameSource.h"
@@ -29,6 +29,7 @@
 namespace fs = std::filesystem;
 using namespace rasm;
 using namespace rasm::sim;
+using namespace rasm::models;
 
 namespace {
 

@@ -14,9 +14,9 @@
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
+#include "rasm/models/ClassVocabulary.h"
 #include "rasm/sim/CameraPoses.h"
 #include "rasm/sim/RayScene.h"
-#include "rasm/sim/SimClasses.h"
 #include "rasm/sim/SimulatedDetector.h"
 #include "rasm/sim/SimulatedDiffDriveRobot.h"
 #include "rasm/sim/World.h"
@@ -24,6 +24,7 @@
 
 using namespace rasm;
 using namespace rasm::sim;
+using namespace rasm::models;
 
 namespace {
 

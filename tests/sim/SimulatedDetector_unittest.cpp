@@ -7,14 +7,15 @@
 #include <cmath>
 
 #include "rasm/core/Error.h"
+#include "rasm/models/ClassVocabulary.h"
 #include "rasm/sim/CameraPoses.h"
 #include "rasm/sim/RayScene.h"
 #include "rasm/sim/RgbdSensor.h"
-#include "rasm/sim/SimClasses.h"
 #include "rasm/sim/World.h"
 
 using namespace rasm;
 using namespace rasm::sim;
+using namespace rasm::models;
 
 namespace {
 

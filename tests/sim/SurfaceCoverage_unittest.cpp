@@ -15,10 +15,11 @@
 #include <memory>
 
 #include "rasm/core/CameraIntrinsics.h"
-#include "rasm/sim/SimClasses.h"
+#include "rasm/models/ClassVocabulary.h"
 #include "rasm/sim/SimulatedDiffDriveRobot.h"
 
 using namespace rasm::sim;
+using namespace rasm::models;
 using V3f = Eigen::Vector3f;
 
 namespace {

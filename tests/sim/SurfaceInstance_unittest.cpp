@@ -13,11 +13,12 @@
 #include <cmath>
 #include <random>
 
+#include "rasm/models/ClassVocabulary.h"
 #include "rasm/sim/RayScene.h"
-#include "rasm/sim/SimClasses.h"
 #include "rasm/sim/World.h"
 
 using namespace rasm::sim;
+using namespace rasm::models;
 using V3f = Eigen::Vector3f;
 
 namespace {

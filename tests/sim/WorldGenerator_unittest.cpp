@@ -22,10 +22,10 @@
 #include <sstream>
 
 #include "rasm/core/Error.h"
+#include "rasm/models/ClassVocabulary.h"
 #include "rasm/sim/OccupancyRaster.h"
 #include "rasm/sim/RayScene.h"
 #include "rasm/sim/RgbdSensor.h"
-#include "rasm/sim/SimClasses.h"
 #include "rasm/sim/SimulatedDiffDriveRobot.h"
 #include "rasm/sim/SimulatedSequence.h"
 #include "rasm/sim/Trajectory.h"
@@ -35,6 +35,7 @@
 
 namespace fs = std::filesystem;
 using namespace rasm::sim;
+using namespace rasm::models;
 
 namespace {
 

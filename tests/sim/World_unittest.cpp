@@ -10,12 +10,13 @@
 #include <sstream>
 
 #include "rasm/core/Error.h"
-#include "rasm/sim/Mesh.h"
-#include "rasm/sim/ProceduralModels.h"
-#include "rasm/sim/SimClasses.h"
+#include "rasm/models/ClassVocabulary.h"
+#include "rasm/models/Mesh.h"
+#include "rasm/models/ProceduralModels.h"
 
 namespace fs = std::filesystem;
 using namespace rasm::sim;
+using namespace rasm::models;
 
 namespace {
 

@@ -14,11 +14,11 @@
 #include "rasm/exploration/ExplorationPlanner.h"
 #include "rasm/exploration/PlanningGrid.h"
 #include "rasm/exploration/ViewPlanner.h"
+#include "rasm/models/ClassVocabulary.h"
 #include "rasm/pipeline/OutputFiles.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
 #include "rasm/pipeline/stages/FusionStages.h"
 #include "rasm/pipeline/stages/TrackingStage.h"
-#include "rasm/sim/SimClasses.h"
 #include "rasm/sim/SimulatedSequence.h"
 #include "rasm/sim/SurfaceCoverage.h"
 

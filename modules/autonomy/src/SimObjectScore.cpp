@@ -1,7 +1,7 @@
 #include "rasm/autonomy/SimObjectScore.h"
 
+#include "rasm/models/ClassVocabulary.h"
 #include "rasm/pipeline/stages/ClassificationStage.h"
-#include "rasm/sim/SimClasses.h"
 #include "rasm/sim/SurfaceInstance.h"
 #include "rasm/surfel_map/CSurfelMap.h"
 
@@ -14,8 +14,8 @@ SimObjectScore::SimObjectScore(const sim::RayScene& scene)
   for (const sim::WorldInstanceInfo& w : sim::worldInstances(scene.world()))
     m_objects.push_back(
         {w.instance_id, w.class_name, w.name, w.size_m, w.is_structure || w.class_id == 0});
-  for (int id = 1; id <= sim::kNumCocoClasses; ++id)
-    m_params.detectable_classes.insert(sim::className(id));
+  for (int id = 1; id <= models::kNumCocoClasses; ++id)
+    m_params.detectable_classes.insert(models::className(id));
 }
 
 SimObjectScore::~SimObjectScore() = default;

@@ -3,15 +3,15 @@
 #include <stdexcept>
 
 #include "rasm/core/Error.h"
-#include "rasm/sim/SimClasses.h"
+#include "rasm/models/ClassVocabulary.h"
 
 namespace rasm::classification {
 
 std::vector<maps::MapClass> ClassList::defaultClasses() {
   std::vector<maps::MapClass> v;
-  const auto& names = sim::classNames();  // entry 0 is "none"
+  const auto& names = models::classNames();  // entry 0 is "none"
   for (int id = 1; id < int(names.size()); ++id)
-    v.push_back({names[id], sim::isCocoClass(id) ? "coco" : "rasm"});
+    v.push_back({names[id], models::isCocoClass(id) ? "coco" : "rasm"});
   return v;
 }
 
@@ -21,9 +21,9 @@ ClassList::ClassList(std::vector<maps::MapClass> classes, int max_classes)
 int ClassList::find(const std::string& name) const {
   for (int k = 0; k < int(m_classes.size()); ++k)
     if (m_classes[k].name == name) return k + 1;
-  const int sim_id = sim::classIdFromName(name);  // aliases: the simulator's canonical name
-  if (sim_id > 0) {
-    const std::string& canonical = sim::className(sim_id);
+  const int id = models::classIdFromName(name);  // aliases: the vocabulary's canonical name
+  if (id > 0) {
+    const std::string& canonical = models::className(id);
     for (int k = 0; k < int(m_classes.size()); ++k)
       if (m_classes[k].name == canonical) return k + 1;
   }

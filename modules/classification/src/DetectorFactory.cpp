@@ -1,22 +1,26 @@
 #include "rasm/classification/DetectorFactory.h"
 
-#include "rasm/classification/SimDetector.h"
+#include <algorithm>
+
 #include "rasm/core/Error.h"
 
 namespace rasm::classification {
 
 std::vector<std::pair<std::string, mrpt::config::CLoadableOptions*>> DetectorSections::list() {
-  return {
-      {"sim_detector", &sim_detector}, {"dnn_detector", &dnn_detector}, {"zero_shot", &zero_shot}};
+  std::vector<std::pair<std::string, mrpt::config::CLoadableOptions*>> out;
+  for (const DetectorKind& k : added) out.emplace_back(k.name, k.params);
+  out.emplace_back("dnn_detector", &dnn_detector);
+  out.emplace_back("zero_shot", &zero_shot);
+  return out;
 }
 
-DetectorBuild makeDetectors(const TClassificationParams& params, DetectorSections& sections,
-                            const sim::RayScene* sim_scene) {
+DetectorBuild makeDetectors(const TClassificationParams& params, DetectorSections& sections) {
   DetectorBuild out;
   for (const std::string& name : params.detectorList()) {
-    if (name == "sim_detector") {
-      out.detectors.push_back(std::make_unique<SimDetector>(sections.sim_detector, sim_scene,
-                                                            std::uint64_t(params.seed)));
+    const auto kind = std::find_if(sections.added.begin(), sections.added.end(),
+                                   [&](const DetectorKind& k) { return k.name == name; });
+    if (kind != sections.added.end()) {
+      out.detectors.push_back(kind->make(params));
     } else if (name == "dnn_detector") {
       std::string warning;
       auto d = makeDnnDetector(sections.dnn_detector, &warning, name);

@@ -19,7 +19,7 @@
 
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
-#include "rasm/sim/ProceduralModels.h"
+#include "rasm/models/ProceduralModels.h"
 
 namespace rasm::classification {
 
@@ -113,7 +113,7 @@ void parseBox(const std::string& file, const YAML::Node& node, const std::string
 }
 
 void applyScale(const std::string& file, const YAML::Node& node, const std::string& key,
-                sim::TriangleMesh& mesh) {
+                models::TriangleMesh& mesh) {
   Eigen::Vector3f s;
   if (node.IsSequence() && node.size() == 3) {
     for (int a = 0; a < 3; ++a)
@@ -140,7 +140,7 @@ ModelSpec parseModel(const std::string& file, const std::string& base_dir, const
     const std::string name = node["procedural"].as<std::string>();
     m.source = "procedural:" + name;
     try {
-      m.mesh = sim::makeProceduralModel(name);
+      m.mesh = models::makeProceduralModel(name);
     } catch (const InputError& e) {
       throwInputError(where(file, node["procedural"], key + ".procedural"), e.what());
     }
@@ -148,7 +148,8 @@ ModelSpec parseModel(const std::string& file, const std::string& base_dir, const
     std::filesystem::path p = node["mesh"].as<std::string>();
     if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
     m.source = "mesh:" + p.lexically_normal().string();
-    m.mesh = sim::loadMesh(p.lexically_normal().string(), where(file, node["mesh"], key + ".mesh"));
+    m.mesh =
+        models::loadMesh(p.lexically_normal().string(), where(file, node["mesh"], key + ".mesh"));
   } else {
     m.source = "box";
     parseBox(file, node["box"], key + ".box", m);
@@ -311,7 +312,7 @@ float modelAzimuthPeriodDeg(const TemplateBank& bank, int model_index) {
   return 360.f / float(symmetry);
 }
 
-cv::Mat renderTemplateView(const sim::TriangleMesh& mesh, float azimuth_deg, float elevation_deg,
+cv::Mat renderTemplateView(const models::TriangleMesh& mesh, float azimuth_deg, float elevation_deg,
                            int render_px, float* aspect) {
   const float az = azimuth_deg * kDegToRad, el = elevation_deg * kDegToRad;
   // Camera frame of the orthographic view: `toward` points from the object to the camera.
@@ -425,8 +426,8 @@ TemplateBank trainTemplateBank(const ModelsSpec& spec, const TrainingProgress& p
     cv::parallel_for_(cv::Range(0, int(jobs.size())), [&](const cv::Range& r) {
       for (int j = r.start; j < r.end; ++j) {
         const ViewJob& job = jobs[j];
-        const sim::TriangleMesh box_mesh =
-            m.source == "box" ? sim::makeBox(job.dimensions_m) : sim::TriangleMesh{};
+        const models::TriangleMesh box_mesh =
+            m.source == "box" ? models::makeBox(job.dimensions_m) : models::TriangleMesh{};
         float aspect = 1.f;
         const cv::Mat view =
             renderTemplateView(m.source == "box" ? box_mesh : m.mesh, job.azimuth_deg,

@@ -14,7 +14,6 @@
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 #include "rasm/core/Timing.h"
-#include "rasm/sim/World.h"
 
 namespace rasm::classification {
 
@@ -85,8 +84,7 @@ void TZeroShotParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 std::string resolveModelsPath(const std::string& models, const std::string& section) {
   namespace fs = std::filesystem;
   if (fs::is_regular_file(models)) return models;
-  const fs::path shipped =
-      fs::path(sim::simDataDir()).parent_path() / "classification" / "models" / (models + ".yaml");
+  const fs::path shipped = fs::path(shippedModelsDir()) / (models + ".yaml");
   if (models.find('/') == std::string::npos && fs::is_regular_file(shipped))
     return shipped.string();
   throwInputError("[" + section + "] models",

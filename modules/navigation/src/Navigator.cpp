@@ -32,7 +32,7 @@ constexpr double kEpoch_s = 1.0e9;
 /// camera's) stamp their data with that clock meanwhile.
 class SimulatedClockScope {
  public:
-  explicit SimulatedClockScope(const sim::IRobot& robot)
+  explicit SimulatedClockScope(const robot::IRobot& robot)
       : m_active(!robot.wallClock()), m_prev(mrpt::Clock::getActiveClock()) {
     if (!m_active) return;
     mrpt::Clock::setActiveClock(mrpt::Clock::Simulated);
@@ -68,7 +68,7 @@ const char* toString(NavState s) {
 }
 
 struct Navigator::Impl {
-  Impl(sim::IRobot& r, const TNavigationParams& p, const std::vector<Eigen::Vector2f>& fp,
+  Impl(robot::IRobot& r, const TNavigationParams& p, const std::vector<Eigen::Vector2f>& fp,
        std::function<Eigen::Vector3d()> loc)
       : robot(r),
         params(p),
@@ -77,7 +77,7 @@ struct Navigator::Impl {
         iface(r, std::move(loc)),
         nav(iface, /*enableConsoleOutput=*/false, /*enableLogFile=*/false) {}
 
-  sim::IRobot& robot;
+  robot::IRobot& robot;
   TNavigationParams params;
   std::vector<Eigen::Vector2f> footprint;
   std::function<Eigen::Vector3d()> localisation;
@@ -462,7 +462,7 @@ void Navigator::Impl::stepAligning(const Eigen::Vector3d& pose) {
   rotate(e, params.align_w_degps * kDeg);
 }
 
-Navigator::Navigator(sim::IRobot& robot, const TNavigationParams& params,
+Navigator::Navigator(robot::IRobot& robot, const TNavigationParams& params,
                      const std::vector<Eigen::Vector2f>& footprint,
                      std::function<Eigen::Vector3d()> localisation)
     : m_impl(std::make_unique<Impl>(robot, params, footprint, std::move(localisation))) {

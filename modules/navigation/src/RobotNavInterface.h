@@ -1,6 +1,6 @@
 #pragma once
-// mrpt::nav::CRobot2NavInterface over a rasm::sim::IRobot (internal to navigation/). Pose from the
-// owner's localisation, velocity and odometry from the robot, obstacles from its planar scan
+// mrpt::nav::CRobot2NavInterface over a rasm::robot::IRobot (internal to navigation/). Pose from
+// the owner's localisation, velocity and odometry from the robot, obstacles from its planar scan
 // (robot frame), time from the robot's clock. MRPT's event callbacks only set flags that the
 // Navigator reads after each navigationStep().
 
@@ -9,13 +9,13 @@
 #include <Eigen/Core>
 #include <functional>
 
-#include "rasm/sim/IRobot.h"
+#include "rasm/robot/IRobot.h"
 
 namespace rasm::navigation {
 
 class RobotNavInterface : public mrpt::nav::CRobot2NavInterface {
  public:
-  RobotNavInterface(sim::IRobot& robot, std::function<Eigen::Vector3d()> localisation)
+  RobotNavInterface(robot::IRobot& robot, std::function<Eigen::Vector3d()> localisation)
       : m_robot(robot), m_localisation(std::move(localisation)) {}
 
   bool getCurrentPoseAndSpeeds(mrpt::math::TPose2D& pose, mrpt::math::TTwist2D& vel_global,
@@ -42,7 +42,7 @@ class RobotNavInterface : public mrpt::nav::CRobot2NavInterface {
        target_blocked = false;
 
  private:
-  sim::IRobot& m_robot;
+  robot::IRobot& m_robot;
   std::function<Eigen::Vector3d()> m_localisation;
   double m_timer_start_s = 0.0;
 };

@@ -15,7 +15,7 @@ void check(RTCDevice dev, const char* what) {
 }
 
 /// Triangle geometry of `mesh` (world coordinates) committed into `scene` as geometry `id`.
-void attachMesh(RTCDevice dev, RTCScene scene, const TriangleMesh& mesh, unsigned id) {
+void attachMesh(RTCDevice dev, RTCScene scene, const models::TriangleMesh& mesh, unsigned id) {
   RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
       g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
@@ -68,7 +68,7 @@ RayScene::RayScene(World world) : impl_(std::make_unique<Impl>()) {
   m.materials.resize(objs.size());
   for (std::size_t i = 0; i < objs.size(); ++i) {
     const WorldObject& o = objs[i];
-    const TriangleMesh wm = o.worldMesh();
+    const models::TriangleMesh wm = o.worldMesh();
     attachMesh(m.device, m.scene, wm, unsigned(i));
     m.object_scenes[i] = rtcNewScene(m.device);
     rtcSetSceneFlags(m.object_scenes[i], RTC_SCENE_FLAG_ROBUST);

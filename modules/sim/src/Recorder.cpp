@@ -13,8 +13,8 @@
 
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
+#include "rasm/models/ClassVocabulary.h"
 #include "rasm/sim/FrameImages.h"
-#include "rasm/sim/SimClasses.h"
 #include "rasm/sim/SimulatedSequence.h"
 
 #ifdef RASM_SIM_HAVE_IO
@@ -102,14 +102,15 @@ void writeClassesJson(const World& world, const std::string& path, std::size_t f
   j["images"] =
       "instance_NNNNNN.png / class_NNNNNN.png: 16-bit PNG, NNNNNN = frame index, 0 = none";
   nlohmann::json classes = nlohmann::json::array();
-  for (int i = 0; i < numClasses(); ++i)
-    classes.push_back({{"id", i}, {"name", className(i)}, {"coco", isCocoClass(i)}});
+  for (int i = 0; i < models::numClasses(); ++i)
+    classes.push_back(
+        {{"id", i}, {"name", models::className(i)}, {"coco", models::isCocoClass(i)}});
   j["classes"] = classes;
   nlohmann::json inst = nlohmann::json::array();
   for (const WorldObject& o : world.objects)
     inst.push_back({{"id", o.instance_id},
                     {"class_id", o.class_id},
-                    {"class", className(o.class_id)},
+                    {"class", models::className(o.class_id)},
                     {"name", o.name},
                     {"static", o.is_static},
                     {"mesh", fs::path(o.mesh_source).filename().string()}});

@@ -11,7 +11,7 @@
 #include "ParamsWrite.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
-#include "rasm/sim/SimClasses.h"
+#include "rasm/models/ClassVocabulary.h"
 
 namespace rasm::sim {
 
@@ -20,16 +20,16 @@ namespace rasm::sim {
 std::vector<int> TDetectorParams::detectableClassIds() const {
   std::vector<int> ids;
   if (detectable_classes == "coco") {
-    for (int i = 1; i <= kNumCocoClasses; ++i) ids.push_back(i);
+    for (int i = 1; i <= models::kNumCocoClasses; ++i) ids.push_back(i);
   } else if (detectable_classes == "all") {
-    for (int i = 1; i < numClasses(); ++i)
-      if (!isStructureClass(i)) ids.push_back(i);
+    for (int i = 1; i < models::numClasses(); ++i)
+      if (!models::isStructureClass(i)) ids.push_back(i);
   } else {
     std::stringstream ss(detectable_classes);
     for (std::string name; std::getline(ss, name, ',');) {
       name.erase(0, name.find_first_not_of(' '));
       name.erase(name.find_last_not_of(' ') + 1);
-      const int id = classIdFromName(name);
+      const int id = models::classIdFromName(name);
       if (id <= 0)
         throwInputError("[sim_detector] detectable_classes", "unknown class '" + name + "'");
       ids.push_back(id);
@@ -148,7 +148,7 @@ cv::Rect2f jitteredBox(const MaskStats& m, double jitter, Draw& d, int w, int h)
 }  // namespace
 
 SimulatedDetector::SimulatedDetector(const TDetectorParams& params, const RayScene* scene)
-    : m_params(params), m_scene(scene), m_detectable(std::size_t(numClasses()), 0) {
+    : m_params(params), m_scene(scene), m_detectable(std::size_t(models::numClasses()), 0) {
   m_params.validate();
   for (int id : m_params.detectableClassIds()) m_detectable[std::size_t(id)] = 1;
 }
@@ -261,10 +261,10 @@ std::vector<Detection> SimulatedDetector::detect(const RgbdFrame& f, std::uint64
     double score = 0.25 + 0.7 * p + P.score_noise * g_score;
     if (u_conf < P.confusion_rate) {
       std::vector<int> similar;
-      const auto it = confusions().find(className(m.class_id));
+      const auto it = confusions().find(models::className(m.class_id));
       if (it != confusions().end())
         for (const auto& n : it->second) {
-          const int cid = classIdFromName(n);
+          const int cid = models::classIdFromName(n);
           if (cid > 0 && m_detectable[std::size_t(cid)]) similar.push_back(cid);
         }
       const std::vector<int>& pool = similar.empty() ? detectable : similar;
@@ -274,7 +274,7 @@ std::vector<Detection> SimulatedDetector::detect(const RgbdFrame& f, std::uint64
       det.confused = cid != m.class_id;
       score *= 0.7;
     }
-    det.class_name = className(det.class_id);
+    det.class_name = models::className(det.class_id);
     det.score = float(std::clamp(score, 0.01, 1.0));
     out.push_back(det);
   }
@@ -294,7 +294,7 @@ std::vector<Detection> SimulatedDetector::detect(const RgbdFrame& f, std::uint64
                           float(bh));
     }
     fp.class_id = d.pick(detectable);
-    fp.class_name = className(fp.class_id);
+    fp.class_name = models::className(fp.class_id);
     fp.score =
         float(std::clamp(0.05 + 0.4 * d.uniform() + P.score_noise * d.gaussian(), 0.01, 1.0));
     fp.visible_fraction = 0.f;

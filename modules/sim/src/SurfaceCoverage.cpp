@@ -10,8 +10,8 @@
 
 #include "RaySceneImpl.h"
 #include "rasm/core/CameraIntrinsics.h"
+#include "rasm/models/ClassVocabulary.h"
 #include "rasm/sim/OccupancyRaster.h"
-#include "rasm/sim/SimClasses.h"
 #include "rasm/sim/SimulatedDiffDriveRobot.h"
 
 namespace rasm::sim {
@@ -291,8 +291,8 @@ SurfaceCoverage::SurfaceCoverage(const World& world, const RayScene& scene,
   const float s = float(opts.sample_spacing_m);
   for (std::size_t oi = 0; oi < world.objects.size(); ++oi) {
     const WorldObject& obj = world.objects[oi];
-    m_is_structure[oi] = isStructureClass(obj.class_id);
-    const TriangleMesh m = obj.worldMesh();
+    m_is_structure[oi] = models::isStructureClass(obj.class_id);
+    const models::TriangleMesh m = obj.worldMesh();
     float carry = 0.f;
     V3 last_centroid = V3::Zero(), last_normal = V3::UnitZ();
     for (const Eigen::Vector3i& t : m.triangles) {

@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "RaySceneImpl.h"
-#include "rasm/sim/SimClasses.h"
+#include "rasm/models/ClassVocabulary.h"
 
 namespace rasm::sim {
 
@@ -129,10 +129,11 @@ std::vector<WorldInstanceInfo> worldInstances(const World& world) {
     w.object = int(i);
     w.instance_id = o.instance_id;
     w.class_id = o.class_id;
-    w.class_name = o.class_id < numClasses() ? className(o.class_id) : std::to_string(o.class_id);
+    w.class_name = o.class_id < models::numClasses() ? models::className(o.class_id)
+                                                     : std::to_string(o.class_id);
     w.name = o.name;
     w.is_static = o.is_static;
-    w.is_structure = isStructureClass(o.class_id);
+    w.is_structure = models::isStructureClass(o.class_id);
     if (!o.mesh.vertices.empty())
       w.extent_m = o.mesh.bounds().sizes().cwiseProduct(o.scale.cwiseAbs());
     w.size_m = double(w.extent_m.maxCoeff());

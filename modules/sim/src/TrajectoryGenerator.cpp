@@ -14,10 +14,10 @@
 #include "GenUtil.h"
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
+#include "rasm/models/ClassVocabulary.h"
 #include "rasm/sim/CameraPoses.h"
 #include "rasm/sim/RayScene.h"
 #include "rasm/sim/RgbdSensor.h"
-#include "rasm/sim/SimClasses.h"
 #include "rasm/sim/SimulatedDiffDriveRobot.h"
 #include "rasm/sim/SimulatedSequence.h"
 #include "rasm/sim/Trajectory.h"
@@ -463,7 +463,7 @@ class HandheldDrafter {
     const V3 d(std::cos(p) * std::cos(y), std::cos(p) * std::sin(y), std::sin(p));
     const RayHit h = m_scene.castRay(eye.cast<float>(), d.cast<float>(), 0.f, 3.2f);
     if (!h.hit || h.object < 0 ||
-        isStructureClass(m_scene.world().objects[std::size_t(h.object)].class_id))
+        models::isStructureClass(m_scene.world().objects[std::size_t(h.object)].class_id))
       return std::nullopt;
     const V3 q = h.point.cast<double>();
     if ((q - eye).norm() < 0.8 || (q - eye).head<2>().norm() < 0.5) return std::nullopt;

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "rasm/sim/SimClasses.h"
+#include "rasm/models/ClassVocabulary.h"
 
 namespace rasm::sim {
 
@@ -35,7 +35,7 @@ ViewStats viewStats(const RgbdFrame& f, double max_depth_m) {
     for (int x = 0; x < W; ++x) {
       if (!valid(x, y)) continue;
       ++n_valid;
-      if (labels && f.gt_instance.row(y)[x] != 0 && !isStructureClass(f.gt_class.row(y)[x]))
+      if (labels && f.gt_instance.row(y)[x] != 0 && !models::isStructureClass(f.gt_class.row(y)[x]))
         ++n_object;
       if (x == 0 || y == 0 || x == W - 1 || y == H - 1) continue;
       const float z = f.depth_m.row(y)[x];

@@ -11,7 +11,7 @@
 
 #include "YamlNode.h"
 #include "rasm/core/Error.h"
-#include "rasm/sim/SimClasses.h"
+#include "rasm/models/ClassVocabulary.h"
 
 namespace fs = std::filesystem;
 
@@ -22,8 +22,8 @@ Eigen::Affine3f WorldObject::worldFromObjectScaled() const {
   return T * Eigen::Scaling(scale);
 }
 
-TriangleMesh WorldObject::worldMesh() const {
-  TriangleMesh m;
+models::TriangleMesh WorldObject::worldMesh() const {
+  models::TriangleMesh m;
   m.append(mesh, worldFromObjectScaled());
   return m;
 }
@@ -156,7 +156,7 @@ Material parseMaterial(const YNode& obj) {
 
 struct Loader {
   std::string base_dir;
-  std::map<std::string, TriangleMesh> mesh_cache;
+  std::map<std::string, models::TriangleMesh> mesh_cache;
 
   std::string resolveMesh(const YNode& n) {
     const std::string f = n.asString();
@@ -184,7 +184,7 @@ struct Loader {
     {
       const YNode c = o["class"];
       const std::string cname = c.isNull() ? std::string("none") : c.asString();
-      const int id = classIdFromName(cname);
+      const int id = models::classIdFromName(cname);
       if (id < 0)
         c.fail("unknown class '" + cname +
                "' (use a COCO name, a project class or none; see docs/sim.md)");
@@ -196,7 +196,9 @@ struct Loader {
       const std::string path = resolveMesh(o["mesh"]);
       auto it = mesh_cache.find(path);
       if (it == mesh_cache.end())
-        it = mesh_cache.emplace(path, loadMesh(path, o.source() + ": " + o.path() + ".mesh")).first;
+        it =
+            mesh_cache.emplace(path, models::loadMesh(path, o.source() + ": " + o.path() + ".mesh"))
+                .first;
       w.mesh = it->second;
       w.mesh_source = path;
       for (const char* k : {"size", "radius", "height"})
@@ -205,12 +207,12 @@ struct Loader {
       const YNode p = o["primitive"];
       w.mesh_source = p.asString();
       if (w.mesh_source == "box") {
-        w.mesh = makeBox(parsePositiveVec3(o["size"], kMaxSize_m).cast<float>());
+        w.mesh = models::makeBox(parsePositiveVec3(o["size"], kMaxSize_m).cast<float>());
       } else if (w.mesh_source == "cylinder") {
-        w.mesh = makeCylinder(float(o["radius"].asDouble(1e-4, 1e3)),
-                              float(o["height"].asDouble(1e-4, 1e3)));
+        w.mesh = models::makeCylinder(float(o["radius"].asDouble(1e-4, 1e3)),
+                                      float(o["height"].asDouble(1e-4, 1e3)));
       } else if (w.mesh_source == "sphere") {
-        w.mesh = makeSphere(float(o["radius"].asDouble(1e-4, 1e3)));
+        w.mesh = models::makeSphere(float(o["radius"].asDouble(1e-4, 1e3)));
       } else {
         p.fail("unknown primitive '" + w.mesh_source + "'; expected box, cylinder or sphere");
       }

@@ -10,9 +10,9 @@
 
 #include "GenUtil.h"
 #include "rasm/core/Error.h"
-#include "rasm/sim/Mesh.h"
-#include "rasm/sim/ProceduralModels.h"
-#include "rasm/sim/SimClasses.h"
+#include "rasm/models/ClassVocabulary.h"
+#include "rasm/models/Mesh.h"
+#include "rasm/models/ProceduralModels.h"
 
 namespace rasm::sim {
 
@@ -368,7 +368,7 @@ class Generator {
   void writeYaml(GeneratedWorld& g);
 
   // geometry
-  const TriangleMesh& mesh(const Shape& s);
+  const models::TriangleMesh& mesh(const Shape& s);
   Eigen::Matrix3d linear(const Entry& e) const;
   void computeBox(Entry& e);
   /// Sets the entry's world pose from side coordinates and a local yaw; z is the height of the
@@ -414,7 +414,7 @@ class Generator {
   double m_budget[4] = {0, 0, 0, 0};
   std::vector<Entry> m_e;
   std::vector<Box3> m_keepout;
-  std::map<std::string, TriangleMesh> m_models;
+  std::map<std::string, models::TriangleMesh> m_models;
   std::map<std::string, int> m_count;  ///< for names: desk_1, desk_2, ...
   Rgb m_chair;
   bool m_officeish = true, m_labish = false;
@@ -423,7 +423,7 @@ class Generator {
   }
 };
 
-const TriangleMesh& Generator::mesh(const Shape& s) {
+const models::TriangleMesh& Generator::mesh(const Shape& s) {
   std::string key;
   switch (s.kind) {
     case Shape::Model:
@@ -441,19 +441,19 @@ const TriangleMesh& Generator::mesh(const Shape& s) {
   }
   auto it = m_models.find(key);
   if (it != m_models.end()) return it->second;
-  TriangleMesh m;
+  models::TriangleMesh m;
   switch (s.kind) {
     case Shape::Model:
-      m = makeProceduralModel(s.model);
+      m = models::makeProceduralModel(s.model);
       break;
     case Shape::Box:
-      m = makeBox(Eigen::Vector3f::Ones());  // scaled by the size below
+      m = models::makeBox(Eigen::Vector3f::Ones());  // scaled by the size below
       break;
     case Shape::Cylinder:
-      m = makeCylinder(float(s.radius), float(s.height));
+      m = models::makeCylinder(float(s.radius), float(s.height));
       break;
     case Shape::Sphere:
-      m = makeSphere(float(s.radius));
+      m = models::makeSphere(float(s.radius));
       break;
   }
   return m_models.emplace(key, std::move(m)).first->second;

@@ -11,6 +11,7 @@
 #include "rasm/core/Timing.h"
 #include "rasm/pipeline/ClassLegend.h"
 #include "rasm/pipeline/OutputFiles.h"
+#include "rasm/pipeline/SimDetector.h"
 #include "rasm/pipeline/stages/SegmentationStage.h"
 #include "rasm/surfel_map/MapExport.h"
 
@@ -20,6 +21,11 @@ using namespace rasm::classification;
 
 ClassificationStage::ClassificationStage(SegmentationStage* segmentation)
     : MapperStage("classification", {"cls_fuse"}), m_segmentation(segmentation) {
+  m_detector_sections.added.push_back(
+      {"sim_detector", &m_sim_detector, [this](const TClassificationParams& params) {
+         return std::make_unique<SimDetector>(m_sim_detector, m_sim_scene,
+                                              std::uint64_t(params.seed));
+       }});
   if (m_segmentation)
     m_segmentation->addRelabelListener(
         [this](const std::vector<std::uint32_t>& table) { relabel(table); });
@@ -58,7 +64,7 @@ void ClassificationStage::startWorkers(maps::CSurfelMap& map) {
   m_pose_consensus = PoseConsensus(m_params.pose_agreement_deg, m_params.pose_min_view_change_deg,
                                    m_params.pose_max_fraction_of_view_change);
   if (!m_params.enabled) return;
-  DetectorBuild built = makeDetectors(m_params, m_detector_sections, m_sim_scene);
+  DetectorBuild built = makeDetectors(m_params, m_detector_sections);
   for (auto& d : m_extra_detectors) built.detectors.push_back(std::move(d));
   m_extra_detectors.clear();
   m_warnings = std::move(built.warnings);

@@ -2,11 +2,11 @@
 // The map's one class list (IV): the class sets of several detectors merged by name. Class id
 // k + 1 is classes()[k] (ClassEvidence.h: ids 1..255, 0 = none). It starts as the default list
 // (the 80 COCO classes in their standard order, source "coco", then the project's own classes of
-// rasm/sim/SimClasses.h, source "rasm"), so a COCO detector's output k is id k + 1 and the
+// rasm/models/ClassVocabulary.h, source "rasm"), so a COCO detector's output k is id k + 1 and the
 // simulator's ground-truth class ids are map ids. A detector's class that is not in the list yet
 // (e.g. a zero-shot model named "cabinet") is appended with the detector as its source. Names are
-// matched exactly, then through the simulator's aliases (Darknet's "diningtable", "tvmonitor",
-// "sofa", ...). The list is persisted with the map (CSurfelMap::classes(), version 3).
+// matched exactly, then through the class vocabulary's aliases (Darknet's "diningtable",
+// "tvmonitor", "sofa", ...). The list is persisted with the map (CSurfelMap::classes(), version 3).
 
 #include <string>
 #include <vector>

@@ -2,7 +2,8 @@
 // The detector interface of section IV. A detector takes a colour image and returns boxes with
 // per-class scores (Detection.h). Real detectors (DnnDetector: YOLO family on OpenCV dnn;
 // ZeroShotDetector: HOG templates of IV-A) look at the image only; the simulator's detector
-// (SimDetector) reads the frame's ground truth instead, so the input carries the whole frame.
+// (pipeline/SimDetector.h) reads the frame's ground truth instead, so the input carries the whole
+// frame.
 // Detectors run on worker threads (DetectorWorker.h): detect() is called from one thread at a
 // time per detector object, never concurrently on the same object.
 

@@ -1,8 +1,8 @@
 #pragma once
 // [classification]: the classification stage of section IV (docs/classification.md). Each
 // detector has its own section with its own thresholds: [sim_detector] (the simulator's
-// detector, rasm/sim/SimulatedDetector.h), [dnn_detector] (YOLO family, DnnDetector.h),
-// [zero_shot] (IV-A, ZeroShotDetector.h).
+// detector, SimulatedDetector.h in modules/sim, added by pipeline/SimDetector.h), [dnn_detector]
+// (YOLO family, DnnDetector.h), [zero_shot] (IV-A, ZeroShotDetector.h).
 
 #include <mrpt/config/CLoadableOptions.h>
 

@@ -14,10 +14,10 @@
 //     render_px: 64               # square canvas of the rendering, downscaled to 16 x 16
 //   models:
 //     - class: conference_phone   # class name the detections carry
-//       procedural: conference_phone   # rasm::sim::makeProceduralModel name, or
+//       procedural: conference_phone   # rasm::models::makeProceduralModel name, or
 //       azimuth_symmetry: 3       # optional: the model looks the same every 360/3 degrees
 //     - class: mug
-//       mesh: models/mug.obj      # any assimp format (rasm::sim::loadMesh), model frame z up
+//       mesh: models/mug.obj      # any assimp format (rasm::models::loadMesh), model frame z up
 //       scale: 0.001              # optional: one factor or [sx, sy, sz]
 //     - class: cabinet
 //       box:                      # a box of unknown dimensions: [min, max, steps] per axis (m)
@@ -50,7 +50,7 @@
 #include <string>
 #include <vector>
 
-#include "rasm/sim/Mesh.h"
+#include "rasm/models/Mesh.h"
 
 namespace rasm::classification {
 
@@ -70,7 +70,7 @@ struct TemplateViews {
 struct ModelSpec {
   std::string class_name;
   std::string source;  ///< "procedural:<name>", "mesh:<path>" or "box" (for messages and the bank)
-  sim::TriangleMesh mesh;  ///< procedural or mesh models (scale applied); empty for a box
+  models::TriangleMesh mesh;  ///< procedural or mesh models (scale applied); empty for a box
   /// Box dimensions per axis: values[axis] = the dimensions tried (m). Empty for mesh models.
   std::vector<float> box_values[3];
   int azimuth_symmetry = 1;
@@ -129,7 +129,7 @@ TemplateBank loadTemplateBank(const std::string& path);
 /// azimuth (about z from +x) and elevation (above the xy plane) in the model frame; the outline's
 /// longer side spans render_px * kTemplateObjectPx / kTemplatePx pixels, centred. `aspect`
 /// (optional) receives the outline's width / height.
-cv::Mat renderTemplateView(const sim::TriangleMesh& mesh, float azimuth_deg, float elevation_deg,
+cv::Mat renderTemplateView(const models::TriangleMesh& mesh, float azimuth_deg, float elevation_deg,
                            int render_px, float* aspect = nullptr);
 
 /// Length of the descriptor of one 16 x 16 patch (324).

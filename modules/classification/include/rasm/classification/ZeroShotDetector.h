@@ -68,8 +68,11 @@ struct TZeroShotParams : public mrpt::config::CLoadableOptions {
                         const std::string& section) const override;
 };
 
-/// `models` resolved: an existing path as is, a bare name to the shipped models file. Throws
-/// InputError naming [section] models when neither exists.
+/// Folder of the shipped models files: modules/classification/models, compiled in.
+std::string shippedModelsDir();
+
+/// `models` resolved: an existing path as is, a bare name to the shipped models file
+/// (<shippedModelsDir>/<name>.yaml). Throws InputError naming [section] models when neither exists.
 std::string resolveModelsPath(const std::string& models, const std::string& section = "zero_shot");
 
 /// One proposal's best match per class (similarity; template index or -1).

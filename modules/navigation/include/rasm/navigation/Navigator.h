@@ -1,5 +1,5 @@
 #pragma once
-// Drives a rasm::sim::IRobot to an SE(2) goal (paper section VI): MRPT's PTG-based reactive
+// Drives a rasm::robot::IRobot to an SE(2) goal (paper section VI): MRPT's PTG-based reactive
 // navigator (mrpt::nav::CReactiveNavigationSystem) for the approach, an own controller for targets
 // nearer than the PTGs' reach, and rotation in place for the final heading. MRPT stays out of
 // this header.
@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "rasm/navigation/TNavigationParams.h"
-#include "rasm/sim/IRobot.h"
+#include "rasm/robot/IRobot.h"
 
 namespace rasm::navigation {
 
@@ -34,7 +34,7 @@ class Navigator {
   /// `footprint`: robot-frame polygon (counter-clockwise, metres). `localisation` returns the base
   /// pose (x, y, yaw) the navigator should believe (the mapper's estimate; in tests robot.pose()).
   /// Throws InputError on invalid params or a footprint of fewer than 3 vertices.
-  Navigator(sim::IRobot& robot, const TNavigationParams& params,
+  Navigator(robot::IRobot& robot, const TNavigationParams& params,
             const std::vector<Eigen::Vector2f>& footprint,
             std::function<Eigen::Vector3d()> localisation);
   ~Navigator();

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "rasm/core/RgbdFrame.h"
-#include "rasm/sim/IRobot.h"
+#include "rasm/robot/IRobot.h"
 #include "rasm/sim/OccupancyRaster.h"
 #include "rasm/sim/RayScene.h"
 
@@ -71,7 +71,7 @@ struct TRobotParams : public mrpt::config::CLoadableOptions {
   void validate(const std::string& section = "sim_robot") const;
 };
 
-class SimulatedDiffDriveRobot : public IRobot {
+class SimulatedDiffDriveRobot : public robot::IRobot {
  public:
   /// The robot starts at `start_pose` (x, y, yaw); `seed` drives the odometry noise. Throws
   /// InputError when the start pose collides with the world.

@@ -41,7 +41,7 @@
 // test against the observable samples of the 2 x 2 x 2 cells of 2 max_dist_m its ball reaches;
 // the cells are a dense occupancy bitmap over the observable samples' bounding box, 1.5 bits a
 // cell: 0.3 MB for the office). Fractions are area-weighted. Structure = floor, wall, ceiling and
-// door classes (isStructureClass); everything else (static furniture and objects) is
+// door classes (models::isStructureClass); everything else (static furniture and objects) is
 // furniture_and_objects. Construction and evaluation are parallel (OpenMP) and give the same
 // result for any thread count.
 

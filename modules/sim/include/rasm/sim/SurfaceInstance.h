@@ -53,10 +53,10 @@ struct WorldInstanceInfo {
   int object = -1;  ///< index into World::objects
   std::uint16_t instance_id = 0;
   std::uint16_t class_id = 0;
-  std::string class_name;  ///< className(class_id) ("none" for 0)
+  std::string class_name;  ///< models::className(class_id) ("none" for 0)
   std::string name;        ///< WorldObject::name (may be empty)
   bool is_static = false;
-  bool is_structure = false;  ///< floor, wall, ceiling, door (isStructureClass)
+  bool is_structure = false;  ///< floor, wall, ceiling, door (models::isStructureClass)
   /// Edge lengths of the object's bounding box in its own frame, scale applied (m).
   Eigen::Vector3f extent_m = Eigen::Vector3f::Zero();
   double size_m = 0.0;  ///< largest of extent_m

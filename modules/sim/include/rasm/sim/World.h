@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "rasm/sim/Mesh.h"
+#include "rasm/models/Mesh.h"
 
 namespace rasm::sim {
 
@@ -33,7 +33,7 @@ struct WorldObject {
   std::string name;               ///< optional human label ("desk_1")
   bool is_static = false;         ///< listed under `static:` (structure and furniture)
   std::string mesh_source;        ///< "box", "cylinder", "sphere" or the mesh file path
-  TriangleMesh mesh;              ///< in the object frame, scale NOT applied
+  models::TriangleMesh mesh;      ///< in the object frame, scale NOT applied
   Eigen::Vector3f scale{1.f, 1.f, 1.f};
   Eigen::Isometry3d T_world_object = Eigen::Isometry3d::Identity();
   Material material;
@@ -41,7 +41,7 @@ struct WorldObject {
   /// Object-to-world affine map including scale: T_world_object * diag(scale).
   Eigen::Affine3f worldFromObjectScaled() const;
   /// The mesh in world coordinates.
-  TriangleMesh worldMesh() const;
+  models::TriangleMesh worldMesh() const;
 };
 
 struct Light {

@@ -48,7 +48,8 @@ constexpr int kClassLogitUnitsPerNat = 1024;   ///< fixed point: 1 unit = 1/1024
 constexpr int kClassLogitMaxUnits = 7 * 1024;  ///< clamp |L| <= 7 nats
 constexpr float kClassLogitMax = 7.0f;         ///< = kClassLogitMaxUnits / 1024 (nats)
 /// Default n_classes of a map: ids 1..80 are the COCO classes in their standard order (detector
-/// output k is id k + 1), 81..96 the project's own (rasm/sim/SimClasses.h uses 81..88 today).
+/// output k is id k + 1), 81..96 the project's own (rasm/models/ClassVocabulary.h uses 81..88
+/// today).
 constexpr int kDefaultNumClasses = 96;
 
 /// The class evidence of one surfel (12 bytes). All zero = no evidence (every class at 0.5).

@@ -7,7 +7,8 @@
 //   finishRun    waits for the detections in flight and fuses them.
 // The L^p of frames in flight follow the segmentation stage's merges and renumbering (its
 // relabel listener), so a late result lands on the segments its pixels belong to now.
-// Sections [classification] and one per detector ([sim_detector], [dnn_detector], [zero_shot]).
+// Sections [classification] and one per detector ([sim_detector], [dnn_detector], [zero_shot]);
+// the simulator's detector is added to classification's DetectorSections here (SimDetector.h).
 // The object layer (classification/ObjectMap.h, section [objects]) follows every fused result
 // (views, detections, class evidence) and the relabelling, and regroups the segments into objects
 // after each batch of results.
@@ -31,6 +32,7 @@
 #include "rasm/classification/TObjectParams.h"
 #include "rasm/core/CameraIntrinsics.h"
 #include "rasm/pipeline/MapperStage.h"
+#include "rasm/sim/SimulatedDetector.h"
 
 namespace rasm::pipeline {
 
@@ -113,6 +115,7 @@ class ClassificationStage : public MapperStage {
   classification::TObjectParams m_object_params;
   classification::ObjectMap m_object_map;
   classification::PoseConsensus m_pose_consensus;
+  sim::TDetectorParams m_sim_detector;  ///< [sim_detector], a kind of m_detector_sections
   classification::DetectorSections m_detector_sections;
   const sim::RayScene* m_sim_scene = nullptr;
   classification::ClassList m_classes;

@@ -1,12 +1,13 @@
 #pragma once
-// Triangle meshes of the simulator: primitives, files loaded through assimp (OBJ, PLY, STL, ...)
-// and OBJ output for the procedural models. Units are metres.
+// Triangle meshes: primitives, files loaded through assimp (OBJ, PLY, STL, ...) and OBJ output
+// for the procedural models. The simulator's worlds are made of them and the zero-shot
+// classifier renders its templates from them (classification/TemplateBank.h). Units are metres.
 
 #include <Eigen/Geometry>
 #include <string>
 #include <vector>
 
-namespace rasm::sim {
+namespace rasm::models {
 
 struct TriangleMesh {
   std::vector<Eigen::Vector3f> vertices;
@@ -40,4 +41,4 @@ TriangleMesh loadMesh(const std::string& path, const std::string& what = "mesh")
 /// Writes a Wavefront OBJ (vertices with 4 decimals, 1-based faces) with `comment` lines first.
 void saveObj(const TriangleMesh& mesh, const std::string& path, const std::string& comment = {});
 
-}  // namespace rasm::sim
+}  // namespace rasm::models

@@ -1,9 +1,9 @@
-#include "rasm/sim/SimClasses.h"
+#include "rasm/models/ClassVocabulary.h"
 
 #include <map>
 #include <stdexcept>
 
-namespace rasm::sim {
+namespace rasm::models {
 namespace {
 
 // COCO 2017 detection classes in contiguous order (the order of every coco.names).
@@ -85,7 +85,7 @@ int classIdFromName(const std::string& name) {
 
 const std::string& className(int id) {
   if (id < 0 || id >= numClasses())
-    throw std::out_of_range("rasm::sim::className: bad id " + std::to_string(id));
+    throw std::out_of_range("rasm::models::className: bad id " + std::to_string(id));
   return table()[id];
 }
 
@@ -94,4 +94,4 @@ bool isStructureClass(int id) {
   return id >= first && id < first + 4;
 }
 
-}  // namespace rasm::sim
+}  // namespace rasm::models

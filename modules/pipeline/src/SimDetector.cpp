@@ -1,14 +1,17 @@
-#include "rasm/classification/SimDetector.h"
+#include "rasm/pipeline/SimDetector.h"
 
 #include "rasm/core/Error.h"
-#include "rasm/sim/SimClasses.h"
+#include "rasm/models/ClassVocabulary.h"
 
-namespace rasm::classification {
+namespace rasm::pipeline {
+
+using classification::Detection;
+using classification::DetectorInput;
 
 SimDetector::SimDetector(const sim::TDetectorParams& params, const sim::RayScene* scene,
                          std::uint64_t seed)
     : m_detector(params, scene), m_seed(seed) {
-  const auto& names = sim::classNames();  // entry 0 is "none"
+  const auto& names = models::classNames();  // entry 0 is "none"
   m_names.assign(names.begin() + 1, names.end());
 }
 
@@ -30,4 +33,4 @@ std::vector<Detection> SimDetector::detect(const DetectorInput& input) {
   return out;
 }
 
-}  // namespace rasm::classification
+}  // namespace rasm::pipeline

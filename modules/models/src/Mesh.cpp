@@ -1,4 +1,4 @@
-#include "rasm/sim/Mesh.h"
+#include "rasm/models/Mesh.h"
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -13,7 +13,7 @@
 #include "rasm/core/AtomicFile.h"
 #include "rasm/core/Error.h"
 
-namespace rasm::sim {
+namespace rasm::models {
 
 void TriangleMesh::append(const TriangleMesh& other, const Eigen::Affine3f& T) {
   const int base = int(vertices.size());
@@ -179,4 +179,4 @@ void saveObj(const TriangleMesh& mesh, const std::string& path, const std::strin
   }
 }
 
-}  // namespace rasm::sim
+}  // namespace rasm::models

@@ -9,13 +9,13 @@
 #include <string>
 #include <vector>
 
-#include "rasm/sim/Mesh.h"
+#include "rasm/models/Mesh.h"
 
-namespace rasm::sim {
+namespace rasm::models {
 
 struct ProceduralModel {
   std::string name;        ///< file stem: "mug" -> mug.obj
-  std::string class_name;  ///< SimClasses name of the object it depicts
+  std::string class_name;  ///< ClassVocabulary.h name of the object it depicts
   std::string description;
 };
 
@@ -29,4 +29,4 @@ TriangleMesh makeProceduralModel(const std::string& name);
 /// Writes every model as <dir>/<name>.obj; returns the paths written.
 std::vector<std::string> writeProceduralModels(const std::string& dir);
 
-}  // namespace rasm::sim
+}  // namespace rasm::models

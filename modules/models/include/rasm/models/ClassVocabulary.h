@@ -1,10 +1,12 @@
 #pragma once
-// Class ids of the simulator's ground truth (gt_class images, detections, classes.json).
+// The project's class vocabulary: the class ids of the simulator's ground truth (gt_class images,
+// detections), of the map's default class list (classification/ClassList.h, classes.json) and of
+// the procedural models (ProceduralModels.h).
 //  - 0: no class ("unknown" objects and pixels that hit nothing).
 //  - 1..80: the 80 COCO detection classes in their standard contiguous order, so the output index
 //    k of a COCO-trained detector (YOLO, NanoDet: coco.names line k) is class id k + 1.
 //  - 81..: project classes COCO lacks (objects of interest for the zero-shot classifier, IV-A,
-//    and structure), see kProjectClassNames.
+//    and structure), see kProject in ClassVocabulary.cpp.
 // Names are the official COCO 2017 names ("dining table", "tv", "couch"); Darknet's spellings
 // ("diningtable", "tvmonitor", "sofa", ...) are accepted as aliases by classIdFromName.
 
@@ -12,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace rasm::sim {
+namespace rasm::models {
 
 using ClassId = std::uint16_t;
 
@@ -35,4 +37,4 @@ inline bool isCocoClass(int id) {
 /// Classes that are structure of the building rather than objects (floor, wall, ceiling, door).
 bool isStructureClass(int id);
 
-}  // namespace rasm::sim
+}  // namespace rasm::models
