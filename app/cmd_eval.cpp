@@ -287,6 +287,158 @@ RunEvalOptions runEvalOptionsOf(const ParsedArgs& args) {
   return o;
 }
 
+/// What `rasm eval segmentation` measured on one run, for the summary and the JSON.
+struct SegmentationEvaluation {
+  std::string run, ply;
+  std::string world_name, world_source;
+  std::size_t surfels_in_file = 0, unassigned = 0, structure = 0, instances_in_world = 0;
+  double max_dist = 0;
+  rasm::segmentation::SegmentationMetricsParams mp;
+  rasm::segmentation::SegmentationMetrics m;
+  std::optional<std::pair<std::uint64_t, std::uint64_t>> counters;  ///< label changes, stable
+  double lcps = 0;
+  std::optional<Target> target;
+};
+
+bool passes(double v, double t) {
+  return std::isfinite(v) && v >= t;
+}
+
+void printSegmentationSummary(const SegmentationEvaluation& e) {
+  const auto& m = e.m;
+  const auto& mp = e.mp;
+  const auto& counters = e.counters;
+  const auto& target = e.target;
+  const auto pass = passes;
+  std::printf("segmentation of %s against world %s (%s)\n", e.ply.c_str(), e.world_name.c_str(),
+              e.world_source.c_str());
+  std::printf(
+      "  covers: %zu %ssurfels, %zu objects > %.2f m evaluated, %zu surfels unassigned "
+      "(> %.3g m from any surface)\n",
+      m.surfels, mp.stable_only ? "stable " : "", m.objects_evaluated, mp.min_object_size_m,
+      e.unassigned, e.max_dist);
+  std::printf(
+      "  world: %zu instances: %zu structure (floor/wall/ceiling/door), %zu objects, %zu of "
+      "them > %.2f m, %zu of those with < %zu surfels in the map (not evaluated)\n",
+      e.instances_in_world, e.structure, m.objects_listed, m.objects_over_size,
+      mp.min_object_size_m, m.objects_unseen, mp.min_object_surfels);
+  std::printf("  map: %zu segments, %zu surfels with a segment (%.1f %%)\n", m.segments,
+              m.segmented_surfels, 100.0 * double(m.segmented_surfels) / double(m.surfels));
+  std::printf("  objects recovered (IoU > %.2f)   %zu / %zu = %s\n", mp.iou_threshold, m.recovered,
+              m.objects_evaluated, fmt(m.objects_recovered_fraction).c_str());
+  std::printf("  PQ %s = SQ %s x RQ %s   (TP %zu, FP %zu, FN %zu)\n", fmt(m.pq).c_str(),
+              fmt(m.sq).c_str(), fmt(m.rq).c_str(), m.tp, m.fp, m.fn);
+  std::printf("  segments per object              %s   (%zu objects own no segment)\n",
+              fmt(m.segments_per_object, "%.2f").c_str(), m.objects_without_segment);
+  std::printf("  under-segmented objects          %zu / %zu\n", m.undersegmented_objects,
+              m.objects_evaluated);
+  if (counters)
+    std::printf("  label changes per stable surfel  %s   (%llu changes, %llu stable surfels)\n",
+                fmt(e.lcps, "%.4f").c_str(), (unsigned long long)counters->first,
+                (unsigned long long)counters->second);
+  else
+    std::printf(
+        "  label changes per stable surfel  n/a (%s/report.json has no segmentation "
+        "counters)\n",
+        e.run.c_str());
+  if (target) {
+    std::printf("  targets (%s): recovered >= %.2f %s (%s), PQ >= %.2f %s (%s)\n",
+                e.world_name.c_str(), target->recovered,
+                pass(m.objects_recovered_fraction, target->recovered) ? "PASS" : "MISS",
+                fmt(m.objects_recovered_fraction).c_str(), target->pq,
+                pass(m.pq, target->pq) ? "PASS" : "MISS", fmt(m.pq).c_str());
+  } else {
+    std::printf("  targets: none for world %s (office, cluttered_lab have them)\n",
+                e.world_name.c_str());
+  }
+  std::printf("  %8s %-18s %-16s %8s %7s %6s %5s %5s %s\n", "instance", "class", "name", "surfels",
+              "best", "IoU", "segs", "under", "");
+  for (const rasm::segmentation::ObjectResult& r : m.per_object) {
+    if (!r.evaluated) continue;
+    std::string note = r.recovered ? "recovered" : "";
+    if (r.undersegmented)
+      note += std::string(note.empty() ? "" : ", ") + "with " + std::to_string(r.merged_with);
+    std::printf("  %8u %-18s %-16s %8zu %7u %6.3f %5zu %5s %s\n", r.object.instance_id,
+                r.object.class_name.c_str(), r.object.name.c_str(), r.surfels, r.best_segment,
+                r.iou, r.owned_segments, r.undersegmented ? "yes" : "no", note.c_str());
+  }
+}
+
+nlohmann::json segmentationJson(const SegmentationEvaluation& e) {
+  const auto& m = e.m;
+  const auto& mp = e.mp;
+  const auto& counters = e.counters;
+  const auto& target = e.target;
+  const auto pass = passes;
+  nlohmann::json j;
+  j["run"] = e.run;
+  j["map"] = e.ply;
+  j["world"] = e.world_name;
+  j["world_source"] = e.world_source;
+  j["surfels_in_file"] = e.surfels_in_file;
+  j["surfels"] = m.surfels;
+  j["stable_only"] = mp.stable_only;
+  j["surfels_unassigned"] = e.unassigned;
+  j["max_dist_m"] = e.max_dist;
+  j["segments"] = m.segments;
+  j["segmented_surfels"] = m.segmented_surfels;
+  j["iou_threshold"] = mp.iou_threshold;
+  j["min_object_size_m"] = mp.min_object_size_m;
+  j["min_object_surfels"] = mp.min_object_surfels;
+  j["instances_in_world"] = e.instances_in_world;
+  j["structure_instances"] = e.structure;
+  j["objects_in_world"] = m.objects_listed;
+  j["objects_over_min_size"] = m.objects_over_size;
+  j["objects_not_evaluated"] = m.objects_unseen;
+  j["objects_evaluated"] = m.objects_evaluated;
+  j["objects_recovered"] = m.recovered;
+  j["objects_recovered_fraction"] = num(m.objects_recovered_fraction);
+  j["pq"] = num(m.pq);
+  j["sq"] = num(m.sq);
+  j["rq"] = num(m.rq);
+  j["tp"] = m.tp;
+  j["fp"] = m.fp;
+  j["fn"] = m.fn;
+  j["segments_per_object"] = num(m.segments_per_object);
+  j["objects_without_segment"] = m.objects_without_segment;
+  j["undersegmented_objects"] = m.undersegmented_objects;
+  j["undersegmented_fraction"] = num(m.undersegmented_fraction);
+  j["label_changes_stable"] = counters ? nlohmann::json(counters->first) : nlohmann::json();
+  j["stable_surfels"] = counters ? nlohmann::json(counters->second) : nlohmann::json();
+  j["label_changes_per_stable_surfel"] = num(e.lcps);
+  if (target) {
+    j["targets"] = {
+        {"objects_recovered_fraction",
+         {{"target", target->recovered},
+          {"value", num(m.objects_recovered_fraction)},
+          {"pass", pass(m.objects_recovered_fraction, target->recovered)}}},
+        {"pq", {{"target", target->pq}, {"value", num(m.pq)}, {"pass", pass(m.pq, target->pq)}}}};
+  } else {
+    j["targets"] = nullptr;
+  }
+  nlohmann::json rows = nlohmann::json::array();
+  for (const rasm::segmentation::ObjectResult& r : m.per_object) {
+    rows.push_back({{"instance", r.object.instance_id},
+                    {"class_id", r.object.class_id},
+                    {"class", r.object.class_name},
+                    {"name", r.object.name},
+                    {"static", r.object.is_static},
+                    {"size_m", r.object.size_m},
+                    {"surfels", r.surfels},
+                    {"unsegmented_surfels", r.unsegmented},
+                    {"evaluated", r.evaluated},
+                    {"best_segment", r.best_segment},
+                    {"iou", r.iou},
+                    {"recovered", r.recovered},
+                    {"dominant_segment", r.dominant_segment},
+                    {"segments", r.owned_segments},
+                    {"undersegmented", r.undersegmented},
+                    {"merged_with", r.merged_with}});
+  }
+  j["objects"] = std::move(rows);
+  return j;
+}
+
 int evalSegmentation(const ParsedArgs& args) {
   const RunEvalOptions o = runEvalOptionsOf(args);
   const std::string json = o.json, world_opt = o.world;
@@ -347,131 +499,23 @@ int evalSegmentation(const ParsedArgs& args) {
       counters ? rasm::segmentation::labelChangesPerStableSurfel(counters->first, counters->second)
                : std::nan("");
 
-  // ---- summary ----
-  std::printf("segmentation of %s against world %s (%s)\n", ply.c_str(), world.name.c_str(),
-              world.source.c_str());
-  std::printf(
-      "  covers: %zu %ssurfels, %zu objects > %.2f m evaluated, %zu surfels unassigned "
-      "(> %.3g m from any surface)\n",
-      m.surfels, mp.stable_only ? "stable " : "", m.objects_evaluated, mp.min_object_size_m,
-      unassigned, max_dist);
-  std::printf(
-      "  world: %zu instances: %zu structure (floor/wall/ceiling/door), %zu objects, %zu of "
-      "them > %.2f m, %zu of those with < %zu surfels in the map (not evaluated)\n",
-      world.objects.size(), structure, m.objects_listed, m.objects_over_size, mp.min_object_size_m,
-      m.objects_unseen, mp.min_object_surfels);
-  std::printf("  map: %zu segments, %zu surfels with a segment (%.1f %%)\n", m.segments,
-              m.segmented_surfels, 100.0 * double(m.segmented_surfels) / double(m.surfels));
-  std::printf("  objects recovered (IoU > %.2f)   %zu / %zu = %s\n", mp.iou_threshold, m.recovered,
-              m.objects_evaluated, fmt(m.objects_recovered_fraction).c_str());
-  std::printf("  PQ %s = SQ %s x RQ %s   (TP %zu, FP %zu, FN %zu)\n", fmt(m.pq).c_str(),
-              fmt(m.sq).c_str(), fmt(m.rq).c_str(), m.tp, m.fp, m.fn);
-  std::printf("  segments per object              %s   (%zu objects own no segment)\n",
-              fmt(m.segments_per_object, "%.2f").c_str(), m.objects_without_segment);
-  std::printf("  under-segmented objects          %zu / %zu\n", m.undersegmented_objects,
-              m.objects_evaluated);
-  if (counters)
-    std::printf("  label changes per stable surfel  %s   (%llu changes, %llu stable surfels)\n",
-                fmt(lcps, "%.4f").c_str(), (unsigned long long)counters->first,
-                (unsigned long long)counters->second);
-  else
-    std::printf(
-        "  label changes per stable surfel  n/a (%s/report.json has no segmentation "
-        "counters)\n",
-        run.c_str());
-  const std::optional<Target> target = targetsOf(world.name);
-  const auto pass = [](double v, double t) { return std::isfinite(v) && v >= t; };
-  if (target) {
-    std::printf("  targets (%s): recovered >= %.2f %s (%s), PQ >= %.2f %s (%s)\n",
-                world.name.c_str(), target->recovered,
-                pass(m.objects_recovered_fraction, target->recovered) ? "PASS" : "MISS",
-                fmt(m.objects_recovered_fraction).c_str(), target->pq,
-                pass(m.pq, target->pq) ? "PASS" : "MISS", fmt(m.pq).c_str());
-  } else {
-    std::printf("  targets: none for world %s (office, cluttered_lab have them)\n",
-                world.name.c_str());
-  }
-  std::printf("  %8s %-18s %-16s %8s %7s %6s %5s %5s %s\n", "instance", "class", "name", "surfels",
-              "best", "IoU", "segs", "under", "");
-  for (const rasm::segmentation::ObjectResult& r : m.per_object) {
-    if (!r.evaluated) continue;
-    std::string note = r.recovered ? "recovered" : "";
-    if (r.undersegmented)
-      note += std::string(note.empty() ? "" : ", ") + "with " + std::to_string(r.merged_with);
-    std::printf("  %8u %-18s %-16s %8zu %7u %6.3f %5zu %5s %s\n", r.object.instance_id,
-                r.object.class_name.c_str(), r.object.name.c_str(), r.surfels, r.best_segment,
-                r.iou, r.owned_segments, r.undersegmented ? "yes" : "no", note.c_str());
-  }
-
-  if (!json.empty()) {
-    nlohmann::json j;
-    j["run"] = run;
-    j["map"] = ply;
-    j["world"] = world.name;
-    j["world_source"] = world.source;
-    j["surfels_in_file"] = map.size();
-    j["surfels"] = m.surfels;
-    j["stable_only"] = mp.stable_only;
-    j["surfels_unassigned"] = unassigned;
-    j["max_dist_m"] = max_dist;
-    j["segments"] = m.segments;
-    j["segmented_surfels"] = m.segmented_surfels;
-    j["iou_threshold"] = mp.iou_threshold;
-    j["min_object_size_m"] = mp.min_object_size_m;
-    j["min_object_surfels"] = mp.min_object_surfels;
-    j["instances_in_world"] = world.objects.size();
-    j["structure_instances"] = structure;
-    j["objects_in_world"] = m.objects_listed;
-    j["objects_over_min_size"] = m.objects_over_size;
-    j["objects_not_evaluated"] = m.objects_unseen;
-    j["objects_evaluated"] = m.objects_evaluated;
-    j["objects_recovered"] = m.recovered;
-    j["objects_recovered_fraction"] = num(m.objects_recovered_fraction);
-    j["pq"] = num(m.pq);
-    j["sq"] = num(m.sq);
-    j["rq"] = num(m.rq);
-    j["tp"] = m.tp;
-    j["fp"] = m.fp;
-    j["fn"] = m.fn;
-    j["segments_per_object"] = num(m.segments_per_object);
-    j["objects_without_segment"] = m.objects_without_segment;
-    j["undersegmented_objects"] = m.undersegmented_objects;
-    j["undersegmented_fraction"] = num(m.undersegmented_fraction);
-    j["label_changes_stable"] = counters ? nlohmann::json(counters->first) : nlohmann::json();
-    j["stable_surfels"] = counters ? nlohmann::json(counters->second) : nlohmann::json();
-    j["label_changes_per_stable_surfel"] = num(lcps);
-    if (target) {
-      j["targets"] = {
-          {"objects_recovered_fraction",
-           {{"target", target->recovered},
-            {"value", num(m.objects_recovered_fraction)},
-            {"pass", pass(m.objects_recovered_fraction, target->recovered)}}},
-          {"pq", {{"target", target->pq}, {"value", num(m.pq)}, {"pass", pass(m.pq, target->pq)}}}};
-    } else {
-      j["targets"] = nullptr;
-    }
-    nlohmann::json rows = nlohmann::json::array();
-    for (const rasm::segmentation::ObjectResult& r : m.per_object) {
-      rows.push_back({{"instance", r.object.instance_id},
-                      {"class_id", r.object.class_id},
-                      {"class", r.object.class_name},
-                      {"name", r.object.name},
-                      {"static", r.object.is_static},
-                      {"size_m", r.object.size_m},
-                      {"surfels", r.surfels},
-                      {"unsegmented_surfels", r.unsegmented},
-                      {"evaluated", r.evaluated},
-                      {"best_segment", r.best_segment},
-                      {"iou", r.iou},
-                      {"recovered", r.recovered},
-                      {"dominant_segment", r.dominant_segment},
-                      {"segments", r.owned_segments},
-                      {"undersegmented", r.undersegmented},
-                      {"merged_with", r.merged_with}});
-    }
-    j["objects"] = std::move(rows);
-    writeJsonAtomically(json, j);
-  }
+  SegmentationEvaluation e;
+  e.run = run;
+  e.ply = ply;
+  e.world_name = world.name;
+  e.world_source = world.source;
+  e.surfels_in_file = map.size();
+  e.unassigned = unassigned;
+  e.structure = structure;
+  e.instances_in_world = world.objects.size();
+  e.max_dist = max_dist;
+  e.mp = mp;
+  e.m = m;
+  e.counters = counters;
+  e.lcps = lcps;
+  e.target = targetsOf(world.name);
+  printSegmentationSummary(e);
+  if (!json.empty()) writeJsonAtomically(json, segmentationJson(e));
   return 0;
 }
 

@@ -17,6 +17,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev googletest
   xvfb xauth netpbm x11-apps xdotool         # optional: screenshots of RawLogViewer / SceneViewer3D
   clang-format clang-tidy                    # scripts/format.sh, scripts/tidy.sh
+  graphviz                                   # scripts/module-graph.sh: docs/images/modules.svg
   clang libclang-rt-14-dev libomp-14-dev     # scripts/fuzz.sh: libFuzzer + ASan/UBSan, OpenMP for clang
   parallel                                   # GNU parallel: scripts/sweep.sh runs a sweep's tasks locally
   python3                                    # scripts/scoreboard.sh: metrics and the results table
