@@ -119,10 +119,10 @@ TEST(PoseConsensus, AnObjectSeenFromTwoViewsIsReleasedAndFalseMatchesAreNot) {
   const Eigen::Matrix3d R_true =
       Eigen::AngleAxisd(40 * kDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   PoseConsensus consensus(30.0, 10.0);
-  const auto first =
-      consensus.add(7, 3,
-                    observation(viewpoint(R_true, Eigen::Vector3d::Zero(), cameraAt(30), true),
-                                viewFrom(30), 5, 7, 3));
+  PoseObservation seen_first = observation(
+      viewpoint(R_true, Eigen::Vector3d::Zero(), cameraAt(30), true), viewFrom(30), 5, 7, 3);
+  seen_first.surfels = {11, 12, 13};  // the segment's surfels when it was seen
+  const auto first = consensus.add(7, 3, seen_first);
   EXPECT_FALSE(first.this_one);
   EXPECT_TRUE(first.evidence.empty());
   EXPECT_EQ(consensus.heldDetections(), 1u);
@@ -131,10 +131,11 @@ TEST(PoseConsensus, AnObjectSeenFromTwoViewsIsReleasedAndFalseMatchesAreNot) {
                     observation(viewpoint(R_true, Eigen::Vector3d::Zero(), cameraAt(60), true),
                                 viewFrom(60), 10, 7, 3));
   EXPECT_TRUE(second.this_one);
-  EXPECT_EQ(second.detections, 2);
-  ASSERT_EQ(second.evidence.size(), 2u);  // the held one and this one
-  ASSERT_EQ(second.earlier_frames.size(), 1u);
-  EXPECT_EQ(second.earlier_frames[0], 5u);  // the object layer counts it as detected there
+  EXPECT_EQ(second.evidence.size(), 1u);  // this one's
+  ASSERT_EQ(second.earlier.size(), 1u);   // and the held one, with its frame and surfels
+  EXPECT_EQ(second.earlier[0].frame, 5u);
+  EXPECT_EQ(second.earlier[0].evidence.size(), 1u);
+  EXPECT_EQ(second.earlier[0].surfels, (std::vector<std::int32_t>{11, 12, 13}));
   EXPECT_EQ(consensus.heldDetections(), 0u);
   EXPECT_EQ(consensus.releasedDetections(), 2u);
 
@@ -199,6 +200,9 @@ TEST(PoseConsensus, HeldEvidenceFollowsTheSegmentsItWasOn) {
   EXPECT_EQ(consensus.heldDetections(), 1u);
   const auto released = consensus.add(5, 1, observation(b, viewFrom(40), 5, 5, 1));
   ASSERT_TRUE(released.this_one);
-  ASSERT_EQ(released.evidence.size(), 2u);
-  for (const SegmentEvidence& e : released.evidence) EXPECT_EQ(e.segment, 5u);
+  ASSERT_EQ(released.evidence.size(), 1u);
+  ASSERT_EQ(released.earlier.size(), 1u);
+  ASSERT_EQ(released.earlier[0].evidence.size(), 1u);
+  EXPECT_EQ(released.evidence[0].segment, 5u);
+  EXPECT_EQ(released.earlier[0].evidence[0].segment, 5u);  // followed the merge of 3 into 5
 }

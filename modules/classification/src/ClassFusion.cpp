@@ -113,6 +113,23 @@ FusionCounts fuseSegmentEvidence(const maps::SurfelArrays& a,
   return counts;
 }
 
+FusionCounts fuseSurfelListEvidence(const maps::SurfelArrays& a,
+                                    const std::vector<std::int32_t>& indices,
+                                    const std::vector<SegmentEvidence>& evidence) {
+  FusionCounts counts;
+  if (evidence.empty() || a.n_classes == 0) return counts;
+  for (const std::int32_t i : indices) {
+    if (i < 0 || i >= a.size || !a.alive(i)) continue;
+    for (const SegmentEvidence& e : evidence) {
+      if (e.class_id <= 0 || e.class_id > a.n_classes) continue;
+      const auto r = maps::classEvidenceAdd(a.class_ev[i], e.class_id, evidenceLogitUnits(e));
+      ++counts.surfels;
+      counts.dropped += r == maps::kClassDropped;
+    }
+  }
+  return counts;
+}
+
 std::vector<SegmentClass> segmentClasses(const maps::SurfelArrays& a) {
   // Per segment: surfel count and, per class with evidence, the sum of (p - 0.5) over the
   // surfels that hold it; the mean posterior is 0.5 + sum / count.

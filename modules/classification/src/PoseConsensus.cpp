@@ -79,20 +79,19 @@ PoseConsensus::Released PoseConsensus::add(std::uint32_t segment, int class_id,
     agreed = true;
     if (!earlier.released) {
       earlier.released = true;
-      ++out.detections;
-      out.earlier_frames.push_back(earlier.frame);
-      out.evidence.insert(out.evidence.end(), earlier.evidence.begin(), earlier.evidence.end());
+      out.earlier.push_back(
+          {earlier.frame, std::move(earlier.evidence), std::move(earlier.surfels)});
       earlier.evidence.clear();
+      earlier.surfels.clear();
     }
   }
   if (agreed) {
     observation.released = out.this_one = true;
-    ++out.detections;
-    out.evidence.insert(out.evidence.end(), observation.evidence.begin(),
-                        observation.evidence.end());
+    out.evidence = std::move(observation.evidence);
     observation.evidence.clear();
+    observation.surfels.clear();  // only a held detection needs them
   }
-  m_released += std::size_t(out.detections);
+  m_released += out.earlier.size() + (out.this_one ? 1 : 0);
   list.push_back(std::move(observation));
   if (list.size() > kMaxObservationsPerKey) list.erase(list.begin());
   return out;

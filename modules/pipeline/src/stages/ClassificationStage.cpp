@@ -141,6 +141,8 @@ void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p, maps::
   view.detector = r.worker;
   view.segment_pixels = segmentPixelCounts(p.labels);
   std::vector<SegmentEvidence>& evidence = view.evidence;
+  std::map<std::uint32_t, std::vector<std::int32_t>> held_surfels =
+      surfelsOfPosedSegments(r, assoc, map);
   for (std::size_t d = 0; d < r.detections.size(); ++d) {
     if (assoc[d].segment == 0) continue;
     ++m_associated;
@@ -158,17 +160,12 @@ void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p, maps::
     const bool posed = det.pose.valid && det.bestIndex() >= 0 && det.bestIndex() < int(ids.size());
     if (posed && m_params.pose_consensus) {
       const int class_id = ids[std::size_t(det.bestIndex())];
-      const PoseConsensus::Released released =
-          consensus(det, assoc[d].segment, class_id, std::move(items), p, r.frame_index);
+      PoseConsensus::Released released =
+          consensus(det, assoc[d].segment, class_id, std::move(items), p, r.frame_index,
+                    held_surfels.count(assoc[d].segment) ? held_surfels[assoc[d].segment]
+                                                         : std::vector<std::int32_t>{});
       evidence.insert(evidence.end(), released.evidence.begin(), released.evidence.end());
-      m_fused_per_segment[assoc[d].segment] += released.detections - int(released.this_one);
-      for (const std::size_t frame : released.earlier_frames) {  // detected there after all
-        DetectorView earlier;
-        earlier.frame = frame;
-        earlier.detector = r.worker;
-        earlier.detected_segments.push_back(assoc[d].segment);
-        m_object_map.addDetectorView(earlier);
-      }
+      fuseReleasedEarlier(released.earlier, assoc[d].segment, r.worker, map);
       if (!released.this_one) continue;  // held until another view agrees
     } else {
       evidence.insert(evidence.end(), items.begin(), items.end());
@@ -189,10 +186,53 @@ void ClassificationStage::fuseResult(const DetectorResult& r, Pending& p, maps::
   m_object_map.addDetectorView(view);
 }
 
+std::map<std::uint32_t, std::vector<std::int32_t>> ClassificationStage::surfelsOfPosedSegments(
+    const DetectorResult& r, const std::vector<Association>& assoc,
+    const maps::CSurfelMap& map) const {
+  // A held detection keeps at most this many surfels (an object the zero-shot classifier looks
+  // for is far smaller); a larger segment's evidence goes to the segment at release.
+  constexpr std::size_t kMaxHeldSurfels = 100000;
+  std::map<std::uint32_t, std::vector<std::int32_t>> out;
+  if (!m_params.pose_consensus) return out;
+  for (std::size_t d = 0; d < r.detections.size(); ++d)
+    if (assoc[d].segment != 0 && r.detections[d].pose.valid) out[assoc[d].segment];
+  if (out.empty()) return out;
+  const maps::SurfelArrays a = map.store().arrays();
+  for (int i = 0; i < a.size; ++i) {
+    if (!a.alive(i)) continue;
+    const auto it = out.find(a.segment[i]);
+    if (it != out.end() && it->second.size() <= kMaxHeldSurfels) it->second.push_back(i);
+  }
+  for (auto& [segment, list] : out)
+    if (list.size() > kMaxHeldSurfels) list.clear();
+  return out;
+}
+
+void ClassificationStage::fuseReleasedEarlier(std::vector<ReleasedDetection>& earlier,
+                                              std::uint32_t segment, int worker,
+                                              maps::CSurfelMap& map) {
+  for (ReleasedDetection& e : earlier) {
+    const maps::SurfelArrays a = map.store().arraysForClassEvidence();
+    const FusionCounts c = e.surfels.empty() ? fuseSegmentEvidence(a, e.evidence)
+                                             : fuseSurfelListEvidence(a, e.surfels, e.evidence);
+    m_surfel_updates += c.surfels;
+    m_dropped_updates += c.dropped;
+    ++m_fused_per_segment[segment];
+    DetectorView v;  // detected in its own frame after all, with its evidence
+    v.frame = e.frame;
+    v.detector = worker;
+    v.detected_segments.push_back(segment);
+    v.evidence = std::move(e.evidence);
+    for (SegmentEvidence& item : v.evidence) item.segment = segment;
+    m_object_map.addDetectorView(v);
+  }
+}
+
 PoseConsensus::Released ClassificationStage::consensus(const Detection& det, std::uint32_t segment,
                                                        int class_id,
                                                        std::vector<SegmentEvidence> items,
-                                                       const Pending& p, std::size_t frame) {
+                                                       const Pending& p, std::size_t frame,
+                                                       std::vector<std::int32_t> surfels) {
   const cv::Point2f centre(det.box.x + 0.5f * det.box.width, det.box.y + 0.5f * det.box.height);
   const Eigen::Vector3d ray_cam((centre.x - p.intrinsics.cx) / p.intrinsics.fx,
                                 (centre.y - p.intrinsics.cy) / p.intrinsics.fy, 1.0);
@@ -202,6 +242,7 @@ PoseConsensus::Released ClassificationStage::consensus(const Detection& det, std
   o.azimuth_period_deg = det.pose.azimuth_period_deg;
   o.frame = frame;
   o.evidence = std::move(items);
+  o.surfels = std::move(surfels);
   return m_pose_consensus.add(segment, class_id, std::move(o));
 }
 

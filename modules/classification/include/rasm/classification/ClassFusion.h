@@ -77,6 +77,13 @@ struct FusionCounts {
 FusionCounts fuseSegmentEvidence(const maps::SurfelArrays& surfels,
                                  const std::vector<SegmentEvidence>& evidence);
 
+/// The same update applied to the listed surfels (indices into `surfels`; dead ones skipped)
+/// instead of a segment's: evidence that waited (PoseConsensus.h) lands on the surfels its
+/// detection saw, whichever segments they belong to now.
+FusionCounts fuseSurfelListEvidence(const maps::SurfelArrays& surfels,
+                                    const std::vector<std::int32_t>& indices,
+                                    const std::vector<SegmentEvidence>& evidence);
+
 /// The class of one segment: best and runner-up by mean posterior over its surfels.
 struct SegmentClass {
   std::uint32_t segment = 0;

@@ -55,7 +55,17 @@ struct PoseObservation {
   double azimuth_period_deg = 360.0;
   std::size_t frame = 0;
   std::vector<SegmentEvidence> evidence;  ///< the detection's items (emptied once released)
+  /// The surfels of its segment when it was seen (empty: the segment's at release); a held
+  /// detection's evidence is fused into these, whichever segments they belong to by then.
+  std::vector<std::int32_t> surfels;
   bool released = false;
+};
+
+/// An earlier detection released by a later one: its frame, evidence and surfels.
+struct ReleasedDetection {
+  std::size_t frame = 0;
+  std::vector<SegmentEvidence> evidence;
+  std::vector<std::int32_t> surfels;
 };
 
 class PoseConsensus {
@@ -64,10 +74,9 @@ class PoseConsensus {
                 double max_fraction_of_view_change = 0.7);
 
   struct Released {
-    std::vector<SegmentEvidence> evidence;    ///< to fuse now (this detection's and earlier held)
-    int detections = 0;                       ///< detections released now (this one included)
-    bool this_one = false;                    ///< whether the added detection is among them
-    std::vector<std::size_t> earlier_frames;  ///< the frames of the earlier ones released
+    std::vector<SegmentEvidence> evidence;   ///< this detection's, when released
+    bool this_one = false;                   ///< whether the added detection is released
+    std::vector<ReleasedDetection> earlier;  ///< held ones released by it
   };
   /// Adds a detection of `class_id` on `segment` (its evidence items name that segment) and
   /// returns what agreement releases now.

@@ -107,7 +107,17 @@ class ClassificationStage : public MapperStage {
   /// releases, its own evidence among them only once views agree.
   classification::PoseConsensus::Released consensus(
       const classification::Detection& det, std::uint32_t segment, int class_id,
-      std::vector<classification::SegmentEvidence> items, const Pending& p, std::size_t frame);
+      std::vector<classification::SegmentEvidence> items, const Pending& p, std::size_t frame,
+      std::vector<std::int32_t> surfels);
+  /// The surfels of each segment a posed detection of `r` went to (for the ones held; at most
+  /// 100 000 per segment, else none: that segment's evidence goes to the segment at release).
+  std::map<std::uint32_t, std::vector<std::int32_t>> surfelsOfPosedSegments(
+      const classification::DetectorResult& r,
+      const std::vector<classification::Association>& assoc, const maps::CSurfelMap& map) const;
+  /// Fuses held detections released now: into the surfels they saw (or their segment), and into
+  /// the object layer as detections of `segment` in their own frames.
+  void fuseReleasedEarlier(std::vector<classification::ReleasedDetection>& earlier,
+                           std::uint32_t segment, int worker, maps::CSurfelMap& map);
   void relabel(const std::vector<std::uint32_t>& table);
 
   SegmentationStage* m_segmentation;
