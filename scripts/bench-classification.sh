@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Speed of the full semantic loop of issue 17 (deliverable 7): tracking, fusion, segmentation,
-# Yolo-Fastest every 5th fused frame and the zero-shot classifier (office bank) on worker threads,
+# the default DNN detector for real data (NanoDet-m; --set dnn_detector.preset=yolo_fastest for
+# Yolo-Fastest) every 5th fused frame and the zero-shot classifier (office bank) on worker threads,
 # on 7-Scenes redkitchen (300 frames, preloaded so decoding is not timed). Prints the frame rate,
 # CPU ms per frame, per-stage means and each detector's ms per call and skipped frames, then the
 # same without classification for comparison. Run it on a quiet machine: it measures wall time.

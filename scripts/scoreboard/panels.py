@@ -128,17 +128,17 @@ class Panel:
     # -- task kinds -------------------------------------------------------------------------------
     def real(self, name, ini, folder, kind, evals=("track",), sets=(), max_frames=0):
         """A real sequence of DATA (skipped when absent): its INI (None: the embedded default with
-        [source] type = kind) plus the folder's path; 7-Scenes runs the DATA folder's detector."""
+        [source] type = kind) plus the folder's path and the DATA folder's detector."""
         path = os.path.join(self.data, folder)
         needs = [path]
         args = [ini] if ini else ["--set", f"source.type={kind}"]
         args += ["--set", f"source.path={path}", "--set", "output.write_ply=false"]
-        if kind == "7scenes":  # ini/7scenes_redkitchen.ini runs YOLO from DATA/detectors
-            yolo = os.path.join(self.data, "detectors", "yolo-fastest-1.1-coco")
-            needs.append(yolo)
-            args += ["--set", f"dnn_detector.model={yolo}/yolo-fastest-1.1.cfg",
-                     "--set", f"dnn_detector.weights={yolo}/yolo-fastest-1.1.weights",
-                     "--set", f"dnn_detector.names={yolo}/coco.names"]
+        # Every real source runs the default detector for real data (detectors = auto:
+        # NanoDet-m on a worker thread), its files from DATA/detectors.
+        nanodet = os.path.join(self.data, "detectors", "nanodet-m-320-onnx")
+        needs.append(nanodet)
+        args += ["--set", f"dnn_detector.model={nanodet}/nanodet.onnx",
+                 "--set", f"dnn_detector.names={nanodet}/coco.names"]
         args += OUTPUTS_OFF + list(sets)
         frames = {"tum/fr1_xyz_first37": 37, "tum/fr3_cabinet_keyframes": 58,
                   "7scenes/redkitchen_first300": 300}[folder]
