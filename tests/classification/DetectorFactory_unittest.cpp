@@ -4,7 +4,12 @@
 
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <mrpt/config/CConfigFileMemory.h>
+
 #include "rasm/classification/DetectorFactory.h"
+#include "rasm/classification/TClassificationParams.h"
+#include "rasm/core/Error.h"
+#include "rasm/core/Params.h"
 
 using namespace rasm::classification;
 
@@ -65,4 +70,54 @@ TEST(DetectorFactory, AddedKindsAreBuiltByNameInTheListedOrder) {
   ASSERT_EQ(built.warnings.size(), 2u);
   EXPECT_NE(built.warnings[0].find("zero_shot"), std::string::npos);
   EXPECT_NE(built.warnings[1].find("no_such_detector"), std::string::npos);
+}
+
+namespace {
+TClassificationParams loadClassification(const std::string& ini) {
+  mrpt::config::CConfigFileMemory cfg;
+  cfg.setContent(ini);
+  TClassificationParams p;
+  rasm::loadParamsStrict(cfg, "classification", p, "test.ini");
+  return p;
+}
+}  // namespace
+
+// detectors = auto and threaded = auto (the defaults): the simulator's detector on the mapping
+// thread for the simulator's frames, the DNN detector on a worker for any other source; what an
+// INI states stays; config.ini's form reloads to the same.
+TEST(ClassificationParams, AutoDetectorsAndThreadingFollowTheSource) {
+  TClassificationParams sim = loadClassification("[classification]\n");
+  EXPECT_EQ(sim.detectors, "auto");
+  EXPECT_TRUE(sim.threaded_auto);
+  TClassificationParams real = sim;
+  sim.resolveAuto(true);
+  real.resolveAuto(false);
+  EXPECT_EQ(sim.detectors, "sim_detector");
+  EXPECT_FALSE(sim.threaded);
+  EXPECT_EQ(real.detectors, "dnn_detector");
+  EXPECT_TRUE(real.threaded);
+  EXPECT_FALSE(real.threaded_auto);
+
+  TClassificationParams stated =
+      loadClassification("[classification]\ndetectors = zero_shot\nthreaded = 0\n");
+  stated.resolveAuto(false);
+  EXPECT_EQ(stated.detectors, "zero_shot");
+  EXPECT_FALSE(stated.threaded);
+  EXPECT_TRUE(loadClassification("[classification]\nthreaded = Yes\n").threaded);
+
+  mrpt::config::CConfigFileMemory saved;
+  real.saveToConfigFile(saved, "classification");
+  TClassificationParams reloaded;
+  reloaded.loadFromConfigFile(saved, "classification");
+  EXPECT_EQ(reloaded.detectors, "dnn_detector");
+  EXPECT_TRUE(reloaded.threaded);
+  EXPECT_FALSE(reloaded.threaded_auto);
+
+  try {
+    loadClassification("[classification]\nthreaded = sometimes\n");
+    ADD_FAILURE() << "threaded = sometimes was accepted";
+  } catch (const rasm::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("[classification] threaded"), std::string::npos)
+        << e.what();
+  }
 }

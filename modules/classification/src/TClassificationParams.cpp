@@ -2,6 +2,8 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 
+#include <cctype>
+
 #include "rasm/core/Error.h"
 #include "rasm/core/Params.h"
 
@@ -26,12 +28,13 @@ void TClassificationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
   detectors = c.read_string(s, "detectors", detectors);
   MRPT_LOAD_CONFIG_VAR(every_n_frames, int, c, s);
-  {
-    const std::string given =
+  {  // a bool as MRPT reads one (true / 1 / yes, false / 0 / no), or auto
+    std::string given =
         c.read_string(s, "threaded", threaded_auto ? "auto" : (threaded ? "true" : "false"));
-    requireOneOf(given, {"true", "false", "auto"}, s, "threaded");
+    for (char& ch : given) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    requireOneOf(given, {"true", "1", "yes", "false", "0", "no", "auto"}, s, "threaded");
     threaded_auto = given == "auto";
-    if (!threaded_auto) threaded = given == "true";
+    if (!threaded_auto) threaded = given == "true" || given == "1" || given == "yes";
   }
   MRPT_LOAD_CONFIG_VAR(min_iou, double, c, s);
   score_model = c.read_string(s, "score_model", score_model);
