@@ -181,7 +181,9 @@ TEST(ExplorationLoop, StopsWhenTheBestViewGainsTooLittle) {
   for (std::size_t k = 0; k < plans.size(); ++k) {
     EXPECT_TRUE(plans[k].at("low").get<bool>()) << "plan " << k;
     const bool idle = !plans[k].at("while_driving").get<bool>();
-    if (k + 1 < plans.size()) EXPECT_FALSE(idle && k + 1 >= 2) << "plan " << k << " could stop";
+    if (k + 1 < plans.size()) {
+      EXPECT_FALSE(idle && k + 1 >= 2) << "plan " << k << " could stop";
+    }
   }
   EXPECT_FALSE(plans.back().at("while_driving").get<bool>());
   fs::remove_all(out);

@@ -184,7 +184,9 @@ TEST(TrackingRobustness, LostLongerThanTheLimitComesBackOnlyByRelocalisation) {
     else if (lost_since < 0)
       lost_since = r.timestamp_s;
     const bool over = lost_since >= 0 && r.timestamp_s - lost_since > 0.1 + 1e-9;
-    if (!r.tracked) EXPECT_FALSE(r.fused) << "frame " << r.index;
+    if (!r.tracked) {
+      EXPECT_FALSE(r.fused) << "frame " << r.index;
+    }
     if (over && !r.relocalised) {
       EXPECT_EQ(r.tracking.status, tracking::TrackingStatus::NotInitialized)
           << "frame " << r.index << ": ICP tried after the limit";
