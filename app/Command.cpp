@@ -49,6 +49,16 @@ std::string usageOf(const CommandDecl& decl) {
   return usageText(decl, subcommandsOf(decl.name));
 }
 
+std::string missingSimulatorReason(const std::string& name) {
+#ifdef RASM_HAVE_MODULE_SIM
+  (void)name;
+  return {};
+#else
+  if (name != "sim" && name != "eval segmentation" && name != "eval classification") return {};
+  return "needs the simulator, and this rasm was built without it (-DRASM_WITH_SIM=OFF)";
+#endif
+}
+
 int runCommand(const std::string& name, const std::vector<std::string>& args) {
   std::vector<std::string> rest;
   const CommandInfo* info = resolveCommand(name, args, rest);
@@ -62,6 +72,8 @@ int runCommand(const std::string& name, const std::vector<std::string>& args) {
     std::cout << usageOf(info->decl);
     return 0;
   }
+  const std::string missing = missingSimulatorReason(name + " " + rest[0]);
+  if (!missing.empty()) throwInputError("rasm " + name + " " + rest[0], missing);
   std::string known;
   for (const CommandDecl* sub : subcommandsOf(name))
     known += (known.empty() ? "" : ", ") + sub->name.substr(name.size() + 1);

@@ -56,6 +56,10 @@ std::string usageOf(const CommandDecl& decl);
 /// an unknown subcommand is an InputError.
 int runCommand(const std::string& name, const std::vector<std::string>& args);
 
+/// Why this build has no command `name` ("sim", "eval segmentation"), when it is one that needs
+/// the simulator and the build has none (-DRASM_WITH_SIM=OFF); empty otherwise.
+std::string missingSimulatorReason(const std::string& name);
+
 /// Whether the arguments ask for help (--help or -h anywhere).
 bool wantsHelp(const std::vector<std::string>& args);
 

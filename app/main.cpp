@@ -69,6 +69,10 @@ int main(int argc, char** argv) {
   }
   const std::string name = std::string(argv[1]) == "--version" ? "version" : argv[1];
   const auto it = commands().find(name);
+  if (it == commands().end() && !missingSimulatorReason(name).empty()) {
+    std::cerr << "rasm " << name << ": " << missingSimulatorReason(name) << "\n";
+    return 2;
+  }
   if (it == commands().end() || name.find(' ') != std::string::npos) {
     std::cerr << "rasm: unknown command '" << forPeople(argv[1], true) << "' (try `rasm help`)\n";
     return 2;

@@ -6,8 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "rasm/autonomy/OraclePlanner.h"
-#include "rasm/autonomy/SimObjectScore.h"
+#include "rasm/autonomy/StableSurfels.h"
 #include "rasm/classification/ClassificationMetrics.h"
 #include "rasm/core/Error.h"
 #include "rasm/core/Timing.h"
@@ -19,8 +18,12 @@
 #include "rasm/pipeline/stages/ClassificationStage.h"
 #include "rasm/pipeline/stages/FusionStages.h"
 #include "rasm/pipeline/stages/TrackingStage.h"
+#ifdef RASM_HAVE_SIM
+#include "rasm/autonomy/OraclePlanner.h"
+#include "rasm/autonomy/SimObjectScore.h"
 #include "rasm/sim/SimulatedSequence.h"
 #include "rasm/sim/SurfaceCoverage.h"
+#endif
 
 namespace rasm::autonomy {
 
@@ -53,6 +56,7 @@ const char* sourceName(exploration::ViewCandidate::Source s) {
 }
 }  // namespace
 
+#ifdef RASM_HAVE_SIM
 namespace {
 /// The simulated robot stepped in the sequence's substeps between frames (RobotDriver.h), on the
 /// mapping thread at simulated times.
@@ -90,17 +94,18 @@ ExplorationLoop::ExplorationLoop(Mapper& mapper, sim::SimulatedSequence& seq,
   const sim::SimulatedDiffDriveRobot& robot = *seq.robot();
   // Coverage counts the surface this robot's camera could see (its height, pitch, field of view
   // and the mapper's depth range), not the ceiling or the undersides of desks.
-  m_coverage = std::make_unique<sim::SurfaceCoverage>(
+  m_coverage = std::make_shared<sim::SurfaceCoverage>(
       seq.scene().world(), seq.scene(),
       sim::coverageOptionsForRobot(robot.params(), seq.sensor().intrinsics(),
                                    mapper.mapperParams().max_depth_m));
-  m_object_score = std::make_unique<SimObjectScore>(seq.scene());
+  m_object_score = std::make_shared<SimObjectScore>(seq.scene());
   if (m_stage.params().planner == "oracle")  // the ground truth's planner (start() builds others)
     m_planner = std::make_unique<OraclePlanner>(
         *m_coverage, seq.scene(), m_stage.params(),
         mapper.stage<TrackingStage>().robotParams().T_base_cam(), seq.sensor().intrinsics());
   start(robot.params().footprintPolygon(), nav_params);
 }
+#endif  // RASM_HAVE_SIM
 
 ExplorationLoop::ExplorationLoop(Mapper& mapper, std::unique_ptr<RobotDriver> driver,
                                  const std::vector<Eigen::Vector2f>& footprint,
@@ -472,6 +477,7 @@ void ExplorationLoop::measure(double t) {
     m_metrics.push_back(row);
     return;
   }
+#ifdef RASM_HAVE_SIM
   row.coverage = m_coverage->evaluate(stable.positions).fraction;
   const SimObjectScore::Score objects = m_object_score->score(
       stable.positions, stable.segment,
@@ -479,6 +485,7 @@ void ExplorationLoop::measure(double t) {
   row.objects_total = objects.detectable;
   row.objects_ok = objects.correct;
   row.objects_correct = objects.fraction();
+#endif
   m_metrics.push_back(row);
 }
 
@@ -553,8 +560,10 @@ void ExplorationLoop::report(nlohmann::json& rep) const {
             "class, unseen ones included"
           : "none: no ground truth on a real robot (coverage and objects are not measured; "
             "exploration.json metrics carry time, path, entropy and surfels)"}};
+#ifdef RASM_HAVE_SIM
   if (const auto* oracle = dynamic_cast<const OraclePlanner*>(m_planner.get()))
     rep["exploration"]["oracle_reachable_fraction"] = oracle->reachableFraction();
+#endif
 }
 
 void ExplorationLoop::writeOutputs(OutputFolder& folder) const {

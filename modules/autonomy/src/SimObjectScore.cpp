@@ -37,19 +37,6 @@ SimObjectScore::Score SimObjectScore::score(
   return s;
 }
 
-StableSurfels stableSurfels(const maps::CSurfelMap& map) {
-  const maps::SurfelArrays a = map.store().arrays();
-  StableSurfels out;
-  out.positions.reserve(std::size_t(a.size));
-  out.segment.reserve(std::size_t(a.size));
-  for (int i = 0; i < a.size; ++i)
-    if (a.alive(i) && a.stable(i)) {
-      out.positions.push_back(a.position(i));
-      out.segment.push_back(a.segment[i]);
-    }
-  return out;
-}
-
 SimObjectScore::Score SimObjectScore::score(const maps::CSurfelMap& map,
                                             const ClassificationStage& classification) const {
   const StableSurfels s = stableSurfels(map);

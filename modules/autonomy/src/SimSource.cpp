@@ -25,7 +25,10 @@ std::unique_ptr<io::FrameSource> openSimSource(const std::string& sim_ini,
   return std::make_unique<sim::SimFrameSource>(params, camera, commanded);
 #else
   (void)sim_ini, (void)camera, (void)commanded, (void)commanded_rate_hz;
-  throwInputError(source + " [source] type = sim", "this build has no simulator (modules/sim)");
+  throwInputError(
+      source + " [source] type = sim",
+      "this rasm was built without the simulator (-DRASM_WITH_SIM=OFF): give a real source, "
+      "e.g. rasm run FOLDER");
 #endif
 }
 

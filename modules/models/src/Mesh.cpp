@@ -1,9 +1,11 @@
 #include "rasm/models/Mesh.h"
 
+#ifdef RASM_HAVE_ASSIMP
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
 #include <assimp/Importer.hpp>
+#endif
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -125,6 +127,11 @@ TriangleMesh makeExtrusion(const std::vector<Eigen::Vector2f>& poly, float z0, f
 TriangleMesh loadMesh(const std::string& path, const std::string& what) {
   if (!std::filesystem::is_regular_file(path))
     throwInputError(what, "mesh file '" + path + "' not found");
+#ifndef RASM_HAVE_ASSIMP
+  throwInputError(what, "cannot read mesh file '" + path +
+                            "': this rasm was built without the simulator (-DRASM_WITH_SIM=OFF), "
+                            "which brings the mesh reader (assimp); use a procedural model");
+#else
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(
       path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
@@ -154,6 +161,7 @@ TriangleMesh loadMesh(const std::string& path, const std::string& what) {
   visit(scene->mRootNode, aiMatrix4x4());
   if (out.triangles.empty()) throwInputError(what, "mesh file '" + path + "' holds no triangles");
   return out;
+#endif
 }
 
 void saveObj(const TriangleMesh& mesh, const std::string& path, const std::string& comment) {

@@ -139,6 +139,12 @@ MappingRun::MappingRun(const RunConfig& config) : m_config(config) {
 void MappingRun::decideExploring(const std::string& src) {
   const std::string& mode = m_mapper->stage<ExplorationStage>().loopParams().enabled;
   const std::string& robot = m_mapper->stage<TrackingStage>().robotParams().type;
+#ifndef RASM_HAVE_SIM
+  if (m_source.type == "sim")
+    throwInputError(src + " [source] type = sim",
+                    "this rasm was built without the simulator (-DRASM_WITH_SIM=OFF): give a real "
+                    "source, e.g. rasm run FOLDER");
+#endif
   if (robot == "sim" && m_source.type != "sim")
     throwInputError(src + " [robot] type = sim",
                     "needs [source] type = sim (got " + m_source.type + ")");
@@ -418,7 +424,7 @@ std::unique_ptr<io::FrameSource> MappingRun::wrapSource(std::unique_ptr<io::Fram
   if (const auto* sim_source = dynamic_cast<const sim::SimFrameSource*>(source.get())) {
     m_mapper->stage<ClassificationStage>().setSimScene(&sim_source->sequence().scene());
     if (!m_exploring && m_output.objects_score_period_s > 0)  // (the loop measures its own)
-      m_object_score = std::make_unique<SimObjectScore>(sim_source->sequence().scene());
+      m_object_score = std::make_shared<SimObjectScore>(sim_source->sequence().scene());
   }
 #endif
   preload_s = 0.0;
@@ -473,16 +479,10 @@ std::unique_ptr<io::FrameSource> MappingRun::wrapLive(std::unique_ptr<io::FrameS
 /// [exploration] workspace_*; no ground truth.
 void MappingRun::startRealExploration(robot::SegwayRmpRobot& robot,
                                       const Eigen::Isometry3d& T_base_cam) {
-#ifdef RASM_HAVE_SIM
   auto driver = std::make_unique<WallClockRobotDriver>(robot, m_navigation.period_s);
   driver->enableDepthScan(T_base_cam, m_segway.depthScanParams());
   m_loop = std::make_unique<ExplorationLoop>(*m_mapper, std::move(driver),
                                              m_segway.footprintPolygon(), m_navigation);
-#else
-  (void)T_base_cam;
-  throwInputError(robot.describe() + " [exploration] enabled = true",
-                  "this build has no navigation module (it comes with modules/sim)");
-#endif
 }
 
 /// Ranges "a-b,c" of sorted indices.

@@ -11,7 +11,9 @@
 #include "rasm/core/Timing.h"
 #include "rasm/pipeline/ClassLegend.h"
 #include "rasm/pipeline/OutputFiles.h"
+#ifdef RASM_HAVE_SIM
 #include "rasm/pipeline/SimDetector.h"
+#endif
 #include "rasm/pipeline/stages/SegmentationStage.h"
 #include "rasm/surfel_map/MapExport.h"
 
@@ -19,13 +21,34 @@ namespace rasm::pipeline {
 
 using namespace rasm::classification;
 
+namespace {
+/// Without the simulator (-DRASM_WITH_SIM=OFF) there is no sim_detector: an InputError that says
+/// so rather than a run without it.
+void requireBuiltDetectors(const TClassificationParams& params) {
+#ifdef RASM_HAVE_SIM
+  (void)params;
+#else
+  if (!params.enabled) return;
+  for (const std::string& name : params.detectorList())
+    if (name == "sim_detector")
+      throwInputError("[classification] detectors = " + params.detectors,
+                      "sim_detector: this rasm was built without the simulator "
+                      "(-DRASM_WITH_SIM=OFF); use dnn_detector or zero_shot");
+#endif
+}
+}  // namespace
+
 ClassificationStage::ClassificationStage(SegmentationStage* segmentation)
     : MapperStage("classification", {"cls_fuse"}), m_segmentation(segmentation) {
-  m_detector_sections.added.push_back(
-      {"sim_detector", &m_sim_detector, [this](const TClassificationParams& params) {
-         return std::make_unique<SimDetector>(m_sim_detector, m_sim_scene,
-                                              std::uint64_t(params.seed));
-       }});
+#ifdef RASM_HAVE_SIM
+  auto sim_params = std::make_unique<sim::TDetectorParams>();
+  const sim::TDetectorParams* sim_detector = sim_params.get();
+  m_sim_detector = std::move(sim_params);
+  const auto make = [this, sim_detector](const TClassificationParams& params) {
+    return std::make_unique<SimDetector>(*sim_detector, m_sim_scene, std::uint64_t(params.seed));
+  };
+  m_detector_sections.added.push_back({"sim_detector", m_sim_detector.get(), make});
+#endif
   if (m_segmentation)
     m_segmentation->addRelabelListener(
         [this](const std::vector<std::uint32_t>& table) { relabel(table); });
@@ -42,6 +65,7 @@ std::vector<ParamsSection> ClassificationStage::sections() {
 void ClassificationStage::configure(const TMapperParams& /*mapper*/) {
   if (m_started)
     throw std::logic_error("ClassificationStage: reconfigured after its detectors started");
+  requireBuiltDetectors(m_params);
 }
 
 void ClassificationStage::addDetector(std::unique_ptr<Detector> detector) {
@@ -64,6 +88,7 @@ void ClassificationStage::startWorkers(maps::CSurfelMap& map) {
   m_pose_consensus = PoseConsensus(m_params.pose_agreement_deg, m_params.pose_min_view_change_deg,
                                    m_params.pose_max_fraction_of_view_change);
   if (!m_params.enabled) return;
+  requireBuiltDetectors(m_params);
   DetectorBuild built = makeDetectors(m_params, m_detector_sections);
   for (auto& d : m_extra_detectors) built.detectors.push_back(std::move(d));
   m_extra_detectors.clear();

@@ -170,8 +170,10 @@ class ExplorationLoop {
   std::unique_ptr<navigation::Navigator> m_nav;  ///< null once released (finish())
   navigation::NavState m_nav_final = navigation::NavState::Idle;
   std::unique_ptr<exploration::ExplorationPlanner> m_planner;
-  std::unique_ptr<sim::SurfaceCoverage> m_coverage;
-  std::unique_ptr<SimObjectScore> m_object_score;
+  // The simulator's ground truth, null on a real robot (shared_ptr: without the simulator,
+  // -DRASM_WITH_SIM=OFF, these types stay incomplete and nothing creates them).
+  std::shared_ptr<sim::SurfaceCoverage> m_coverage;
+  std::shared_ptr<SimObjectScore> m_object_score;
   pipeline::MapSnapshot m_snapshot;
   // Localisation: the base pose estimated at the last frame and the odometry then.
   Eigen::Vector3d m_est_base = Eigen::Vector3d::Zero(), m_odo_at_est = Eigen::Vector3d::Zero();

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "rasm/autonomy/StableSurfels.h"
 #include "rasm/classification/ClassificationMetrics.h"
 
 namespace rasm::maps {
@@ -29,14 +30,6 @@ class ClassificationStage;
 }  // namespace rasm::pipeline
 
 namespace rasm::autonomy {
-
-/// The map proper: its alive, stable surfels (unstable ones come and go, II-B), their positions
-/// (world frame, m) and segment ids, index by index.
-struct StableSurfels {
-  std::vector<Eigen::Vector3f> positions;
-  std::vector<std::uint32_t> segment;
-};
-StableSurfels stableSurfels(const maps::CSurfelMap& map);
 
 class SimObjectScore {
  public:

@@ -35,7 +35,8 @@ TriangleMesh makeExtrusion(const std::vector<Eigen::Vector2f>& polygon_xy, float
 
 /// Loads every mesh of a file through assimp (triangulated, node transforms applied).
 /// Throws InputError naming `path` (and `what`, e.g. "world office.yaml objects[3].mesh") when
-/// the file is missing, unreadable or holds no triangles.
+/// the file is missing, unreadable or holds no triangles, and for every file in a build without
+/// the simulator (-DRASM_WITH_SIM=OFF), which has no assimp.
 TriangleMesh loadMesh(const std::string& path, const std::string& what = "mesh");
 
 /// Writes a Wavefront OBJ (vertices with 4 decimals, 1-based faces) with `comment` lines first.

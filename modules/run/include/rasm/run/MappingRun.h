@@ -204,8 +204,8 @@ class MappingRun {
   std::unique_ptr<pipeline::Mapper> m_mapper;
   std::unique_ptr<autonomy::ExplorationLoop> m_loop;  ///< exploring: the closed loop (V, VI)
   /// A simulated source that is not explored: objects correct against its world ([output]
-  /// objects_score_period_s).
-  std::unique_ptr<autonomy::SimObjectScore> m_object_score;
+  /// objects_score_period_s). (shared_ptr: an incomplete type without the simulator.)
+  std::shared_ptr<autonomy::SimObjectScore> m_object_score;
   bool m_exploring = false;                   ///< [exploration] enabled and the source decide
   std::vector<std::string> m_annotated_lost;  ///< annotated.rawlog: lost frames and why (200)
   std::function<std::unique_ptr<io::FrameSource>()> m_live_camera;  ///< setLiveCamera

@@ -32,7 +32,10 @@
 #include "rasm/classification/TObjectParams.h"
 #include "rasm/core/CameraIntrinsics.h"
 #include "rasm/pipeline/MapperStage.h"
-#include "rasm/sim/SimulatedDetector.h"
+
+namespace rasm::sim {
+class RayScene;
+}
 
 namespace rasm::pipeline {
 
@@ -125,7 +128,9 @@ class ClassificationStage : public MapperStage {
   classification::TObjectParams m_object_params;
   classification::ObjectMap m_object_map;
   classification::PoseConsensus m_pose_consensus;
-  sim::TDetectorParams m_sim_detector;  ///< [sim_detector], a kind of m_detector_sections
+  /// [sim_detector] (sim::TDetectorParams), a kind of m_detector_sections; null in a build
+  /// without the simulator.
+  std::unique_ptr<mrpt::config::CLoadableOptions> m_sim_detector;
   classification::DetectorSections m_detector_sections;
   const sim::RayScene* m_sim_scene = nullptr;
   classification::ClassList m_classes;
