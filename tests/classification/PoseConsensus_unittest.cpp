@@ -206,3 +206,26 @@ TEST(PoseConsensus, HeldEvidenceFollowsTheSegmentsItWasOn) {
   EXPECT_EQ(released.evidence[0].segment, 5u);
   EXPECT_EQ(released.earlier[0].evidence[0].segment, 5u);  // followed the merge of 3 into 5
 }
+
+TEST(PoseConsensus, OnlyTheNewestHeldDetectionsOfASegmentKeepTheirSurfels) {
+  const Eigen::Matrix3d R_true = Eigen::Matrix3d::Identity();
+  PoseConsensus consensus(30.0, 10.0);
+  const PoseHint a = viewpoint(R_true, Eigen::Vector3d::Zero(), cameraAt(0), true);
+  for (int k = 0; k < 10; ++k) {  // ten views from one place: all held
+    PoseObservation o = observation(a, viewFrom(0), std::size_t(k), 4, 1);
+    o.surfels = {k};
+    EXPECT_FALSE(consensus.add(4, 1, std::move(o)).this_one);
+  }
+  const PoseHint b = viewpoint(R_true, Eigen::Vector3d::Zero(), cameraAt(40), true);
+  const auto released = consensus.add(4, 1, observation(b, viewFrom(40), 10, 4, 1));
+  ASSERT_TRUE(released.this_one);
+  ASSERT_EQ(released.earlier.size(), 10u);
+  for (const ReleasedDetection& e : released.earlier) {
+    // The two oldest gave their surfels up (their evidence goes to the segment); the eight
+    // newest kept theirs.
+    if (e.frame < 2)
+      EXPECT_TRUE(e.surfels.empty()) << e.frame;
+    else
+      EXPECT_EQ(e.surfels, (std::vector<std::int32_t>{std::int32_t(e.frame)})) << e.frame;
+  }
+}

@@ -11,6 +11,9 @@ namespace {
 constexpr double kDegToRad = M_PI / 180.0;
 /// Observations kept per (segment, class); the oldest go first (a long live run).
 constexpr std::size_t kMaxObservationsPerKey = 128;
+/// Held observations per (segment, class) that keep their surfels; older ones fall back to the
+/// segment (a phantom held on a desk from every view would otherwise keep a copy per view).
+constexpr std::size_t kMaxHeldSurfelLists = 8;
 
 /// Columns x (right), y (down), z (forward) of a camera looking along `forward` whose up is
 /// `up` seen from there (renderTemplateView's construction).
@@ -94,6 +97,9 @@ PoseConsensus::Released PoseConsensus::add(std::uint32_t segment, int class_id,
   m_released += out.earlier.size() + (out.this_one ? 1 : 0);
   list.push_back(std::move(observation));
   if (list.size() > kMaxObservationsPerKey) list.erase(list.begin());
+  std::size_t lists = 0;  // newest first: the oldest held ones give theirs up
+  for (auto it = list.rbegin(); it != list.rend(); ++it)
+    if (!it->surfels.empty() && ++lists > kMaxHeldSurfelLists) it->surfels = {};
   return out;
 }
 

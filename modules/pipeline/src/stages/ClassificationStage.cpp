@@ -216,7 +216,7 @@ std::map<std::uint32_t, std::vector<std::int32_t>> ClassificationStage::surfelsO
     const maps::CSurfelMap& map) const {
   // A held detection keeps at most this many surfels (an object the zero-shot classifier looks
   // for is far smaller); a larger segment's evidence goes to the segment at release.
-  constexpr std::size_t kMaxHeldSurfels = 100000;
+  constexpr std::size_t kMaxHeldSurfels = 50000;
   std::map<std::uint32_t, std::vector<std::int32_t>> out;
   if (!m_params.pose_consensus) return out;
   for (std::size_t d = 0; d < r.detections.size(); ++d)

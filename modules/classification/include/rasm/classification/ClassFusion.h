@@ -77,9 +77,10 @@ struct FusionCounts {
 FusionCounts fuseSegmentEvidence(const maps::SurfelArrays& surfels,
                                  const std::vector<SegmentEvidence>& evidence);
 
-/// The same update applied to the listed surfels (indices into `surfels`; dead ones skipped)
-/// instead of a segment's: evidence that waited (PoseConsensus.h) lands on the surfels its
-/// detection saw, whichever segments they belong to now.
+/// The same update applied to the listed surfels (indices into `surfels`; dead ones skipped; a
+/// slot freed and reused since is not told apart) instead of a segment's: evidence that waited
+/// (PoseConsensus.h) lands on the surfels its detection saw, whichever segments they belong to
+/// now.
 FusionCounts fuseSurfelListEvidence(const maps::SurfelArrays& surfels,
                                     const std::vector<std::int32_t>& indices,
                                     const std::vector<SegmentEvidence>& evidence);

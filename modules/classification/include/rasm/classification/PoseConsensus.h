@@ -56,7 +56,8 @@ struct PoseObservation {
   std::size_t frame = 0;
   std::vector<SegmentEvidence> evidence;  ///< the detection's items (emptied once released)
   /// The surfels of its segment when it was seen (empty: the segment's at release); a held
-  /// detection's evidence is fused into these, whichever segments they belong to by then.
+  /// detection's evidence is fused into these, whichever segments they belong to by then. Only
+  /// the 8 newest held observations of a (segment, class) keep theirs.
   std::vector<std::int32_t> surfels;
   bool released = false;
 };

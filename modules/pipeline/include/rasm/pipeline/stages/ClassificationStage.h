@@ -113,7 +113,7 @@ class ClassificationStage : public MapperStage {
       std::vector<classification::SegmentEvidence> items, const Pending& p, std::size_t frame,
       std::vector<std::int32_t> surfels);
   /// The surfels of each segment a posed detection of `r` went to (for the ones held; at most
-  /// 100 000 per segment, else none: that segment's evidence goes to the segment at release).
+  /// 50 000 per segment, else none: that segment's evidence goes to the segment at release).
   std::map<std::uint32_t, std::vector<std::int32_t>> surfelsOfPosedSegments(
       const classification::DetectorResult& r,
       const std::vector<classification::Association>& assoc, const maps::CSurfelMap& map) const;
