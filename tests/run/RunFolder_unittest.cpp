@@ -24,12 +24,6 @@ using namespace rasm::run;
 using namespace rasm::run::testing;
 
 namespace {
-const std::string kSimRawlog =
-    std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
-
-void writeBytes(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
 
 /// Every entry of `dir` (hidden ones included) with its bytes, or "-> target" for a link.
 std::map<std::string, std::string> snapshot(const std::string& dir) {

@@ -24,19 +24,10 @@ using namespace rasm::run;
 using namespace rasm::run::testing;
 
 namespace {
-/// The simulated hand-held office rawlog of the repository: 20 frames at 320x240 with ground truth.
-const std::string kSimRawlog =
-    std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
-
 RunConfig rawlogConfig(const std::string& path, const std::string& out) {
   RunConfig cfg = RunConfig::fromString("[source]\ntype = rawlog\npath = " + path + "\n", "test");
   cfg.set("output", "dir", out);
   return cfg;
-}
-
-void writeBytes(const std::string& path, const std::string& bytes) {
-  std::ofstream f(path, std::ios::binary);
-  f << bytes;
 }
 
 /// Files an earlier run into the same folder would have left with its marker listing them (a

@@ -28,6 +28,15 @@
 
 namespace rasm::run::testing {
 
+/// The simulated hand-held office rawlog of the repository: 20 frames at 320x240 with ground truth.
+inline const std::string kSimRawlog =
+    std::string(RASM_SOURCE_DIR) + "/rawlogs/sim_office_handheld_320x240.rawlog";
+
+/// `bytes` as the whole content of `path` (binary).
+inline void writeBytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
 /// <temp>/rasm_test_<name>_<pid>, created empty (removed first if it exists; tests run as
 /// parallel processes). Created because a run's --out folder is made only in an existing one:
 /// tests write to tempDir(name) + "/out".

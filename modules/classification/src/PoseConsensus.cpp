@@ -1,5 +1,7 @@
 #include "rasm/classification/PoseConsensus.h"
 
+#include <mrpt/core/bits_math.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -8,7 +10,6 @@ namespace rasm::classification {
 
 namespace {
 
-constexpr double kDegToRad = M_PI / 180.0;
 /// Observations kept per (segment, class); the oldest go first (a long live run).
 constexpr std::size_t kMaxObservationsPerKey = 128;
 /// Held observations per (segment, class) that keep their surfels; older ones fall back to the
@@ -31,7 +32,8 @@ Eigen::Matrix3d lookFrame(const Eigen::Vector3d& forward, const Eigen::Vector3d&
 
 Eigen::Matrix3d impliedModelRotation(const PoseHint& pose, const Eigen::Matrix3d& R_world_cam,
                                      const Eigen::Vector3d& ray_cam) {
-  const double az = pose.azimuth_deg * kDegToRad, el = pose.elevation_deg * kDegToRad;
+  const double az = mrpt::DEG2RAD(double(pose.azimuth_deg)),
+               el = mrpt::DEG2RAD(double(pose.elevation_deg));
   // The template camera in the model frame: at `toward` from the centre, up = model +z.
   const Eigen::Vector3d toward(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
                                std::sin(el));
@@ -51,7 +53,7 @@ double orientationDisagreementDeg(const Eigen::Matrix3d& R_world_model_a,
     const Eigen::Matrix3d Dk =
         D * Eigen::AngleAxisd(-k * 2.0 * M_PI / n, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     const double c = std::clamp((Dk.trace() - 1.0) / 2.0, -1.0, 1.0);
-    best = std::min(best, std::acos(c) / kDegToRad);
+    best = std::min(best, mrpt::RAD2DEG(std::acos(c)));
   }
   return best;
 }
@@ -64,7 +66,7 @@ PoseConsensus::PoseConsensus(double agreement_deg, double min_view_change_deg,
 
 bool PoseConsensus::agree(const PoseObservation& a, const PoseObservation& b) const {
   const double cos_view = std::clamp(a.sight_world.dot(b.sight_world), -1.0, 1.0);
-  const double view_change_deg = std::acos(cos_view) / kDegToRad;
+  const double view_change_deg = mrpt::RAD2DEG(std::acos(cos_view));
   if (view_change_deg < m_min_view_change_deg) return false;
   const double period = std::max(a.azimuth_period_deg, b.azimuth_period_deg);
   const double apart_deg = orientationDisagreementDeg(a.R_world_model, b.R_world_model, period);
