@@ -41,7 +41,8 @@ inline bool variesBetweenIdenticalRuns(const std::string& key) {
     return key.size() >= t.size() && key.compare(key.size() - t.size(), t.size(), t) == 0;
   };
   return key == "ms" || ends_with("_ms") || key.rfind("ms_", 0) == 0 || ends_with("_utc") ||
-         key == "cpu_ms_per_frame" || key == "fps" || key == "seconds" || key == "rss_mb" || key == "peak_rss_mb";
+         key == "cpu_ms_per_frame" || key == "fps" || key == "seconds" || key == "rss_mb" ||
+         key == "peak_rss_mb";
 }
 
 inline void dropVaryingKeys(nlohmann::json& j) {

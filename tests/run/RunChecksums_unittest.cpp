@@ -18,8 +18,8 @@ using namespace rasm::run::testing;
 /// OPENCV_CPU_DISABLE=AVX512_SKX,AVX2,FMA3,AVX,POPCNT,SSE4_2,SSE4_1).
 TEST(RunChecksums, HandHeldRawlogRunIsByteIdenticalToTheStoredRun) {
   const std::string out = tempDir("checksums_rawlog") + "/out";
-  RunConfig cfg = RunConfig::fromString("[source]\ntype = rawlog\npath = " + kSimRawlog + "\n",
-                                        "test");
+  RunConfig cfg =
+      RunConfig::fromString("[source]\ntype = rawlog\npath = " + kSimRawlog + "\n", "test");
   cfg.set("output", "dir", out);
   cfg.set("classification", "detectors", "");
   cfg.set("output", "write_3dscene", "false");
