@@ -34,7 +34,8 @@ inline std::string crc32Hex(const std::string& bytes) {
   return buf;
 }
 
-/// True for a JSON key or CSV column that holds a wall-clock time, a rate or a memory peak.
+/// True for a JSON key or CSV column that holds a wall-clock time, a rate, a memory peak or the
+/// build that ran (report.json's rasm.commit and rasm.build_date).
 inline bool variesBetweenIdenticalRuns(const std::string& key) {
   const auto ends_with = [&](const char* s) {
     const std::string t(s);
@@ -42,7 +43,7 @@ inline bool variesBetweenIdenticalRuns(const std::string& key) {
   };
   return key == "ms" || ends_with("_ms") || key.rfind("ms_", 0) == 0 || ends_with("_utc") ||
          key == "cpu_ms_per_frame" || key == "fps" || key == "seconds" || key == "rss_mb" ||
-         key == "peak_rss_mb";
+         key == "peak_rss_mb" || key == "commit" || key == "build_date";
 }
 
 inline void dropVaryingKeys(nlohmann::json& j) {
@@ -138,7 +139,13 @@ inline void expectStoredChecksums(const std::string& run_case, const std::string
                                   const std::vector<std::string>& files,
                                   std::map<std::string, std::string> extra = {}) {
   std::map<std::string, std::string> crcs = std::move(extra);
-  for (const auto& name : files) crcs[name] = crc32Hex(deterministicContent(dir + "/" + name));
+  for (const auto& name : files) {
+    const std::string content = deterministicContent(dir + "/" + name);
+    crcs[name] = crc32Hex(content);
+    // What was compared, kept for a diff against a run of the commit before (RASM_CHECKSUM_DUMP).
+    if (const char* dump = std::getenv("RASM_CHECKSUM_DUMP"))
+      std::ofstream(std::string(dump) + "/" + run_case + "_" + name, std::ios::binary) << content;
+  }
   if (writingChecksums()) {
     writeStoredChecksums(run_case, crcs);
     return;
