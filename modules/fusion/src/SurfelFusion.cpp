@@ -272,14 +272,91 @@ IndexMapView SurfelFusion::renderIndexMap(maps::SurfelStore& map, const FusionIn
   return indexMap();
 }
 
+void SurfelFusion::tallyRow(const maps::SurfelArrays& arr, int y) {
+  const int t = threadId();
+  std::array<int, 7>& c = m_counts[t];
+  const std::uint16_t* f = m_flags.row(y);
+  const std::int32_t* ps = m_pixel_surfel.row(y);
+  int fresh = 0;
+  for (int x = 0; x < m_flags.width(); ++x) {
+    const std::uint16_t b = f[x];
+    if (!b) continue;
+    ++c[0];
+    c[1] += (b & kernels::kPixAssociated) != 0;
+    c[2] += (b & kernels::kPixFused) != 0;
+    c[3] += (b & kernels::kPixBecameStable) != 0;
+    if (b & kernels::kPixRelabelled) {
+      ++c[4];
+      c[6] += (arr.colour_flags[ps[x]] & maps::kSurfelStable) != 0;
+    }
+    c[5] += (b & kernels::kPixCovered) != 0;
+    fresh += (b & kernels::kPixNew) != 0;
+    if (b & kernels::kPixCrossedBlock) m_thread_lists[t].push_back(ps[x]);
+    if (b & kernels::kPixBecameStable) m_stable_lists[t].push_back(ps[x]);
+  }
+  m_row_offset[y + 1] = fresh;
+}
+
+void SurfelFusion::associateUpdateCpu(const kernels::AssociateKernel<kernels::ListCandidates>& ak,
+                                      const kernels::UpdateKernel& uk,
+                                      const kernels::CoverageKernel<kernels::ListCandidates>& ck,
+                                      const maps::SurfelArrays& arr) {
+  const int w = m_flags.width(), h = m_flags.height(), nt = compute::maxThreads();
+  const kernels::FusionKernelParams& prm = uk.prm;
+  const bool labels = prm.update_segments && !uk.frame.labels.empty();
+  const bool bins = prm.update_view_bins && arr.n_view_bins > 0;
+  // The association keeps each measured pixel's measurement for the update and the neighbour
+  // coverage, which would otherwise measure the pixel again (the same values:
+  // FrameView::measure); two rows per thread, as the coverage of row y - 1 follows the update of
+  // row y (below). Both launchers prefetch the surfels a few pixels ahead: they are spread over
+  // the map's memory. (SSE, bit-identical to the kernels.)
+  std::vector<std::vector<KeptMeasurement>> kept(nt, std::vector<KeptMeasurement>(2 * w));
+  const auto keptRow = [&](int y) { return kept[threadId()].data() + (y & 1) * w; };
+  if (bins) m_ic.build(prm.ic_lambda1, prm.ic_d_min_m);
+  const bool cover = prm.neighbour_coverage_check;
+  const auto coverRowMeasuring = [&](int y) {
+    for (int x = 0; x < w; ++x) ck(x, y);
+    tallyRow(arr, y);
+  };
+  // Row bands: in a band, row y is associated and updated, then the coverage of row y - 1 runs
+  // while its neighbourhood is in cache (rows y - 2 .. y are final). The first and last row of
+  // a band border another band: their coverage waits for every band.
+  const int nbands = nt <= 1 ? 1 : std::min(h, 4 * nt);
+  const auto band = [&](int b) {
+    return std::pair<int, int>(int(std::int64_t(h) * b / nbands),
+                               int(std::int64_t(h) * (b + 1) / nbands));
+  };
+#pragma omp parallel num_threads(nt)
+  {
+#pragma omp for schedule(dynamic, 1)
+    for (int b = 0; b < nbands; ++b) {
+      const auto [lo, hi] = band(b);
+      for (int y = lo; y < hi; ++y) {
+        associateRowCpu(ak, y, keptRow(y));
+        updateRowCpu(uk, y, keptRow(y), labels, bins, bins ? &m_ic : nullptr);
+        if (!cover) {
+          tallyRow(arr, y);
+        } else if (y - 1 > lo) {
+          coverRowCpu(ck, y - 1, keptRow(y - 1));
+          if (y - 1 < hi - 1) tallyRow(arr, y - 1);
+        }
+      }
+    }
+    if (cover) {
+#pragma omp for schedule(dynamic, 1)
+      for (int b = 0; b < nbands; ++b) {
+        const auto [lo, hi] = band(b);
+        if (hi > lo) coverRowMeasuring(lo);
+        if (hi - 1 > lo) coverRowMeasuring(hi - 1);
+      }
+    }
+  }
+}
+
 void SurfelFusion::updateSurfels(maps::SurfelStore& map, const FusionInput& in, FusionStats& st) {
   requirePass(Pass::Rendered, "updateSurfels");
   const auto t0 = Clock::now();
   const FrameSetup fs = setUpFrame(map, in);
-  const kernels::FusionKernelParams& prm = fs.prm;
-  const kernels::FrameView& fv = fs.fv;
-  const RigidF &T_wc = fs.T_wc, &T_cw = fs.T_cw;
-  const float now = fs.now;
   const int w = in.K.width, h = in.K.height;
 
   // 2. association (read-only, every pixel), then the update of the chosen surfels.
@@ -287,12 +364,12 @@ void SurfelFusion::updateSurfels(maps::SurfelStore& map, const FusionInput& in, 
   m_flags.resize(w, h);
   const maps::SurfelArrays arr = map.arrays();
   kernels::UpdateKernel uk;
-  uk.frame = fv;
-  uk.prm = prm;
+  uk.frame = fs.fv;
+  uk.prm = fs.prm;
   uk.s = arr;
-  uk.T_world_cam = T_wc;
-  uk.T_cam_world = T_cw;
-  uk.now = now;
+  uk.T_world_cam = fs.T_wc;
+  uk.T_cam_world = fs.T_cw;
+  uk.now = fs.now;
   uk.pixel_surfel = m_pixel_surfel.cview();
   uk.flags = m_flags.view();
   // On the CPU the carving verdict on each updated surfel is taken right after its update (its
@@ -300,9 +377,9 @@ void SurfelFusion::updateSurfels(maps::SurfelStore& map, const FusionInput& in, 
   // the cleanup on the centres the projection computed.
   uk.carve = cpu() && m_params.carve_free_space;
   uk.carve_test = carveTest(m_params, in);
-  // Per row, once its flags are final: statistics, the row's count of new surfels (the prefix
-  // sum below turns the counts into first indices) and the updated surfels that crossed a block
-  // border (re-binned in the spatial index).
+  // Per row, once its flags are final (tallyRow): statistics, the row's count of new surfels (the
+  // prefix sum below turns the counts into first indices) and the updated surfels that crossed a
+  // block border (re-binned in the spatial index).
   const int nt = compute::maxThreads();
   m_thread_lists.resize(nt);
   for (auto& l : m_thread_lists) l.clear();
@@ -310,48 +387,17 @@ void SurfelFusion::updateSurfels(maps::SurfelStore& map, const FusionInput& in, 
   for (auto& l : m_stable_lists) l.clear();
   m_counts.assign(nt, std::array<int, 7>{});
   m_row_offset.assign(h + 1, 0);
-  const auto tallyRow = [&](int y) {
-    const int t = threadId();
-    std::array<int, 7>& c = m_counts[t];
-    const std::uint16_t* f = m_flags.row(y);
-    const std::int32_t* ps = m_pixel_surfel.row(y);
-    int fresh = 0;
-    for (int x = 0; x < w; ++x) {
-      const std::uint16_t b = f[x];
-      if (!b) continue;
-      ++c[0];
-      c[1] += (b & kernels::kPixAssociated) != 0;
-      c[2] += (b & kernels::kPixFused) != 0;
-      c[3] += (b & kernels::kPixBecameStable) != 0;
-      if (b & kernels::kPixRelabelled) {
-        ++c[4];
-        c[6] += (arr.colour_flags[ps[x]] & maps::kSurfelStable) != 0;
-      }
-      c[5] += (b & kernels::kPixCovered) != 0;
-      fresh += (b & kernels::kPixNew) != 0;
-      if (b & kernels::kPixCrossedBlock) m_thread_lists[t].push_back(ps[x]);
-      if (b & kernels::kPixBecameStable) m_stable_lists[t].push_back(ps[x]);
-    }
-    m_row_offset[y + 1] = fresh;
-  };
   // Association and neighbour-coverage kernels over either candidate source (CPU lists, CUDA
   // 4x index map): the same frame, map, poses and per-pixel outputs.
   const auto setUpKernels = [&](auto& ak, auto& ck, const auto& candidates) {
-    ak.frame = fv;
-    ak.prm = prm;
-    ak.candidates = candidates;
-    ak.s = arr;
-    ak.T_world_cam = T_wc;
-    ak.pixel_surfel = m_pixel_surfel.view();
-    ak.flags = m_flags.view();
-    ck.frame = fv;
-    ck.prm = prm;
-    ck.candidates = candidates;
-    ck.s = arr;
-    ck.T_world_cam = T_wc;
-    ck.T_cam_world = T_cw;
-    ck.pixel_surfel = m_pixel_surfel.view();
-    ck.flags = m_flags.view();
+    ak.frame = ck.frame = fs.fv;
+    ak.prm = ck.prm = fs.prm;
+    ak.candidates = ck.candidates = candidates;
+    ak.s = ck.s = arr;
+    ak.T_world_cam = ck.T_world_cam = fs.T_wc;
+    ck.T_cam_world = fs.T_cw;
+    ak.pixel_surfel = ck.pixel_surfel = m_pixel_surfel.view();
+    ak.flags = ck.flags = m_flags.view();
   };
   if (cpu()) {
     kernels::ListCandidates lists;
@@ -363,84 +409,22 @@ void SurfelFusion::updateSurfels(maps::SurfelStore& map, const FusionInput& in, 
     kernels::AssociateKernel<kernels::ListCandidates> ak;
     kernels::CoverageKernel<kernels::ListCandidates> ck;
     setUpKernels(ak, ck, lists);
-    if (!compute::simdEnabled(compute::SimdPath::Fusion)) {
+    if (compute::simdEnabled(compute::SimdPath::Fusion)) {
+      associateUpdateCpu(ak, uk, ck, arr);
+    } else {
       // [compute] simd = false: the kernel bodies alone, in the CUDA path's order (association
       // of every pixel, update, then the neighbour coverage over the updated surfels).
       compute::forEach2D(w, h, ak);
       compute::forEach2D(w, h, uk);
-      if (prm.neighbour_coverage_check) compute::forEach2D(w, h, ck);
+      if (fs.prm.neighbour_coverage_check) compute::forEach2D(w, h, ck);
 #pragma omp parallel for schedule(static) num_threads(nt)
-      for (int y = 0; y < h; ++y) tallyRow(y);
-      st.ms_update = msSince(t0);
-      m_pass = Pass::Updated;
-      return;
-    }
-    const bool labels = prm.update_segments && !fv.labels.empty();
-    const bool bins = prm.update_view_bins && arr.n_view_bins > 0;
-    // The association keeps each measured pixel's measurement for the update and the neighbour
-    // coverage, which would otherwise measure the pixel again (the same values:
-    // FrameView::measure); two rows per thread, as the coverage of row y - 1 follows the update of
-    // row y (below). Both launchers prefetch the surfels a few pixels ahead: they are spread over
-    // the map's memory.
-    std::vector<std::vector<KeptMeasurement>> kept(nt, std::vector<KeptMeasurement>(2 * w));
-    const auto keptRow = [&](int y) { return kept[threadId()].data() + (y & 1) * w; };
-    const auto associateRow = [&](int y) {
-      associateRowCpu(ak, y, keptRow(y));  // (SSE, bit-identical)
-    };
-    if (bins) m_ic.build(prm.ic_lambda1, prm.ic_d_min_m);
-    const auto updateRow = [&](int y) {
-      updateRowCpu(uk, y, keptRow(y), labels, bins,
-                   bins ? &m_ic : nullptr);  // (SSE, bit-identical)
-    };
-    const bool cover = prm.neighbour_coverage_check;
-    const auto coverRow = [&](int y) {  // the band's own rows but its first and last: kept
-      coverRowCpu(ck, y, keptRow(y));
-    };
-    const auto coverRowMeasuring = [&](int y) {
-      for (int x = 0; x < w; ++x) ck(x, y);
-    };
-    // Row bands: in a band, row y is associated and updated, then the coverage of row y - 1 runs
-    // while its neighbourhood is in cache (rows y - 2 .. y are final). The first and last row of
-    // a band border another band: their coverage waits for every band.
-    const int nbands = nt <= 1 ? 1 : std::min(h, 4 * nt);
-#pragma omp parallel num_threads(nt)
-    {
-#pragma omp for schedule(dynamic, 1)
-      for (int b = 0; b < nbands; ++b) {
-        const int lo = int(std::int64_t(h) * b / nbands),
-                  hi = int(std::int64_t(h) * (b + 1) / nbands);
-        for (int y = lo; y < hi; ++y) {
-          associateRow(y);
-          updateRow(y);
-          if (!cover) {
-            tallyRow(y);
-          } else if (y - 1 > lo) {
-            coverRow(y - 1);
-            if (y - 1 < hi - 1) tallyRow(y - 1);
-          }
-        }
-      }
-      if (cover) {
-#pragma omp for schedule(dynamic, 1)
-        for (int b = 0; b < nbands; ++b) {
-          const int lo = int(std::int64_t(h) * b / nbands),
-                    hi = int(std::int64_t(h) * (b + 1) / nbands);
-          if (hi > lo) {
-            coverRowMeasuring(lo);
-            tallyRow(lo);
-          }
-          if (hi - 1 > lo) {
-            coverRowMeasuring(hi - 1);
-            tallyRow(hi - 1);
-          }
-        }
-      }
+      for (int y = 0; y < h; ++y) tallyRow(arr, y);
     }
   } else {
     kernels::Map4xCandidates map4x;
     map4x.index4x = m_index4x.packed.cview();
     map4x.s = arr;
-    map4x.T_cam_world = T_cw;
+    map4x.T_cam_world = fs.T_cw;
     map4x.width = w;
     map4x.height = h;
     kernels::AssociateKernel<kernels::Map4xCandidates> ak;
@@ -448,7 +432,7 @@ void SurfelFusion::updateSurfels(maps::SurfelStore& map, const FusionInput& in, 
     setUpKernels(ak, ck, map4x);
     cuda::associateUpdate(ak, uk, ck);
 #pragma omp parallel for schedule(static) num_threads(nt)
-    for (int y = 0; y < h; ++y) tallyRow(y);
+    for (int y = 0; y < h; ++y) tallyRow(arr, y);
   }
   st.ms_update = msSince(t0);
   m_pass = Pass::Updated;

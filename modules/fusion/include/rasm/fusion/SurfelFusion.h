@@ -174,6 +174,15 @@ class SurfelFusion {
   /// Redundant-surfel merging over the per-pixel candidate lists of the last integrate(): the
   /// losers go to `removed`, (loser, kept) pairs to m_merged, re-binned survivors to the index.
   void mergeCpu(maps::SurfelStore& map, std::vector<int>& removed);
+  /// Pass 2's counters of row y of m_flags (statistics, new surfels, re-binned and newly stable
+  /// surfels), into this thread's slots.
+  void tallyRow(const maps::SurfelArrays& arr, int y);
+  /// Pass 2 on the CPU: association, update and neighbour coverage in row bands through the SSE
+  /// launchers (FusionCpu.h), each row tallied once final.
+  void associateUpdateCpu(const kernels::AssociateKernel<kernels::ListCandidates>& ak,
+                          const kernels::UpdateKernel& uk,
+                          const kernels::CoverageKernel<kernels::ListCandidates>& ck,
+                          const maps::SurfelArrays& arr);
   void carveCpu(const maps::SurfelStore& map, const FusionInput& in, std::vector<int>& removed,
                 std::vector<int>& demoted);
   void carveIndexMap(maps::SurfelStore& map, const FusionInput& in, std::vector<int>& removed,
