@@ -1,4 +1,5 @@
 #include "rasm/autonomy/OraclePlanner.h"
+#include "rasm/core/Angles.h"
 #include "rasm/core/Log.h"
 
 #include <mrpt/math/wrap2pi.h>
@@ -22,7 +23,6 @@ namespace rasm::autonomy {
 
 namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr double kDeg = M_PI / 180.0;
 
 /// Targets binned by their xy in square cells, for the targets near a robot position.
 struct TargetBins {
@@ -144,9 +144,9 @@ void OraclePlanner::buildViewSets(const sim::RayScene& scene, const Eigen::Isome
   const double max_range_m = m_params.oracle_max_range_m > 0
                                  ? std::min(m_params.oracle_max_range_m, o.max_range_m)
                                  : o.max_range_m;
-  const float reach = float(max_range_m / std::cos(std::min(half_diag, 80.0 * kDeg)) +
+  const float reach = float(max_range_m / std::cos(std::min(half_diag, 80.0 * kRadPerDeg)) +
                             T_base_cam.translation().head<2>().norm() + 1e-3);
-  const float cos_inc = float(std::cos(std::clamp(o.max_incidence_deg, 0.0, 90.0) * kDeg));
+  const float cos_inc = float(std::cos(std::clamp(o.max_incidence_deg, 0.0, 90.0) * kRadPerDeg));
   const float rmin = float(o.min_range_m), rmax = float(max_range_m);
   const float fx = float(K.fx), fy = float(K.fy), cx = float(K.cx), cy = float(K.cy);
   const float umax = float(K.width) - 0.5f, vmax = float(K.height) - 0.5f;
@@ -325,7 +325,7 @@ double OraclePlanner::travelTime(const std::vector<float>& field, const Eigen::V
     turn = std::abs(mrpt::math::wrapToPi(dir - from_yaw)) +
            std::abs(mrpt::math::wrapToPi(m_poses[c].z() - dir));
   }
-  return len / m_params.speed_mps + turn / (m_params.turn_rate_degps * kDeg);
+  return len / m_params.speed_mps + turn / (m_params.turn_rate_degps * kRadPerDeg);
 }
 
 std::vector<int> OraclePlanner::greedyCover(const Eigen::Vector3d& start) const {
@@ -454,8 +454,8 @@ exploration::ViewCandidate OraclePlanner::candidate(std::size_t c, const std::ve
   const float len = field[c / std::size_t(m_headings)];
   v.path_length_m = std::isfinite(len) ? double(len) : 0.0;
   v.travel_time_s = travelTime(field, robot.head<2>(), robot.z(), c);
-  v.rotation_rad =
-      (v.travel_time_s - v.path_length_m / m_params.speed_mps) * (m_params.turn_rate_degps * kDeg);
+  v.rotation_rad = (v.travel_time_s - v.path_length_m / m_params.speed_mps) *
+                   (m_params.turn_rate_degps * kRadPerDeg);
   v.gain = double(gain(c));
   v.rate = v.gain / (v.travel_time_s + m_params.oracle_goal_overhead_s);
   return v;

@@ -1,4 +1,5 @@
 #include "rasm/fusion/SurfelFusion.h"
+#include "rasm/core/Angles.h"
 
 #include <algorithm>
 #include <array>
@@ -18,8 +19,6 @@ namespace rasm::fusion {
 
 namespace {
 
-constexpr float kDegToRad = 3.14159265358979f / 180.0f;
-
 RigidF toRigid(const Eigen::Isometry3d& T) {
   return RigidF::fromMatrix(T.matrix().cast<float>());
 }
@@ -30,10 +29,10 @@ kernels::FusionKernelParams plainParams(const TFusionParams& p,
   k.sigma = p.confidence_sigma;
   k.min_depth_m = p.min_depth_m;
   k.max_depth_m = p.max_depth_m;
-  k.min_cos_incidence = std::cos(p.max_incidence_deg * kDegToRad);
+  k.min_cos_incidence = std::cos(p.max_incidence_deg * kRadPerDegF);
   k.assoc_dz_abs_m = p.assoc_max_depth_diff_m;
   k.assoc_dz_rel = p.assoc_max_depth_diff_rel;
-  k.min_cos_normal = std::cos(p.assoc_max_normal_angle_deg * kDegToRad);
+  k.min_cos_normal = std::cos(p.assoc_max_normal_angle_deg * kRadPerDegF);
   k.radius_update_ratio = p.radius_update_ratio;
   k.average_radius = p.average_radius;
   k.neighbour_coverage_check = p.neighbour_coverage_check;
@@ -504,7 +503,7 @@ void SurfelFusion::mergeCpu(maps::SurfelStore& map, std::vector<int>& removed) {
   const maps::SurfelArrays a = map.arrays();
   const kernels::FusionKernelParams prm = plainParams(m_params, map.options());
   kernels::MergeTest test;
-  test.min_cos_normal = std::cos(m_params.merge_max_normal_angle_deg * kDegToRad);
+  test.min_cos_normal = std::cos(m_params.merge_max_normal_angle_deg * kRadPerDegF);
   test.dz_abs_m = m_params.assoc_max_depth_diff_m;
   test.dz_rel = m_params.assoc_max_depth_diff_rel;
   const std::uint64_t* excluded = m_remap_bits.data();
@@ -690,6 +689,44 @@ void SurfelFusion::carveIndexMap(maps::SurfelStore& map, const FusionInput& in,
   }
 }
 
+void SurfelFusion::remapPixelSurfels(const std::vector<int>& removed,
+                                     const std::vector<std::pair<int, int>>& moved, int old_size) {
+  // Keep pixelSurfels() valid: removed -> -1, moved -> new index. A bit per surfel index (kept
+  // between frames, set and cleared only for the affected ones) filters the pixels cheaply.
+  if (m_pixel_surfel.empty()) return;
+  RemapTable table(m_remap_table, removed.size() + moved.size());
+  if (m_remap_bits.size() < std::size_t(old_size / 64 + 1))
+    m_remap_bits.resize(old_size / 64 + 1, 0);
+  std::uint64_t* bits = m_remap_bits.data();
+  for (int i : removed) {
+    table.put(i, -1);
+    bits[i >> 6] |= std::uint64_t(1) << (i & 63);
+  }
+  for (const auto& [from, to] : moved) {  // `from` is never a removed one
+    table.put(from, to);
+    bits[from >> 6] |= std::uint64_t(1) << (from & 63);
+  }
+  // Merged surfels: their pixels now refer to the surfel they were merged into (where that
+  // one went). m_merged is in merge order and a kept surfel may itself be merged later in its
+  // pixel's chain: resolve from the last pair back.
+  for (auto it = m_merged.rbegin(); it != m_merged.rend(); ++it) {
+    std::int32_t v = it->second;
+    table.get(it->second, v);  // moved -> new index, removed (or merged on) -> its target
+    table.put(it->first, v);
+  }
+  const int w = m_pixel_surfel.width(), h = m_pixel_surfel.height();
+  compute::forEach1D(h, [&](int y) {
+    std::int32_t* r = m_pixel_surfel.row(y);
+    for (int x = 0; x < w; ++x) {
+      const std::int32_t i = r[x];
+      std::int32_t v;
+      if (i >= 0 && (bits[i >> 6] >> (i & 63) & 1u) && table.get(i, v)) r[x] = v;
+    }
+  });
+  for (int i : removed) bits[i >> 6] = 0;
+  for (const auto& fm : moved) bits[fm.first >> 6] = 0;
+}
+
 void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, FusionStats& st) {
   const auto t_start = std::chrono::steady_clock::now();
   const auto finish = [&] {
@@ -767,41 +804,7 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
   map.remove(removed, &moved);
   m_schedule.moved(moved, map.size());
 
-  // Keep pixelSurfels() valid: removed -> -1, moved -> new index. A bit per surfel index (kept
-  // between frames, set and cleared only for the affected ones) filters the pixels cheaply.
-  if (!m_pixel_surfel.empty()) {
-    RemapTable table(m_remap_table, removed.size() + moved.size());
-    if (m_remap_bits.size() < std::size_t(old_size / 64 + 1))
-      m_remap_bits.resize(old_size / 64 + 1, 0);
-    std::uint64_t* bits = m_remap_bits.data();
-    for (int i : removed) {
-      table.put(i, -1);
-      bits[i >> 6] |= std::uint64_t(1) << (i & 63);
-    }
-    for (const auto& [from, to] : moved) {  // `from` is never a removed one
-      table.put(from, to);
-      bits[from >> 6] |= std::uint64_t(1) << (from & 63);
-    }
-    // Merged surfels: their pixels now refer to the surfel they were merged into (where that
-    // one went). m_merged is in merge order and a kept surfel may itself be merged later in its
-    // pixel's chain: resolve from the last pair back.
-    for (auto it = m_merged.rbegin(); it != m_merged.rend(); ++it) {
-      std::int32_t v = it->second;
-      table.get(it->second, v);  // moved -> new index, removed (or merged on) -> its target
-      table.put(it->first, v);
-    }
-    const int w = m_pixel_surfel.width(), h = m_pixel_surfel.height();
-    compute::forEach1D(h, [&](int y) {
-      std::int32_t* r = m_pixel_surfel.row(y);
-      for (int x = 0; x < w; ++x) {
-        const std::int32_t i = r[x];
-        std::int32_t v;
-        if (i >= 0 && (bits[i >> 6] >> (i & 63) & 1u) && table.get(i, v)) r[x] = v;
-      }
-    });
-    for (int i : removed) bits[i >> 6] = 0;
-    for (const auto& fm : moved) bits[fm.first >> 6] = 0;
-  }
+  remapPixelSurfels(removed, moved, old_size);
   finish();
 }
 

@@ -1,4 +1,5 @@
 #include "rasm/models/ProceduralModels.h"
+#include "rasm/core/Angles.h"
 
 #include <cmath>
 #include <filesystem>
@@ -13,14 +14,12 @@ namespace {
 using V2 = Eigen::Vector2f;
 using V3 = Eigen::Vector3f;
 
-constexpr float kDeg = float(M_PI / 180.0);
-
 Eigen::Affine3f at(const V3& t, float yaw_deg = 0.f, float pitch_deg = 0.f, float roll_deg = 0.f) {
   Eigen::Affine3f T = Eigen::Affine3f::Identity();
   T.translate(t);
-  T.rotate(Eigen::AngleAxisf(yaw_deg * kDeg, V3::UnitZ()) *
-           Eigen::AngleAxisf(pitch_deg * kDeg, V3::UnitY()) *
-           Eigen::AngleAxisf(roll_deg * kDeg, V3::UnitX()));
+  T.rotate(Eigen::AngleAxisf(yaw_deg * kRadPerDegF, V3::UnitZ()) *
+           Eigen::AngleAxisf(pitch_deg * kRadPerDegF, V3::UnitY()) *
+           Eigen::AngleAxisf(roll_deg * kRadPerDegF, V3::UnitX()));
   return T;
 }
 
@@ -62,8 +61,8 @@ TriangleMesh mug() {
                               {0.036f, 0.008f},
                               {0.f, 0.008f}},
                              24);
-  addArcTube(m, V3(0.040f, 0.f, 0.050f), V3::UnitX(), V3::UnitZ(), 0.026f, -80 * kDeg, 80 * kDeg,
-             0.0065f, 10, 6);
+  addArcTube(m, V3(0.040f, 0.f, 0.050f), V3::UnitX(), V3::UnitZ(), 0.026f, -80 * kRadPerDegF,
+             80 * kRadPerDegF, 0.0065f, 10, 6);
   return m;
 }
 

@@ -1,4 +1,5 @@
 #include "rasm/navigation/Navigator.h"
+#include "rasm/core/Angles.h"
 
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/Clock.h>
@@ -21,7 +22,6 @@ namespace rasm::navigation {
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 // Simulated-clock epoch: robot time 0 maps to this (a zero timestamp is MRPT's INVALID_TIMESTAMP).
 constexpr double kEpoch_s = 1.0e9;
 
@@ -243,7 +243,8 @@ void Navigator::Impl::stepNavigating(double t, const Eigen::Vector3d& pose) {
   }
   // Target behind at the start: turn in place first rather than letting the forward PTGs loop
   // around; only once per goal (the reactive navigator's own detours may point away later).
-  if (facing && std::abs(bearing) > 10.0 * kDeg) return rotate(bearing, params.max_w_degps * kDeg);
+  if (facing && std::abs(bearing) > 10.0 * kRadPerDeg)
+    return rotate(bearing, params.max_w_degps * kRadPerDeg);
   facing = false;
   stepReactive(target());
 }
@@ -334,7 +335,7 @@ bool Navigator::Impl::corridorFree(double bearing_rad, double distance_m) const 
 double Navigator::Impl::mostOpenBearing(double goal_bearing_rad) const {
   double best = goal_bearing_rad, best_clear = -1.0, best_off = 0.0;
   for (int k = 0; k < 36; ++k) {
-    const double b = mrpt::math::wrapToPi(k * 10.0 * kDeg);
+    const double b = mrpt::math::wrapToPi(k * 10.0 * kRadPerDeg);
     const double clear = clearanceAlong_m(b),
                  off = std::abs(mrpt::math::wrapToPi(b - goal_bearing_rad));
     if (clear > best_clear + 0.05 || (clear > best_clear - 0.05 && off < best_off)) {
@@ -363,8 +364,8 @@ void Navigator::Impl::stepEscape(double t, const Eigen::Vector3d& pose) {
                     (pose.head<2>() - escape_from).norm() >= params.escape_distance_m;
   // Turn to 2 degrees, not the goal's heading tolerance: the open direction may pass a wall at
   // a centimetre, and 8 degrees off it the corridor ahead is blocked.
-  if (escape == Escape::Turning && std::abs(e) <= 2.0 * kDeg) escape = Escape::Driving;
-  if (escape == Escape::Turning && !done) return rotate(e, params.max_w_degps * kDeg);
+  if (escape == Escape::Turning && std::abs(e) <= 2.0 * kRadPerDeg) escape = Escape::Driving;
+  if (escape == Escape::Turning && !done) return rotate(e, params.max_w_degps * kRadPerDeg);
   const double v = std::min(0.5 * params.max_v_mps, frontClearance_m() / 1.0);
   if (done || v < 0.02) {
     robot.stop();
@@ -407,8 +408,8 @@ void Navigator::Impl::stepRetreat(double t, const Eigen::Vector3d& pose) {
   const Eigen::Vector2d to = trail.back() - pose.head<2>();
   const double rear = mrpt::math::wrapToPi(pose.z() + M_PI);
   const double e = mrpt::math::wrapToPi(std::atan2(to.y(), to.x()) - rear);
-  const double max_w = params.max_w_degps * kDeg;
-  if (std::abs(e) > 45.0 * kDeg)
+  const double max_w = params.max_w_degps * kRadPerDeg;
+  if (std::abs(e) > 45.0 * kRadPerDeg)
     return robot.setVelocityCommand(0.0, std::clamp(2.0 * e, -max_w, max_w));
   const double v = std::min({0.5 * params.max_v_mps, behind, to.norm() / params.period_s});
   robot.setVelocityCommand(-v * std::cos(e), std::clamp(2.0 * e, -max_w, max_w));
@@ -421,9 +422,9 @@ void Navigator::Impl::driveDirect(const Eigen::Vector3d& pose, const Eigen::Vect
   const Eigen::Vector2d to = target - pose.head<2>();
   const double d = to.norm();
   const double bearing = mrpt::math::wrapToPi(std::atan2(to.y(), to.x()) - pose.z());
-  const double max_w = params.max_w_degps * kDeg;
+  const double max_w = params.max_w_degps * kRadPerDeg;
   const double w = std::clamp(2.0 * bearing, -max_w, max_w);
-  if (std::abs(bearing) > 30.0 * kDeg) return robot.setVelocityCommand(0.0, w);
+  if (std::abs(bearing) > 30.0 * kRadPerDeg) return robot.setVelocityCommand(0.0, w);
   double v = std::min(params.max_v_mps, 0.8 * d) * std::cos(bearing);
   // At most what keeps 1 cm of the clearance ahead after one period: the robot may creep up to
   // an obstacle at the goal (a view next to a chair) instead of stopping 2 cm short for good.
@@ -440,8 +441,8 @@ void Navigator::Impl::driveLeg(const Eigen::Vector3d& pose, const Eigen::Vector2
   const Eigen::Vector2d to = target - pose.head<2>();
   const double d = to.norm();
   const double bearing = mrpt::math::wrapToPi(std::atan2(to.y(), to.x()) - pose.z());
-  const double max_w = params.max_w_degps * kDeg;
-  if (std::abs(bearing) > 10.0 * kDeg && d > 0.05) return rotate(bearing, max_w);
+  const double max_w = params.max_w_degps * kRadPerDeg;
+  if (std::abs(bearing) > 10.0 * kRadPerDeg && d > 0.05) return rotate(bearing, max_w);
   double v = std::min(params.max_v_mps, 0.8 * d) * std::cos(bearing);
   const double ahead_m =
       clearanceAlong_m(0.0, bodyRadius_m(), std::numeric_limits<double>::infinity());
@@ -452,14 +453,15 @@ void Navigator::Impl::driveLeg(const Eigen::Vector3d& pose, const Eigen::Vector2
 /// Rotation in place toward `heading_error_rad`: proportional, at least 10 deg/s so it converges,
 /// at most max_w_radps; the gain keeps one period's turn below the heading tolerance band.
 void Navigator::Impl::rotate(double heading_error_rad, double max_w_radps) {
-  const double mag = std::clamp(2.0 * std::abs(heading_error_rad), 10.0 * kDeg, max_w_radps);
+  const double mag = std::clamp(2.0 * std::abs(heading_error_rad), 10.0 * kRadPerDeg, max_w_radps);
   robot.setVelocityCommand(0.0, std::copysign(mag, heading_error_rad));
 }
 
 void Navigator::Impl::stepAligning(const Eigen::Vector3d& pose) {
   const double e = mrpt::math::wrapToPi(goal.z() - pose.z());
-  if (std::abs(e) <= params.heading_tolerance_deg * kDeg) return finish(NavState::Reached, "");
-  rotate(e, params.align_w_degps * kDeg);
+  if (std::abs(e) <= params.heading_tolerance_deg * kRadPerDeg)
+    return finish(NavState::Reached, "");
+  rotate(e, params.align_w_degps * kRadPerDeg);
 }
 
 Navigator::Navigator(robot::IRobot& robot, const TNavigationParams& params,
@@ -497,7 +499,7 @@ void Navigator::setGoal(const Eigen::Vector3d& goal_xyyaw,
   m.last_step_t = -std::numeric_limits<double>::infinity();  // step at the next update()
   const Eigen::Vector2d to = m.target() - pose.head<2>();
   m.facing = std::abs(mrpt::math::wrapToPi(std::atan2(to.y(), to.x()) - pose.z())) >
-             m.params.face_goal_deg * kDeg;
+             m.params.face_goal_deg * kRadPerDeg;
   m.escape = Impl::Escape::None;
   m.escapes = 0;
   m.retreating = m.retreat_pending && !m.trail.empty();

@@ -1,4 +1,5 @@
 #include "rasm/robot/SegwayRmpRobot.h"
+#include "rasm/core/Angles.h"
 #include "rasm/core/Log.h"
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -31,7 +32,6 @@ void sleepRest(Clock::time_point start, double slot_s) {
   const double rest = slot_s - secondsSince(start);
   if (rest > 0) std::this_thread::sleep_for(std::chrono::duration<double>(rest));
 }
-constexpr double kDeg = M_PI / 180.0;
 constexpr std::size_t kHistory = 1024;  ///< odometry samples kept for odometryAt (~10 s at 100 Hz)
 }  // namespace
 
@@ -66,7 +66,7 @@ void TSegwayRmpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
   requireInRange(rmp_max_velocity_mps, 0.01, 8.047, s, "rmp_max_velocity_mps");
   requireInRange(rmp_max_yaw_rate_radps, 0.01, 4.5, s, "rmp_max_yaw_rate_radps");
   requireInRange(max_v_mps, 0, rmp_max_velocity_mps, s, "max_v_mps");
-  requireInRange(max_w_degps, 0, rmp_max_yaw_rate_radps / kDeg, s, "max_w_degps");
+  requireInRange(max_w_degps, 0, rmp_max_yaw_rate_radps / kRadPerDeg, s, "max_w_degps");
   requireInRange(track_width_m, 0.2, 2.0, s, "track_width_m");
   requireInRange(footprint_length_m, 0.1, 3.0, s, "footprint_length_m");
   requireInRange(footprint_width_m, 0.1, 3.0, s, "footprint_width_m");
@@ -292,7 +292,7 @@ void SegwayRmpRobot::shutdown() {
 }
 
 void SegwayRmpRobot::setVelocityCommand(double v_mps, double w_radps) {
-  const double max_w = m_params.max_w_degps * kDeg;
+  const double max_w = m_params.max_w_degps * kRadPerDeg;
   std::lock_guard<std::mutex> lock(m_mx);
   m_cmd_v = std::isfinite(v_mps) ? std::clamp(v_mps, -m_params.max_v_mps, m_params.max_v_mps) : 0;
   m_cmd_w = std::isfinite(w_radps) ? std::clamp(w_radps, -max_w, max_w) : 0;

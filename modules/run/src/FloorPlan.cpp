@@ -1,4 +1,5 @@
 #include "rasm/run/FloorPlan.h"
+#include "rasm/core/Angles.h"
 
 #include <mrpt/system/string_utils.h>
 
@@ -16,7 +17,6 @@ namespace rasm::run {
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 constexpr double kSnapDeg = 5.0;  // an up found without gravity snaps to a world axis this close
 constexpr double kRefineConesDeg[] = {45.0, 20.0, 10.0};
 constexpr std::size_t kMinHorizontalSurfels = 100;
@@ -243,7 +243,7 @@ FloorPlanUp floorPlanUp(const FloorPlanInput& in) {
   // within a shrinking cone around the estimate (walls, 90 degrees off, never enter).
   const Eigen::Vector3d cameras_up = up;
   for (const double cone_deg : kRefineConesDeg) {
-    const double c = std::cos(cone_deg * kDeg);
+    const double c = std::cos(cone_deg * kRadPerDeg);
     Eigen::Vector3d n_sum = Eigen::Vector3d::Zero();
     std::size_t n = 0;
     for (const Eigen::Vector3f& nf : in.normals_world)
@@ -251,14 +251,14 @@ FloorPlanUp floorPlanUp(const FloorPlanInput& in) {
     if (n < kMinHorizontalSurfels || n_sum.norm() < 1e-9) break;
     up = n_sum.normalized();
     how = "the horizontal surfaces' normal (" + std::to_string(n) + " surfels; " +
-          fmt("%.1f", std::acos(std::clamp(up.dot(cameras_up), -1.0, 1.0)) / kDeg) +
+          fmt("%.1f", std::acos(std::clamp(up.dot(cameras_up), -1.0, 1.0)) / kRadPerDeg) +
           " deg from the cameras' up)";
   }
   int k = 0;
   for (int i = 1; i < 3; ++i)
     if (std::abs(up[i]) > std::abs(up[k])) k = i;
   const Eigen::Vector3d axis = Eigen::Vector3d::Unit(k) * (up[k] < 0 ? -1.0 : 1.0);
-  const double off_deg = std::acos(std::clamp(up.dot(axis), -1.0, 1.0)) / kDeg;
+  const double off_deg = std::acos(std::clamp(up.dot(axis), -1.0, 1.0)) / kRadPerDeg;
   const std::string name = std::string(up[k] < 0 ? "-" : "+") + "xyz"[k];
   if (off_deg <= kSnapDeg)
     return {axis, "up = world " + name + " (no gravity in the data: " + how + " is " +
@@ -276,7 +276,7 @@ double floorHeight(const FloorPlanInput& in, const Eigen::Vector3d& up) {
     std::nth_element(cam_h.begin(), cam_h.begin() + cam_h.size() / 2, cam_h.end());
     below = cam_h[cam_h.size() / 2] - kFloorBelowCameraM;
   }
-  const float cos_max = float(std::cos(kFloorNormalDeg * kDeg));
+  const float cos_max = float(std::cos(kFloorNormalDeg * kRadPerDeg));
   std::map<long, int> bins;
   std::vector<double> all;
   for (std::size_t i = 0; i < in.points_world.size(); ++i) {

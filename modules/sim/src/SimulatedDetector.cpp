@@ -145,6 +145,35 @@ cv::Rect2f jitteredBox(const MaskStats& m, double jitter, Draw& d, int w, int h)
   return cv::Rect2f(float(x0), float(y0), float(x1 - x0), float(y1 - y0));
 }
 
+/// Mask statistics (pixels, box, class) of every instance of the frame's ground-truth labels.
+std::map<int, MaskStats> instanceMasks(const RgbdFrame& f) {
+  const int w = f.gt_instance.width(), h = f.gt_instance.height();
+  // Mask statistics per instance in one pass (a slot table instead of a map lookup per pixel),
+  // then ordered by instance id: a deterministic draw order.
+  std::vector<std::int32_t> slot(65536, -1);
+  std::vector<std::pair<int, MaskStats>> found;
+  for (int y = 0; y < h; ++y) {
+    const std::uint16_t* ir = f.gt_instance.row(y);
+    const std::uint16_t* cr = f.gt_class.row(y);
+    for (int x = 0; x < w; ++x) {
+      if (!ir[x]) continue;
+      std::int32_t& k = slot[ir[x]];
+      if (k < 0) {
+        k = std::int32_t(found.size());
+        found.push_back({ir[x], MaskStats{}});
+      }
+      MaskStats& m = found[std::size_t(k)].second;
+      ++m.pixels;
+      m.x0 = std::min(m.x0, x), m.x1 = std::max(m.x1, x), m.y0 = std::min(m.y0, y),
+      m.y1 = std::max(m.y1, y);
+      m.class_id = cr[x];
+    }
+  }
+  std::sort(found.begin(), found.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  return std::map<int, MaskStats>(found.begin(), found.end());
+}
+
 }  // namespace
 
 SimulatedDetector::SimulatedDetector(const TDetectorParams& params, const RayScene* scene)
@@ -205,30 +234,7 @@ std::vector<Detection> SimulatedDetector::detect(const RgbdFrame& f, std::uint64
   if (f.gt_instance.empty() || f.gt_class.empty())
     throwInputError("SimulatedDetector", "frame has no ground-truth labels");
   const int w = f.gt_instance.width(), h = f.gt_instance.height();
-  // Mask statistics per instance in one pass (a slot table instead of a map lookup per pixel),
-  // then ordered by instance id: a deterministic draw order.
-  std::vector<std::int32_t> slot(65536, -1);
-  std::vector<std::pair<int, MaskStats>> found;
-  for (int y = 0; y < h; ++y) {
-    const std::uint16_t* ir = f.gt_instance.row(y);
-    const std::uint16_t* cr = f.gt_class.row(y);
-    for (int x = 0; x < w; ++x) {
-      if (!ir[x]) continue;
-      std::int32_t& k = slot[ir[x]];
-      if (k < 0) {
-        k = std::int32_t(found.size());
-        found.push_back({ir[x], MaskStats{}});
-      }
-      MaskStats& m = found[std::size_t(k)].second;
-      ++m.pixels;
-      m.x0 = std::min(m.x0, x), m.x1 = std::max(m.x1, x), m.y0 = std::min(m.y0, y),
-      m.y1 = std::max(m.y1, y);
-      m.class_id = cr[x];
-    }
-  }
-  std::sort(found.begin(), found.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
-  const std::map<int, MaskStats> masks(found.begin(), found.end());
+  const std::map<int, MaskStats> masks = instanceMasks(f);
   std::seed_seq seq{std::uint32_t(seed), std::uint32_t(seed >> 32), std::uint32_t(f.index),
                     std::uint32_t(std::uint64_t(f.index) >> 32), 0xDE7Eu};
   Draw d{std::mt19937_64(seq)};

@@ -1,4 +1,5 @@
 #include "rasm/sim/SurfaceCoverage.h"
+#include "rasm/core/Angles.h"
 
 #include <omp.h>
 
@@ -19,7 +20,6 @@ namespace rasm::sim {
 namespace {
 
 using V3 = Eigen::Vector3f;
-constexpr double kDeg = M_PI / 180.0;
 
 /// Lattice samples of one triangle (see the header); small triangles carry their area.
 void sampleTriangle(const V3& a, const V3& b, const V3& c, float s, int object, float& carry,
@@ -258,7 +258,7 @@ CoverageOptions coverageOptionsForRobot(const TRobotParams& robot, const CameraI
   const double up = std::atan((K.cy + 0.5) / K.fy);
   const double down = std::atan((double(K.height) - 0.5 - K.cy) / K.fy);
   // Symmetric field of view about the optical axis (cy is the image's middle in every preset).
-  o.vertical_fov_deg = (up + down) / kDeg;
+  o.vertical_fov_deg = (up + down) / kRadPerDeg;
   if (robot.footprint_radius_m > 0) {
     o.robot_radius_m = robot.footprint_radius_m;
   } else {
@@ -287,8 +287,13 @@ SurfaceCoverage::SurfaceCoverage(const World& world, const RayScene& scene,
   m_num_objects = world.objects.size();
   m_is_structure.resize(m_num_objects);
 
-  // 1. Samples.
-  const float s = float(opts.sample_spacing_m);
+  sampleSurfaces(world);
+  markObservable(world, scene);
+  indexObservableSamples();
+}
+
+void SurfaceCoverage::sampleSurfaces(const World& world) {
+  const float s = float(m_opts.sample_spacing_m);
   for (std::size_t oi = 0; oi < world.objects.size(); ++oi) {
     const WorldObject& obj = world.objects[oi];
     m_is_structure[oi] = models::isStructureClass(obj.class_id);
@@ -315,15 +320,17 @@ SurfaceCoverage::SurfaceCoverage(const World& world, const RayScene& scene,
       m_samples.push_back(smp);
     }
   }
+}
 
-  // 2. Observability.
-  m_positions = freePositions(world, opts);
-  const PositionGrid grid(m_positions, float(opts.position_spacing_m));
-  Visibility vis{scene.impl(), opts, grid};
-  const double pitch = opts.camera_pitch_deg * kDeg, half = 0.5 * opts.vertical_fov_deg * kDeg;
+void SurfaceCoverage::markObservable(const World& world, const RayScene& scene) {
+  m_positions = freePositions(world, m_opts);
+  const PositionGrid grid(m_positions, float(m_opts.position_spacing_m));
+  Visibility vis{scene.impl(), m_opts, grid};
+  const double pitch = m_opts.camera_pitch_deg * kRadPerDeg,
+               half = 0.5 * m_opts.vertical_fov_deg * kRadPerDeg;
   vis.tan_up = float(std::tan(std::clamp(pitch + half, -M_PI / 2 + 1e-6, M_PI / 2 - 1e-6)));
   vis.tan_down = float(std::tan(std::clamp(pitch - half, -M_PI / 2 + 1e-6, M_PI / 2 - 1e-6)));
-  vis.cos_inc = float(std::cos(std::clamp(opts.max_incidence_deg, 0.0, 90.0) * kDeg));
+  vis.cos_inc = float(std::cos(std::clamp(m_opts.max_incidence_deg, 0.0, 90.0) * kRadPerDeg));
   vis.cos_pitch = float(std::cos(pitch));
   vis.sin_pitch = float(std::sin(pitch));
   vis.cos_half_fov = float(std::cos(half));
@@ -333,9 +340,10 @@ SurfaceCoverage::SurfaceCoverage(const World& world, const RayScene& scene,
     Sample& smp = m_samples[std::size_t(i)];
     smp.observable = vis.observable(smp.position, smp.normal);
   }
+}
 
-  // 3. Cells of the observable samples.
-  m_cell = float(2.0 * opts.max_dist_m);
+void SurfaceCoverage::indexObservableSamples() {
+  m_cell = float(2.0 * m_opts.max_dist_m);
   Eigen::AlignedBox3f box;
   for (const Sample& smp : m_samples)
     if (smp.observable) box.extend(smp.position);

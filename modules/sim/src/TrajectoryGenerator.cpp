@@ -1,4 +1,5 @@
 #include "rasm/sim/TrajectoryGenerator.h"
+#include "rasm/core/Angles.h"
 
 #include <algorithm>
 #include <cmath>
@@ -32,8 +33,6 @@ namespace {
 using gen::num;
 using gen::Rng;
 using V3 = Eigen::Vector3d;
-
-constexpr double kDeg = M_PI / 180.0;
 
 /// Runs this thread's OpenMP regions on one thread while alive: the view check's 80 x 60 images
 /// are too small to share (on a busy machine, spinning worker threads made them 30x slower).
@@ -152,7 +151,8 @@ HandheldTrajectory trajectoryOf(const std::vector<Key>& keys) {
 /// Peak |rate| per camera axis (deg/s) over [t0, t1].
 V3 peakRates(const HandheldTrajectory& traj, double t0, double t1, double step = 1.0 / 240.0) {
   V3 peak = V3::Zero();
-  for (double t = t0; t < t1; t += step) peak = peak.cwiseMax(bodyRate(traj, t).cwiseAbs() / kDeg);
+  for (double t = t0; t < t1; t += step)
+    peak = peak.cwiseMax(bodyRate(traj, t).cwiseAbs() / kRadPerDeg);
   return peak;
 }
 
@@ -459,7 +459,7 @@ class HandheldDrafter {
   /// The first surface along (yaw, pitch) from `eye` when it belongs to an object or piece of
   /// furniture 0.8-3.2 m away and more than 0.5 m away horizontally (a look-at target).
   std::optional<V3> rayTarget(const V3& eye, double yaw_deg, double pitch_deg) const {
-    const double y = yaw_deg * kDeg, p = pitch_deg * kDeg;
+    const double y = yaw_deg * kRadPerDeg, p = pitch_deg * kRadPerDeg;
     const V3 d(std::cos(p) * std::cos(y), std::cos(p) * std::sin(y), std::sin(p));
     const RayHit h = m_scene.castRay(eye.cast<float>(), d.cast<float>(), 0.f, 3.2f);
     if (!h.hit || h.object < 0 ||
@@ -515,13 +515,13 @@ class HandheldDrafter {
     const Key &h = hs->first, &s = hs->second;
     if (h.pitch < -72.0 || h.pitch > 22.0 || s.pitch < -72.0 || s.pitch > 22.0) return std::nullopt;
     const Eigen::AngleAxisd aa(h.pose().linear().transpose() * s.pose().linear());
-    hs->second.t = h.t + std::max(0.15, 1.5 * (aa.angle() / kDeg) / 135.0);
+    hs->second.t = h.t + std::max(0.15, 1.5 * (aa.angle() / kRadPerDeg) / 135.0);
     return hs;
   }
 
   static void headingTo(const V3& d, double& yaw_deg, double& pitch_deg) {
-    yaw_deg = std::atan2(d.y(), d.x()) / kDeg;
-    pitch_deg = std::atan2(d.z(), d.head<2>().norm()) / kDeg;
+    yaw_deg = std::atan2(d.y(), d.x()) / kRadPerDeg;
+    pitch_deg = std::atan2(d.z(), d.head<2>().norm()) / kRadPerDeg;
   }
   V3 drift(const V3& p, double dist) {
     const double a = m_rng.uniform(-M_PI, M_PI);
@@ -764,7 +764,7 @@ GeneratedTrajectory generateRobotTrajectory(const GeneratedWorld& g, const World
     const Eigen::Vector2d a = c[std::size_t(leg)], b = c[std::size_t((leg + 1) % 4)];
     const Eigen::Vector2d s = 0.5 * (a + b);
     const V3 start(std::round(s.x() * 1000) / 1000, std::round(s.y() * 1000) / 1000,
-                   std::round(std::atan2(b.y() - a.y(), b.x() - a.x()) / kDeg * 10) / 10);
+                   std::round(std::atan2(b.y() - a.y(), b.x() - a.x()) / kRadPerDeg * 10) / 10);
     std::vector<Eigen::Vector2d> wps;
     for (int k = 1; k <= 4; ++k) {
       wps.push_back(c[std::size_t((leg + k) % 4)]);

@@ -1,4 +1,5 @@
 #include "rasm/tracking/IcpTracker.h"
+#include "rasm/core/Angles.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -42,7 +43,6 @@ const char* toString(TrackingStatus s) {
 
 namespace {
 
-constexpr double kDegToRad = M_PI / 180.0;
 /// Below this many inliers a level's system is not solved (6 unknowns; margin for noise).
 constexpr double kMinSolveInliers = 20;
 
@@ -171,7 +171,7 @@ kernels::PoseCheckCounts checkPoseCounts(const FrameLevel& F,
   k.T_model_world = toRigidF(T_world_model.inverse());
   k.base_gate_m = float(P.check_gate_m);
   k.noise_sigmas = float(P.check_noise_sigmas);
-  k.min_normal_cos = float(std::cos(P.check_max_normal_angle_deg * kDegToRad));
+  k.min_normal_cos = float(std::cos(P.check_max_normal_angle_deg * kRadPerDeg));
   k.occluder_margin_m = float(P.check_occluder_margin_m);
   return compute::reduce1D<kernels::PoseCheckCounts>(k.rows(), k);
 }
@@ -288,7 +288,7 @@ void judgeQuality(const TTrackingParams& P, bool diverged, bool check_failed, bo
   else if (res.rms_m > P.max_rms_m)
     res.status = TrackingStatus::HighResidual;
   else if (res.correction_translation_m > P.max_jump_translation_m ||
-           res.correction_rotation_rad > P.max_jump_rotation_deg * kDegToRad)
+           res.correction_rotation_rad > P.max_jump_rotation_deg * kRadPerDeg)
     res.status = TrackingStatus::ExcessiveMotion;
   else if (check_failed)
     res.status = TrackingStatus::Inconsistent;
@@ -564,7 +564,7 @@ TrackingResult IcpTracker::align(const std::vector<FrameLevel>& frame, const Mod
   if (!model_empty) buildModelPyramid(model, photometric, confidence);
   if (photometric) buildFrameIntensity(frame, frame_colour);
   const Eigen::Isometry3d T_model_world = model.T_world_model.inverse();
-  const double conv_rot_rad = P.convergence_rotation_deg * kDegToRad;
+  const double conv_rot_rad = P.convergence_rotation_deg * kRadPerDeg;
   const double prior_sigma2 = P.prior_pixel_sigma_m * P.prior_pixel_sigma_m;
   res.used_prior = prior != nullptr;
 
@@ -657,7 +657,7 @@ void IcpTracker::levelKernels(int l, const std::vector<FrameLevel>& frame, const
   }
   k.K_model = model.K.level(ml).plain();
   k.max_dist_m = float(P.max_dist_m[l]);
-  k.min_normal_cos = float(std::cos(P.max_normal_angle_deg[l] * kDegToRad));
+  k.min_normal_cos = float(std::cos(P.max_normal_angle_deg[l] * kRadPerDeg));
   k.huber_delta_m = float(P.huber_delta_m);
   k.depth_noise_weighting = P.depth_noise_weighting;
   k.depth_noise_incidence = P.depth_noise_incidence;

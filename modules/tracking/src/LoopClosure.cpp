@@ -1,4 +1,5 @@
 #include "rasm/tracking/LoopClosure.h"
+#include "rasm/core/Angles.h"
 
 #include <mrpt/graphs/CNetworkOfPoses.h>
 #include <mrpt/graphslam/levmarq.h>
@@ -14,8 +15,6 @@
 namespace rasm::tracking {
 
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 double angleOf(const Eigen::Matrix3d& R) {
   return Eigen::AngleAxisd(R).angle();
@@ -70,10 +69,11 @@ LoopClosure::Edge LoopClosure::chainEdge(const Node& a, const Node& b, double we
   e.Z = a.T.inverse() * b.T;
   e.sigma_m =
       std::max(m_params.chain_sigma_min_m, m_params.chain_sigma_m_per_m * e.Z.translation().norm());
-  const double turned_deg = angleOf(e.Z.linear()) / kDeg, travelled_m = e.Z.translation().norm();
-  e.sigma_rad = kDeg * std::max(m_params.chain_sigma_min_deg,
-                                std::hypot(m_params.chain_sigma_deg_per_deg * turned_deg,
-                                           m_params.chain_sigma_deg_per_m * travelled_m));
+  const double turned_deg = angleOf(e.Z.linear()) / kRadPerDeg,
+               travelled_m = e.Z.translation().norm();
+  e.sigma_rad = kRadPerDeg * std::max(m_params.chain_sigma_min_deg,
+                                      std::hypot(m_params.chain_sigma_deg_per_deg * turned_deg,
+                                                 m_params.chain_sigma_deg_per_m * travelled_m));
   const double weak =
       1.0 + (m_params.chain_sigma_weak_factor - 1.0) * std::clamp(weak_fraction, 0.0, 1.0);
   e.sigma_m *= weak;
@@ -134,7 +134,7 @@ LoopVerdict LoopClosure::judge(const Eigen::Isometry3d& T_active,
   // camera far from it more than one near it).
   const Eigen::Isometry3d rel = v.T_loop * T_active.inverse();
   v.correction_m = (v.T_loop.translation() - T_active.translation()).norm();
-  v.correction_deg = angleOf(rel.linear()) / kDeg;
+  v.correction_deg = angleOf(rel.linear()) / kRadPerDeg;
   v.path_m = pathLengthSince(t_old_s, T_active);
   v.bound_m = m_params.max_correction_m + m_params.drift_m_per_m * v.path_m;
   v.bound_deg = m_params.max_correction_deg + m_params.drift_deg_per_m * v.path_m;
@@ -152,7 +152,7 @@ bool LoopClosure::sameCorrection(const LoopVerdict& a, const LoopVerdict& b,
                                  const Eigen::Isometry3d& T_world_cam) const {
   const Eigen::Isometry3d Ta = a.correction * T_world_cam, Tb = b.correction * T_world_cam;
   const double d_m = translationDistance(Ta, Tb);
-  const double d_deg = rotationAngle(Ta, Tb) / kDeg;
+  const double d_deg = rotationAngle(Ta, Tb) / kRadPerDeg;
   return d_m <= m_params.min_correction_m + 0.25 * std::max(a.correction_m, b.correction_m) &&
          d_deg <= m_params.min_correction_deg + 0.25 * std::max(a.correction_deg, b.correction_deg);
 }
@@ -171,7 +171,7 @@ TrajectoryCorrection LoopClosure::close(double t_now_s, const Eigen::Isometry3d&
   loop.to = cur;
   loop.Z = m_nodes[old].T.inverse() * T_loop;
   loop.sigma_m = m_params.loop_sigma_m;
-  loop.sigma_rad = m_params.loop_sigma_deg * kDeg;
+  loop.sigma_rad = m_params.loop_sigma_deg * kRadPerDeg;
 
   using Graph = mrpt::graphs::CNetworkOfPoses3DInf;
   Graph g;

@@ -1,11 +1,11 @@
 #include "rasm/tracking/OdometryPrior.h"
+#include "rasm/core/Angles.h"
 
 #include <cmath>
 
 namespace rasm::tracking {
 
 namespace {
-constexpr double kDeg = M_PI / 180.0;
 
 Eigen::Isometry3d planar(double x, double y, double yaw) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -51,10 +51,10 @@ std::optional<MotionPrior> OdometryPrior::predict(const std::optional<Eigen::Vec
   const TRobotParams& p = m_params;
   // The heading's own noise: a gyro's scale error grows with the turn; the wheels' random walks
   // with the turn and the distance.
-  const double s_yaw_gyro = p.odometry_sigma_yaw_deg * kDeg + p.gyro_sigma_yaw_per_rad * a;
+  const double s_yaw_gyro = p.odometry_sigma_yaw_deg * kRadPerDeg + p.gyro_sigma_yaw_per_rad * a;
   const double s_yaw = m_heading_model == HeadingModel::Gyro
                            ? s_yaw_gyro
-                           : p.odometry_sigma_yaw_deg * kDeg +
+                           : p.odometry_sigma_yaw_deg * kRadPerDeg +
                                  p.odometry_sigma_yaw_per_sqrt_rad * std::sqrt(a) +
                                  p.odometry_sigma_yaw_per_sqrt_m * std::sqrt(d);
   // The camera is off the base's rotation centre: a yaw error moves it by lever * s_yaw.
@@ -66,7 +66,7 @@ std::optional<MotionPrior> OdometryPrior::predict(const std::optional<Eigen::Vec
   v.yaw = m_lost.yaw + s_yaw * s_yaw;
   v.yaw_gyro = m_lost.yaw_gyro + s_yaw_gyro * s_yaw_gyro;
   v.xy = m_lost.xy + s_xy_inc * s_xy_inc + m_lost.yaw * d * d;
-  const double s_tilt = p.odometry_sigma_tilt_deg * kDeg;
+  const double s_tilt = p.odometry_sigma_tilt_deg * kRadPerDeg;
   v.tilt = m_lost.tilt + s_tilt * s_tilt;
   v.z = m_lost.z + p.odometry_sigma_z_m * p.odometry_sigma_z_m;
   m_pending = v;
@@ -134,7 +134,7 @@ MotionPrior OdometryPrior::floorMeasurement(const Eigen::Isometry3d& T_world_cam
   const Eigen::Isometry3d T_floor_pred = projectToFloor(T_world_cam_pred);
   const Eigen::Matrix3d R_world_floorbase =
       T_floor_pred.linear() * m_T_base_cam.linear().transpose();
-  const double s_tilt = m_params.floor_prior_sigma_tilt_deg * kDeg;
+  const double s_tilt = m_params.floor_prior_sigma_tilt_deg * kRadPerDeg;
   MotionPrior prior = MotionPrior::fromStdDevs(
       T_floor_pred, R_world_floorbase,
       Eigen::Vector3d(sigma_xy_m, sigma_xy_m, m_params.floor_prior_sigma_z_m),

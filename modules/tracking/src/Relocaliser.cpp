@@ -1,4 +1,5 @@
 #include "rasm/tracking/Relocaliser.h"
+#include "rasm/core/Angles.h"
 
 #include <algorithm>
 #include <chrono>
@@ -21,7 +22,6 @@ using maps::Keyframe;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 constexpr int kDescBytes = Keyframe::kDescriptorBytes;
 
 /// Hamming distance of two 32-byte ORB descriptors.
@@ -101,8 +101,9 @@ double spacing(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
   const double inf = std::numeric_limits<double>::infinity();
   const double t =
       P.keyframe_translation_m > 0 ? translationDistance(a, b) / P.keyframe_translation_m : inf;
-  const double r =
-      P.keyframe_rotation_deg > 0 ? rotationAngle(a, b) / (P.keyframe_rotation_deg * kDeg) : inf;
+  const double r = P.keyframe_rotation_deg > 0
+                       ? rotationAngle(a, b) / (P.keyframe_rotation_deg * kRadPerDeg)
+                       : inf;
   return std::max(t, r);
 }
 

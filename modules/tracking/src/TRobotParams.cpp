@@ -1,4 +1,5 @@
 #include "rasm/tracking/TRobotParams.h"
+#include "rasm/core/Angles.h"
 
 #include <mrpt/config/CConfigFileBase.h>
 
@@ -10,16 +11,15 @@
 namespace rasm::tracking {
 
 Eigen::Isometry3d TRobotParams::T_base_cam() const {
-  constexpr double kDeg = M_PI / 180.0;
   // Optical axes in a body frame looking along the base's x: z (forward) = x, x (right) = -y,
   // y (down) = -z; then roll about the viewing direction, pitch (up positive), yaw.
   Eigen::Matrix3d R_body_optical;
   R_body_optical << 0, 0, 1, -1, 0, 0, 0, -1, 0;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = Eigen::Vector3d(camera_x_m, camera_y_m, camera_z_m);
-  T.linear() = (Eigen::AngleAxisd(camera_yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
-                Eigen::AngleAxisd(-camera_pitch_deg * kDeg, Eigen::Vector3d::UnitY()) *
-                Eigen::AngleAxisd(camera_roll_deg * kDeg, Eigen::Vector3d::UnitX()))
+  T.linear() = (Eigen::AngleAxisd(camera_yaw_deg * kRadPerDeg, Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(-camera_pitch_deg * kRadPerDeg, Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(camera_roll_deg * kRadPerDeg, Eigen::Vector3d::UnitX()))
                    .toRotationMatrix() *
                R_body_optical;
   return T;

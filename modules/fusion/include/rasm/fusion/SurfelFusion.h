@@ -183,6 +183,11 @@ class SurfelFusion {
                           const kernels::UpdateKernel& uk,
                           const kernels::CoverageKernel<kernels::ListCandidates>& ck,
                           const maps::SurfelArrays& arr);
+  /// Keeps pixelSurfels() valid after the cleanup removed `removed` and moved `moved` (from, to)
+  /// of a map that had `old_size` surfels: removed -> -1, moved -> new index, merged -> the
+  /// surfel it was merged into.
+  void remapPixelSurfels(const std::vector<int>& removed,
+                         const std::vector<std::pair<int, int>>& moved, int old_size);
   void carveCpu(const maps::SurfelStore& map, const FusionInput& in, std::vector<int>& removed,
                 std::vector<int>& demoted);
   void carveIndexMap(maps::SurfelStore& map, const FusionInput& in, std::vector<int>& removed,

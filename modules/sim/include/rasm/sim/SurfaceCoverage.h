@@ -125,6 +125,13 @@ class SurfaceCoverage {
   const std::vector<Eigen::Vector2f>& robotPositions() const { return m_positions; }
 
  private:
+  /// The constructor's steps: samples every sample_spacing_m over each object's triangles
+  /// (m_samples), marks those a robot's camera can observe, and indexes the observable ones by
+  /// cell.
+  void sampleSurfaces(const World& world);
+  void markObservable(const World& world, const RayScene& scene);
+  void indexObservableSamples();
+
   CoverageOptions m_opts;
   std::vector<Sample> m_samples;
   std::vector<Eigen::Vector2f> m_positions;
