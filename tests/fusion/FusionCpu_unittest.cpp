@@ -78,7 +78,19 @@ kernels::AssociateKernel<kernels::ListCandidates> listAssociateKernel(
 
 }  // namespace
 
-TEST(UpdateCpu, BitIdenticalToTheKernel) {
+/// View-bin layouts (azimuth sectors, elevation rings): the comparison-decided ones and one
+/// through fastAtan2 (12 x 5), all on the update's four lanes.
+class UpdateCpu : public ::testing::TestWithParam<std::pair<int, int>> {};
+INSTANTIATE_TEST_SUITE_P(ViewBinLayouts, UpdateCpu,
+                         ::testing::Values(std::make_pair(8, 2), std::make_pair(8, 1),
+                                           std::make_pair(8, 4), std::make_pair(12, 5)),
+                         [](const auto& info) {
+                           return std::to_string(info.param.first) + "x" +
+                                  std::to_string(info.param.second);
+                         });
+
+TEST_P(UpdateCpu, BitIdenticalToTheKernel) {
+  const auto [n_azimuth, n_elevation] = GetParam();
   // 37x6 pixels (partial lane groups), every pixel measured, ~80% associated with distinct
   // surfels in shuffled order (the last surfel too: its basis is read without the vector load).
   // The surfels cover every branch: geometry averaged or not (radius rule), radius shrunk or not,
@@ -132,8 +144,8 @@ TEST(UpdateCpu, BitIdenticalToTheKernel) {
   ASSERT_GT(associated, 100);
 
   maps::SurfelStoreOptions layout;
-  layout.view_bins_azimuth = 8;
-  layout.view_bins_elevation = 2;
+  layout.view_bins_azimuth = n_azimuth;
+  layout.view_bins_elevation = n_elevation;
   maps::SurfelStore store(layout);
   store.allocate(n_surfels);
   {
@@ -166,8 +178,8 @@ TEST(UpdateCpu, BitIdenticalToTheKernel) {
   k.frame.K = K.plain();
   k.frame.focal_px = 30.0f;
   k.prm.max_depth_m = 5.0f;
-  k.prm.n_azimuth = 8;
-  k.prm.n_elevation = 2;
+  k.prm.n_azimuth = n_azimuth;
+  k.prm.n_elevation = n_elevation;
   k.prm.inv_block_size = 8.0f;  // 12.5 cm blocks: some updates cross a border
   k.T_world_cam = T_wc;
   k.T_cam_world = RigidF::fromMatrix(T.inverse().matrix().cast<float>());

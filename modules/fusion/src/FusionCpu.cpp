@@ -23,62 +23,19 @@ inline void gatherRow(const Vec3f* row, const int* xs, int last_x, __m128& x, __
           xs[2] == last_x, xs[3] == last_x, x, y, z);
 }
 
-/// The view bins (V-B) of four lanes, as updateViewBin computes them (camera direction from the
-/// surfel, viewBinIndex of the layouts decided by comparisons: 8 sectors, up to 4 rings): bin[l],
-/// or -1 where the camera sits on the surfel; dist[l] the camera distance.
+/// The view bins (V-B) of four lanes: updateViewBin's maps::kernels::viewBinOfCamera over four
+/// surfels. bin[l], or -1 where the camera sits on the surfel; dist[l] the camera distance.
 void viewBins4(const kernels::FusionKernelParams& prm, const RigidF& T_world_cam, __m128 px,
                __m128 py, __m128 pz, __m128 nx, __m128 ny, __m128 nz, __m128 bx, __m128 by,
                __m128 bz, int bin[4], float dist[4]) {
-  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
-  const __m128 dx = _mm_sub_ps(_mm_set1_ps(T_world_cam.m[3]), px);
-  const __m128 dy = _mm_sub_ps(_mm_set1_ps(T_world_cam.m[7]), py);
-  const __m128 dz = _mm_sub_ps(_mm_set1_ps(T_world_cam.m[11]), pz);
-  const __m128 d = _mm_sqrt_ps(sum3(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy), _mm_mul_ps(dz, dz)));
-  const __m128 inv = _mm_div_ps(one, d);
-  const __m128 ux = _mm_mul_ps(dx, inv), uy = _mm_mul_ps(dy, inv), uz = _mm_mul_ps(dz, inv);
-  __m128 cx, cy, cz;
-  cross(nx, ny, nz, bx, by, bz, cx, cy, cz);
-  __m128 s = sum3(_mm_mul_ps(ux, nx), _mm_mul_ps(uy, ny), _mm_mul_ps(uz, nz));
-  s = select(_mm_cmplt_ps(s, zero), zero, select(_mm_cmpgt_ps(s, one), one, s));
-  __m128i el = _mm_setzero_si128();
-  const auto ring = [&](float border) {  // + (s >= border)
-    el = _mm_sub_epi32(el, _mm_castps_si128(_mm_cmpge_ps(s, _mm_set1_ps(border))));
-  };
-  namespace vb = maps::kernels;
-  if (prm.n_elevation == 2) {
-    ring(vb::kSinPi4);
-  } else if (prm.n_elevation == 3) {
-    ring(vb::kSinPi6);
-    ring(vb::kSinPi3);
-  } else if (prm.n_elevation == 4) {
-    ring(vb::kSinPi8);
-    ring(vb::kSinPi4);
-    ring(vb::kSin3Pi8);
-  }
-  const __m128 x = sum3(_mm_mul_ps(ux, bx), _mm_mul_ps(uy, by), _mm_mul_ps(uz, bz));
-  const __m128 y = sum3(_mm_mul_ps(ux, cx), _mm_mul_ps(uy, cy), _mm_mul_ps(uz, cz));
-  const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-  const __m128 ax = _mm_and_ps(x, abs_mask), ay = _mm_and_ps(y, abs_mask);
-  const auto pick = [](__m128 m, int a, int b) {  // m ? a : b
-    return _mm_or_si128(_mm_and_si128(_mm_castps_si128(m), _mm_set1_epi32(a)),
-                        _mm_andnot_si128(_mm_castps_si128(m), _mm_set1_epi32(b)));
-  };
-  const auto pickv = [](__m128 m, __m128i a, __m128i b) {
-    return _mm_or_si128(_mm_and_si128(_mm_castps_si128(m), a),
-                        _mm_andnot_si128(_mm_castps_si128(m), b));
-  };
-  // y >= 0: x > 0 ? (y < x ? 4 : 5) : (y > -x ? 6 : 7); else x < 0 ? (ay < ax ? 0 : 1) : (ay > x ?
-  // 2 : 3).
-  const __m128 neg_x = _mm_xor_ps(x, _mm_set1_ps(-0.0f));
-  const __m128i upper = pickv(_mm_cmpgt_ps(x, zero), pick(_mm_cmplt_ps(y, x), 4, 5),
-                              pick(_mm_cmpgt_ps(y, neg_x), 6, 7));
-  const __m128i lower = pickv(_mm_cmplt_ps(x, zero), pick(_mm_cmplt_ps(ay, ax), 0, 1),
-                              pick(_mm_cmpgt_ps(ay, x), 2, 3));
-  const __m128i sector = pickv(_mm_cmpge_ps(y, zero), upper, lower);
-  __m128i b = _mm_add_epi32(_mm_slli_epi32(el, 3), sector);
-  b = pickv(_mm_cmpgt_ps(d, zero), b, _mm_set1_epi32(-1));  // !(dist > 0): no update
-  _mm_storeu_si128(reinterpret_cast<__m128i*>(bin), b);
-  _mm_storeu_ps(dist, d);
+  using lanes::F4;
+  F4 d;
+  const F4 b = maps::kernels::viewBinOfCamera(
+      lanes::LaneVec3<F4>{F4(px), F4(py), F4(pz)}, lanes::LaneVec3<F4>{F4(nx), F4(ny), F4(nz)},
+      lanes::LaneVec3<F4>{F4(bx), F4(by), F4(bz)}, T_world_cam.translation(), prm.n_azimuth,
+      prm.n_elevation, d);
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(bin), lanes::toInt(b));
+  _mm_storeu_ps(dist, static_cast<__m128>(d));
 }
 
 /// kernels::updateViewBinAt, with the exponential skipped where it cannot raise the bin.
@@ -189,14 +146,11 @@ void updateFour(const kernels::UpdateKernel& k, int y, const int* xs, int n,
   _mm_store_ps(A[1], a1);
   _mm_store_ps(C, c);
   _mm_store_ps(W, w);
-  // View bins on four lanes for the layouts viewBinIndex decides by comparisons, else per lane.
+  // View bins on four lanes.
   const bool bins = k.prm.update_view_bins && s.n_view_bins > 0;
-  const bool bins4 =
-      bins && k.prm.n_azimuth == 8 && k.prm.n_elevation >= 1 && k.prm.n_elevation <= 4;
   int bin[4];
   float dist[4];
-  if (bins4)
-    viewBins4(k.prm, k.T_world_cam, ox_p, oy_p, oz_p, ox, oy, oz, obx, oby, obz, bin, dist);
+  if (bins) viewBins4(k.prm, k.T_world_cam, ox_p, oy_p, oz_p, ox, oy, oz, obx, oby, obz, bin, dist);
   for (int l = 0; l < n; ++l) {
     const int x = xs[l], i = idx[l];
     std::uint16_t f = k.flags(x, y);
@@ -212,7 +166,7 @@ void updateFour(const kernels::UpdateKernel& k, int y, const int* xs, int n,
     const Vec3f p(P[0][l], P[1][l], P[2][l]);
     k.store(x, y, i, W[l], C[l], p, ns, N[3][l], bl, cf, f, m[l]->v.z());
     // (a basis from the fallback is not the lanes' one: that surfel's bin is computed again)
-    if (bins4 && !(((fused & ~basis_ok) >> l) & 1)) {
+    if (bins && !(((fused & ~basis_ok) >> l) & 1)) {
       if (bin[l] >= 0) updateViewBinAtCpu(s, i, bin[l], dist[l], k.prm, ic);
     } else {
       kernels::updateViewBin(s, i, p, ns, bl, k.T_world_cam.translation(), k.prm);

@@ -101,12 +101,11 @@ RASM_HD_INLINE void updateViewBin(const maps::SurfelArrays& s, int i, const Vec3
                                   const Vec3f& n, const Vec3f& b, const Vec3f& camera_centre,
                                   const FusionKernelParams& prm) {
   if (!prm.update_view_bins || s.n_view_bins <= 0) return;
-  const Vec3f d = camera_centre - p;
-  const float dist = d.norm();
-  if (!(dist > 0.0f)) return;
-  const int bin =
-      maps::kernels::viewBinIndex(n, b, d * (1.0f / dist), prm.n_azimuth, prm.n_elevation);
-  updateViewBinAt(s, i, bin, dist, prm);
+  float dist;
+  const float bin =
+      maps::kernels::viewBinOfCamera(lanes::lanesOf(p), lanes::lanesOf(n), lanes::lanesOf(b),
+                                     camera_centre, prm.n_azimuth, prm.n_elevation, dist);
+  if (bin >= 0.0f) updateViewBinAt(s, i, int(bin), dist, prm);
 }
 
 /// Whether a surfel moved from p_old to p_new changed spatial-index block (VoxelBlockIndex's

@@ -1,0 +1,84 @@
+#pragma once
+// Lanes: one kernel body for one element and for four at once. A body written as a template over
+// a lane type F runs as F = float (the CUDA kernels and the scalar CPU path) and, on the CPU, as
+// F = lanes::F4 (four floats in one SSE register: std::experimental::simd, GCC's <experimental/
+// simd>, with the 16-byte ABI of -march=x86-64-v2). Such a body uses only what both have:
+// arithmetic and comparisons with float constants, select(), sqrtL(), absL(), truncL() and
+// LaneVec3 with Eigen's order of operations (dot: a0 b0 + (a1 b1 + a2 b2); cross: (a1 b2 - a2 b1,
+// a2 b0 - a0 b2, a0 b1 - a1 b0)), so that both instantiations give the bits of the Eigen code
+// they replace. Small integers (bins, counts) are carried as floats (exact below 2^24) and
+// converted once at the end, so that no integer mask is needed.
+
+#include <cmath>
+
+#include "rasm/compute/Platform.h"
+#include "rasm/compute/Types.h"
+
+#if !defined(__CUDACC__)
+#include <immintrin.h>
+
+#include <experimental/simd>
+#endif
+
+namespace rasm::lanes {
+
+RASM_HD_INLINE float select(bool m, float a, float b) {
+  return m ? a : b;
+}
+RASM_HD_INLINE float sqrtL(float x) {
+  return sqrtf(x);
+}
+RASM_HD_INLINE float absL(float x) {
+  return fabsf(x);
+}
+RASM_HD_INLINE float truncL(float x) {
+  return truncf(x);
+}
+
+#if !defined(__CUDACC__)
+namespace stdx = std::experimental;
+/// Four float lanes in one SSE register (convertible from and to __m128).
+using F4 = stdx::simd<float, stdx::simd_abi::deduce_t<float, 4>>;
+using I4 = stdx::simd<int, stdx::simd_abi::deduce_t<int, 4>>;
+static_assert(F4::size() == 4 && sizeof(F4) == 16, "F4 must be one SSE register");
+
+inline F4 select(const F4::mask_type& m, const F4& a, F4 b) {
+  stdx::where(m, b) = a;
+  return b;
+}
+inline F4 sqrtL(const F4& x) {
+  return stdx::sqrt(x);
+}
+inline F4 absL(const F4& x) {
+  return stdx::abs(x);
+}
+inline F4 truncL(const F4& x) {
+  return stdx::trunc(x);
+}
+/// Integer-valued float lanes to int lanes (truncation, as int(float)).
+inline __m128i toInt(const F4& x) {
+  return static_cast<__m128i>(stdx::static_simd_cast<I4>(x));
+}
+#endif
+
+/// A 3-vector of lanes: component k of lane l is the l-th element of a vector's k-th coordinate.
+template <class F>
+struct LaneVec3 {
+  F x, y, z;
+};
+
+/// Lanes of a Vec3f (float lanes: the vector itself).
+RASM_HD_INLINE LaneVec3<float> lanesOf(const Vec3f& v) {
+  return {v.x(), v.y(), v.z()};
+}
+
+template <class F>
+RASM_HD_INLINE F dot(const LaneVec3<F>& a, const LaneVec3<F>& b) {
+  return a.x * b.x + (a.y * b.y + a.z * b.z);
+}
+template <class F>
+RASM_HD_INLINE LaneVec3<F> cross(const LaneVec3<F>& a, const LaneVec3<F>& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+}  // namespace rasm::lanes
