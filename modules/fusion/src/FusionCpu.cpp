@@ -25,16 +25,14 @@ inline void gatherRow(const Vec3f* row, const int* xs, int last_x, __m128& x, __
 
 /// The view bins (V-B) of four lanes: updateViewBin's maps::kernels::viewBinOfCamera over four
 /// surfels. bin[l], or -1 where the camera sits on the surfel; dist[l] the camera distance.
-void viewBins4(const kernels::FusionKernelParams& prm, const RigidF& T_world_cam, __m128 px,
-               __m128 py, __m128 pz, __m128 nx, __m128 ny, __m128 nz, __m128 bx, __m128 by,
-               __m128 bz, int bin[4], float dist[4]) {
+void viewBins4(const kernels::FusionKernelParams& prm, const RigidF& T_world_cam,
+               const lanes::LaneVec3<lanes::F4>& p, const lanes::LaneVec3<lanes::F4>& n,
+               const lanes::LaneVec3<lanes::F4>& b, int bin[4], float dist[4]) {
   using lanes::F4;
   F4 d;
-  const F4 b = maps::kernels::viewBinOfCamera(
-      lanes::LaneVec3<F4>{F4(px), F4(py), F4(pz)}, lanes::LaneVec3<F4>{F4(nx), F4(ny), F4(nz)},
-      lanes::LaneVec3<F4>{F4(bx), F4(by), F4(bz)}, T_world_cam.translation(), prm.n_azimuth,
-      prm.n_elevation, d);
-  _mm_storeu_si128(reinterpret_cast<__m128i*>(bin), lanes::toInt(b));
+  const F4 bins = maps::kernels::viewBinOfCamera(p, n, b, T_world_cam.translation(), prm.n_azimuth,
+                                                 prm.n_elevation, d);
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(bin), lanes::toInt(bins));
   _mm_storeu_ps(dist, static_cast<__m128>(d));
 }
 
@@ -84,73 +82,33 @@ void updateFour(const kernels::UpdateKernel& k, int y, const int* xs, int n,
   __m128 bx = b[0], by = b[1], bz = b[2], bw = b[3];
   _MM_TRANSPOSE4_PS(bx, by, bz, bw);
 
-  const __m128 one = _mm_set1_ps(1.0f);
-  const float* T = k.T_world_cam.m;
-  const __m128 vwx = rigidRow(T, vx, vy, vz), vwy = rigidRow(T + 4, vx, vy, vz),
-               vwz = rigidRow(T + 8, vx, vy, vz);
-  // r <= ratio * rs: the geometry is averaged.
-  const __m128 fuse = _mm_cmple_ps(r, _mm_mul_ps(_mm_set1_ps(k.prm.radius_update_ratio), rs));
-  const __m128 inv_cw = _mm_div_ps(one, _mm_add_ps(c, w));
-  const __m128 a0 = _mm_mul_ps(c, inv_cw), a1 = _mm_mul_ps(w, inv_cw);
-  const __m128 qx = _mm_add_ps(_mm_mul_ps(a0, px), _mm_mul_ps(a1, vwx));
-  const __m128 qy = _mm_add_ps(_mm_mul_ps(a0, py), _mm_mul_ps(a1, vwy));
-  const __m128 qz = _mm_add_ps(_mm_mul_ps(a0, pz), _mm_mul_ps(a1, vwz));
-  const __m128 mx = _mm_add_ps(_mm_mul_ps(a0, nx), _mm_mul_ps(a1, nwx));
-  const __m128 my = _mm_add_ps(_mm_mul_ps(a0, ny), _mm_mul_ps(a1, nwy));
-  const __m128 mz = _mm_add_ps(_mm_mul_ps(a0, nz), _mm_mul_ps(a1, nwz));
-  const __m128 len = _mm_sqrt_ps(sum3(_mm_mul_ps(mx, mx), _mm_mul_ps(my, my), _mm_mul_ps(mz, mz)));
-  const __m128 inv_len = _mm_div_ps(one, len);
-  const __m128 renorm = _mm_and_ps(fuse, _mm_cmpgt_ps(len, _mm_set1_ps(1e-6f)));
-  const __m128 ox = select(renorm, _mm_mul_ps(mx, inv_len), nx);
-  const __m128 oy = select(renorm, _mm_mul_ps(my, inv_len), ny);
-  const __m128 oz = select(renorm, _mm_mul_ps(mz, inv_len), nz);
-  const __m128 shrink = k.prm.average_radius ? fuse : _mm_and_ps(fuse, _mm_cmplt_ps(r, rs));
-  const __m128 ors = select(shrink, _mm_add_ps(_mm_mul_ps(a0, rs), _mm_mul_ps(a1, r)), rs);
-  // Basis (V-B): -n x (n x b), normalised; maps::kernels::updateBasis.
-  __m128 tx, ty, tz, ux, uy, uz;
-  cross(ox, oy, oz, bx, by, bz, tx, ty, tz);
-  cross(ox, oy, oz, tx, ty, tz, ux, uy, uz);
-  const __m128 sign = _mm_set1_ps(-0.0f);
-  ux = _mm_xor_ps(ux, sign);
-  uy = _mm_xor_ps(uy, sign);
-  uz = _mm_xor_ps(uz, sign);
-  const __m128 blen = _mm_sqrt_ps(sum3(_mm_mul_ps(ux, ux), _mm_mul_ps(uy, uy), _mm_mul_ps(uz, uz)));
-  const __m128 inv_blen = _mm_div_ps(one, blen);
-  const int basis_ok = _mm_movemask_ps(_mm_cmpgt_ps(blen, _mm_set1_ps(1e-4f)));
-  const __m128 obx = select(fuse, _mm_mul_ps(ux, inv_blen), bx);
-  const __m128 oby = select(fuse, _mm_mul_ps(uy, inv_blen), by);
-  const __m128 obz = select(fuse, _mm_mul_ps(uz, inv_blen), bz);
-  // Block crossings: floor(p * inv_block) of the new and old positions.
-  const __m128 ib = _mm_set1_ps(k.prm.inv_block_size);
-  const auto moved = [&](__m128 a, __m128 o) {
-    return _mm_cmpneq_ps(_mm_floor_ps(_mm_mul_ps(a, ib)), _mm_floor_ps(_mm_mul_ps(o, ib)));
-  };
-  const int crossed = _mm_movemask_ps(
-      _mm_and_ps(fuse, _mm_or_ps(_mm_or_ps(moved(qx, px), moved(qy, py)), moved(qz, pz))));
-  const int fused = _mm_movemask_ps(fuse);
-  const __m128 ox_p = select(fuse, qx, px), oy_p = select(fuse, qy, py),
-               oz_p = select(fuse, qz, pz);
-
+  using lanes::F4;
+  const kernels::SurfelGeometryUpdate<F4> u = kernels::averageSurfelGeometry<F4>(
+      k.prm, k.T_world_cam, {F4(vx), F4(vy), F4(vz)}, {F4(nwx), F4(nwy), F4(nwz)}, F4(w), F4(r),
+      {F4(px), F4(py), F4(pz)}, F4(c), {F4(nx), F4(ny), F4(nz)}, F4(rs), {F4(bx), F4(by), F4(bz)});
+  const int fused = lanes::bits(u.fuse), crossed = lanes::bits(u.crossed),
+            basis_ok = lanes::bits(u.basis_ok);
   alignas(16) float P[3][4], N[4][4], B[3][4], A[2][4], C[4], W[4];
-  _mm_store_ps(P[0], ox_p);
-  _mm_store_ps(P[1], oy_p);
-  _mm_store_ps(P[2], oz_p);
-  _mm_store_ps(N[0], ox);
-  _mm_store_ps(N[1], oy);
-  _mm_store_ps(N[2], oz);
-  _mm_store_ps(N[3], ors);
-  _mm_store_ps(B[0], obx);
-  _mm_store_ps(B[1], oby);
-  _mm_store_ps(B[2], obz);
-  _mm_store_ps(A[0], a0);
-  _mm_store_ps(A[1], a1);
+  const auto put = [](float* to, const F4& lane) { lane.copy_to(to, lanes::stdx::vector_aligned); };
+  put(P[0], u.p.x);
+  put(P[1], u.p.y);
+  put(P[2], u.p.z);
+  put(N[0], u.ns.x);
+  put(N[1], u.ns.y);
+  put(N[2], u.ns.z);
+  put(N[3], u.rs);
+  put(B[0], u.b.x);
+  put(B[1], u.b.y);
+  put(B[2], u.b.z);
+  put(A[0], u.a0);
+  put(A[1], u.a1);
   _mm_store_ps(C, c);
   _mm_store_ps(W, w);
   // View bins on four lanes.
   const bool bins = k.prm.update_view_bins && s.n_view_bins > 0;
   int bin[4];
   float dist[4];
-  if (bins) viewBins4(k.prm, k.T_world_cam, ox_p, oy_p, oz_p, ox, oy, oz, obx, oby, obz, bin, dist);
+  if (bins) viewBins4(k.prm, k.T_world_cam, u.p, u.ns, u.b, bin, dist);
   for (int l = 0; l < n; ++l) {
     const int x = xs[l], i = idx[l];
     std::uint16_t f = k.flags(x, y);

@@ -34,6 +34,9 @@ RASM_HD_INLINE float absL(float x) {
 RASM_HD_INLINE float truncL(float x) {
   return truncf(x);
 }
+RASM_HD_INLINE float floorL(float x) {
+  return floorf(x);
+}
 
 #if !defined(__CUDACC__)
 namespace stdx = std::experimental;
@@ -55,17 +58,50 @@ inline F4 absL(const F4& x) {
 inline F4 truncL(const F4& x) {
   return stdx::trunc(x);
 }
+inline F4 floorL(const F4& x) {
+  return stdx::floor(x);
+}
+/// Lane l of the mask as bit l.
+inline int bits(const F4::mask_type& m) {
+  return _mm_movemask_ps(static_cast<__m128>(select(m, F4(-1.0f), F4(0.0f))));
+}
 /// Integer-valued float lanes to int lanes (truncation, as int(float)).
 inline __m128i toInt(const F4& x) {
   return static_cast<__m128i>(stdx::static_simd_cast<I4>(x));
 }
 #endif
 
+/// The mask of a lane type (bool for float).
+template <class F>
+using MaskOf = decltype(F() < F());
+
 /// A 3-vector of lanes: component k of lane l is the l-th element of a vector's k-th coordinate.
 template <class F>
 struct LaneVec3 {
   F x, y, z;
 };
+
+template <class F>
+RASM_HD_INLINE LaneVec3<F> select(const MaskOf<F>& m, const LaneVec3<F>& a, const LaneVec3<F>& b) {
+  return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
+}
+/// a x + b y per coordinate (a blend of two vectors).
+template <class F>
+RASM_HD_INLINE LaneVec3<F> blend(const F& a, const LaneVec3<F>& x, const F& b,
+                                 const LaneVec3<F>& y) {
+  return {a * x.x + b * y.x, a * x.y + b * y.y, a * x.z + b * y.z};
+}
+template <class F>
+RASM_HD_INLINE LaneVec3<F> scaled(const LaneVec3<F>& v, const F& k) {
+  return {v.x * k, v.y * k, v.z * k};
+}
+/// RigidF::apply over lanes: ((m0 x + m1 y) + m2 z) + m3 per row.
+template <class F>
+RASM_HD_INLINE LaneVec3<F> apply(const RigidF& T, const LaneVec3<F>& p) {
+  const float* m = T.m;
+  return {m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3], m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7],
+          m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11]};
+}
 
 /// Lanes of a Vec3f (float lanes: the vector itself).
 RASM_HD_INLINE LaneVec3<float> lanesOf(const Vec3f& v) {

@@ -474,6 +474,55 @@ struct CarveTest {
 /// b <- -n x (n x b) (V-B); the segment weight follows L^p (III); the view bin of the camera
 /// direction takes max(b_v, IC) (V-B). Optionally records the carving verdict on the updated
 /// state (CarveTest) in the pixel's flags.
+/// II-B's update of one surfel's geometry by an associated measurement, over lanes
+/// (compute/Lanes.h: the scalar kernel and fusion's four-lane CPU update run this body).
+/// In: the measurement's camera-frame vertex v, world normal nw, weight w and radius r, and the
+/// surfel's position p, confidence c, normal ns, radius rs and basis b. Where r <=
+/// radius_update_ratio
+/// * rs (`fuse`): p and ns become the confidence-weighted averages (a0 = c / (c + w), a1 = w / (c +
+/// w); ns renormalised), rs too when average_radius or r < rs, and b is projected onto the new
+/// plane (updateBasis: -ns x (ns x b), normalised); `basis_ok` is false where that projection is
+/// too short and updateBasis falls back to anyPerpendicular (the caller's part); `crossed` where
+/// the new position left its spatial-index block. Elsewhere the surfel keeps its geometry.
+template <class F>
+struct SurfelGeometryUpdate {
+  lanes::LaneVec3<F> p, ns, b;
+  F rs, a0, a1;
+  lanes::MaskOf<F> fuse, basis_ok, crossed;
+};
+template <class F>
+RASM_HD_INLINE SurfelGeometryUpdate<F> averageSurfelGeometry(
+    const FusionKernelParams& prm, const RigidF& T_world_cam, const lanes::LaneVec3<F>& v,
+    const lanes::LaneVec3<F>& nw, const F& w, const F& r, const lanes::LaneVec3<F>& p, const F& c,
+    const lanes::LaneVec3<F>& ns, const F& rs, const lanes::LaneVec3<F>& b) {
+  using lanes::select;
+  SurfelGeometryUpdate<F> u;
+  const lanes::LaneVec3<F> vw = lanes::apply(T_world_cam, v);
+  u.fuse = r <= prm.radius_update_ratio * rs;
+  const F inv_cw = 1.0f / (c + w);
+  u.a0 = c * inv_cw;
+  u.a1 = w * inv_cw;
+  const lanes::LaneVec3<F> q = lanes::blend(u.a0, p, u.a1, vw);
+  const lanes::LaneVec3<F> nn = lanes::blend(u.a0, ns, u.a1, nw);
+  const F len = lanes::sqrtL(lanes::dot(nn, nn));
+  u.ns = select(u.fuse && len > 1e-6f, lanes::scaled(nn, 1.0f / len), ns);
+  // The radius: averaged like the rest (ElasticFusion), or only with smaller measurements
+  // (TFusionParams::average_radius).
+  const lanes::MaskOf<F> shrink = prm.average_radius ? u.fuse : (u.fuse && r < rs);
+  u.rs = select(shrink, u.a0 * rs + u.a1 * r, rs);
+  const lanes::LaneVec3<F> t = lanes::cross(u.ns, lanes::cross(u.ns, b));
+  const lanes::LaneVec3<F> nb{-t.x, -t.y, -t.z};
+  const F blen = lanes::sqrtL(lanes::dot(nb, nb));
+  u.basis_ok = blen > 1e-4f;
+  u.b = select(u.fuse, lanes::scaled(nb, 1.0f / blen), b);
+  const float ib = prm.inv_block_size;
+  u.crossed = u.fuse && (lanes::floorL(q.x * ib) != lanes::floorL(p.x * ib) ||
+                         lanes::floorL(q.y * ib) != lanes::floorL(p.y * ib) ||
+                         lanes::floorL(q.z * ib) != lanes::floorL(p.z * ib));
+  u.p = select(u.fuse, q, p);
+  return u;
+}
+
 struct UpdateKernel {
   FrameView frame;
   FusionKernelParams prm;
@@ -500,31 +549,22 @@ struct UpdateKernel {
   RASM_HD_INLINE void update(int x, int y, int i, const Vec3f& v, const Vec3f& nw, float w,
                              float r) const {
     std::uint16_t f = flags(x, y);
-    const Vec3f vw = T_world_cam.apply(v);
-    Vec4f pcf = s.pos_conf[i];
-    Vec4f nr = s.normal_radius[i];
+    const Vec4f pcf = s.pos_conf[i];
+    const Vec4f nr = s.normal_radius[i];
     std::uint32_t cf = s.colour_flags[i];
-    const float c = pcf.w();
-    const Vec3f p_old = pcf.head<3>();
-    Vec3f p = p_old, ns = nr.head<3>();
-    float rs = nr.w();
-    Vec3f b = s.basis[i];
-    if (r <= prm.radius_update_ratio * rs) {
-      const float inv_cw = 1.0f / (c + w);
-      const float a0 = c * inv_cw, a1 = w * inv_cw;
-      p = a0 * p + a1 * vw;
-      const Vec3f nn = a0 * ns + a1 * nw;
-      const float len = nn.norm();
-      if (len > 1e-6f) ns = nn * (1.0f / len);
-      cf = blendColour(x, y, cf, a0, a1);
-      // The radius: averaged like the rest (ElasticFusion), or only with smaller measurements
-      // (TFusionParams::average_radius).
-      if (prm.average_radius || r < rs) rs = a0 * rs + a1 * r;
-      b = maps::kernels::updateBasis(ns, b);
+    const SurfelGeometryUpdate<float> u = averageSurfelGeometry<float>(
+        prm, T_world_cam, lanes::lanesOf(v), lanes::lanesOf(nw), w, r,
+        lanes::LaneVec3<float>{pcf.x(), pcf.y(), pcf.z()}, pcf.w(),
+        lanes::LaneVec3<float>{nr.x(), nr.y(), nr.z()}, nr.w(), lanes::lanesOf(s.basis[i]));
+    const Vec3f p(u.p.x, u.p.y, u.p.z), ns(u.ns.x, u.ns.y, u.ns.z);
+    Vec3f b(u.b.x, u.b.y, u.b.z);
+    if (u.fuse) {
+      cf = blendColour(x, y, cf, u.a0, u.a1);
+      if (!u.basis_ok) b = maps::kernels::anyPerpendicular(ns);  // (updateBasis's fallback)
       f |= kPixFused;
-      if (crossedBlock(p_old, p, prm.inv_block_size)) f |= kPixCrossedBlock;
+      if (u.crossed) f |= kPixCrossedBlock;
     }
-    store(x, y, i, w, c, p, ns, rs, b, cf, f, v.z());
+    store(x, y, i, w, pcf.w(), p, ns, u.rs, b, cf, f, v.z());
     updateViewBin(s, i, p, ns, b, T_world_cam.translation(), prm);
   }
 
