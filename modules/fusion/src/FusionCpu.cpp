@@ -11,9 +11,7 @@ namespace {
 
 using sse::cross;
 using sse::gather3;
-using sse::rigidRow;
 using sse::select;
-using sse::sum3;
 
 /// x, y, z planes of the Vec3f of four columns xs[] of an image row.
 /// (Only the last element of the last row, column last_x, has no 4 bytes after it; -1 none.)
@@ -141,50 +139,37 @@ int measureFour(const kernels::FrameView& fv, const kernels::FusionKernelParams&
   // Only the last element of the last row has no 4 bytes after it inside the image.
   const int last_v = y == fv.vertex_cam.height - 1 ? w - 1 : -1;
   const int last_n = y == fv.normal_cam.height - 1 ? fv.normal_cam.width - 1 : -1;
-  const __m128 one = _mm_set1_ps(1.0f), sign = _mm_set1_ps(-0.0f);
   __m128 vx, vy, vz, nx, ny, nz;
   gatherRow(fv.vertex_cam.row(y), xs, last_v, vx, vy, vz);
   gatherRow(fv.normal_cam.row(y), xs, last_n, nx, ny, nz);
-  __m128 ok = _mm_and_ps(_mm_cmpeq_ps(vx, vx), _mm_cmpeq_ps(nx, nx));
-  ok = _mm_and_ps(ok, _mm_and_ps(_mm_cmpge_ps(vz, _mm_set1_ps(prm.min_depth_m)),
-                                 _mm_cmple_ps(vz, _mm_set1_ps(prm.max_depth_m))));
-  const __m128 vnorm =
-      _mm_sqrt_ps(sum3(_mm_mul_ps(vx, vx), _mm_mul_ps(vy, vy), _mm_mul_ps(vz, vz)));
-  const __m128 ndv = sum3(_mm_mul_ps(nx, vx), _mm_mul_ps(ny, vy), _mm_mul_ps(nz, vz));
-  const __m128 cos_inc = _mm_div_ps(_mm_xor_ps(ndv, sign), vnorm);
-  ok = _mm_and_ps(ok, _mm_cmpnlt_ps(cos_inc, _mm_set1_ps(prm.min_cos_incidence)));  // !(cos < min)
-  const int valid = _mm_movemask_ps(ok) & ((1 << nl) - 1);
+  using lanes::F4;
+  const lanes::LaneVec3<F4> v{F4(vx), F4(vy), F4(vz)}, n{F4(nx), F4(ny), F4(nz)};
+  const int valid = lanes::bits(kernels::measurable(prm, v, n)) & ((1 << nl) - 1);
   if (!valid) return 0;
   const float* wrow = fv.weight.row(y);
   const __m128 wt = nl == 4 && xs[3] == xs[0] + 3
                         ? _mm_loadu_ps(wrow + xs[0])
                         : _mm_setr_ps(wrow[xs[0]], wrow[xs[1]], wrow[xs[2]], wrow[xs[3]]);
-  // surfelRadius: z / (sqrt2 f max(|n_z|, 0.2)).
-  __m128 anz = _mm_and_ps(nz, _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)));
-  anz = select(_mm_cmplt_ps(anz, _mm_set1_ps(kMinAbsNormalZ)), _mm_set1_ps(kMinAbsNormalZ), anz);
-  const __m128 r = _mm_div_ps(vz, _mm_mul_ps(_mm_set1_ps(kSqrt2 * fv.focal_px), anz));
-  const float* R = T_world_cam.m;
-  const __m128 nwx = sse::rigidRow(R, nx, ny, nz, false),
-               nwy = sse::rigidRow(R + 4, nx, ny, nz, false),
-               nwz = sse::rigidRow(R + 8, nx, ny, nz, false);
-  const __m128 dz_max =
-      _mm_max_ps(_mm_set1_ps(prm.assoc_dz_abs_m), _mm_mul_ps(_mm_set1_ps(prm.assoc_dz_rel), vz));
-  const __m128 inv_v = _mm_div_ps(one, vnorm), inv_r = _mm_div_ps(one, r);
+  const F4 r = surfelRadiusOf(v.z, n.z, fv.focal_px);
+  const lanes::LaneVec3<F4> nw = lanes::rotate(T_world_cam, n);
+  F4 dz_max, inv_v, inv_r;
+  kernels::associationGates(prm, v, r, dz_max, inv_v, inv_r);
   alignas(16) float V[3][4], N[3][4], NW[3][4], Wt[4], Rr[4], DZ[4], IV[4], IR[4];
+  const auto put = [](float* to, const F4& lane) { lane.copy_to(to, lanes::stdx::vector_aligned); };
   _mm_store_ps(V[0], vx);
   _mm_store_ps(V[1], vy);
   _mm_store_ps(V[2], vz);
   _mm_store_ps(N[0], nx);
   _mm_store_ps(N[1], ny);
   _mm_store_ps(N[2], nz);
-  _mm_store_ps(NW[0], nwx);
-  _mm_store_ps(NW[1], nwy);
-  _mm_store_ps(NW[2], nwz);
+  put(NW[0], nw.x);
+  put(NW[1], nw.y);
+  put(NW[2], nw.z);
   _mm_store_ps(Wt, wt);
-  _mm_store_ps(Rr, r);
-  _mm_store_ps(DZ, dz_max);
-  _mm_store_ps(IV, inv_v);
-  _mm_store_ps(IR, inv_r);
+  put(Rr, r);
+  put(DZ, dz_max);
+  put(IV, inv_v);
+  put(IR, inv_r);
   for (int v = valid; v; v &= v - 1) {
     const int l = __builtin_ctz(unsigned(v));
     kernels::PixelMeasurement& pm = m[l];

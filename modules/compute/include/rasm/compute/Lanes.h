@@ -95,6 +95,13 @@ template <class F>
 RASM_HD_INLINE LaneVec3<F> scaled(const LaneVec3<F>& v, const F& k) {
   return {v.x * k, v.y * k, v.z * k};
 }
+/// RigidF::rotate over lanes: (m0 x + m1 y) + m2 z per row.
+template <class F>
+RASM_HD_INLINE LaneVec3<F> rotate(const RigidF& T, const LaneVec3<F>& v) {
+  const float* m = T.m;
+  return {m[0] * v.x + m[1] * v.y + m[2] * v.z, m[4] * v.x + m[5] * v.y + m[6] * v.z,
+          m[8] * v.x + m[9] * v.y + m[10] * v.z};
+}
 /// RigidF::apply over lanes: ((m0 x + m1 y) + m2 z) + m3 per row.
 template <class F>
 RASM_HD_INLINE LaneVec3<F> apply(const RigidF& T, const LaneVec3<F>& p) {

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "rasm/compute/Lanes.h"
 #include "rasm/compute/Types.h"
 
 namespace rasm {
@@ -24,18 +25,24 @@ RASM_HD_INLINE float confidenceWeight(float gamma, float sigma = kConfidenceSigm
   return expf(-gamma * gamma / (2.0f * sigma * sigma));
 }
 
-/// sqrt(2): the circle circumscribing a pixel (surfelRadius); the SSE copies use this constant.
+/// sqrt(2): the circle circumscribing a pixel (surfelRadius).
 constexpr float kSqrt2 = 1.41421356f;
 /// surfelRadius's default lower bound of |n_z|.
 constexpr float kMinAbsNormalZ = 0.2f;
 
 /// r = V(u)_z / (sqrt(2) f N(u)_z) (II-B): the back-projected circle circumscribing the pixel.
 /// |n_z| is clamped below by `min_abs_nz` so grazing surfels do not get unbounded radii.
+/// Over lanes (compute/Lanes.h): fusion's CPU association measures four pixels at once.
+template <class F>
+RASM_HD_INLINE F surfelRadiusOf(const F& depth_m, const F& normal_z, float focal_px,
+                                float min_abs_nz = kMinAbsNormalZ) {
+  F nz = lanes::absL(normal_z);
+  nz = lanes::select(nz < min_abs_nz, F(min_abs_nz), nz);
+  return depth_m / (kSqrt2 * focal_px * nz);
+}
 RASM_HD_INLINE float surfelRadius(float depth_m, float normal_z, float focal_px,
                                   float min_abs_nz = kMinAbsNormalZ) {
-  float nz = fabsf(normal_z);
-  if (nz < min_abs_nz) nz = min_abs_nz;
-  return depth_m / (kSqrt2 * focal_px * nz);
+  return surfelRadiusOf(depth_m, normal_z, focal_px, min_abs_nz);
 }
 
 }  // namespace rasm

@@ -49,6 +49,18 @@ struct FusionKernelParams {
   float inv_block_size = 2.0f;  ///< 1 / spatial-index block edge (1/m): block crossings
 };
 
+/// Whether a pixel's camera-frame vertex v and normal n make a measurement (II-B): both valid
+/// (x not NaN), depth within [min_depth_m, max_depth_m], and the incidence cosine -n.v / |v|
+/// not below min_cos_incidence. Over lanes (compute/Lanes.h): the scalar kernels and fusion's
+/// four-pixel CPU association run this body.
+template <class F>
+RASM_HD_INLINE lanes::MaskOf<F> measurable(const FusionKernelParams& p, const lanes::LaneVec3<F>& v,
+                                           const lanes::LaneVec3<F>& n) {
+  const F cos_inc = -lanes::dot(n, v) / lanes::sqrtL(lanes::dot(v, v));
+  return v.x == v.x && n.x == n.x && v.z >= p.min_depth_m && v.z <= p.max_depth_m &&
+         !(cos_inc < p.min_cos_incidence);
+}
+
 /// The measurement of pixel (x, y) (II-B): camera-frame vertex and normal, confidence weight
 /// w = exp(-gamma^2 / (2 sigma^2)) and radius r = z / (sqrt(2) f n_z). False when unusable.
 struct FrameView {
@@ -66,11 +78,8 @@ struct FrameView {
                               float& w, float& r) const {
     v = vertex_cam(x, y);
     n = normal_cam(x, y);
-    if (!(v.x() == v.x()) || !(n.x() == n.x())) return false;
+    if (!measurable(p, lanes::lanesOf(v), lanes::lanesOf(n))) return false;
     const float z = v.z();
-    if (!(z >= p.min_depth_m && z <= p.max_depth_m)) return false;
-    const float cos_inc = -n.dot(v) / v.norm();
-    if (cos_inc < p.min_cos_incidence) return false;
     w = weight.empty() ? confidenceWeight(normalizedRadialDistance(float(x), float(y), K), p.sigma)
                        : weight(x, y);
     r = surfelRadius(z, n.z(), focal_px);
@@ -199,11 +208,18 @@ struct PixelMeasurement {
 };
 
 /// The fields of m that follow from its vertex v and radius r: z, the depth gate, 1/|v|, 1/r.
+/// (Over lanes: the depth gate max(abs, rel z), 1 / |v| and 1 / r of a vertex v and radius r.)
+template <class F>
+RASM_HD_INLINE void associationGates(const FusionKernelParams& prm, const lanes::LaneVec3<F>& v,
+                                     const F& r, F& dz_max, F& inv_v, F& inv_r) {
+  const F rel = prm.assoc_dz_rel * v.z;
+  dz_max = lanes::select(prm.assoc_dz_abs_m > rel, F(prm.assoc_dz_abs_m), rel);
+  inv_v = 1.0f / lanes::sqrtL(lanes::dot(v, v));
+  inv_r = 1.0f / r;
+}
 RASM_HD_INLINE void deriveGates(const FusionKernelParams& prm, PixelMeasurement& m) {
   m.z = m.v.z();
-  m.dz_max = maps::kernels::maxF(prm.assoc_dz_abs_m, prm.assoc_dz_rel * m.z);
-  m.inv_v = 1.0f / m.v.norm();
-  m.inv_r = 1.0f / m.r;
+  associationGates(prm, lanes::lanesOf(m.v), m.r, m.dz_max, m.inv_v, m.inv_r);
 }
 
 RASM_HD_INLINE bool measureForAssociation(const FrameView& frame, int x, int y,
