@@ -257,43 +257,16 @@ inline int footprints4(const kernels::SplatKernel& k, const MemberGroup& g,
   const __m128 ncx = sse::rigidRow(T, nx, ny, nz, false),
                ncy = sse::rigidRow(T + 4, nx, ny, nz, false),
                ncz = sse::rigidRow(T + 8, nx, ny, nz, false);  // RigidF::rotate
-  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
   const __m128 z = g.z;
   const __m128 depth_ok = _mm_and_ps(_mm_cmpge_ps(z, _mm_set1_ps(k.min_depth_m)),
                                      _mm_cmple_ps(z, _mm_set1_ps(k.max_depth_m)));
-  const auto extent = [&](__m128 c) {
-    return _mm_mul_ps(r, _mm_sqrt_ps(_mm_max_ps(zero, _mm_sub_ps(one, _mm_mul_ps(c, c)))));
-  };
-  const __m128 ex = extent(ncx), ey = extent(ncy), ez = extent(ncz);
-  const __m128 maxr = _mm_set1_ps(k.max_radius_px);
-  __m128 u_lo = _mm_sub_ps(g.u, maxr), u_hi = _mm_add_ps(g.u, maxr);
-  __m128 v_lo = _mm_sub_ps(g.v, maxr), v_hi = _mm_add_ps(g.v, maxr);
-  const __m128 z0 = _mm_sub_ps(z, ez), z1 = _mm_add_ps(z, ez);
-  const __m128 near_ok = _mm_cmpgt_ps(z0, _mm_set1_ps(1e-3f));
-  if (_mm_movemask_ps(near_ok)) {
-    const __m128 iz0 = _mm_div_ps(one, z0), iz1 = _mm_div_ps(one, z1);
-    const __m128 x0 = _mm_sub_ps(g.x, ex), x1 = _mm_add_ps(g.x, ex);
-    const __m128 y0 = _mm_sub_ps(g.y, ey), y1 = _mm_add_ps(g.y, ey);
-    const __m128 ax = _mm_min_ps(_mm_min_ps(_mm_mul_ps(x0, iz0), _mm_mul_ps(x0, iz1)),
-                                 _mm_min_ps(_mm_mul_ps(x1, iz0), _mm_mul_ps(x1, iz1)));
-    const __m128 bx = _mm_max_ps(_mm_max_ps(_mm_mul_ps(x0, iz0), _mm_mul_ps(x0, iz1)),
-                                 _mm_max_ps(_mm_mul_ps(x1, iz0), _mm_mul_ps(x1, iz1)));
-    const __m128 ay = _mm_min_ps(_mm_min_ps(_mm_mul_ps(y0, iz0), _mm_mul_ps(y0, iz1)),
-                                 _mm_min_ps(_mm_mul_ps(y1, iz0), _mm_mul_ps(y1, iz1)));
-    const __m128 by = _mm_max_ps(_mm_max_ps(_mm_mul_ps(y0, iz0), _mm_mul_ps(y0, iz1)),
-                                 _mm_max_ps(_mm_mul_ps(y1, iz0), _mm_mul_ps(y1, iz1)));
-    const __m128 fx = _mm_set1_ps(k.K.fx), fy = _mm_set1_ps(k.K.fy);
-    const __m128 cx = _mm_set1_ps(k.K.cx), cy = _mm_set1_ps(k.K.cy);
-    const __m128 ua = _mm_add_ps(_mm_mul_ps(fx, ax), cx), ub = _mm_add_ps(_mm_mul_ps(fx, bx), cx);
-    const __m128 va = _mm_add_ps(_mm_mul_ps(fy, ay), cy), vb = _mm_add_ps(_mm_mul_ps(fy, by), cy);
-    const auto sel = [&](__m128 yes, __m128 no) {
-      return _mm_or_ps(_mm_and_ps(near_ok, yes), _mm_andnot_ps(near_ok, no));
-    };
-    u_lo = sel(_mm_max_ps(u_lo, _mm_min_ps(ua, ub)), u_lo);
-    u_hi = sel(_mm_min_ps(u_hi, _mm_max_ps(ua, ub)), u_hi);
-    v_lo = sel(_mm_max_ps(v_lo, _mm_min_ps(va, vb)), v_lo);
-    v_hi = sel(_mm_min_ps(v_hi, _mm_max_ps(va, vb)), v_hi);
-  }
+  using lanes::F4;
+  F4 u_lo4, u_hi4, v_lo4, v_hi4;
+  kernels::splatBounds(k.K, k.max_radius_px, lanes::LaneVec3<F4>{F4(g.x), F4(g.y), F4(z)},
+                       lanes::LaneVec3<F4>{F4(ncx), F4(ncy), F4(ncz)}, F4(r), F4(g.u), F4(g.v),
+                       u_lo4, u_hi4, v_lo4, v_hi4);
+  const __m128 u_lo = static_cast<__m128>(u_lo4), u_hi = static_cast<__m128>(u_hi4),
+               v_lo = static_cast<__m128>(v_lo4), v_hi = static_cast<__m128>(v_hi4);
   const __m128 half = _mm_set1_ps(0.5f);
   const __m128i uc = _mm_cvttps_epi32(_mm_floor_ps(_mm_add_ps(g.u, half)));
   const __m128i vc = _mm_cvttps_epi32(_mm_floor_ps(_mm_add_ps(g.v, half)));

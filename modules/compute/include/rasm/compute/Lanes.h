@@ -75,6 +75,16 @@ inline __m128i toInt(const F4& x) {
 template <class F>
 using MaskOf = decltype(F() < F());
 
+/// a < b ? a : b and a > b ? a : b per lane (minps / maxps: b where either is NaN).
+template <class F>
+RASM_HD_INLINE F minL(const F& a, const F& b) {
+  return select(a < b, a, b);
+}
+template <class F>
+RASM_HD_INLINE F maxL(const F& a, const F& b) {
+  return select(a > b, a, b);
+}
+
 /// A 3-vector of lanes: component k of lane l is the l-th element of a vector's k-th coordinate.
 template <class F>
 struct LaneVec3 {

@@ -11,6 +11,7 @@
 #include <cstring>
 
 #include "rasm/compute/ImageView.h"
+#include "rasm/compute/Lanes.h"
 #include "rasm/compute/Types.h"
 #include "rasm/surfel_map/SurfelArrays.h"
 
@@ -191,6 +192,43 @@ struct SplatFootprint {
   int x0, x1, y0, y1;
 };
 
+/// The pixel box [u_lo, u_hi] x [v_lo, v_hi] of a surfel disc's projection (II-A's splat, before
+/// rounding), over lanes (compute/Lanes.h: SplatKernel and the CPU splat's four-surfel groups run
+/// this body): the disc (camera-frame centre pc, normal nc, radius r) lies in the box pc +- e with
+/// e_a = r sqrt(1 - n_a^2), and x/z, y/z over a box are extreme at its corners; the box is
+/// clamped to max_radius_px around the centre's projection (u, v), which bounds the cost of discs
+/// very close to the camera (and is the whole box where the near corner is within 1 mm of z = 0).
+template <class F>
+RASM_HD_INLINE void splatBounds(const PinholeF& K, float max_radius_px,
+                                const lanes::LaneVec3<F>& pc, const lanes::LaneVec3<F>& nc,
+                                const F& r, const F& u, const F& v, F& u_lo, F& u_hi, F& v_lo,
+                                F& v_hi) {
+  using lanes::maxL;
+  using lanes::minL;
+  const F zero(0.0f);
+  const F ex = r * lanes::sqrtL(maxL(zero, 1.0f - nc.x * nc.x));
+  const F ey = r * lanes::sqrtL(maxL(zero, 1.0f - nc.y * nc.y));
+  const F ez = r * lanes::sqrtL(maxL(zero, 1.0f - nc.z * nc.z));
+  u_lo = u - max_radius_px;
+  u_hi = u + max_radius_px;
+  v_lo = v - max_radius_px;
+  v_hi = v + max_radius_px;
+  const F z0 = pc.z - ez, z1 = pc.z + ez;
+  const lanes::MaskOf<F> near_ok = z0 > 1e-3f;
+  const F iz0 = 1.0f / z0, iz1 = 1.0f / z1;
+  const F x0 = pc.x - ex, x1 = pc.x + ex, y0 = pc.y - ey, y1 = pc.y + ey;
+  const F ax = minL(minL(x0 * iz0, x0 * iz1), minL(x1 * iz0, x1 * iz1));
+  const F bx = maxL(maxL(x0 * iz0, x0 * iz1), maxL(x1 * iz0, x1 * iz1));
+  const F ay = minL(minL(y0 * iz0, y0 * iz1), minL(y1 * iz0, y1 * iz1));
+  const F by = maxL(maxL(y0 * iz0, y0 * iz1), maxL(y1 * iz0, y1 * iz1));
+  const F ua = K.fx * ax + K.cx, ub = K.fx * bx + K.cx;  // fx may be negative
+  const F va = K.fy * ay + K.cy, vb = K.fy * by + K.cy;
+  u_lo = lanes::select(near_ok, maxL(u_lo, minL(ua, ub)), u_lo);
+  u_hi = lanes::select(near_ok, minL(u_hi, maxL(ua, ub)), u_hi);
+  v_lo = lanes::select(near_ok, maxL(v_lo, minL(va, vb)), v_lo);
+  v_hi = lanes::select(near_ok, minL(v_hi, maxL(va, vb)), v_hi);
+}
+
 /// Draws surfel visible[k] as a disc of its radius in its plane (II-A splatting). For each pixel of
 /// the disc's projected bounding box whose ray hits the disc, the ray/disc intersection depth
 /// competes in `packed`. Cost per surfel: O(footprint), clamped at max_radius_px.
@@ -229,29 +267,9 @@ struct SplatKernel {
     if (!(z >= min_depth_m && z <= max_depth_m)) return false;
     const Vec3f nc = T_cam_world.rotate(s.normal(i));
     const float r = s.radius(i);
-    // Bounding box of the disc's projection: the disc lies in the box pc +- e with
-    // e_a = r sqrt(1 - n_a^2), and x/z, y/z over a box are extreme at its corners. The clamp at
-    // max_radius_px bounds the cost of discs very close to the camera.
-    const float ex = r * sqrtf(maxF(0.0f, 1.0f - nc.x() * nc.x()));
-    const float ey = r * sqrtf(maxF(0.0f, 1.0f - nc.y() * nc.y()));
-    const float ez = r * sqrtf(maxF(0.0f, 1.0f - nc.z() * nc.z()));
-    float u_lo = u - max_radius_px, u_hi = u + max_radius_px;
-    float v_lo = v - max_radius_px, v_hi = v + max_radius_px;
-    const float z0 = z - ez, z1 = z + ez;
-    if (z0 > 1e-3f) {
-      const float iz0 = 1.0f / z0, iz1 = 1.0f / z1;
-      const float x0 = pc.x() - ex, x1 = pc.x() + ex, y0 = pc.y() - ey, y1 = pc.y() + ey;
-      const float ax = minF(minF(x0 * iz0, x0 * iz1), minF(x1 * iz0, x1 * iz1));
-      const float bx = maxF(maxF(x0 * iz0, x0 * iz1), maxF(x1 * iz0, x1 * iz1));
-      const float ay = minF(minF(y0 * iz0, y0 * iz1), minF(y1 * iz0, y1 * iz1));
-      const float by = maxF(maxF(y0 * iz0, y0 * iz1), maxF(y1 * iz0, y1 * iz1));
-      const float ua = K.fx * ax + K.cx, ub = K.fx * bx + K.cx;  // fx may be negative
-      const float va = K.fy * ay + K.cy, vb = K.fy * by + K.cy;
-      u_lo = maxF(u_lo, minF(ua, ub));
-      u_hi = minF(u_hi, maxF(ua, ub));
-      v_lo = maxF(v_lo, minF(va, vb));
-      v_hi = minF(v_hi, maxF(va, vb));
-    }
+    float u_lo, u_hi, v_lo, v_hi;
+    splatBounds(K, max_radius_px, lanes::lanesOf(pc), lanes::lanesOf(nc), r, u, v, u_lo, u_hi, v_lo,
+                v_hi);
     int x0 = int(ceilf(u_lo)), x1 = int(floorf(u_hi)), y0 = int(ceilf(v_lo)),
         y1 = int(floorf(v_hi));
     // The centre's own pixel is always a candidate (see rasterize()).
