@@ -361,11 +361,6 @@ inline void rasterizeSse(const kernels::SplatKernel& k, const kernels::SplatFoot
   const float n_dot_p = nc.dot(pc), r2 = r * r;
   const float inv_fx = 1.0f / k.K.fx, inv_fy = 1.0f / k.K.fy;
   const __m128 v_cx = _mm_set1_ps(k.K.cx), v_inv_fx = _mm_set1_ps(inv_fx);
-  const __m128 v_ncx = _mm_set1_ps(nc.x()), v_ndp = _mm_set1_ps(n_dot_p);
-  const __m128 v_pcx = _mm_set1_ps(pc.x()), v_pcy = _mm_set1_ps(pc.y()), v_z = _mm_set1_ps(z);
-  const __m128 v_r2 = _mm_set1_ps(r2), v_eps = _mm_set1_ps(1e-6f), v_m1 = _mm_set1_ps(-1.0f);
-  const __m128 v_zero = _mm_setzero_ps();
-  const __m128 v_abs = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
   const __m128 v_lane = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
   const __m128i v_idx = _mm_set1_epi32(f.i);
   const int w = k.packed.width;
@@ -373,22 +368,14 @@ inline void rasterizeSse(const kernels::SplatKernel& k, const kernels::SplatFoot
   for (int y = y_lo; y <= y_hi; ++y) {
     const float ry = (float(y) - k.K.cy) * inv_fy;
     const float denom_y = nc.y() * ry + nc.z();
-    const __m128 v_ry = _mm_set1_ps(ry), v_dy0 = _mm_set1_ps(denom_y);
     std::uint64_t* row = k.packed.row(y);
     for (int x0 = f.x0; x0 <= f.x1; x0 += 4) {
       const __m128 xs = _mm_add_ps(_mm_set1_ps(float(x0)), v_lane);
       const __m128 rx = _mm_mul_ps(_mm_sub_ps(xs, v_cx), v_inv_fx);
-      const __m128 denom = _mm_add_ps(_mm_mul_ps(v_ncx, rx), v_dy0);
-      const __m128 ok = _mm_cmpge_ps(_mm_and_ps(denom, v_abs), v_eps);
-      __m128 t = _mm_div_ps(v_ndp, denom);
-      t = _mm_or_ps(_mm_and_ps(ok, t), _mm_andnot_ps(ok, v_m1));
-      const __m128 dx = _mm_sub_ps(_mm_mul_ps(t, rx), v_pcx);
-      const __m128 dy = _mm_sub_ps(_mm_mul_ps(t, v_ry), v_pcy);
-      const __m128 dz = _mm_sub_ps(t, v_z);
-      const __m128 d2 =
-          _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
-      const __m128 pass = _mm_and_ps(_mm_cmpgt_ps(t, v_zero), _mm_cmpngt_ps(d2, v_r2));
-      int mask = _mm_movemask_ps(pass);
+      lanes::F4::mask_type hit;
+      __m128 t = static_cast<__m128>(kernels::rayDiscDepth(
+          lanes::F4(rx), lanes::F4(ry), lanes::F4(denom_y), pc, nc, n_dot_p, r2, hit));
+      int mask = lanes::bits(hit);
       const int n = std::min(4, f.x1 - x0 + 1);
       mask &= (1 << n) - 1;
       const int centre = (y == f.vc && f.uc >= x0 && f.uc < x0 + n) ? f.uc - x0 : -1;
@@ -432,20 +419,14 @@ inline void rasterizeTwoRowsSse(const kernels::SplatKernel& k, const kernels::Sp
   const __m128 ry = _mm_setr_ps(ry0, ry0, ry1, ry1), rx = _mm_setr_ps(rx0, rx1, rx0, rx1);
   const __m128 denom_y =
       _mm_add_ps(_mm_mul_ps(_mm_set1_ps(nc.y()), ry), _mm_set1_ps(nc.z()));  // per row
-  const __m128 denom = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(nc.x()), rx), denom_y);
   const __m128 v_abs = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-  const __m128 ok = _mm_cmpge_ps(_mm_and_ps(denom, v_abs), _mm_set1_ps(1e-6f));
-  __m128 t = _mm_div_ps(_mm_set1_ps(n_dot_p), denom);
-  t = _mm_or_ps(_mm_and_ps(ok, t), _mm_andnot_ps(ok, _mm_set1_ps(-1.0f)));
   const __m128 v_z = _mm_set1_ps(z), v_zero = _mm_setzero_ps();
-  const __m128 dx = _mm_sub_ps(_mm_mul_ps(t, rx), _mm_set1_ps(pc.x()));
-  const __m128 dy = _mm_sub_ps(_mm_mul_ps(t, ry), _mm_set1_ps(pc.y()));
+  lanes::F4::mask_type hit;
+  __m128 t = static_cast<__m128>(kernels::rayDiscDepth(
+      lanes::F4(rx), lanes::F4(ry), lanes::F4(denom_y), pc, nc, n_dot_p, r2, hit));
   const __m128 dz = _mm_sub_ps(t, v_z);
-  const __m128 d2 =
-      _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
-  const __m128 pass = _mm_and_ps(_mm_cmpgt_ps(t, v_zero), _mm_cmpngt_ps(d2, _mm_set1_ps(r2)));
   const int cols = f.x1 > f.x0 ? 0x5 | 0xa : 0x5;  // lanes of column x0 + 1 only when drawn
-  int mask = _mm_movemask_ps(pass) & cols;
+  int mask = lanes::bits(hit) & cols;
   if ((f.vc == y_lo || f.vc == y_lo + 1) && f.uc >= f.x0 && f.uc <= f.x1) {
     // The centre's own pixel is always covered: plane depth, else centre depth.
     const int centre = (f.uc - f.x0) + 2 * (f.vc - y_lo);

@@ -229,6 +229,21 @@ RASM_HD_INLINE void splatBounds(const PinholeF& K, float max_radius_px,
   v_hi = lanes::select(near_ok, minL(v_hi, maxL(va, vb)), v_hi);
 }
 
+/// II-A's splat test of one pixel, over lanes (SplatKernel::rasterize and the CPU splat's four
+/// pixels at once): the pixel's ray d = (rx, ry, 1) meets the plane n.(q - p) = 0 of the disc
+/// (camera-frame centre pc, normal nc, n_dot_p = nc.pc, squared radius r2) at q = t d with
+/// t = n.p / n.d (-1 where the ray is parallel to the plane); `hit` where t > 0 and q lies within
+/// the disc. denom_y = nc_y ry + nc_z, the row's part of n.d.
+template <class F>
+RASM_HD_INLINE F rayDiscDepth(const F& rx, const F& ry, const F& denom_y, const Vec3f& pc,
+                              const Vec3f& nc, float n_dot_p, float r2, lanes::MaskOf<F>& hit) {
+  const F denom = nc.x() * rx + denom_y;
+  const F t = lanes::select(lanes::absL(denom) >= 1e-6f, n_dot_p / denom, F(-1.0f));
+  const F dx = t * rx - pc.x(), dy = t * ry - pc.y(), dz = t - pc.z();
+  hit = t > 0.0f && !(dx * dx + dy * dy + dz * dz > r2);
+  return t;
+}
+
 /// Draws surfel visible[k] as a disc of its radius in its plane (II-A splatting). For each pixel of
 /// the disc's projected bounding box whose ray hits the disc, the ray/disc intersection depth
 /// competes in `packed`. Cost per surfel: O(footprint), clamped at max_radius_px.
@@ -303,17 +318,14 @@ struct SplatKernel {
       std::uint64_t* row = packed.row(y);
       for (int x = f.x0; x <= f.x1; ++x) {
         const float rx = (float(x) - K.cx) * inv_fx;
-        // Ray d = (rx, ry, 1) meets the surfel plane n.(q - p) = 0 at q = t d, t = n.p / n.d.
-        const float denom = nc.x() * rx + denom_y;
-        float t = fabsf(denom) >= 1e-6f ? n_dot_p / denom : -1.0f;
+        bool hit;
+        float t = rayDiscDepth(rx, ry, denom_y, pc, nc, n_dot_p, r2, hit);
         if (x == f.uc && y == f.vc) {
           // The centre's own pixel is covered even when the disc is smaller than the pixel (a
           // surfel seen from farther away than it was measured): plane depth, else centre depth.
           if (!(t > 0.0f) || fabsf(t - z) > r) t = z;
-        } else {
-          if (!(t > 0.0f)) continue;
-          const float dx = t * rx - pc.x(), dy = t * ry - pc.y(), dz = t - z;
-          if (dx * dx + dy * dy + dz * dz > r2) continue;
+        } else if (!hit) {
+          continue;
         }
         depthTest(&row[x], packDepthIndex(t, f.i), atomic);
       }
