@@ -150,17 +150,7 @@ inline void forVisibleMemberGroups(const kernels::VisibilityTest& test, bool att
   constexpr int kAhead = 12, kChunk = 64;
   const SurfelArrays& a = test.s;
   const PinholeF& K = test.K;
-  const float* T = test.T_cam_world.m;
-  const __m128 m0 = _mm_set1_ps(T[0]), m1 = _mm_set1_ps(T[1]), m2 = _mm_set1_ps(T[2]),
-               m3 = _mm_set1_ps(T[3]), m4 = _mm_set1_ps(T[4]), m5 = _mm_set1_ps(T[5]),
-               m6 = _mm_set1_ps(T[6]), m7 = _mm_set1_ps(T[7]), m8 = _mm_set1_ps(T[8]),
-               m9 = _mm_set1_ps(T[9]), m10 = _mm_set1_ps(T[10]), m11 = _mm_set1_ps(T[11]);
-  const __m128 fx = _mm_set1_ps(K.fx), fy = _mm_set1_ps(K.fy), cx = _mm_set1_ps(K.cx),
-               cy = _mm_set1_ps(K.cy);
-  const __m128 zlo = _mm_set1_ps(test.min_depth_m), zhi = _mm_set1_ps(test.max_depth_m);
-  const __m128 ulo = _mm_set1_ps(test.u_lo), uhi = _mm_set1_ps(test.u_hi),
-               vlo = _mm_set1_ps(test.v_lo), vhi = _mm_set1_ps(test.v_hi);
-  const __m128 wmin = _mm_set1_ps(test.min_confidence);
+  const float wmin = test.min_confidence;
   const int* m = members;
   int buf[kChunk + 4];
   for (int k0 = 0; k0 < n; k0 += kChunk) {
@@ -190,27 +180,17 @@ inline void forVisibleMemberGroups(const kernels::VisibilityTest& test, bool att
       __m128 r2 = _mm_load_ps(a.pos_conf[buf[q + 2]].data());
       __m128 r3 = _mm_load_ps(a.pos_conf[buf[q + 3]].data());
       _MM_TRANSPOSE4_PS(r0, r1, r2, r3);  // r0 = x, r1 = y, r2 = z, r3 = confidence
-      const __m128 cx4 = _mm_add_ps(
-          _mm_add_ps(_mm_add_ps(_mm_mul_ps(m0, r0), _mm_mul_ps(m1, r1)), _mm_mul_ps(m2, r2)), m3);
-      const __m128 cy4 = _mm_add_ps(
-          _mm_add_ps(_mm_add_ps(_mm_mul_ps(m4, r0), _mm_mul_ps(m5, r1)), _mm_mul_ps(m6, r2)), m7);
-      const __m128 cz4 = _mm_add_ps(
-          _mm_add_ps(_mm_add_ps(_mm_mul_ps(m8, r0), _mm_mul_ps(m9, r1)), _mm_mul_ps(m10, r2)), m11);
-      // (z <= 0 only outside the frustum, where the tests reject the pixel coordinates anyway)
-      const __m128 u4 = _mm_add_ps(_mm_div_ps(_mm_mul_ps(fx, cx4), cz4), cx);
-      const __m128 v4 = _mm_add_ps(_mm_div_ps(_mm_mul_ps(fy, cy4), cz4), cy);
-      __m128 ok = attribute_filters ? _mm_castsi128_ps(_mm_set1_epi32(-1))
-                                    : _mm_cmpnlt_ps(r3, wmin);  // !(w < min_confidence)
-      if (!inside) {
-        const __m128 in =
-            _mm_and_ps(_mm_and_ps(_mm_and_ps(_mm_cmpge_ps(cz4, zlo), _mm_cmple_ps(cz4, zhi)),
-                                  _mm_and_ps(_mm_cmpge_ps(u4, ulo), _mm_cmple_ps(u4, uhi))),
-                       _mm_and_ps(_mm_cmpge_ps(v4, vlo), _mm_cmple_ps(v4, vhi)));
-        ok = _mm_and_ps(ok, in);
-      }
-      const int mask = _mm_movemask_ps(ok) & ((1 << nl) - 1);
+      using lanes::F4;
+      const lanes::LaneVec3<F4> pc =
+          lanes::apply(test.T_cam_world, lanes::LaneVec3<F4>{F4(r0), F4(r1), F4(r2)});
+      F4 u4, v4;
+      kernels::projectCentre(K, pc, u4, v4);
+      auto ok = attribute_filters ? F4::mask_type(true) : !(F4(r3) < wmin);
+      if (!inside) ok = ok && test.inView(pc.z, u4, v4);
+      const int mask = lanes::bits(ok) & ((1 << nl) - 1);
       if (!mask) continue;
-      g(MemberGroup{buf + q, mask, cx4, cy4, cz4, u4, v4});
+      g(MemberGroup{buf + q, mask, static_cast<__m128>(pc.x), static_cast<__m128>(pc.y),
+                    static_cast<__m128>(pc.z), static_cast<__m128>(u4), static_cast<__m128>(v4)});
     }
   }
 }
@@ -234,8 +214,8 @@ inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribut
     const int i = m[k];
     if (attribute_filters ? !test.attributes(i) : a.pos_conf[i].w() < test.min_confidence) continue;
     const Vec3f pc = test.T_cam_world.apply(a.position(i));
-    const float u = test.K.fx * pc.x() / pc.z() + test.K.cx;
-    const float v = test.K.fy * pc.y() / pc.z() + test.K.cy;
+    float u, v;
+    kernels::projectCentre(test.K, lanes::lanesOf(pc), u, v);
     if (!inside && !test.inView(pc.z(), u, v)) continue;
     f(i, pc, u, v);
   }

@@ -117,6 +117,15 @@ RASM_HD_INLINE int candidateSubPixel(std::uint32_t key) {
   return int(((key >> 16) & 3u) * 4u + (key & 3u));
 }
 
+/// u = pi(p) (II-A) of camera-frame centres pc over lanes: u = fx x / z + cx, v = fy y / z + cy
+/// (the render's culling, the splat's centre pixel; z <= 0 gives coordinates the view tests
+/// reject).
+template <class F>
+RASM_HD_INLINE void projectCentre(const PinholeF& K, const lanes::LaneVec3<F>& pc, F& u, F& v) {
+  u = K.fx * pc.x / pc.z + K.cx;
+  v = K.fy * pc.y / pc.z + K.cy;
+}
+
 /// The per-surfel filters of a render (RenderOptions) after block culling: alive, stable only,
 /// confidence, time window (map time), depth range, back faces, and the centre's projection within
 /// [lo, hi] (pixels; the image grown by the splat radius).
@@ -163,12 +172,14 @@ struct VisibilityTest {
 
   /// The geometric part: depth range and the centre's projection within [lo, hi].
   RASM_HD_INLINE bool inView(const Vec3f& pc) const {
-    if (!(pc.z() >= min_depth_m && pc.z() <= max_depth_m)) return false;
-    const float u = K.fx * pc.x() / pc.z() + K.cx, v = K.fy * pc.y() / pc.z() + K.cy;
-    return u >= u_lo && u <= u_hi && v >= v_lo && v <= v_hi;
+    float u, v;
+    projectCentre(K, lanes::lanesOf(pc), u, v);
+    return inView(pc.z(), u, v);
   }
-  /// inView() with the projection (u, v) of the centre already computed.
-  RASM_HD_INLINE bool inView(float z, float u, float v) const {
+  /// inView() with the projection (u, v) of the centre already computed; over lanes (the CPU
+  /// render's culling tests four surfels at once).
+  template <class F>
+  RASM_HD_INLINE lanes::MaskOf<F> inView(const F& z, const F& u, const F& v) const {
     return z >= min_depth_m && z <= max_depth_m && u >= u_lo && u <= u_hi && v >= v_lo && v <= v_hi;
   }
 };
