@@ -43,4 +43,10 @@ status=0
 msg=$("$rasm" sim info office 2>&1) || status=$?
 [[ $status != 0 ]] && grep -q 'RASM_WITH_SIM=OFF' <<< "$msg" ||
   fail "rasm sim does not say the simulator is missing: $msg"
+# A [sim_detector] section (an INI written for a simulated run) names what is missing.
+status=0
+msg=$("$rasm" run "$src/rawlogs/sim_office_handheld_320x240.rawlog" --max-frames 3 \
+  --set sim_detector.p_max=0.5 --out "$out/simdet" 2>&1) || status=$?
+[[ $status == 3 ]] && grep -q '\[sim_detector\].*RASM_WITH_SIM=OFF' <<< "$msg" ||
+  fail "a [sim_detector] section without the simulator: exit $status, $msg"
 echo "build_without_sim: ok"

@@ -9,9 +9,7 @@ namespace rasm::fusion {
 
 namespace {
 
-using sse::cross;
 using sse::gather3;
-using sse::select;
 
 /// x, y, z planes of the Vec3f of four columns xs[] of an image row.
 /// (Only the last element of the last row, column last_x, has no 4 bytes after it; -1 none.)

@@ -154,6 +154,15 @@ void RunConfig::checkSections(const std::vector<std::string>& known) const {
                       "was merged into [exploration] (the same keys): write them under "
                       "[exploration], or --set exploration.KEY=value");
     }
+#ifndef RASM_HAVE_SIM
+    if (!ok && s == "sim_detector") {
+      const std::string o = m_ini.originOfSection(s);
+      throwInputError((o.empty() ? m_source : o) + " [sim_detector]",
+                      "configures the simulated detector, which this rasm leaves out (built with "
+                      "-DRASM_WITH_SIM=OFF): remove the section, and detect with [dnn_detector] "
+                      "or [zero_shot]");
+    }
+#endif
     if (!ok) {
       std::string list;
       for (const auto& k : known) list += " [" + k + "]";

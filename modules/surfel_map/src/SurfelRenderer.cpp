@@ -7,7 +7,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "rasm/compute/Sse.h"
 #include "rasm/surfel_map/kernels/RenderKernels.h"
 
 namespace rasm::maps {
@@ -221,10 +220,9 @@ inline void forVisibleMembers(const kernels::VisibilityTest& test, bool attribut
   }
 }
 
-/// SplatKernel::footprintAt of the four surfels of a group, four lanes per SSE operation: the
-/// same float operations in the same order per lane (minF / maxF are minps / maxps, ceilf /
-/// floorf are roundps), so the footprints are bit-identical. Returns the mask of the lanes whose
-/// footprint is drawn (footprintAt true), written to out[lane].
+/// SplatKernel::footprintAt of the four surfels of a group on four lanes: its bodies
+/// (splatBounds, splatPixels) over lanes::F4, so the footprints are bit-identical. Returns the
+/// mask of the lanes whose footprint is drawn (footprintAt true), written to out[lane].
 inline int footprints4(const kernels::SplatKernel& k, const MemberGroup& g,
                        kernels::SplatFootprint out[4]) {
   const SurfelArrays& a = k.s;
@@ -233,50 +231,38 @@ inline int footprints4(const kernels::SplatKernel& k, const MemberGroup& g,
   __m128 nz = _mm_load_ps(a.normal_radius[g.idx[2]].data());
   __m128 r = _mm_load_ps(a.normal_radius[g.idx[3]].data());
   _MM_TRANSPOSE4_PS(nx, ny, nz, r);  // world normal x, y, z and radius per lane
-  const float* T = k.T_cam_world.m;
-  const __m128 ncx = sse::rigidRow(T, nx, ny, nz, false),
-               ncy = sse::rigidRow(T + 4, nx, ny, nz, false),
-               ncz = sse::rigidRow(T + 8, nx, ny, nz, false);  // RigidF::rotate
-  const __m128 z = g.z;
-  const __m128 depth_ok = _mm_and_ps(_mm_cmpge_ps(z, _mm_set1_ps(k.min_depth_m)),
-                                     _mm_cmple_ps(z, _mm_set1_ps(k.max_depth_m)));
   using lanes::F4;
-  F4 u_lo4, u_hi4, v_lo4, v_hi4;
-  kernels::splatBounds(k.K, k.max_radius_px, lanes::LaneVec3<F4>{F4(g.x), F4(g.y), F4(z)},
-                       lanes::LaneVec3<F4>{F4(ncx), F4(ncy), F4(ncz)}, F4(r), F4(g.u), F4(g.v),
-                       u_lo4, u_hi4, v_lo4, v_hi4);
-  const __m128 u_lo = static_cast<__m128>(u_lo4), u_hi = static_cast<__m128>(u_hi4),
-               v_lo = static_cast<__m128>(v_lo4), v_hi = static_cast<__m128>(v_hi4);
-  const __m128 half = _mm_set1_ps(0.5f);
-  const __m128i uc = _mm_cvttps_epi32(_mm_floor_ps(_mm_add_ps(g.u, half)));
-  const __m128i vc = _mm_cvttps_epi32(_mm_floor_ps(_mm_add_ps(g.v, half)));
-  __m128i x0 = _mm_min_epi32(_mm_cvttps_epi32(_mm_ceil_ps(u_lo)), uc);
-  __m128i x1 = _mm_max_epi32(_mm_cvttps_epi32(_mm_floor_ps(u_hi)), uc);
-  __m128i y0 = _mm_min_epi32(_mm_cvttps_epi32(_mm_ceil_ps(v_lo)), vc);
-  __m128i y1 = _mm_max_epi32(_mm_cvttps_epi32(_mm_floor_ps(v_hi)), vc);
-  x0 = _mm_max_epi32(x0, _mm_setzero_si128());
-  y0 = _mm_max_epi32(y0, _mm_setzero_si128());
-  x1 = _mm_min_epi32(x1, _mm_set1_epi32(k.packed.width - 1));
-  y1 = _mm_min_epi32(y1, _mm_set1_epi32(k.packed.height - 1));
-  const __m128i box_ok = _mm_andnot_si128(
-      _mm_or_si128(_mm_cmpgt_epi32(x0, x1), _mm_cmpgt_epi32(y0, y1)), _mm_set1_epi32(-1));
-  int mask = g.mask & _mm_movemask_ps(_mm_and_ps(depth_ok, _mm_castsi128_ps(box_ok)));
+  const lanes::LaneVec3<F4> nc =
+      lanes::rotate(k.T_cam_world, lanes::LaneVec3<F4>{F4(nx), F4(ny), F4(nz)});
+  const F4 z(g.z);
+  F4 u_lo, u_hi, v_lo, v_hi;
+  kernels::splatBounds(k.K, k.max_radius_px, lanes::LaneVec3<F4>{F4(g.x), F4(g.y), z}, nc, F4(r),
+                       F4(g.u), F4(g.v), u_lo, u_hi, v_lo, v_hi);
+  F4 x0, x1, y0, y1, uc, vc;
+  kernels::splatPixels(u_lo, u_hi, v_lo, v_hi, F4(g.u), F4(g.v), k.packed.width, k.packed.height,
+                       x0, x1, y0, y1, uc, vc);
+  const int mask =
+      g.mask & lanes::bits(z >= k.min_depth_m && z <= k.max_depth_m && x0 <= x1 && y0 <= y1);
   if (!mask) return 0;
   alignas(16) float PX[4], PY[4], PZ[4], NX[4], NY[4], NZ[4], R[4];
   alignas(16) int X0[4], X1[4], Y0[4], Y1[4], UC[4], VC[4];
+  const auto put = [](float* to, const F4& lane) { lane.copy_to(to, lanes::stdx::vector_aligned); };
+  const auto putInt = [](int* to, const F4& lane) {
+    _mm_store_si128(reinterpret_cast<__m128i*>(to), lanes::toInt(lane));
+  };
   _mm_store_ps(PX, g.x);
   _mm_store_ps(PY, g.y);
-  _mm_store_ps(PZ, z);
-  _mm_store_ps(NX, ncx);
-  _mm_store_ps(NY, ncy);
-  _mm_store_ps(NZ, ncz);
+  _mm_store_ps(PZ, g.z);
+  put(NX, nc.x);
+  put(NY, nc.y);
+  put(NZ, nc.z);
   _mm_store_ps(R, r);
-  _mm_store_si128(reinterpret_cast<__m128i*>(X0), x0);
-  _mm_store_si128(reinterpret_cast<__m128i*>(X1), x1);
-  _mm_store_si128(reinterpret_cast<__m128i*>(Y0), y0);
-  _mm_store_si128(reinterpret_cast<__m128i*>(Y1), y1);
-  _mm_store_si128(reinterpret_cast<__m128i*>(UC), uc);
-  _mm_store_si128(reinterpret_cast<__m128i*>(VC), vc);
+  putInt(X0, x0);
+  putInt(X1, x1);
+  putInt(Y0, y0);
+  putInt(Y1, y1);
+  putInt(UC, uc);
+  putInt(VC, vc);
   for (int m = mask; m; m &= m - 1) {
     const int l = __builtin_ctz(unsigned(m));
     kernels::SplatFootprint& f = out[l];

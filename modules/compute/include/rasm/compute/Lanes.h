@@ -3,11 +3,13 @@
 // a lane type F runs as F = float (the CUDA kernels and the scalar CPU path) and, on the CPU, as
 // F = lanes::F4 (four floats in one SSE register: std::experimental::simd, GCC's <experimental/
 // simd>, with the 16-byte ABI of -march=x86-64-v2). Such a body uses only what both have:
-// arithmetic and comparisons with float constants, select(), sqrtL(), absL(), truncL() and
-// LaneVec3 with Eigen's order of operations (dot: a0 b0 + (a1 b1 + a2 b2); cross: (a1 b2 - a2 b1,
-// a2 b0 - a0 b2, a0 b1 - a1 b0)), so that both instantiations give the bits of the Eigen code
-// they replace. Small integers (bins, counts) are carried as floats (exact below 2^24) and
-// converted once at the end, so that no integer mask is needed.
+// arithmetic and comparisons with float constants, && || ! on masks, select(), sqrtL(), absL(),
+// truncL(), floorL(), ceilL(), minL() / maxL() (minF / maxF's a < b ? a : b) and LaneVec3 (dot,
+// cross, blend, scaled, RigidF's rotate and apply) with Eigen's and RigidF's order of operations
+// (dot: a0 b0 + (a1 b1 + a2 b2); cross: (a1 b2 - a2 b1, a2 b0 - a0 b2, a0 b1 - a1 b0)), so that
+// both instantiations give the bits of the Eigen code they replace. Small integers (bins, counts)
+// are carried as floats (exact below 2^24) and converted once at the end, so that no integer mask
+// is needed.
 
 #include <cmath>
 
@@ -37,6 +39,9 @@ RASM_HD_INLINE float truncL(float x) {
 RASM_HD_INLINE float floorL(float x) {
   return floorf(x);
 }
+RASM_HD_INLINE float ceilL(float x) {
+  return ceilf(x);
+}
 
 #if !defined(__CUDACC__)
 namespace stdx = std::experimental;
@@ -60,6 +65,9 @@ inline F4 truncL(const F4& x) {
 }
 inline F4 floorL(const F4& x) {
   return stdx::floor(x);
+}
+inline F4 ceilL(const F4& x) {
+  return stdx::ceil(x);
 }
 /// Lane l of the mask as bit l.
 inline int bits(const F4::mask_type& m) {

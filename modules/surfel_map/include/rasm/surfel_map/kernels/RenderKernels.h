@@ -240,6 +240,24 @@ RASM_HD_INLINE void splatBounds(const PinholeF& K, float max_radius_px,
   v_hi = lanes::select(near_ok, minL(v_hi, maxL(va, vb)), v_hi);
 }
 
+/// The pixels [x0, x1] x [y0, y1] a splat depth-tests, as integer-valued floats over lanes: the
+/// box of splatBounds rounded inwards, widened to the centre's own pixel (uc, vc) = pixelOf(u, v)
+/// (always a candidate: SplatKernel::rasterize) and clipped to the width x height image. Empty
+/// where x0 > x1 or y0 > y1 (the box lies outside the image).
+template <class F>
+RASM_HD_INLINE void splatPixels(const F& u_lo, const F& u_hi, const F& v_lo, const F& v_hi,
+                                const F& u, const F& v, int width, int height, F& x0, F& x1, F& y0,
+                                F& y1, F& uc, F& vc) {
+  using lanes::maxL;
+  using lanes::minL;
+  uc = lanes::floorL(u + 0.5f);
+  vc = lanes::floorL(v + 0.5f);
+  x0 = maxL(F(0.0f), minL(lanes::ceilL(u_lo), uc));
+  y0 = maxL(F(0.0f), minL(lanes::ceilL(v_lo), vc));
+  x1 = minL(F(float(width - 1)), maxL(lanes::floorL(u_hi), uc));
+  y1 = minL(F(float(height - 1)), maxL(lanes::floorL(v_hi), vc));
+}
+
 /// II-A's splat test of one pixel, over lanes (SplatKernel::rasterize and the CPU splat's four
 /// pixels at once): the pixel's ray d = (rx, ry, 1) meets the plane n.(q - p) = 0 of the disc
 /// (camera-frame centre pc, normal nc, n_dot_p = nc.pc, squared radius r2) at q = t d with
@@ -296,24 +314,18 @@ struct SplatKernel {
     float u_lo, u_hi, v_lo, v_hi;
     splatBounds(K, max_radius_px, lanes::lanesOf(pc), lanes::lanesOf(nc), r, u, v, u_lo, u_hi, v_lo,
                 v_hi);
-    int x0 = int(ceilf(u_lo)), x1 = int(floorf(u_hi)), y0 = int(ceilf(v_lo)),
-        y1 = int(floorf(v_hi));
-    // The centre's own pixel is always a candidate (see rasterize()).
-    const int uc = pixelOf(u), vc = pixelOf(v);
-    x0 = x0 < uc ? x0 : uc;
-    x1 = x1 > uc ? x1 : uc;
-    y0 = y0 < vc ? y0 : vc;
-    y1 = y1 > vc ? y1 : vc;
-    f.x0 = x0 < 0 ? 0 : x0;
-    f.y0 = y0 < 0 ? 0 : y0;
-    f.x1 = x1 > packed.width - 1 ? packed.width - 1 : x1;
-    f.y1 = y1 > packed.height - 1 ? packed.height - 1 : y1;
+    float x0, x1, y0, y1, uc, vc;
+    splatPixels(u_lo, u_hi, v_lo, v_hi, u, v, packed.width, packed.height, x0, x1, y0, y1, uc, vc);
+    f.x0 = int(x0);
+    f.x1 = int(x1);
+    f.y0 = int(y0);
+    f.y1 = int(y1);
     f.pc = pc;
     f.nc = nc;
     f.r = r;
-    f.uc = uc;
-    f.vc = vc;
-    return f.x0 <= f.x1 && f.y0 <= f.y1;
+    f.uc = int(uc);
+    f.vc = int(vc);
+    return x0 <= x1 && y0 <= y1;
   }
 
   /// Depth-tests the footprint's pixels in rows [y_lo, y_hi].
