@@ -493,13 +493,13 @@ struct CarveTest {
 /// II-B's update of one surfel's geometry by an associated measurement, over lanes
 /// (compute/Lanes.h: the scalar kernel and fusion's four-lane CPU update run this body).
 /// In: the measurement's camera-frame vertex v, world normal nw, weight w and radius r, and the
-/// surfel's position p, confidence c, normal ns, radius rs and basis b. Where r <=
-/// radius_update_ratio
-/// * rs (`fuse`): p and ns become the confidence-weighted averages (a0 = c / (c + w), a1 = w / (c +
-/// w); ns renormalised), rs too when average_radius or r < rs, and b is projected onto the new
-/// plane (updateBasis: -ns x (ns x b), normalised); `basis_ok` is false where that projection is
-/// too short and updateBasis falls back to anyPerpendicular (the caller's part); `crossed` where
-/// the new position left its spatial-index block. Elsewhere the surfel keeps its geometry.
+/// surfel's position p, confidence c, normal ns, radius rs and basis b. Where the measurement is
+/// fine enough (`fuse`: r <= radius_update_ratio rs), p and ns become the confidence-weighted
+/// averages (a0 = c / (c + w), a1 = w / (c + w); ns renormalised), rs too when average_radius or
+/// r < rs, and b is projected onto the new plane (updateBasis: -ns x (ns x b), normalised);
+/// `basis_ok` is false where that projection is too short and updateBasis falls back to
+/// anyPerpendicular (the caller's part); `crossed` where the new position left its
+/// spatial-index block. Elsewhere the surfel keeps its geometry.
 template <class F>
 struct SurfelGeometryUpdate {
   lanes::LaneVec3<F> p, ns, b;
