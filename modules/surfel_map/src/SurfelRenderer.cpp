@@ -682,6 +682,53 @@ void SurfelRenderer::renderIndexMap4x(const SurfelStore& map, const Eigen::Isome
   }
 }
 
+void SurfelRenderer::sortCandidateRow(int y, int team, std::uint32_t b, std::uint32_t e,
+                                      std::vector<std::uint32_t>& col,
+                                      std::vector<RowPoint>& sorted, PointCandidates4x& out) const {
+  const int w = out.width, h = out.height;
+  kernels::CameraPoint* entries = out.entries.data();
+  std::fill(col.begin(), col.end(), 0u);
+  for (int tt = 0; tt < team; ++tt)
+    for (const RowPoint& rp : row_points_[std::size_t(tt) * h + y]) ++col[rp.column + 1];
+  for (int x = 0; x < w; ++x) col[x + 1] += col[x];  // col[x] = start of column x in the row
+  sorted.resize(e - b);
+  for (int tt = 0; tt < team; ++tt)
+    for (const RowPoint& rp : row_points_[std::size_t(tt) * h + y]) sorted[col[rp.column]++] = rp;
+  // col[x] is now the end of column x.
+  std::uint32_t* first = out.first.data() + std::size_t(y) * w;
+  std::uint8_t* count = out.count.data() + std::size_t(y) * w;
+  std::uint32_t pb = 0;
+  for (int x = 0; x < w; ++x) {
+    const std::uint32_t pe = col[x];
+    first[x] = b + pb;
+    std::uint32_t m = b + pb, n = pe - pb;
+    if (n <= 1) {
+      if (n) entries[m] = sorted[pb].p;
+      count[x] = std::uint8_t(n);
+      pb = pe;
+      continue;
+    }
+    // Candidates first, hidden ones after them.
+    std::uint32_t hidden = b + pe;
+    for (std::uint32_t q = pb; q < pe; ++q) {
+      const std::uint64_t v = kernels::packDepthIndex(sorted[q].p.pc.z(), sorted[q].p.index);
+      bool wins = true;
+      for (std::uint32_t o = pb; o < pe; ++o)
+        if (o != q && sorted[o].sub == sorted[q].sub &&
+            kernels::packDepthIndex(sorted[o].p.pc.z(), sorted[o].p.index) < v) {
+          wins = false;
+          break;
+        }
+      if (wins)
+        entries[m++] = sorted[q].p;
+      else
+        entries[--hidden] = sorted[q].p;
+    }
+    count[x] = std::uint8_t(m - first[x]);
+    pb = pe;
+  }
+}
+
 void SurfelRenderer::renderCandidates4x(const SurfelStore& map,
                                         const Eigen::Isometry3d& T_world_cam,
                                         const CameraIntrinsics& K, const RenderOptions& opt,
@@ -754,55 +801,11 @@ void SurfelRenderer::renderCandidates4x(const SurfelStore& map,
       for (int tt = 0; tt < tn; ++tt)
         out.others.insert(out.others.end(), others_[tt].begin(), others_[tt].end());
     }
-    std::vector<std::uint32_t>& col = column_counts_[t];
-    col.resize(std::size_t(w) + 1);
-    std::vector<RowPoint>& sorted = row_scratch_[t];
-    kernels::CameraPoint* entries = out.entries.data();
+    column_counts_[t].resize(std::size_t(w) + 1);
 #pragma omp for schedule(dynamic, 8)
-    for (int y = 0; y < h; ++y) {
-      const std::uint32_t b = row_first[y], e = row_first[y + 1];
-      std::fill(col.begin(), col.end(), 0u);
-      for (int tt = 0; tt < tn; ++tt)
-        for (const RowPoint& rp : row_points_[std::size_t(tt) * h + y]) ++col[rp.column + 1];
-      for (int x = 0; x < w; ++x) col[x + 1] += col[x];  // col[x] = start of column x in the row
-      sorted.resize(e - b);
-      for (int tt = 0; tt < tn; ++tt)
-        for (const RowPoint& rp : row_points_[std::size_t(tt) * h + y])
-          sorted[col[rp.column]++] = rp;
-      // col[x] is now the end of column x.
-      std::uint32_t* first = out.first.data() + std::size_t(y) * w;
-      std::uint8_t* count = out.count.data() + std::size_t(y) * w;
-      std::uint32_t pb = 0;
-      for (int x = 0; x < w; ++x) {
-        const std::uint32_t pe = col[x];
-        first[x] = b + pb;
-        std::uint32_t m = b + pb, n = pe - pb;
-        if (n <= 1) {
-          if (n) entries[m] = sorted[pb].p;
-          count[x] = std::uint8_t(n);
-          pb = pe;
-          continue;
-        }
-        // Candidates first, hidden ones after them.
-        std::uint32_t hidden = b + pe;
-        for (std::uint32_t q = pb; q < pe; ++q) {
-          const std::uint64_t v = kernels::packDepthIndex(sorted[q].p.pc.z(), sorted[q].p.index);
-          bool wins = true;
-          for (std::uint32_t o = pb; o < pe; ++o)
-            if (o != q && sorted[o].sub == sorted[q].sub &&
-                kernels::packDepthIndex(sorted[o].p.pc.z(), sorted[o].p.index) < v) {
-              wins = false;
-              break;
-            }
-          if (wins)
-            entries[m++] = sorted[q].p;
-          else
-            entries[--hidden] = sorted[q].p;
-        }
-        count[x] = std::uint8_t(m - first[x]);
-        pb = pe;
-      }
-    }
+    for (int y = 0; y < h; ++y)
+      sortCandidateRow(y, tn, row_first[y], row_first[y + 1], column_counts_[t], row_scratch_[t],
+                       out);
   }
   out.first[npix] = row_first[h];
   if (stats) {

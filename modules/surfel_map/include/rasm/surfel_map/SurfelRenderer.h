@@ -183,6 +183,13 @@ class SurfelRenderer {
     std::uint8_t sub;      ///< sub-pixel in the 4x4 block, row-major
   };
   std::vector<std::vector<RowPoint>> row_points_;
+  /// Row y of renderCandidates4x's third step: its projected surfels (row_points_ of the `team`
+  /// threads) counting-sorted by column into out.entries[b, e), each pixel's candidates (the
+  /// nearest surfel of each of its sub-pixels) first; out.first and out.count of the row. `col`
+  /// (width + 1) and `sorted` are the calling thread's scratch.
+  void sortCandidateRow(int y, int team, std::uint32_t b, std::uint32_t e,
+                        std::vector<std::uint32_t>& col, std::vector<RowPoint>& sorted,
+                        PointCandidates4x& out) const;
   std::vector<std::vector<kernels::CameraPoint>> others_;
   std::vector<std::vector<std::uint32_t>> column_counts_;
   std::vector<std::vector<RowPoint>> row_scratch_;
