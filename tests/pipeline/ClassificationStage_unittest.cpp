@@ -92,6 +92,15 @@ class BoxDetector : public classification::Detector {
   std::vector<std::string> m_names;
 };
 
+/// [classification] of a test run: `detectors`, on the mapping thread unless `threaded`, every
+/// frame offered.
+void writeClassificationKeys(mrpt::config::CConfigFileMemory& ini, const std::string& detectors,
+                             bool threaded = false) {
+  ini.write("classification", "detectors", detectors);
+  ini.write("classification", "threaded", threaded ? "true" : "false");
+  ini.write("classification", "every_n_frames", "1");
+}
+
 }  // namespace
 
 // The simulator's detector is a detector kind the stage adds (pipeline/SimDetector.h): its
@@ -112,9 +121,7 @@ TEST(ClassificationStage, TheSimulatedDetectorIsADetectorKindOfTheStage) {
   EXPECT_THROW(Mapper(out_of_range, "test.ini"), InputError);
 
   mrpt::config::CConfigFileMemory ini;
-  ini.write("classification", "detectors", "sim_detector");
-  ini.write("classification", "threaded", "false");
-  ini.write("classification", "every_n_frames", "1");
+  writeClassificationKeys(ini, "sim_detector");
   Mapper mapper(ini, "test");
   mapper.addStage(std::make_unique<GroundTruthPose>(), "index_map");
   const Box a{{-0.5, -0.2, 1.8}, {-0.1, 0.2, 2.2}};
@@ -135,9 +142,7 @@ TEST(ClassificationStage, TheSimulatedDetectorIsADetectorKindOfTheStage) {
 TEST(ClassificationStage, AnObjectLeftAndSeenAgainIsListedOnce) {
   const Box a{{-0.5, -0.2, 1.8}, {-0.1, 0.2, 2.2}}, b{{0.1, -0.2, 1.8}, {0.5, 0.2, 2.2}};
   mrpt::config::CConfigFileMemory ini;
-  ini.write("classification", "detectors", "");
-  ini.write("classification", "threaded", "false");
-  ini.write("classification", "every_n_frames", "1");
+  writeClassificationKeys(ini, "");
   Mapper mapper(ini, "test");
   mapper.addStage(std::make_unique<GroundTruthPose>(), "index_map");
   auto& stage = mapper.stage<ClassificationStage>();
@@ -187,9 +192,7 @@ TEST(ClassificationStage, ALateResultLandsOnTheSegmentsOfItsOwnFrame) {
   // fused with the current L^p it would label B, with frame 0's it labels A.
   const Box a{{-0.5, -0.2, 1.8}, {-0.1, 0.2, 2.2}}, b{{0.1, -0.2, 1.8}, {0.5, 0.2, 2.2}};
   mrpt::config::CConfigFileMemory ini;
-  ini.write("classification", "detectors", "");
-  ini.write("classification", "threaded", "true");
-  ini.write("classification", "every_n_frames", "1");
+  writeClassificationKeys(ini, "", true);
   ini.write("segmentation", "remap_every_n_frames", "5");  // relabellings while it is held
   Mapper mapper(ini, "test");
   mapper.addStage(std::make_unique<GroundTruthPose>(), "index_map");
@@ -291,9 +294,7 @@ TEST(ClassificationStage, ZeroShotDetectionsAreFusedOnlyWhenTheirPosesAgreeAcros
       phantom{{-0.45, -0.2, 1.8}, {-0.05, 0.2, 2.2}};
   const auto run = [&](bool consensus) {
     mrpt::config::CConfigFileMemory ini;
-    ini.write("classification", "detectors", "");
-    ini.write("classification", "threaded", "false");
-    ini.write("classification", "every_n_frames", "1");
+    writeClassificationKeys(ini, "");
     ini.write("classification", "pose_consensus", consensus ? "true" : "false");
     Mapper mapper(ini, "test");
     mapper.addStage(std::make_unique<GroundTruthPose>(), "index_map");
