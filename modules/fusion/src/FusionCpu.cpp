@@ -28,8 +28,8 @@ void viewBins4(const kernels::FusionKernelParams& prm, const RigidF& T_world_cam
   F4 d;
   const F4 bins = maps::kernels::viewBinOfCamera(p, n, b, T_world_cam.translation(), prm.n_azimuth,
                                                  prm.n_elevation, d);
-  _mm_storeu_si128(reinterpret_cast<__m128i*>(bin), lanes::toInt(bins));
-  _mm_storeu_ps(dist, static_cast<__m128>(d));
+  lanes::storeInt(bin, bins);
+  lanes::store(dist, d);
 }
 
 /// kernels::updateViewBinAt, with the exponential skipped where it cannot raise the bin.
@@ -85,19 +85,18 @@ void updateFour(const kernels::UpdateKernel& k, int y, const int* xs, int n,
   const int fused = lanes::bits(u.fuse), crossed = lanes::bits(u.crossed),
             basis_ok = lanes::bits(u.basis_ok);
   alignas(16) float P[3][4], N[4][4], B[3][4], A[2][4], C[4], W[4];
-  const auto put = [](float* to, const F4& lane) { lane.copy_to(to, lanes::stdx::vector_aligned); };
-  put(P[0], u.p.x);
-  put(P[1], u.p.y);
-  put(P[2], u.p.z);
-  put(N[0], u.ns.x);
-  put(N[1], u.ns.y);
-  put(N[2], u.ns.z);
-  put(N[3], u.rs);
-  put(B[0], u.b.x);
-  put(B[1], u.b.y);
-  put(B[2], u.b.z);
-  put(A[0], u.a0);
-  put(A[1], u.a1);
+  lanes::store(P[0], u.p.x);
+  lanes::store(P[1], u.p.y);
+  lanes::store(P[2], u.p.z);
+  lanes::store(N[0], u.ns.x);
+  lanes::store(N[1], u.ns.y);
+  lanes::store(N[2], u.ns.z);
+  lanes::store(N[3], u.rs);
+  lanes::store(B[0], u.b.x);
+  lanes::store(B[1], u.b.y);
+  lanes::store(B[2], u.b.z);
+  lanes::store(A[0], u.a0);
+  lanes::store(A[1], u.a1);
   _mm_store_ps(C, c);
   _mm_store_ps(W, w);
   // View bins on four lanes.
@@ -153,21 +152,20 @@ int measureFour(const kernels::FrameView& fv, const kernels::FusionKernelParams&
   F4 dz_max, inv_v, inv_r;
   kernels::associationGates(prm, v, r, dz_max, inv_v, inv_r);
   alignas(16) float V[3][4], N[3][4], NW[3][4], Wt[4], Rr[4], DZ[4], IV[4], IR[4];
-  const auto put = [](float* to, const F4& lane) { lane.copy_to(to, lanes::stdx::vector_aligned); };
   _mm_store_ps(V[0], vx);
   _mm_store_ps(V[1], vy);
   _mm_store_ps(V[2], vz);
   _mm_store_ps(N[0], nx);
   _mm_store_ps(N[1], ny);
   _mm_store_ps(N[2], nz);
-  put(NW[0], nw.x);
-  put(NW[1], nw.y);
-  put(NW[2], nw.z);
+  lanes::store(NW[0], nw.x);
+  lanes::store(NW[1], nw.y);
+  lanes::store(NW[2], nw.z);
   _mm_store_ps(Wt, wt);
-  put(Rr, r);
-  put(DZ, dz_max);
-  put(IV, inv_v);
-  put(IR, inv_r);
+  lanes::store(Rr, r);
+  lanes::store(DZ, dz_max);
+  lanes::store(IV, inv_v);
+  lanes::store(IR, inv_r);
   for (int v = valid; v; v &= v - 1) {
     const int l = __builtin_ctz(unsigned(v));
     kernels::PixelMeasurement& pm = m[l];

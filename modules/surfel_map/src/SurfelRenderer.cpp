@@ -246,23 +246,19 @@ inline int footprints4(const kernels::SplatKernel& k, const MemberGroup& g,
   if (!mask) return 0;
   alignas(16) float PX[4], PY[4], PZ[4], NX[4], NY[4], NZ[4], R[4];
   alignas(16) int X0[4], X1[4], Y0[4], Y1[4], UC[4], VC[4];
-  const auto put = [](float* to, const F4& lane) { lane.copy_to(to, lanes::stdx::vector_aligned); };
-  const auto putInt = [](int* to, const F4& lane) {
-    _mm_store_si128(reinterpret_cast<__m128i*>(to), lanes::toInt(lane));
-  };
   _mm_store_ps(PX, g.x);
   _mm_store_ps(PY, g.y);
   _mm_store_ps(PZ, g.z);
-  put(NX, nc.x);
-  put(NY, nc.y);
-  put(NZ, nc.z);
+  lanes::store(NX, nc.x);
+  lanes::store(NY, nc.y);
+  lanes::store(NZ, nc.z);
   _mm_store_ps(R, r);
-  putInt(X0, x0);
-  putInt(X1, x1);
-  putInt(Y0, y0);
-  putInt(Y1, y1);
-  putInt(UC, uc);
-  putInt(VC, vc);
+  lanes::storeInt(X0, x0);
+  lanes::storeInt(X1, x1);
+  lanes::storeInt(Y0, y0);
+  lanes::storeInt(Y1, y1);
+  lanes::storeInt(UC, uc);
+  lanes::storeInt(VC, vc);
   for (int m = mask; m; m &= m - 1) {
     const int l = __builtin_ctz(unsigned(m));
     kernels::SplatFootprint& f = out[l];

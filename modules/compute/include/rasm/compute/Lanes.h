@@ -77,6 +77,13 @@ inline int bits(const F4::mask_type& m) {
 inline __m128i toInt(const F4& x) {
   return static_cast<__m128i>(stdx::static_simd_cast<I4>(x));
 }
+/// The four lanes to to[0..3] (as floats; as ints truncated, toInt).
+inline void store(float* to, const F4& x) {
+  x.copy_to(to, stdx::element_aligned);
+}
+inline void storeInt(int* to, const F4& x) {
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(to), toInt(x));
+}
 #endif
 
 /// The mask of a lane type (bool for float).
