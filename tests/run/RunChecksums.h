@@ -2,7 +2,9 @@
 // Byte-identical behaviour across refactorings: a short run's outputs against CRC-32 checksums
 // stored in tests/run/run_checksums.txt. What varies between two runs of the same binary on the
 // same input (wall-clock times, peak memory, the output folder's path) is left out before the
-// checksum; everything else (poses, surfels, segments, objects, per-frame counters, plans) is in.
+// checksum, and the checkout's path is replaced by a placeholder (another clone of the same commit
+// gives the same checksums); everything else (poses, surfels, segments, objects, per-frame
+// counters, plans) is in.
 //
 // A change that alters behaviour on purpose regenerates the file and says why in its commit:
 //   RASM_WRITE_CHECKSUMS=1 build/tests/test_run --gtest_filter='RunChecksums.*'
@@ -79,8 +81,17 @@ inline std::string csvWithoutVaryingColumns(const std::string& text) {
   return out;
 }
 
-/// The deterministic content of one output file of a run (JSON and CSV filtered as above, every
-/// other file as its bytes).
+/// `text` with the repository's path (RASM_SOURCE_DIR, where the test's inputs lie) replaced by a
+/// placeholder: report.json names its input by absolute path, which differs between checkouts.
+inline std::string withoutCheckoutPath(std::string text) {
+  const std::string dir = RASM_SOURCE_DIR;
+  for (std::size_t at = text.find(dir); at != std::string::npos; at = text.find(dir, at))
+    text.replace(at, dir.size(), "<RASM_SOURCE_DIR>");
+  return text;
+}
+
+/// The deterministic content of one output file of a run (JSON and CSV filtered as above and
+/// without the checkout's path, every other file as its bytes).
 inline std::string deterministicContent(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   if (!f) ADD_FAILURE() << "missing output " << path;
@@ -95,9 +106,9 @@ inline std::string deterministicContent(const std::string& path) {
     nlohmann::json j = nlohmann::json::parse(bytes, nullptr, false);
     if (j.is_discarded()) ADD_FAILURE() << path << " is not JSON";
     dropVaryingKeys(j);
-    return j.dump();
+    return withoutCheckoutPath(j.dump());
   }
-  if (has_suffix(".csv")) return csvWithoutVaryingColumns(bytes);
+  if (has_suffix(".csv")) return withoutCheckoutPath(csvWithoutVaryingColumns(bytes));
   return bytes;
 }
 
