@@ -40,13 +40,12 @@ void Mapper::assemble() {
   auto tracking = std::make_unique<TrackingStage>();
   m_tracking = tracking.get();
   m_stages.push_back(std::move(tracking));
-  auto fuse = std::make_unique<FusionStage>();
-  m_stages.push_back(std::make_unique<IndexMapStage>(*fuse));
-  auto segmentation = std::make_unique<SegmentationStage>();
-  auto classification = std::make_unique<ClassificationStage>(segmentation.get());
-  m_stages.push_back(std::move(segmentation));
-  m_stages.push_back(std::move(fuse));
-  m_stages.push_back(std::move(classification));
+  // Stages share engines and published layers, never each other.
+  auto fusion_engine = std::make_shared<fusion::SurfelFusion>();
+  m_stages.push_back(std::make_unique<IndexMapStage>(fusion_engine));
+  m_stages.push_back(std::make_unique<SegmentationStage>(m_segments));
+  m_stages.push_back(std::make_unique<FusionStage>(fusion_engine));
+  m_stages.push_back(std::make_unique<ClassificationStage>(&m_segments));
   m_stages.push_back(std::make_unique<ExplorationStage>());
   indexTimers();
 }
@@ -237,13 +236,8 @@ void Mapper::copySnapshot(MapSnapshot& snap, int max_surfels) const {
       snap.store.copyThinnedFrom(live, (live.size() + max_surfels - 1) / max_surfels, 1.0f);
     else
       snap.store.copySurfelsFrom(live);
-    snap.segments.clear();
-    snap.relabel_generation = 0;
-    for (const auto& s : m_stages)
-      if (const auto* seg = dynamic_cast<const SegmentationStage*>(s.get())) {
-        snap.segments = seg->table().segments();
-        snap.relabel_generation = seg->relabelGeneration();
-      }
+    snap.segments = m_segments.table().segments();
+    snap.relabel_generation = m_segments.relabelGeneration();
     snap.frames = m_frames;
     snap.copy_ms = msSince(t);
   }

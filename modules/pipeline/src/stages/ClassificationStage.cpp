@@ -14,7 +14,6 @@
 #ifdef RASM_HAVE_SIM
 #include "rasm/pipeline/SimDetector.h"
 #endif
-#include "rasm/pipeline/stages/SegmentationStage.h"
 #include "rasm/surfel_map/MapExport.h"
 
 namespace rasm::pipeline {
@@ -38,8 +37,8 @@ void requireBuiltDetectors(const TClassificationParams& params) {
 }
 }  // namespace
 
-ClassificationStage::ClassificationStage(SegmentationStage* segmentation)
-    : MapperStage("classification", {"cls_fuse"}), m_segmentation(segmentation) {
+ClassificationStage::ClassificationStage(SegmentLayer* segments)
+    : MapperStage("classification", {"cls_fuse"}), m_segments(segments) {
 #ifdef RASM_HAVE_SIM
   auto sim_params = std::make_unique<sim::TDetectorParams>();
   const sim::TDetectorParams* sim_detector = sim_params.get();
@@ -49,8 +48,8 @@ ClassificationStage::ClassificationStage(SegmentationStage* segmentation)
   };
   m_detector_sections.added.push_back({"sim_detector", m_sim_detector.get(), make});
 #endif
-  if (m_segmentation)
-    m_segmentation->addRelabelListener(
+  if (segments)
+    segments->addRelabelListener(
         [this](const std::vector<std::uint32_t>& table) { relabel(table); });
 }
 
@@ -143,8 +142,8 @@ void ClassificationStage::fuseArrived(maps::CSurfelMap& map) {
 }
 
 void ClassificationStage::updateObjects() {
-  if (m_segmentation)
-    m_object_map.update(m_segmentation->table().segments());
+  if (m_segments)
+    m_object_map.update(m_segments->table().segments());
   else
     m_object_map.update({});
 }
@@ -435,8 +434,7 @@ nlohmann::json ClassificationStage::segmentEntry(std::uint32_t segment,
                       {"probability", b.probability},
                       {"detections_fused", r ? r->detections : 0},
                       {"not_an_object", toString(object.verdict)}};
-  const segmentation::SegmentStats* s =
-      m_segmentation ? m_segmentation->table().find(segment) : nullptr;
+  const segmentation::SegmentStats* s = m_segments ? m_segments->table().find(segment) : nullptr;
   if (s) {
     j["surfels"] = s->surfels;
     j["centroid"] = vec3(s->centroid);
@@ -493,7 +491,7 @@ void ClassificationStage::writeOutputs(OutputFolder& folder, const maps::CSurfel
                            .dump(1) +
                        "\n");
   writeClassLegend(folder, map);
-  updateObjects();  // the final segment table (SegmentationStage::writeOutputs computed it)
+  updateObjects();  // the final map's segment table (the segmentation's writeOutputs published it)
   m_objects_by_class.clear();
   m_objects_counted = true;
   nlohmann::json objects = nlohmann::json::array(), others = nlohmann::json::array();

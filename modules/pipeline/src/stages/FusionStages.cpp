@@ -13,7 +13,7 @@ fusion::FusionInput fusionInput(const FrameContext& ctx) {
 }  // namespace
 
 void FusionStage::configure(const TMapperParams& /*mapper*/) {
-  m_fusion.setParams(m_params);
+  m_fusion->setParams(m_params);
 }
 
 void FusionStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
@@ -23,9 +23,9 @@ void FusionStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
   }
   const fusion::FusionInput in = fusionInput(ctx);
   fusion::FusionStats& st = ctx.result.fusion;
-  m_fusion.updateSurfels(map.store(), in, st);
-  m_fusion.addSurfels(map.store(), in, st);
-  m_fusion.cleanup(map.store(), in, st);
+  m_fusion->updateSurfels(map.store(), in, st);
+  m_fusion->addSurfels(map.store(), in, st);
+  m_fusion->cleanup(map.store(), in, st);
   ctx.index_map = {};  // the cleanup moved surfels
   ctx.result.fused = true;
 }
@@ -48,8 +48,7 @@ void FusionStage::csvValues(const FrameContext& ctx, CsvRow& row) const {
 
 void IndexMapStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
   if (!ctx.result.fusable()) return;
-  ctx.index_map =
-      m_fusion.fusion().renderIndexMap(map.store(), fusionInput(ctx), ctx.result.fusion);
+  ctx.index_map = m_fusion->renderIndexMap(map.store(), fusionInput(ctx), ctx.result.fusion);
 }
 
 }  // namespace rasm::pipeline

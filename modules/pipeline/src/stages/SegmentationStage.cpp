@@ -80,23 +80,22 @@ void SegmentationStage::applyRelabelling(maps::CSurfelMap& map,
                                          const std::vector<std::uint32_t>& table) {
   map.store().relabelSegments(table);
   m_psi.remap(table);
-  m_last_relabelling = table;
-  ++m_relabel_generation;
-  for (const RelabelListener& l : m_listeners) l(table);
+  m_published.publishRelabelling(table);
 }
 
 void SegmentationStage::refreshTable(maps::CSurfelMap& map) {
   const maps::CSurfelMap& cmap = map;
-  m_table.compute(cmap.store().arrays());
+  segmentation::SegmentTable& segments = m_published.tableToWrite();
+  segments.compute(cmap.store().arrays());
   // Labels are remapped to fill unused ids (III); the table follows.
-  const std::vector<std::uint32_t> dense = segmentation::denseRelabelling(m_table);
+  const std::vector<std::uint32_t> dense = segmentation::denseRelabelling(segments);
   bool identity = true;
   for (std::uint32_t l = 1; l < dense.size() && identity; ++l) identity = dense[l] == l;
   if (!identity) {
     applyRelabelling(map, dense);
-    m_table.renumber(dense);
+    segments.renumber(dense);
   }
-  m_next_label = m_table.maxLabel() + 1;
+  m_next_label = segments.maxLabel() + 1;
 }
 
 void SegmentationStage::csvColumns(std::vector<std::string>& c) const {
@@ -126,21 +125,23 @@ void SegmentationStage::report(nlohmann::json& rep) const {
   j["label_changes_stable"] = m_label_changes_stable;
   if (m_stable_final >= 0) {
     j["stable_surfels"] = m_stable_final;
-    j["segments"] = m_table.segments().size();
+    j["segments"] = table().segments().size();
   }
   rep["segmentation"] = j;
 }
 
 void SegmentationStage::writeOutputs(OutputFolder& folder, const maps::CSurfelMap& map) {
   if (!m_params.enabled) return;
-  m_table.compute(map.store().arrays());  // the final map (no renumbering: the map is const here)
+  // The final map's table (no renumbering: the map is const here).
+  segmentation::SegmentTable& segments = m_published.tableToWrite();
+  segments.compute(map.store().arrays());
   const maps::SurfelArrays a = map.store().arrays();
   std::size_t stable = 0;
   for (int i = 0; i < a.size; ++i) stable += a.alive(i) && a.stable(i);
   m_stable_final = (long long)stable;
   nlohmann::json segs = nlohmann::json::array();
   const auto vec = [](const Eigen::Vector3d& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
-  for (const segmentation::SegmentStats& s : m_table.segments()) {
+  for (const segmentation::SegmentStats& s : segments.segments()) {
     nlohmann::json axes = nlohmann::json::array(), upright = nlohmann::json::array();
     for (int k = 0; k < 3; ++k) axes.push_back(vec(s.axes.col(k)));
     for (int k = 0; k < 2; ++k) upright.push_back(vec(s.upright_axes.col(k)));

@@ -48,16 +48,7 @@ void TrackingStage::configure(const TMapperParams& mapper) {
   m_odometry = tracking::OdometryPrior(m_robot);
   m_reloc = tracking::Relocaliser(m_relocalisation);
   m_reloc_last_fused = tracking::Relocaliser(m_relocalisation.forLastFusedFrame());
-  m_loop = tracking::LoopClosure(m_loop_params);
-  tracking::TTrackingParams loop_icp = m_tracking;
-  loop_icp.min_inlier_fraction *= m_loop_params.min_inactive_fraction;
-  loop_icp.max_jump_translation_m =
-      std::max(loop_icp.max_jump_translation_m, 2.0 * m_loop_params.max_correction_m + 0.2);
-  // A registration that moves the map must be held by the data in every direction: never a
-  // degenerate one. (Raising min_eigenvalue to prior_min_eigenvalue left no registration at all
-  // on the world-frame panel: the features confirm instead, checkLoop.)
-  loop_icp.degenerate_min_inlier_fraction = 2.0;
-  m_loop_tracker = tracking::IcpTracker(loop_icp);
+  m_loop.configure(m_loop_params, m_tracking);
 }
 
 void TrackingStage::resolveOdometryHeading(bool odometry_from_gyro) {
@@ -93,8 +84,7 @@ void TrackingStage::process(FrameContext& ctx, maps::CSurfelMap& map) {
     if (m_loop_params.enabled && r.fusable()) checkLoop(ctx, map);
   }
   m_odometry.frameDone(r.tracked);
-  ++m_frames_since_node;
-  if (r.tracking.status != tracking::TrackingStatus::Ok || !r.tracked) ++m_weak_frames_since_node;
+  m_loop.frameDone(r.tracking.status != tracking::TrackingStatus::Ok || !r.tracked);
   m_T_prev_frame = r.T_world_cam;
   if (r.tracked)
     m_lost_since_s.reset();
@@ -134,8 +124,8 @@ void TrackingStage::initialise(FrameContext& ctx) {
   }
   m_tracker.reset(T0);
   m_odometry.start(T0, frame.odometry_xyyaw);
-  m_loop.reset();
-  if (frame.odometry_xyyaw) m_loop.setUpAxis(m_odometry.up());
+  const Eigen::Vector3d up = m_odometry.up();
+  m_loop.start(frame.odometry_xyyaw ? &up : nullptr);
   r.first = true;
   r.tracked = true;
   r.T_world_cam = T0;
@@ -381,7 +371,7 @@ const std::vector<maps::Keyframe>& TrackingStage::lastFusedKeyframe() {
 
 void TrackingStage::finishFrame(FrameContext& ctx, maps::CSurfelMap& map) {
   if (!ctx.result.fused) {
-    m_pending_loop.reset();
+    m_loop.frameNotFused();
     return;
   }
   if (m_loop_params.enabled && m_mapper.poses != "groundtruth") closeLoop(ctx, map);
@@ -399,182 +389,59 @@ void TrackingStage::finishFrame(FrameContext& ctx, maps::CSurfelMap& map) {
   lf.attempted = false;
 }
 
+class TrackingStage::LoopParts : public tracking::MapPartSource {
+ public:
+  LoopParts(TrackingStage& stage, FrameContext& ctx, const maps::CSurfelMap& map)
+      : m_stage(stage), m_ctx(ctx), m_map(map) {}
+  tracking::MapPart render(const Eigen::Isometry3d& T_world_cam, bool with_colour,
+                           const maps::RenderOptions& time_filter) override {
+    FrameResult probe;
+    tracking::MapPart part;
+    part.model =
+        m_stage.renderModel(m_ctx, m_map, T_world_cam, with_colour, probe, false, &time_filter);
+    part.valid_pixels = probe.model_valid_pixels;
+    return part;
+  }
+  double medianInitTimeOfLastRender() const override {
+    const maps::SurfelArrays a = m_map.store().arrays();
+    std::vector<float> t_init;
+    const Image<std::int32_t>& index = m_stage.m_model.index;
+    for (int y = 0; y < index.height(); y += 4)
+      for (int x = 0; x < index.width(); x += 4)
+        if (const std::int32_t i = index(x, y); i >= 0 && i < a.size) t_init.push_back(a.t_init[i]);
+    if (t_init.empty()) return m_map.store().fromMapTime(0.0f);
+    auto mid = t_init.begin() + std::ptrdiff_t(t_init.size() / 2);
+    std::nth_element(t_init.begin(), mid, t_init.end());
+    return m_map.store().fromMapTime(*mid);
+  }
+
+ private:
+  TrackingStage& m_stage;
+  FrameContext& m_ctx;
+  const maps::CSurfelMap& m_map;
+};
+
 void TrackingStage::checkLoop(FrameContext& ctx, const maps::CSurfelMap& map) {
-  const tracking::TLoopClosureParams& lp = m_loop_params;
-  const double t_now = ctx.frame->timestamp_s;
-  const double t_inactive = t_now - lp.inactive_after_s;
-  if (m_loop.numNodes() < 2 || t_inactive <= m_loop.firstNodeTime()) return;
-  if (++m_frames_since_loop_check < lp.check_every_frames) return;
-  m_frames_since_loop_check = 0;
   const auto t = Clock::now();
   FrameResult& r = ctx.result;
-  const Eigen::Isometry3d T_track = r.T_world_cam;
-  const int frame_valid =
-      std::max(1, countValid(ctx.pyramid[std::size_t(m_tracking.model_level)].normal));
-  // The inactive map: what an earlier pass made and nothing fused since inactive_after_s.
-  maps::RenderOptions filter;
-  filter.created_before_s = t_inactive;
-  FrameResult probe;
-  const bool by_colour = lp.confirmation == "colour" && !ctx.frame->colour.empty() &&
-                         m_tracking.photometric_weight_degenerate > 0;
-  const tracking::ModelMaps inactive =
-      renderModel(ctx, map, T_track, by_colour, probe, false, &filter);
-  if (probe.model_valid_pixels < lp.min_inactive_fraction * frame_valid) {
-    recordMs(ctx, kLoopClosure, msSince(t));
-    return;
-  }
-  ++m_loop_checks;
-  const double t_old = medianInitTime(map.store());
-  const tracking::TrackingResult v_in = registerForLoop(ctx, inactive, T_track);
-  if (!v_in.ok || v_in.check_overlap < m_tracking.check_min_overlap) {
-    r.loop_closure =
-        std::string("unregistered: ") + (v_in.ok ? "overlap" : tracking::toString(v_in.status));
-    m_loop_candidate_checks = 0;  // confirmations are consecutive checks
-    recordMs(ctx, kLoopClosure, msSince(t));
-    return;
-  }
-  // The active map: the trajectory's own continuation (the tracked pose when it covers too
-  // little of the view to register against).
-  filter = maps::RenderOptions();
-  filter.created_after_s = t_inactive;
-  const tracking::ModelMaps active = renderModel(ctx, map, T_track, false, probe, false, &filter);
-  Eigen::Isometry3d T_active = T_track;
-  if (probe.model_valid_pixels >= lp.min_inactive_fraction * frame_valid) {
-    const tracking::TrackingResult v_act = registerForLoop(ctx, active, T_track);
-    if (v_act.ok) T_active = v_act.T_world_cam;
-  }
-  const tracking::LoopVerdict verdict = m_loop.judge(T_active, v_in.T_world_cam, t_old, t_now);
-  r.loop_closure = verdict.name();
-  r.loop_correction_m = verdict.correction_m;
-  r.loop_correction_deg = verdict.correction_deg;
-  std::string unconfirmed;
-  if (verdict.accepted() && lp.confirmation == "features" &&
-      !featuresConfirm(ctx, map, v_in.T_world_cam, t_inactive, verdict, unconfirmed)) {
-    r.loop_closure = "unconfirmed: " + unconfirmed;
-    m_loop_candidate_checks = 0;
-  } else if (verdict.accepted() && lp.confirmation == "colour" &&
-             !colourConfirms(ctx, inactive, T_track, v_in.T_world_cam, verdict, unconfirmed)) {
-    r.loop_closure = "unconfirmed: " + unconfirmed;
-    m_loop_candidate_checks = 0;
-  } else if (verdict.accepted()) {
-    // Closed when confirmations consecutive checks ask for the same correction.
-    const bool same =
-        m_loop_candidate && m_loop_candidate_checks > 0 &&
-        ctx.frame->index <= m_loop_candidate->frame + 2 * std::size_t(lp.check_every_frames) &&
-        m_loop.sameCorrection(m_loop_candidate->verdict, verdict, T_track);
-    m_loop_candidate_checks = same ? m_loop_candidate_checks + 1 : 1;
-    m_loop_candidate = LoopCandidate{verdict, ctx.frame->index};
-    if (m_loop_candidate_checks >= lp.confirmations) {
-      m_pending_loop = PendingLoop{verdict, T_active, t_old, t_now};
-      m_loop_candidate_checks = 0;
-    } else {
-      r.loop_closure = "candidate";
-    }
-  } else {
-    m_loop_candidate_checks = 0;
-    if (verdict.kind == tracking::LoopVerdict::Kind::Refused) ++m_loops_refused;
-  }
+  LoopParts parts(*this, ctx, map);
+  const int frame_valid = countValid(ctx.pyramid[std::size_t(m_tracking.model_level)].normal);
+  const tracking::LoopCheck c =
+      m_loop.check(*ctx.frame, ctx.pyramid, r.T_world_cam, frame_valid, map, parts, m_reloc);
+  if (!c.rendered) return;  // not due
+  r.loop_closure = c.verdict;
+  r.loop_correction_m = c.correction_m;
+  r.loop_correction_deg = c.correction_deg;
   recordMs(ctx, kLoopClosure, msSince(t));
-}
-
-bool TrackingStage::colourConfirms(FrameContext& ctx, const tracking::ModelMaps& inactive,
-                                   const Eigen::Isometry3d& T_track,
-                                   const Eigen::Isometry3d& T_inactive,
-                                   const tracking::LoopVerdict& verdict, std::string& why) {
-  if (ctx.frame->colour.empty() || inactive.colour.empty() ||
-      m_tracking.photometric_weight_degenerate <= 0) {
-    why = "no colour";
-    return false;
-  }
-  m_loop_tracker.reset(T_track);
-  const tracking::TrackingResult v =
-      m_loop_tracker.align(ctx.pyramid, inactive, T_track, ctx.frame->colour.cview(), nullptr,
-                           m_tracking.photometric_weight_degenerate);
-  if (!v.ok) {
-    why = std::string("colour: ") + tracking::toString(v.status);
-    return false;
-  }
-  return posesAgree(v.T_world_cam, T_inactive, verdict, "colour", why);
-}
-
-bool TrackingStage::posesAgree(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
-                               const tracking::LoopVerdict& verdict, const char* what,
-                               std::string& why) const {
-  const tracking::TLoopClosureParams& lp = m_loop_params;
-  const double d_m = translationDistance(a, b);
-  const double d_deg = rotationAngle(a, b) * 180.0 / M_PI;
-  if (d_m <= std::max(lp.feature_agreement_m, 0.3 * verdict.correction_m) &&
-      d_deg <= std::max(lp.feature_agreement_deg, 0.3 * verdict.correction_deg))
-    return true;
-  char text[112];
-  std::snprintf(text, sizeof text, "%s puts the camera %.3f m / %.2f deg away", what, d_m, d_deg);
-  why = text;
-  return false;
-}
-
-bool TrackingStage::featuresConfirm(FrameContext& ctx, const maps::CSurfelMap& map,
-                                    const Eigen::Isometry3d& T_inactive, double t_inactive,
-                                    const tracking::LoopVerdict& verdict, std::string& why) {
-  // The frame's ORB features against the keyframes of the old map (RANSAC PnP, checked against
-  // the frame's depth: Relocaliser.h) give a pose the geometry did not: a registration that slid
-  // along a corridor's weak direction is not where the texture puts the camera.
-  std::vector<maps::Keyframe> old;
-  for (const maps::Keyframe& kf : map.keyframes())
-    if (kf.timestamp_s < t_inactive) old.push_back(kf);
-  if (old.empty()) {
-    why = "no keyframe of the old map";
-    return false;
-  }
-  const std::optional<tracking::RelocalisationResult> pnp = m_reloc.relocalise(*ctx.frame, old);
-  if (!pnp) {
-    why = "features: " + m_reloc.lastStats().reason;
-    return false;
-  }
-  return posesAgree(pnp->T_world_cam, T_inactive, verdict, "features", why);
-}
-
-tracking::TrackingResult TrackingStage::registerForLoop(FrameContext& ctx,
-                                                        const tracking::ModelMaps& model,
-                                                        const Eigen::Isometry3d& T_track) {
-  // No prior: a direction the part of the map does not constrain is reported (Degenerate) and
-  // the frame is not registered, rather than held where the drifted estimate put it.
-  m_loop_tracker.reset(T_track);
-  return m_loop_tracker.align(ctx.pyramid, model, T_track);
-}
-
-double TrackingStage::medianInitTime(const maps::SurfelStore& store) const {
-  const maps::SurfelArrays a = store.arrays();
-  std::vector<float> t_init;
-  const Image<std::int32_t>& index = m_model.index;
-  for (int y = 0; y < index.height(); y += 4)
-    for (int x = 0; x < index.width(); x += 4)
-      if (const std::int32_t i = index(x, y); i >= 0 && i < a.size) t_init.push_back(a.t_init[i]);
-  if (t_init.empty()) return store.fromMapTime(0.0f);
-  auto mid = t_init.begin() + std::ptrdiff_t(t_init.size() / 2);
-  std::nth_element(t_init.begin(), mid, t_init.end());
-  return store.fromMapTime(*mid);
 }
 
 void TrackingStage::closeLoop(FrameContext& ctx, maps::CSurfelMap& map) {
   const FrameResult& r = ctx.result;
-  const double weak = m_frames_since_node > 0
-                          ? double(m_weak_frames_since_node) / double(m_frames_since_node)
-                          : 0.0;
-  if (!m_pending_loop) {
-    if (m_loop.addNode(ctx.frame->timestamp_s, r.T_world_cam, false, weak))
-      m_frames_since_node = m_weak_frames_since_node = 0;
-    return;
-  }
-  m_frames_since_node = m_weak_frames_since_node = 0;
   const auto t = Clock::now();
-  const PendingLoop p = *m_pending_loop;
-  m_pending_loop.reset();
   const tracking::TrajectoryCorrection c =
-      m_loop.close(p.t_now_s, p.T_active, p.verdict.T_loop, p.t_old_s, weak);
+      m_loop.closeIfDue(r.index, ctx.frame->timestamp_s, r.T_world_cam, map);
   if (c.empty()) return;
-  const int moved = tracking::deformSurfels(map.store(), c);
-  tracking::correctKeyframes(map.keyframes(), c);
-  const Eigen::Isometry3d C_now = c.at(p.t_now_s);
+  const Eigen::Isometry3d C_now = c.at(ctx.frame->timestamp_s);
   m_tracker.applyWorldCorrection(C_now);
   m_T_prev_frame = C_now * m_T_prev_frame;
   if (m_last_fused.valid) {
@@ -584,14 +451,22 @@ void TrackingStage::closeLoop(FrameContext& ctx, maps::CSurfelMap& map) {
   m_odometry.resetHeadingWindow();
   const double ms = msSince(t);
   recordMs(ctx, kLoopClosure, ms);
-  m_loop_log.push_back({{"frame", r.index},
-                        {"timestamp_s", p.t_now_s},
-                        {"old_map_time_s", p.t_old_s},
-                        {"correction_m", p.verdict.correction_m},
-                        {"correction_deg", p.verdict.correction_deg},
-                        {"path_m", p.verdict.path_m},
-                        {"surfels_moved", moved},
-                        {"ms", ms}});
+  m_loop_close_ms.push_back(ms);
+}
+
+nlohmann::json TrackingStage::loopLogJson() const {
+  nlohmann::json log = nlohmann::json::array();
+  const std::vector<tracking::ClosedLoop>& closed = m_loop.closed();
+  for (std::size_t k = 0; k < closed.size(); ++k)
+    log.push_back({{"frame", closed[k].frame},
+                   {"timestamp_s", closed[k].timestamp_s},
+                   {"old_map_time_s", closed[k].old_map_time_s},
+                   {"correction_m", closed[k].correction_m},
+                   {"correction_deg", closed[k].correction_deg},
+                   {"path_m", closed[k].path_m},
+                   {"surfels_moved", closed[k].surfels_moved},
+                   {"ms", k < m_loop_close_ms.size() ? m_loop_close_ms[k] : 0.0}});
+  return log;
 }
 
 void TrackingStage::csvColumns(std::vector<std::string>& c) const {
@@ -647,10 +522,10 @@ void TrackingStage::report(nlohmann::json& rep) const {
        "frames registered against the inactive map (surfels not fused for inactive_after_s), "
        "loops refused as beyond the drift bound, and each loop closed (the map moved with it)"},
       {"enabled", m_loop_params.enabled},
-      {"checks", m_loop_checks},
-      {"refused", m_loops_refused},
-      {"closed", m_loop_log.size()},
-      {"loops", m_loop_log}};
+      {"checks", m_loop.checks()},
+      {"refused", m_loop.refused()},
+      {"closed", m_loop.closed().size()},
+      {"loops", loopLogJson()}};
   if (m_frames_before_map > 0 && m_tracker.initialized())
     rep["warnings"].push_back("the map started after " + std::to_string(m_frames_before_map) +
                               " frame(s) without enough valid depth; they were skipped (not "

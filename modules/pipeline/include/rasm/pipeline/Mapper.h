@@ -28,6 +28,7 @@
 #include "rasm/pipeline/FrameContext.h"
 #include "rasm/pipeline/MapperStage.h"
 #include "rasm/pipeline/RunParams.h"
+#include "rasm/pipeline/SegmentLayer.h"
 #include "rasm/segmentation/SegmentTable.h"
 #include "rasm/surfel_map/CSurfelMap.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
@@ -42,7 +43,7 @@ class TrackingStage;
 struct MapSnapshot {
   maps::SurfelStore store;
   std::vector<segmentation::SegmentStats> segments;  ///< as of the last table refresh
-  std::uint64_t relabel_generation = 0;              ///< SegmentationStage::relabelGeneration()
+  std::uint64_t relabel_generation = 0;              ///< SegmentLayer::relabelGeneration()
   std::size_t frames = 0;                            ///< frames processed when it was taken
   double copy_ms = 0.0;                              ///< time the copy held the map lock
   double index_ms = 0.0;  ///< rebuilding the spatial index afterwards (no lock)
@@ -97,6 +98,8 @@ class Mapper {
   const std::vector<std::unique_ptr<MapperStage>>& stages() const { return m_stages; }
 
   const TMapperParams& mapperParams() const { return m_mapper; }
+  /// What section III published: the segment table as of its last refresh and the renamings.
+  const SegmentLayer& segments() const { return m_segments; }
   maps::CSurfelMap& map() { return *m_map; }
   const maps::CSurfelMap& map() const { return *m_map; }
   /// The context of the last frame processed (its pyramid, index map, labels ...).
@@ -155,6 +158,8 @@ class Mapper {
   TMapperParams m_mapper;
   TComputeParams m_compute;  ///< [compute]: simd = false runs the kernel bodies alone
   maps::CSurfelMap::TCreationOptions m_map_options;
+  SegmentLayer m_segments;  ///< section III's published table and renamings (before the stages:
+                            ///< they hold it, so it outlives them)
   std::vector<std::unique_ptr<MapperStage>> m_stages;
   TrackingStage* m_tracking = nullptr;
   std::vector<std::string> m_timers;

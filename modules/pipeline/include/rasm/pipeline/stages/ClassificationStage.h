@@ -5,8 +5,8 @@
 //                offers every n-th fused frame to the detector workers (DetectorWorker.h: a busy
 //                detector skips the frame, counted; one that throws is disabled and reported);
 //   finishRun    waits for the detections in flight and fuses them.
-// The L^p of frames in flight follow the segmentation stage's merges and renumbering (its
-// relabel listener), so a late result lands on the segments its pixels belong to now.
+// The L^p of frames in flight follow the segmentation's merges and renumbering (the renamings
+// the SegmentLayer publishes), so a late result lands on the segments its pixels belong to now.
 // Sections [classification] and one per detector ([sim_detector], [dnn_detector], [zero_shot]);
 // the simulator's detector is added to classification's DetectorSections here (SimDetector.h).
 // The object layer (classification/ObjectMap.h, section [objects]) follows every fused result
@@ -32,6 +32,7 @@
 #include "rasm/classification/TObjectParams.h"
 #include "rasm/core/CameraIntrinsics.h"
 #include "rasm/pipeline/MapperStage.h"
+#include "rasm/pipeline/SegmentLayer.h"
 
 namespace rasm::sim {
 class RayScene;
@@ -39,13 +40,12 @@ class RayScene;
 
 namespace rasm::pipeline {
 
-class SegmentationStage;
-
 class ClassificationStage : public MapperStage {
  public:
   enum Part { kFuse = 0 };
-  /// `segmentation` (may be null: no segments, nothing fused) must outlive the stage.
-  explicit ClassificationStage(SegmentationStage* segmentation);
+  /// `segments`: what the segmentation publishes (may be null: no segments, nothing fused); it
+  /// must outlive the stage.
+  explicit ClassificationStage(SegmentLayer* segments);
   ~ClassificationStage() override;
 
   std::vector<ParamsSection> sections() override;
@@ -123,7 +123,7 @@ class ClassificationStage : public MapperStage {
                            std::uint32_t segment, int worker, maps::CSurfelMap& map);
   void relabel(const std::vector<std::uint32_t>& table);
 
-  SegmentationStage* m_segmentation;
+  const SegmentLayer* m_segments;
   classification::TClassificationParams m_params;
   classification::TObjectParams m_object_params;
   classification::ObjectMap m_object_map;

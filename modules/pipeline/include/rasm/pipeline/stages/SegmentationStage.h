@@ -6,14 +6,15 @@
 //   finishFrame  (after fusion) the merge confidence Psi, merges into the smaller label, and every
 //                remap_every_n_frames frames the dense renumbering of labels and the segment
 //                statistics (SegmentTable).
-// Section [segmentation]. Outputs: segments.json (the segment table) and map_segments.ply (the
-// map coloured by segment). report.json "segmentation": segments, merges, label changes of
-// stable surfels.
+// What it publishes (the segment table, every renaming of segment ids) goes into the Mapper's
+// SegmentLayer, which the stages after it read. Section [segmentation]. Outputs: segments.json (the
+// segment table) and map_segments.ply (the map coloured by segment). report.json "segmentation":
+// segments, merges, label changes of stable surfels.
 
 #include <cstdint>
-#include <functional>
 
 #include "rasm/pipeline/MapperStage.h"
+#include "rasm/pipeline/SegmentLayer.h"
 #include "rasm/segmentation/GeometricSegmenter.h"
 #include "rasm/segmentation/LabelPropagation.h"
 #include "rasm/segmentation/MergeConfidence.h"
@@ -24,9 +25,11 @@ namespace rasm::pipeline {
 class SegmentationStage : public MapperStage {
  public:
   enum Part { kEdges = 0, kComponents, kPropagation, kMerge };
-  SegmentationStage()
+  /// `published`: where the table and the renamings go (the Mapper's; it outlives the stage).
+  explicit SegmentationStage(SegmentLayer& published)
       : MapperStage("segmentation",
-                    {"seg_edges", "seg_components", "seg_propagation", "seg_merge"}) {}
+                    {"seg_edges", "seg_components", "seg_propagation", "seg_merge"}),
+        m_published(published) {}
 
   std::vector<ParamsSection> sections() override { return {{"segmentation", &m_params}}; }
   void configure(const TMapperParams& mapper) override;
@@ -41,20 +44,10 @@ class SegmentationStage : public MapperStage {
   const segmentation::TSegmentationParams& params() const { return m_params; }
   const segmentation::FrameSegments& lastSegments() const { return m_segmenter.last(); }
   const segmentation::Propagation& lastPropagation() const { return m_prop; }
-  const segmentation::SegmentTable& table() const { return m_table; }
+  const segmentation::SegmentTable& table() const { return m_published.table(); }
   const segmentation::MergeConfidence& mergeConfidence() const { return m_psi; }
-  /// Label renamings applied to the map so far (merges and renumbering): consumers holding
-  /// segment ids (classification, exploration) re-read them when this changes.
-  std::uint64_t relabelGeneration() const { return m_relabel_generation; }
-  /// The renaming of the last relabelling (new = table[old]; old ids past its end unchanged).
-  const std::vector<std::uint32_t>& lastRelabelling() const { return m_last_relabelling; }
   /// Recomputes the segment table from the map now (and renumbers labels densely).
   void refreshTable(maps::CSurfelMap& map);
-  /// Called with every relabelling applied to the map (merges, renumbering; new = table[old],
-  /// old ids past its end unchanged), on the mapping thread: stages that hold labels of earlier
-  /// frames (classification's L^p of frames in flight) rename them.
-  using RelabelListener = std::function<void(const std::vector<std::uint32_t>& table)>;
-  void addRelabelListener(RelabelListener listener) { m_listeners.push_back(std::move(listener)); }
 
  private:
   void applyRelabelling(maps::CSurfelMap& map, const std::vector<std::uint32_t>& table);
@@ -69,13 +62,11 @@ class SegmentationStage : public MapperStage {
   const Image<std::uint8_t>* intensityAt(const RgbdFrame& frame, int width, int height);
   segmentation::Propagation m_prop;
   segmentation::MergeConfidence m_psi;
-  segmentation::SegmentTable m_table;
+  SegmentLayer& m_published;
   std::uint32_t m_next_label = 1;
   bool m_ran = false;     ///< this frame was segmented
   bool m_seeded = false;  ///< m_next_label is above every label of the map (loaded maps)
-  std::uint64_t m_frames = 0, m_relabel_generation = 0;
-  std::vector<std::uint32_t> m_last_relabelling;
-  std::vector<RelabelListener> m_listeners;
+  std::uint64_t m_frames = 0;
   // Per frame (frames.csv) and run totals (report.json).
   int m_frame_merges = 0;
   std::size_t m_merges = 0, m_label_changes_stable = 0, m_psi_max = 0;

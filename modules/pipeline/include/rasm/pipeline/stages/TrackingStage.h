@@ -18,11 +18,12 @@
 // Keyframes: fused frames become relocalisation keyframes of the map by the spacing rules of
 // [relocalisation] (finishFrame).
 //
-// Loop closure ([loop_closure], LoopClosure.h): fused frames become nodes of the trajectory graph;
-// every check_every_frames a tracked frame is registered against the inactive and the active map
-// (process, read phase) and an accepted loop is closed after the frame is fused (finishFrame,
-// under the map lock): the graph solved, the surfels and keyframes moved with their time's
-// correction, the tracker's pose with the current one. The exploration octree is not moved.
+// Loop closure ([loop_closure], tracking/LoopCloser.h, its policy): fused frames become nodes of
+// the trajectory graph; every check_every_frames a tracked frame is registered against the
+// inactive and the active map, which this stage renders as it renders its model (process, read
+// phase), and a confirmed loop is closed after the frame is fused (finishFrame, under the map
+// lock): the graph solved, the surfels and keyframes moved with their time's correction, the
+// tracker's pose with the current one. The exploration octree is not moved.
 
 #include <memory>
 #include <optional>
@@ -31,7 +32,7 @@
 #include "rasm/pipeline/MapperStage.h"
 #include "rasm/surfel_map/SurfelRenderer.h"
 #include "rasm/tracking/IcpTracker.h"
-#include "rasm/tracking/LoopClosure.h"
+#include "rasm/tracking/LoopCloser.h"
 #include "rasm/tracking/OdometryPrior.h"
 #include "rasm/tracking/Relocaliser.h"
 
@@ -63,7 +64,7 @@ class TrackingStage : public MapperStage {
   const tracking::IcpTracker& tracker() const { return m_tracker; }
   std::size_t relocalisations() const { return m_relocalisations; }
   /// Loops closed so far (report.json loop_closure).
-  std::size_t loopsClosed() const { return m_loop_log.size(); }
+  std::size_t loopsClosed() const { return m_loop.closed().size(); }
   /// Pose of the last frame processed (tracked or propagated while lost).
   const Eigen::Isometry3d& lastFramePose() const { return m_T_prev_frame; }
 
@@ -79,31 +80,15 @@ class TrackingStage : public MapperStage {
                                   const Eigen::Isometry3d& T_model, bool with_colour,
                                   FrameResult& r, bool all_surfels = false,
                                   const maps::RenderOptions* time_filter = nullptr);
-  /// Loop closure, read phase: the frame registered against the inactive and the active map,
-  /// judged; an accepted loop waits in m_pending_loop for closeLoop().
+  /// The map's parts for the loop check, rendered by renderModel (TrackingStage.cpp).
+  class LoopParts;
+  /// Loop closure, read phase: the frame checked (LoopCloser::check) into result.loop_closure.
   void checkLoop(FrameContext& ctx, const maps::CSurfelMap& map);
-  /// Loop closure, write phase (finishFrame of a fused frame): the node, or the pending loop
-  /// closed and the map, keyframes and tracker moved.
+  /// Loop closure, write phase (finishFrame of a fused frame): the node, or the confirmed loop
+  /// closed (LoopCloser::closeIfDue) and the tracker's poses moved with it.
   void closeLoop(FrameContext& ctx, maps::CSurfelMap& map);
-  /// Median creation time (absolute s) of the surfels the last render drew (m_model.index).
-  double medianInitTime(const maps::SurfelStore& store) const;
-  /// Whether the frame's features against the keyframes made before t_inactive (PnP) put the
-  /// camera where the registration against the inactive map did ([loop_closure]
-  /// feature_agreement_*); `why` says why not.
-  bool featuresConfirm(FrameContext& ctx, const maps::CSurfelMap& map,
-                       const Eigen::Isometry3d& T_inactive, double t_inactive,
-                       const tracking::LoopVerdict& verdict, std::string& why);
-  /// Whether the registration against the inactive map with its colour (joint ICP + RGB)
-  /// agrees with the geometric one, T_inactive.
-  bool colourConfirms(FrameContext& ctx, const tracking::ModelMaps& inactive,
-                      const Eigen::Isometry3d& T_track, const Eigen::Isometry3d& T_inactive,
-                      const tracking::LoopVerdict& verdict, std::string& why);
-  /// Within feature_agreement_* or 30% of the verdict's correction; `why` names `what` if not.
-  bool posesAgree(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
-                  const tracking::LoopVerdict& verdict, const char* what, std::string& why) const;
-  /// The frame against a part of the map from T_track, without a prior.
-  tracking::TrackingResult registerForLoop(FrameContext& ctx, const tracking::ModelMaps& model,
-                                           const Eigen::Isometry3d& T_track);
+  /// report.json loop_closure.loops: one entry per loop closed.
+  nlohmann::json loopLogJson() const;
   /// While lost: the pose from the last fused frame ([relocalisation] use_last_fused_frame),
   /// then from the map's keyframes, each candidate verified by ICP against the map rendered
   /// there; on success the tracker restarts from it (the frame becomes Relocalised).
@@ -130,28 +115,8 @@ class TrackingStage : public MapperStage {
   tracking::OdometryPrior m_odometry;
   tracking::Relocaliser m_reloc;
   tracking::Relocaliser m_reloc_last_fused;  ///< with [relocalisation] last_fused_* acceptance
-  tracking::LoopClosure m_loop;
-  /// Registers frames against the inactive / active map: [tracking] with the inlier fraction
-  /// scaled by min_inactive_fraction (the model covers part of the view) and the jump bound
-  /// raised to the loop's (judge() bounds the correction).
-  tracking::IcpTracker m_loop_tracker;
-  int m_frames_since_loop_check = 0;
-  /// Frames since the last graph node, and those of them not tracked Ok (degenerate or lost).
-  int m_frames_since_node = 0, m_weak_frames_since_node = 0;
-  struct PendingLoop {
-    tracking::LoopVerdict verdict;
-    Eigen::Isometry3d T_active;
-    double t_old_s = 0, t_now_s = 0;
-  };
-  std::optional<PendingLoop> m_pending_loop;
-  struct LoopCandidate {
-    tracking::LoopVerdict verdict;
-    std::size_t frame = 0;
-  };
-  std::optional<LoopCandidate> m_loop_candidate;  ///< the last accepted check
-  int m_loop_candidate_checks = 0;                ///< consecutive checks that agree with it
-  std::size_t m_loops_refused = 0, m_loop_checks = 0;
-  nlohmann::json m_loop_log = nlohmann::json::array();  ///< one entry per loop closed
+  tracking::LoopCloser m_loop;
+  std::vector<double> m_loop_close_ms;  ///< per loop closed: the time its correction took
   maps::SurfelRenderer m_renderer;
   maps::RenderedMaps m_model;
   bool m_localise_in_map = false;
