@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <omp.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -210,10 +212,39 @@ TEST(Bilateral, SmoothsNoiseKeepsEdgesAndInvalid) {
   EXPECT_NEAR(f(32, 20), 2.0f, 0.0015f);
 }
 
+TEST(Bilateral, PairWeightIsOneBodyOnOneAndFourLanes) {
+  // kernels::bilateralWeight is the kernel's weight and the SSE launcher's: both instantiations
+  // give the same bits, within 3e-6 relative of exp2 (exp2NonPositive's polynomial bound).
+  const float depth_log2 = kernels::bilateralDepthLog2(0.03f);
+  int checked = 0;
+  for (int d2 = 0; d2 <= 18; ++d2) {
+    const float space = kernels::bilateralSpaceLog2(d2, 4.5f);
+    for (int k = -200; k <= 200; k += 3) {
+      const float dz[4] = {k * 1e-4f, k * 7e-4f, k * 3.1e-3f, -k * 1.3e-2f};
+      float four[4];
+      lanes::store(four, kernels::bilateralWeight(lanes::F4(space),
+                                                  lanes::F4(dz, lanes::stdx::element_aligned),
+                                                  lanes::F4(depth_log2)));
+      for (int l = 0; l < 4; ++l) {
+        const float one = kernels::bilateralWeight(space, dz[l], depth_log2);
+        ASSERT_EQ(std::memcmp(&one, &four[l], sizeof one), 0) << d2 << " dz " << dz[l];
+        // (against 2^t of the float exponent the weight is computed from: the polynomial's error)
+        const float t = std::max(-126.0f, space - dz[l] * dz[l] * depth_log2);
+        ASSERT_NEAR(one / std::exp2(double(t)), 1.0, 3e-6) << d2 << " dz " << dz[l];
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, 19 * 134 * 4);
+  EXPECT_EQ(kernels::bilateralWeight(0.0f, 0.0f, depth_log2), 1.0f);  // the centre tap: exactly 1
+  EXPECT_EQ(kernels::exp2NonPositive(-500.0f), std::ldexp(1.0f, -126));  // clamped, not 0
+}
+
 TEST(Bilateral, CpuLauncherComputesTheKernelsFilter) {
   // A tilted plane with pseudo-random +-3 mm noise, a 40 cm step and scattered holes: the SSE CPU
-  // path must give BilateralDepthKernel's values (same window, weights and invalid handling;
-  // the weights' exp approximation is within 3e-6 relative, so depths agree to ~1e-6 m).
+  // path must give BilateralDepthKernel's values (same window and invalid handling, the same
+  // weights bit for bit: PairWeightIsOneBodyOnOneAndFourLanes; only the order of the sums
+  // differs, so depths agree to ~1e-6 m).
   const int w = 97, h = 61;  // not a multiple of 4: scalar tails and borders are exercised
   Image<float> d(w, h);
   std::uint32_t s = 12345u;

@@ -45,29 +45,6 @@ void downsampleDepth(const Image<float>& in, Image<float>& out, float max_diff_m
 
 namespace {
 
-/// 2^t for t <= 0, four lanes: t = n + f with n = round(t), f in [-0.5, 0.5], 2^f by its
-/// degree-6 Taylor polynomial (relative error < 3e-6, plenty for filter weights); t below -126
-/// gives 2^-126, not 0.
-inline __m128 exp2NonPositive(__m128 t) {
-  t = _mm_max_ps(t, _mm_set1_ps(-126.0f));
-  const __m128 n = _mm_round_ps(t, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
-  const __m128 f = _mm_sub_ps(t, n);
-  // 2^f = sum a_k f^k, k <= 6, by Estrin's scheme (half Horner's dependency chain):
-  // (a0 + a1 f) + f^2 (a2 + a3 f) + f^4 ((a4 + a5 f) + f^2 a6).
-  const __m128 f2 = _mm_mul_ps(f, f), f4 = _mm_mul_ps(f2, f2);
-  const __m128 p01 = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(6.9314718e-1f), f), _mm_set1_ps(1.0f));
-  const __m128 p23 =
-      _mm_add_ps(_mm_mul_ps(_mm_set1_ps(5.5504109e-2f), f), _mm_set1_ps(2.4022651e-1f));
-  const __m128 p45 =
-      _mm_add_ps(_mm_mul_ps(_mm_set1_ps(1.3333558e-3f), f), _mm_set1_ps(9.6181291e-3f));
-  const __m128 p46 = _mm_add_ps(p45, _mm_mul_ps(f2, _mm_set1_ps(1.5403530e-4f)));
-  const __m128 p = _mm_add_ps(_mm_add_ps(p01, _mm_mul_ps(f2, p23)), _mm_mul_ps(f4, p46));
-  const __m128i e = _mm_slli_epi32(_mm_add_epi32(_mm_cvtps_epi32(n), _mm_set1_epi32(127)), 23);
-  return _mm_mul_ps(p, _mm_castsi128_ps(e));
-}
-
-constexpr double kLog2e = 1.4426950408889634;
-
 /// Lanes of v moved k (0..3) places up (towards lane 3) / down (towards lane 0), zeros shifted in.
 template <int k>
 inline __m128 lanesUp(__m128 v) {
@@ -146,8 +123,8 @@ struct PairSums {
   void pair() {
     constexpr Offset o = forwardOffsets<R>()[K];
     const __m128 zq = _mm_loadu_ps(zq_rows[o.dy] + x + o.dx);
-    const __m128 dz = _mm_sub_ps(zq, zp);
-    __m128 wt = exp2NonPositive(_mm_sub_ps(space[K], _mm_mul_ps(_mm_mul_ps(dz, dz), v_id2)));
+    __m128 wt = static_cast<__m128>(kernels::bilateralWeight(
+        lanes::F4(space[K]), lanes::F4(_mm_sub_ps(zq, zp)), lanes::F4(v_id2)));
     wt = _mm_and_ps(wt, _mm_and_ps(pv, _mm_cmpgt_ps(zq, _mm_setzero_ps())));
     sum = _mm_add_ps(sum, _mm_mul_ps(wt, zq));
     wsum = _mm_add_ps(wsum, wt);
@@ -166,13 +143,12 @@ void bilateralBand(const RowOf& prow, Image<float>& out, int lo, int hi, int w4,
                    float sigma_space_px, float sigma_depth_m, std::vector<float>& acc) {
   constexpr auto taps = forwardOffsets<R>();
   constexpr int kTaps = int(taps.size());
-  // Weight = 2^(space[k] - dz^2 * id2): (dx^2 + dy^2) / 2 sigma_s^2 and 1 / 2 sigma_d^2 in log2
-  // units.
+  // Weight = kernels::bilateralWeight(space[k], dz, id2), its terms in log2 units.
   __m128 space[kTaps + 1];
   for (int k = 0; k < kTaps; ++k)
-    space[k] = _mm_set1_ps(-float(double(taps[k].dx * taps[k].dx + taps[k].dy * taps[k].dy) /
-                                  (2.0 * double(sigma_space_px) * sigma_space_px) * kLog2e));
-  const __m128 v_id2 = _mm_set1_ps(float(kLog2e / (2.0 * double(sigma_depth_m) * sigma_depth_m)));
+    space[k] = _mm_set1_ps(kernels::bilateralSpaceLog2(
+        taps[k].dx * taps[k].dx + taps[k].dy * taps[k].dy, sigma_space_px));
+  const __m128 v_id2 = _mm_set1_ps(kernels::bilateralDepthLog2(sigma_depth_m));
   const __m128 v_zero = _mm_setzero_ps(), v_one = _mm_set1_ps(1.0f);
   const int w = out.width(), aw = w4 + 8, slots = R + 1;
   acc.assign(std::size_t(2) * slots * aw, 0.0f);

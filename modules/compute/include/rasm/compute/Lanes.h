@@ -4,14 +4,16 @@
 // F = lanes::F4 (four floats in one SSE register: std::experimental::simd, GCC's <experimental/
 // simd>, with the 16-byte ABI of -march=x86-64-v2). Such a body uses only what both have:
 // arithmetic and comparisons with float constants, && || ! on masks, select(), sqrtL(), absL(),
-// truncL(), floorL(), ceilL(), minL() / maxL() (minF / maxF's a < b ? a : b) and LaneVec3 (dot,
-// cross, blend, scaled, RigidF's rotate and apply) with Eigen's and RigidF's order of operations
-// (dot: a0 b0 + (a1 b1 + a2 b2); cross: (a1 b2 - a2 b1, a2 b0 - a0 b2, a0 b1 - a1 b0)), so that
-// both instantiations give the bits of the Eigen code they replace. Small integers (bins, counts)
-// are carried as floats (exact below 2^24) and converted once at the end, so that no integer mask
-// is needed.
+// truncL(), floorL(), ceilL(), rintL(), pow2OfIntegral(), minL() / maxL() (minF / maxF's a < b ? a
+// : b) and LaneVec3 (dot, cross, blend, scaled, RigidF's rotate and apply) with Eigen's and
+// RigidF's order of operations (dot: a0 b0 + (a1 b1 + a2 b2); cross: (a1 b2 - a2 b1, a2 b0 - a0 b2,
+// a0 b1 - a1 b0)), so that both instantiations give the bits of the Eigen code they replace. Small
+// integers (bins, counts) are carried as floats (exact below 2^24) and converted once at the end,
+// so that no integer mask is needed.
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "rasm/compute/Platform.h"
 #include "rasm/compute/Types.h"
@@ -42,6 +44,21 @@ RASM_HD_INLINE float floorL(float x) {
 RASM_HD_INLINE float ceilL(float x) {
   return ceilf(x);
 }
+/// Nearest integer, ties to even (the default rounding mode; roundps' nearest).
+RASM_HD_INLINE float rintL(float x) {
+  return rintf(x);
+}
+/// 2^n for an integer-valued n in [-126, 127]: the exponent field set directly.
+RASM_HD_INLINE float pow2OfIntegral(float n) {
+  const std::int32_t e = (std::int32_t(n) + 127) << 23;
+#if defined(__CUDA_ARCH__)
+  return __int_as_float(e);
+#else
+  float f;
+  std::memcpy(&f, &e, sizeof f);
+  return f;
+#endif
+}
 
 #if !defined(__CUDACC__)
 namespace stdx = std::experimental;
@@ -68,6 +85,14 @@ inline F4 floorL(const F4& x) {
 }
 inline F4 ceilL(const F4& x) {
   return stdx::ceil(x);
+}
+inline F4 rintL(const F4& x) {
+  return F4(_mm_round_ps(static_cast<__m128>(x), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
+}
+inline F4 pow2OfIntegral(const F4& n) {
+  const __m128i e = _mm_slli_epi32(
+      _mm_add_epi32(_mm_cvtps_epi32(static_cast<__m128>(n)), _mm_set1_epi32(127)), 23);
+  return F4(_mm_castsi128_ps(e));
 }
 /// Lane l of the mask as bit l.
 inline int bits(const F4::mask_type& m) {

@@ -4,6 +4,7 @@
 // Invalid vertices/normals have x = NaN (compute::invalidFloat()); invalid depth is 0.
 
 #include "rasm/compute/ImageView.h"
+#include "rasm/compute/Lanes.h"
 #include "rasm/compute/Types.h"
 
 namespace rasm::kernels {
@@ -106,11 +107,47 @@ struct DepthDownsampleKernel {
   }
 };
 
+/// 2^t for t <= 0 over lanes (float or lanes::F4, the same bits): t = n + f with n = rint(t),
+/// f in [-0.5, 0.5], 2^f by its degree-6 Taylor polynomial (relative error < 3e-6, plenty for
+/// filter weights); t below -126 gives 2^-126, not 0.
+template <class F>
+RASM_HD_INLINE F exp2NonPositive(F t) {
+  t = lanes::maxL(t, F(-126.0f));
+  const F n = lanes::rintL(t);
+  const F f = t - n;
+  // 2^f = sum a_k f^k, k <= 6, by Estrin's scheme (half Horner's dependency chain):
+  // (a0 + a1 f) + f^2 (a2 + a3 f) + f^4 ((a4 + a5 f) + f^2 a6).
+  const F f2 = f * f, f4 = f2 * f2;
+  const F p01 = F(6.9314718e-1f) * f + F(1.0f);
+  const F p23 = F(5.5504109e-2f) * f + F(2.4022651e-1f);
+  const F p45 = F(1.3333558e-3f) * f + F(9.6181291e-3f);
+  const F p46 = p45 + f2 * F(1.5403530e-4f);
+  const F p = (p01 + f2 * p23) + f4 * p46;
+  return p * lanes::pow2OfIntegral(n);
+}
+
+/// The bilateral filter's weights in log2 units: the spatial term -(dx^2 + dy^2) / 2 sigma_s^2
+/// of a tap at squared distance d2 (px^2), and the depth factor 1 / 2 sigma_d^2 (1/m^2).
+constexpr double kLog2e = 1.4426950408889634;
+RASM_HD_INLINE float bilateralSpaceLog2(int d2, float sigma_space_px) {
+  return -float(double(d2) / (2.0 * double(sigma_space_px) * sigma_space_px) * kLog2e);
+}
+RASM_HD_INLINE float bilateralDepthLog2(float sigma_depth_m) {
+  return float(kLog2e / (2.0 * double(sigma_depth_m) * sigma_depth_m));
+}
+/// The weight of a pair of pixels at depth difference dz (m): exp(-(dx^2 + dy^2) / 2 sigma_s^2 -
+/// dz^2 / 2 sigma_d^2) = 2^(space_log2 - dz^2 depth_log2). One body for the kernel and the CPU
+/// launcher's four pixels.
+template <class F>
+RASM_HD_INLINE F bilateralWeight(const F& space_log2, const F& dz, const F& depth_log2) {
+  return exp2NonPositive(space_log2 - dz * dz * depth_log2);
+}
+
 /// Edge-preserving bilateral filter of depth (optional preprocessing, as in KinectFusion): the
 /// weighted mean of the valid depths of the circular window dx^2 + dy^2 <= radius^2 (13 taps at
-/// radius 2, OpenCV's bilateralFilter window) inside the image, weights exp(-(dx^2 + dy^2) /
-/// 2 sigma_s^2 - dz^2 / 2 sigma_d^2). The CPU launcher (bilateralFilterDepth) computes the same
-/// filter four pixels at a time.
+/// radius 2, OpenCV's bilateralFilter window) inside the image, weights bilateralWeight(). The
+/// CPU launcher (bilateralFilterDepth) computes the same filter four pixels at a time, each
+/// pair's weight once for both pixels.
 struct BilateralDepthKernel {
   ImageView<const float> in;
   ImageView<float> out;
@@ -125,16 +162,15 @@ struct BilateralDepthKernel {
       return;
     }
     float sum = 0.0f, wsum = 0.0f;
-    const float is2 = 1.0f / (2.0f * sigma_space_px * sigma_space_px);
-    const float id2 = 1.0f / (2.0f * sigma_depth_m * sigma_depth_m);
+    const float depth_log2 = bilateralDepthLog2(sigma_depth_m);
     for (int dy = -radius; dy <= radius; ++dy)
       for (int dx = -radius; dx <= radius; ++dx) {
         const int sx = x + dx, sy = y + dy;
         if (dx * dx + dy * dy > radius * radius || !in.inside(sx, sy)) continue;
         const float z = in(sx, sy);
         if (!(z > 0.0f)) continue;
-        const float dz = z - c;
-        const float w = expf(-float(dx * dx + dy * dy) * is2 - dz * dz * id2);
+        const float w = bilateralWeight(bilateralSpaceLog2(dx * dx + dy * dy, sigma_space_px),
+                                        z - c, depth_log2);
         sum += w * z;
         wsum += w;
       }
