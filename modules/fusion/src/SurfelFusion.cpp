@@ -670,9 +670,14 @@ void SurfelFusion::carveCpu(const maps::SurfelStore& map, const FusionInput& in,
   }
 }
 
-void SurfelFusion::carveIndexMap(maps::SurfelStore& map, const FusionInput& in,
-                                 std::vector<int>& removed, std::vector<int>& demoted) {
-  const std::vector<int>& vis = m_index4x.visible;
+void SurfelFusion::carveVisible(maps::SurfelStore& map, const FusionInput& in,
+                                std::vector<int>& removed, std::vector<int>& demoted) {
+  if (cpu()) {  // entries + others: every visible surfel (PointCandidates4x)
+    m_visible.clear();
+    for (const maps::kernels::CameraPoint& cp : m_candidates.entries) m_visible.push_back(cp.index);
+    for (const maps::kernels::CameraPoint& cp : m_candidates.others) m_visible.push_back(cp.index);
+  }
+  const std::vector<int>& vis = cpu() ? m_visible : m_index4x.visible;
   std::vector<std::uint8_t> action(vis.size());
   kernels::CarveKernel ck;
   ck.s = map.arrays();
@@ -752,12 +757,13 @@ void SurfelFusion::cleanup(maps::SurfelStore& map, const FusionInput& in, Fusion
   demoted.clear();
 
   // Free-space carving over the surfels of the rendered view (II-D). Surfels added this frame are
-  // not in the view; surfels updated this frame sit at the measured depth.
+  // not in the view; surfels updated this frame sit at the measured depth. One rule (CarveTest),
+  // two traversals that select the same surfels (SurfelFusion.CarvingTraversalsAgree).
   if (m_params.carve_free_space && index_fresh) {
-    if (cpu())
+    if (cpu() && compute::simdEnabled(compute::SimdPath::Fusion))
       carveCpu(map, in, removed, demoted);
     else
-      carveIndexMap(map, in, removed, demoted);
+      carveVisible(map, in, removed, demoted);
     // (sorted: the order of the per-thread lists depends on the schedule)
     std::sort(removed.begin(), removed.end());
     std::sort(demoted.begin(), demoted.end());

@@ -18,7 +18,7 @@ namespace compute {
 /// The CPU launchers that have an SSE path (the kernel bodies it stands for in parentheses).
 enum class SimdPath : int {
   BilateralFilter,  ///< bilateral_filter (BilateralDepthKernel): core, depth smoothing
-  Fusion,           ///< fusion (AssociateKernel, UpdateKernel, CoverageKernel): II-D
+  Fusion,           ///< fusion (AssociateKernel, UpdateKernel, CoverageKernel, CarveKernel): II-D
   Splat,            ///< splat (SplatKernel, ResolveKernel): surfel_map, renders and resolve
   kCount
 };

@@ -188,10 +188,15 @@ class SurfelFusion {
   /// surfel it was merged into.
   void remapPixelSurfels(const std::vector<int>& removed,
                          const std::vector<std::pair<int, int>>& moved, int old_size);
+  /// Free-space carving (CarveTest), the CPU path's traversal: the verdicts the update pass
+  /// recorded for the surfels it updated, the candidate lists' centres for the others.
   void carveCpu(const maps::SurfelStore& map, const FusionInput& in, std::vector<int>& removed,
                 std::vector<int>& demoted);
-  void carveIndexMap(maps::SurfelStore& map, const FusionInput& in, std::vector<int>& removed,
-                     std::vector<int>& demoted);
+  /// The same carving as CarveKernel over every visible surfel on its current state: the CUDA
+  /// path's, and the CPU's with its fusion kernels alone ([compute] simd_off = fusion), so that
+  /// the two traversals can be compared (SurfelFusion.CarvingTraversalsAgree).
+  void carveVisible(maps::SurfelStore& map, const FusionInput& in, std::vector<int>& removed,
+                    std::vector<int>& demoted);
 
   TFusionParams m_params;
   compute::Backend m_backend;
@@ -211,6 +216,7 @@ class SurfelFusion {
   std::vector<std::array<int, 7>> m_counts;  ///< per thread: pass 2's pixel counts for pass 3
   std::vector<std::vector<int>> m_thread_lists;
   std::vector<int> m_removed, m_demoted;
+  std::vector<int> m_visible;  ///< carveVisible's list on the CPU (the candidate lists' surfels)
   std::vector<std::pair<int, int>> m_moved;
   std::vector<std::pair<int, int>> m_merged;  ///< (loser, kept) of the last mergeCpu
   std::uint64_t m_merge_round = 0;            ///< merging frames so far (row phase)
