@@ -47,9 +47,7 @@ LoopCheck LoopCloser::check(const RgbdFrame& frame, const std::vector<FrameLevel
   // The inactive map: what an earlier pass made and nothing fused since inactive_after_s.
   maps::RenderOptions filter;
   filter.created_before_s = t_inactive;
-  const bool by_colour = m_params.confirmation == "colour" && !frame.colour.empty() &&
-                         m_tracking.photometric_weight_degenerate > 0;
-  const MapPart inactive = parts.render(T_track, by_colour, filter);
+  const MapPart inactive = parts.render(T_track, false, filter);
   out.rendered = true;
   if (inactive.valid_pixels < m_params.min_inactive_fraction * frame_valid) return out;
   ++m_checks;
@@ -70,13 +68,13 @@ LoopCheck LoopCloser::check(const RgbdFrame& frame, const std::vector<FrameLevel
     const TrackingResult v_act = registerAgainst(pyramid, active.model, T_track);
     if (v_act.ok) T_active = v_act.T_world_cam;
   }
-  confirm(frame, pyramid, inactive.model, T_track, v_in.T_world_cam, T_active, t_old, t_inactive,
-          map, reloc, out);
+  confirm(frame, pyramid, parts, T_track, v_in.T_world_cam, T_active, t_old, t_inactive, map, reloc,
+          out);
   return out;
 }
 
 void LoopCloser::confirm(const RgbdFrame& frame, const std::vector<FrameLevel>& pyramid,
-                         const ModelMaps& inactive, const Eigen::Isometry3d& T_track,
+                         MapPartSource& parts, const Eigen::Isometry3d& T_track,
                          const Eigen::Isometry3d& T_inactive, const Eigen::Isometry3d& T_active,
                          double t_old, double t_inactive, const maps::CSurfelMap& map,
                          Relocaliser& reloc, LoopCheck& out) {
@@ -91,7 +89,8 @@ void LoopCloser::confirm(const RgbdFrame& frame, const std::vector<FrameLevel>& 
     out.verdict = "unconfirmed: " + unconfirmed;
     m_candidate_checks = 0;
   } else if (verdict.accepted() && m_params.confirmation == "colour" &&
-             !colourConfirms(frame, pyramid, inactive, T_track, T_inactive, verdict, unconfirmed)) {
+             !colourConfirms(frame, pyramid, parts, T_track, T_inactive, t_inactive, verdict,
+                             unconfirmed)) {
     out.verdict = "unconfirmed: " + unconfirmed;
     m_candidate_checks = 0;
   } else if (verdict.accepted()) {
@@ -115,16 +114,24 @@ void LoopCloser::confirm(const RgbdFrame& frame, const std::vector<FrameLevel>& 
 }
 
 bool LoopCloser::colourConfirms(const RgbdFrame& frame, const std::vector<FrameLevel>& pyramid,
-                                const ModelMaps& inactive, const Eigen::Isometry3d& T_track,
-                                const Eigen::Isometry3d& T_inactive, const LoopVerdict& verdict,
-                                std::string& why) {
-  if (frame.colour.empty() || inactive.colour.empty() ||
-      m_tracking.photometric_weight_degenerate <= 0) {
+                                MapPartSource& parts, const Eigen::Isometry3d& T_track,
+                                const Eigen::Isometry3d& T_inactive, double t_inactive,
+                                const LoopVerdict& verdict, std::string& why) {
+  if (frame.colour.empty() || m_tracking.photometric_weight_degenerate <= 0) {
+    why = "no colour";
+    return false;
+  }
+  // The inactive part rendered again, with its colour: the render check() registered against
+  // was replaced by the active part's (a MapPart is valid until the next render).
+  maps::RenderOptions filter;
+  filter.created_before_s = t_inactive;
+  const MapPart inactive = parts.render(T_track, true, filter);
+  if (inactive.model.colour.empty()) {
     why = "no colour";
     return false;
   }
   m_tracker.reset(T_track);
-  const TrackingResult v = m_tracker.align(pyramid, inactive, T_track, frame.colour.cview(),
+  const TrackingResult v = m_tracker.align(pyramid, inactive.model, T_track, frame.colour.cview(),
                                            nullptr, m_tracking.photometric_weight_degenerate);
   if (!v.ok) {
     why = std::string("colour: ") + toString(v.status);

@@ -104,20 +104,20 @@ class LoopCloser {
   bool featuresConfirm(const RgbdFrame& frame, const maps::CSurfelMap& map,
                        const Eigen::Isometry3d& T_inactive, double t_inactive,
                        const LoopVerdict& verdict, Relocaliser& reloc, std::string& why);
-  /// Whether the registration against the inactive map with its colour (joint ICP + RGB)
-  /// agrees with the geometric one, T_inactive.
+  /// Whether the registration against the inactive map (surfels made before t_inactive, rendered
+  /// with their colour) by joint ICP + RGB agrees with the geometric one, T_inactive.
   bool colourConfirms(const RgbdFrame& frame, const std::vector<FrameLevel>& pyramid,
-                      const ModelMaps& inactive, const Eigen::Isometry3d& T_track,
-                      const Eigen::Isometry3d& T_inactive, const LoopVerdict& verdict,
-                      std::string& why);
+                      MapPartSource& parts, const Eigen::Isometry3d& T_track,
+                      const Eigen::Isometry3d& T_inactive, double t_inactive,
+                      const LoopVerdict& verdict, std::string& why);
   /// Within feature_agreement_* or 30% of the verdict's correction; `why` names `what` if not.
   bool posesAgree(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
                   const LoopVerdict& verdict, const char* what, std::string& why) const;
   /// A judged registration: confirmed, counted as a candidate, or dropped.
-  void confirm(const RgbdFrame& frame, const std::vector<FrameLevel>& pyramid,
-               const ModelMaps& inactive, const Eigen::Isometry3d& T_track,
-               const Eigen::Isometry3d& T_inactive, const Eigen::Isometry3d& T_active, double t_old,
-               double t_inactive, const maps::CSurfelMap& map, Relocaliser& reloc, LoopCheck& out);
+  void confirm(const RgbdFrame& frame, const std::vector<FrameLevel>& pyramid, MapPartSource& parts,
+               const Eigen::Isometry3d& T_track, const Eigen::Isometry3d& T_inactive,
+               const Eigen::Isometry3d& T_active, double t_old, double t_inactive,
+               const maps::CSurfelMap& map, Relocaliser& reloc, LoopCheck& out);
 
   TLoopClosureParams m_params;
   TTrackingParams m_tracking;
