@@ -46,8 +46,7 @@ void TrackingStage::configure(const TMapperParams& mapper) {
   m_mapper = mapper;
   m_tracker = tracking::IcpTracker(m_tracking);
   m_odometry = tracking::OdometryPrior(m_robot);
-  m_reloc = tracking::Relocaliser(m_relocalisation);
-  m_reloc_last_fused = tracking::Relocaliser(m_relocalisation.forLastFusedFrame());
+  m_relocaliser.configure(m_relocalisation, m_tracking);
   m_loop.configure(m_loop_params, m_tracking);
 }
 
@@ -317,81 +316,9 @@ tracking::ModelMaps TrackingStage::renderModel(FrameContext& ctx, const maps::CS
   return model;
 }
 
-void TrackingStage::relocalise(FrameContext& ctx, const maps::CSurfelMap& map) {
-  const bool reference = m_relocalisation.use_last_fused_frame && m_last_fused.valid;
-  if (map.keyframes().empty() && !reference) return;
-  const auto t = Clock::now();
-  const bool by_reference = reference && !lastFusedKeyframe().empty() &&
-                            relocaliseAgainst(ctx, map, lastFusedKeyframe(), m_reloc_last_fused);
-  if (!by_reference && !map.keyframes().empty())
-    relocaliseAgainst(ctx, map, map.keyframes(), m_reloc);
-  recordMs(ctx, kRelocalise, msSince(t));
-}
-
-bool TrackingStage::relocaliseAgainst(FrameContext& ctx, const maps::CSurfelMap& map,
-                                      const std::vector<maps::Keyframe>& db,
-                                      tracking::Relocaliser& reloc) {
-  FrameResult& r = ctx.result;
-  const std::optional<tracking::RelocalisationResult> cand = reloc.relocalise(*ctx.frame, db);
-  if (!cand) {
-    r.relocalisation_failure = reloc.lastStats().reason;
-    return false;
-  }
-  // Verify: ICP from the candidate against the map rendered there, every quality rule and the
-  // pose check applied (no prior: the candidate is independent of the lost estimate).
-  FrameResult probe;
-  const tracking::ModelMaps model =
-      renderModel(ctx, map, cand->T_world_cam, m_tracking.photometricWeight(false) > 0, probe);
-  const tracking::TrackingResult v = m_tracker.align(ctx.pyramid, model, cand->T_world_cam);
-  if (!v.ok || v.check_overlap < m_tracking.check_min_overlap) {
-    r.relocalisation_failure = std::string("rejected by ICP: ") + tracking::toString(v.status);
-    return false;
-  }
-  m_tracker.reset(v.T_world_cam);
-  r.tracking = v;
-  r.tracked = true;
-  r.relocalised = true;
-  r.relocalisation_failure.clear();
-  r.pose_source = PoseSource::Relocalised;
-  r.T_world_cam = v.T_world_cam;
-  r.model_valid_pixels = probe.model_valid_pixels;
-  ++m_relocalisations;
-  return true;
-}
-
-const std::vector<maps::Keyframe>& TrackingStage::lastFusedKeyframe() {
-  LastFused& lf = m_last_fused;
-  if (!lf.attempted) {
-    lf.attempted = true;
-    lf.keyframe.clear();
-    if (auto kf = m_reloc.makeKeyframe(lf.frame, lf.T_world_cam)) lf.keyframe.push_back(*kf);
-  }
-  return lf.keyframe;
-}
-
-void TrackingStage::finishFrame(FrameContext& ctx, maps::CSurfelMap& map) {
-  if (!ctx.result.fused) {
-    m_loop.frameNotFused();
-    return;
-  }
-  if (m_loop_params.enabled && m_mapper.poses != "groundtruth") closeLoop(ctx, map);
-  m_reloc.maybeAddKeyframe(*ctx.frame, ctx.result.T_world_cam, map.keyframes());
-  const RgbdFrame& f = *ctx.frame;
-  if (!m_relocalisation.use_last_fused_frame || f.colour.empty()) return;
-  LastFused& lf = m_last_fused;  // copies into buffers of the same size: no allocation
-  lf.frame.index = f.index;
-  lf.frame.timestamp_s = f.timestamp_s;
-  lf.frame.intrinsics = f.intrinsics;
-  lf.frame.depth_m = f.depth_m;
-  lf.frame.colour = f.colour;
-  lf.T_world_cam = ctx.result.T_world_cam;
-  lf.valid = true;
-  lf.attempted = false;
-}
-
-class TrackingStage::LoopParts : public tracking::MapPartSource {
+class TrackingStage::MapParts : public tracking::MapPartSource {
  public:
-  LoopParts(TrackingStage& stage, FrameContext& ctx, const maps::CSurfelMap& map)
+  MapParts(TrackingStage& stage, FrameContext& ctx, const maps::CSurfelMap& map)
       : m_stage(stage), m_ctx(ctx), m_map(map) {}
   tracking::MapPart render(const Eigen::Isometry3d& T_world_cam, bool with_colour,
                            const maps::RenderOptions& time_filter) override {
@@ -421,13 +348,43 @@ class TrackingStage::LoopParts : public tracking::MapPartSource {
   const maps::CSurfelMap& m_map;
 };
 
+void TrackingStage::relocalise(FrameContext& ctx, const maps::CSurfelMap& map) {
+  const auto t = Clock::now();
+  MapParts parts(*this, ctx, map);
+  const tracking::RelocalisationPolicy::Found f =
+      m_relocaliser.relocalise(*ctx.frame, ctx.pyramid, map.keyframes(), parts, m_tracker);
+  if (!f.tried) return;
+  FrameResult& r = ctx.result;
+  r.relocalisation_failure = f.failure;
+  if (f.found) {
+    m_tracker.reset(f.verified.T_world_cam);
+    r.tracking = f.verified;
+    r.tracked = true;
+    r.relocalised = true;
+    r.pose_source = PoseSource::Relocalised;
+    r.T_world_cam = f.verified.T_world_cam;
+    r.model_valid_pixels = f.model_valid_pixels;
+    ++m_relocalisations;
+  }
+  recordMs(ctx, kRelocalise, msSince(t));
+}
+
+void TrackingStage::finishFrame(FrameContext& ctx, maps::CSurfelMap& map) {
+  if (!ctx.result.fused) {
+    m_loop.frameNotFused();
+    return;
+  }
+  if (m_loop_params.enabled && m_mapper.poses != "groundtruth") closeLoop(ctx, map);
+  m_relocaliser.frameFused(*ctx.frame, ctx.result.T_world_cam, map.keyframes());
+}
+
 void TrackingStage::checkLoop(FrameContext& ctx, const maps::CSurfelMap& map) {
   const auto t = Clock::now();
   FrameResult& r = ctx.result;
-  LoopParts parts(*this, ctx, map);
+  MapParts parts(*this, ctx, map);
   const int frame_valid = countValid(ctx.pyramid[std::size_t(m_tracking.model_level)].normal);
-  const tracking::LoopCheck c =
-      m_loop.check(*ctx.frame, ctx.pyramid, r.T_world_cam, frame_valid, map, parts, m_reloc);
+  const tracking::LoopCheck c = m_loop.check(*ctx.frame, ctx.pyramid, r.T_world_cam, frame_valid,
+                                             map, parts, m_relocaliser.keyframeRelocaliser());
   if (!c.rendered) return;  // not due
   r.loop_closure = c.verdict;
   r.loop_correction_m = c.correction_m;
@@ -444,10 +401,7 @@ void TrackingStage::closeLoop(FrameContext& ctx, maps::CSurfelMap& map) {
   const Eigen::Isometry3d C_now = c.at(ctx.frame->timestamp_s);
   m_tracker.applyWorldCorrection(C_now);
   m_T_prev_frame = C_now * m_T_prev_frame;
-  if (m_last_fused.valid) {
-    m_last_fused.T_world_cam = c.at(m_last_fused.frame.timestamp_s) * m_last_fused.T_world_cam;
-    m_last_fused.attempted = false;
-  }
+  m_relocaliser.correct(c);
   m_odometry.resetHeadingWindow();
   const double ms = msSince(t);
   recordMs(ctx, kLoopClosure, ms);

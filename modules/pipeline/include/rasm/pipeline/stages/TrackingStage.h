@@ -12,8 +12,9 @@
 // by FrameResult::pose_source: the odometry's prediction when there is one (the model is then
 // rendered from that propagated pose, so tracking resumes as soon as the view agrees again), the
 // motion model's guess otherwise (the model stays rendered from the last good pose, so tracking
-// resumes when the camera comes back near it, IcpTracker.h). Each lost frame tries to relocalise;
-// a candidate is verified by ICP plus the pose check before tracking restarts from it.
+// resumes when the camera comes back near it, IcpTracker.h). Each lost frame tries to relocalise
+// (tracking/RelocalisationPolicy.h, its policy); a candidate is verified by ICP plus the pose
+// check against the map this stage renders there before tracking restarts from it.
 //
 // Keyframes: fused frames become relocalisation keyframes of the map by the spacing rules of
 // [relocalisation] (finishFrame).
@@ -34,7 +35,7 @@
 #include "rasm/tracking/IcpTracker.h"
 #include "rasm/tracking/LoopCloser.h"
 #include "rasm/tracking/OdometryPrior.h"
-#include "rasm/tracking/Relocaliser.h"
+#include "rasm/tracking/RelocalisationPolicy.h"
 
 namespace rasm::pipeline {
 
@@ -80,8 +81,9 @@ class TrackingStage : public MapperStage {
                                   const Eigen::Isometry3d& T_model, bool with_colour,
                                   FrameResult& r, bool all_surfels = false,
                                   const maps::RenderOptions* time_filter = nullptr);
-  /// The map's parts for the loop check, rendered by renderModel (TrackingStage.cpp).
-  class LoopParts;
+  /// The map (or a part of it) rendered by renderModel for the loop check and the verification
+  /// of relocalisation candidates (TrackingStage.cpp).
+  class MapParts;
   /// Loop closure, read phase: the frame checked (LoopCloser::check) into result.loop_closure.
   void checkLoop(FrameContext& ctx, const maps::CSurfelMap& map);
   /// Loop closure, write phase (finishFrame of a fused frame): the node, or the confirmed loop
@@ -89,16 +91,9 @@ class TrackingStage : public MapperStage {
   void closeLoop(FrameContext& ctx, maps::CSurfelMap& map);
   /// report.json loop_closure.loops: one entry per loop closed.
   nlohmann::json loopLogJson() const;
-  /// While lost: the pose from the last fused frame ([relocalisation] use_last_fused_frame),
-  /// then from the map's keyframes, each candidate verified by ICP against the map rendered
-  /// there; on success the tracker restarts from it (the frame becomes Relocalised).
+  /// While lost: RelocalisationPolicy::relocalise; on success the tracker restarts from the
+  /// verified pose (the frame becomes Relocalised).
   void relocalise(FrameContext& ctx, const maps::CSurfelMap& map);
-  /// One keyframe database tried: true when its candidate passed the ICP verification.
-  bool relocaliseAgainst(FrameContext& ctx, const maps::CSurfelMap& map,
-                         const std::vector<maps::Keyframe>& db, tracking::Relocaliser& reloc);
-  /// The last fused frame as a one-keyframe database (its features detected on first use);
-  /// empty when there is none or it has too few features.
-  const std::vector<maps::Keyframe>& lastFusedKeyframe();
   /// floor_height_m / floor_tilt_deg of a tracked robot frame, counted when beyond [robot]
   /// floor_max_* and kept for floorDriftJson.
   void reportFloorDeviation(FrameResult& r);
@@ -113,8 +108,7 @@ class TrackingStage : public MapperStage {
   TMapperParams m_mapper;
   tracking::IcpTracker m_tracker;
   tracking::OdometryPrior m_odometry;
-  tracking::Relocaliser m_reloc;
-  tracking::Relocaliser m_reloc_last_fused;  ///< with [relocalisation] last_fused_* acceptance
+  tracking::RelocalisationPolicy m_relocaliser;
   tracking::LoopCloser m_loop;
   std::vector<double> m_loop_close_ms;  ///< per loop closed: the time its correction took
   maps::SurfelRenderer m_renderer;
@@ -122,14 +116,6 @@ class TrackingStage : public MapperStage {
   bool m_localise_in_map = false;
   /// Timestamp of the first frame of the current lost stretch (none while tracked).
   std::optional<double> m_lost_since_s;
-  /// The last fused frame (depth, colour, intrinsics, index) and its pose: ORB-SLAM's reference
-  /// keyframe, made into `keyframe` only when a lost frame needs it.
-  struct LastFused {
-    RgbdFrame frame;
-    Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
-    bool valid = false, attempted = false;
-    std::vector<maps::Keyframe> keyframe;  ///< 0 or 1
-  } m_last_fused;
   Eigen::Isometry3d m_T_prev_frame = Eigen::Isometry3d::Identity();
   std::size_t m_relocalisations = 0;
   std::size_t m_frames_off_floor = 0;  ///< see report()
