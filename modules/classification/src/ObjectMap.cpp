@@ -42,6 +42,17 @@ double boxGap_m(const SegmentStats& a, const SegmentStats& b) {
   return gap.maxCoeff();
 }
 
+/// The fraction of the smaller box's volume inside the other, both grown by `pad_m` on every
+/// side (a flat segment's box then has a volume).
+double boxContainment(const SegmentStats& a, const SegmentStats& b, double pad_m) {
+  const Eigen::Vector3d pad = Eigen::Vector3d::Constant(pad_m);
+  const Eigen::Vector3d a_lo = a.bbox_min - pad, a_hi = a.bbox_max + pad;
+  const Eigen::Vector3d b_lo = b.bbox_min - pad, b_hi = b.bbox_max + pad;
+  const Eigen::Vector3d common = (a_hi.cwiseMin(b_hi) - a_lo.cwiseMax(b_lo)).cwiseMax(0.0);
+  const double smaller = std::min((a_hi - a_lo).prod(), (b_hi - b_lo).prod());
+  return smaller > 0.0 ? common.prod() / smaller : 0.0;
+}
+
 /// The histogram's classes by decreasing log-odds (lower id first on ties).
 std::vector<ClassProbability> sortedClasses(const maps::ClassEvidence& h) {
   std::vector<std::pair<int, int>> slots;  // (logit units, id)
@@ -111,6 +122,20 @@ void ObjectMap::addDetectorView(const DetectorView& v) {
     if (a != 0 && b != 0 && a != b) ++m_codetections[{std::min(a, b), std::max(a, b)}];
 }
 
+bool ObjectMap::oneInsideTheOther(std::uint32_t a, std::uint32_t b, const SegmentStats& sa,
+                                  const SegmentStats& sb) const {
+  const double f = m_params.link_min_box_containment;
+  if (f <= 0.0 || boxContainment(sa, sb, 0.01) < f) return false;
+  // Only pieces never in one view: a desk top named "keyboard" by the boxes of the keyboard on
+  // it contains the keyboard's box too, but the two were seen together and no detection held
+  // the desk: two things.
+  const auto& va = m_segments.at(a).views;
+  const auto& vb = m_segments.at(b).views;
+  for (const auto& [key, detected] : va)
+    if (vb.count(key) != 0) return false;
+  return true;
+}
+
 bool ObjectMap::seenTogether(std::uint32_t a, std::uint32_t b) const {
   const double f = m_params.link_min_codetection_fraction;
   if (f <= 0.0) return true;
@@ -176,7 +201,8 @@ std::vector<std::vector<std::uint32_t>> ObjectMap::groupSegments(
     for (std::size_t j = i + 1; j < labels.size(); ++j)
       if (link_class[j] == link_class[i] &&
           boxGap_m(*stats[i], *stats[j]) <= m_params.link_max_gap_m &&
-          seenTogether(labels[i], labels[j])) {
+          (seenTogether(labels[i], labels[j]) ||
+           oneInsideTheOther(labels[i], labels[j], *stats[i], *stats[j]))) {
         const std::size_t ri = findRoot(parent, i), rj = findRoot(parent, j);
         parent[std::max(ri, rj)] = std::min(ri, rj);
       }

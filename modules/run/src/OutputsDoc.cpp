@@ -320,8 +320,8 @@ percentile), `upright_axes` (the two horizontal principal directions; z is up),
 
 `comment`; `objects`: the objects of the object layer (`classification/ObjectMap.h`), each once:
 one or more segments whose own classes agree with `[objects] link_min_probability`, whose boxes
-touch (`link_max_gap_m`) and which detections saw together (`link_min_codetection_fraction`),
-reported when the object's class reaches `[classification]
+touch (`link_max_gap_m`) and which detections saw together (`link_min_codetection_fraction`) or,
+never in one view, one's box mostly inside the other's (`link_min_box_containment`), reported when the object's class reaches `[classification]
 min_object_probability`, it holds at least `min_object_surfels` surfels and `min_object_size_m` of
 extent, it is not a thin plane larger than `structure_min_extent_m` both ways nor a thin plane in
 the plane of one (`structure_piece_*`: a piece of the floor), and its existence

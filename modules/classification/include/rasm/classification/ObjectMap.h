@@ -16,7 +16,9 @@
 // overlap or leave a gap of at most link_max_gap_m on every axis, and (d) detections held both
 // (one associated, the other a piece of its box: the detections' merge evidence), in at least
 // link_min_codetection_fraction of the detections of the less detected one (two desks side by
-// side touch, but each has its own boxes);
+// side touch, but each has its own boxes), or they were never in one view and the smaller one's
+// box lies mostly inside the other's (link_min_box_containment: one thing seen in pieces on
+// different visits, which no detection could hold together);
 // objects are the connected
 // components (so a desk split at its folds into a top and a side panel, both named, is one
 // object; two chairs 0.5 m apart are two). A segment no rule links is an object of its own, and
@@ -165,6 +167,10 @@ class ObjectMap {
   std::map<std::pair<std::uint32_t, std::uint32_t>, int> m_codetections;
   /// Rule (d) of the grouping (header) for segments a and b.
   bool seenTogether(std::uint32_t a, std::uint32_t b) const;
+  /// Rule (d)'s alternative: segments a and b never in one view, the smaller box at least
+  /// link_min_box_containment inside the other.
+  bool oneInsideTheOther(std::uint32_t a, std::uint32_t b, const segmentation::SegmentStats& sa,
+                         const segmentation::SegmentStats& sb) const;
   std::map<int, std::set<int>> m_detector_classes;
   std::map<std::uint32_t, int> m_object_of_segment;  ///< last update's ids, follows relabel
   std::vector<MapObject> m_objects;

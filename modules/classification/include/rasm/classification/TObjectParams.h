@@ -22,6 +22,14 @@ struct TObjectParams : mrpt::config::CLoadableOptions {
   /// with its own boxes, touch, and a box of one holds the other only in the views along the row
   /// (the office's desk_3 and desk_4). 0: the boxes' contact alone links them.
   double link_min_codetection_fraction = 0.5;
+  /// ... or, when they were never in one view (no frame a detector processed showed both), the
+  /// smaller one's box lies at least this fraction inside the other's (by volume, both boxes
+  /// grown by 1 cm on every side so that flat pieces have one): one thing whose pieces were seen
+  /// on different visits, so that no detection could hold both (the office's north monitor:
+  /// half of its screen from the first pass, the whole monitor on the second, listed twice). Two
+  /// things of one class side by side touch or overlap by a sliver, not by half; a desk top
+  /// named "keyboard" contains the keyboard on it but was seen with it. 0: off.
+  double link_min_box_containment = 0.5;
   /// A segment is a piece of a detection when this fraction of its pixels in the frame's L^p
   /// lies inside the detection's box.
   double piece_min_inside_fraction = 0.6;

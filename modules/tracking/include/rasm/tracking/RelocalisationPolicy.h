@@ -63,8 +63,8 @@ class RelocalisationPolicy {
  private:
   /// One database tried; true when its candidate passed the verification.
   bool tryDatabase(const RgbdFrame& frame, const std::vector<FrameLevel>& pyramid,
-                   const std::vector<maps::Keyframe>& db, Relocaliser& reloc,
-                   MapPartSource& parts, IcpTracker& tracker, Found& out);
+                   const std::vector<maps::Keyframe>& db, Relocaliser& reloc, MapPartSource& parts,
+                   IcpTracker& tracker, Found& out);
   /// The last fused frame as a one-keyframe database (its features detected on first use);
   /// empty when there is none or it has too few features.
   const std::vector<maps::Keyframe>& lastFusedKeyframe();
