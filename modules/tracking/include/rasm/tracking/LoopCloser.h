@@ -21,31 +21,13 @@
 #include "rasm/core/FrameProcessing.h"
 #include "rasm/core/RgbdFrame.h"
 #include "rasm/surfel_map/CSurfelMap.h"
-#include "rasm/surfel_map/SurfelRenderer.h"
 #include "rasm/tracking/IcpTracker.h"
 #include "rasm/tracking/LoopClosure.h"
+#include "rasm/tracking/MapPartSource.h"
 #include "rasm/tracking/Relocaliser.h"
 #include "rasm/tracking/TrackingParams.h"
 
 namespace rasm::tracking {
-
-/// A part of the map as the tracker sees it, rendered by the caller.
-struct MapPart {
-  ModelMaps model;
-  int valid_pixels = 0;  ///< model pixels a surfel drew
-};
-
-/// Renders parts of the map for the loop check (the caller's tracking model render).
-class MapPartSource {
- public:
-  virtual ~MapPartSource() = default;
-  /// The map's surfels that pass `time_filter` (created_before_s / created_after_s) rendered at
-  /// T_world_cam; with the colour when `with_colour`. Valid until the next call.
-  virtual MapPart render(const Eigen::Isometry3d& T_world_cam, bool with_colour,
-                         const maps::RenderOptions& time_filter) = 0;
-  /// Median creation time (absolute s) of the surfels the last render drew.
-  virtual double medianInitTimeOfLastRender() const = 0;
-};
 
 /// What one check found (frames.csv loop_closure, loop_correction_*): "agrees", "candidate",
 /// "refused", "closed" (confirmed: closed when the frame is fused), "unconfirmed: <why>",
