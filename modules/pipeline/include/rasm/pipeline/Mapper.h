@@ -98,8 +98,6 @@ class Mapper {
   const std::vector<std::unique_ptr<MapperStage>>& stages() const { return m_stages; }
 
   const TMapperParams& mapperParams() const { return m_mapper; }
-  /// What section III published: the segment table as of its last refresh and the renamings.
-  const SegmentLayer& segments() const { return m_segments; }
   maps::CSurfelMap& map() { return *m_map; }
   const maps::CSurfelMap& map() const { return *m_map; }
   /// The context of the last frame processed (its pyramid, index map, labels ...).

@@ -27,17 +27,14 @@ class SegmentLayer {
   const segmentation::SegmentTable& table() const { return m_table; }
   /// Renamings published so far: a reader holding segment ids re-reads them when this changes.
   std::uint64_t relabelGeneration() const { return m_relabel_generation; }
-  /// The last renaming published (new = table[old]).
-  const std::vector<std::uint32_t>& lastRelabelling() const { return m_last_relabelling; }
   /// Called with every renaming from now on, on the mapping thread.
   void addRelabelListener(RelabelListener listener) { m_listeners.push_back(std::move(listener)); }
 
   /// The writer's side (the segmentation stage).
   segmentation::SegmentTable& tableToWrite() { return m_table; }
-  /// Publishes a renaming the writer applied to the map: counted, kept, and handed to every
-  /// listener in the order they were added.
+  /// Publishes a renaming the writer applied to the map: counted and handed to every listener in
+  /// the order they were added.
   void publishRelabelling(const std::vector<std::uint32_t>& table) {
-    m_last_relabelling = table;
     ++m_relabel_generation;
     for (const RelabelListener& l : m_listeners) l(table);
   }
@@ -45,7 +42,6 @@ class SegmentLayer {
  private:
   segmentation::SegmentTable m_table;
   std::uint64_t m_relabel_generation = 0;
-  std::vector<std::uint32_t> m_last_relabelling;
   std::vector<RelabelListener> m_listeners;
 };
 
