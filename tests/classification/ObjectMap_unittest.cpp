@@ -71,6 +71,16 @@ std::vector<const MapObject*> reported(const ObjectMap& m) {
   return out;
 }
 
+/// How many objects an ObjectMap with `params` reports once `feed` fed it and `table` updated it.
+template <class Feed>
+std::size_t reportedWith(const TObjectParams& params, const Feed& feed,
+                         const std::vector<segmentation::SegmentStats>& table) {
+  ObjectMap m(params, TClassificationParams{});
+  feed(m);
+  m.update(table);
+  return reported(m).size();
+}
+
 // One quantisation step per update (ClassEvidence.h), a quarter of it in p.
 constexpr double kPerUpdateP = (1.0 / 2048 + 1e-6) / 4;
 
@@ -138,10 +148,7 @@ TEST(ObjectMap, TwoDesksSideBySideStayTwoObjects) {
   EXPECT_NE(m.objectOfSegment(1)->id, m.objectOfSegment(2)->id);
   TObjectParams contact;
   contact.link_min_codetection_fraction = 0.0;
-  ObjectMap by_contact(contact, TClassificationParams{});
-  feed(by_contact);
-  by_contact.update(table);
-  EXPECT_EQ(reported(by_contact).size(), 1u);
+  EXPECT_EQ(reportedWith(contact, feed, table), 1u);
   // 1 of desk 2's 3 detections held both: below half. One more such view: 2 of 3, one object.
   m.addDetectorView(view(25, {{1, 9000}, {2, 4000}}, {{1, kDiningTable, 0.9f, 0.8f, {2}}}));
   m.update(table);
@@ -186,16 +193,10 @@ TEST(ObjectMap, PiecesSeenOnDifferentVisitsOneInsideTheOtherAreOneObject) {
   // (the first box, grown by 1 cm: 0.34 x 0.08 x 0.40 m, of which 0.34 x 0.08 x 0.38 inside)
   TObjectParams off;
   off.link_min_box_containment = 0.0;
-  ObjectMap by_detections(off, TClassificationParams{});
-  feed(by_detections);
-  by_detections.update(table);
-  EXPECT_EQ(reported(by_detections).size(), 6u);
+  EXPECT_EQ(reportedWith(off, feed, table), 6u);
   TObjectParams strict;
   strict.link_min_box_containment = 0.97;  // 0.38 / 0.40 = 0.95 of the first box is inside
-  ObjectMap stricter(strict, TClassificationParams{});
-  feed(stricter);
-  stricter.update(table);
-  EXPECT_EQ(reported(stricter).size(), 6u);
+  EXPECT_EQ(reportedWith(strict, feed, table), 6u);
 }
 
 // A piece of the floor under a desk that the desk's boxes named "dining table" (the office:
@@ -265,12 +266,12 @@ TEST(ObjectMap, TwoChairsFarApartStayTwoObjects) {
   // The backrest is 3 cm from the seat: joined with link_max_gap_m = 5 cm, not with 2 cm.
   TObjectParams tight;
   tight.link_max_gap_m = 0.02;
-  ObjectMap strict(tight, TClassificationParams{});
-  for (std::size_t f = 0; f < 3; ++f)
-    strict.addDetectorView(view(5 * f, {{2, 3000}, {3, 2000}},
-                                {{2, kChair, 0.9f, 0.7f, {3}}, {3, kChair, 0.9f, 0.5f}}));
-  strict.update(table);
-  EXPECT_EQ(reported(strict).size(), 2u);
+  const auto seat_and_backrest = [](ObjectMap& strict) {
+    for (std::size_t f = 0; f < 3; ++f)
+      strict.addDetectorView(view(5 * f, {{2, 3000}, {3, 2000}},
+                                  {{2, kChair, 0.9f, 0.7f, {3}}, {3, kChair, 0.9f, 0.5f}}));
+  };
+  EXPECT_EQ(reportedWith(tight, seat_and_backrest, table), 2u);
 }
 
 // The id of an object survives: a new segment joining it, the segmentation merging its segments
