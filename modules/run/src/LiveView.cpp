@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <vector>
 
 #include "rasm/core/Error.h"
 #include "rasm/core/Log.h"
@@ -61,8 +62,34 @@ void TViewParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::
   MRPT_SAVE_CONFIG_VAR(height, c, s);
 }
 
+namespace {
+
+/// MRPT 2.5's CDisplayWindow3D cannot be destroyed safely while wx may still paint it: its
+/// destructor returns once the wx window has handled its close event, but wx deletes the
+/// window's canvas only later (on idle), and a paint in between (a repaint this view asked for,
+/// an expose) renders through the canvas's raw pointer to the freed CDisplayWindow3D. Valgrind
+/// shows OnPreRender -> get3DSceneAndLock on freed memory and a shared_ptr released twice; under
+/// load the run aborted with "double free or corruption" after its last frame. So the window is
+/// closed here (the protected destroyWxWindow, as the destructor would) and the object is kept
+/// until the process ends, its scene emptied (keepUntilExit).
+class ClosableWindow3D : public mrpt::gui::CDisplayWindow3D {
+ public:
+  using CDisplayWindow3D::CDisplayWindow3D;
+  void closeWindow() { destroyWxWindow(); }
+};
+
+/// Keeps closed windows reachable until the process ends (never destroyed, see above).
+void keepUntilExit(ClosableWindow3D* win) {
+  static std::mutex mutex;
+  static auto* kept = new std::vector<ClosableWindow3D*>();
+  std::lock_guard<std::mutex> lock(mutex);
+  kept->push_back(win);
+}
+
+}  // namespace
+
 struct LiveView::Window {
-  mrpt::gui::CDisplayWindow3D win;
+  ClosableWindow3D& win;  ///< closed and kept by ~Window, never destroyed (ClosableWindow3D)
   maps::SurfelColouring colouring;
   /// The camera frameCamera last set (pointing-at x, y, z; zoom; azimuth, elevation in deg).
   struct Camera {
@@ -77,7 +104,16 @@ struct LiveView::Window {
   } camera_set;
   Eigen::AlignedBox3d framed;  ///< the map's box the camera was last pointed at
   bool user_moved_camera = false;
-  Window(int w, int h, maps::SurfelColouring c) : win("rasm run: live view", w, h), colouring(c) {}
+  Window(int w, int h, maps::SurfelColouring c)
+      : win(*new ClosableWindow3D("rasm run: live view", w, h)), colouring(c) {}
+  ~Window() {
+    win.closeWindow();
+    win.get3DSceneAndLock() = mrpt::opengl::COpenGLScene::Create();  // the map's memory goes
+    win.unlockAccess3DScene();
+    keepUntilExit(&win);
+  }
+  Window(const Window&) = delete;
+  Window& operator=(const Window&) = delete;
 };
 
 void LiveView::requireDisplay() {
