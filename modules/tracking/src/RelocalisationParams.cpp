@@ -20,6 +20,7 @@ void TRelocalisationParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR_CS(orb_levels, int);
   MRPT_LOAD_CONFIG_VAR_CS(orb_scale_factor, double);
   MRPT_LOAD_CONFIG_VAR_CS(orb_fast_threshold, int);
+  MRPT_LOAD_CONFIG_VAR_CS(orb_min_image_width, int);
   MRPT_LOAD_CONFIG_VAR_CS(keyframe_translation_m, double);
   MRPT_LOAD_CONFIG_VAR_CS(keyframe_rotation_deg, double);
   MRPT_LOAD_CONFIG_VAR_CS(keyframe_min_interval_frames, int);
@@ -58,6 +59,8 @@ void TRelocalisationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   put(c, s, "orb_levels", orb_levels, "ORB pyramid levels");
   put(c, s, "orb_scale_factor", orb_scale_factor, "ORB pyramid scale step");
   put(c, s, "orb_fast_threshold", orb_fast_threshold, "FAST corner threshold (grey levels)");
+  put(c, s, "orb_min_image_width", orb_min_image_width,
+      "narrower frames are enlarged for ORB by an integer factor (px; 0 = never)");
   put(c, s, "keyframe_translation_m", keyframe_translation_m,
       "new keyframe when no keyframe within this (m) ...");
   put(c, s, "keyframe_rotation_deg", keyframe_rotation_deg, "... and this rotation (deg)");
@@ -108,6 +111,7 @@ void TRelocalisationParams::validate(const std::string& s) const {
   requireInRange(orb_levels, 1, 16, s, "orb_levels");
   requireInRange(orb_scale_factor, 1.01, 2.0, s, "orb_scale_factor");
   requireInRange(orb_fast_threshold, 1, 255, s, "orb_fast_threshold");
+  requireInRange(orb_min_image_width, 0, 8192, s, "orb_min_image_width");
   requireInRange(keyframe_translation_m, 0.0, 1e3, s, "keyframe_translation_m");
   requireInRange(keyframe_rotation_deg, 0.0, 180.0, s, "keyframe_rotation_deg");
   requireInRange(keyframe_min_interval_frames, 1, 1e9, s, "keyframe_min_interval_frames");

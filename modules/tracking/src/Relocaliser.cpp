@@ -116,6 +116,29 @@ double elapsedMs(std::chrono::steady_clock::time_point t0) {
 struct Relocaliser::Impl {
   cv::Ptr<cv::ORB> orb;
   cv::Mat grey;
+  cv::Mat grey_enlarged, mask_enlarged;
+
+  /// ORB keypoints and descriptors of `grey` (where `mask` is non-zero, if given), detected on
+  /// the image enlarged by the smallest integer factor that makes it min_width wide; keypoint
+  /// positions and sizes are given back at grey's resolution.
+  void detect(const cv::Mat& mask, int min_width, std::vector<cv::KeyPoint>& kps, cv::Mat& desc) {
+    const int factor = min_width > grey.cols ? (min_width + grey.cols - 1) / grey.cols : 1;
+    if (factor == 1) {
+      orb->detectAndCompute(grey, mask.empty() ? cv::noArray() : cv::InputArray(mask), kps, desc);
+      return;
+    }
+    cv::resize(grey, grey_enlarged, cv::Size(), factor, factor, cv::INTER_LINEAR);
+    if (!mask.empty())
+      cv::resize(mask, mask_enlarged, cv::Size(), factor, factor, cv::INTER_NEAREST);
+    orb->detectAndCompute(grey_enlarged,
+                          mask.empty() ? cv::noArray() : cv::InputArray(mask_enlarged), kps, desc);
+    // Pixel centres: x_enlarged = factor * (x + 0.5) - 0.5.
+    const float f = float(factor);
+    for (cv::KeyPoint& k : kps) {
+      k.pt = cv::Point2f((k.pt.x + 0.5f) / f - 0.5f, (k.pt.y + 0.5f) / f - 0.5f);
+      k.size /= f;
+    }
+  }
 
   /// Grey image of the frame's colour (false when it has none of the depth's size).
   bool toGrey(const RgbdFrame& f) {
@@ -164,7 +187,7 @@ std::optional<Keyframe> Relocaliser::makeKeyframe(const RgbdFrame& frame,
   }
   std::vector<cv::KeyPoint> kps;
   cv::Mat desc;
-  m_impl->orb->detectAndCompute(m_impl->grey, mask, kps, desc);
+  m_impl->detect(mask, P.orb_min_image_width, kps, desc);
 
   std::vector<int> order(kps.size());
   std::iota(order.begin(), order.end(), 0);
@@ -447,7 +470,7 @@ std::optional<RelocalisationResult> Relocaliser::relocalise(const RgbdFrame& fra
 
   std::vector<cv::KeyPoint> kps;
   cv::Mat desc;
-  m_impl->orb->detectAndCompute(m_impl->grey, cv::noArray(), kps, desc);
+  m_impl->detect(cv::Mat(), P.orb_min_image_width, kps, desc);
   m_stats.detect_ms = elapsedMs(t0);
   m_stats.features = int(kps.size());
   if (int(kps.size()) < P.min_inliers) return fail("too few features");

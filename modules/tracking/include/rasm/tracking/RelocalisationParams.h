@@ -20,6 +20,14 @@ struct TRelocalisationParams : public mrpt::config::CLoadableOptions {
   /// TUM fr3_cabinet's 58 keyframes (Relocaliser_unittest): 20 (OpenCV's default) relocalised
   /// 9, 10 27, 7 49 (with match_ratio 0.9; 5: 50, but 25% slower).
   int orb_fast_threshold = 7;
+  /// ORB looks at images at least this wide (px): a narrower frame's grey image is enlarged by
+  /// the smallest integer factor that reaches it (bilinear) before detection, and the keypoints
+  /// are given back at the frame's resolution. ORB's 31-px patch and border and its 8 levels
+  /// were made for VGA; at 320x240 the kidnapped office hand-held sweep (a 2 s cut, then 1 s
+  /// of blank frames) found too few RANSAC inliers on 463 lost frames and lost 494 of 841
+  /// frames, where at 640x480 it relocalised on the first frame after each gap
+  /// (docs/slam-eval.md "Relocalisation at 320x240"). 0 = the frame as it is.
+  int orb_min_image_width = 640;
 
   // ---- keyframes (maybeAddKeyframe) ----
   /// A frame becomes a keyframe when no existing keyframe is within BOTH this distance and
