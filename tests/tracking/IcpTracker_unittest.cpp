@@ -533,3 +533,48 @@ TEST(IcpTracker, DegenerateRetryIsTakenOnlyWithAPrior) {
   EXPECT_TRUE(rp.denser_model);
   expectPoseNear(rp.T_world_cam, T_b, 2e-3, 0.1);
 }
+
+// Loop closure trusts a registration only along the directions its data hold well: the move
+// from the tracked pose is kept along eigen-directions at or above the bar and dropped along the
+// others (translations in metres, rotations about the camera centre scaled by the mean depth).
+TEST(IcpTracker, MoveIsKeptOnlyAlongHeldDirections) {
+  const Eigen::Isometry3d T_from = lookAt({2.0, 1.0, 0.5}, {4.0, 1.5, 0.3});
+  // Registered: 3 cm along world x, 2 cm along y, -1 cm along z, and 0.5 deg about world z
+  // through the camera centre.
+  Eigen::Isometry3d T_reg = T_from;
+  T_reg.linear() = Eigen::AngleAxisd(0.5 * kDeg, Eigen::Vector3d::UnitZ()) * T_from.linear();
+  T_reg.translation() += Eigen::Vector3d(0.03, 0.02, -0.01);
+  TrackingResult r;
+  r.T_world_cam = T_reg;
+  r.eigen_mean_depth_m = 2.5;
+  r.eigenvectors.setIdentity();  // [tx ty tz rx ry rz] in the analysis' coordinates
+  r.eigenvalues << 1e-3, 0.5, 0.5, 0.5, 0.5, 0.5;
+
+  // World x is weak: the camera stays at T_from's x, the rest of the move is kept.
+  const Eigen::Isometry3d kept = moveAlongHeldDirections(r, T_from, 1e-2);
+  EXPECT_NEAR(kept.translation().x(), T_from.translation().x(), 1e-9);
+  EXPECT_NEAR(kept.translation().y(), T_reg.translation().y(), 1e-9);
+  EXPECT_NEAR(kept.translation().z(), T_reg.translation().z(), 1e-9);
+  EXPECT_NEAR(rotationAngle(kept, T_reg), 0.0, 1e-9);
+  // No bar: the registration as it is.
+  EXPECT_LT(translationDistance(moveAlongHeldDirections(r, T_from, 0.0), T_reg), 1e-12);
+
+  // The rotation about world z weak instead (its column scaled by the mean depth does not change
+  // which direction it is): the orientation stays at T_from's, the translation moves.
+  r.eigenvalues << 0.5, 0.5, 0.5, 0.5, 0.5, 1e-3;
+  const Eigen::Isometry3d turned_back = moveAlongHeldDirections(r, T_from, 1e-2);
+  EXPECT_NEAR(rotationAngle(turned_back, T_from), 0.0, 1e-9);
+  EXPECT_LT(translationDistance(turned_back, T_reg), 1e-9);
+
+  // An eigenvector mixing x and y: only the component of the move along the held one remains.
+  r.eigenvectors.setIdentity();
+  const double c = std::sqrt(0.5);
+  r.eigenvectors.block<2, 2>(0, 0) << c, -c, c, c;  // (x + y)/sqrt2 weak, (-x + y)/sqrt2 held
+  r.eigenvalues << 1e-3, 0.5, 0.5, 0.5, 0.5, 0.5;
+  const Eigen::Vector3d moved =
+      moveAlongHeldDirections(r, T_from, 1e-2).translation() - T_from.translation();
+  // The move (0.03, 0.02) has -0.01/sqrt2 along (-x + y)/sqrt2: (0.005, -0.005) remains.
+  EXPECT_NEAR(moved.x(), 0.005, 1e-9);
+  EXPECT_NEAR(moved.y(), -0.005, 1e-9);
+  EXPECT_NEAR(moved.z(), -0.01, 1e-9);
+}

@@ -260,6 +260,7 @@ void summariseFit(const TTrackingParams& P, const IcpSystem& last, const IcpSyst
   res.rms_m = last.rms_m;
   res.eigenvalues = weakest.eigenvalues;
   res.eigenvectors = weakest.eigenvectors;
+  res.eigen_mean_depth_m = weakest.mean_depth_m;
   res.min_eigenvalue = weakest.eigenvalues(0);
   res.unconstrained_directions = have_weakest ? 0 : 6;
   for (int i = 0; i < 6 && have_weakest; ++i)
@@ -724,6 +725,25 @@ bool IcpTracker::poseCheckFailed(const std::vector<FrameLevel>& frame, const Mod
                                  !prior->odometry_information.isZero() &&
                                  res.odometry_sigmas <= P.check_odometry_confirms_sigmas;
   return failed && !(relative_rule_alone && (prior_confirms || odometry_confirms));
+}
+
+Eigen::Isometry3d moveAlongHeldDirections(const TrackingResult& r,
+                                          const Eigen::Isometry3d& T_from,
+                                          double min_eigenvalue) {
+  // The move as the analysis parametrises it: the camera centre's translation and a rotation
+  // about the centre, both along the world axes; rotation scaled by the mean depth (xs = D xi).
+  const double depth = r.eigen_mean_depth_m;
+  Vector6d xs;
+  xs.head<3>() = r.T_world_cam.translation() - T_from.translation();
+  xs.tail<3>() = depth * so3Log(r.T_world_cam.linear() * T_from.linear().transpose());
+  Vector6d kept = Vector6d::Zero();
+  for (int i = 0; i < 6; ++i)
+    if (r.eigenvalues(i) >= min_eigenvalue)
+      kept += r.eigenvectors.col(i) * r.eigenvectors.col(i).dot(xs);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = so3Exp(kept.tail<3>() / depth) * T_from.linear();
+  T.translation() = T_from.translation() + kept.head<3>();
+  return T;
 }
 
 }  // namespace rasm::tracking

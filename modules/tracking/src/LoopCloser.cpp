@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "rasm/core/Log.h"
 #include "rasm/core/SE3.h"
 
 namespace rasm::tracking {
@@ -58,6 +59,8 @@ LoopCheck LoopCloser::check(const RgbdFrame& frame, const std::vector<FrameLevel
     m_candidate_checks = 0;  // confirmations are consecutive checks
     return out;
   }
+  const Eigen::Isometry3d T_inactive =
+      moveAlongHeldDirections(v_in, T_track, m_params.min_eigenvalue);
   // The active map: the trajectory's own continuation (the tracked pose when it covers too
   // little of the view to register against).
   filter = maps::RenderOptions();
@@ -66,20 +69,21 @@ LoopCheck LoopCloser::check(const RgbdFrame& frame, const std::vector<FrameLevel
   Eigen::Isometry3d T_active = T_track;
   if (active.valid_pixels >= m_params.min_inactive_fraction * frame_valid) {
     const TrackingResult v_act = registerAgainst(pyramid, active.model, T_track);
-    if (v_act.ok) T_active = v_act.T_world_cam;
+    if (v_act.ok) T_active = moveAlongHeldDirections(v_act, T_track, m_params.min_eigenvalue);
   }
-  confirm(frame, pyramid, parts, T_track, v_in.T_world_cam, T_active, t_old, t_inactive, map, reloc,
-          out);
+  confirm(frame, pyramid, parts, T_track, v_in, T_inactive, T_active, t_old, t_inactive, map,
+          reloc, out);
   return out;
 }
 
 void LoopCloser::confirm(const RgbdFrame& frame, const std::vector<FrameLevel>& pyramid,
                          MapPartSource& parts, const Eigen::Isometry3d& T_track,
-                         const Eigen::Isometry3d& T_inactive, const Eigen::Isometry3d& T_active,
-                         double t_old, double t_inactive, const maps::CSurfelMap& map,
+                         const TrackingResult& v_in, const Eigen::Isometry3d& T_inactive,
+                         const Eigen::Isometry3d& T_active, double t_old, double t_inactive, const maps::CSurfelMap& map,
                          Relocaliser& reloc, LoopCheck& out) {
   const double t_now = frame.timestamp_s;
   const LoopVerdict verdict = m_loop.judge(T_active, T_inactive, t_old, t_now);
+  if (verdict.accepted()) logPoses(frame.index, T_track, v_in, T_inactive, T_active, verdict);
   out.verdict = verdict.name();
   out.correction_m = verdict.correction_m;
   out.correction_deg = verdict.correction_deg;
@@ -111,6 +115,37 @@ void LoopCloser::confirm(const RgbdFrame& frame, const std::vector<FrameLevel>& 
     m_candidate_checks = 0;
     if (verdict.kind == LoopVerdict::Kind::Refused) ++m_refused;
   }
+}
+
+void LoopCloser::logPoses(std::size_t frame_index, const Eigen::Isometry3d& T_track,
+                          const TrackingResult& v_in, const Eigen::Isometry3d& T_inactive,
+                          const Eigen::Isometry3d& T_active, const LoopVerdict& verdict) const {
+  const auto xyzYaw = [](const Eigen::Isometry3d& T) {
+    const Eigen::Vector3d p = T.translation();
+    const Eigen::Vector3d z = T.linear().col(2);  // the optical axis in the world
+    char text[96];
+    std::snprintf(text, sizeof text, "(%.4f %.4f %.4f; axis %.4f %.4f %.4f)", p.x(), p.y(), p.z(),
+                  z.x(), z.y(), z.z());
+    return std::string(text);
+  };
+  log::debug("loop check frame " + std::to_string(frame_index) + ": tracked " + xyzYaw(T_track) +
+             ", against the inactive map " + xyzYaw(v_in.T_world_cam) + " (kept along held "
+             "directions: " + xyzYaw(T_inactive) + "), against the active map " +
+             xyzYaw(T_active) + ", the loop asks for " + xyzYaw(verdict.T_loop));
+  // Where the registration against the inactive map moved the camera from the tracked pose,
+  // along the eigenvectors of its system (translation part; eigenvalue: how well the data hold
+  // that direction).
+  const Eigen::Vector3d d = v_in.T_world_cam.translation() - T_track.translation();
+  std::string along;
+  for (int k = 0; k < 6; ++k) {
+    char text[96];
+    std::snprintf(text, sizeof text, " [lambda %.2e: t %.4f %.4f %.4f, moved %.4f]",
+                  v_in.eigenvalues(k), v_in.eigenvectors(0, k), v_in.eigenvectors(1, k),
+                  v_in.eigenvectors(2, k), d.dot(v_in.eigenvectors.col(k).head<3>()));
+    along += text;
+  }
+  log::debug("  inactive registration: inliers " + std::to_string(v_in.inliers) + ", rms " +
+             std::to_string(v_in.rms_m) + " m," + along);
 }
 
 bool LoopCloser::colourConfirms(const RgbdFrame& frame, const std::vector<FrameLevel>& pyramid,

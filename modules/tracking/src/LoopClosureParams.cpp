@@ -29,6 +29,7 @@ void TLoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
   MRPT_LOAD_CONFIG_VAR_CS(inactive_after_s, double);
   MRPT_LOAD_CONFIG_VAR_CS(check_every_frames, int);
   MRPT_LOAD_CONFIG_VAR_CS(min_inactive_fraction, double);
+  MRPT_LOAD_CONFIG_VAR_CS(min_eigenvalue, double);
   MRPT_LOAD_CONFIG_VAR_CS(confirmations, int);
   MRPT_LOAD_CONFIG_VAR_CS(confirmation, string);
   MRPT_LOAD_CONFIG_VAR_CS(feature_agreement_m, double);
@@ -63,6 +64,8 @@ void TLoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
       "register a tracked frame against the inactive map every N frames");
   put(c, s, "min_inactive_fraction", min_inactive_fraction,
       "... when it covers this fraction of the frame's valid pixels");
+  put(c, s, "min_eigenvalue", min_eigenvalue,
+      "a registration moves the camera only along directions held this well");
   put(c, s, "confirmations", confirmations,
       "consecutive checks that must ask for the same correction");
   put(c, s, "confirmation", confirmation,
@@ -92,6 +95,7 @@ void TLoopClosureParams::validate(const std::string& s) const {
   requireInRange(inactive_after_s, 0.1, 1e6, s, "inactive_after_s");
   requireInRange(check_every_frames, 1, 1e6, s, "check_every_frames");
   requireInRange(min_inactive_fraction, 0.0, 1.0, s, "min_inactive_fraction");
+  requireInRange(min_eigenvalue, 0.0, 10.0, s, "min_eigenvalue");
   requireInRange(confirmations, 1, 100, s, "confirmations");
   if (confirmation != "colour" && confirmation != "features" && confirmation != "none")
     throwInputError("[" + s + "] confirmation",

@@ -473,7 +473,7 @@ void TrackingStage::report(nlohmann::json& rep) const {
   rep["frames_before_map"] = m_frames_before_map;
   rep["loop_closure"] = {
       {"comment",
-       "frames registered against the inactive map (surfels not fused for inactive_after_s), "
+       "frames registered against the inactive map (surfels created inactive_after_s or more ago), "
        "loops refused as beyond the drift bound, and each loop closed (the map moved with it)"},
       {"enabled", m_loop_params.enabled},
       {"checks", m_loop.checks()},

@@ -70,6 +70,14 @@ struct ModelMaps {
   ImageView<const float> confidence;
 };
 
+/// The pose `r` moved the camera to from `T_from`, with the move kept only along the
+/// eigen-directions of r's system that the data hold with at least `min_eigenvalue`
+/// (TrackingResult::eigenvalues' scale); along the others the camera stays at T_from. The
+/// tracker's own solve does the same at TTrackingParams::min_eigenvalue; loop closure asks more
+/// of a registration before it moves the map.
+Eigen::Isometry3d moveAlongHeldDirections(const TrackingResult& r,
+                                          const Eigen::Isometry3d& T_from, double min_eigenvalue);
+
 class IcpTracker {
  public:
   /// Throws InputError when params are out of range (TTrackingParams::validate).

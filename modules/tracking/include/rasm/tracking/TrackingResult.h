@@ -70,6 +70,8 @@ struct TrackingResult {
   /// directions with eigenvalue < params min_eigenvalue are unconstrained.
   Eigen::Matrix<double, 6, 1> eigenvalues = Eigen::Matrix<double, 6, 1>::Zero();
   Eigen::Matrix<double, 6, 6> eigenvectors = Eigen::Matrix<double, 6, 6>::Identity();
+  /// The mean inlier depth (m) the rotation columns of that matrix were scaled by.
+  double eigen_mean_depth_m = 1.0;
   int unconstrained_directions = 0;
   /// Last increment at level 0.
   double final_step_translation_m = 0.0;
