@@ -727,8 +727,7 @@ bool IcpTracker::poseCheckFailed(const std::vector<FrameLevel>& frame, const Mod
   return failed && !(relative_rule_alone && (prior_confirms || odometry_confirms));
 }
 
-Eigen::Isometry3d moveAlongHeldDirections(const TrackingResult& r,
-                                          const Eigen::Isometry3d& T_from,
+Eigen::Isometry3d moveAlongHeldDirections(const TrackingResult& r, const Eigen::Isometry3d& T_from,
                                           double min_eigenvalue) {
   // The move as the analysis parametrises it: the camera centre's translation and a rotation
   // about the centre, both along the world axes; rotation scaled by the mean depth (xs = D xi).

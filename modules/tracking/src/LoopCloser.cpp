@@ -71,16 +71,16 @@ LoopCheck LoopCloser::check(const RgbdFrame& frame, const std::vector<FrameLevel
     const TrackingResult v_act = registerAgainst(pyramid, active.model, T_track);
     if (v_act.ok) T_active = moveAlongHeldDirections(v_act, T_track, m_params.min_eigenvalue);
   }
-  confirm(frame, pyramid, parts, T_track, v_in, T_inactive, T_active, t_old, t_inactive, map,
-          reloc, out);
+  confirm(frame, pyramid, parts, T_track, v_in, T_inactive, T_active, t_old, t_inactive, map, reloc,
+          out);
   return out;
 }
 
 void LoopCloser::confirm(const RgbdFrame& frame, const std::vector<FrameLevel>& pyramid,
                          MapPartSource& parts, const Eigen::Isometry3d& T_track,
                          const TrackingResult& v_in, const Eigen::Isometry3d& T_inactive,
-                         const Eigen::Isometry3d& T_active, double t_old, double t_inactive, const maps::CSurfelMap& map,
-                         Relocaliser& reloc, LoopCheck& out) {
+                         const Eigen::Isometry3d& T_active, double t_old, double t_inactive,
+                         const maps::CSurfelMap& map, Relocaliser& reloc, LoopCheck& out) {
   const double t_now = frame.timestamp_s;
   const LoopVerdict verdict = m_loop.judge(T_active, T_inactive, t_old, t_now);
   if (verdict.accepted()) logPoses(frame.index, T_track, v_in, T_inactive, T_active, verdict);
@@ -120,7 +120,7 @@ void LoopCloser::confirm(const RgbdFrame& frame, const std::vector<FrameLevel>& 
 void LoopCloser::logPoses(std::size_t frame_index, const Eigen::Isometry3d& T_track,
                           const TrackingResult& v_in, const Eigen::Isometry3d& T_inactive,
                           const Eigen::Isometry3d& T_active, const LoopVerdict& verdict) const {
-  const auto xyzYaw = [](const Eigen::Isometry3d& T) {
+  const auto positionAndAxis = [](const Eigen::Isometry3d& T) {
     const Eigen::Vector3d p = T.translation();
     const Eigen::Vector3d z = T.linear().col(2);  // the optical axis in the world
     char text[96];
@@ -128,10 +128,13 @@ void LoopCloser::logPoses(std::size_t frame_index, const Eigen::Isometry3d& T_tr
                   z.x(), z.y(), z.z());
     return std::string(text);
   };
-  log::debug("loop check frame " + std::to_string(frame_index) + ": tracked " + xyzYaw(T_track) +
-             ", against the inactive map " + xyzYaw(v_in.T_world_cam) + " (kept along held "
-             "directions: " + xyzYaw(T_inactive) + "), against the active map " +
-             xyzYaw(T_active) + ", the loop asks for " + xyzYaw(verdict.T_loop));
+  log::debug("loop check frame " + std::to_string(frame_index) + ": tracked " +
+             positionAndAxis(T_track) + ", against the inactive map " +
+             positionAndAxis(v_in.T_world_cam) +
+             " (kept along held "
+             "directions: " +
+             positionAndAxis(T_inactive) + "), against the active map " +
+             positionAndAxis(T_active) + ", the loop asks for " + positionAndAxis(verdict.T_loop));
   // Where the registration against the inactive map moved the camera from the tracked pose,
   // along the eigenvectors of its system (translation part; eigenvalue: how well the data hold
   // that direction).

@@ -75,8 +75,8 @@ struct ModelMaps {
 /// (TrackingResult::eigenvalues' scale); along the others the camera stays at T_from. The
 /// tracker's own solve does the same at TTrackingParams::min_eigenvalue; loop closure asks more
 /// of a registration before it moves the map.
-Eigen::Isometry3d moveAlongHeldDirections(const TrackingResult& r,
-                                          const Eigen::Isometry3d& T_from, double min_eigenvalue);
+Eigen::Isometry3d moveAlongHeldDirections(const TrackingResult& r, const Eigen::Isometry3d& T_from,
+                                          double min_eigenvalue);
 
 class IcpTracker {
  public:

@@ -104,9 +104,8 @@ class LoopCloser {
   /// A judged registration: confirmed, counted as a candidate, or dropped.
   void confirm(const RgbdFrame& frame, const std::vector<FrameLevel>& pyramid, MapPartSource& parts,
                const Eigen::Isometry3d& T_track, const TrackingResult& v_in,
-               const Eigen::Isometry3d& T_inactive, const Eigen::Isometry3d& T_active,
-               double t_old, double t_inactive,
-               const maps::CSurfelMap& map, Relocaliser& reloc, LoopCheck& out);
+               const Eigen::Isometry3d& T_inactive, const Eigen::Isometry3d& T_active, double t_old,
+               double t_inactive, const maps::CSurfelMap& map, Relocaliser& reloc, LoopCheck& out);
 
   TLoopClosureParams m_params;
   TTrackingParams m_tracking;
