@@ -578,3 +578,23 @@ TEST(IcpTracker, MoveIsKeptOnlyAlongHeldDirections) {
   EXPECT_NEAR(moved.y(), -0.005, 1e-9);
   EXPECT_NEAR(moved.z(), -0.01, 1e-9);
 }
+
+// A relocalised robot pose is checked against the odometry like a tracked one: distances count
+// in the odometry's sigmas along the floor and about its normal, and not at all in height.
+TEST(IcpTracker, OdometrySigmasMeasureAlongTheFloorOnly) {
+  const Eigen::Isometry3d T = lookAt({1.0, 2.0, 0.5}, {3.0, 2.5, 0.4});
+  MotionPrior prior;
+  prior.T_world_cam = T;
+  prior.odometry_information =
+      MotionPrior::planarInformation(Eigen::Matrix3d::Identity(), 0.01, 0.5 * kDeg);
+  Eigen::Isometry3d moved = T;
+  moved.translation() += Eigen::Vector3d(0.03, 0.0, 0.0);
+  EXPECT_NEAR(odometrySigmas(moved, prior), 3.0, 1e-6);
+  moved = T;
+  moved.translation() += Eigen::Vector3d(0.0, 0.0, 0.05);  // height: not the odometry's
+  EXPECT_NEAR(odometrySigmas(moved, prior), 0.0, 1e-6);
+  moved = T;
+  moved.linear() = Eigen::AngleAxisd(1.0 * kDeg, Eigen::Vector3d::UnitZ()) * T.linear();
+  EXPECT_NEAR(odometrySigmas(moved, prior), 2.0, 1e-6);  // 1 deg of yaw at 0.5 deg
+  EXPECT_EQ(odometrySigmas(moved, MotionPrior()), 0.0);  // no odometry, no distance
+}

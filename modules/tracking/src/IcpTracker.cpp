@@ -727,6 +727,11 @@ bool IcpTracker::poseCheckFailed(const std::vector<FrameLevel>& frame, const Mod
   return failed && !(relative_rule_alone && (prior_confirms || odometry_confirms));
 }
 
+double odometrySigmas(const Eigen::Isometry3d& T_world_cam, const MotionPrior& prior) {
+  const Vector6d d = incrementTo(T_world_cam, prior.T_world_cam);
+  return std::sqrt(std::max(0.0, d.dot(prior.odometry_information * d)));
+}
+
 Eigen::Isometry3d moveAlongHeldDirections(const TrackingResult& r, const Eigen::Isometry3d& T_from,
                                           double min_eigenvalue) {
   // The move as the analysis parametrises it: the camera centre's translation and a rotation

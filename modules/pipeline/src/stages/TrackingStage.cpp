@@ -225,7 +225,7 @@ void TrackingStage::track(FrameContext& ctx, const maps::CSurfelMap& map) {
   } else {
     r.pose_source = prior ? PoseSource::Odometry : PoseSource::MotionModel;
     r.T_world_cam = prior ? prior->T_world_cam : r.tracking.T_world_cam_guess;
-    relocalise(ctx, map);
+    relocalise(ctx, map, prior ? &*prior : nullptr);
   }
 }
 
@@ -348,12 +348,24 @@ class TrackingStage::MapParts : public tracking::MapPartSource {
   const maps::CSurfelMap& m_map;
 };
 
-void TrackingStage::relocalise(FrameContext& ctx, const maps::CSurfelMap& map) {
+void TrackingStage::relocalise(FrameContext& ctx, const maps::CSurfelMap& map,
+                               const tracking::MotionPrior* odometry) {
   const auto t = Clock::now();
   MapParts parts(*this, ctx, map);
-  const tracking::RelocalisationPolicy::Found f =
+  tracking::RelocalisationPolicy::Found f =
       m_relocaliser.relocalise(*ctx.frame, ctx.pyramid, map.keyframes(), parts, m_tracker);
   if (!f.tried) return;
+  if (f.found && odometry) {
+    // The robot's odometry knows where the camera is within its sigmas (their variance grows
+    // over the lost frames): a verified candidate beyond them is a look-alike or a slide.
+    const double sigmas = tracking::odometrySigmas(f.verified.T_world_cam, *odometry);
+    if (sigmas > m_tracking.max_odometry_sigmas) {
+      f.found = false;
+      char text[96];
+      std::snprintf(text, sizeof text, "odometry puts the camera %.1f sigmas away", sigmas);
+      f.failure = text;
+    }
+  }
   FrameResult& r = ctx.result;
   r.relocalisation_failure = f.failure;
   if (f.found) {

@@ -70,6 +70,11 @@ struct ModelMaps {
   ImageView<const float> confidence;
 };
 
+/// How far `T_world_cam` is from the prior's pose in the standard deviations of its odometry
+/// (MotionPrior::odometry_information; 0 for a prior that holds no odometry): the rule of
+/// TTrackingParams::max_odometry_sigmas, for a pose found by other means (relocalisation).
+double odometrySigmas(const Eigen::Isometry3d& T_world_cam, const MotionPrior& prior);
+
 /// The pose `r` moved the camera to from `T_from`, with the move kept only along the
 /// eigen-directions of r's system that the data hold with at least `min_eigenvalue`
 /// (TrackingResult::eigenvalues' scale); along the others the camera stays at T_from. The

@@ -93,7 +93,10 @@ class TrackingStage : public MapperStage {
   nlohmann::json loopLogJson() const;
   /// While lost: RelocalisationPolicy::relocalise; on success the tracker restarts from the
   /// verified pose (the frame becomes Relocalised).
-  void relocalise(FrameContext& ctx, const maps::CSurfelMap& map);
+  /// A lost frame relocalised against the map's keyframes; with `odometry` (a robot's prior for
+  /// this frame) a relocalised pose more than [tracking] max_odometry_sigmas from it is refused.
+  void relocalise(FrameContext& ctx, const maps::CSurfelMap& map,
+                  const tracking::MotionPrior* odometry = nullptr);
   /// floor_height_m / floor_tilt_deg of a tracked robot frame, counted when beyond [robot]
   /// floor_max_* and kept for floorDriftJson.
   void reportFloorDeviation(FrameResult& r);
