@@ -41,7 +41,11 @@ bool RelocalisationPolicy::tryDatabase(const RgbdFrame& frame,
   const MapPart model = parts.render(cand->T_world_cam, m_tracking.photometricWeight(false) > 0,
                                      maps::RenderOptions());
   const TrackingResult v = tracker.align(pyramid, model.model, cand->T_world_cam);
-  if (!v.ok || v.check_overlap < m_tracking.check_min_overlap) {
+  // A degenerate verification is refused: along the directions the map does not hold there the
+  // pose would be the features' alone (flat3954r4_s2 frame 1552: a room like another, 3.8 m off,
+  // accepted as tracked).
+  if (!v.ok || v.status == TrackingStatus::Degenerate ||
+      v.check_overlap < m_tracking.check_min_overlap) {
     out.failure = std::string("rejected by ICP: ") + toString(v.status);
     return false;
   }

@@ -4,7 +4,9 @@
 // (ORB-SLAM's reference keyframe: use_last_fused_frame, with its own acceptance,
 // TRelocalisationParams::forLastFusedFrame), then against the map's keyframes (Relocaliser:
 // ORB, PnP); a candidate pose is verified by ICP against the map rendered there (every tracking
-// rule and the pose check, check_min_overlap) before tracking may restart from it. Fused frames
+// rule and the pose check, check_min_overlap; a degenerate verification is refused) before
+// tracking may restart from it. A robot's relocalised pose must also agree with its odometry
+// (TrackingStage::relocalise). Fused frames
 // become the map's keyframes by the spacing rules, and the last of them is kept (its keyframe is
 // made only when a lost frame needs it). The map is rendered by the caller (MapPartSource, as for
 // loop closure), so the policy is here and the tracking stage wires it.
