@@ -42,8 +42,8 @@ bool RelocalisationPolicy::tryDatabase(const RgbdFrame& frame,
                                      maps::RenderOptions());
   const TrackingResult v = tracker.align(pyramid, model.model, cand->T_world_cam);
   // A degenerate verification is refused: along the directions the map does not hold there the
-  // pose would be the features' alone (flat3954r4_s2 frame 1552: a room like another, 3.8 m off,
-  // accepted as tracked).
+  // pose would be the features' alone, and a look-alike place passes every other rule
+  // (docs/slam-eval.md "Relocalisation at 320x240").
   if (!v.ok || v.status == TrackingStatus::Degenerate ||
       v.check_overlap < m_tracking.check_min_overlap) {
     out.failure = std::string("rejected by ICP: ") + toString(v.status);

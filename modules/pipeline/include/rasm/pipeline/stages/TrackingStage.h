@@ -92,9 +92,8 @@ class TrackingStage : public MapperStage {
   /// report.json loop_closure.loops: one entry per loop closed.
   nlohmann::json loopLogJson() const;
   /// While lost: RelocalisationPolicy::relocalise; on success the tracker restarts from the
-  /// verified pose (the frame becomes Relocalised).
-  /// A lost frame relocalised against the map's keyframes; with `odometry` (a robot's prior for
-  /// this frame) a relocalised pose more than [tracking] max_odometry_sigmas from it is refused.
+  /// verified pose (the frame becomes Relocalised). With `odometry` (a robot's prior for this
+  /// frame) a verified pose more than [tracking] max_odometry_sigmas from it is refused.
   void relocalise(FrameContext& ctx, const maps::CSurfelMap& map,
                   const tracking::MotionPrior* odometry = nullptr);
   /// floor_height_m / floor_tilt_deg of a tracked robot frame, counted when beyond [robot]
