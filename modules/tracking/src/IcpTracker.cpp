@@ -270,12 +270,7 @@ void summariseFit(const TTrackingParams& P, const IcpSystem& last, const IcpSyst
   if (prior && res.T_world_cam.matrix().allFinite()) {
     const Vector6d d = incrementTo(res.T_world_cam, prior->T_world_cam);
     res.prior_sigmas = std::sqrt(std::max(0.0, d.dot(prior->information * d)));
-    const bool degenerate_information =
-        res.unconstrained_directions > 0 && !prior->odometry_information_degenerate.isZero();
-    const Eigen::Matrix<double, 6, 6>& odometry_information =
-        degenerate_information ? prior->odometry_information_degenerate
-                               : prior->odometry_information;
-    res.odometry_sigmas = std::sqrt(std::max(0.0, d.dot(odometry_information * d)));
+    res.odometry_sigmas = odometrySigmas(res.T_world_cam, *prior, res.unconstrained_directions > 0);
   }
 }
 
@@ -727,9 +722,14 @@ bool IcpTracker::poseCheckFailed(const std::vector<FrameLevel>& frame, const Mod
   return failed && !(relative_rule_alone && (prior_confirms || odometry_confirms));
 }
 
-double odometrySigmas(const Eigen::Isometry3d& T_world_cam, const MotionPrior& prior) {
+double odometrySigmas(const Eigen::Isometry3d& T_world_cam, const MotionPrior& prior,
+                      bool degenerate) {
   const Vector6d d = incrementTo(T_world_cam, prior.T_world_cam);
-  return std::sqrt(std::max(0.0, d.dot(prior.odometry_information * d)));
+  const Eigen::Matrix<double, 6, 6>& information =
+      degenerate && !prior.odometry_information_degenerate.isZero()
+          ? prior.odometry_information_degenerate
+          : prior.odometry_information;
+  return std::sqrt(std::max(0.0, d.dot(information * d)));
 }
 
 Eigen::Isometry3d moveAlongHeldDirections(const TrackingResult& r, const Eigen::Isometry3d& T_from,

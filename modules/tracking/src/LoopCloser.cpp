@@ -130,9 +130,7 @@ void LoopCloser::logPoses(std::size_t frame_index, const Eigen::Isometry3d& T_tr
   };
   log::debug("loop check frame " + std::to_string(frame_index) + ": tracked " +
              positionAndAxis(T_track) + ", against the inactive map " +
-             positionAndAxis(v_in.T_world_cam) +
-             " (kept along held "
-             "directions: " +
+             positionAndAxis(v_in.T_world_cam) + " (kept along held directions: " +
              positionAndAxis(T_inactive) + "), against the active map " +
              positionAndAxis(T_active) + ", the loop asks for " + positionAndAxis(verdict.T_loop));
   // Where the registration against the inactive map moved the camera from the tracked pose,

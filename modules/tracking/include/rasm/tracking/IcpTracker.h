@@ -71,9 +71,11 @@ struct ModelMaps {
 };
 
 /// How far `T_world_cam` is from the prior's pose in the standard deviations of its odometry
-/// (MotionPrior::odometry_information; 0 for a prior that holds no odometry): the rule of
-/// TTrackingParams::max_odometry_sigmas, for a pose found by other means (relocalisation).
-double odometrySigmas(const Eigen::Isometry3d& T_world_cam, const MotionPrior& prior);
+/// (MotionPrior::odometry_information, or odometry_information_degenerate when `degenerate` and
+/// the prior has one; 0 for a prior that holds no odometry): the rule of
+/// TTrackingParams::max_odometry_sigmas, for tracked frames and for relocalised poses alike.
+double odometrySigmas(const Eigen::Isometry3d& T_world_cam, const MotionPrior& prior,
+                      bool degenerate = false);
 
 /// The pose `r` moved the camera to from `T_from`, with the move kept only along the
 /// eigen-directions of r's system that the data hold with at least `min_eigenvalue`

@@ -86,14 +86,14 @@ class LoopCloser {
   bool featuresConfirm(const RgbdFrame& frame, const maps::CSurfelMap& map,
                        const Eigen::Isometry3d& T_inactive, double t_inactive,
                        const LoopVerdict& verdict, Relocaliser& reloc, std::string& why);
-  /// Whether the registration against the inactive map (surfels made before t_inactive, rendered
-  /// with their colour) by joint ICP + RGB agrees with the geometric one, T_inactive.
   /// The poses of an accepted verdict, to run.log (debug): the tracked one, the registration
   /// against the inactive map (as registered, kept along held directions, and its move along
   /// each eigen-direction), against the active map, and the one the loop asks for.
   void logPoses(std::size_t frame_index, const Eigen::Isometry3d& T_track,
                 const TrackingResult& v_in, const Eigen::Isometry3d& T_inactive,
                 const Eigen::Isometry3d& T_active, const LoopVerdict& verdict) const;
+  /// Whether the registration against the inactive map (surfels made before t_inactive, rendered
+  /// with their colour) by joint ICP + RGB agrees with the geometric one, T_inactive.
   bool colourConfirms(const RgbdFrame& frame, const std::vector<FrameLevel>& pyramid,
                       MapPartSource& parts, const Eigen::Isometry3d& T_track,
                       const Eigen::Isometry3d& T_inactive, double t_inactive,
